@@ -1,0 +1,160 @@
+# libray -- plain Makefile.  Override any variable on the command line or
+# in config.mak (e.g. CC=clang, CFLAGS=-O3, PREFIX=/usr).
+PREFIX     ?= /usr/local
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+MANDIR     ?= $(PREFIX)/share/man
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+DESTDIR    ?=
+CC         ?= cc
+CXX        ?= c++
+CFLAGS     ?= -O2 -g
+LDFLAGS    ?=
+BUILD      ?= build
+-include config.mak
+
+VERSION = 0.1.0
+SOMAJOR = 0
+
+# Always on, whatever CFLAGS says: ISO C99 and no floating-point
+# contraction.  gcc fuses a*b+c into an FMA in its GNU modes, which rounds
+# the same edge differently in two neighbouring triangles and breaks
+# watertightness (shared/research/robustness.md, section 9.3).
+STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
+WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
+       -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \
+       -Wconversion -Wdouble-promotion -Wformat=2
+ALL_CFLAGS = $(STD_CFLAGS) $(WARN) -Iinclude $(CFLAGS)
+
+PKG_CONFIG ?= pkg-config
+PNG_CFLAGS  = $(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null)
+PNG_LIBS    = $(shell $(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
+CHECK_CFLAGS = $(shell $(PKG_CONFIG) --cflags check 2>/dev/null)
+CHECK_LIBS   = $(shell $(PKG_CONFIG) --libs check 2>/dev/null)
+LIBS = $(PNG_LIBS) -lm -lpthread
+
+SRCS = $(wildcard src/*.c)
+OBJS = $(SRCS:src/%.c=$(BUILD)/obj/%.o)
+STATIC = $(BUILD)/libray.a
+SHARED = $(BUILD)/libray.so.$(VERSION)
+
+TEST_SRCS = $(filter-out tests/check_main.c,$(wildcard tests/check_*.c))
+TEST_BIN = $(BUILD)/tests/check_ray
+EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
+MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
+# Functions documented on another function's page, as page:alias.
+MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8
+
+.PHONY: all lib check test demo sanitize examples header-test symbols-test \
+        man-lint install uninstall clean deps-build deps-check bench
+
+all: lib
+
+lib: deps-build $(STATIC) $(SHARED)
+
+deps-build:
+	@scripts/deps.sh pkg-config libpng
+deps-check:
+	@scripts/deps.sh pkg-config libpng check mandoc
+
+$(BUILD)/obj/%.o: src/%.c src/internal.h include/ray.h
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
+	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) -c $< -o $@
+
+$(STATIC): $(OBJS)
+	rm -f $@
+	$(AR) rcs $@ $(OBJS)
+
+$(SHARED): $(OBJS)
+	$(CC) $(CFLAGS) $(LDFLAGS) -shared -Wl,-soname,libray.so.$(SOMAJOR) \
+	    -o $@ $(OBJS) $(LIBS)
+	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so.$(SOMAJOR)
+	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
+
+# ------------------------------------------------------------------ tests
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(STD_CFLAGS) -Wall -Wextra -Wpedantic -Iinclude -Isrc $(CFLAGS) \
+	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
+	    $(STATIC) $(CHECK_LIBS) $(LIBS)
+
+$(BUILD)/examples/%: examples/%.c $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+
+examples: $(EXAMPLES)
+
+# The header alone must compile as strict C99 and as C++.
+header-test: include/ray.h tests/header_c99.c
+	@mkdir -p $(BUILD)
+	$(CC) -std=c99 -Wall -Wextra -Wpedantic -Werror -Iinclude -c \
+	    tests/header_c99.c -o $(BUILD)/header_c99.o
+	@if command -v $(CXX) >/dev/null 2>&1; then \
+	    echo "$(CXX) -x c++ -Wall -Wextra -Werror -Iinclude -c tests/header_c99.c"; \
+	    $(CXX) -x c++ -Wall -Wextra -Werror -Iinclude -c tests/header_c99.c \
+	        -o $(BUILD)/header_cxx.o; \
+	else echo "header-test: no C++ compiler ($(CXX)), C++ check skipped"; fi
+
+# Only ray_* symbols may leave the shared library.
+symbols-test: $(SHARED)
+	@bad=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -v '^ray_' || true); \
+	if [ -n "$$bad" ]; then echo "symbols-test: unexpected exports: $$bad"; exit 1; fi; \
+	echo "symbols-test: exports: $$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | tr '\n' ' ')"
+
+man-lint:
+	@test -n "$(MANPAGES)" || { echo "man-lint: no man pages found"; exit 1; }
+	@if command -v mandoc >/dev/null 2>&1; then \
+	    echo "mandoc -Tlint -W warning man/..."; \
+	    mandoc -Tlint -W warning $(MANPAGES); \
+	else \
+	    echo "groff -mdoc -ww -z man/... (mandoc not installed)"; \
+	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
+	fi
+
+check: deps-check lib $(TEST_BIN) examples header-test symbols-test man-lint
+	$(TEST_BIN)
+	$(BUILD)/examples/demo $(BUILD)/demo.png
+
+test: check
+
+# The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer.
+SAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
+            -fno-sanitize-recover=all
+sanitize:
+	$(MAKE) check BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_FLAGS)"
+
+demo: deps-build lib $(BUILD)/examples/demo
+	$(BUILD)/examples/demo demo.png
+
+# ---------------------------------------------------------------- install
+libray.pc: libray.pc.in Makefile
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' \
+	    libray.pc.in > $(BUILD)/libray.pc
+
+install: lib libray.pc
+	install -d $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
+	    $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(MANDIR)/man3 $(DESTDIR)$(MANDIR)/man7
+	install -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/libray.a
+	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/libray.so.$(VERSION)
+	ln -sf libray.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libray.so.$(SOMAJOR)
+	ln -sf libray.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libray.so
+	install -m 644 include/ray.h $(DESTDIR)$(INCLUDEDIR)/ray.h
+	install -m 644 $(BUILD)/libray.pc $(DESTDIR)$(PKGCONFIGDIR)/libray.pc
+	install -m 644 man/man3/*.3 $(DESTDIR)$(MANDIR)/man3/
+	install -m 644 man/man7/*.7 $(DESTDIR)$(MANDIR)/man7/
+	@set -e; for l in $(MLINKS); do \
+	    ln -sf $${l%%:*}.3 $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
+
+uninstall:
+	rm -f $(DESTDIR)$(LIBDIR)/libray.a $(DESTDIR)$(LIBDIR)/libray.so \
+	    $(DESTDIR)$(LIBDIR)/libray.so.$(SOMAJOR) \
+	    $(DESTDIR)$(LIBDIR)/libray.so.$(VERSION) \
+	    $(DESTDIR)$(INCLUDEDIR)/ray.h $(DESTDIR)$(PKGCONFIGDIR)/libray.pc
+	for f in $(notdir $(wildcard man/man3/*.3)); do rm -f $(DESTDIR)$(MANDIR)/man3/$$f; done
+	for l in $(MLINKS); do rm -f $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
+	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
+
+clean:
+	rm -rf $(BUILD) demo.png

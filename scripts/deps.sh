@@ -1,0 +1,46 @@
+#!/bin/sh
+# deps.sh -- make sure the Debian packages a make target needs are present.
+#
+# Usage: scripts/deps.sh NEED...   where NEED is one of
+#   pkg-config  libpng  check  mandoc
+# Each present dependency costs one quick probe.  Missing ones are installed
+# with apt-get when we are root (or have password-less sudo), announced in
+# one line; otherwise the script prints the exact command and fails.
+set -u
+
+missing=""
+for need in "$@"; do
+    case "$need" in
+    pkg-config) command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config" ;;
+    libpng)     { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists libpng; } \
+                    || missing="$missing libpng-dev" ;;
+    check)      { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists check; } \
+                    || missing="$missing check" ;;
+    mandoc)     command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc" ;;
+    *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;
+    esac
+done
+[ -z "$missing" ] && exit 0
+# pkg-config is needed to probe the libraries, so bring it along.
+case "$missing" in *pkg-config*) ;; *) command -v pkg-config >/dev/null 2>&1 || missing="pkg-config$missing" ;; esac
+missing=$(echo $missing)
+
+if [ "$(id -u)" = 0 ]; then
+    sudo=""
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+    sudo="sudo"
+else
+    echo "libray: missing Debian packages: $missing; install them with: sudo apt-get install -y $missing" >&2
+    exit 1
+fi
+if ! command -v apt-get >/dev/null 2>&1; then
+    echo "libray: missing $missing and no apt-get here; install the equivalent packages" >&2
+    exit 1
+fi
+echo "libray: installing missing Debian packages: $missing" >&2
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq >/dev/null 2>&1
+if ! $sudo apt-get install -y -qq $missing >/dev/null 2>&1; then
+    echo "libray: 'apt-get install -y $missing' failed; run it by hand to see why" >&2
+    exit 1
+fi

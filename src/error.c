@@ -1,0 +1,20 @@
+/*
+** error.c -- status codes to text.
+*/
+#include "ray.h"
+
+const char *ray_strerror(int code)
+{
+    switch (code) {
+    case RAY_OK:          return "success";
+    case RAY_EINVAL:      return "invalid argument";
+    case RAY_EDEGENERATE: return "degenerate geometry";
+    case RAY_ERANGE:      return "result out of range";
+    case RAY_ENOMEM:      return "out of memory";
+    case RAY_EIO:         return "input/output error";
+    case RAY_EPNG:        return "PNG encoding error";
+    case RAY_ESTATE:      return "operation not allowed in this state";
+    case RAY_ECANCELED:   return "cancelled by the caller";
+    default:              return "unknown error";
+    }
+}

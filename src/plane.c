@@ -1,0 +1,71 @@
+/*
+** plane.c -- ray / plane: t = (p1 - e).n / (d.n), from substituting the
+** ray into the plane equation (p - p1).n = 0.
+*/
+#include "internal.h"
+
+void ray__tangent_frame(ray_vec3 n, ray_vec3 *t1, ray_vec3 *t2)
+{
+    double sign = copysign(1.0, n.z);
+    double a = -1.0 / (sign + n.z);
+    double b = n.x * n.y * a;
+
+    *t1 = v3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    *t2 = v3(b, sign + n.y * n.y * a, -n.y);
+}
+
+/*
+** The hit point is e + t d, then projected back onto the plane by one
+** correction step p -= ((p - point).n) n: e + t d alone carries t's error
+** along the ray, which for a grazing ray (t ~ 1/(d.n)) is far off the
+** plane.  What remains is the rounding of the correction itself, a few
+** ulps of the largest coordinate involved; gamma(8) * max|p_i| + |point_i|
+** covers the dot product (5 roundings), the scaling and the subtraction,
+** and is applied to every component because the dot product mixes them.
+*/
+int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
+                    ray_vec3 origin, double t, ray_hit *hit)
+{
+    ray_vec3 p = v3_madd(r->org, t, r->dir);
+    ray_vec3 t1, t2, rel, mag;
+    double bound;
+
+    p = v3_madd(p, -v3_dot(v3_sub(p, point), n), n);
+    mag = v3_add(v3_abs(p), v3_abs(point));
+    bound = ray__gamma(8) * fmax(mag.x, fmax(mag.y, mag.z));
+    if (!v3_isfinite(p) || !(bound < HUGE_VAL))
+        return 0;
+    ray__tangent_frame(n, &t1, &t2);
+    rel = v3_sub(p, origin);
+    hit->t = t;
+    hit->p = p;
+    hit->n = n;
+    hit->u = v3_dot(rel, t1);
+    hit->v = v3_dot(rel, t2);
+    hit->p_err = v3(bound, bound, bound);
+    hit->geom_id = RAY_INVALID_ID;
+    hit->prim_id = RAY_INVALID_ID;
+    return 1;
+}
+
+/*
+** t does not depend on the normal's length, so it is computed with the
+** normal as given and only a hit pays for normalising it.  d.n == 0 (a
+** parallel ray, or one lying in the plane: 0/0) is tested exactly; a
+** nearly parallel ray gets a large but finite t, and an overflow to Inf
+** or a NaN from bad input fails the NaN-safe range test.
+*/
+int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+              ray_hit *hit)
+{
+    double denom = v3_dot(r->dir, normal);
+    ray_vec3 n;
+    double t;
+
+    if (denom == 0)
+        return 0;
+    t = v3_dot(v3_sub(point, r->org), normal) / denom;
+    if (!(t > r->tmin && t < r->tmax) || !v3_normalize(normal, &n))
+        return 0;
+    return ray__plane_fill(r, point, n, point, t, hit);
+}

@@ -1,0 +1,107 @@
+/*
+** png.c -- PNG output through libpng's simplified API (libpng 1.6,
+** png.h section 5): no setjmp, no callbacks, errors come back as a message
+** in the png_image.  This is the only file that includes <png.h>.
+*/
+#include <errno.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <png.h>
+
+#include "internal.h"
+
+/* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN). */
+static double unit_clamp(float x)
+{
+    if (!(x > 0.0f))
+        return 0.0;
+    return x < 1.0f ? (double)x : 1.0;
+}
+
+/* The sRGB transfer function, IEC 61966-2-1:1999 section 5.2. */
+static double srgb_encode(double linear)
+{
+    if (linear <= 0.0031308)
+        return 12.92 * linear;
+    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+int ray_image_to_srgb8(const float *rgb, size_t count, unsigned char *out)
+{
+    size_t i;
+
+    if (rgb == NULL || out == NULL)
+        return RAY_EINVAL;
+    for (i = 0; i < 3 * count; i++)
+        out[i] = (unsigned char)(srgb_encode(unit_clamp(rgb[i])) * 255.0 + 0.5);
+    return RAY_OK;
+}
+
+static void to_linear16(const float *rgb, size_t count, png_uint_16 *out)
+{
+    size_t i;
+
+    for (i = 0; i < 3 * count; i++)
+        out[i] = (png_uint_16)(unit_clamp(rgb[i]) * 65535.0 + 0.5);
+}
+
+/*
+** png_image_write_to_stdio, then a checked flush and fclose: a full disk
+** often shows only when the buffered data are written out.  A failed file
+** is removed so no truncated PNG is left behind.
+*/
+static int write_file(const char *path, png_image *img, const void *pixels)
+{
+    FILE *fp = fopen(path, "wb");
+    int ok, io_failed, saved_errno;
+
+    if (fp == NULL)
+        return RAY_EIO;
+    ok = png_image_write_to_stdio(img, fp, 0, pixels, 0, NULL);
+    io_failed = fflush(fp) != 0 || ferror(fp);
+    io_failed |= fclose(fp) != 0;
+    if (ok && !io_failed)
+        return RAY_OK;
+    saved_errno = errno;        /* remove() must not hide the cause */
+    remove(path);
+    errno = saved_errno;
+    return io_failed ? RAY_EIO : RAY_EPNG;
+}
+
+int ray_write_png(const char *path, const float *rgb, unsigned width,
+                  unsigned height, int bits)
+{
+    png_image img;
+    size_t count, bytes;
+    void *pixels;
+    int rc;
+
+    if (path == NULL || rgb == NULL || width == 0 || height == 0 ||
+        (bits != 8 && bits != 16))
+        return RAY_EINVAL;
+    /* libpng limits rows to 2^31-1 bytes; also keep our sizes in size_t. */
+    if (width > PNG_UINT_31_MAX / 6 || height > PNG_UINT_31_MAX ||
+        (size_t)height > SIZE_MAX / 6 / width)
+        return RAY_EINVAL;
+    count = (size_t)width * height;
+    bytes = count * 3 * (size_t)(bits / 8);
+    pixels = malloc(bytes);
+    if (pixels == NULL)
+        return RAY_ENOMEM;
+    if (bits == 8)
+        ray_image_to_srgb8(rgb, count, (unsigned char *)pixels);
+    else
+        to_linear16(rgb, count, (png_uint_16 *)pixels);
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    img.width = width;
+    img.height = height;
+    img.format = bits == 8 ? PNG_FORMAT_RGB : PNG_FORMAT_LINEAR_RGB;
+    rc = write_file(path, &img, pixels);
+    png_image_free(&img);
+    free(pixels);
+    return rc;
+}

@@ -1,0 +1,88 @@
+/*
+** triangle.c -- ray / triangle by Cramer's rule (Shirley and Marschner,
+** "Fundamentals of Computer Graphics", 3rd ed., section 4.4.2).
+*/
+#include "internal.h"
+
+/*
+** Fill *hit from the barycentrics.  The point is interpolated from the
+** vertices rather than taken as org + t*dir, so its rounding error lies
+** along the surface and is bounded by gamma(7) * sum |b_i * v_i| (pbrt-v4
+** Triangle::InteractionFromIntersection, "pError").  The normal is the
+** normalised (b-a) x (c-a); if it has no length, the triangle is
+** degenerate even though the determinant rounded to non-zero: a miss.
+*/
+static int triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
+                         double beta, double gamma, ray_hit *hit)
+{
+    double alpha = 1.0 - beta - gamma;
+    ray_vec3 n, p, err;
+
+    if (!v3_normalize(v3_cross(v3_sub(vb, va), v3_sub(vc, va)), &n))
+        return 0;
+    p = v3_add(v3_add(v3_scale(va, alpha), v3_scale(vb, beta)),
+               v3_scale(vc, gamma));
+    err = v3_scale(v3_add(v3_add(v3_abs(v3_scale(va, alpha)),
+                                 v3_abs(v3_scale(vb, beta))),
+                          v3_abs(v3_scale(vc, gamma))),
+                   ray__gamma(7));
+    if (!v3_isfinite(p) || !v3_isfinite(err))
+        return 0;
+    hit->t = t;
+    hit->p = p;
+    hit->n = n;
+    hit->u = beta;
+    hit->v = gamma;
+    hit->p_err = err;
+    hit->geom_id = RAY_INVALID_ID;
+    hit->prim_id = RAY_INVALID_ID;
+    return 1;
+}
+
+/*
+** The system [A-B, A-C, d] [beta gamma t]^T = A - e, with the book's
+** names for its entries:
+**
+**     | a d g |   | beta  |   | j |      a,b,c = A - B
+**     | b e h | * | gamma | = | k |      d,e,f = A - C
+**     | c f i |   | t     |   | l |      g,h,i = d (ray direction)
+**                                        j,k,l = A - e (e: ray origin)
+**
+** Cramer's rule shares six 2x2 minors between the four determinants:
+**   M     = a(ei-hf) + b(gf-di) + c(dh-eg)
+**   beta  = (j(ei-hf) + k(gf-di) + l(dh-eg)) / M
+**   gamma = (i(ak-jb) + h(jc-al) + g(bl-kc)) / M
+**   t     = -(f(ak-jb) + e(jc-al) + d(bl-kc)) / M
+**
+** Only M == 0 exactly is rejected.  The 1997 Moeller-Trumbore code rejects
+** |M| < 1e-6, which is scale-dependent and drops every triangle with edges
+** shorter than ~1e-3; here a NaN or infinite M falls out of the NaN-safe
+** range tests below instead.
+*/
+int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
+                 ray_hit *hit)
+{
+    double a = va.x - vb.x, b = va.y - vb.y, c = va.z - vb.z;
+    double d = va.x - vc.x, e = va.y - vc.y, f = va.z - vc.z;
+    double g = r->dir.x, h = r->dir.y, i = r->dir.z;
+    double j = va.x - r->org.x, k = va.y - r->org.y, l = va.z - r->org.z;
+    double ei_hf = e * i - h * f, gf_di = g * f - d * i, dh_eg = d * h - e * g;
+    double ak_jb = a * k - j * b, jc_al = j * c - a * l, bl_kc = b * l - k * c;
+    double m = a * ei_hf + b * gf_di + c * dh_eg;
+    double t, beta, gamma;
+
+    /* Divisions rather than one reciprocal: each quotient is then
+    ** correctly rounded, and an edge hit stays exactly on its edge. */
+    if (m == 0)                  /* parallel ray, or zero-area triangle */
+        return 0;
+    t = -(f * ak_jb + e * jc_al + d * bl_kc) / m;
+    if (!(t > r->tmin && t < r->tmax))
+        return 0;
+    gamma = (i * ak_jb + h * jc_al + g * bl_kc) / m;
+    if (!(gamma >= 0 && gamma <= 1))
+        return 0;
+    beta = (j * ei_hf + k * gf_di + l * dh_eg) / m;
+    if (!(beta >= 0 && beta <= 1 - gamma))
+        return 0;
+    return triangle_fill(va, vb, vc, t, beta, gamma, hit);
+}

@@ -1,0 +1,24 @@
+/*
+** check_main.c -- runs every suite.  Fork mode stays on (Check's default),
+** so a crash fails one test instead of the run.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+
+int main(void)
+{
+    SRunner *sr = srunner_create(version_suite());
+    int failed;
+
+    srunner_add_suite(sr, sphere_suite());
+    srunner_add_suite(sr, triangle_suite());
+    srunner_add_suite(sr, plane_suite());
+    srunner_add_suite(sr, polygon_suite());
+    srunner_add_suite(sr, barycentric_suite());
+    srunner_add_suite(sr, png_suite());
+    srunner_run_all(sr, CK_NORMAL);
+    failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}

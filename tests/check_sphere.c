@@ -1,0 +1,339 @@
+/*
+** check_sphere.c -- ray_sphere: normal cases, hard cases, bad input and a
+** fixed-seed property test.
+*/
+#include "tests.h"
+
+/* The scenes below are repeated at these offsets from the world origin. */
+static const double offsets[] = {0.0, 1e5};
+#define N_OFFSETS ((int)(sizeof offsets / sizeof offsets[0]))
+
+/*
+** Tolerance for positions and t in the small exact scenes: the inputs are
+** exactly representable and the answers are too, so only the rounding of
+** a few dozen operations on coordinates of magnitude |offset| + 10 is
+** allowed: 64 ulps of that magnitude.
+*/
+static double tol_at(double offset)
+{
+    return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
+}
+
+START_TEST(sphere_should_hit_front_at_exact_t)
+{
+    double o = offsets[_i], tol = tol_at(o);
+    ray_vec3 c = vec(o, o, o);
+    ray_ray r = ray_from(vec(o, o, o - 5), vec(0, 0, 1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 1);
+    ck_assert_double_eq_tol(h.t, 4.0, tol);
+    ck_assert_vec_eq_tol(h.p, vec(o, o, o - 1), tol);
+    ck_assert_vec_eq_tol(h.n, vec(0, 0, -1), 4 * DBL_EPSILON);
+    /* n = (0,0,-1): longitude atan2(0,-1)/2pi + 1/2 = 1, latitude 1/2. */
+    ck_assert_double_eq_tol(h.u, 1.0, 4 * DBL_EPSILON);
+    ck_assert_double_eq_tol(h.v, 0.5, 4 * DBL_EPSILON);
+    ck_assert_uint_eq(h.geom_id, RAY_INVALID_ID);
+    ck_assert(hit_is_finite(&h));
+}
+END_TEST
+
+START_TEST(sphere_should_give_texture_coordinates_at_poles_and_equator)
+{
+    ray_vec3 c = vec(0, 0, 0);
+    ray_ray top = ray_from(vec(0, 5, 0), vec(0, -1, 0));
+    ray_ray bottom = ray_from(vec(0, -5, 0), vec(0, 1, 0));
+    ray_ray side = ray_from(vec(5, 0, 0), vec(-1, 0, 0));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_sphere(&top, c, 2.0, &h), 1);
+    ck_assert_double_eq_tol(h.v, 1.0, 4 * DBL_EPSILON);
+    ck_assert_int_eq(ray_sphere(&bottom, c, 2.0, &h), 1);
+    ck_assert_double_eq_tol(h.v, 0.0, 4 * DBL_EPSILON);
+    /* n = +x: atan2(1, 0)/2pi + 1/2 = 3/4. */
+    ck_assert_int_eq(ray_sphere(&side, c, 2.0, &h), 1);
+    ck_assert_double_eq_tol(h.u, 0.75, 4 * DBL_EPSILON);
+    ck_assert_double_eq_tol(h.v, 0.5, 4 * DBL_EPSILON);
+}
+END_TEST
+
+START_TEST(sphere_should_miss_to_the_side_and_behind)
+{
+    double o = offsets[_i];
+    ray_vec3 c = vec(o, o, o);
+    ray_ray side = ray_from(vec(o, o + 2, o - 5), vec(0, 0, 1));
+    ray_ray behind = ray_from(vec(o, o, o + 5), vec(0, 0, 1));
+    ray_hit h;
+
+    hit_poison(&h);
+    ck_assert_int_eq(ray_sphere(&side, c, 1.0, &h), 0);
+    ck_assert_int_eq(ray_sphere(&behind, c, 1.0, &h), 0);
+    ck_assert(hit_is_poisoned(&h));
+}
+END_TEST
+
+START_TEST(sphere_should_hit_far_side_from_inside)
+{
+    double o = offsets[_i], tol = tol_at(o);
+    ray_vec3 c = vec(o, o, o);
+    ray_ray r = ray_from(c, vec(0, 0, 1));
+    ray_ray off_centre = ray_from(vec(o + 0.5, o, o), vec(0, 0, 2));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 1);
+    ck_assert_double_eq_tol(h.t, 1.0, tol);
+    ck_assert_vec_eq_tol(h.n, vec(0, 0, 1), 4 * DBL_EPSILON);
+    /* |dir| = 2, so t is half the distance sqrt(1 - 0.25). */
+    ck_assert_int_eq(ray_sphere(&off_centre, c, 1.0, &h), 1);
+    ck_assert_double_eq_tol(h.t, sqrt(0.75) / 2, tol);
+}
+END_TEST
+
+/* t exactly at tmin or tmax is not a hit (open interval); with tmin on the
+** near root the far root is returned. */
+START_TEST(sphere_should_respect_open_interval)
+{
+    ray_vec3 c = vec(0, 0, 0);
+    ray_ray r = ray_from(vec(0, 0, -5), vec(0, 0, 1));
+    ray_hit h;
+
+    r.tmin = 4.0;
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 1);
+    ck_assert_double_eq(h.t, 6.0);
+    r.tmin = 0.0;
+    r.tmax = 4.0;
+    hit_poison(&h);
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 0);
+    ck_assert(hit_is_poisoned(&h));
+    r.tmin = 4.0;
+    r.tmax = 6.0;
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 0);
+    r.tmax = nextafter(4.0, 5.0);
+    r.tmin = 0.0;
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 1);
+    ck_assert_double_eq(h.t, 4.0);
+    r.tmin = 6.0;                    /* tmin > tmax: empty interval */
+    r.tmax = 1.0;
+    ck_assert_int_eq(ray_sphere(&r, c, 1.0, &h), 0);
+}
+END_TEST
+
+/*
+** Tangent ray x = 1: the discriminant is exactly 0 here (|l| = 1), so this
+** is the one-root case: a hit at t = 5, p = (1,0,0), no NaN.  A hair
+** outside misses, a hair inside hits twice near t = 5.
+*/
+START_TEST(sphere_should_classify_tangent_rays)
+{
+    double o = offsets[_i], tol = tol_at(o);
+    ray_vec3 c = vec(o, o, o);
+    ray_ray tangent = ray_from(vec(o + 1, o, o - 5), vec(0, 0, 1));
+    ray_ray outside = ray_from(vec(o + 1 + 1e-9, o, o - 5), vec(0, 0, 1));
+    ray_ray inside = ray_from(vec(o + 1 - 1e-9, o, o - 5), vec(0, 0, 1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_sphere(&tangent, c, 1.0, &h), 1);
+    ck_assert(hit_is_finite(&h));
+    ck_assert_double_eq_tol(h.t, 5.0, tol);
+    ck_assert_vec_eq_tol(h.p, vec(o + 1, o, o), tol);
+    ck_assert_vec_eq_tol(h.n, vec(1, 0, 0), 1e-12);
+    ck_assert_int_eq(ray_sphere(&outside, c, 1.0, &h), 0);
+    ck_assert_int_eq(ray_sphere(&inside, c, 1.0, &h), 1);
+    ck_assert(hit_is_finite(&h));
+    /* The chord half-length is sqrt(1 - x^2) ~ 4.5e-5, taken in long
+    ** double from the x actually stored (1 - 1e-9 rounded): near the
+    ** tangent t depends on x with a factor x/sqrt(1 - x^2) ~ 2e4, so the
+    ** reference must use the same input.  Tolerance: 1e-12, about ten ulps
+    ** of t = 5 times that factor's share of one rounding of |l|. */
+    if (o == 0.0) {
+        long double x = (long double)inside.org.x;
+        ck_assert_double_eq_tol(h.t, (double)(5.0L - sqrtl(1.0L - x * x)),
+                                1e-12);
+    }
+}
+END_TEST
+
+START_TEST(sphere_should_miss_on_bad_input)
+{
+    ray_vec3 c = vec(0, 0, 0), org = vec(0, 0, -5), dir = vec(0, 0, 1);
+    double nan = NAN, inf = HUGE_VAL;
+    ray_ray rays[8];
+    ray_hit h;
+    int i;
+
+    rays[0] = ray_from(vec(nan, 0, -5), dir);
+    rays[1] = ray_from(org, vec(0, nan, 1));
+    rays[2] = ray_from(vec(0, 0, -inf), dir);
+    rays[3] = ray_from(org, vec(0, 0, inf));
+    rays[4] = ray_from(org, vec(0, 0, 0));
+    rays[5] = make_ray(org, dir, nan, HUGE_VAL);
+    rays[6] = make_ray(org, dir, 0, nan);
+    rays[7] = ray_from(org, vec(-0.0, -0.0, -0.0));
+    hit_poison(&h);
+    for (i = 0; i < 8; i++)
+        ck_assert_msg(ray_sphere(&rays[i], c, 1.0, &h) == 0, "ray %d", i);
+    ck_assert_int_eq(ray_sphere(&rays[0] + 0, c, 1.0, &h), 0);
+    {
+        ray_ray ok = ray_from(org, dir);
+        double radii[] = {0.0, -1.0, nan, inf, -inf, -0.0};
+        for (i = 0; i < 6; i++)
+            ck_assert_int_eq(ray_sphere(&ok, c, radii[i], &h), 0);
+        ck_assert_int_eq(ray_sphere(&ok, vec(nan, 0, 0), 1.0, &h), 0);
+        ck_assert_int_eq(ray_sphere(&ok, vec(0, inf, 0), 1.0, &h), 0);
+    }
+    ck_assert(hit_is_poisoned(&h));
+}
+END_TEST
+
+/*
+** A sphere of radius 1e-3 at distance 1e4 (the lecture's b^2 - ac would
+** subtract two ~1e16 numbers to find ~1e-6).  Rays through x = 0.9e-3 and
+** 1.1e-3 must hit and miss; the centre ray's t is 1e4 - 1e-3, with an
+** error of a few ulps of 1e4 (ulp(1e4) = 1.8e-12): tolerance 1e-10.
+*/
+START_TEST(sphere_should_hit_tiny_and_far)
+{
+    double o = offsets[_i];
+    ray_vec3 c = vec(o, o, o - 1e4);
+    ray_ray centre = ray_from(vec(o, o, o), vec(0, 0, -1));
+    ray_ray in = ray_from(vec(o + 0.9e-3, o, o), vec(0, 0, -1));
+    ray_ray out = ray_from(vec(o + 1.1e-3, o, o), vec(0, 0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_sphere(&centre, c, 1e-3, &h), 1);
+    ck_assert_double_eq_tol(h.t, 1e4 - 1e-3, 1e-10 + tol_at(o));
+    ck_assert_vec_eq_tol(h.n, vec(0, 0, 1), 1e-12);
+    ck_assert_int_eq(ray_sphere(&in, c, 1e-3, &h), 1);
+    ck_assert_double_eq_tol(h.t, 1e4 - sqrt(1e-6 - 0.81e-6), 1e-9);
+    ck_assert_int_eq(ray_sphere(&out, c, 1e-3, &h), 0);
+}
+END_TEST
+
+/*
+** A sphere of radius 1e6 used as a ground, the camera 1 above it: the
+** near root is the small difference of two ~1e6 terms in the textbook
+** formula.  Straight down: t = 1 within a few ulps of 1e6 (ulp = 1.2e-10,
+** tolerance 1e-9).  A grazing ray sloping 1e-2 down meets the ground at
+** t ~ 100.5 (the horizon is at sqrt(2R) ~ 1414); the reference is the
+** cancellation-free root in long double.  Tolerance 1e-9: the inputs'
+** quantisation ulp(R) = 1.2e-10 moves the root by about that much.
+*/
+START_TEST(sphere_should_hit_huge_ground_near_origin)
+{
+    double R = 1e6;
+    ray_vec3 c = vec(0, -R, 0);
+    ray_ray down = ray_from(vec(0, 1, 0), vec(0, -1, 0));
+    ray_ray graze = ray_from(vec(0, 1, 0), vec(1, -1e-2, 0));
+    ray_hit h;
+    long double a, b, cc, t_ref;
+
+    ck_assert_int_eq(ray_sphere(&down, c, R, &h), 1);
+    ck_assert_double_eq_tol(h.t, 1.0, 1e-9);
+    ck_assert_vec_eq_tol(h.p, vec(0, 0, 0), 1e-9);
+    ck_assert_int_eq(ray_sphere(&graze, c, R, &h), 1);
+    /* Reference: a t^2 + 2 b t + cc = 0 in long double, near root by the
+    ** cancellation-free form. */
+    a = 1.0L + (long double)(1e-2 * 1e-2);
+    b = -(long double)1e-2 * (1.0L + (long double)R);
+    cc = (1.0L + (long double)R) * (1.0L + (long double)R) -
+         (long double)R * (long double)R;
+    t_ref = cc / (-b + sqrtl(b * b - a * cc));
+    ck_assert_double_eq_tol(h.t, (double)t_ref, 1e-9);
+    ck_assert(hit_is_finite(&h));
+}
+END_TEST
+
+/*
+** Property test: 20000 random spheres (centre in [-10,10]^3, radius in
+** [0.1, 5]), a random surface point P, a ray from outside aimed at P within
+** 78 degrees of the normal (cos > 0.2, so the error of t along the ray
+** projects onto the surface by at most a factor 5).  The hit must be P
+** with t = 1.  Bound: coordinates up to ~40, ~30 roundings, factor 5:
+** 40 * 5 * 64 u ~ 1.4e-12; we allow 1e-11 and also check that P lies in
+** the reported error box p +- p_err grown by the same slack.
+*/
+START_TEST(sphere_should_reproduce_aimed_points)
+{
+    rng g = {42};
+    int i;
+
+    for (i = 0; i < 20000; i++) {
+        ray_vec3 c = rng_point(&g, -10, 10);
+        double radius = rng_range(&g, 0.1, 5);
+        ray_vec3 n = rng_dir(&g), w;
+        ray_vec3 P = vadd(c, vscale(n, radius));
+        ray_ray r;
+        ray_hit h;
+
+        do
+            w = rng_dir(&g);
+        while (vdot(w, n) < 0.2);
+        r = ray_from(vadd(P, vscale(w, rng_range(&g, 0.5, 20))),
+                     vec(0, 0, 0));
+        r.dir = vsub(P, r.org);
+        ck_assert_int_eq(ray_sphere(&r, c, radius, &h), 1);
+        ck_assert_double_eq_tol(h.t, 1.0, 1e-11);
+        ck_assert_vec_eq_tol(h.p, P, 1e-11);
+        ck_assert_double_eq_tol(vdot(h.n, n), 1.0, 1e-12);
+        ck_assert_double_eq_tol(vlen(h.n), 1.0, 4 * DBL_EPSILON);
+        /* |p - c| = radius within the error box. */
+        ck_assert_double_eq_tol(vdist(h.p, c), radius,
+                                vlen(h.p_err) + 4 * DBL_EPSILON * radius);
+    }
+}
+END_TEST
+
+/* The lecture's naive formula is kept (internally) for the comparison. */
+int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
+                      ray_hit *hit);
+
+/*
+** Where the textbook formula breaks in double: a sphere of radius 1 at
+** distance 1e9.  b^2 - ac cancels 1e18-sized terms whose rounding (ulp
+** 128) swamps the ~1 difference, so the naive test misclassifies rays a
+** little inside the silhouette; the cancellation-free form does not.
+*/
+START_TEST(sphere_should_beat_naive_formula_when_far)
+{
+    ray_vec3 c = vec(0, 0, -1e9);
+    int naive_wrong = 0, robust_wrong = 0, k;
+
+    for (k = 0; k < 200; k++) {
+        double x = -1.2 + 2.4 * (k + 0.5) / 200.0;
+        int expect = fabs(x) < 1.0;
+        ray_ray r = ray_from(vec(x, 0, 0), vec(0, 0, -1));
+        ray_hit h;
+
+        if (fabs(fabs(x) - 1.0) < 1e-3)
+            continue;
+        naive_wrong += ray__sphere_naive(&r, c, 1.0, &h) != expect;
+        robust_wrong += ray_sphere(&r, c, 1.0, &h) != expect;
+    }
+    ck_assert_int_eq(robust_wrong, 0);
+    ck_assert_int_gt(naive_wrong, 0);
+}
+END_TEST
+
+Suite *sphere_suite(void)
+{
+    Suite *s = suite_create("sphere");
+    TCase *core = tcase_create("hits");
+    TCase *hard = tcase_create("hard");
+    TCase *prop = tcase_create("property");
+
+    tcase_add_loop_test(core, sphere_should_hit_front_at_exact_t, 0, N_OFFSETS);
+    tcase_add_test(core, sphere_should_give_texture_coordinates_at_poles_and_equator);
+    tcase_add_loop_test(core, sphere_should_miss_to_the_side_and_behind, 0, N_OFFSETS);
+    tcase_add_loop_test(core, sphere_should_hit_far_side_from_inside, 0, N_OFFSETS);
+    tcase_add_test(core, sphere_should_respect_open_interval);
+    tcase_add_loop_test(hard, sphere_should_classify_tangent_rays, 0, N_OFFSETS);
+    tcase_add_test(hard, sphere_should_miss_on_bad_input);
+    tcase_add_loop_test(hard, sphere_should_hit_tiny_and_far, 0, N_OFFSETS);
+    tcase_add_test(hard, sphere_should_hit_huge_ground_near_origin);
+    tcase_add_test(hard, sphere_should_beat_naive_formula_when_far);
+    tcase_add_test(prop, sphere_should_reproduce_aimed_points);
+    suite_add_tcase(s, core);
+    suite_add_tcase(s, hard);
+    suite_add_tcase(s, prop);
+    return s;
+}

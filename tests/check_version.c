@@ -1,0 +1,57 @@
+/*
+** check_version.c -- version macros and function, status-code strings.
+*/
+#include <stdio.h>
+
+#include "tests.h"
+
+START_TEST(version_should_match_header)
+{
+    char buf[32];
+
+    ck_assert_int_eq(ray_version_number(), RAY_VERSION_NUMBER);
+    ck_assert_str_eq(ray_version_string(), RAY_VERSION_STRING);
+    ck_assert_int_eq(RAY_VERSION_NUMBER, RAY_VERSION_MAJOR * 10000 +
+                     RAY_VERSION_MINOR * 100 + RAY_VERSION_PATCH);
+    snprintf(buf, sizeof buf, "%d.%d.%d", RAY_VERSION_MAJOR,
+             RAY_VERSION_MINOR, RAY_VERSION_PATCH);
+    ck_assert_str_eq(buf, RAY_VERSION_STRING);
+}
+END_TEST
+
+START_TEST(strerror_should_name_every_code)
+{
+    int codes[] = {RAY_OK, RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE,
+                   RAY_ENOMEM, RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED};
+    size_t n = sizeof codes / sizeof codes[0], i, j;
+
+    for (i = 0; i < n; i++) {
+        const char *s = ray_strerror(codes[i]);
+        ck_assert_ptr_nonnull(s);
+        ck_assert_str_ne(s, "unknown error");
+        for (j = 0; j < i; j++)
+            ck_assert_str_ne(s, ray_strerror(codes[j]));
+    }
+    ck_assert_str_eq(ray_strerror(RAY_OK), "success");
+}
+END_TEST
+
+START_TEST(strerror_should_survive_unknown_codes)
+{
+    ck_assert_str_eq(ray_strerror(-1), "unknown error");
+    ck_assert_str_eq(ray_strerror(12345), "unknown error");
+    ck_assert_str_eq(ray_strerror(-2147483647 - 1), "unknown error");
+}
+END_TEST
+
+Suite *version_suite(void)
+{
+    Suite *s = suite_create("version");
+    TCase *tc = tcase_create("core");
+
+    tcase_add_test(tc, version_should_match_header);
+    tcase_add_test(tc, strerror_should_name_every_code);
+    tcase_add_test(tc, strerror_should_survive_unknown_codes);
+    suite_add_tcase(s, tc);
+    return s;
+}

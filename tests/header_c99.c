@@ -1,0 +1,2 @@
+/* The public header must compile on its own, as C99 and as C++. */
+#include <ray.h>

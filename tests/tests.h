@@ -1,0 +1,171 @@
+/*
+** tests.h -- helpers shared by the Check suites in tests/.
+*/
+#ifndef RAY_TESTS_H
+#define RAY_TESTS_H
+
+#include <check.h>
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "ray.h"
+
+Suite *version_suite(void);
+Suite *sphere_suite(void);
+Suite *triangle_suite(void);
+Suite *plane_suite(void);
+Suite *polygon_suite(void);
+Suite *barycentric_suite(void);
+Suite *png_suite(void);
+
+/* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
+#define U64 (DBL_EPSILON * 0.5)
+
+static inline ray_vec3 vec(double x, double y, double z)
+{
+    ray_vec3 v;
+    v.x = x;
+    v.y = y;
+    v.z = z;
+    return v;
+}
+
+static inline ray_vec3 vadd(ray_vec3 a, ray_vec3 b)
+{
+    return vec(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+
+static inline ray_vec3 vsub(ray_vec3 a, ray_vec3 b)
+{
+    return vec(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+
+static inline ray_vec3 vscale(ray_vec3 a, double s)
+{
+    return vec(a.x * s, a.y * s, a.z * s);
+}
+
+static inline double vdot(ray_vec3 a, ray_vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+static inline double vlen(ray_vec3 a)
+{
+    return sqrt(vdot(a, a));
+}
+
+static inline double vdist(ray_vec3 a, ray_vec3 b)
+{
+    return vlen(vsub(a, b));
+}
+
+static inline ray_vec3 vcross(ray_vec3 a, ray_vec3 b)
+{
+    return vec(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
+               a.x * b.y - a.y * b.x);
+}
+
+static inline ray_ray make_ray(ray_vec3 org, ray_vec3 dir, double tmin,
+                               double tmax)
+{
+    ray_ray r;
+    r.org = org;
+    r.dir = dir;
+    r.tmin = tmin;
+    r.tmax = tmax;
+    return r;
+}
+
+/* A ray on (0, +Inf): the usual primary ray. */
+static inline ray_ray ray_from(ray_vec3 org, ray_vec3 dir)
+{
+    return make_ray(org, dir, 0.0, HUGE_VAL);
+}
+
+/* Fill a hit record with a byte pattern, to check that a miss leaves it
+** untouched (memcmp with a second copy). */
+static inline void hit_poison(ray_hit *h)
+{
+    memset(h, 0xA5, sizeof *h);
+}
+
+static inline int hit_is_poisoned(const ray_hit *h)
+{
+    ray_hit ref;
+    hit_poison(&ref);
+    return memcmp(h, &ref, sizeof ref) == 0;
+}
+
+/* Every double of a hit record is finite. */
+static inline int hit_is_finite(const ray_hit *h)
+{
+    return isfinite(h->t) && isfinite(h->p.x) && isfinite(h->p.y) &&
+           isfinite(h->p.z) && isfinite(h->n.x) && isfinite(h->n.y) &&
+           isfinite(h->n.z) && isfinite(h->u) && isfinite(h->v) &&
+           isfinite(h->p_err.x) && isfinite(h->p_err.y) &&
+           isfinite(h->p_err.z);
+}
+
+/* Exact equality, component by component. */
+#define ck_assert_vec_eq(a, b)                                            \
+    do {                                                                  \
+        ck_assert_double_eq((a).x, (b).x);                                \
+        ck_assert_double_eq((a).y, (b).y);                                \
+        ck_assert_double_eq((a).z, (b).z);                                \
+    } while (0)
+
+/* |a - b| < tol per component (Check's comparison is strict). */
+#define ck_assert_vec_eq_tol(a, b, tol)                                   \
+    do {                                                                  \
+        ck_assert_double_eq_tol((a).x, (b).x, (tol));                     \
+        ck_assert_double_eq_tol((a).y, (b).y, (tol));                     \
+        ck_assert_double_eq_tol((a).z, (b).z, (tol));                     \
+    } while (0)
+
+/* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a fixed-seed generator so
+** every property test sees the same inputs on every run and machine. */
+typedef struct rng {
+    uint64_t s;
+} rng;
+
+static inline uint64_t rng_next(rng *g)
+{
+    uint64_t z = (g->s += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [0, 1), 53 random bits. */
+static inline double rng_unit(rng *g)
+{
+    return (double)(rng_next(g) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static inline double rng_range(rng *g, double lo, double hi)
+{
+    return lo + (hi - lo) * rng_unit(g);
+}
+
+/* Uniform direction on the unit sphere (Marsaglia-style rejection). */
+static inline ray_vec3 rng_dir(rng *g)
+{
+    for (;;) {
+        ray_vec3 v = vec(rng_range(g, -1, 1), rng_range(g, -1, 1),
+                         rng_range(g, -1, 1));
+        double l2 = vdot(v, v);
+        if (l2 > 1e-4 && l2 <= 1)
+            return vscale(v, 1.0 / sqrt(l2));
+    }
+}
+
+static inline ray_vec3 rng_point(rng *g, double lo, double hi)
+{
+    return vec(rng_range(g, lo, hi), rng_range(g, lo, hi),
+               rng_range(g, lo, hi));
+}
+
+#endif
