@@ -57,7 +57,7 @@ deps-build:
 deps-check:
 	@scripts/deps.sh pkg-config libpng check mandoc
 
-$(BUILD)/obj/%.o: src/%.c src/internal.h include/ray.h
+$(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
 	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) -c $< -o $@
@@ -79,7 +79,7 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h $(STATIC)
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
-$(BUILD)/examples/%: examples/%.c $(STATIC)
+$(BUILD)/examples/%: examples/%.c examples/common.h $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
 
@@ -124,8 +124,9 @@ SAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
 sanitize:
 	$(MAKE) check BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_FLAGS)"
 
-demo: deps-build lib $(BUILD)/examples/demo
-	$(BUILD)/examples/demo demo.png
+# The showcase: the Whitted scene, with a progress bar on stderr.
+demo: deps-build lib $(BUILD)/examples/whitted
+	$(BUILD)/examples/whitted whitted.png
 
 # ---------------------------------------------------------------- install
 libray.pc: libray.pc.in Makefile
@@ -157,4 +158,4 @@ uninstall:
 	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
 
 clean:
-	rm -rf $(BUILD) demo.png
+	rm -rf $(BUILD) demo.png whitted.png hello.png cornell.png

@@ -66,7 +66,9 @@ enum {
     RAY_EIO,             /* an I/O call failed (see errno) */
     RAY_EPNG,            /* libpng reported an error */
     RAY_ESTATE,          /* call not allowed in the object's current state */
-    RAY_ECANCELED        /* the caller's progress callback cancelled */
+    RAY_ECANCELED,       /* the caller's progress callback cancelled */
+    RAY_ELIMIT,          /* a ray-tree limit (depth, weight, fan-out) */
+    RAY_EEFFECT          /* a material asked for an undeclared effect */
 };
 
 /*
@@ -209,6 +211,402 @@ RAY_API int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t n,
 */
 RAY_API int ray_barycentric(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                             double abg[3], int *inside);
+
+/* ----------------------------------------------------- secondary rays */
+
+/*
+** ray_spawn -- the ray leaving hit "hit" in direction "dir", with its
+** origin moved off the surface so it cannot hit that surface again
+** ("acne") nor skip geometry thicker than the hit point's own rounding
+** error.  The origin is p offset along the geometric normal, to the side
+** "dir" points to, by the error bound dot(|n|, p_err) times 2, then rounded
+** one more ulp away from p per component (pbrt-v4 OffsetRayOrigin, which
+** follows the same argument).  out->tmin = 0, out->tmax = +Inf.
+**
+** ray_spawn_to -- the same for a segment toward the point "target" (a
+** shadow ray): out->dir = target - origin, tmax = 1, so only geometry
+** strictly between the surface and the target blocks it.
+**
+** Both return RAY_OK, or RAY_EINVAL (nothing written) for NULL pointers,
+** non-finite input or a zero direction.  Thread-safe, no state.
+*/
+RAY_API int ray_spawn(const ray_hit *hit, ray_vec3 dir, ray_ray *out);
+RAY_API int ray_spawn_to(const ray_hit *hit, ray_vec3 target, ray_ray *out);
+
+/*
+** Optics helpers for material callbacks.  "d" is the incident direction
+** (toward the surface, any length) and "n" a unit normal on either side.
+**
+** ray_reflect: the mirror direction d - 2(d.n)n.
+** ray_refract: Snell's law for relative index eta = n_incident /
+**   n_transmitted, with n flipped to face d if needed.  Writes the unit
+**   transmitted direction and returns 1, or returns 0 (nothing written)
+**   on total internal reflection or bad input.
+** ray_fresnel: the unpolarised Fresnel reflectance of a dielectric
+**   interface for cos_i = cosine of the incidence angle (|d.n|/|d|) and
+**   eta = n_incident / n_transmitted; 1 on total internal reflection.
+*/
+RAY_API ray_vec3 ray_reflect(ray_vec3 d, ray_vec3 n);
+RAY_API int ray_refract(ray_vec3 d, ray_vec3 n, double eta, ray_vec3 *out);
+RAY_API double ray_fresnel(double cos_i, double eta);
+
+/* ------------------------------------------------------------------ scene */
+
+/* Linear RGB radiance or reflectance. */
+typedef struct ray_rgb {
+    double r, g, b;
+} ray_rgb;
+
+/*
+** An allocator, realloc-style (Lua's lua_Alloc): free when nsize == 0
+** (return NULL), else (re)allocate ptr of osize bytes (ptr NULL, osize 0
+** for a new block) to nsize bytes, returning NULL on failure with ptr
+** untouched.  "ud" is the pointer given with it.  NULL means libc.
+*/
+typedef void *(*ray_alloc_fn)(void *ud, void *ptr, size_t osize,
+                              size_t nsize);
+
+typedef struct ray_scene ray_scene;  /* geometry, materials, lights */
+typedef struct ray_ctx ray_ctx;      /* one thread's trace state */
+
+/* Kinds of rays, for statistics and effect declarations. */
+enum {
+    RAY_KIND_PRIMARY = 0,
+    RAY_KIND_SHADOW,
+    RAY_KIND_REFLECTION,
+    RAY_KIND_REFRACTION,
+    RAY_KIND_COUNT
+};
+
+/* What a material may ask for: the tracer refuses anything else. */
+#define RAY_EFFECT_REFLECTION 1u   /* may call ray_trace(.., REFLECTION) */
+#define RAY_EFFECT_REFRACTION 2u   /* may call ray_trace(.., REFRACTION) */
+#define RAY_EFFECT_SHADOW     4u   /* ray_light_visible casts shadow rays */
+
+/*
+** Everything a material callback gets to shade one hit.  Read-only; valid
+** during the call only.  New fields are added only at the end.
+*/
+typedef struct ray_shade_args {
+    const ray_scene *scene;
+    const ray_ray *ray;      /* the incoming ray */
+    const ray_hit *hit;      /* where it hit (geometric normal in hit->n) */
+    ray_vec3 normal;         /* hit->n turned to face the incoming ray */
+    int entering;            /* 1 if the ray hit the side hit->n points to */
+    double u, v;             /* texture coordinates: hit->u, hit->v */
+    unsigned depth;          /* 0 for a primary ray, +1 per bounce */
+    double weight;           /* path weight: product of the attenuations */
+    ray_rgb ambient;         /* the scene's ambient light */
+} ray_shade_args;
+
+/*
+** A material's shading function: write the radiance leaving the hit
+** toward the incoming ray into *out (preset to black).  Called
+** CONCURRENTLY from the render threads: touch only "ud" read-only, or
+** synchronise.  "ctx" is the calling thread's context, to pass to
+** ray_trace and ray_light_sample.
+*/
+typedef void (*ray_shade_fn)(void *ud, ray_ctx *ctx,
+                             const ray_shade_args *args, ray_rgb *out);
+
+typedef struct ray_material {
+    ray_shade_fn shade;
+    void *ud;                /* borrowed: must outlive the scene */
+    unsigned effects;        /* RAY_EFFECT_* bits it may request */
+} ray_material;
+
+/*
+** Lights.  "intensity" is what arrives at distance 1 (point and area
+** lights, which fall off as 1/r^2) or everywhere (directional).  An area
+** light spreads it over its samples.  A sphere light looks the same from
+** every side; a rect light emits only from the side edge1 x edge2 points
+** to, with the cosine falloff of a Lambertian emitter.
+*/
+enum {
+    RAY_LIGHT_POINT = 0,     /* at position */
+    RAY_LIGHT_DIRECTIONAL,   /* travelling along direction, from infinity */
+    RAY_LIGHT_SPHERE,        /* ball of radius at position: soft shadows */
+    RAY_LIGHT_RECT           /* parallelogram position + s*edge1 + t*edge2 */
+};
+
+typedef struct ray_light {
+    int kind;                /* RAY_LIGHT_* */
+    ray_vec3 position;
+    ray_vec3 direction;      /* directional lights */
+    ray_vec3 edge1, edge2;   /* rectangular lights */
+    double radius;           /* spherical lights */
+    ray_rgb intensity;
+    unsigned samples;        /* area lights: shadow rays per shading
+                                point, rounded up to a square; 0 = 16 */
+} ray_light;
+
+/* The ray tree's bounds (the lecture: "bound tree depth & fan-out"). */
+typedef struct ray_limits {
+    unsigned max_depth;      /* deepest bounce traced; primary = 0 */
+    double min_weight;       /* rays whose path weight falls below: cut */
+    unsigned max_fanout;     /* secondary rays one hit may spawn */
+} ray_limits;
+
+#define RAY_DEFAULT_MAX_DEPTH 8
+#define RAY_DEFAULT_MIN_WEIGHT (1.0 / 256)  /* below one 8-bit level */
+#define RAY_DEFAULT_MAX_FANOUT 2            /* a reflection + a refraction */
+
+/*
+** ray_scene_new -- create an empty scene in *out.  "alloc" (NULL: libc)
+** serves every allocation the scene makes, with "alloc_ud".
+** Returns RAY_OK, RAY_EINVAL (out NULL) or RAY_ENOMEM.
+** ray_scene_free -- release it; NULL is a no-op.
+**
+** A scene is built single-threaded, then ray_scene_commit makes it
+** read-only: after that any number of threads may trace it at once, and
+** every ray_scene_add_* / _set_* returns RAY_ESTATE.
+*/
+RAY_API int ray_scene_new(ray_scene **out, ray_alloc_fn alloc,
+                          void *alloc_ud);
+RAY_API void ray_scene_free(ray_scene *scene);
+
+/*
+** Materials are copied into the scene (the ud they point to is borrowed).
+** *id, if not NULL, receives the material's id, counted from 0.
+** RAY_EINVAL for a NULL scene, material or shade function, or unknown
+** effect bits.
+*/
+RAY_API int ray_scene_add_material(ray_scene *scene, const ray_material *m,
+                                   unsigned *id);
+
+/*
+** Geometry, each with a material id.  Copied into the scene.  *geom_id,
+** if not NULL, receives the id that hits report in ray_hit.geom_id
+** (counted from 0 over all geometry).  Errors, with nothing added:
+** RAY_EINVAL for NaN/Inf coordinates, a radius not > 0, a zero normal, an
+** unknown material or fewer than 3 polygon vertices; RAY_EDEGENERATE for
+** a zero-area triangle or polygon; RAY_ENOMEM; RAY_ESTATE after commit.
+*/
+RAY_API int ray_scene_add_sphere(ray_scene *scene, ray_vec3 center,
+                                 double radius, unsigned material,
+                                 unsigned *geom_id);
+RAY_API int ray_scene_add_plane(ray_scene *scene, ray_vec3 point,
+                                ray_vec3 normal, unsigned material,
+                                unsigned *geom_id);
+RAY_API int ray_scene_add_triangle(ray_scene *scene, ray_vec3 a, ray_vec3 b,
+                                   ray_vec3 c, unsigned material,
+                                   unsigned *geom_id);
+RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
+                                  size_t n, unsigned material,
+                                  unsigned *geom_id);
+
+/*
+** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
+** negative intensity, a zero direction (directional), a radius not > 0
+** (sphere) or parallel edges (rect).
+*/
+RAY_API int ray_scene_add_light(ray_scene *scene, const ray_light *light,
+                                unsigned *id);
+
+/* The background: a constant colour (default black), or a function of
+** the escaping ray (NULL fn restores the colour).  The ambient light
+** given to materials (default black).  Tree limits (NULL: defaults). */
+typedef void (*ray_background_fn)(void *ud, const ray_ray *r, ray_rgb *out);
+RAY_API int ray_scene_set_background(ray_scene *scene, ray_rgb color);
+RAY_API int ray_scene_set_background_fn(ray_scene *scene,
+                                        ray_background_fn fn, void *ud);
+RAY_API int ray_scene_set_ambient(ray_scene *scene, ray_rgb ambient);
+RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
+
+/*
+** ray_scene_commit -- finish building: the scene becomes read-only and
+** safe to share between threads.  Returns RAY_OK, RAY_ENOMEM, or
+** RAY_ESTATE if already committed.
+*/
+RAY_API int ray_scene_commit(ray_scene *scene);
+
+/*
+** Queries on a committed scene, from any thread.  ray_intersect: the
+** nearest hit in (tmin, tmax), with geom_id set (1) or a miss (0, *hit
+** untouched).  ray_occluded: 1 if anything lies in (tmin, tmax) (any-hit,
+** stops at the first).  Both return 0 for an uncommitted scene or NULLs.
+*/
+RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
+                          ray_hit *hit);
+RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
+
+/* ---------------------------------------------------------------- tracing */
+
+/* Counters of one context or one render (summed over its threads). */
+typedef struct ray_stats {
+    unsigned long long rays[RAY_KIND_COUNT];  /* traced, by RAY_KIND_* */
+    unsigned long long tests;       /* ray-primitive intersection tests */
+    unsigned long long cut_depth;   /* rays refused by max_depth */
+    unsigned long long cut_weight;  /* rays refused by min_weight */
+    unsigned long long cut_fanout;  /* rays refused by max_fanout */
+    unsigned max_depth;             /* deepest level reached */
+} ray_stats;
+
+/*
+** ray_ctx_new -- a trace context for tracing outside ray_render (which
+** makes its own, one per thread).  One context per thread; it holds the
+** recursion state, the random sequence and the counters.  "seed" seeds
+** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL, or scene not committed)
+** or RAY_ENOMEM.  ray_ctx_free(NULL) is a no-op.  ray_ctx_stats copies
+** the counters accumulated so far.
+*/
+RAY_API int ray_ctx_new(const ray_scene *scene, unsigned long long seed,
+                        ray_ctx **out);
+RAY_API void ray_ctx_free(ray_ctx *ctx);
+RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
+
+/*
+** ray_trace -- trace ray "r" and write the radiance it brings back into
+** *out: the shade of the material it hits, or the background.
+**
+** "kind" is RAY_KIND_PRIMARY outside a material callback; inside one it is
+** RAY_KIND_REFLECTION or RAY_KIND_REFRACTION, and "attenuation" is the
+** factor this ray's result will be multiplied by (e.g. the reflectance),
+** so the tree can be pruned by weight.  The tracer enforces the scene's
+** limits: a ray deeper than max_depth, with path weight below min_weight,
+** or beyond max_fanout rays for the current hit is not traced.
+**
+** Returns RAY_OK; RAY_ELIMIT when a limit stopped it; RAY_EEFFECT when
+** the calling material did not declare that kind in its effects;
+** RAY_EINVAL for NULL pointers or a bad kind.  On anything but RAY_OK,
+** *out is untouched.
+*/
+RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
+                      double attenuation, ray_rgb *out);
+
+/*
+** One light as seen from a shading point.
+**
+** ray_light_sample_at fills *out for light "light" (0 ..
+** ray_scene_light_count - 1) and sample "index" (0 .. n - 1, n =
+** ray_light_samples: 1 for point and directional lights, the light's
+** sample count for area lights, whose sample positions are stratified and
+** jittered from the context's per-pixel random sequence).  It casts no ray.
+**
+** ray_light_visible answers whether the sample is unoccluded.  When the
+** calling material declared RAY_EFFECT_SHADOW it casts one shadow ray
+** (any-hit, from ray_spawn_to); otherwise it casts nothing and answers 1:
+** unshadowed light, a documented no-op.  So a material asks only for the
+** samples that would contribute (n.l > 0), and only those cost a ray.
+**
+** ray_light_sample_at returns RAY_OK or RAY_EINVAL (NULLs, light or index
+** out of range, shading point at the light's position).  ray_light_visible
+** returns 1 or 0 (0 also for NULL arguments).
+*/
+typedef struct ray_light_sample {
+    ray_vec3 dir;            /* unit vector from the hit toward the light */
+    double dist;             /* distance to the sample, +Inf if directional */
+    ray_rgb radiance;        /* arriving intensity (before visibility),
+                                already divided by the sample count */
+    ray_vec3 point;          /* the sample's position (unused if +Inf) */
+} ray_light_sample;
+
+RAY_API unsigned ray_scene_light_count(const ray_scene *scene);
+RAY_API unsigned ray_light_samples(const ray_scene *scene, unsigned light);
+RAY_API int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
+                                unsigned light, unsigned index,
+                                ray_light_sample *out);
+RAY_API int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
+                              const ray_light_sample *sample);
+
+/* A uniform random number in [0, 1) from the context's per-pixel
+** sequence: deterministic for a given pixel, sample and frame seed. */
+RAY_API double ray_ctx_random(ray_ctx *ctx);
+
+/* ------------------------------------------------------ built-in materials */
+
+/*
+** Written with the public callback API only (src/materials.c): read them
+** as examples.  Each constructor returns a ray_material whose ud is the
+** given parameter block, which is BORROWED and must outlive the scene.
+**
+** ray_material_phong: ambient*diffuse + sum over lights of diffuse *
+**   max(0, n.l) + specular * max(0, r.v)^shininess (Phong) or
+**   max(0, n.h)^shininess (Blinn-Phong if blinn != 0), each light sample
+**   shadowed; plus a mirror term if reflect is non-zero.  Lambert is
+**   specular = reflect = 0.
+** ray_material_mirror: perfect mirror, reflectance per channel.
+** ray_material_glass: dielectric: Fresnel-weighted reflection and
+**   refraction (Snell; total internal reflection), optional Beer-Lambert
+**   absorption per unit distance inside.
+** ray_material_checker: picks "even" or "odd" by the parity of
+**   floor(u*scale) + floor(v*scale) and shades with it.
+*/
+typedef struct ray_phong_params {
+    ray_rgb diffuse;
+    ray_rgb specular;
+    double shininess;
+    int blinn;
+    ray_rgb reflect;
+} ray_phong_params;
+
+typedef struct ray_glass_params {
+    double ior;              /* index of refraction inside, e.g. 1.5 */
+    ray_rgb absorption;      /* Beer-Lambert coefficient per unit length */
+} ray_glass_params;
+
+typedef struct ray_checker_params {
+    ray_material even, odd;
+    double scale;
+} ray_checker_params;
+
+RAY_API ray_material ray_material_phong(const ray_phong_params *p);
+RAY_API ray_material ray_material_mirror(const ray_rgb *reflectance);
+RAY_API ray_material ray_material_glass(const ray_glass_params *p);
+RAY_API ray_material ray_material_checker(const ray_checker_params *p);
+
+/* --------------------------------------------------------------- rendering */
+
+/*
+** A pinhole camera at "position" looking at "look_at", "up" giving the
+** roll, "vfov" the vertical field of view in degrees.  aperture > 0 makes
+** it a thin lens of that diameter focused at focus_distance (0: the
+** distance to look_at), for depth of field.
+*/
+typedef struct ray_camera {
+    ray_vec3 position, look_at, up;
+    double vfov;
+    double aperture;
+    double focus_distance;
+} ray_camera;
+
+/* Called after each finished row: return non-zero to cancel the render. */
+typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
+                               unsigned rows_total);
+
+typedef struct ray_render_options {
+    unsigned width, height;  /* the whole frame, in pixels */
+    unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
+                                height); rows are counted from the top */
+    unsigned threads;        /* 0 = one per online CPU */
+    unsigned samples;        /* per pixel; stratified k x k jitter when a
+                                square, else jittered; 1 = pixel centre */
+    unsigned long long seed; /* frame seed of every pixel's sampler */
+    ray_progress_fn progress;
+    void *progress_ud;
+} ray_render_options;
+
+/* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback. */
+RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
+                                     unsigned height);
+
+/*
+** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
+** RGB, 3 floats per pixel, width pixels per row, row y0 first.  Rows are
+** handed to the threads one at a time from a shared counter; every pixel's
+** samples are seeded from (seed, x, y, sample), so the bytes are the same
+** whatever the thread count or region split.  "stats", if not NULL,
+** receives the counters summed over the threads.
+**
+** The progress callback is called from the render threads, one call at a
+** time.  Returns RAY_OK; RAY_ECANCELED if it cancelled (finished rows are
+** kept, the rest is unspecified); RAY_EINVAL for NULLs, an uncommitted
+** scene, zero sizes, y0 >= y1 or y1 > height, or a degenerate camera;
+** RAY_ENOMEM; RAY_ESTATE if threads could not be started.
+*/
+RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
+                       const ray_render_options *options, float *rgb,
+                       ray_stats *stats);
 
 /* ------------------------------------------------------------------ images */
 

@@ -134,4 +134,90 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
                     ray_vec3 origin, double t, ray_hit *hit);
 
+/* ------------------------------------------------------------ the scene */
+
+enum { PRIM_SPHERE, PRIM_PLANE, PRIM_TRIANGLE, PRIM_POLYGON };
+
+/* One piece of geometry.  Meaning of a, b, c by kind: sphere: a = centre;
+** plane: a = point, b = unit normal; triangle: the vertices; polygon:
+** verts[first .. first+count-1] of the scene. */
+typedef struct ray__prim {
+    int kind;
+    unsigned material;
+    ray_vec3 a, b, c;
+    double radius;
+    size_t first, count;
+} ray__prim;
+
+struct ray_scene {
+    ray_alloc_fn alloc;
+    void *alloc_ud;
+    ray__prim *prims;
+    size_t n_prims, cap_prims;
+    ray_vec3 *verts;
+    size_t n_verts, cap_verts;
+    ray_material *materials;
+    size_t n_materials, cap_materials;
+    ray_light *lights;
+    size_t n_lights, cap_lights;
+    ray_rgb background, ambient;
+    ray_background_fn background_fn;
+    void *background_ud;
+    ray_limits limits;
+    int committed;
+};
+
+/* Allocation through the scene's allocator (libc when it has none). */
+void *ray__alloc(const ray_scene *s, size_t size);
+void ray__free(const ray_scene *s, void *ptr, size_t size);
+
+/*
+** Nearest hit / any hit over the scene, counting intersection tests into
+** *tests (may be NULL).  The public ray_intersect/ray_occluded wrap these.
+*/
+int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                   unsigned long long *tests);
+int ray__occluded(const ray_scene *s, const ray_ray *r,
+                  unsigned long long *tests);
+
+/* ------------------------------------------------------------ trace state */
+
+struct ray_ctx {
+    const ray_scene *scene;
+    ray_stats stats;
+    unsigned long long rng;  /* splitmix64 state of the current sample */
+    int in_shade;            /* inside a material callback */
+    unsigned depth;          /* depth of the hit being shaded */
+    double weight;           /* path weight of the ray being shaded */
+    unsigned effects;        /* effects of the material being shaded */
+    unsigned fanout;         /* secondary rays spawned by that hit so far */
+};
+
+/* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed
+** generator whose state is a single counter, so a pixel's sequence can be
+** started anywhere from a hash of its coordinates. */
+static inline unsigned long long ray__mix64(unsigned long long z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* The sampler state of sample "s" of pixel (x, y) in a frame with "seed":
+** a hash of all four, independent of which thread renders the pixel. */
+static inline unsigned long long ray__pixel_seed(unsigned long long seed,
+                                                 unsigned x, unsigned y,
+                                                 unsigned s)
+{
+    unsigned long long h = ray__mix64(seed + 0x9e3779b97f4a7c15ull);
+    h = ray__mix64(h ^ (((unsigned long long)y << 32) | x));
+    return ray__mix64(h + s);
+}
+
+/* (a, b) in [-1,1]^2 onto the unit disk, by the concentric map. */
+void ray__concentric_disk(double a, double b, double *x, double *y);
+
+/* Reset a context's per-sample state. */
+void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
+
 #endif /* RAY_INTERNAL_H */

@@ -1,0 +1,239 @@
+/*
+** materials.c -- the built-in materials.  Written against the public API
+** only (ray.h), so they double as examples of material callbacks.
+*/
+#include <math.h>
+
+#include "ray.h"
+
+static ray_rgb rgb(double r, double g, double b)
+{
+    ray_rgb c;
+    c.r = r;
+    c.g = g;
+    c.b = b;
+    return c;
+}
+
+static double dot(ray_vec3 a, ray_vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+static ray_vec3 unit(ray_vec3 a)
+{
+    double len = sqrt(dot(a, a));
+    ray_vec3 u;
+    u.x = a.x / len;
+    u.y = a.y / len;
+    u.z = a.z / len;
+    return u;
+}
+
+/* The parameter blocks are only read, but ray_material.ud is a plain
+** void * (user materials may keep mutable state there): drop the const
+** through a union rather than a cast that hides it from the compiler. */
+static void *unconst(const void *p)
+{
+    union {
+        const void *c;
+        void *m;
+    } u;
+    u.c = p;
+    return u.m;
+}
+
+static double max3(ray_rgb c)
+{
+    return fmax(c.r, fmax(c.g, c.b));
+}
+
+/* out += k * c (component-wise). */
+static void add_product(ray_rgb *out, ray_rgb k, ray_rgb c)
+{
+    out->r += k.r * c.r;
+    out->g += k.g * c.g;
+    out->b += k.b * c.b;
+}
+
+/*
+** Trace the mirror reflection of the incoming ray, weighted by the
+** reflectance k, and add it to *out.  A ray the tree's limits refuse adds
+** nothing (the path is cut: black).
+*/
+static void add_reflection(ray_ctx *ctx, const ray_shade_args *a, ray_rgb k,
+                           ray_rgb *out)
+{
+    ray_ray r;
+    ray_rgb c;
+
+    if (ray_spawn(a->hit, ray_reflect(a->ray->dir, a->normal), &r) != RAY_OK)
+        return;
+    if (ray_trace(ctx, &r, RAY_KIND_REFLECTION, max3(k), &c) == RAY_OK)
+        add_product(out, k, c);
+}
+
+/* ------------------------------------------------------- Phong, Lambert */
+
+/* The specular lobe for light direction l and view direction v. */
+static double specular_term(const ray_phong_params *p, ray_vec3 n,
+                            ray_vec3 l, ray_vec3 v)
+{
+    double c;
+
+    if (p->blinn) {
+        ray_vec3 h = {l.x + v.x, l.y + v.y, l.z + v.z};
+        double len2 = dot(h, h);
+        if (!(len2 > 0))
+            return 0;
+        c = dot(n, h) / sqrt(len2);
+    } else {
+        ray_vec3 r = ray_reflect(l, n);       /* l mirrored, sign flipped */
+        c = -dot(r, v);
+    }
+    return c > 0 ? pow(c, p->shininess) : 0;
+}
+
+static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                        ray_rgb *out)
+{
+    const ray_phong_params *p = ud;
+    ray_vec3 n = a->normal, v = unit(a->ray->dir);
+    unsigned li, si;
+
+    if (p == NULL)
+        return;
+    v.x = -v.x;
+    v.y = -v.y;
+    v.z = -v.z;
+    add_product(out, a->ambient, p->diffuse);
+    for (li = 0; li < ray_scene_light_count(a->scene); li++) {
+        unsigned ns = ray_light_samples(a->scene, li);
+        for (si = 0; si < ns; si++) {
+            ray_light_sample ls;
+            double ndotl, spec;
+            ray_rgb f;
+
+            if (ray_light_sample_at(ctx, a, li, si, &ls) != RAY_OK)
+                continue;
+            ndotl = dot(n, ls.dir);
+            if (ndotl <= 0)       /* light behind: no shadow ray needed */
+                continue;
+            spec = specular_term(p, n, ls.dir, v);
+            f = rgb(p->diffuse.r * ndotl + p->specular.r * spec,
+                    p->diffuse.g * ndotl + p->specular.g * spec,
+                    p->diffuse.b * ndotl + p->specular.b * spec);
+            if (max3(f) <= 0 || !ray_light_visible(ctx, a, &ls))
+                continue;
+            add_product(out, f, ls.radiance);
+        }
+    }
+    if (max3(p->reflect) > 0)
+        add_reflection(ctx, a, p->reflect, out);
+}
+
+ray_material ray_material_phong(const ray_phong_params *p)
+{
+    ray_material m;
+
+    m.shade = phong_shade;
+    m.ud = unconst(p);   /* borrowed */
+    m.effects = RAY_EFFECT_SHADOW;
+    if (p != NULL && max3(p->reflect) > 0)
+        m.effects |= RAY_EFFECT_REFLECTION;
+    return m;
+}
+
+/* ----------------------------------------------------------------- mirror */
+
+static void mirror_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_rgb *out)
+{
+    if (ud != NULL)
+        add_reflection(ctx, a, *(const ray_rgb *)ud, out);
+}
+
+ray_material ray_material_mirror(const ray_rgb *reflectance)
+{
+    ray_material m;
+
+    m.shade = mirror_shade;
+    m.ud = unconst(reflectance);
+    m.effects = RAY_EFFECT_REFLECTION;
+    return m;
+}
+
+/* ------------------------------------------------------------------ glass */
+
+/*
+** A dielectric boundary.  eta = n_incident / n_transmitted: 1/ior when the
+** ray enters the object, ior when it leaves.  The Fresnel reflectance F
+** splits the ray into a reflected part (weight F) and a refracted one
+** (1 - F); past the critical angle F = 1 (total internal reflection) and
+** only the reflection is traced.  A ray that leaves the object has crossed
+** it over the distance t |dir|, which Beer-Lambert attenuates by
+** exp(-absorption * distance) per channel.
+*/
+static void glass_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                        ray_rgb *out)
+{
+    const ray_glass_params *p = ud;
+    ray_vec3 d = unit(a->ray->dir), t;
+    double eta, F;
+    ray_ray r;
+    ray_rgb c;
+
+    if (p == NULL)
+        return;
+    eta = a->entering ? 1.0 / p->ior : p->ior;
+    F = ray_fresnel(-dot(d, a->normal), eta);
+    add_reflection(ctx, a, rgb(F, F, F), out);
+    if (F < 1 && ray_refract(d, a->normal, eta, &t) &&
+        ray_spawn(a->hit, t, &r) == RAY_OK &&
+        ray_trace(ctx, &r, RAY_KIND_REFRACTION, 1 - F, &c) == RAY_OK)
+        add_product(out, rgb(1 - F, 1 - F, 1 - F), c);
+    if (!a->entering) {
+        double dist = a->hit->t * sqrt(dot(a->ray->dir, a->ray->dir));
+        out->r *= exp(-p->absorption.r * dist);
+        out->g *= exp(-p->absorption.g * dist);
+        out->b *= exp(-p->absorption.b * dist);
+    }
+}
+
+ray_material ray_material_glass(const ray_glass_params *p)
+{
+    ray_material m;
+
+    m.shade = glass_shade;
+    m.ud = unconst(p);
+    m.effects = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION;
+    return m;
+}
+
+/* ------------------------------------------------------------ checkerboard */
+
+/* fmod, not a cast to an integer: u * scale may be huge or not finite. */
+static void checker_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                          ray_rgb *out)
+{
+    const ray_checker_params *p = ud;
+    const ray_material *m;
+    double cell;
+
+    if (p == NULL)
+        return;
+    cell = floor(a->u * p->scale) + floor(a->v * p->scale);
+    m = fabs(fmod(cell, 2.0)) == 1.0 ? &p->odd : &p->even;
+    if (m->shade != NULL)
+        m->shade(m->ud, ctx, a, out);
+}
+
+ray_material ray_material_checker(const ray_checker_params *p)
+{
+    ray_material m;
+
+    m.shade = checker_shade;
+    m.ud = unconst(p);
+    m.effects = p != NULL ? p->even.effects | p->odd.effects : 0;
+    return m;
+}

@@ -1,0 +1,166 @@
+/*
+** trace.c -- the recursive ray tree: trace a ray, shade its hit with the
+** material's callback, which may trace further rays through the same
+** context.  The tree's bounds (depth, weight, fan-out) are enforced here.
+*/
+#include <string.h>
+
+#include "internal.h"
+
+void ray__ctx_start(ray_ctx *ctx, unsigned long long rng)
+{
+    ctx->rng = rng;
+    ctx->in_shade = 0;
+    ctx->depth = 0;
+    ctx->weight = 1.0;
+    ctx->effects = 0;
+    ctx->fanout = 0;
+}
+
+int ray_ctx_new(const ray_scene *scene, unsigned long long seed,
+                ray_ctx **out)
+{
+    ray_ctx *ctx;
+
+    if (scene == NULL || out == NULL || !scene->committed)
+        return RAY_EINVAL;
+    ctx = ray__alloc(scene, sizeof *ctx);
+    if (ctx == NULL)
+        return RAY_ENOMEM;
+    memset(ctx, 0, sizeof *ctx);
+    ctx->scene = scene;
+    ray__ctx_start(ctx, ray__mix64(seed));
+    *out = ctx;
+    return RAY_OK;
+}
+
+void ray_ctx_free(ray_ctx *ctx)
+{
+    if (ctx != NULL)
+        ray__free(ctx->scene, ctx, sizeof *ctx);
+}
+
+void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out)
+{
+    if (ctx != NULL && out != NULL)
+        *out = ctx->stats;
+}
+
+double ray_ctx_random(ray_ctx *ctx)
+{
+    unsigned long long z;
+
+    if (ctx == NULL)
+        return 0.0;
+    z = ray__mix64(ctx->rng += 0x9e3779b97f4a7c15ull);
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);  /* 53 bits */
+}
+
+static const unsigned effect_of_kind[RAY_KIND_COUNT] = {
+    0, RAY_EFFECT_SHADOW, RAY_EFFECT_REFLECTION, RAY_EFFECT_REFRACTION
+};
+
+/*
+** May this ray be traced?  Returns RAY_OK and the new depth and weight, or
+** the reason it may not, counting cut-offs by kind of limit.
+*/
+static int admit(ray_ctx *ctx, unsigned kind, double attenuation,
+                 unsigned *depth, double *weight)
+{
+    const ray_limits *lim = &ctx->scene->limits;
+
+    if (!ctx->in_shade) {
+        if (kind != RAY_KIND_PRIMARY)
+            return RAY_EINVAL;
+        *depth = 0;
+        *weight = attenuation;
+        return RAY_OK;
+    }
+    if (kind != RAY_KIND_REFLECTION && kind != RAY_KIND_REFRACTION)
+        return RAY_EINVAL;
+    if ((ctx->effects & effect_of_kind[kind]) == 0)
+        return RAY_EEFFECT;
+    *depth = ctx->depth + 1;
+    *weight = ctx->weight * attenuation;
+    if (*depth > lim->max_depth) {
+        ctx->stats.cut_depth++;
+        return RAY_ELIMIT;
+    }
+    /* Written so that a NaN weight is cut too. */
+    if (!(*weight >= lim->min_weight)) {
+        ctx->stats.cut_weight++;
+        return RAY_ELIMIT;
+    }
+    if (ctx->fanout >= lim->max_fanout) {
+        ctx->stats.cut_fanout++;
+        return RAY_ELIMIT;
+    }
+    return RAY_OK;
+}
+
+/* The radiance of a ray that hits nothing. */
+static void background(const ray_scene *s, const ray_ray *r, ray_rgb *out)
+{
+    *out = s->background;
+    if (s->background_fn != NULL)
+        s->background_fn(s->background_ud, r, out);
+}
+
+/* Shade "hit" with its material, with the context set up for the hit
+** and restored afterwards (the callback may recurse through it). */
+static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
+                  unsigned depth, double weight, ray_rgb *out)
+{
+    const ray_scene *s = ctx->scene;
+    const ray_material *m = &s->materials[s->prims[hit->geom_id].material];
+    ray_ctx saved = *ctx;
+    ray_shade_args args;
+
+    args.scene = s;
+    args.ray = r;
+    args.hit = hit;
+    args.entering = v3_dot(r->dir, hit->n) < 0;
+    args.normal = args.entering ? hit->n : v3_scale(hit->n, -1.0);
+    args.u = hit->u;
+    args.v = hit->v;
+    args.depth = depth;
+    args.weight = weight;
+    args.ambient = s->ambient;
+    ctx->in_shade = 1;
+    ctx->depth = depth;
+    ctx->weight = weight;
+    ctx->effects = m->effects;
+    ctx->fanout = 0;
+    out->r = out->g = out->b = 0.0;
+    m->shade(m->ud, ctx, &args, out);
+    ctx->in_shade = saved.in_shade;
+    ctx->depth = saved.depth;
+    ctx->weight = saved.weight;
+    ctx->effects = saved.effects;
+    ctx->fanout = saved.fanout;
+}
+
+int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
+              double attenuation, ray_rgb *out)
+{
+    unsigned depth;
+    double weight;
+    ray_hit hit;
+    int rc;
+
+    if (ctx == NULL || r == NULL || out == NULL || kind >= RAY_KIND_COUNT)
+        return RAY_EINVAL;
+    rc = admit(ctx, kind, attenuation, &depth, &weight);
+    if (rc != RAY_OK)
+        return rc;
+    if (ctx->in_shade)
+        ctx->fanout++;
+    ctx->stats.rays[kind]++;
+    if (depth > ctx->stats.max_depth)
+        ctx->stats.max_depth = depth;
+    if (!ray__intersect(ctx->scene, r, &hit, &ctx->stats.tests))
+        background(ctx->scene, r, out);
+    else
+        shade(ctx, r, &hit, depth, weight, out);
+    return RAY_OK;
+}
