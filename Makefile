@@ -45,7 +45,7 @@ MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # Functions documented on another function's page, as page:alias.
 MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8
 
-.PHONY: all lib check test demo sanitize examples header-test symbols-test \
+.PHONY: all lib check test demo sanitize tsan examples header-test symbols-test \
         man-lint install uninstall clean deps-build deps-check bench
 
 all: lib
@@ -79,11 +79,22 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h $(STATIC)
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
-$(BUILD)/examples/%: examples/%.c examples/common.h $(STATIC)
+$(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
 
 examples: $(EXAMPLES)
+
+BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
+$(BUILD)/bench/%: bench/%.c $(wildcard examples/*.h) $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -Iexamples $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+
+# Benchmarks print figures (Markdown tables) and compare within one run;
+# they assert nothing.  BENCH_QUICK=1 for a short run.
+bench: deps-build lib $(BENCHES)
+	@echo "# libray benchmarks ($$(uname -m), $$(nproc) CPUs, $(CC))"; echo
+	$(BUILD)/bench/threads
 
 # The header alone must compile as strict C99 and as C++.
 header-test: include/ray.h tests/header_c99.c
@@ -112,9 +123,13 @@ man-lint:
 	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
 	fi
 
-check: deps-check lib $(TEST_BIN) examples header-test symbols-test man-lint
+check: deps-check lib $(TEST_BIN) examples $(BENCHES) header-test symbols-test man-lint
 	$(TEST_BIN)
-	$(BUILD)/examples/demo $(BUILD)/demo.png
+	@echo "check: running the examples (small sizes)"
+	cd $(BUILD) && examples/hello >/dev/null
+	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
+	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
+	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
 
 test: check
 
@@ -125,6 +140,12 @@ sanitize:
 	$(MAKE) check BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_FLAGS)"
 
 # The showcase: the Whitted scene, with a progress bar on stderr.
+# The suite again under ThreadSanitizer (the renderer's threads, the
+# per-thread contexts and the shared row counter).
+TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
+tsan:
+	$(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)"
+
 demo: deps-build lib $(BUILD)/examples/whitted
 	$(BUILD)/examples/whitted whitted.png
 
@@ -158,4 +179,4 @@ uninstall:
 	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
 
 clean:
-	rm -rf $(BUILD) demo.png whitted.png hello.png cornell.png
+	rm -rf $(BUILD) whitted.png hello.png cornell.png primitives.png

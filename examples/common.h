@@ -8,6 +8,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <time.h>
 
 #include <ray.h>
 
@@ -75,6 +77,60 @@ static inline void check(int rc, const char *what)
         fprintf(stderr, "%s: %s\n", what, ray_strerror(rc));
         exit(1);
     }
+}
+
+static inline double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/*
+** The examples' command line, NAME [out.png [width height [samples
+** [threads]]]]: render "scene" with a progress bar, write the PNG, print
+** the statistics.  Returns the process exit status.
+*/
+static inline int render_to_png(const char *name, const ray_scene *scene,
+                                const ray_camera *cam, int argc, char **argv,
+                                unsigned width, unsigned height)
+{
+    char path[256];
+    ray_render_options opt;
+    ray_stats stats;
+    float *image;
+    double t;
+
+    snprintf(path, sizeof path, "%s.png", name);
+    if (argc > 1)
+        snprintf(path, sizeof path, "%s", argv[1]);
+    if (argc > 3) {
+        width = (unsigned)atoi(argv[2]);
+        height = (unsigned)atoi(argv[3]);
+    }
+    ray_render_options_init(&opt, width, height);
+    opt.samples = argc > 4 ? (unsigned)atoi(argv[4]) : 4;
+    opt.threads = argc > 5 ? (unsigned)atoi(argv[5]) : 0;
+    opt.progress = progress_bar;
+    if (width == 0 || height == 0 || opt.samples == 0) {
+        fprintf(stderr, "usage: %s [out.png [width height [samples "
+                        "[threads]]]]\n", name);
+        return 2;
+    }
+    image = malloc(sizeof(float) * 3 * width * height);
+    if (image == NULL) {
+        fprintf(stderr, "%s: out of memory\n", name);
+        return 1;
+    }
+    t = now_seconds();
+    check(ray_render(scene, cam, &opt, image, &stats), "ray_render");
+    t = now_seconds() - t;
+    check(ray_write_png(path, image, width, height, 8), path);
+    printf("%s: wrote %s (%ux%u, %u samples per pixel)\n", name, path,
+           width, height, opt.samples);
+    print_stats(name, &stats, t);
+    free(image);
+    return 0;
 }
 
 #endif

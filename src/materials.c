@@ -58,8 +58,8 @@ static void add_product(ray_rgb *out, ray_rgb k, ray_rgb c)
 
 /*
 ** Trace the mirror reflection of the incoming ray, weighted by the
-** reflectance k, and add it to *out.  A ray the tree's limits refuse adds
-** nothing (the path is cut: black).
+** reflectance k, and add it to *out.  A zero reflectance casts no ray; a
+** ray the tree's limits refuse adds nothing (the path is cut: black).
 */
 static void add_reflection(ray_ctx *ctx, const ray_shade_args *a, ray_rgb k,
                            ray_rgb *out)
@@ -67,6 +67,8 @@ static void add_reflection(ray_ctx *ctx, const ray_shade_args *a, ray_rgb k,
     ray_ray r;
     ray_rgb c;
 
+    if (!(max3(k) > 0))        /* nothing to reflect: spawn nothing */
+        return;
     if (ray_spawn(a->hit, ray_reflect(a->ray->dir, a->normal), &r) != RAY_OK)
         return;
     if (ray_trace(ctx, &r, RAY_KIND_REFLECTION, max3(k), &c) == RAY_OK)

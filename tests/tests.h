@@ -19,6 +19,10 @@ Suite *plane_suite(void);
 Suite *polygon_suite(void);
 Suite *barycentric_suite(void);
 Suite *png_suite(void);
+Suite *optics_suite(void);
+Suite *scene_suite(void);
+Suite *trace_suite(void);
+Suite *render_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
@@ -66,6 +70,15 @@ static inline ray_vec3 vcross(ray_vec3 a, ray_vec3 b)
 {
     return vec(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
                a.x * b.y - a.y * b.x);
+}
+
+static inline ray_rgb rgb_of(double r, double g, double b)
+{
+    ray_rgb c;
+    c.r = r;
+    c.g = g;
+    c.b = b;
+    return c;
 }
 
 static inline ray_ray make_ray(ray_vec3 org, ray_vec3 dir, double tmin,

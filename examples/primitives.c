@@ -1,8 +1,8 @@
 /*
-** demo.c -- the primitives alone: a sphere and a triangle, seen by a
+** primitives.c -- the primitives alone, without a scene: a sphere and a triangle, seen by a
 ** pinhole camera, shaded by the angle to a light, written as a PNG.
 **
-**     demo [out.png]
+**     primitives [out.png]
 */
 #include <math.h>
 #include <stdio.h>
@@ -38,7 +38,7 @@ static double shade(const ray_ray *r, const ray_hit *h)
 
 int main(int argc, char **argv)
 {
-    const char *path = argc > 1 ? argv[1] : "demo.png";
+    const char *path = argc > 1 ? argv[1] : "primitives.png";
     float *rgb = malloc(sizeof(float) * 3 * WIDTH * HEIGHT);
     int x, y, rc;
 
@@ -80,9 +80,9 @@ int main(int argc, char **argv)
     rc = ray_write_png(path, rgb, WIDTH, HEIGHT, 8);
     free(rgb);
     if (rc != RAY_OK) {
-        fprintf(stderr, "demo: %s: %s\n", path, ray_strerror(rc));
+        fprintf(stderr, "primitives: %s: %s\n", path, ray_strerror(rc));
         return 1;
     }
-    printf("demo: wrote %s (%dx%d)\n", path, WIDTH, HEIGHT);
+    printf("primitives: wrote %s (%dx%d)\n", path, WIDTH, HEIGHT);
     return 0;
 }

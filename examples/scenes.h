@@ -1,0 +1,168 @@
+/*
+** scenes.h -- the showcase scenes, shared by the examples and the
+** benchmarks so both render exactly the same thing.  Header-only.
+*/
+#ifndef EXAMPLES_SCENES_H
+#define EXAMPLES_SCENES_H
+
+#include "common.h"
+
+/* Sky: a vertical gradient of the escaping ray's direction. */
+static inline void sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    double len = r->dir.x * r->dir.x + r->dir.y * r->dir.y +
+                 r->dir.z * r->dir.z;
+    double up = len > 0 ? r->dir.y / sqrt(len) : 0;
+    double k = 0.5 * (up + 1);
+
+    (void)ud;
+    *out = rgb(0.35 + 0.25 * k, 0.45 + 0.3 * k, 0.75 + 0.2 * k);
+}
+
+/*
+** Whitted's 1980 scene: a red and yellow checkerboard floor, a mirror
+** sphere and a glass sphere under a point light, a sky gradient.
+** Returns a committed scene and fills *cam.
+*/
+static inline ray_scene *whitted_scene(ray_camera *cam)
+{
+    static const ray_phong_params red = {{0.75, 0.08, 0.06}, {0.2, 0.2, 0.2},
+                                         40, 1, {0, 0, 0}};
+    static const ray_phong_params yellow = {{0.8, 0.7, 0.1}, {0.2, 0.2, 0.2},
+                                            40, 1, {0, 0, 0}};
+    static const ray_rgb chrome = {0.9, 0.9, 0.9};
+    static const ray_glass_params glass = {1.5, {0.05, 0.02, 0.01}};
+    static ray_checker_params floor_params;
+    ray_light light = {RAY_LIGHT_POINT, {4, 7, 5}, {0, 0, 0}, {0, 0, 0},
+                       {0, 0, 0}, 0, {80, 80, 80}, 0};
+    ray_camera view = {{0, 1.5, 5.5}, {0, 0.9, 0}, {0, 1, 0}, 45, 0, 0};
+    ray_material m;
+    ray_scene *scene;
+    unsigned floor_mat, mirror_mat, glass_mat;
+
+    floor_params.even = ray_material_phong(&red);
+    floor_params.odd = ray_material_phong(&yellow);
+    floor_params.scale = 1.0;
+    check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
+    m = ray_material_checker(&floor_params);
+    check(ray_scene_add_material(scene, &m, &floor_mat), "floor material");
+    m = ray_material_mirror(&chrome);
+    check(ray_scene_add_material(scene, &m, &mirror_mat), "mirror material");
+    m = ray_material_glass(&glass);
+    check(ray_scene_add_material(scene, &m, &glass_mat), "glass material");
+    check(ray_scene_add_plane(scene, vec(0, 0, 0), vec(0, 1, 0), floor_mat,
+                              NULL), "floor");
+    check(ray_scene_add_sphere(scene, vec(-1.1, 1.0, -1.2), 1.0, mirror_mat,
+                               NULL), "mirror sphere");
+    check(ray_scene_add_sphere(scene, vec(0.9, 0.8, 0.6), 0.8, glass_mat,
+                               NULL), "glass sphere");
+    check(ray_scene_add_light(scene, &light, NULL), "light");
+    check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
+    check(ray_scene_set_background_fn(scene, sky, NULL), "background");
+    check(ray_scene_commit(scene), "commit");
+    *cam = view;
+    return scene;
+}
+
+/* Add the quad a b c d as two triangles (a b c, a c d). */
+static inline void add_quad_triangles(ray_scene *s, ray_vec3 a, ray_vec3 b,
+                               ray_vec3 c, ray_vec3 d, unsigned mat)
+{
+    check(ray_scene_add_triangle(s, a, b, c, mat, NULL), "triangle");
+    check(ray_scene_add_triangle(s, a, c, d, mat, NULL), "triangle");
+}
+
+static inline void add_quad_polygon(ray_scene *s, ray_vec3 a, ray_vec3 b,
+                             ray_vec3 c, ray_vec3 d, unsigned mat)
+{
+    ray_vec3 v[4];
+    v[0] = a;
+    v[1] = b;
+    v[2] = c;
+    v[3] = d;
+    check(ray_scene_add_polygon(s, v, 4, mat, NULL), "polygon");
+}
+
+/* A box standing on the floor: centre (cx, cz), half sizes hx, hz,
+** height h, rotated by angle a about y; four side polygons and a top. */
+static inline void add_block(ray_scene *s, double cx, double cz, double hx,
+                      double hz, double h, double a, unsigned mat)
+{
+    ray_vec3 lo[4], hi[4];
+    int i;
+
+    for (i = 0; i < 4; i++) {
+        double x = (i == 1 || i == 2) ? hx : -hx;
+        double z = (i >= 2) ? hz : -hz;
+        double rx = cx + x * cos(a) - z * sin(a);
+        double rz = cz + x * sin(a) + z * cos(a);
+        lo[i] = vec(rx, 0, rz);
+        hi[i] = vec(rx, h, rz);
+    }
+    for (i = 0; i < 4; i++) {
+        int j = (i + 1) % 4;
+        add_quad_polygon(s, lo[i], lo[j], hi[j], hi[i], mat);
+    }
+    add_quad_polygon(s, hi[0], hi[3], hi[2], hi[1], mat);
+}
+
+/*
+** A Cornell-box-like room of polygons (floor, ceiling, back wall, block)
+** and triangles (red and green side walls), a rectangular area light under
+** the ceiling, a glass and a mirror sphere.  Committed; fills *cam.
+*/
+static inline ray_scene *cornell_scene(ray_camera *cam)
+{
+    static const ray_phong_params white = {{0.75, 0.75, 0.72}, {0, 0, 0}, 1,
+                                           0, {0, 0, 0}};
+    static const ray_phong_params red = {{0.65, 0.06, 0.05}, {0, 0, 0}, 1, 0,
+                                         {0, 0, 0}};
+    static const ray_phong_params green = {{0.12, 0.5, 0.09}, {0, 0, 0}, 1,
+                                           0, {0, 0, 0}};
+    static const ray_rgb chrome = {0.92, 0.92, 0.92};
+    static const ray_glass_params glass = {1.5, {0, 0, 0}};
+    /* edge1 x edge2 = (0, -2.25, 0): the lamp shines down. */
+    ray_light lamp = {RAY_LIGHT_RECT, {-0.75, 4.98, -0.75}, {0, 0, 0},
+                      {1.5, 0, 0}, {0, 0, 1.5}, 0, {16, 15, 13}, 16};
+    ray_camera view = {{0, 2.5, 9.5}, {0, 2.5, 0}, {0, 1, 0}, 36, 0, 0};
+    ray_material m;
+    ray_scene *scene;
+    unsigned w, r, g, mir, gl;
+
+    check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
+    m = ray_material_phong(&white);
+    check(ray_scene_add_material(scene, &m, &w), "white");
+    m = ray_material_phong(&red);
+    check(ray_scene_add_material(scene, &m, &r), "red");
+    m = ray_material_phong(&green);
+    check(ray_scene_add_material(scene, &m, &g), "green");
+    m = ray_material_mirror(&chrome);
+    check(ray_scene_add_material(scene, &m, &mir), "mirror");
+    m = ray_material_glass(&glass);
+    check(ray_scene_add_material(scene, &m, &gl), "glass");
+
+    /* The room: x, z in [-2.5, 2.5], y in [0, 5], open toward +z. */
+    add_quad_polygon(scene, vec(-2.5, 0, 2.5), vec(2.5, 0, 2.5),
+                     vec(2.5, 0, -2.5), vec(-2.5, 0, -2.5), w);       /* floor */
+    add_quad_polygon(scene, vec(-2.5, 5, -2.5), vec(2.5, 5, -2.5),
+                     vec(2.5, 5, 2.5), vec(-2.5, 5, 2.5), w);         /* ceiling */
+    add_quad_polygon(scene, vec(-2.5, 0, -2.5), vec(2.5, 0, -2.5),
+                     vec(2.5, 5, -2.5), vec(-2.5, 5, -2.5), w);       /* back */
+    add_quad_triangles(scene, vec(-2.5, 0, 2.5), vec(-2.5, 0, -2.5),
+                       vec(-2.5, 5, -2.5), vec(-2.5, 5, 2.5), r);     /* left */
+    add_quad_triangles(scene, vec(2.5, 0, -2.5), vec(2.5, 0, 2.5),
+                       vec(2.5, 5, 2.5), vec(2.5, 5, -2.5), g);       /* right */
+    add_block(scene, -0.9, -0.8, 0.7, 0.7, 2.8, 0.35, w);
+    check(ray_scene_add_sphere(scene, vec(1.2, 0.8, 0.5), 0.8, gl, NULL),
+          "glass sphere");
+    check(ray_scene_add_sphere(scene, vec(-0.3, 0.5, 1.3), 0.5, mir, NULL),
+          "mirror sphere");
+    check(ray_scene_add_light(scene, &lamp, NULL), "lamp");
+    check(ray_scene_set_ambient(scene, rgb(0.06, 0.06, 0.06)), "ambient");
+    check(ray_scene_commit(scene), "commit");
+
+    *cam = view;
+    return scene;
+}
+
+#endif

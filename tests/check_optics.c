@@ -1,0 +1,184 @@
+/*
+** check_optics.c -- ray_reflect, ray_refract, ray_fresnel, ray_spawn.
+*/
+#include "tests.h"
+
+/* The Fresnel reference values come from Mitsuba 3's test_fresnel.py
+** (robustness.md section 8), given to 6 digits there: tolerance 1e-6. */
+START_TEST(fresnel_should_match_reference_values)
+{
+    double deg = 3.14159265358979323846 / 180;
+
+    ck_assert_double_eq_tol(ray_fresnel(1.0, 1 / 1.5), 0.04, 1e-12);
+    ck_assert_double_eq_tol(ray_fresnel(cos(45 * deg), 1 / 1.5), 0.050240, 1e-6);
+    ck_assert_double_eq(ray_fresnel(cos(45 * deg), 1.5), 1.0);   /* TIR */
+    ck_assert_double_eq_tol(ray_fresnel(cos(10 * deg), 1.5), 0.040083, 1e-6);
+    /* Index ratio 1: no interface, no reflection. */
+    ck_assert_double_eq_tol(ray_fresnel(0.3, 1.0), 0.0, 1e-15);
+    /* Bad input is total reflection, never NaN. */
+    ck_assert_double_eq(ray_fresnel(NAN, 1.5), 1.0);
+    ck_assert_double_eq(ray_fresnel(0.5, -1.0), 1.0);
+    ck_assert_double_eq(ray_fresnel(0.5, NAN), 1.0);
+}
+END_TEST
+
+/* The critical angle glass -> air is asin(1/1.5) = 41.8103 degrees: at
+** 41.80 the ray still refracts (nearly grazing), at 41.82 it reflects. */
+START_TEST(refract_should_switch_to_tir_at_critical_angle)
+{
+    double deg = 3.14159265358979323846 / 180;
+    ray_vec3 n = vec(0, 0, 1), t;
+    ray_vec3 below = vec(sin(41.80 * deg), 0, -cos(41.80 * deg));
+    ray_vec3 beyond = vec(sin(41.82 * deg), 0, -cos(41.82 * deg));
+
+    ck_assert_int_eq(ray_refract(below, n, 1.5, &t), 1);
+    ck_assert_double_eq_tol(vlen(t), 1.0, 4 * DBL_EPSILON);
+    /* cos t = sqrt(1 - (1.5 sin 41.80)^2) = 0.0200: nearly grazing. */
+    ck_assert(t.z < 0 && t.z > -0.03);
+    ck_assert_double_eq_tol(t.x, 1.5 * sin(41.80 * deg), 1e-12);
+    t = vec(7, 7, 7);
+    ck_assert_int_eq(ray_refract(beyond, n, 1.5, &t), 0);
+    ck_assert_double_eq(t.x, 7);
+    ck_assert_double_eq(ray_fresnel(cos(41.82 * deg), 1.5), 1.0);
+}
+END_TEST
+
+/* Snell: sin(i) = eta sin(t) over many angles; eta = 1 does not bend;
+** the normal may face either way; non-unit d is fine. */
+START_TEST(refract_should_obey_snell)
+{
+    ray_vec3 n = vec(0, 1, 0), t;
+    int k;
+
+    for (k = 0; k < 20; k++) {
+        double a = 1.5 * k / 20.0;
+        ray_vec3 d = vec(3 * sin(a), -3 * cos(a), 0);
+        ck_assert_int_eq(ray_refract(d, n, 1 / 1.5, &t), 1);
+        ck_assert_double_eq_tol(sin(a), 1.5 * t.x, 1e-12);
+        ck_assert(t.y < 0);
+        ck_assert_int_eq(ray_refract(d, vec(0, -1, 0), 1 / 1.5, &t), 1);
+        ck_assert_double_eq_tol(sin(a), 1.5 * t.x, 1e-12);
+        ck_assert_int_eq(ray_refract(d, n, 1.0, &t), 1);
+        ck_assert_vec_eq_tol(t, vscale(d, 1.0 / 3), 1e-15);
+    }
+    ck_assert_int_eq(ray_refract(vec(0, 0, 0), n, 1.5, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, 0.0, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, NAN, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(NAN, -1, 0), n, 1.5, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, 1.5, NULL), 0);
+}
+END_TEST
+
+START_TEST(reflect_should_mirror_about_the_normal)
+{
+    ray_vec3 r = ray_reflect(vec(1, -1, 0), vec(0, 1, 0));
+
+    ck_assert_vec_eq(r, vec(1, 1, 0));
+    r = ray_reflect(vec(1, -1, 2), vec(0, -1, 0));    /* either side */
+    ck_assert_vec_eq(r, vec(1, 1, 2));
+}
+END_TEST
+
+/*
+** A ray spawned from a hit leaves the surface: for 10000 random outgoing
+** directions on each side of a sphere and a tilted triangle, at the origin
+** and 1e5 away, the spawned ray never re-hits the surface on the side it
+** leaves (for the convex sphere's outside, never at all).
+*/
+START_TEST(spawn_should_not_rehit_the_surface)
+{
+    double offsets[] = {0.0, 1e3, 1e5};
+    rng g = {77};
+    int o, k;
+
+    for (o = 0; o < 3; o++) {
+        double X = offsets[o];
+        ray_vec3 c = vec(X, 0, 0);
+        ray_vec3 A = vec(X - 50, 1, X - 50), B = vec(X + 50, 1.37, X - 50),
+                 C = vec(X - 50, 0.61, X + 50);
+        for (k = 0; k < 10000; k++) {
+            ray_vec3 dir = rng_dir(&g), w = rng_dir(&g), P;
+            ray_ray prim = ray_from(vadd(c, vscale(dir, 5)), vscale(dir, -1)), s;
+            ray_hit h, h2;
+
+            ck_assert_int_eq(ray_sphere(&prim, c, 1.0, &h), 1);
+            if (vdot(w, h.n) < 0)
+                w = vscale(w, -1);
+            ck_assert_int_eq(ray_spawn(&h, w, &s), RAY_OK);
+            ck_assert_msg(!ray_sphere(&s, c, 1.0, &h2),
+                          "sphere at %g: self-hit at t=%g", X, h2.t);
+            /* The triangle, from a random point above it. */
+            P = vadd(vadd(vscale(A, 0.3), vscale(B, 0.3)), vscale(C, 0.4));
+            prim = ray_from(vadd(P, vadd(vec(0, 3, 0), rng_point(&g, -2, 2))),
+                            vec(0, 0, 0));
+            prim.dir = vsub(P, prim.org);
+            ck_assert_int_eq(ray_triangle(&prim, A, B, C, &h), 1);
+            w = rng_dir(&g);
+            ck_assert_int_eq(ray_spawn(&h, w, &s), RAY_OK);
+            ck_assert_msg(!ray_triangle(&s, A, B, C, &h2),
+                          "triangle at %g: self-hit at t=%g", X, h2.t);
+        }
+    }
+}
+END_TEST
+
+START_TEST(spawn_to_should_end_before_the_target)
+{
+    ray_ray prim = ray_from(vec(0, 5, 0), vec(0, -1, 0)), s;
+    ray_hit h;
+
+    ck_assert_int_eq(ray_plane(&prim, vec(0, 0, 0), vec(0, 1, 0), &h), 1);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(3, 4, 0), &s), RAY_OK);
+    ck_assert_double_eq(s.tmax, 1.0);
+    ck_assert_double_eq(s.tmin, 0.0);
+    ck_assert(s.org.y >= 0);
+    ck_assert_vec_eq_tol(vadd(s.org, s.dir), vec(3, 4, 0), 1e-15);
+    /* Bad input: nothing written. */
+    s.tmax = 42;
+    ck_assert_int_eq(ray_spawn_to(&h, h.p, &s), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(NAN, 0, 0), &s), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn(&h, vec(0, 0, 0), &s), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn(&h, vec(0, HUGE_VAL, 0), &s), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn(NULL, vec(0, 1, 0), &s), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn(&h, vec(0, 1, 0), NULL), RAY_EINVAL);
+    ck_assert_double_eq(s.tmax, 42);
+}
+END_TEST
+
+/*
+** The other side of the trade-off: the offset must not skip thin
+** geometry.  Two parallel planes 1e-3 apart, 1e3 from the origin: a
+** shadow ray from a hit on the lower one toward a light above is blocked
+** by the upper one, which it meets 1e-3 above its start.
+*/
+START_TEST(spawn_should_not_skip_thin_gaps)
+{
+    double X = 1e3;
+    ray_ray prim = ray_from(vec(X + 0.3, 5e-4, X - 0.2), vec(0.1, -1, 0.05));
+    ray_ray s;
+    ray_hit h, h2;
+
+    ck_assert_int_eq(ray_plane(&prim, vec(X, 0, X), vec(0, 1, 0), &h), 1);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(X, 10, X), &s), RAY_OK);
+    ck_assert_int_eq(ray_plane(&s, vec(X, 1e-3, X), vec(0, 1, 0), &h2), 1);
+    ck_assert_double_eq_tol(h2.p.y, 1e-3, 1e-12);
+}
+END_TEST
+
+Suite *optics_suite(void)
+{
+    Suite *s = suite_create("optics");
+    TCase *tc = tcase_create("optics");
+    TCase *sp = tcase_create("spawn");
+
+    tcase_add_test(tc, fresnel_should_match_reference_values);
+    tcase_add_test(tc, refract_should_switch_to_tir_at_critical_angle);
+    tcase_add_test(tc, refract_should_obey_snell);
+    tcase_add_test(tc, reflect_should_mirror_about_the_normal);
+    tcase_add_test(sp, spawn_should_not_rehit_the_surface);
+    tcase_add_test(sp, spawn_to_should_end_before_the_target);
+    tcase_add_test(sp, spawn_should_not_skip_thin_gaps);
+    suite_add_tcase(s, tc);
+    suite_add_tcase(s, sp);
+    return s;
+}

@@ -1,0 +1,244 @@
+/*
+** check_render.c -- ray_render: determinism across thread counts and
+** region splits, cancellation, options, and the pixels themselves.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+
+#define W 37
+#define H 23
+
+/*
+** A small asymmetric scene that uses every source of randomness: a red
+** sphere on the left, a blue glass sphere on the right, a checker floor,
+** a rect area light (jittered samples) and depth of field.
+*/
+typedef struct test_scene {
+    ray_phong_params red, white, grey;
+    ray_glass_params glass;
+    ray_checker_params checker;
+    ray_scene *scene;
+    ray_camera cam;
+} test_scene;
+
+static void build(test_scene *t)
+{
+    ray_material m;
+    ray_light l;
+    unsigned red, glass, floor;
+
+    memset(t, 0, sizeof *t);
+    t->red.diffuse = rgb_of(0.9, 0.05, 0.05);
+    t->red.specular = rgb_of(0.3, 0.3, 0.3);
+    t->red.shininess = 20;
+    t->white.diffuse = rgb_of(0.8, 0.8, 0.8);
+    t->grey.diffuse = rgb_of(0.2, 0.2, 0.2);
+    t->glass.ior = 1.5;
+    t->glass.absorption = rgb_of(1.0, 0.6, 0.0);
+    t->checker.even = ray_material_phong(&t->white);
+    t->checker.odd = ray_material_phong(&t->grey);
+    t->checker.scale = 2;
+    ck_assert_int_eq(ray_scene_new(&t->scene, NULL, NULL), RAY_OK);
+    m = ray_material_phong(&t->red);
+    ck_assert_int_eq(ray_scene_add_material(t->scene, &m, &red), RAY_OK);
+    m = ray_material_glass(&t->glass);
+    ck_assert_int_eq(ray_scene_add_material(t->scene, &m, &glass), RAY_OK);
+    m = ray_material_checker(&t->checker);
+    ck_assert_int_eq(ray_scene_add_material(t->scene, &m, &floor), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(t->scene, vec(-1.2, 1, 0), 1, red, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(t->scene, vec(1.2, 1, 0), 1, glass, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(t->scene, vec(0, 0, 0), vec(0, 1, 0), floor, NULL), RAY_OK);
+    memset(&l, 0, sizeof l);
+    l.kind = RAY_LIGHT_RECT;
+    l.position = vec(-1, 5, -1);
+    l.edge1 = vec(2, 0, 0);
+    l.edge2 = vec(0, 0, 2);       /* (2,0,0) x (0,0,2) = (0,-4,0): down */
+    l.intensity = rgb_of(30, 30, 30);
+    l.samples = 4;
+    ck_assert_int_eq(ray_scene_add_light(t->scene, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb_of(0.1, 0.2, 0.9)), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(t->scene), RAY_OK);
+    t->cam.position = vec(0, 1.5, 6);
+    t->cam.look_at = vec(0, 1, 0);
+    t->cam.up = vec(0, 1, 0);
+    t->cam.vfov = 50;
+    t->cam.aperture = 0.1;
+}
+
+static float *render_with(test_scene *t, unsigned threads, unsigned y0,
+                          unsigned y1, ray_stats *st)
+{
+    ray_render_options opt;
+    float *img = malloc(sizeof(float) * 3 * W * H);
+
+    ck_assert_ptr_nonnull(img);
+    ray_render_options_init(&opt, W, H);
+    opt.threads = threads;
+    opt.samples = 4;
+    opt.seed = 2026;
+    opt.y0 = y0;
+    opt.y1 = y1;
+    ck_assert_int_eq(ray_render(t->scene, &t->cam, &opt, img, st), RAY_OK);
+    return img;
+}
+
+START_TEST(render_should_be_identical_for_any_thread_count)
+{
+    test_scene t;
+    unsigned counts[] = {2, 3, 8, 0};
+    ray_stats s1, sn;
+    float *ref, *img;
+    int k;
+
+    build(&t);
+    ref = render_with(&t, 1, 0, 0, &s1);
+    ck_assert_uint_eq(s1.rays[RAY_KIND_PRIMARY], W * H * 4);
+    for (k = 0; k < 4; k++) {
+        img = render_with(&t, counts[k], 0, 0, &sn);
+        ck_assert_msg(memcmp(img, ref, sizeof(float) * 3 * W * H) == 0,
+                      "%u threads differ", counts[k]);
+        ck_assert_uint_eq(sn.rays[RAY_KIND_SHADOW], s1.rays[RAY_KIND_SHADOW]);
+        ck_assert_uint_eq(sn.tests, s1.tests);
+        free(img);
+    }
+    free(ref);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+START_TEST(render_regions_should_stitch_bit_exactly)
+{
+    test_scene t;
+    unsigned cuts[] = {0, 7, 8, 20, H};
+    float *ref, *full = malloc(sizeof(float) * 3 * W * H);
+    int k;
+
+    build(&t);
+    ref = render_with(&t, 2, 0, 0, NULL);
+    for (k = 0; k < 4; k++) {
+        float *part = render_with(&t, 2, cuts[k], cuts[k + 1], NULL);
+        memcpy(full + 3 * W * cuts[k], part,
+               sizeof(float) * 3 * W * (cuts[k + 1] - cuts[k]));
+        free(part);
+    }
+    ck_assert(memcmp(full, ref, sizeof(float) * 3 * W * H) == 0);
+    free(full);
+    free(ref);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+/* Cancel after 3 rows: no further callbacks, RAY_ECANCELED. */
+static int cancel_after_three(void *ud, unsigned done, unsigned total)
+{
+    unsigned *calls = ud;
+
+    ck_assert_uint_eq(total, H);
+    ck_assert_uint_le(done, H);
+    (*calls)++;
+    return *calls >= 3;
+}
+
+START_TEST(render_should_cancel_from_progress)
+{
+    test_scene t;
+    ray_render_options opt;
+    float *img = malloc(sizeof(float) * 3 * W * H);
+    unsigned calls = 0;
+
+    build(&t);
+    ray_render_options_init(&opt, W, H);
+    opt.threads = 2;
+    opt.progress = cancel_after_three;
+    opt.progress_ud = &calls;
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_ECANCELED);
+    ck_assert_uint_eq(calls, 3);
+    free(img);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+/* Pixels: the left sphere is red, the sky at the top is the background,
+** the glass sphere's absorption (1.0, 0.6, 0.0) takes red out of what it
+** shows. */
+START_TEST(render_should_put_colours_where_the_scene_is)
+{
+    test_scene t;
+    float *img;
+    const float *left, *top, *glass;
+
+    build(&t);
+    img = render_with(&t, 2, 0, 0, NULL);
+    left = img + 3 * (11 * W + 10);
+    top = img + 3 * (0 * W + 18);
+    glass = img + 3 * (11 * W + 26);
+    ck_assert(left[0] > 3 * left[1] && left[0] > 3 * left[2]);
+    ck_assert_double_eq_tol(top[0], 0.1, 1e-6);
+    ck_assert_double_eq_tol(top[2], 0.9, 1e-6);
+    ck_assert(glass[2] > glass[0]);
+    free(img);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+START_TEST(render_should_reject_bad_options)
+{
+    test_scene t;
+    ray_render_options opt;
+    ray_camera cam;
+    float img[3 * W * H];
+    ray_scene *open_scene;
+
+    build(&t);
+    ray_render_options_init(&opt, W, H);
+    ck_assert_int_eq(ray_render(NULL, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(t.scene, NULL, &opt, img, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, NULL, img, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, NULL, NULL), RAY_EINVAL);
+    opt.y0 = 5;
+    opt.y1 = 5;
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    opt.y0 = 0;
+    opt.y1 = H + 1;
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    ray_render_options_init(&opt, 0, H);
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    ray_render_options_init(&opt, W, H);
+    opt.samples = 0;
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    ray_render_options_init(&opt, W, H);
+    cam = t.cam;
+    cam.look_at = cam.position;
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    cam = t.cam;
+    cam.position = vec(0, 1, 6);
+    cam.look_at = vec(0, 1, 0);
+    cam.up = vec(0, 0, -1);           /* parallel to the view direction */
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    cam = t.cam;
+    cam.vfov = 180;
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    cam.vfov = NAN;
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_new(&open_scene, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_render(open_scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    ray_scene_free(open_scene);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+Suite *render_suite(void)
+{
+    Suite *s = suite_create("render");
+    TCase *tc = tcase_create("render");
+
+    tcase_set_timeout(tc, 60);
+    tcase_add_test(tc, render_should_be_identical_for_any_thread_count);
+    tcase_add_test(tc, render_regions_should_stitch_bit_exactly);
+    tcase_add_test(tc, render_should_cancel_from_progress);
+    tcase_add_test(tc, render_should_put_colours_where_the_scene_is);
+    tcase_add_test(tc, render_should_reject_bad_options);
+    suite_add_tcase(s, tc);
+    return s;
+}

@@ -1,0 +1,272 @@
+/*
+** check_scene.c -- building scenes: errors, lifetime, allocator failures,
+** and the ray_intersect / ray_occluded queries.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+
+static void black(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                  ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    (void)out;
+}
+
+static ray_material plain(void)
+{
+    ray_material m;
+    m.shade = black;
+    m.ud = NULL;
+    m.effects = 0;
+    return m;
+}
+
+START_TEST(scene_should_assign_ids_in_order)
+{
+    ray_scene *s;
+    ray_material m = plain();
+    ray_vec3 quad[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    ray_light l;
+    unsigned id = 99, mat = 99;
+
+    memset(&l, 0, sizeof l);
+    l.kind = RAY_LIGHT_POINT;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_uint_eq(mat, 0);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 2, 0), mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 1);
+    ck_assert_int_eq(ray_scene_add_triangle(s, quad[0], quad[1], quad[2], mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 2);
+    ck_assert_int_eq(ray_scene_add_polygon(s, quad, 4, mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 3);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_uint_eq(ray_scene_light_count(s), 1);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_scene_free(s);
+    ray_scene_free(NULL);
+}
+END_TEST
+
+/* Bad input is refused with nothing half-added: the next good add gets
+** the next id as if the bad ones never happened. */
+START_TEST(scene_should_reject_bad_geometry_atomically)
+{
+    ray_scene *s;
+    ray_material m = plain(), bad = plain();
+    ray_vec3 line[3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    ray_vec3 nanpoly[3] = {{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}};
+    ray_light l;
+    unsigned id = 99, mat;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    bad.shade = NULL;
+    ck_assert_int_eq(ray_scene_add_material(s, &bad, NULL), RAY_EINVAL);
+    bad = plain();
+    bad.effects = 64;
+    ck_assert_int_eq(ray_scene_add_material(s, &bad, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_material(s, NULL, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(NAN, 0, 0), 1, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 0, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), HUGE_VAL, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat + 1, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 0), mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, HUGE_VAL, 0), vec(0, 1, 0), mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_triangle(s, line[0], line[1], line[2], mat, &id), RAY_EDEGENERATE);
+    ck_assert_int_eq(ray_scene_add_triangle(s, line[0], line[1], vec(0, 0, NAN), mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_polygon(s, line, 3, mat, &id), RAY_EDEGENERATE);
+    ck_assert_int_eq(ray_scene_add_polygon(s, nanpoly, 3, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_polygon(s, line, 2, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_polygon(s, NULL, 3, mat, &id), RAY_EINVAL);
+    memset(&l, 0, sizeof l);
+    l.kind = 17;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.kind = RAY_LIGHT_DIRECTIONAL;     /* zero direction */
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.kind = RAY_LIGHT_SPHERE;          /* zero radius */
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.kind = RAY_LIGHT_RECT;            /* parallel (zero) edges */
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.kind = RAY_LIGHT_POINT;
+    l.intensity.g = -1;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.intensity.g = NAN;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    ck_assert_uint_eq(ray_scene_light_count(s), 0);
+    ck_assert_uint_eq(id, 99);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(-1, 0, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0, NAN, 0)), RAY_EINVAL);
+    {
+        ray_limits lim = {3, 2.0, 1};
+        ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
+        lim.min_weight = NAN;
+        ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+START_TEST(scene_should_be_read_only_after_commit)
+{
+    ray_scene *s;
+    ray_material m = plain();
+    ray_vec3 tri[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    ray_light l;
+    unsigned mat;
+
+    memset(&l, 0, sizeof l);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_triangle(s, tri[0], tri[1], tri[2], mat, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_polygon(s, tri, 3, mat, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(0, 0, 0)), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0, 0, 0)), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, NULL, NULL), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_ESTATE);
+    ray_scene_free(s);
+    ck_assert_int_eq(ray_scene_new(NULL, NULL, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_material(NULL, &m, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_commit(NULL), RAY_EINVAL);
+}
+END_TEST
+
+/*
+** An allocator that fails the n-th call and tracks the bytes outstanding,
+** so every error path can be shown to free what it took (and nothing
+** leaks at ray_scene_free), whatever call fails.
+*/
+typedef struct tracked {
+    long calls, fail_at;
+    long long outstanding;
+} tracked;
+
+static void *tracked_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    tracked *t = ud;
+    void *p;
+
+    if (nsize == 0) {
+        t->outstanding -= (long long)osize;
+        free(ptr);
+        return NULL;
+    }
+    if (++t->calls == t->fail_at)
+        return NULL;
+    p = realloc(ptr, nsize);
+    if (p != NULL)
+        t->outstanding += (long long)nsize - (long long)osize;
+    return p;
+}
+
+/* Build a scene with every kind of object; stop at the first error. */
+static int build_everything(ray_scene *s)
+{
+    ray_material m = plain();
+    ray_vec3 quad[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    ray_light l;
+    unsigned mat;
+    int rc, i;
+
+    memset(&l, 0, sizeof l);
+    if ((rc = ray_scene_add_material(s, &m, &mat)) != RAY_OK)
+        return rc;
+    for (i = 0; i < 20; i++) {
+        double x = i;
+        if ((rc = ray_scene_add_sphere(s, vec(x, 0, 0), 1, mat, NULL)) != RAY_OK ||
+            (rc = ray_scene_add_triangle(s, quad[0], quad[1], vec(x, 2, 1), mat, NULL)) != RAY_OK ||
+            (rc = ray_scene_add_polygon(s, quad, 4, mat, NULL)) != RAY_OK ||
+            (rc = ray_scene_add_light(s, &l, NULL)) != RAY_OK)
+            return rc;
+    }
+    return ray_scene_commit(s);
+}
+
+START_TEST(scene_should_survive_every_allocation_failure)
+{
+    long n;
+    int saw_ok = 0;
+
+    for (n = 1; n < 200 && !saw_ok; n++) {
+        tracked t = {0, 0, 0};
+        ray_scene *s = NULL;
+        int rc;
+
+        t.fail_at = n;
+        rc = ray_scene_new(&s, tracked_alloc, &t);
+        if (rc == RAY_OK) {
+            rc = build_everything(s);
+            ray_scene_free(s);
+        }
+        ck_assert_msg(rc == RAY_OK || rc == RAY_ENOMEM, "fail_at %ld: %d", n, rc);
+        saw_ok = rc == RAY_OK;
+        ck_assert_msg(t.outstanding == 0, "fail_at %ld: %lld bytes leaked",
+                      n, t.outstanding);
+    }
+    ck_assert(saw_ok);
+}
+END_TEST
+
+START_TEST(intersect_should_find_nearest_and_any)
+{
+    ray_scene *s;
+    ray_material m = plain();
+    unsigned mat, near_id, far_id;
+    ray_ray r = ray_from(vec(0, 0, 10), vec(0, 0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, mat, &far_id), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &near_id), RAY_OK);
+    hit_poison(&h);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);     /* not committed */
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert(hit_is_poisoned(&h));
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_uint_eq(h.geom_id, near_id);
+    ck_assert_double_eq_tol(h.t, 9.0, 1e-14);
+    ck_assert_int_eq(ray_occluded(s, &r), 1);
+    r.tmax = 8.0;
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    r.org = vec(0, 0, -2);
+    r.tmax = HUGE_VAL;
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_uint_eq(h.geom_id, far_id);
+    ck_assert_int_eq(ray_intersect(NULL, &r, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, NULL, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, NULL), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+Suite *scene_suite(void)
+{
+    Suite *s = suite_create("scene");
+    TCase *tc = tcase_create("build");
+    TCase *q = tcase_create("query");
+
+    tcase_add_test(tc, scene_should_assign_ids_in_order);
+    tcase_add_test(tc, scene_should_reject_bad_geometry_atomically);
+    tcase_add_test(tc, scene_should_be_read_only_after_commit);
+    tcase_add_test(tc, scene_should_survive_every_allocation_failure);
+    tcase_add_test(q, intersect_should_find_nearest_and_any);
+    suite_add_tcase(s, tc);
+    suite_add_tcase(s, q);
+    return s;
+}

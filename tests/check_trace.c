@@ -1,0 +1,362 @@
+/*
+** check_trace.c -- the ray tree: its limits, declared effects, built-in
+** materials' optics, and shadow rays that do not hit their own surface.
+*/
+#include "tests.h"
+
+/* A scene with two facing mirror planes y = 0 and y = 1 (reflectance
+** "k") and the given limits; a context traces one vertical ray. */
+static ray_stats bounce_between_mirrors(double k, const ray_limits *lim)
+{
+    ray_rgb refl = rgb_of(k, k, k), c;
+    ray_material m = ray_material_mirror(&refl);
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_stats st;
+    ray_ray r = ray_from(vec(0, 0.5, 0), vec(0.001, 1, 0));
+    unsigned mat;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 1, 0), vec(0, -1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_limits(s, lim), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ray_ctx_stats(ctx, &st);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+    return st;
+}
+
+START_TEST(trace_should_stop_facing_mirrors_at_max_depth)
+{
+    ray_limits lim = {5, 0.0, 2};
+    ray_stats st = bounce_between_mirrors(1.0, &lim);
+
+    ck_assert_uint_eq(st.rays[RAY_KIND_PRIMARY], 1);
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 5);
+    ck_assert_uint_eq(st.cut_depth, 1);
+    ck_assert_uint_eq(st.max_depth, 5);
+    ck_assert_uint_eq(st.tests, 6 * 2);      /* 6 rays x 2 planes */
+}
+END_TEST
+
+/* Reflectance 0.5 with min_weight 0.1: path weights 0.5, 0.25, 0.125
+** are traced, 0.0625 is cut (Hall and Greenberg's adaptive depth). */
+START_TEST(trace_should_cut_by_weight)
+{
+    ray_limits lim = {100, 0.1, 2};
+    ray_stats st = bounce_between_mirrors(0.5, &lim);
+
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 3);
+    ck_assert_uint_eq(st.cut_weight, 1);
+    ck_assert_uint_eq(st.cut_depth, 0);
+}
+END_TEST
+
+/* A material that tries three reflections, and records the results. */
+typedef struct greedy {
+    int results[3];
+} greedy;
+
+static void greedy_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_rgb *out)
+{
+    greedy *g = ud;
+    ray_ray r;
+    ray_rgb c;
+    int i;
+
+    (void)out;
+    if (a->depth > 0)
+        return;
+    ck_assert_int_eq(ray_spawn(a->hit, vec(0, 0, 1), &r), RAY_OK);
+    for (i = 0; i < 3; i++)
+        g->results[i] = ray_trace(ctx, &r, RAY_KIND_REFLECTION, 0.5, &c);
+}
+
+static ray_stats run_greedy(unsigned effects, greedy *g)
+{
+    ray_material m;
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_stats st;
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_rgb c;
+    unsigned mat;
+
+    m.shade = greedy_shade;
+    m.ud = g;
+    m.effects = effects;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    /* Outside a callback only primary rays may be traced. */
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_REFLECTION, 1.0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_COUNT, 1.0, &c), RAY_EINVAL);
+    ray_ctx_stats(ctx, &st);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+    return st;
+}
+
+START_TEST(trace_should_limit_fanout)
+{
+    greedy g;
+    ray_stats st = run_greedy(RAY_EFFECT_REFLECTION, &g);
+
+    ck_assert_int_eq(g.results[0], RAY_OK);
+    ck_assert_int_eq(g.results[1], RAY_OK);
+    ck_assert_int_eq(g.results[2], RAY_ELIMIT);
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 2);
+    ck_assert_uint_eq(st.cut_fanout, 1);
+}
+END_TEST
+
+START_TEST(trace_should_refuse_undeclared_effects)
+{
+    greedy g;
+    ray_stats st = run_greedy(RAY_EFFECT_REFRACTION, &g);
+
+    ck_assert_int_eq(g.results[0], RAY_EEFFECT);
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 0);
+    ck_assert_uint_eq(st.tests, 1);
+}
+END_TEST
+
+/* Glass sphere, a ray inside it at 64 degrees from the normal (beyond the
+** critical 41.8): total internal reflection at every bounce, so no
+** refraction ray is ever traced and the depth limit ends the tree. */
+START_TEST(glass_should_reflect_totally_inside)
+{
+    ray_glass_params gp = {1.5, {0, 0, 0}};
+    ray_material m = ray_material_glass(&gp);
+    ray_limits lim = {6, 0.0, 2};
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_stats st;
+    ray_ray r = ray_from(vec(0, 0.9, 0), vec(1, 0, 0));
+    ray_rgb c;
+    unsigned mat;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(1, 1, 1)), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ray_ctx_stats(ctx, &st);
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFRACTION], 0);
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 6);
+    ck_assert_uint_eq(st.cut_depth, 1);
+    /* Nothing ever escapes to the white background: black. */
+    ck_assert_double_eq(c.r, 0.0);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A ray from the centre of a glass sphere (normal incidence on the way
+** out, ior 1.5 -> 1): Fresnel 0.04 reflected, 0.96 refracted straight
+** out to a background of 1.  The reflected ray goes back through the
+** centre and out the other side, adding 0.04 * (0.96 + 0.04 * ...) .  With
+** index ratio 1 the glass is invisible: exactly the background.
+*/
+START_TEST(glass_should_refract_from_inside)
+{
+    ray_glass_params gp = {1.5, {0, 0, 0}};
+    ray_limits lim = {1, 0.0, 2};
+    int pass;
+
+    for (pass = 0; pass < 2; pass++) {
+        ray_material m = ray_material_glass(&gp);
+        ray_scene *s;
+        ray_ctx *ctx;
+        ray_stats st;
+        ray_ray r = ray_from(vec(0, 0, 0), vec(0, 0, 1));
+        ray_rgb c;
+        unsigned mat;
+
+        gp.ior = pass == 0 ? 1.5 : 1.0;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_background(s, rgb_of(1, 1, 1)), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+        ray_ctx_stats(ctx, &st);
+        ck_assert_uint_eq(st.rays[RAY_KIND_REFRACTION], 1);
+        /* Depth limit 1: the reflected ray hits the far side but its own
+        ** children are cut, so it brings back 0.  Result: 0.96 (1.0). */
+        ck_assert_double_eq_tol(c.g, pass == 0 ? 0.96 : 1.0, 1e-12);
+        ray_ctx_free(ctx);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/*
+** Beer-Lambert: index 1 (no bending, no reflection), absorption (1, 0.5,
+** 0) per unit length, a ray through the centre of a unit sphere crosses 2
+** units of glass: the white background comes back as (e^-2, e^-1, 1).
+*/
+START_TEST(glass_should_absorb_along_the_path)
+{
+    ray_glass_params gp = {1.0, {1.0, 0.5, 0.0}};
+    ray_material m = ray_material_glass(&gp);
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -2));
+    ray_rgb c;
+    unsigned mat;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(1, 1, 1)), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_double_eq_tol(c.r, exp(-2.0), 1e-12);
+    ck_assert_double_eq_tol(c.g, exp(-1.0), 1e-12);
+    ck_assert_double_eq_tol(c.b, 1.0, 1e-12);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The furnace-like scene of robustness.md section 8: the camera inside a
+** diffuse sphere (Kd = 0.5) with a point light of intensity 1 at its
+** centre.  Every point sees the light at distance 1 along its normal, so
+** every pixel is 0.5 * 1 * 1/1^2 = 0.5, and every shadow ray starts on the
+** inside of the sphere: one blocked by its own surface (acne) would make a
+** pixel black.  At the origin and 1e5 and 1e6 away.  Tolerance 1e-9: the
+** sample point lies on the sphere within ~ulp(1e6) = 1.2e-10 relative.
+*/
+START_TEST(shadow_rays_should_not_hit_their_own_surface)
+{
+    static const ray_phong_params kd = {{0.5, 0.5, 0.5}, {0, 0, 0}, 1, 0,
+                                        {0, 0, 0}};
+    double offsets[] = {0.0, 1e5, 1e6};
+    int k;
+
+    for (k = 0; k < 3; k++) {
+        double o = offsets[k];
+        ray_material m = ray_material_phong(&kd);
+        ray_light l;
+        ray_camera cam;
+        ray_render_options opt;
+        ray_scene *s;
+        ray_stats st;
+        float img[3 * 31 * 31];
+        unsigned mat, i;
+
+        memset(&l, 0, sizeof l);
+        l.kind = RAY_LIGHT_POINT;
+        l.position = vec(o, o, o);
+        l.intensity = rgb_of(1, 1, 1);
+        memset(&cam, 0, sizeof cam);
+        cam.position = vec(o + 0.3, o - 0.2, o + 0.1);
+        cam.look_at = vec(o + 1, o, o);
+        cam.up = vec(0, 1, 0);
+        cam.vfov = 150;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(o, o, o), 1, mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ray_render_options_init(&opt, 31, 31);
+        opt.threads = 1;
+        ck_assert_int_eq(ray_render(s, &cam, &opt, img, &st), RAY_OK);
+        ck_assert_uint_eq(st.rays[RAY_KIND_SHADOW], 31 * 31);
+        for (i = 0; i < 3 * 31 * 31; i++)
+            ck_assert_msg(fabs(img[i] - 0.5) < 1e-6, "offset %g: pixel %u = %g",
+                          o, i / 3, (double)img[i]);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/* ray_light_visible without RAY_EFFECT_SHADOW: no ray, always visible. */
+static void count_visible(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                          ray_rgb *out)
+{
+    int *visible = ud;
+    ray_light_sample ls;
+
+    (void)out;
+    ck_assert_int_eq(ray_light_sample_at(ctx, a, 0, 0, &ls), RAY_OK);
+    ck_assert_int_eq(ray_light_sample_at(ctx, a, 1, 0, &ls), RAY_EINVAL);
+    ck_assert_int_eq(ray_light_sample_at(ctx, a, 0, 1, &ls), RAY_EINVAL);
+    *visible = ray_light_visible(ctx, a, &ls);
+}
+
+START_TEST(undeclared_shadows_should_cast_no_rays)
+{
+    int declared;
+
+    for (declared = 0; declared < 2; declared++) {
+        ray_material m;
+        ray_light l;
+        ray_scene *s;
+        ray_ctx *ctx;
+        ray_stats st;
+        ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+        ray_rgb c;
+        unsigned mat;
+        int visible = -1;
+
+        m.shade = count_visible;
+        m.ud = &visible;
+        m.effects = declared ? RAY_EFFECT_SHADOW : 0;
+        memset(&l, 0, sizeof l);
+        l.kind = RAY_LIGHT_POINT;
+        l.position = vec(0, 0, 10);     /* blocked by the sphere above */
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 8), 1, mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+        r.org = vec(0, 0, 5);
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+        ray_ctx_stats(ctx, &st);
+        ck_assert_int_eq(visible, declared ? 0 : 1);
+        ck_assert_uint_eq(st.rays[RAY_KIND_SHADOW], declared ? 1 : 0);
+        ray_ctx_free(ctx);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+Suite *trace_suite(void)
+{
+    Suite *s = suite_create("trace");
+    TCase *lim = tcase_create("limits");
+    TCase *opt = tcase_create("materials");
+
+    tcase_add_test(lim, trace_should_stop_facing_mirrors_at_max_depth);
+    tcase_add_test(lim, trace_should_cut_by_weight);
+    tcase_add_test(lim, trace_should_limit_fanout);
+    tcase_add_test(lim, trace_should_refuse_undeclared_effects);
+    tcase_add_test(opt, glass_should_reflect_totally_inside);
+    tcase_add_test(opt, glass_should_refract_from_inside);
+    tcase_add_test(opt, glass_should_absorb_along_the_path);
+    tcase_add_test(opt, shadow_rays_should_not_hit_their_own_surface);
+    tcase_add_test(opt, undeclared_shadows_should_cast_no_rays);
+    suite_add_tcase(s, lim);
+    suite_add_tcase(s, opt);
+    return s;
+}
