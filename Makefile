@@ -43,7 +43,25 @@ TEST_BIN = $(BUILD)/tests/check_ray
 EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
 MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # Functions documented on another function's page, as page:alias.
-MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8
+MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 \
+    ray_scene_new:ray_scene_free ray_scene_new:ray_scene_commit \
+    ray_scene_new:ray_scene_set_background \
+    ray_scene_new:ray_scene_set_background_fn \
+    ray_scene_new:ray_scene_set_ambient ray_scene_new:ray_scene_set_limits \
+    ray_scene_new:ray_scene_light_count \
+    ray_scene_add_sphere:ray_scene_add_plane \
+    ray_scene_add_sphere:ray_scene_add_triangle \
+    ray_scene_add_sphere:ray_scene_add_polygon \
+    ray_scene_add_sphere:ray_scene_add_material \
+    ray_scene_add_sphere:ray_scene_add_light ray_intersect:ray_occluded \
+    ray_trace:ray_ctx_new ray_trace:ray_ctx_free ray_trace:ray_ctx_stats \
+    ray_trace:ray_ctx_random ray_light_sample_at:ray_light_visible \
+    ray_light_sample_at:ray_light_samples ray_spawn:ray_spawn_to \
+    ray_reflect:ray_refract ray_reflect:ray_fresnel \
+    ray_material_phong:ray_material_mirror \
+    ray_material_phong:ray_material_glass \
+    ray_material_phong:ray_material_checker \
+    ray_render:ray_render_options_init
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test \
         man-lint install uninstall clean deps-build deps-check bench
@@ -126,7 +144,7 @@ man-lint:
 check: deps-check lib $(TEST_BIN) examples $(BENCHES) header-test symbols-test man-lint
 	$(TEST_BIN)
 	@echo "check: running the examples (small sizes)"
-	cd $(BUILD) && examples/hello >/dev/null
+	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
@@ -179,4 +197,4 @@ uninstall:
 	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
 
 clean:
-	rm -rf $(BUILD) whitted.png hello.png cornell.png primitives.png
+	rm -rf $(BUILD) whitted.png hello.png cornell.png primitives.png material.png

@@ -304,7 +304,7 @@ typedef struct ray_shade_args {
 ** toward the incoming ray into *out (preset to black).  Called
 ** CONCURRENTLY from the render threads: touch only "ud" read-only, or
 ** synchronise.  "ctx" is the calling thread's context, to pass to
-** ray_trace and ray_light_sample.
+** ray_trace, ray_light_sample_at and ray_light_visible.
 */
 typedef void (*ray_shade_fn)(void *ud, ray_ctx *ctx,
                              const ray_shade_args *args, ray_rgb *out);
@@ -337,13 +337,24 @@ typedef struct ray_light {
     double radius;           /* spherical lights */
     ray_rgb intensity;
     unsigned samples;        /* area lights: shadow rays per shading
-                                point, rounded up to a square; 0 = 16 */
+                                point, rounded up to a square; 0 = 16;
+                                at most RAY_MAX_LIGHT_SAMPLES (checked
+                                for every kind) */
 } ray_light;
+
+/* Bounds on settings, so that no setting can overflow a counter or the
+** stack: 256 x 256 samples per light or per pixel, and a ray tree at most
+** 64 levels deep (each level nests a few hundred bytes of stack). */
+#define RAY_MAX_LIGHT_SAMPLES 65536u
+#define RAY_MAX_PIXEL_SAMPLES 65536u
+#define RAY_MAX_DEPTH 64u
 
 /* The ray tree's bounds (the lecture: "bound tree depth & fan-out"). */
 typedef struct ray_limits {
-    unsigned max_depth;      /* deepest bounce traced; primary = 0 */
-    double min_weight;       /* rays whose path weight falls below: cut */
+    unsigned max_depth;      /* deepest bounce traced; primary = 0;
+                                at most RAY_MAX_DEPTH */
+    double min_weight;       /* rays whose path weight falls below: cut;
+                                in [0, 1] */
     unsigned max_fanout;     /* secondary rays one hit may spawn */
 } ray_limits;
 
@@ -353,9 +364,12 @@ typedef struct ray_limits {
 
 /*
 ** ray_scene_new -- create an empty scene in *out.  "alloc" (NULL: libc)
-** serves every allocation the scene makes, with "alloc_ud".
-** Returns RAY_OK, RAY_EINVAL (out NULL) or RAY_ENOMEM.
-** ray_scene_free -- release it; NULL is a no-op.
+** serves every allocation the scene makes, with "alloc_ud", including
+** those of ray_ctx_new and ray_render on it: these may run on several
+** threads at once after commit, so a shared allocator must then be
+** thread-safe.  Returns RAY_OK, RAY_EINVAL (out NULL) or RAY_ENOMEM.
+** ray_scene_free -- release it; NULL is a no-op.  Free every context made
+** on a scene (ray_ctx_free) before the scene itself.
 **
 ** A scene is built single-threaded, then ray_scene_commit makes it
 ** read-only: after that any number of threads may trace it at once, and
@@ -369,7 +383,7 @@ RAY_API void ray_scene_free(ray_scene *scene);
 ** Materials are copied into the scene (the ud they point to is borrowed).
 ** *id, if not NULL, receives the material's id, counted from 0.
 ** RAY_EINVAL for a NULL scene, material or shade function, or unknown
-** effect bits.
+** effect bits; RAY_ENOMEM; RAY_ESTATE after commit.
 */
 RAY_API int ray_scene_add_material(ray_scene *scene, const ray_material *m,
                                    unsigned *id);
@@ -398,14 +412,17 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 /*
 ** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
 ** negative intensity, a zero direction (directional), a radius not > 0
-** (sphere) or parallel edges (rect).
+** (sphere), parallel edges (rect) or samples > RAY_MAX_LIGHT_SAMPLES.
 */
 RAY_API int ray_scene_add_light(ray_scene *scene, const ray_light *light,
                                 unsigned *id);
 
 /* The background: a constant colour (default black), or a function of
-** the escaping ray (NULL fn restores the colour).  The ambient light
-** given to materials (default black).  Tree limits (NULL: defaults). */
+** the escaping ray (NULL fn restores the colour), called CONCURRENTLY from
+** the render threads like materials.  The ambient light given to
+** materials (default black).  Tree limits (NULL: defaults); RAY_EINVAL
+** for max_depth > RAY_MAX_DEPTH or min_weight outside [0, 1].  Colours
+** must be finite and >= 0 (else RAY_EINVAL). */
 typedef void (*ray_background_fn)(void *ud, const ray_ray *r, ray_rgb *out);
 RAY_API int ray_scene_set_background(ray_scene *scene, ray_rgb color);
 RAY_API int ray_scene_set_background_fn(ray_scene *scene,
@@ -415,14 +432,16 @@ RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 
 /*
 ** ray_scene_commit -- finish building: the scene becomes read-only and
-** safe to share between threads.  Returns RAY_OK, RAY_ENOMEM, or
-** RAY_ESTATE if already committed.
+** safe to share between threads.  Returns RAY_OK, RAY_EINVAL (NULL),
+** RAY_ENOMEM (acceleration structures), or RAY_ESTATE if already
+** committed.
 */
 RAY_API int ray_scene_commit(ray_scene *scene);
 
 /*
 ** Queries on a committed scene, from any thread.  ray_intersect: the
-** nearest hit in (tmin, tmax), with geom_id set (1) or a miss (0, *hit
+** nearest hit in (tmin, tmax), with geom_id set and prim_id the
+** triangle's index for a mesh, 0 otherwise (1), or a miss (0, *hit
 ** untouched).  ray_occluded: 1 if anything lies in (tmin, tmax) (any-hit,
 ** stops at the first).  Both return 0 for an uncommitted scene or NULLs.
 */
@@ -486,11 +505,13 @@ RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
 ** ray_light_visible answers whether the sample is unoccluded.  When the
 ** calling material declared RAY_EFFECT_SHADOW it casts one shadow ray
 ** (any-hit, from ray_spawn_to); otherwise it casts nothing and answers 1:
-** unshadowed light, a documented no-op.  So a material asks only for the
-** samples that would contribute (n.l > 0), and only those cost a ray.
+** unshadowed light, a documented no-op (also outside any callback).  So a
+** material asks only for the samples that would contribute (n.l > 0), and
+** only those cost a ray.
 **
-** ray_light_sample_at returns RAY_OK or RAY_EINVAL (NULLs, light or index
-** out of range, shading point at the light's position).  ray_light_visible
+** ray_light_sample_at returns RAY_OK or RAY_EINVAL, writing nothing (NULLs,
+** light or index out of range, a shading point so close to the light that
+** 1/dist^2 overflows).  ray_light_visible
 ** returns 1 or 0 (0 also for NULL arguments).
 */
 typedef struct ray_light_sample {
@@ -530,7 +551,12 @@ RAY_API double ray_ctx_random(ray_ctx *ctx);
 **   refraction (Snell; total internal reflection), optional Beer-Lambert
 **   absorption per unit distance inside.
 ** ray_material_checker: picks "even" or "odd" by the parity of
-**   floor(u*scale) + floor(v*scale) and shades with it.
+**   floor(u*scale) + floor(v*scale) and shades with it (with the union of
+**   the two materials' effects).
+**
+** The effects are fixed when the material is made, from the parameter
+** block as it is then (Phong declares RAY_EFFECT_REFLECTION only if
+** reflect is non-zero).  Glass blocks shadow rays like any surface.
 */
 typedef struct ray_phong_params {
     ray_rgb diffuse;
@@ -579,8 +605,10 @@ typedef struct ray_render_options {
     unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
                                 height); rows are counted from the top */
     unsigned threads;        /* 0 = one per online CPU */
-    unsigned samples;        /* per pixel; stratified k x k jitter when a
-                                square, else jittered; 1 = pixel centre */
+    unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
+                                1 = the pixel centre; a square k*k:
+                                jittered k x k strata; otherwise n-rooks
+                                strata on a rank-1 lattice, jittered */
     unsigned long long seed; /* frame seed of every pixel's sampler */
     ray_progress_fn progress;
     void *progress_ud;
@@ -599,10 +627,13 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** receives the counters summed over the threads.
 **
 ** The progress callback is called from the render threads, one call at a
-** time.  Returns RAY_OK; RAY_ECANCELED if it cancelled (finished rows are
-** kept, the rest is unspecified); RAY_EINVAL for NULLs, an uncommitted
-** scene, zero sizes, y0 >= y1 or y1 > height, or a degenerate camera;
-** RAY_ENOMEM; RAY_ESTATE if threads could not be started.
+** time, and never again after it asked to cancel.  Returns RAY_OK;
+** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
+** unspecified); RAY_EINVAL for NULLs, an uncommitted scene, zero sizes,
+** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, y0 >= y1 or y1 > height, or
+** a degenerate camera (eye at look_at, up parallel to the view, vfov not
+** in (0, 180)); RAY_ENOMEM.  If fewer threads than asked can be started,
+** the render goes on with those it has: the image is the same.
 */
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
                        const ray_render_options *options, float *rgb,

@@ -67,37 +67,43 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
                         ray_light_sample *out)
 {
     const ray_light *l;
+    ray_light_sample ls;
     ray_vec3 p, to;
-    double dist, n = 1.0;
+    double dist, n = 1.0, scale;
 
-    if (ctx == NULL || args == NULL || out == NULL ||
+    if (ctx == NULL || args == NULL || args->hit == NULL || out == NULL ||
         light >= ctx->scene->n_lights ||
         index >= ray_light_samples(ctx->scene, light))
         return RAY_EINVAL;
     l = &ctx->scene->lights[light];
     p = args->hit->p;
     if (l->kind == RAY_LIGHT_DIRECTIONAL) {
-        if (!v3_normalize(v3_scale(l->direction, -1.0), &out->dir))
+        if (!v3_normalize(v3_scale(l->direction, -1.0), &ls.dir))
             return RAY_EINVAL;
-        out->dist = HUGE_VAL;
-        out->radiance = l->intensity;
-        out->point = p;
+        ls.dist = HUGE_VAL;
+        ls.radiance = l->intensity;
+        ls.point = p;
+        *out = ls;
         return RAY_OK;
     }
     if (l->kind == RAY_LIGHT_POINT)
-        out->point = l->position;
+        ls.point = l->position;
     else {
         unsigned k = strata_side(l);
-        out->point = area_point(ctx, l, p, index, k);
+        ls.point = area_point(ctx, l, p, index, k);
         n = (double)(k * k);
     }
-    to = v3_sub(out->point, p);
+    to = v3_sub(ls.point, p);
     dist = v3_length(to);
-    if (!(dist > 0 && dist < HUGE_VAL) || !v3_normalize(to, &out->dir))
+    if (!(dist > 0 && dist < HUGE_VAL) || !v3_normalize(to, &ls.dir))
         return RAY_EINVAL;
-    out->dist = dist;
-    /* Inverse-square falloff, the total split evenly over the samples. */
-    out->radiance = rgb_scale(l->intensity, 1.0 / (dist * dist * n));
+    ls.dist = dist;
+    /* Inverse-square falloff, the total split evenly over the samples.
+    ** A light closer than ~1e-154 would overflow 1/dist^2: refused. */
+    scale = 1.0 / (dist * dist * n);
+    if (!(scale < HUGE_VAL))
+        return RAY_EINVAL;
+    ls.radiance = rgb_scale(l->intensity, scale);
     if (l->kind == RAY_LIGHT_RECT) {
         /* A one-sided Lambertian emitter: its intensity toward the point
         ** falls with the cosine at the light, and is 0 behind it. */
@@ -105,9 +111,13 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
         double cos_l;
         if (!v3_normalize(v3_cross(l->edge1, l->edge2), &ln))
             return RAY_EINVAL;      /* not reached: checked when added */
-        cos_l = -v3_dot(ln, out->dir);
-        out->radiance = rgb_scale(out->radiance, cos_l > 0 ? cos_l : 0.0);
+        cos_l = -v3_dot(ln, ls.dir);
+        ls.radiance = rgb_scale(ls.radiance, cos_l > 0 ? cos_l : 0.0);
     }
+    if (!(ls.radiance.r < HUGE_VAL && ls.radiance.g < HUGE_VAL &&
+          ls.radiance.b < HUGE_VAL))
+        return RAY_EINVAL;
+    *out = ls;
     return RAY_OK;
 }
 
@@ -117,7 +127,7 @@ int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
     ray_ray shadow;
     int rc;
 
-    if (ctx == NULL || args == NULL || sample == NULL)
+    if (ctx == NULL || args == NULL || args->hit == NULL || sample == NULL)
         return 0;
     if ((ctx->effects & RAY_EFFECT_SHADOW) == 0)
         return 1;            /* undeclared: unshadowed, and no ray cast */

@@ -9,17 +9,24 @@
 
 #include "camera.h"
 
-/* What every worker shares.  The mutex guards next_row, rows_done,
-** cancelled and the progress callback; nothing in the pixel loop. */
+/*
+** What every worker shares.  "lock" guards next_row and cancelled, and is
+** held only to take a row; "progress_lock" serialises the progress
+** callback and guards rows_done and stopped, so a slow callback (a
+** progress bar printing) does not keep the other threads from their rows.
+** Nothing is shared in the pixel loop.
+*/
 typedef struct render_job {
     const ray_scene *scene;
     const ray_render_options *opt;
     ray__cam cam;
-    unsigned y0, y1, side;   /* side: strata per axis (side^2 >= samples) */
+    unsigned y0, y1;
+    unsigned side;           /* k if samples = k*k, else 0 */
+    unsigned lattice;        /* n-rooks lattice generator (side == 0) */
     float *rgb;
-    pthread_mutex_t lock;
+    pthread_mutex_t lock, progress_lock;
     unsigned next_row, rows_done;
-    int cancelled;
+    int cancelled, stopped;
 } render_job;
 
 typedef struct render_worker {
@@ -30,10 +37,78 @@ typedef struct render_worker {
 } render_worker;
 
 /*
+** Workers are laid out WORKER_STRIDE bytes apart: sizeof(render_worker)
+** plus a spare cache line, rounded to 64, so one worker's counters (written
+** on every ray) never share a cache line with another's (false sharing),
+** whatever the alignment of the block.
+*/
+#define CACHE_LINE 64
+#define WORKER_STRIDE \
+    ((sizeof(render_worker) + 2 * CACHE_LINE - 1) / CACHE_LINE * CACHE_LINE)
+
+static render_worker *worker_at(void *block, unsigned i)
+{
+    return (render_worker *)(void *)((char *)block + (size_t)i * WORKER_STRIDE);
+}
+
+/* Render threads get at least this much stack: each level of the ray tree
+** nests ray_trace, the material callback and its locals (a few hundred
+** bytes), and some C libraries (musl: 128 KiB) default to little. */
+#define WORKER_STACK (4u << 20)
+
+/*
+** The stratum of sample s of n, as cell (cx, cy) of a grid of cells of
+** size 1/kx x 1/ky.  A square n = k*k uses the k x k grid.  Any other n
+** uses n-rooks strata (Shirley, "Discrepancy as a Quality Measure for
+** Sample Distributions", Eurographics 1991): x stratum s, y stratum
+** s*g mod n for a generator g coprime with n near n/phi (a rank-1 lattice
+** in the spirit of the Fibonacci lattice), so every row and every column
+** of an n x n grid holds exactly one sample and none is left empty --
+** filling the first n cells of a ceil(sqrt n)^2 grid would leave part of
+** the pixel unsampled.
+*/
+static void sample_cell(const render_job *job, unsigned s, double *cx,
+                        double *cy, double *cells)
+{
+    unsigned n = job->opt->samples;
+
+    if (job->side) {
+        *cx = (double)(s % job->side);
+        *cy = (double)(s / job->side);
+        *cells = (double)job->side;
+    } else {
+        *cx = (double)s;
+        *cy = (double)((unsigned long long)s * job->lattice % n);
+        *cells = (double)n;
+    }
+}
+
+static unsigned gcd(unsigned a, unsigned b)
+{
+    while (b != 0) {
+        unsigned t = a % b;
+        a = b;
+        b = t;
+    }
+    return a;
+}
+
+/* The lattice generator for n samples: the integer nearest n/phi that is
+** coprime with n (1 always is). */
+static unsigned lattice_generator(unsigned n)
+{
+    unsigned g = (unsigned)((double)n * 0.6180339887498949 + 0.5);
+
+    while (g > 1 && gcd(g, n) != 1)
+        g--;
+    return g ? g : 1;
+}
+
+/*
 ** One pixel.  Sample s of pixel (x, y) is seeded from (seed, x, y, s)
 ** alone, so the value does not depend on the thread or the region.  One
-** sample looks through the pixel centre; several are jittered in the
-** cells of a side x side grid (stratified when samples is a square).
+** sample looks through the pixel centre; several are jittered inside
+** their strata.
 */
 static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
                          unsigned y, float *out)
@@ -49,9 +124,10 @@ static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
 
         ray__ctx_start(ctx, ray__pixel_seed(o->seed, x, y, s));
         if (o->samples > 1) {
-            sx = ((double)(s % job->side) + ray_ctx_random(ctx)) / job->side;
-            sy = ((double)(s / job->side % job->side) +
-                  ray_ctx_random(ctx)) / job->side;
+            double cx, cy, cells;
+            sample_cell(job, s, &cx, &cy, &cells);
+            sx = (cx + ray_ctx_random(ctx)) / cells;
+            sy = (cy + ray_ctx_random(ctx)) / cells;
         }
         if (job->cam.lens_radius > 0) {
             lx = 2 * ray_ctx_random(ctx) - 1;
@@ -86,13 +162,19 @@ static int next_row(render_job *job, unsigned *row)
 static void row_finished(render_job *job)
 {
     const ray_render_options *o = job->opt;
+    int cancel = 0;
 
-    pthread_mutex_lock(&job->lock);
+    pthread_mutex_lock(&job->progress_lock);
     job->rows_done++;
-    if (o->progress != NULL && !job->cancelled &&
+    if (o->progress != NULL && !job->stopped &&
         o->progress(o->progress_ud, job->rows_done, job->y1 - job->y0) != 0)
+        cancel = job->stopped = 1;
+    pthread_mutex_unlock(&job->progress_lock);
+    if (cancel) {
+        pthread_mutex_lock(&job->lock);
         job->cancelled = 1;
-    pthread_mutex_unlock(&job->lock);
+        pthread_mutex_unlock(&job->lock);
+    }
 }
 
 static void *worker_main(void *arg)
@@ -131,18 +213,19 @@ static int options_valid(const ray_render_options *o, unsigned *y1)
 {
     *y1 = o->y1 ? o->y1 : o->height;
     return o->width > 0 && o->height > 0 && o->samples > 0 &&
+           o->samples <= RAY_MAX_PIXEL_SAMPLES &&
            o->y0 < *y1 && *y1 <= o->height &&
            o->width <= (size_t)-1 / 3 / sizeof(float) / o->height;
 }
 
 /* Sum the workers' counters (each thread counted into its own). */
-static void sum_stats(const render_worker *w, unsigned n, ray_stats *out)
+static void sum_stats(void *workers, unsigned n, ray_stats *out)
 {
     unsigned i, k;
 
     memset(out, 0, sizeof *out);
     for (i = 0; i < n; i++) {
-        const ray_stats *s = &w[i].ctx.stats;
+        const ray_stats *s = &worker_at(workers, i)->ctx.stats;
         for (k = 0; k < RAY_KIND_COUNT; k++)
             out->rays[k] += s->rays[k];
         out->tests += s->tests;
@@ -158,24 +241,34 @@ static void sum_stats(const render_worker *w, unsigned n, ray_stats *out)
 ** The calling thread is worker 0; threads - 1 more are started.  If one
 ** cannot be created, the render goes on with fewer: the image is the same.
 */
-static void run_workers(render_worker *w, unsigned n)
+static void run_workers(void *workers, unsigned n)
 {
+    pthread_attr_t attr;
+    size_t stack = 0;
+    int have_attr = pthread_attr_init(&attr) == 0;
     unsigned i;
 
+    if (have_attr && pthread_attr_getstacksize(&attr, &stack) == 0 &&
+        stack < WORKER_STACK)
+        pthread_attr_setstacksize(&attr, WORKER_STACK);
+    for (i = 1; i < n; i++) {
+        render_worker *w = worker_at(workers, i);
+        w->started = pthread_create(&w->thread, have_attr ? &attr : NULL,
+                                    worker_main, w) == 0;
+    }
+    worker_main(worker_at(workers, 0));
     for (i = 1; i < n; i++)
-        w[i].started = pthread_create(&w[i].thread, NULL, worker_main,
-                                      &w[i]) == 0;
-    worker_main(&w[0]);
-    for (i = 1; i < n; i++)
-        if (w[i].started)
-            pthread_join(w[i].thread, NULL);
+        if (worker_at(workers, i)->started)
+            pthread_join(worker_at(workers, i)->thread, NULL);
+    if (have_attr)
+        pthread_attr_destroy(&attr);
 }
 
 int ray_render(const ray_scene *scene, const ray_camera *camera,
                const ray_render_options *opt, float *rgb, ray_stats *stats)
 {
     render_job job;
-    render_worker *w;
+    void *workers;
     unsigned n, i;
     int rc;
 
@@ -189,30 +282,42 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     if (rc != RAY_OK)
         return rc;
     for (job.side = 1; job.side * job.side < opt->samples; job.side++)
-        ;
+        ;                    /* samples <= 65536: side <= 256, no overflow */
+    if (job.side * job.side != opt->samples)
+        job.side = 0;
+    job.lattice = lattice_generator(opt->samples);
     n = opt->threads ? opt->threads : online_cpus();
     if (n > job.y1 - job.y0)
         n = job.y1 - job.y0;
-    w = ray__alloc(scene, n * sizeof *w);
-    if (w == NULL)
+    if (WORKER_STRIDE > (size_t)-1 / n)        /* n >= 1 here */
         return RAY_ENOMEM;
-    memset(w, 0, n * sizeof *w);
+    workers = ray__alloc(scene, n * WORKER_STRIDE);
+    if (workers == NULL)
+        return RAY_ENOMEM;
+    memset(workers, 0, n * WORKER_STRIDE);
     for (i = 0; i < n; i++) {
-        w[i].job = &job;
-        w[i].ctx.scene = scene;
+        worker_at(workers, i)->job = &job;
+        worker_at(workers, i)->ctx.scene = scene;
     }
     if (pthread_mutex_init(&job.lock, NULL) != 0) {
-        ray__free(scene, w, n * sizeof *w);
+        ray__free(scene, workers, n * WORKER_STRIDE);
+        return RAY_ENOMEM;
+    }
+    if (pthread_mutex_init(&job.progress_lock, NULL) != 0) {
+        pthread_mutex_destroy(&job.lock);
+        ray__free(scene, workers, n * WORKER_STRIDE);
         return RAY_ENOMEM;
     }
     job.rgb = rgb;
     job.next_row = job.y0;
     job.rows_done = 0;
     job.cancelled = 0;
-    run_workers(w, n);
+    job.stopped = 0;
+    run_workers(workers, n);
+    pthread_mutex_destroy(&job.progress_lock);
     pthread_mutex_destroy(&job.lock);
     if (stats != NULL)
-        sum_stats(w, n, stats);
-    ray__free(scene, w, n * sizeof *w);
+        sum_stats(workers, n, stats);
+    ray__free(scene, workers, n * WORKER_STRIDE);
     return job.cancelled ? RAY_ECANCELED : RAY_OK;
 }

@@ -269,7 +269,8 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
 
     if (rc != RAY_OK)
         return rc;
-    if (light == NULL || !light_valid(light) || light->samples > 65536)
+    if (light == NULL || !light_valid(light) ||
+        light->samples > RAY_MAX_LIGHT_SAMPLES)
         return RAY_EINVAL;
     if (s->n_lights >= RAY_INVALID_ID)
         return RAY_ENOMEM;
@@ -338,7 +339,8 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
         s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
         return RAY_OK;
     }
-    if (!(limits->min_weight >= 0 && limits->min_weight <= 1))
+    if (!(limits->min_weight >= 0 && limits->min_weight <= 1) ||
+        limits->max_depth > RAY_MAX_DEPTH)
         return RAY_EINVAL;
     s->limits = *limits;
     return RAY_OK;

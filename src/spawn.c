@@ -3,6 +3,16 @@
 */
 #include "internal.h"
 
+/* x moved one ulp further in the direction of "dir" (not at all if 0). */
+static double step_away(double x, double dir)
+{
+    if (dir > 0)
+        return nextafter(x, HUGE_VAL);
+    if (dir < 0)
+        return nextafter(x, -HUGE_VAL);
+    return x;
+}
+
 /*
 ** The origin of a ray leaving "hit" toward side "dir".
 **
@@ -26,9 +36,9 @@ static int offset_origin(const ray_hit *hit, ray_vec3 dir, ray_vec3 *org)
         n = v3_scale(n, -1.0);
     off = v3_scale(n, d);
     o = v3_add(hit->p, off);
-    o.x = off.x > 0 ? nextafter(o.x, HUGE_VAL) : off.x < 0 ? nextafter(o.x, -HUGE_VAL) : o.x;
-    o.y = off.y > 0 ? nextafter(o.y, HUGE_VAL) : off.y < 0 ? nextafter(o.y, -HUGE_VAL) : o.y;
-    o.z = off.z > 0 ? nextafter(o.z, HUGE_VAL) : off.z < 0 ? nextafter(o.z, -HUGE_VAL) : o.z;
+    o.x = step_away(o.x, off.x);
+    o.y = step_away(o.y, off.y);
+    o.z = step_away(o.z, off.z);
     if (!v3_isfinite(o))
         return 0;
     *org = o;

@@ -113,7 +113,10 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
 {
     const ray_scene *s = ctx->scene;
     const ray_material *m = &s->materials[s->prims[hit->geom_id].material];
-    ray_ctx saved = *ctx;
+    int in_shade = ctx->in_shade;
+    unsigned saved_depth = ctx->depth, effects = ctx->effects;
+    unsigned fanout = ctx->fanout;
+    double saved_weight = ctx->weight;
     ray_shade_args args;
 
     args.scene = s;
@@ -133,11 +136,11 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     ctx->fanout = 0;
     out->r = out->g = out->b = 0.0;
     m->shade(m->ud, ctx, &args, out);
-    ctx->in_shade = saved.in_shade;
-    ctx->depth = saved.depth;
-    ctx->weight = saved.weight;
-    ctx->effects = saved.effects;
-    ctx->fanout = saved.fanout;
+    ctx->in_shade = in_shade;
+    ctx->depth = saved_depth;
+    ctx->weight = saved_weight;
+    ctx->effects = effects;
+    ctx->fanout = fanout;
 }
 
 int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,

@@ -207,6 +207,10 @@ START_TEST(render_should_reject_bad_options)
     ray_render_options_init(&opt, W, H);
     opt.samples = 0;
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    opt.samples = RAY_MAX_PIXEL_SAMPLES + 1;   /* also: no endless loop */
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    opt.samples = 0xffffffffu;
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
     ray_render_options_init(&opt, W, H);
     cam = t.cam;
     cam.look_at = cam.position;
@@ -228,6 +232,84 @@ START_TEST(render_should_reject_bad_options)
 }
 END_TEST
 
+/* Records where each primary ray crosses the image plane of a 1x1 frame
+** seen by a 90-degree camera looking down -z (background only). */
+typedef struct sample_log {
+    unsigned n;
+    double sx[64], sy[64];
+} sample_log;
+
+static void log_sample(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    sample_log *log = ud;
+
+    (void)out;
+    if (log->n < 64) {
+        log->sx[log->n] = (r->dir.x / -r->dir.z + 1) / 2;
+        log->sy[log->n] = (1 - r->dir.y / -r->dir.z) / 2;
+        log->n++;
+    }
+}
+
+/*
+** Sample positions inside a pixel: for n = 2, 3, 5, 7 (n-rooks) every one
+** of the n columns and n rows of an n x n grid holds exactly one sample;
+** for n = 4, 9 (k x k) every cell of the k x k grid holds one.  1e-9
+** absorbs the rounding of the direction (exact positions are never on a
+** cell border except with probability 0).
+*/
+START_TEST(render_samples_should_cover_every_stratum)
+{
+    unsigned ns[] = {2, 3, 5, 7, 4, 9};
+    int k;
+
+    for (k = 0; k < 6; k++) {
+        unsigned n = ns[k], i, cols = 0, rows = 0, cells = n;
+        int square = n == 4 || n == 9;
+        unsigned side = n == 4 ? 2 : 3;
+        sample_log log;
+        ray_scene *s;
+        ray_camera cam;
+        ray_render_options opt;
+        float px[3];
+
+        memset(&log, 0, sizeof log);
+        memset(&cam, 0, sizeof cam);
+        cam.position = vec(0, 0, 0);
+        cam.look_at = vec(0, 0, -1);
+        cam.up = vec(0, 1, 0);
+        cam.vfov = 90;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_background_fn(s, log_sample, &log), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ray_render_options_init(&opt, 1, 1);
+        opt.samples = n;
+        opt.threads = 1;
+        ck_assert_int_eq(ray_render(s, &cam, &opt, px, NULL), RAY_OK);
+        ck_assert_uint_eq(log.n, n);
+        if (square) {
+            unsigned seen = 0;
+            for (i = 0; i < n; i++) {
+                unsigned cx = (unsigned)(log.sx[i] * side);
+                unsigned cy = (unsigned)(log.sy[i] * side);
+                ck_assert(cx < side && cy < side);
+                seen |= 1u << (cy * side + cx);
+            }
+            ck_assert_uint_eq(seen, (1u << n) - 1);
+        } else {
+            for (i = 0; i < n; i++) {
+                ck_assert(log.sx[i] > -1e-9 && log.sx[i] < 1 + 1e-9);
+                cols |= 1u << (unsigned)(log.sx[i] * cells);
+                rows |= 1u << (unsigned)(log.sy[i] * cells);
+            }
+            ck_assert_uint_eq(cols, (1u << n) - 1);
+            ck_assert_uint_eq(rows, (1u << n) - 1);
+        }
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
 Suite *render_suite(void)
 {
     Suite *s = suite_create("render");
@@ -239,6 +321,7 @@ Suite *render_suite(void)
     tcase_add_test(tc, render_should_cancel_from_progress);
     tcase_add_test(tc, render_should_put_colours_where_the_scene_is);
     tcase_add_test(tc, render_should_reject_bad_options);
+    tcase_add_test(tc, render_samples_should_cover_every_stratum);
     suite_add_tcase(s, tc);
     return s;
 }

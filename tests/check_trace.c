@@ -45,9 +45,28 @@ END_TEST
 
 /* Reflectance 0.5 with min_weight 0.1: path weights 0.5, 0.25, 0.125
 ** are traced, 0.0625 is cut (Hall and Greenberg's adaptive depth). */
+/* The deepest tree allowed really is traced (no stack trouble), and one
+** level more is refused when set. */
+START_TEST(trace_should_allow_max_depth_and_refuse_more)
+{
+    ray_limits lim = {RAY_MAX_DEPTH, 0.0, 2};
+    ray_stats st = bounce_between_mirrors(1.0, &lim);
+    ray_scene *s;
+
+    ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], RAY_MAX_DEPTH);
+    ck_assert_uint_eq(st.max_depth, RAY_MAX_DEPTH);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    lim.max_depth = RAY_MAX_DEPTH + 1;
+    ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
+    lim.max_depth = 0;
+    ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(trace_should_cut_by_weight)
 {
-    ray_limits lim = {100, 0.1, 2};
+    ray_limits lim = {RAY_MAX_DEPTH, 0.1, 2};
     ray_stats st = bounce_between_mirrors(0.5, &lim);
 
     ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 3);
@@ -341,6 +360,192 @@ START_TEST(undeclared_shadows_should_cast_no_rays)
 }
 END_TEST
 
+/* The background callback sees the escaping ray; without it, the colour. */
+static void gradient(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    int *calls = ud;
+    (*calls)++;
+    out->r = r->dir.x;
+    out->g = r->dir.y;
+    out->b = 0.25;
+}
+
+START_TEST(background_should_come_from_colour_or_callback)
+{
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_ray r = ray_from(vec(0, 0, 0), vec(0.5, 0.75, 0));
+    ray_rgb c;
+    int calls = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0.1, 0.2, 0.3)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, gradient, &calls), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_double_eq(c.g, 0.2);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, gradient, &calls), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_int_eq(calls, 1);
+    ck_assert_double_eq(c.r, 0.5);
+    ck_assert_double_eq(c.g, 0.75);
+    ck_assert_int_eq(ray_ctx_new(NULL, 0, &ctx), RAY_EINVAL);
+    ray_ctx_free(ctx);
+    ray_ctx_free(NULL);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* ray_ctx_random: uniform in [0, 1), the same sequence for the same seed,
+** a different one for another seed; mean of 1e5 draws 1/2 within 5 sigma
+** (sigma = sqrt(1/12/1e5) = 9.1e-4). */
+START_TEST(ctx_random_should_be_uniform_and_reproducible)
+{
+    ray_scene *s;
+    ray_ctx *a, *b, *c;
+    double sum = 0;
+    int i, same = 1, differ = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 7, &a), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 7, &b), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 8, &c), RAY_OK);
+    for (i = 0; i < 100000; i++) {
+        double x = ray_ctx_random(a), y = ray_ctx_random(b), z = ray_ctx_random(c);
+        ck_assert(x >= 0 && x < 1);
+        same &= x == y;
+        differ |= x != z;
+        sum += x;
+    }
+    ck_assert(same);
+    ck_assert(differ);
+    ck_assert_double_eq_tol(sum / 100000, 0.5, 5 * 9.1e-4);
+    ck_assert_double_eq(ray_ctx_random(NULL), 0.0);
+    ray_ctx_free(a);
+    ray_ctx_free(b);
+    ray_ctx_free(c);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Sample counts round up to squares; samples of a sphere light lie on
+** its disk facing the point; a directional light is at infinity. */
+typedef struct light_probe {
+    int checked;
+} light_probe;
+
+static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_rgb *out)
+{
+    light_probe *p = ud;
+    ray_light_sample ls;
+    unsigned i;
+
+    (void)out;
+    ck_assert_uint_eq(ray_light_samples(a->scene, 0), 1);     /* point */
+    ck_assert_uint_eq(ray_light_samples(a->scene, 1), 1);     /* directional */
+    ck_assert_uint_eq(ray_light_samples(a->scene, 2), 9);     /* 5 -> 3x3 */
+    ck_assert_uint_eq(ray_light_samples(a->scene, 3), 16);    /* 0 -> 16 */
+    ck_assert_uint_eq(ray_light_samples(a->scene, 4), 0);     /* no light */
+    /* Light 0 sits 1e-160 above the hit: 1/dist^2 overflows, refused
+    ** with *out untouched. */
+    memset(&ls, 0xAB, sizeof ls);
+    {
+        ray_light_sample before = ls;
+        ck_assert_int_eq(ray_light_sample_at(ctx, a, 0, 0, &ls), RAY_EINVAL);
+        ck_assert(memcmp(&ls, &before, sizeof ls) == 0);
+    }
+    ck_assert_int_eq(ray_light_sample_at(ctx, a, 1, 0, &ls), RAY_OK);
+    ck_assert(ls.dist == HUGE_VAL);
+    ck_assert_vec_eq_tol(ls.dir, vec(0, 0, 1), 1e-15);
+    ck_assert_double_eq(ls.radiance.r, 2.0);
+    for (i = 0; i < 9; i++) {
+        double from_centre;
+        ck_assert_int_eq(ray_light_sample_at(ctx, a, 2, i, &ls), RAY_OK);
+        /* On the disk of radius 1 around (0,0,10), facing the hit point
+        ** (the origin): z = 10, |(x, y)| <= 1; radiance 1/dist^2 split
+        ** over the 9 samples. */
+        ck_assert_double_eq_tol(ls.point.z, 10.0, 1e-12);
+        from_centre = sqrt(ls.point.x * ls.point.x + ls.point.y * ls.point.y);
+        ck_assert(from_centre <= 1.0 + 1e-12);
+        ck_assert_double_eq_tol(ls.radiance.g, 1.0 / (9 * ls.dist * ls.dist), 1e-15);
+        ck_assert_double_eq_tol(ls.dist, vdist(ls.point, a->hit->p), 1e-12);
+    }
+    p->checked = 1;
+}
+
+START_TEST(lights_should_sample_as_documented)
+{
+    light_probe probe = {0};
+    ray_material m;
+    ray_light l;
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_rgb c;
+    unsigned mat;
+
+    m.shade = probe_lights;
+    m.ud = &probe;
+    m.effects = 0;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
+    memset(&l, 0, sizeof l);
+    l.kind = RAY_LIGHT_POINT;
+    l.position = vec(0, 0, 1e-160);
+    l.intensity = rgb_of(1, 0, 0);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.kind = RAY_LIGHT_DIRECTIONAL;
+    l.direction = vec(0, 0, -4);
+    l.intensity = rgb_of(2, 2, 2);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.kind = RAY_LIGHT_SPHERE;
+    l.position = vec(0, 0, 10);
+    l.radius = 1;
+    l.intensity = rgb_of(1, 1, 1);
+    l.samples = 5;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.samples = 0;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.samples = RAY_MAX_LIGHT_SAMPLES + 1;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 3, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_int_eq(probe.checked, 1);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+START_TEST(render_options_should_default_sensibly)
+{
+    ray_render_options o;
+
+    memset(&o, 0xff, sizeof o);
+    ray_render_options_init(&o, 64, 32);
+    ck_assert_uint_eq(o.width, 64);
+    ck_assert_uint_eq(o.height, 32);
+    ck_assert_uint_eq(o.y0, 0);
+    ck_assert_uint_eq(o.y1, 0);
+    ck_assert_uint_eq(o.threads, 0);
+    ck_assert_uint_eq(o.samples, 1);
+    ck_assert(o.seed == 0);
+    ck_assert(o.progress == NULL);
+    ray_render_options_init(NULL, 1, 1);
+}
+END_TEST
+
 Suite *trace_suite(void)
 {
     Suite *s = suite_create("trace");
@@ -349,6 +554,7 @@ Suite *trace_suite(void)
 
     tcase_add_test(lim, trace_should_stop_facing_mirrors_at_max_depth);
     tcase_add_test(lim, trace_should_cut_by_weight);
+    tcase_add_test(lim, trace_should_allow_max_depth_and_refuse_more);
     tcase_add_test(lim, trace_should_limit_fanout);
     tcase_add_test(lim, trace_should_refuse_undeclared_effects);
     tcase_add_test(opt, glass_should_reflect_totally_inside);
@@ -356,6 +562,10 @@ Suite *trace_suite(void)
     tcase_add_test(opt, glass_should_absorb_along_the_path);
     tcase_add_test(opt, shadow_rays_should_not_hit_their_own_surface);
     tcase_add_test(opt, undeclared_shadows_should_cast_no_rays);
+    tcase_add_test(opt, background_should_come_from_colour_or_callback);
+    tcase_add_test(opt, ctx_random_should_be_uniform_and_reproducible);
+    tcase_add_test(opt, lights_should_sample_as_documented);
+    tcase_add_test(opt, render_options_should_default_sensibly);
     suite_add_tcase(s, lim);
     suite_add_tcase(s, opt);
     return s;

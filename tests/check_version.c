@@ -22,7 +22,8 @@ END_TEST
 START_TEST(strerror_should_name_every_code)
 {
     int codes[] = {RAY_OK, RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE,
-                   RAY_ENOMEM, RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED};
+                   RAY_ENOMEM, RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED,
+                   RAY_ELIMIT, RAY_EEFFECT};
     size_t n = sizeof codes / sizeof codes[0], i, j;
 
     for (i = 0; i < n; i++) {

@@ -1,0 +1,87 @@
+/*
+** material.c -- a complete user material: a "glazed" surface, a diffuse
+** colour under a glossy coat that reflects a fixed fraction.  It shows
+** everything a material callback does: loop over the lights and their
+** samples, ask for a shadow ray only when the light would contribute,
+** spawn and trace a reflection, declare the effects it uses.
+*/
+#include "common.h"
+
+typedef struct glazed {
+    ray_rgb color;     /* diffuse reflectance under the coat */
+    double coat;       /* fraction reflected by the coat, 0..1 */
+} glazed;
+
+static void glazed_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_rgb *out)
+{
+    const glazed *g = ud;
+    double base = 1.0 - g->coat;
+    unsigned li, si;
+    ray_ray refl;
+    ray_rgb c;
+
+    out->r = a->ambient.r * g->color.r * base;
+    out->g = a->ambient.g * g->color.g * base;
+    out->b = a->ambient.b * g->color.b * base;
+    for (li = 0; li < ray_scene_light_count(a->scene); li++) {
+        for (si = 0; si < ray_light_samples(a->scene, li); si++) {
+            ray_light_sample ls;
+            double cosine;
+
+            if (ray_light_sample_at(ctx, a, li, si, &ls) != RAY_OK)
+                continue;
+            cosine = a->normal.x * ls.dir.x + a->normal.y * ls.dir.y +
+                     a->normal.z * ls.dir.z;
+            if (cosine <= 0 || !ray_light_visible(ctx, a, &ls))
+                continue;                  /* no shadow ray when facing away */
+            out->r += base * g->color.r * cosine * ls.radiance.r;
+            out->g += base * g->color.g * cosine * ls.radiance.g;
+            out->b += base * g->color.b * cosine * ls.radiance.b;
+        }
+    }
+    /* The coat: a mirror reflection weighted by g->coat.  The ray starts
+    ** just off the surface (ray_spawn) and the tracer may refuse it when
+    ** the tree is too deep or the path too faint (then it adds nothing). */
+    if (ray_spawn(a->hit, ray_reflect(a->ray->dir, a->normal), &refl) == RAY_OK &&
+        ray_trace(ctx, &refl, RAY_KIND_REFLECTION, g->coat, &c) == RAY_OK) {
+        out->r += g->coat * c.r;
+        out->g += g->coat * c.g;
+        out->b += g->coat * c.b;
+    }
+}
+
+int main(void)
+{
+    static glazed teal = {{0.1, 0.6, 0.6}, 0.25};
+    static const ray_phong_params grey = {{0.7, 0.7, 0.7}, {0, 0, 0}, 1, 0,
+                                          {0, 0, 0}};
+    static float image[320 * 240 * 3];
+    ray_material glaze = {glazed_shade, &teal,
+                          RAY_EFFECT_SHADOW | RAY_EFFECT_REFLECTION};
+    ray_material floor_mat = ray_material_phong(&grey);
+    ray_light lamp = {RAY_LIGHT_SPHERE, {3, 6, 4}, {0, 0, 0}, {0, 0, 0},
+                      {0, 0, 0}, 0.8, {60, 60, 60}, 16};
+    ray_camera cam = {{0, 1.5, 5}, {0, 0.8, 0}, {0, 1, 0}, 45, 0, 0};
+    ray_render_options opt;
+    ray_scene *scene;
+    ray_stats stats;
+    unsigned m_glaze, m_floor;
+
+    check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
+    check(ray_scene_add_material(scene, &glaze, &m_glaze), "glaze");
+    check(ray_scene_add_material(scene, &floor_mat, &m_floor), "floor");
+    check(ray_scene_add_sphere(scene, vec(0, 1, 0), 1, m_glaze, NULL), "sphere");
+    check(ray_scene_add_plane(scene, vec(0, 0, 0), vec(0, 1, 0), m_floor,
+                              NULL), "floor");
+    check(ray_scene_add_light(scene, &lamp, NULL), "lamp");
+    check(ray_scene_set_ambient(scene, rgb(0.1, 0.1, 0.1)), "ambient");
+    check(ray_scene_commit(scene), "commit");
+    ray_render_options_init(&opt, 320, 240);
+    opt.samples = 4;
+    check(ray_render(scene, &cam, &opt, image, &stats), "ray_render");
+    check(ray_write_png("material.png", image, 320, 240, 8), "material.png");
+    print_stats("material", &stats, 0);
+    ray_scene_free(scene);
+    return 0;
+}
