@@ -3,17 +3,9 @@
 */
 #include "tests.h"
 
-static const double offsets[] = {0.0, 1e5};
-#define N_OFFSETS ((int)(sizeof offsets / sizeof offsets[0]))
-
-static double tol_at(double offset)
-{
-    return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
-}
-
 START_TEST(plane_should_hit_with_tangent_coordinates)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     ray_vec3 point = vec(o, o, o);
     ray_ray r = ray_from(vec(o + 1, o + 2, o + 3), vec(0, -1, 0));
     ray_hit h;
@@ -44,7 +36,7 @@ END_TEST
 
 START_TEST(plane_should_miss_parallel_rays_without_nan)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 point = vec(o, o, o), n = vec(0, 1, 0);
     ray_ray above = ray_from(vec(o, o + 1, o), vec(1, 0, 0));
     ray_ray inside = ray_from(vec(o, o, o), vec(1, 0, 0));

@@ -4,14 +4,6 @@
 */
 #include "tests.h"
 
-static const double offsets[] = {0.0, 1e5};
-#define N_OFFSETS ((int)(sizeof offsets / sizeof offsets[0]))
-
-static double tol_at(double offset)
-{
-    return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
-}
-
 /* Copy 2-D points (x, y) into 3-D vertices (o + x, o + y, o). */
 static void lift(const double (*xy)[2], size_t n, double o, ray_vec3 *out)
 {
@@ -30,7 +22,7 @@ static int hits_at(const ray_vec3 *v, size_t n, double o, double x, double y)
 
 START_TEST(polygon_should_hit_square_with_plane_coordinates)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     static const double sq[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     ray_vec3 v[4];
     ray_ray r = ray_from(vec(o + 0.5, o + 0.25, o + 2), vec(0, 0, -1));
@@ -66,7 +58,7 @@ END_TEST
 ** lies on the test line y = 1 of two of the points. */
 START_TEST(polygon_should_handle_concave_notch)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     static const double pent[5][2] = {{0, 0}, {2, 0}, {2, 2}, {1, 1}, {0, 2}};
     ray_vec3 v[5];
 
@@ -107,7 +99,7 @@ END_TEST
 */
 START_TEST(polygon_should_give_shared_vertex_and_edges_to_one_polygon)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 quads[4][4];
     double pts[5][2] = {{1, 1}, {1, 0.5}, {0.5, 1}, {1, 1.5}, {1.5, 1}};
     int q, k;
@@ -138,7 +130,7 @@ END_TEST
 */
 START_TEST(polygon_should_partition_points_near_shared_edge)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 A = vec(o + 0.1, o + 0.2, o), B = vec(o + 3.7, o + 0.3, o),
              C = vec(o + 2.9, o + 4.1, o), D = vec(o + 0.2, o + 3.3, o);
     ray_vec3 left[3], right[3];
@@ -166,7 +158,7 @@ END_TEST
 */
 START_TEST(polygon_should_not_leak_from_closed_cube)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     /* corner k = (bit 0 ? +1 : -1, bit 1 ? .., bit 2 ? ..) + (o, o, o) */
     static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                                     {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};

@@ -4,24 +4,9 @@
 */
 #include "tests.h"
 
-/* The scenes below are repeated at these offsets from the world origin. */
-static const double offsets[] = {0.0, 1e5};
-#define N_OFFSETS ((int)(sizeof offsets / sizeof offsets[0]))
-
-/*
-** Tolerance for positions and t in the small exact scenes: the inputs are
-** exactly representable and the answers are too, so only the rounding of
-** a few dozen operations on coordinates of magnitude |offset| + 10 is
-** allowed: 64 ulps of that magnitude.
-*/
-static double tol_at(double offset)
-{
-    return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
-}
-
 START_TEST(sphere_should_hit_front_at_exact_t)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     ray_vec3 c = vec(o, o, o);
     ray_ray r = ray_from(vec(o, o, o - 5), vec(0, 0, 1));
     ray_hit h;
@@ -59,7 +44,7 @@ END_TEST
 
 START_TEST(sphere_should_miss_to_the_side_and_behind)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 c = vec(o, o, o);
     ray_ray side = ray_from(vec(o, o + 2, o - 5), vec(0, 0, 1));
     ray_ray behind = ray_from(vec(o, o, o + 5), vec(0, 0, 1));
@@ -74,7 +59,7 @@ END_TEST
 
 START_TEST(sphere_should_hit_far_side_from_inside)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     ray_vec3 c = vec(o, o, o);
     ray_ray r = ray_from(c, vec(0, 0, 1));
     ray_ray off_centre = ray_from(vec(o + 0.5, o, o), vec(0, 0, 2));
@@ -125,7 +110,7 @@ END_TEST
 */
 START_TEST(sphere_should_classify_tangent_rays)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     ray_vec3 c = vec(o, o, o);
     ray_ray tangent = ray_from(vec(o + 1, o, o - 5), vec(0, 0, 1));
     ray_ray outside = ray_from(vec(o + 1 + 1e-9, o, o - 5), vec(0, 0, 1));
@@ -193,7 +178,7 @@ END_TEST
 */
 START_TEST(sphere_should_hit_tiny_and_far)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 c = vec(o, o, o - 1e4);
     ray_ray centre = ray_from(vec(o, o, o), vec(0, 0, -1));
     ray_ray in = ray_from(vec(o + 0.9e-3, o, o), vec(0, 0, -1));

@@ -3,15 +3,6 @@
 */
 #include "tests.h"
 
-static const double offsets[] = {0.0, 1e5};
-#define N_OFFSETS ((int)(sizeof offsets / sizeof offsets[0]))
-
-/* Exact small scenes, repeated at an offset: 64 ulps of the magnitude. */
-static double tol_at(double offset)
-{
-    return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
-}
-
 /* The unit right triangle (0,0,0), (1,0,0), (0,1,0) moved by (o,o,o). */
 static void unit_triangle(double o, ray_vec3 *a, ray_vec3 *b, ray_vec3 *c)
 {
@@ -28,7 +19,7 @@ static ray_ray down_onto(double o, double x, double y)
 
 START_TEST(triangle_should_hit_interior_with_barycentrics)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     ray_vec3 a, b, c;
     ray_ray r = down_onto(o, 0.25, 0.5);
     ray_hit h;
@@ -60,7 +51,7 @@ END_TEST
 
 START_TEST(triangle_should_miss_outside_and_behind)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 a, b, c;
     ray_ray outside = down_onto(o, 0.6, 0.6);
     ray_ray negative = down_onto(o, -0.1, 0.5);
@@ -80,7 +71,7 @@ END_TEST
 ** barycentrics exactly 0 or 1 where the geometry makes them so. */
 START_TEST(triangle_should_hit_exactly_on_edges_and_vertices)
 {
-    double o = offsets[_i], tol = tol_at(o);
+    double o = test_offset(_i), tol = tol_at(o);
     ray_vec3 a, b, c;
     double pts[6][2] = {{0.5, 0.0}, {0.0, 0.5}, {0.5, 0.5},
                         {0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
@@ -230,7 +221,7 @@ END_TEST
 ** are corners of the square, where a ray may rightly miss both.) */
 START_TEST(triangle_should_not_leak_through_shared_edge)
 {
-    double o = offsets[_i];
+    double o = test_offset(_i);
     ray_vec3 a = vec(o, o, o), b = vec(o + 1, o, o), c = vec(o + 1, o + 1, o),
              d = vec(o, o + 1, o);
     int k;

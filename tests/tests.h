@@ -27,6 +27,25 @@ Suite *render_suite(void);
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
 
+/* Hard cases are repeated with the whole scene moved this far from the
+** world origin (loop tests take the index _i). */
+#define N_OFFSETS 2
+static inline double test_offset(int i)
+{
+    return i == 0 ? 0.0 : 1e5;
+}
+
+/*
+** Tolerance for positions and t in the small exact scenes: their inputs
+** and answers are exactly representable, so only the rounding of a few
+** dozen operations on coordinates of magnitude |offset| + 10 is allowed:
+** 64 ulps of that magnitude.
+*/
+static inline double tol_at(double offset)
+{
+    return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
+}
+
 static inline ray_vec3 vec(double x, double y, double z)
 {
     ray_vec3 v;
