@@ -136,24 +136,74 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
 
 /* ------------------------------------------------------------ the scene */
 
-enum { PRIM_SPHERE, PRIM_PLANE, PRIM_TRIANGLE, PRIM_POLYGON };
+enum { PRIM_SPHERE, PRIM_PLANE, PRIM_TRIANGLE, PRIM_POLYGON, PRIM_MESH };
 
-/* One piece of geometry.  Meaning of a, b, c by kind: sphere: a = centre;
-** plane: a = point, b = unit normal; triangle: the vertices; polygon:
-** verts[first .. first+count-1] of the scene. */
+/* One piece of geometry (what a geom_id names).  By kind: sphere: a =
+** centre; plane: a = point, b = unit normal; triangle and mesh: tris[first
+** .. first+count-1] of the scene (until commit reorders them), and for a
+** mesh meshes[mesh]; polygon: verts[first .. first+count-1]. */
 typedef struct ray__prim {
     int kind;
     unsigned material;
     ray_vec3 a, b, c;
     double radius;
     size_t first, count;
+    unsigned mesh;
 } ray__prim;
+
+/* Triangles are stored flat, three vertices each, whatever they came
+** from; at commit they are reordered into BVH leaf order, so a leaf is a
+** contiguous run.  Their ids live apart: only the nearest hit needs them. */
+typedef struct ray__tri {
+    ray_vec3 a, b, c;
+} ray__tri;
+
+typedef struct ray__tri_id {
+    unsigned geom_id, prim_id;
+} ray__tri_id;
+
+/* What a mesh keeps for shading: its index triples, and its per-vertex
+** normals and texture coordinates when it has them (else NULL). */
+typedef struct ray__mesh {
+    unsigned *indices;
+    ray_vec3 *normals;
+    double *texcoords;
+    size_t n_vertices, n_tris;
+} ray__mesh;
+
+/*
+** A BVH node: its box, in float, rounded outward from the double geometry
+** so it still contains it; an inner node (count == 0) has its two children
+** side by side at nodes[first] and nodes[first + 1], a leaf holds items
+** first .. first + count - 1.  32 bytes: both children's boxes in one
+** 64-byte cache line.
+*/
+typedef struct ray__node {
+    float lo[3], hi[3];
+    unsigned first, count;
+} ray__node;
+
+typedef struct ray__bvh {
+    ray__node *nodes;
+    size_t n_nodes, cap_nodes;
+    unsigned *items;     /* leaf order -> item index */
+    size_t n_items;
+} ray__bvh;
 
 struct ray_scene {
     ray_alloc_fn alloc;
     void *alloc_ud;
     ray__prim *prims;
     size_t n_prims, cap_prims;
+    ray__tri *tris;
+    ray__tri_id *tri_ids;
+    size_t n_tris, cap_tris, cap_tri_ids;
+    ray__mesh *meshes;
+    size_t n_meshes, cap_meshes;
+    ray__bvh tri_bvh;        /* over tris, reordered to leaf order */
+    ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
+    unsigned *planes;        /* the unbounded prims, tested apart */
+    size_t n_planes;
     ray_vec3 *verts;
     size_t n_verts, cap_verts;
     ray_material *materials;
@@ -170,6 +220,35 @@ struct ray_scene {
 /* Allocation through the scene's allocator (libc when it has none). */
 void *ray__alloc(const ray_scene *s, size_t size);
 void ray__free(const ray_scene *s, void *ptr, size_t size);
+void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize);
+
+/* The geometry record of a mesh over tris[first .. first+count-1]. */
+int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
+                       size_t count, const ray__mesh *shading, unsigned *id);
+
+/* Room for "more" triangles in the scene's tris/tri_ids arrays. */
+int ray__reserve_tris(ray_scene *s, size_t more);
+
+/* The triangle test alone (t, beta, gamma) and the hit record of a hit,
+** split so a BVH can test many triangles and fill only the nearest. */
+int ray__triangle_test(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                       double *t, double *beta, double *gamma);
+int ray__triangle_fill(ray_vec3 a, ray_vec3 b, ray_vec3 c, double t,
+                       double beta, double gamma, ray_hit *hit);
+
+/*
+** Build a BVH over n items whose boxes are boxes[6*i .. 6*i+5] (lo x, y,
+** z, hi x, y, z) in float, with the binned surface-area heuristic.  On
+** success *out holds the nodes and the item permutation (both through the
+** scene's allocator).  RAY_OK or RAY_ENOMEM (nothing kept).
+*/
+int ray__bvh_build(const ray_scene *s, const float *boxes, size_t n,
+                   ray__bvh *out);
+void ray__bvh_free(const ray_scene *s, ray__bvh *bvh);
+
+/* A double interval [lo, hi] as a float one that still contains it. */
+float ray__float_down(double x);
+float ray__float_up(double x);
 
 /*
 ** Nearest hit / any hit over the scene, counting intersection tests into

@@ -100,7 +100,7 @@ static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                         ray_rgb *out)
 {
     const ray_phong_params *p = ud;
-    ray_vec3 n = a->normal, v = unit(a->ray->dir);
+    ray_vec3 n = a->shading_normal, v = unit(a->ray->dir);
     unsigned li, si;
 
     if (p == NULL)

@@ -29,27 +29,31 @@ void ray__free(const ray_scene *s, void *ptr, size_t size)
         s->alloc(s->alloc_ud, ptr, size, 0);
 }
 
+void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize)
+{
+    return s->alloc(s->alloc_ud, ptr, osize, nsize);
+}
+
 /*
-** Make room for one more element of "elem" bytes in the array *items of
-** *cap elements, doubling.  On failure nothing changes.
+** The array "items" of *cap elements of "elem" bytes, with room for one
+** more than "used": itself, or a copy twice as large (*cap updated).  NULL
+** when that allocation fails, with items and *cap unchanged.
 */
-static int grow(ray_scene *s, void **items, size_t *cap, size_t used,
-                size_t elem)
+static void *grow(ray_scene *s, void *items, size_t *cap, size_t used,
+                  size_t elem)
 {
     size_t ncap;
     void *p;
 
     if (used < *cap)
-        return RAY_OK;
+        return items;
     ncap = *cap ? 2 * *cap : 8;
     if (ncap > (size_t)-1 / elem)
-        return RAY_ENOMEM;
-    p = s->alloc(s->alloc_ud, *items, *cap * elem, ncap * elem);
-    if (p == NULL)
-        return RAY_ENOMEM;
-    *items = p;
-    *cap = ncap;
-    return RAY_OK;
+        return NULL;
+    p = s->alloc(s->alloc_ud, items, *cap * elem, ncap * elem);
+    if (p != NULL)
+        *cap = ncap;
+    return p;
 }
 
 int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
@@ -75,10 +79,27 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     return RAY_OK;
 }
 
+static void mesh_free(const ray_scene *s, ray__mesh *m)
+{
+    ray__free(s, m->indices, 3 * m->n_tris * sizeof *m->indices);
+    ray__free(s, m->normals, m->n_vertices * sizeof *m->normals);
+    ray__free(s, m->texcoords, 2 * m->n_vertices * sizeof *m->texcoords);
+}
+
 void ray_scene_free(ray_scene *s)
 {
+    size_t i;
+
     if (s == NULL)
         return;
+    for (i = 0; i < s->n_meshes; i++)
+        mesh_free(s, &s->meshes[i]);
+    ray__free(s, s->meshes, s->cap_meshes * sizeof *s->meshes);
+    ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
+    ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
+    ray__bvh_free(s, &s->tri_bvh);
+    ray__bvh_free(s, &s->prim_bvh);
+    ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
     ray__free(s, s->prims, s->cap_prims * sizeof *s->prims);
     ray__free(s, s->verts, s->cap_verts * sizeof *s->verts);
     ray__free(s, s->materials, s->cap_materials * sizeof *s->materials);
@@ -99,6 +120,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
 {
     const unsigned known = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
                            RAY_EFFECT_SHADOW;
+    void *p;
     int rc = editable(s);
 
     if (rc != RAY_OK)
@@ -107,10 +129,11 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
         return RAY_EINVAL;
     if (s->n_materials >= RAY_INVALID_ID)
         return RAY_ENOMEM;
-    rc = grow(s, (void **)&s->materials, &s->cap_materials, s->n_materials,
-              sizeof *s->materials);
-    if (rc != RAY_OK)
-        return rc;
+    p = grow(s, s->materials, &s->cap_materials, s->n_materials,
+             sizeof *s->materials);
+    if (p == NULL)
+        return RAY_ENOMEM;
+    s->materials = p;
     s->materials[s->n_materials] = *m;
     if (id != NULL)
         *id = (unsigned)s->n_materials;
@@ -119,19 +142,19 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
 }
 
 /* Append a primitive already validated. */
-static int add_prim(ray_scene *s, const ray__prim *p, unsigned *geom_id)
+static int add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
 {
-    int rc;
+    void *p;
 
-    if (p->material >= s->n_materials)
+    if (prim->material >= s->n_materials)
         return RAY_EINVAL;
     if (s->n_prims >= RAY_INVALID_ID)
         return RAY_ENOMEM;
-    rc = grow(s, (void **)&s->prims, &s->cap_prims, s->n_prims,
-              sizeof *s->prims);
-    if (rc != RAY_OK)
-        return rc;
-    s->prims[s->n_prims] = *p;
+    p = grow(s, s->prims, &s->cap_prims, s->n_prims, sizeof *s->prims);
+    if (p == NULL)
+        return RAY_ENOMEM;
+    s->prims = p;
+    s->prims[s->n_prims] = *prim;
     if (geom_id != NULL)
         *geom_id = (unsigned)s->n_prims;
     s->n_prims++;
@@ -191,10 +214,55 @@ int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
         return RAY_EINVAL;
     if (!v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)), &n))
         return RAY_EDEGENERATE;
+    if (material >= s->n_materials)
+        return RAY_EINVAL;
+    rc = ray__reserve_tris(s, 1);
+    if (rc != RAY_OK)
+        return rc;
     p.a = a;
     p.b = b;
     p.c = c;
-    return add_prim(s, &p, geom_id);
+    p.first = s->n_tris;
+    p.count = 1;
+    rc = add_prim(s, &p, geom_id);
+    if (rc != RAY_OK)
+        return rc;
+    s->tris[s->n_tris].a = a;
+    s->tris[s->n_tris].b = b;
+    s->tris[s->n_tris].c = c;
+    s->tri_ids[s->n_tris].geom_id = (unsigned)(s->n_prims - 1);
+    s->tri_ids[s->n_tris].prim_id = 0;
+    s->n_tris++;
+    return RAY_OK;
+}
+
+/*
+** Room for "more" triangles in the parallel arrays tris and tri_ids, each
+** with its own capacity, so a failure growing the second leaves the first
+** merely larger: the scene is unchanged.
+*/
+int ray__reserve_tris(ray_scene *s, size_t more)
+{
+    size_t need;
+    void *p;
+
+    if (more > 0x7fffffffu - s->n_tris)
+        return RAY_ENOMEM;              /* ids and BVH items are 32-bit */
+    need = s->n_tris + more;
+    while (s->cap_tris < need) {
+        p = grow(s, s->tris, &s->cap_tris, s->cap_tris, sizeof *s->tris);
+        if (p == NULL)
+            return RAY_ENOMEM;
+        s->tris = p;
+    }
+    while (s->cap_tri_ids < need) {
+        p = grow(s, s->tri_ids, &s->cap_tri_ids, s->cap_tri_ids,
+                 sizeof *s->tri_ids);
+        if (p == NULL)
+            return RAY_ENOMEM;
+        s->tri_ids = p;
+    }
+    return RAY_OK;
 }
 
 int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
@@ -202,6 +270,7 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
 {
     ray__prim p = prim_of(PRIM_POLYGON, material);
     ray_vec3 area = v3(0, 0, 0), unit;
+    void *grown;
     size_t i;
     int rc = editable(s);
 
@@ -222,10 +291,11 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
     if (n > (size_t)-1 / 2 - s->n_verts)
         return RAY_ENOMEM;
     while (s->cap_verts < s->n_verts + n) {
-        rc = grow(s, (void **)&s->verts, &s->cap_verts, s->cap_verts,
-                  sizeof *s->verts);
-        if (rc != RAY_OK)
-            return rc;
+        grown = grow(s, s->verts, &s->cap_verts, s->cap_verts,
+                     sizeof *s->verts);
+        if (grown == NULL)
+            return RAY_ENOMEM;
+        s->verts = grown;
     }
     p.first = s->n_verts;
     p.count = n;
@@ -234,6 +304,33 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
         return rc;
     memcpy(s->verts + s->n_verts, v, n * sizeof *v);
     s->n_verts += n;
+    return RAY_OK;
+}
+
+/*
+** The geometry record of a mesh whose triangles are tris[first ..
+** first+count-1] (already reserved), with its shading data.  Both arrays
+** are grown first, so a failure changes nothing.
+*/
+int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
+                       size_t count, const ray__mesh *shading, unsigned *id)
+{
+    ray__prim p = prim_of(PRIM_MESH, material);
+    void *grown;
+    int rc;
+
+    grown = grow(s, s->meshes, &s->cap_meshes, s->n_meshes,
+                 sizeof *s->meshes);
+    if (grown == NULL)
+        return RAY_ENOMEM;
+    s->meshes = grown;
+    p.first = first;
+    p.count = count;
+    p.mesh = (unsigned)s->n_meshes;
+    rc = add_prim(s, &p, id);
+    if (rc != RAY_OK)
+        return rc;
+    s->meshes[s->n_meshes++] = *shading;
     return RAY_OK;
 }
 
@@ -265,6 +362,7 @@ static int light_valid(const ray_light *l)
 
 int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
 {
+    void *p;
     int rc = editable(s);
 
     if (rc != RAY_OK)
@@ -274,10 +372,10 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
         return RAY_EINVAL;
     if (s->n_lights >= RAY_INVALID_ID)
         return RAY_ENOMEM;
-    rc = grow(s, (void **)&s->lights, &s->cap_lights, s->n_lights,
-              sizeof *s->lights);
-    if (rc != RAY_OK)
-        return rc;
+    p = grow(s, s->lights, &s->cap_lights, s->n_lights, sizeof *s->lights);
+    if (p == NULL)
+        return RAY_ENOMEM;
+    s->lights = p;
     s->lights[s->n_lights] = *light;
     if (id != NULL)
         *id = (unsigned)s->n_lights;
@@ -346,12 +444,175 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
     return RAY_OK;
 }
 
+/* The float box of triangle t, rounded outward. */
+static void tri_box(const ray__tri *t, float *b)
+{
+    b[0] = ray__float_down(fmin(t->a.x, fmin(t->b.x, t->c.x)));
+    b[1] = ray__float_down(fmin(t->a.y, fmin(t->b.y, t->c.y)));
+    b[2] = ray__float_down(fmin(t->a.z, fmin(t->b.z, t->c.z)));
+    b[3] = ray__float_up(fmax(t->a.x, fmax(t->b.x, t->c.x)));
+    b[4] = ray__float_up(fmax(t->a.y, fmax(t->b.y, t->c.y)));
+    b[5] = ray__float_up(fmax(t->a.z, fmax(t->b.z, t->c.z)));
+}
+
+/* A triangle that can be hit: its normal exists (see triangle.c). */
+static int tri_usable(const ray__tri *t)
+{
+    ray_vec3 n;
+    return v3_normalize(v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a)), &n);
+}
+
+/*
+** The triangle BVH.  Unusable (zero-area) triangles are dropped; the rest
+** are rewritten in leaf order, so every leaf is a contiguous run of tris
+** and traversal needs no index indirection.  On failure nothing changes.
+*/
+static int commit_triangles(ray_scene *s)
+{
+    size_t total = s->n_tris, n = 0, i;
+    unsigned *keep;
+    float *boxes;
+    ray__tri *tris;
+    ray__tri_id *ids;
+    int rc;
+
+    if (total == 0)
+        return RAY_OK;
+    keep = ray__alloc(s, total * sizeof *keep);
+    boxes = ray__alloc(s, 6 * total * sizeof *boxes);
+    tris = ray__alloc(s, total * sizeof *tris);
+    ids = ray__alloc(s, total * sizeof *ids);
+    rc = keep && boxes && tris && ids ? RAY_OK : RAY_ENOMEM;
+    if (rc == RAY_OK) {
+        for (i = 0; i < total; i++)
+            if (tri_usable(&s->tris[i])) {
+                tri_box(&s->tris[i], boxes + 6 * n);
+                keep[n++] = (unsigned)i;
+            }
+        rc = ray__bvh_build(s, boxes, n, &s->tri_bvh);
+    }
+    if (rc == RAY_OK) {
+        for (i = 0; i < n; i++) {
+            unsigned src = keep[s->tri_bvh.items[i]];
+            tris[i] = s->tris[src];
+            ids[i] = s->tri_ids[src];
+        }
+        /* Leaves now index tris directly: the permutation is not kept. */
+        ray__free(s, s->tri_bvh.items, s->tri_bvh.n_items * sizeof(unsigned));
+        s->tri_bvh.items = NULL;
+        s->tri_bvh.n_items = 0;
+        ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
+        ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
+        s->tris = tris;
+        s->tri_ids = ids;
+        s->cap_tris = s->cap_tri_ids = total;
+        s->n_tris = n;
+    } else {
+        ray__free(s, tris, total * sizeof *tris);
+        ray__free(s, ids, total * sizeof *ids);
+    }
+    ray__free(s, keep, total * sizeof *keep);
+    ray__free(s, boxes, 6 * total * sizeof *boxes);
+    return rc;
+}
+
+/* The float box of a bounded non-triangle primitive, rounded outward. */
+static void prim_box(const ray_scene *s, const ray__prim *p, float *b)
+{
+    ray_vec3 lo, hi;
+    size_t i;
+
+    if (p->kind == PRIM_SPHERE) {
+        lo = v3(p->a.x - p->radius, p->a.y - p->radius, p->a.z - p->radius);
+        hi = v3(p->a.x + p->radius, p->a.y + p->radius, p->a.z + p->radius);
+    } else {
+        lo = hi = s->verts[p->first];
+        for (i = 1; i < p->count; i++) {
+            ray_vec3 v = s->verts[p->first + i];
+            lo = v3(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
+            hi = v3(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
+        }
+    }
+    /* lo - r and hi + r round too: one more float step covers that. */
+    b[0] = nextafterf(ray__float_down(lo.x), -HUGE_VALF);
+    b[1] = nextafterf(ray__float_down(lo.y), -HUGE_VALF);
+    b[2] = nextafterf(ray__float_down(lo.z), -HUGE_VALF);
+    b[3] = nextafterf(ray__float_up(hi.x), HUGE_VALF);
+    b[4] = nextafterf(ray__float_up(hi.y), HUGE_VALF);
+    b[5] = nextafterf(ray__float_up(hi.z), HUGE_VALF);
+}
+
+/*
+** The BVH over spheres and polygons (items are prim indices), and the list
+** of planes, which have no bounds and are tested on every ray.
+*/
+static int commit_prims(ray_scene *s)
+{
+    size_t n_bounded = 0, n_planes = 0, i, k;
+    unsigned *ids = NULL, *planes = NULL;
+    float *boxes = NULL;
+    int rc = RAY_OK;
+
+    for (i = 0; i < s->n_prims; i++) {
+        int kind = s->prims[i].kind;
+        n_bounded += kind == PRIM_SPHERE || kind == PRIM_POLYGON;
+        n_planes += kind == PRIM_PLANE;
+    }
+    if (n_planes > 0 && (planes = ray__alloc(s, n_planes * sizeof *planes)) == NULL)
+        return RAY_ENOMEM;
+    if (n_bounded > 0) {
+        ids = ray__alloc(s, n_bounded * sizeof *ids);
+        boxes = ray__alloc(s, 6 * n_bounded * sizeof *boxes);
+        rc = ids && boxes ? RAY_OK : RAY_ENOMEM;
+    }
+    if (rc == RAY_OK) {
+        size_t nb = 0, np = 0;
+        for (i = 0; i < s->n_prims; i++) {
+            int kind = s->prims[i].kind;
+            if (kind == PRIM_PLANE)
+                planes[np++] = (unsigned)i;
+            else if (kind == PRIM_SPHERE || kind == PRIM_POLYGON) {
+                prim_box(s, &s->prims[i], boxes + 6 * nb);
+                ids[nb++] = (unsigned)i;
+            }
+        }
+        rc = ray__bvh_build(s, boxes, n_bounded, &s->prim_bvh);
+    }
+    if (rc == RAY_OK) {
+        /* Items become prim indices. */
+        for (k = 0; k < s->prim_bvh.n_items; k++)
+            s->prim_bvh.items[k] = ids[s->prim_bvh.items[k]];
+        s->planes = planes;
+        s->n_planes = n_planes;
+    } else
+        ray__free(s, planes, n_planes * sizeof *planes);
+    ray__free(s, ids, n_bounded * sizeof *ids);
+    ray__free(s, boxes, 6 * n_bounded * sizeof *boxes);
+    return rc;
+}
+
+/*
+** Build the acceleration structures; the scene is then read-only.  A
+** failure (out of memory) leaves the scene uncommitted and unchanged, so
+** commit can be retried.
+*/
 int ray_scene_commit(ray_scene *s)
 {
     int rc = editable(s);
 
     if (rc != RAY_OK)
         return rc;
+    rc = commit_prims(s);
+    if (rc != RAY_OK)
+        return rc;
+    rc = commit_triangles(s);
+    if (rc != RAY_OK) {
+        ray__bvh_free(s, &s->prim_bvh);
+        ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
+        s->planes = NULL;
+        s->n_planes = 0;
+        return rc;
+    }
     s->committed = 1;
     return RAY_OK;
 }

@@ -106,6 +106,43 @@ static void background(const ray_scene *s, const ray_ray *r, ray_rgb *out)
         s->background_fn(s->background_ud, r, out);
 }
 
+/*
+** A mesh's shading data at a hit: the vertex normals and texture
+** coordinates interpolated with the hit's barycentrics (1-u-v, u, v), the
+** lecture's "what about texturing?".  The shading normal is turned to the
+** side of the facing geometric normal; if the interpolation cancels (or
+** the mesh has no normals) it is the geometric one.
+*/
+static void mesh_shading(const ray_scene *s, const ray_hit *hit,
+                         ray_shade_args *args)
+{
+    const ray__prim *p = &s->prims[hit->geom_id];
+    const ray__mesh *m;
+    const unsigned *t;
+    double w0 = 1.0 - hit->u - hit->v, w1 = hit->u, w2 = hit->v;
+
+    if (p->kind != PRIM_MESH)
+        return;
+    m = &s->meshes[p->mesh];
+    if (m->indices == NULL)
+        return;
+    t = m->indices + 3 * (size_t)hit->prim_id;
+    if (m->normals != NULL) {
+        ray_vec3 n = v3_add(v3_add(v3_scale(m->normals[t[0]], w0),
+                                   v3_scale(m->normals[t[1]], w1)),
+                            v3_scale(m->normals[t[2]], w2));
+        if (v3_normalize(n, &n))
+            args->shading_normal = v3_dot(n, args->normal) < 0
+                                       ? v3_scale(n, -1.0) : n;
+    }
+    if (m->texcoords != NULL) {
+        const double *st = m->texcoords;
+        args->u = w0 * st[2 * t[0]] + w1 * st[2 * t[1]] + w2 * st[2 * t[2]];
+        args->v = w0 * st[2 * t[0] + 1] + w1 * st[2 * t[1] + 1] +
+                  w2 * st[2 * t[2] + 1];
+    }
+}
+
 /* Shade "hit" with its material, with the context set up for the hit
 ** and restored afterwards (the callback may recurse through it). */
 static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
@@ -129,6 +166,8 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     args.depth = depth;
     args.weight = weight;
     args.ambient = s->ambient;
+    args.shading_normal = args.normal;
+    mesh_shading(s, hit, &args);
     ctx->in_shade = 1;
     ctx->depth = depth;
     ctx->weight = weight;

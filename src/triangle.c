@@ -12,8 +12,8 @@
 ** normalised (b-a) x (c-a); if it has no length, the triangle is
 ** degenerate even though the determinant rounded to non-zero: a miss.
 */
-static int triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
-                         double beta, double gamma, ray_hit *hit)
+int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
+                       double beta, double gamma, ray_hit *hit)
 {
     double alpha = 1.0 - beta - gamma;
     ray_vec3 n, p, err;
@@ -59,8 +59,9 @@ static int triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
 ** shorter than ~1e-3; here a NaN or infinite M falls out of the NaN-safe
 ** range tests below instead.
 */
-int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
-                 ray_hit *hit)
+int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
+                       ray_vec3 vc, double *t_out, double *beta_out,
+                       double *gamma_out)
 {
     double a = va.x - vb.x, b = va.y - vb.y, c = va.z - vb.z;
     double d = va.x - vc.x, e = va.y - vc.y, f = va.z - vc.z;
@@ -84,5 +85,18 @@ int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
     beta = (j * ei_hf + k * gf_di + l * dh_eg) / m;
     if (!(beta >= 0 && beta <= 1 - gamma))
         return 0;
-    return triangle_fill(va, vb, vc, t, beta, gamma, hit);
+    *t_out = t;
+    *beta_out = beta;
+    *gamma_out = gamma;
+    return 1;
+}
+
+int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
+                 ray_hit *hit)
+{
+    double t, beta, gamma;
+
+    if (!ray__triangle_test(r, va, vb, vc, &t, &beta, &gamma))
+        return 0;
+    return ray__triangle_fill(va, vb, vc, t, beta, gamma, hit);
 }

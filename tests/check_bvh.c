@@ -1,0 +1,553 @@
+/*
+** check_bvh.c -- the acceleration structure must not change any answer:
+** nearest hits and any-hits through the BVH equal brute force over
+** ray_triangle/ray_sphere/ray_polygon, on hostile triangle soups.  And the
+** mesh API: validation, ids, interpolated normals and texture coordinates,
+** memory per triangle.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+
+static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                      ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    (void)out;
+}
+
+static ray_scene *new_scene(unsigned *mat)
+{
+    ray_material m;
+    ray_scene *s;
+
+    m.shade = nop_shade;
+    m.ud = NULL;
+    m.effects = 0;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, mat), RAY_OK);
+    return s;
+}
+
+/*
+** A hostile soup of n triangles in [-10,10]^3: ordinary ones, slivers
+** (one vertex near the opposite edge), needles, huge ones (1e4 across),
+** tiny ones (1e-6), exact duplicates (coincident), degenerate (collinear
+** and repeated vertices), and some sharing edges.
+*/
+static void make_soup(rng *g, ray_vec3 *v, unsigned *idx, size_t n)
+{
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        ray_vec3 a = rng_point(g, -10, 10), b, c;
+        switch (rng_next(g) % 8) {
+        case 0:                             /* sliver */
+            b = rng_point(g, -10, 10);
+            c = vadd(vscale(vadd(a, b), 0.5), vscale(rng_dir(g), 1e-7));
+            break;
+        case 1:                             /* huge */
+            b = vadd(a, vscale(rng_dir(g), 1e4));
+            c = vadd(a, vscale(rng_dir(g), 1e4));
+            break;
+        case 2:                             /* tiny */
+            b = vadd(a, vscale(rng_dir(g), 1e-6));
+            c = vadd(a, vscale(rng_dir(g), 1e-6));
+            break;
+        case 3:                             /* degenerate: collinear */
+            b = vadd(a, vec(1, 2, 3));
+            c = vadd(a, vec(2, 4, 6));
+            break;
+        case 4:                             /* degenerate: repeated vertex */
+            b = a;
+            c = rng_point(g, -10, 10);
+            break;
+        case 5:                             /* coincident with the previous */
+            if (i > 0) {
+                a = v[3 * (i - 1)];
+                b = v[3 * (i - 1) + 1];
+                c = v[3 * (i - 1) + 2];
+                break;
+            }
+            /* fall through */
+        case 6:                             /* shares an edge with previous */
+            if (i > 0) {
+                a = v[3 * (i - 1)];
+                b = v[3 * (i - 1) + 2];
+                c = rng_point(g, -10, 10);
+                break;
+            }
+            /* fall through */
+        default:
+            b = vadd(a, vscale(rng_dir(g), rng_range(g, 0.1, 5)));
+            c = vadd(a, vscale(rng_dir(g), rng_range(g, 0.1, 5)));
+            break;
+        }
+        v[3 * i] = a;
+        v[3 * i + 1] = b;
+        v[3 * i + 2] = c;
+        idx[3 * i] = (unsigned)(3 * i);
+        idx[3 * i + 1] = (unsigned)(3 * i + 1);
+        idx[3 * i + 2] = (unsigned)(3 * i + 2);
+    }
+}
+
+/* A random test ray: from anywhere (inside the soup's boxes too), some
+** with zero direction components, some with a bounded interval. */
+static ray_ray random_ray(rng *g)
+{
+    ray_ray r = ray_from(rng_point(g, -15, 15), rng_dir(g));
+    switch (rng_next(g) % 6) {
+    case 0:
+        r.dir.x = 0;
+        break;
+    case 1:
+        r.dir.x = 0;
+        r.dir.y = -0.0;
+        break;
+    case 2:
+        r.tmax = rng_range(g, 0.5, 10);
+        break;
+    case 3:
+        r.tmin = rng_range(g, 0, 3);
+        break;
+    default:
+        break;
+    }
+    return r;
+}
+
+START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
+{
+    size_t sizes[] = {1, 2, 7, 100, 3000};
+    rng g = {2024};
+    int k;
+
+    for (k = 0; k < 5; k++) {
+        size_t n = sizes[k], i, j;
+        ray_vec3 *v = malloc(3 * n * sizeof *v);
+        unsigned *idx = malloc(3 * n * sizeof *idx), mat, id;
+        ray_mesh mesh;
+        ray_scene *s = new_scene(&mat);
+
+        make_soup(&g, v, idx, n);
+        memset(&mesh, 0, sizeof mesh);
+        mesh.vertices = v;
+        mesh.vertex_count = 3 * n;
+        mesh.indices = idx;
+        mesh.triangle_count = n;
+        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, &id), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (j = 0; j < 4000; j++) {
+            ray_ray r = random_ray(&g), br = r;
+            ray_hit h, bh, tmp;
+            int hit = ray_intersect(s, &r, &h), bhit = 0;
+            size_t bi = 0;
+
+            for (i = 0; i < n; i++)
+                if (ray_triangle(&br, v[3 * i], v[3 * i + 1], v[3 * i + 2],
+                                 &tmp)) {
+                    br.tmax = tmp.t;
+                    bh = tmp;
+                    bi = i;
+                    bhit = 1;
+                }
+            ck_assert_int_eq(hit, bhit);
+            ck_assert_int_eq(ray_occluded(s, &r), bhit);
+            if (!hit)
+                continue;
+            /* The same t exactly: the same arithmetic on the same data.
+            ** Coincident triangles tie; then only t must agree. */
+            ck_assert_double_eq(h.t, bh.t);
+            ck_assert_uint_eq(h.geom_id, id);
+            if (h.prim_id != bi) {
+                const ray_vec3 *p = v + 3 * h.prim_id, *q = v + 3 * bi;
+                ray_ray rr = r;
+                ray_hit t2;
+                rr.tmax = HUGE_VAL;
+                ck_assert(ray_triangle(&rr, p[0], p[1], p[2], &t2));
+                ck_assert_double_eq(t2.t, bh.t);
+                (void)q;
+            } else {
+                ck_assert_double_eq(h.u, bh.u);
+                ck_assert_double_eq(h.v, bh.v);
+            }
+        }
+        ray_scene_free(s);
+        free(v);
+        free(idx);
+    }
+}
+END_TEST
+
+/* Spheres, polygons and planes mixed with triangles: the BVH answer is the
+** nearest of all of them, as brute force finds it. */
+START_TEST(bvh_should_equal_brute_force_on_mixed_scenes)
+{
+    rng g = {77};
+    ray_scene *s;
+    unsigned mat;
+    ray_vec3 c[50], poly[50][4], tri[50][3];
+    double radius[50];
+    int i, j;
+
+    s = new_scene(&mat);
+    for (i = 0; i < 50; i++) {
+        ray_vec3 o = rng_point(&g, -10, 10), e1 = vscale(rng_dir(&g), 2),
+                 e2 = vscale(rng_dir(&g), 2);
+        c[i] = rng_point(&g, -10, 10);
+        radius[i] = rng_range(&g, 0.01, 2);
+        ck_assert_int_eq(ray_scene_add_sphere(s, c[i], radius[i], mat, NULL), RAY_OK);
+        poly[i][0] = o;
+        poly[i][1] = vadd(o, e1);
+        poly[i][2] = vadd(vadd(o, e1), e2);
+        poly[i][3] = vadd(o, e2);
+        ck_assert_int_eq(ray_scene_add_polygon(s, poly[i], 4, mat, NULL), RAY_OK);
+        tri[i][0] = rng_point(&g, -10, 10);
+        tri[i][1] = vadd(tri[i][0], vscale(rng_dir(&g), 3));
+        tri[i][2] = vadd(tri[i][0], vscale(rng_dir(&g), 3));
+        ck_assert_int_eq(ray_scene_add_triangle(s, tri[i][0], tri[i][1], tri[i][2], mat, NULL), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, -12, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (j = 0; j < 20000; j++) {
+        ray_ray r = random_ray(&g), br = r;
+        ray_hit h, bh, tmp;
+        int bhit = 0;
+
+        for (i = 0; i < 50; i++) {
+            if (ray_sphere(&br, c[i], radius[i], &tmp)) {
+                br.tmax = tmp.t;
+                bh = tmp;
+                bhit = 1;
+            }
+            if (ray_polygon(&br, poly[i], 4, &tmp)) {
+                br.tmax = tmp.t;
+                bh = tmp;
+                bhit = 1;
+            }
+            if (ray_triangle(&br, tri[i][0], tri[i][1], tri[i][2], &tmp)) {
+                br.tmax = tmp.t;
+                bh = tmp;
+                bhit = 1;
+            }
+        }
+        if (ray_plane(&br, vec(0, -12, 0), vec(0, 1, 0), &tmp)) {
+            bh = tmp;
+            bhit = 1;
+        }
+        ck_assert_int_eq(ray_intersect(s, &r, &h), bhit);
+        ck_assert_int_eq(ray_occluded(s, &r), bhit);
+        if (bhit)
+            ck_assert_double_eq(h.t, bh.t);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+START_TEST(bvh_should_handle_empty_and_single_scenes)
+{
+    unsigned mat;
+    ray_scene *s = new_scene(&mat);
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_ray axis = ray_from(vec(0.25, 0.25, 5), vec(-0.0, 0.0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ray_scene_free(s);
+    s = new_scene(&mat);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(0, 0, 0), vec(1, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect(s, &axis, &h), 1);   /* zero x, y dir */
+    ck_assert_double_eq(h.t, 5.0);
+    /* A ray exactly on the box's face plane x = 0 with d.x = 0: the slab
+    ** test sees 0 * Inf = NaN and must keep the box. */
+    axis.org = vec(0, 0.5, 5);
+    ck_assert_int_eq(ray_intersect(s, &axis, &h), 1);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A grid mesh whose triangles' boxes are flat (z = 0 planes): rays aimed
+** exactly at grid vertices and edges, and grazing the plane, find the
+** plane everywhere -- the float boxes and the slab test lose nothing.
+** Done at the origin and 1e5 away.
+*/
+START_TEST(bvh_should_not_lose_hits_on_flat_boxes)
+{
+    double o = test_offset(_i);
+    enum { N = 64 };
+    ray_vec3 *v = malloc((N + 1) * (N + 1) * sizeof *v);
+    unsigned *idx = malloc(6 * N * N * sizeof *idx), mat;
+    ray_scene *s = new_scene(&mat);
+    ray_mesh mesh;
+    rng g = {9};
+    int i, j, k;
+
+    for (j = 0; j <= N; j++)
+        for (i = 0; i <= N; i++)
+            v[j * (N + 1) + i] = vec(o + i, o + j, o);
+    for (j = 0; j < N; j++)
+        for (i = 0; i < N; i++) {
+            unsigned a = (unsigned)(j * (N + 1) + i), *t = idx + 6 * (j * N + i);
+            t[0] = a; t[1] = a + 1; t[2] = a + N + 2;
+            t[3] = a; t[4] = a + N + 2; t[5] = a + N + 1;
+        }
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v;
+    mesh.vertex_count = (N + 1) * (N + 1);
+    mesh.indices = idx;
+    mesh.triangle_count = 2 * N * N;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (k = 0; k < 20000; k++) {
+        double x = (double)(1 + rng_next(&g) % (N - 1));
+        double y = (double)(1 + rng_next(&g) % (N - 1));
+        ray_vec3 target = vec(o + x + ((k & 1) ? 0.5 : 0), o + y, o);
+        ray_vec3 from = vadd(target, vec(rng_range(&g, -3, 3),
+                                         rng_range(&g, -3, 3),
+                                         k % 3 ? rng_range(&g, 0.5, 5) : 1e-3));
+        ray_ray r = ray_from(from, vsub(target, from));
+        ray_hit h;
+        ck_assert_msg(ray_intersect(s, &r, &h), "ray %d lost", k);
+        ck_assert_double_eq_tol(h.t, 1.0, 1e-9);
+    }
+    ray_scene_free(s);
+    free(v);
+    free(idx);
+}
+END_TEST
+
+/* Mesh validation: bad input is refused with nothing added. */
+START_TEST(mesh_should_reject_bad_input)
+{
+    ray_vec3 v[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    unsigned idx[3] = {0, 1, 2}, bad_idx[3] = {0, 1, 3}, mat, id = 99;
+    ray_vec3 nan_v[3] = {{0, 0, 0}, {1, NAN, 0}, {0, 1, 0}};
+    double tex[6] = {0, 0, 1, 0, 0, HUGE_VAL};
+    ray_scene *s = new_scene(&mat);
+    ray_mesh m;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 3;
+    m.indices = idx;
+    m.triangle_count = 1;
+    ck_assert_int_eq(ray_scene_add_mesh(s, NULL, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_mesh(NULL, &m, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat + 1, &id), RAY_EINVAL);
+    m.indices = bad_idx;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_EINVAL);
+    m.indices = idx;
+    m.vertices = nan_v;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_EINVAL);
+    m.vertices = v;
+    m.texcoords = tex;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_EINVAL);
+    m.texcoords = NULL;
+    m.triangle_count = 0;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_EINVAL);
+    m.triangle_count = 1;
+    m.vertex_count = 0;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_EINVAL);
+    ck_assert_uint_eq(id, 99);
+    m.vertex_count = 3;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, &id), RAY_ESTATE);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* What the material sees on a mesh with normals and texture coordinates. */
+typedef struct seen {
+    ray_vec3 shading_normal, normal;
+    double u, v;
+    unsigned geom_id, prim_id;
+} seen;
+
+static void record(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                   ray_rgb *out)
+{
+    seen *s = ud;
+    (void)ctx;
+    (void)out;
+    s->shading_normal = a->shading_normal;
+    s->normal = a->normal;
+    s->u = a->u;
+    s->v = a->v;
+    s->geom_id = a->hit->geom_id;
+    s->prim_id = a->hit->prim_id;
+}
+
+/*
+** A quad of two triangles in z = 0 whose vertex normals lean outward and
+** whose (s, t) run 0..1: the shading normal and texture coordinates at a
+** hit are the barycentric interpolation, prim_id names the triangle.
+** Tolerance 1e-12: a handful of roundings of values ~1.
+*/
+START_TEST(mesh_should_interpolate_normals_and_texcoords)
+{
+    ray_vec3 v[4] = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
+    ray_vec3 n[4] = {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+    double st[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    unsigned idx[6] = {0, 1, 2, 0, 2, 3}, mat, id;
+    seen got;
+    ray_material m;
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_mesh mesh;
+    ray_ray r = ray_from(vec(1.5, 0.5, 3), vec(0, 0, -1));
+    ray_rgb c;
+    ray_vec3 expect;
+
+    m.shade = record;
+    m.ud = &got;
+    m.effects = 0;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(50, 50, 50), 1, mat, NULL), RAY_OK);
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v;
+    mesh.vertex_count = 4;
+    mesh.indices = idx;
+    mesh.triangle_count = 2;
+    mesh.normals = n;
+    mesh.texcoords = st;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, &id), RAY_OK);
+    ck_assert_uint_eq(id, 1);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    /* (1.5, 0.5) is in triangle 0 (0,1,2) with barycentrics (1/4, 1/2, 1/4)
+    ** (alpha, beta, gamma): p = a/4 + b/2 + c/4 = (1.5, 0.5). */
+    ck_assert_uint_eq(got.geom_id, id);
+    ck_assert_uint_eq(got.prim_id, 0);
+    ck_assert_double_eq_tol(got.u, 0.75, 1e-12);
+    ck_assert_double_eq_tol(got.v, 0.25, 1e-12);
+    expect = vadd(vadd(vscale(n[0], 0.25), vscale(n[1], 0.5)), vscale(n[2], 0.25));
+    expect = vscale(expect, 1.0 / vlen(expect));
+    ck_assert_vec_eq_tol(got.shading_normal, expect, 1e-12);
+    ck_assert_vec_eq(got.normal, vec(0, 0, 1));
+    /* From below, both normals turn to face the ray. */
+    r = ray_from(vec(0.5, 1.5, -3), vec(0, 0, 1));
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_uint_eq(got.prim_id, 1);
+    ck_assert(got.shading_normal.z < 0);
+    ck_assert_vec_eq(got.normal, vec(0, 0, -1));
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Bytes outstanding through a counting allocator, and the peak. */
+typedef struct counting {
+    long long now, peak;
+} counting;
+
+static void *counting_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    counting *c = ud;
+    void *p;
+
+    if (nsize == 0) {
+        c->now -= (long long)osize;
+        free(ptr);
+        return NULL;
+    }
+    p = realloc(ptr, nsize);
+    if (p != NULL) {
+        c->now += (long long)nsize - (long long)osize;
+        if (c->now > c->peak)
+            c->peak = c->now;
+    }
+    return p;
+}
+
+/*
+** A million-triangle mesh (a 724 x 724 grid, 1,048,352 triangles) builds
+** in bounded memory.  After commit the scene keeps 80 bytes per triangle
+** (three double vertices and two ids) plus 32 per BVH node, about one node
+** per triangle here: 112 measured, bound 120.  During commit the old and
+** the reordered triangle arrays coexist (160), with 24 bytes of boxes, 16
+** of builder state, 4 of index and up to 64 of nodes before they are
+** trimmed: 268 measured, bound 280.  (ray.h documents both figures.)
+*/
+START_TEST(mesh_should_build_a_million_triangles_in_bounded_memory)
+{
+    enum { N = 724 };
+    ray_vec3 *v = malloc((size_t)(N + 1) * (N + 1) * sizeof *v);
+    unsigned *idx = malloc((size_t)6 * N * N * sizeof *idx), mat;
+    counting cnt = {0, 0};
+    ray_material m;
+    ray_scene *s;
+    ray_mesh mesh;
+    size_t tris = 2 * (size_t)N * N, i, j;
+    long long base;
+    ray_ray r = ray_from(vec(300.25, 200.75, 10), vec(0, 0, -1));
+    ray_hit h;
+
+    for (j = 0; j <= N; j++)
+        for (i = 0; i <= N; i++)
+            v[j * (N + 1) + i] = vec((double)i, (double)j,
+                                     0.01 * sin(0.1 * (double)(i + j)));
+    for (j = 0; j < N; j++)
+        for (i = 0; i < N; i++) {
+            unsigned a = (unsigned)(j * (N + 1) + i), *t = idx + 6 * (j * N + i);
+            t[0] = a; t[1] = a + 1; t[2] = a + N + 2;
+            t[3] = a; t[4] = a + N + 2; t[5] = a + N + 1;
+        }
+    m.shade = nop_shade;
+    m.ud = NULL;
+    m.effects = 0;
+    ck_assert_int_eq(ray_scene_new(&s, counting_alloc, &cnt), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    base = cnt.now;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v;
+    mesh.vertex_count = (size_t)(N + 1) * (N + 1);
+    mesh.indices = idx;
+    mesh.triangle_count = tris;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, NULL), RAY_OK);
+    cnt.peak = cnt.now;
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_msg((double)(cnt.now - base) / (double)tris <= 120.0,
+                  "%.3f bytes per triangle kept",
+                  (double)(cnt.now - base) / (double)tris);
+    ck_assert_msg((double)(cnt.peak - base) / (double)tris <= 280.0,
+                  "%.3f bytes per triangle at the peak",
+                  (double)(cnt.peak - base) / (double)tris);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_double_eq_tol(h.p.x, 300.25, 1e-9);
+    ray_scene_free(s);
+    ck_assert_int_eq(cnt.now, 0);
+    free(v);
+    free(idx);
+}
+END_TEST
+
+Suite *bvh_suite(void)
+{
+    Suite *s = suite_create("bvh");
+    TCase *eq = tcase_create("equivalence");
+    TCase *mesh = tcase_create("mesh");
+
+    tcase_set_timeout(eq, 120);
+    tcase_set_timeout(mesh, 120);
+    tcase_add_test(eq, bvh_should_equal_brute_force_on_hostile_soups);
+    tcase_add_test(eq, bvh_should_equal_brute_force_on_mixed_scenes);
+    tcase_add_test(eq, bvh_should_handle_empty_and_single_scenes);
+    tcase_add_loop_test(eq, bvh_should_not_lose_hits_on_flat_boxes, 0, N_OFFSETS);
+    tcase_add_test(mesh, mesh_should_reject_bad_input);
+    tcase_add_test(mesh, mesh_should_interpolate_normals_and_texcoords);
+    tcase_add_test(mesh, mesh_should_build_a_million_triangles_in_bounded_memory);
+    suite_add_tcase(s, eq);
+    suite_add_tcase(s, mesh);
+    return s;
+}
