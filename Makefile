@@ -91,9 +91,9 @@ $(SHARED): $(OBJS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
-$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h $(STATIC)
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h examples/obj.h $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(STD_CFLAGS) -Wall -Wextra -Wpedantic -Iinclude -Isrc $(CFLAGS) \
+	$(CC) $(STD_CFLAGS) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples $(CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
@@ -104,15 +104,22 @@ $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
 examples: $(EXAMPLES)
 
 BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
+# Embree is optional: used by the mesh benchmark when its header is there.
+EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
+                 echo "-DHAVE_EMBREE")
+EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 $(BUILD)/bench/%: bench/%.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Iexamples $(if $(filter bench/mesh.c,$<),$(EMBREE_FLAGS)) \
+	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  BENCH_QUICK=1 for a short run.
 bench: deps-build lib $(BENCHES)
 	@echo "# libray benchmarks ($$(uname -m), $$(nproc) CPUs, $(CC))"; echo
 	$(BUILD)/bench/threads
+	scripts/fetch-bunny.sh data
+	$(BUILD)/bench/mesh data
 
 # The header alone must compile as strict C99 and as C++.
 header-test: include/ray.h tests/header_c99.c

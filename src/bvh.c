@@ -13,52 +13,53 @@
 #include "internal.h"
 
 #define BINS 16
-#define MAX_LEAF 8       /* a node with more items is always split */
 #define MAX_DEPTH 60     /* traversal stacks hold 64 entries */
-#define TRAVERSAL_COST 1.0f  /* relative to one primitive test (pbrt: 1/8
-                                for a SIMD-less triangle; we measured 1 to
-                                build faster, shallower trees for double
-                                Cramer tests) */
+#ifndef MAX_LEAF
+#define MAX_LEAF 8       /* a node with more items is always split */
+#endif
+#ifndef TRAVERSAL_COST
+#define TRAVERSAL_COST 1.0f  /* one box pair vs one triangle test */
+#endif
 
-float ray__float_down(double x)
-{
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -HUGE_VALF) : f;
-}
-
-float ray__float_up(double x)
-{
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, HUGE_VALF) : f;
-}
+/*
+** Builder records: an item's box and id, 32 bytes, permuted in place by
+** the partitions so every pass over a node's items reads memory in order.
+** The centroid is not stored: lo + hi (twice the centre) serves, since
+** binning only needs an affine image of it.
+*/
+typedef struct ref {
+    float lo[3], hi[3];
+    unsigned id, pad;
+} ref;
 
 typedef struct box {
     float lo[3], hi[3];
 } box;
 
+static inline float fmin2(float a, float b)
+{
+    return a < b ? a : b;
+}
+
+static inline float fmax2(float a, float b)
+{
+    return a > b ? a : b;
+}
+
 static void box_empty(box *b)
 {
-    int k;
-    for (k = 0; k < 3; k++) {
-        b->lo[k] = FLT_MAX;
-        b->hi[k] = -FLT_MAX;
-    }
+    b->lo[0] = b->lo[1] = b->lo[2] = FLT_MAX;
+    b->hi[0] = b->hi[1] = b->hi[2] = -FLT_MAX;
 }
 
-static void box_grow(box *b, const float *lohi)
+static inline void box_grow(box *b, const float *lo, const float *hi)
 {
-    int k;
-    for (k = 0; k < 3; k++) {
-        if (lohi[k] < b->lo[k])
-            b->lo[k] = lohi[k];
-        if (lohi[3 + k] > b->hi[k])
-            b->hi[k] = lohi[3 + k];
-    }
-}
-
-static void box_merge(box *b, const box *o)
-{
-    box_grow(b, o->lo);     /* lo[3] and hi[3] are contiguous */
+    b->lo[0] = fmin2(b->lo[0], lo[0]);
+    b->lo[1] = fmin2(b->lo[1], lo[1]);
+    b->lo[2] = fmin2(b->lo[2], lo[2]);
+    b->hi[0] = fmax2(b->hi[0], hi[0]);
+    b->hi[1] = fmax2(b->hi[1], hi[1]);
+    b->hi[2] = fmax2(b->hi[2], hi[2]);
 }
 
 /* Half the surface area (the constant factor cancels in the SAH). */
@@ -72,69 +73,94 @@ static float box_area(const box *b)
 }
 
 typedef struct builder {
-    const float *boxes;      /* 6 per item */
-    float *centroids;        /* 3 per item, box centres */
-    unsigned *ids;
+    ref *refs;
     ray__node *nodes;
     size_t n_nodes;
 } builder;
 
 typedef struct split {
     int axis, bin;           /* items with bin index <= bin go left */
+    int bins;                /* how many bins were used */
     float cost;
     float cmin, scale;       /* bin of c = (c - cmin) * scale */
 } split;
 
-static int bin_of(float c, float cmin, float scale)
+/* Twice the centroid along "axis". */
+static inline float centroid2(const ref *r, int axis)
 {
-    int b = (int)((c - cmin) * scale);
-    return b < 0 ? 0 : (b >= BINS ? BINS - 1 : b);
+    return r->lo[axis] + r->hi[axis];
 }
 
-/* The best binned split of ids[begin, end) along each axis. */
+static inline int bin_of(float c, float cmin, float scale, int bins)
+{
+    int b = (int)((c - cmin) * scale);
+    return b < 0 ? 0 : (b >= bins ? bins - 1 : b);
+}
+
+typedef struct bin {
+    box b;
+    size_t count;
+} bin;
+
+/*
+** The best binned split of refs[begin, end), all three axes binned in one
+** pass over the items; cb is the box of the doubled centroids.  A node of
+** few items uses as many bins as items (at least 4): the sweep over 3 x 16
+** bins would otherwise cost more than the items themselves.
+*/
 static split best_split(const builder *bd, size_t begin, size_t end,
                         const box *cb, float node_area)
 {
+    bin bins[3][BINS];
+    float scale[3];
     split best;
-    int axis;
+    size_t i, count = end - begin;
+    int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
 
     best.axis = -1;
     best.bin = 0;
+    best.bins = nb;
     best.cost = HUGE_VALF;
     best.cmin = 0;
     best.scale = 0;
     for (axis = 0; axis < 3; axis++) {
-        float extent = cb->hi[axis] - cb->lo[axis], scale, right_area[BINS];
-        box bins[BINS], acc;
-        size_t count[BINS], right_count[BINS], n_left = 0, i;
-        int b;
+        float extent = cb->hi[axis] - cb->lo[axis];
+        /* nb * (1 - eps) / extent keeps the largest centroid in range; a
+        ** flat axis gets scale 0: everything in bin 0, never split. */
+        scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
+        for (b = 0; b < nb; b++) {
+            box_empty(&bins[axis][b].b);
+            bins[axis][b].count = 0;
+        }
+    }
+    for (i = begin; i < end; i++) {
+        const ref *r = &bd->refs[i];
+        for (axis = 0; axis < 3; axis++) {
+            bin *bn = &bins[axis][bin_of(centroid2(r, axis), cb->lo[axis],
+                                         scale[axis], nb)];
+            box_grow(&bn->b, r->lo, r->hi);
+            bn->count++;
+        }
+    }
+    for (axis = 0; axis < 3; axis++) {
+        float right_area[BINS];
+        size_t right_count[BINS], n_left = 0;
+        box acc;
 
-        if (!(extent > 0))
+        if (scale[axis] == 0)
             continue;
-        /* BINS * (1 - eps) / extent keeps the largest centroid in range. */
-        scale = (float)BINS * (1.0f - 1e-6f) / extent;
-        for (b = 0; b < BINS; b++) {
-            box_empty(&bins[b]);
-            count[b] = 0;
-        }
-        for (i = begin; i < end; i++) {
-            unsigned id = bd->ids[i];
-            b = bin_of(bd->centroids[3 * (size_t)id + (size_t)axis], cb->lo[axis], scale);
-            box_grow(&bins[b], bd->boxes + 6 * (size_t)id);
-            count[b]++;
-        }
         box_empty(&acc);
-        right_count[BINS - 1] = 0;
-        for (b = BINS - 1; b > 0; b--) {
-            box_merge(&acc, &bins[b]);
-            right_count[b - 1] = (b < BINS - 1 ? right_count[b] : 0) + count[b];
+        right_count[nb - 1] = 0;
+        for (b = nb - 1; b > 0; b--) {
+            box_grow(&acc, bins[axis][b].b.lo, bins[axis][b].b.hi);
+            right_count[b - 1] = right_count[b] + bins[axis][b].count;
             right_area[b - 1] = box_area(&acc);
         }
         box_empty(&acc);
-        for (b = 0; b < BINS - 1; b++) {
+        for (b = 0; b < nb - 1; b++) {
             float cost;
-            box_merge(&acc, &bins[b]);
-            n_left += count[b];
+            box_grow(&acc, bins[axis][b].b.lo, bins[axis][b].b.hi);
+            n_left += bins[axis][b].count;
             if (n_left == 0 || right_count[b] == 0)
                 continue;
             cost = TRAVERSAL_COST +
@@ -145,30 +171,72 @@ static split best_split(const builder *bd, size_t begin, size_t end,
                 best.axis = axis;
                 best.bin = b;
                 best.cmin = cb->lo[axis];
-                best.scale = scale;
+                best.scale = scale[axis];
             }
         }
     }
     return best;
 }
 
-/* Move the items of the split's left side to the front; returns the
-** first index of the right side. */
-static size_t partition(builder *bd, size_t begin, size_t end, const split *sp)
+/* The boxes a node needs before it is split: its items' box and the box
+** of their doubled centroids. */
+typedef struct bounds {
+    box items, centroids;
+} bounds;
+
+static void bounds_empty(bounds *b)
+{
+    box_empty(&b->items);
+    box_empty(&b->centroids);
+}
+
+static inline void bounds_grow(bounds *b, const ref *r)
+{
+    float c[3];
+
+    c[0] = centroid2(r, 0);
+    c[1] = centroid2(r, 1);
+    c[2] = centroid2(r, 2);
+    box_grow(&b->items, r->lo, r->hi);
+    box_grow(&b->centroids, c, c);
+}
+
+/*
+** Move the items of the split's left side to the front, gathering both
+** sides' bounds on the way (so the children need no pass of their own);
+** returns the first index of the right side.
+*/
+static size_t partition(builder *bd, size_t begin, size_t end,
+                        const split *sp, bounds *left, bounds *right)
 {
     size_t i = begin, j = end;
 
+    bounds_empty(left);
+    bounds_empty(right);
     while (i < j) {
-        unsigned id = bd->ids[i];
-        if (bin_of(bd->centroids[3 * (size_t)id + (size_t)sp->axis], sp->cmin, sp->scale) <=
-            sp->bin) {
+        if (bin_of(centroid2(&bd->refs[i], sp->axis), sp->cmin, sp->scale,
+                   sp->bins) <= sp->bin) {
+            bounds_grow(left, &bd->refs[i]);
             i++;
         } else {
-            bd->ids[i] = bd->ids[--j];
-            bd->ids[j] = id;
+            ref t = bd->refs[i];
+            bounds_grow(right, &t);
+            bd->refs[i] = bd->refs[--j];
+            bd->refs[j] = t;
         }
     }
     return i;
+}
+
+/* Bounds by a pass over the items (the root, and halved runs). */
+static void bounds_of(const builder *bd, size_t begin, size_t end,
+                      bounds *out)
+{
+    size_t i;
+
+    bounds_empty(out);
+    for (i = begin; i < end; i++)
+        bounds_grow(out, &bd->refs[i]);
 }
 
 static void node_set_box(ray__node *n, const box *b)
@@ -180,58 +248,55 @@ static void node_set_box(ray__node *n, const box *b)
 typedef struct task {
     size_t node, begin, end;
     unsigned depth;
+    bounds b;
 } task;
 
-/*
-** Split node "t.node" (items ids[begin, end)) or make it a leaf; children
-** are pushed on the task stack.  Returns the number of tasks pushed.
-*/
-static int build_node(builder *bd, task t, task *stack)
+/* Push the task of a child node over refs[begin, end). */
+static void child_task(task *t, size_t node, size_t begin, size_t end,
+                       unsigned depth, const bounds *b)
 {
-    ray__node *n = &bd->nodes[t.node];
-    size_t count = t.end - t.begin, i, mid;
-    box nb, cb;
+    t->node = node;
+    t->begin = begin;
+    t->end = end;
+    t->depth = depth;
+    t->b = *b;
+}
+
+/*
+** Split node "t.node" (items refs[begin, end), bounds t.b) or make it a
+** leaf; children are pushed on the task stack.  Returns how many.
+*/
+static int build_node(builder *bd, const task *t, task *stack)
+{
+    ray__node *n = &bd->nodes[t->node];
+    size_t count = t->end - t->begin, mid;
+    bounds left, right;
     split sp;
 
-    box_empty(&nb);
-    box_empty(&cb);
-    for (i = t.begin; i < t.end; i++) {
-        unsigned id = bd->ids[i];
-        const float *c = bd->centroids + 3 * (size_t)id;
-        float cc[6];
-        box_grow(&nb, bd->boxes + 6 * (size_t)id);
-        cc[0] = cc[3] = c[0];
-        cc[1] = cc[4] = c[1];
-        cc[2] = cc[5] = c[2];
-        box_grow(&cb, cc);
-    }
-    node_set_box(n, &nb);
-    n->first = (unsigned)t.begin;
+    node_set_box(n, &t->b.items);
+    n->first = (unsigned)t->begin;
     n->count = (unsigned)count;
-    if (count <= 1 || t.depth >= MAX_DEPTH)
+    if (count <= 1 || t->depth >= MAX_DEPTH)
         return 0;
-    sp = best_split(bd, t.begin, t.end, &cb, box_area(&nb));
+    sp = best_split(bd, t->begin, t->end, &t->b.centroids,
+                    box_area(&t->b.items));
     if (sp.axis < 0) {
         /* All centroids coincide: no binned split separates them.  Halve
         ** the run if it is too long for a leaf, else keep the leaf. */
         if (count <= MAX_LEAF)
             return 0;
-        mid = t.begin + count / 2;
+        mid = t->begin + count / 2;
+        bounds_of(bd, t->begin, mid, &left);
+        bounds_of(bd, mid, t->end, &right);
     } else {
         if (count <= MAX_LEAF && sp.cost >= (float)count)
             return 0;
-        mid = partition(bd, t.begin, t.end, &sp);
+        mid = partition(bd, t->begin, t->end, &sp, &left, &right);
     }
     n->first = (unsigned)bd->n_nodes;
     n->count = 0;
-    stack[0].node = bd->n_nodes;
-    stack[0].begin = t.begin;
-    stack[0].end = mid;
-    stack[0].depth = t.depth + 1;
-    stack[1].node = bd->n_nodes + 1;
-    stack[1].begin = mid;
-    stack[1].end = t.end;
-    stack[1].depth = t.depth + 1;
+    child_task(&stack[0], bd->n_nodes, t->begin, mid, t->depth + 1, &left);
+    child_task(&stack[1], bd->n_nodes + 1, mid, t->end, t->depth + 1, &right);
     bd->n_nodes += 2;
     return 2;
 }
@@ -239,16 +304,142 @@ static int build_node(builder *bd, task t, task *stack)
 void ray__bvh_free(const ray_scene *s, ray__bvh *bvh)
 {
     ray__free(s, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
+    ray__free(s, bvh->nodes4, bvh->n_nodes4 * sizeof *bvh->nodes4);
     ray__free(s, bvh->items, bvh->n_items * sizeof *bvh->items);
     memset(bvh, 0, sizeof *bvh);
 }
 
-int ray__bvh_build(const ray_scene *s, const float *boxes, size_t n,
-                   ray__bvh *out)
+/* ---------------------------------------------------- 4-wide collapse */
+
+static float node_area(const ray__node *n)
+{
+    box b;
+    memcpy(b.lo, n->lo, sizeof b.lo);
+    memcpy(b.hi, n->hi, sizeof b.hi);
+    return box_area(&b);
+}
+
+/*
+** The up to four binary nodes that become the children of the 4-wide node
+** for binary node "n": start from its two children and open the inner one
+** of largest surface area until there are four or only leaves remain (the
+** usual greedy collapse: the largest boxes are the likeliest to be hit, so
+** they gain most from being tested together).  Returns how many.
+*/
+static int gather_children(const ray__node *nodes, unsigned n,
+                           unsigned out[4])
+{
+    int k = 2;
+
+    out[0] = nodes[n].first;
+    out[1] = nodes[n].first + 1;
+    while (k < 4) {
+        int best = -1, i;
+        float best_area = -1;
+        for (i = 0; i < k; i++) {
+            const ray__node *c = &nodes[out[i]];
+            if (c->count == 0 && node_area(c) > best_area) {
+                best_area = node_area(c);
+                best = i;
+            }
+        }
+        if (best < 0)
+            break;
+        out[k++] = nodes[out[best]].first + 1;
+        out[best] = nodes[out[best]].first;
+    }
+    return k;
+}
+
+static void slot_set(ray__node4 *q, int k, const ray__node *c)
+{
+    int a;
+    for (a = 0; a < 3; a++) {
+        q->lo[a][k] = c->lo[a];
+        q->hi[a][k] = c->hi[a];
+    }
+}
+
+static void slot_empty(ray__node4 *q, int k)
+{
+    int a;
+    for (a = 0; a < 3; a++) {
+        q->lo[a][k] = HUGE_VALF;
+        q->hi[a][k] = -HUGE_VALF;
+    }
+    q->child[k] = 0;
+    q->count[k] = RAY__EMPTY;
+}
+
+/*
+** Collapse the binary BVH into 4-wide nodes.  A binary tree of n nodes has
+** (n - 1) / 2 inner nodes and every 4-wide node consumes at least one of
+** them, so n / 2 + 1 nodes always suffice (trimmed afterwards).
+*/
+static int collapse(const ray_scene *s, ray__bvh *bvh)
+{
+    size_t cap = bvh->n_nodes / 2 + 1, used = 1;
+    unsigned stack[4 * 64][2];     /* (binary node, node4): 3 per level */
+    ray__node4 *q4 = ray__alloc(s, cap * sizeof *q4), *trimmed;
+    int sp = 0;
+
+    if (q4 == NULL)
+        return RAY_ENOMEM;
+    if (bvh->nodes[0].count > 0) {        /* the root is a leaf */
+        int k;
+        for (k = 1; k < 4; k++)
+            slot_empty(&q4[0], k);
+        slot_set(&q4[0], 0, &bvh->nodes[0]);
+        q4[0].child[0] = bvh->nodes[0].first;
+        q4[0].count[0] = bvh->nodes[0].count;
+    } else {
+        stack[0][0] = 0;
+        stack[0][1] = 0;
+        sp = 1;
+    }
+    while (sp > 0) {
+        unsigned n = stack[--sp][0], qi = stack[sp][1], kids[4];
+        int k, m = gather_children(bvh->nodes, n, kids);
+        ray__node4 *q = &q4[qi];
+        for (k = 0; k < 4; k++) {
+            const ray__node *c;
+            if (k >= m) {
+                slot_empty(q, k);
+                continue;
+            }
+            c = &bvh->nodes[kids[k]];
+            slot_set(q, k, c);
+            if (c->count > 0) {
+                q->child[k] = c->first;
+                q->count[k] = c->count;
+            } else {
+                q->child[k] = (unsigned)used;
+                q->count[k] = 0;
+                stack[sp][0] = kids[k];
+                stack[sp++][1] = (unsigned)used++;
+            }
+        }
+    }
+    trimmed = ray__realloc(s, q4, cap * sizeof *q4, used * sizeof *q4);
+    if (trimmed == NULL)                  /* keep the larger block */
+        used = cap;
+    else
+        q4 = trimmed;
+    bvh->nodes4 = q4;
+    bvh->n_nodes4 = used;
+    ray__free(s, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
+    bvh->nodes = NULL;
+    bvh->n_nodes = bvh->cap_nodes = 0;
+    return RAY_OK;
+}
+
+int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
+                   size_t n, ray__bvh *out)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
     size_t cap, i;
+    unsigned *items;
     int sp = 0;
 
     memset(out, 0, sizeof *out);
@@ -257,35 +448,35 @@ int ray__bvh_build(const ray_scene *s, const float *boxes, size_t n,
     if (n > 0x7fffffffu)
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
-    bd.boxes = boxes;
-    bd.centroids = ray__alloc(s, 3 * n * sizeof *bd.centroids);
-    bd.ids = ray__alloc(s, n * sizeof *bd.ids);
+    bd.refs = ray__alloc(s, n * sizeof *bd.refs);
     bd.nodes = ray__alloc(s, cap * sizeof *bd.nodes);
-    if (bd.centroids == NULL || bd.ids == NULL || bd.nodes == NULL) {
-        ray__free(s, bd.centroids, 3 * n * sizeof *bd.centroids);
-        ray__free(s, bd.ids, n * sizeof *bd.ids);
+    items = ray__alloc(s, n * sizeof *items);
+    if (bd.refs == NULL || bd.nodes == NULL || items == NULL) {
+        ray__free(s, bd.refs, n * sizeof *bd.refs);
         ray__free(s, bd.nodes, cap * sizeof *bd.nodes);
+        ray__free(s, items, n * sizeof *items);
         return RAY_ENOMEM;
     }
     for (i = 0; i < n; i++) {
-        const float *b = boxes + 6 * i;
-        bd.ids[i] = (unsigned)i;
-        bd.centroids[3 * i] = 0.5f * b[0] + 0.5f * b[3];
-        bd.centroids[3 * i + 1] = 0.5f * b[1] + 0.5f * b[4];
-        bd.centroids[3 * i + 2] = 0.5f * b[2] + 0.5f * b[5];
+        box_of(ud, i, bd.refs[i].lo, bd.refs[i].hi);
+        bd.refs[i].id = (unsigned)i;
+        bd.refs[i].pad = 0;
     }
     bd.n_nodes = 1;
-    stack[0].node = 0;
-    stack[0].begin = 0;
-    stack[0].end = n;
-    stack[0].depth = 0;
+    {
+        bounds root;
+        bounds_of(&bd, 0, n, &root);
+        child_task(&stack[0], 0, 0, n, 0, &root);
+    }
     sp = 1;
     /* Depth-first: the stack never holds more than two tasks per level. */
     while (sp > 0) {
         task t = stack[--sp];
-        sp += build_node(&bd, t, stack + sp);
+        sp += build_node(&bd, &t, stack + sp);
     }
-    ray__free(s, bd.centroids, 3 * n * sizeof *bd.centroids);
+    for (i = 0; i < n; i++)
+        items[i] = bd.refs[i].id;
+    ray__free(s, bd.refs, n * sizeof *bd.refs);
     out->nodes = ray__realloc(s, bd.nodes, cap * sizeof *bd.nodes,
                               bd.n_nodes * sizeof *bd.nodes);
     out->cap_nodes = bd.n_nodes;
@@ -294,7 +485,11 @@ int ray__bvh_build(const ray_scene *s, const float *boxes, size_t n,
         out->cap_nodes = cap;
     }
     out->n_nodes = bd.n_nodes;
-    out->items = bd.ids;
+    out->items = items;
     out->n_items = n;
+    if (collapse(s, out) != RAY_OK) {
+        ray__bvh_free(s, out);
+        return RAY_ENOMEM;
+    }
     return RAY_OK;
 }

@@ -4,124 +4,221 @@
 ** leaf order) and one over spheres and polygons.  Each hit shrinks tmax,
 ** so every later box and primitive is tested against the nearest so far.
 */
+#include <string.h>
+
 #include "internal.h"
 
 /*
-** The slab test is made in double on float boxes that were rounded
-** outward, with tfar grown by 1 + 2 gamma(3): the three roundings of
-** (b - o) * (1/d) can make the computed [tnear, tfar] miss a box the ray
-** enters by a hair, and this bound closes that gap (Ize, "Robust BVH Ray
-** Traversal", JCGT 2(2), 2013; pbrt-v4 Bounds3::IntersectP).
+** The slab test, four boxes at a time in float, kept conservative: it may
+** let a box through that the ray misses, never the reverse.
 **
-** A zero direction component makes 1/d = +-Inf (IEEE), so the slab is
-** [-Inf, +Inf] when the origin is strictly inside it and empty otherwise
-** (Williams et al., "An Efficient and Robust Ray-Box Intersection
-** Algorithm", JGT 10(1), 2005).  An origin exactly on that slab's plane
-** gives 0 * Inf = NaN; the max/min below are written so a NaN operand is
-** ignored, i.e. the ray is kept: conservative.
+**   * The origin is bracketed, o_lo <= o <= o_hi (float_down / float_up),
+**     and each plane distance uses the end that makes the near distance
+**     smaller and the far distance larger; the boxes themselves were
+**     rounded outward from the double geometry.
+**   * (b - o) * (1/d) then carries three float roundings, so the far
+**     distance is grown by 1 + 2 gamma(3) (float's gamma): the bound with
+**     which Ize proves no hit is lost ("Robust BVH Ray Traversal", JCGT
+**     2(2), 2013; pbrt-v4 Bounds3::IntersectP; Embree's robust mode).
+**   * A zero direction component makes 1/d = +-Inf (IEEE), so the slab is
+**     everything or nothing (Williams et al., "An Efficient and Robust
+**     Ray-Box Intersection Algorithm", JGT 10(1), 2005); 0 * Inf = NaN
+**     when the origin is on the plane, and the max/min below ignore a NaN
+**     operand: the box is kept.
+**
+** Everything else stays in double: the triangle tests decide the hits.
 */
 typedef struct trav {
-    double o[3], inv[3];
-    int near[3];             /* 0: lo is the near plane on that axis */
-    double grow;             /* 1 + 2 gamma(3) */
+    float o_near[3], o_far[3];   /* the origin end used for near / far */
+    float inv[3];
+    int near_hi[3];              /* 1: the near plane is hi on that axis */
+    float tmin, tmax;            /* the interval, widened to floats */
 } trav;
+
+/* float's gamma(3) doubled: 1 + 2 * 3u / (1 - 3u), u = 2^-24. */
+#define FLOAT_GROW (1.0f + 2.0f * (3.0f * 5.96046448e-8f) / \
+                               (1.0f - 3.0f * 5.96046448e-8f))
 
 static void trav_init(trav *tr, const ray_ray *r)
 {
-    double d[3];
+    double o[3], d[3];
     int k;
 
+    o[0] = r->org.x;
+    o[1] = r->org.y;
+    o[2] = r->org.z;
     d[0] = r->dir.x;
     d[1] = r->dir.y;
     d[2] = r->dir.z;
-    tr->o[0] = r->org.x;
-    tr->o[1] = r->org.y;
-    tr->o[2] = r->org.z;
     for (k = 0; k < 3; k++) {
-        tr->inv[k] = 1.0 / d[k];
-        tr->near[k] = tr->inv[k] < 0 || (tr->inv[k] == 0 && signbit(d[k]));
+        double inv = 1.0 / d[k];
+        int neg = inv < 0 || (inv == 0 && signbit(d[k]));
+        float lo = ray__float_down(o[k]), hi = ray__float_up(o[k]);
+        tr->inv[k] = (float)inv;
+        tr->near_hi[k] = neg;
+        /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
+        ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
+        tr->o_near[k] = neg ? lo : hi;
+        tr->o_far[k] = neg ? hi : lo;
     }
-    tr->grow = 1 + 2 * ray__gamma(3);
+    tr->tmin = ray__float_down(r->tmin);
+    tr->tmax = ray__float_up(r->tmax);
 }
 
-/* Does the ray meet node n's box within (tmin, tmax)?  *entry: where. */
-static int box_hit(const ray__node *n, const trav *tr, double tmin,
-                   double tmax, double *entry)
+/* Which of node q's four boxes does the ray enter within (tmin, tmax)?
+** Returns a bit mask; entry[k] is where it enters box k. */
+#if defined(__GNUC__) && !defined(RAY_NO_VECTOR_EXTENSIONS)
+/*
+** With GCC or Clang, the four lanes are written with their vector
+** extensions (one SSE/NEON register per quantity); the arithmetic is the
+** same as the plain loop below, lane for lane.  Selections go through
+** comparison masks so that a NaN lane keeps the old value exactly as the
+** plain "tn > t0 ? tn : t0" does.
+*/
+typedef float v4f __attribute__((vector_size(16)));
+typedef int v4i __attribute__((vector_size(16)));
+
+static inline v4f v4_load(const float *p)
 {
-    const float *b = n->lo;                 /* lo[3], hi[3] contiguous */
-    double t0 = tmin, t1 = tmax;
-    int k;
-
-    for (k = 0; k < 3; k++) {
-        double tn = ((double)b[3 * tr->near[k] + k] - tr->o[k]) * tr->inv[k];
-        double tf = ((double)b[3 * (1 - tr->near[k]) + k] - tr->o[k]) *
-                    tr->inv[k] * tr->grow;
-        t0 = tn > t0 ? tn : t0;             /* NaN tn: ignored */
-        t1 = tf < t1 ? tf : t1;             /* NaN tf: ignored */
-    }
-    *entry = t0;
-    return t0 <= t1;
+    v4f v;
+    memcpy(&v, p, sizeof v);     /* no alignment assumed: movups */
+    return v;
 }
 
-/* Does the ray hit item "i" of the BVH being traversed (shrinking
-** r->tmax on a nearest-hit query)? */
-typedef int (*leaf_test)(const ray_scene *s, unsigned i, ray_ray *r,
-                         void *best);
+static inline v4f v4_select(v4i mask, v4f a, v4f b)
+{
+    return (v4f)(((v4i)a & mask) | ((v4i)b & ~mask));
+}
+
+static inline unsigned boxes_hit(const ray__node4 *q, const trav *tr,
+                                 float tmax, float entry[4])
+{
+    v4f t0 = {tr->tmin, tr->tmin, tr->tmin, tr->tmin};
+    v4f t1 = {HUGE_VALF, HUGE_VALF, HUGE_VALF, HUGE_VALF};
+    v4f grow = {FLOAT_GROW, FLOAT_GROW, FLOAT_GROW, FLOAT_GROW};
+    v4f vmax = {tmax, tmax, tmax, tmax};
+    v4i hit;
+    int a;
+
+    for (a = 0; a < 3; a++) {
+        v4f np = v4_load(tr->near_hi[a] ? q->hi[a] : q->lo[a]);
+        v4f fp = v4_load(tr->near_hi[a] ? q->lo[a] : q->hi[a]);
+        v4f on = {tr->o_near[a], tr->o_near[a], tr->o_near[a], tr->o_near[a]};
+        v4f of = {tr->o_far[a], tr->o_far[a], tr->o_far[a], tr->o_far[a]};
+        v4f inv = {tr->inv[a], tr->inv[a], tr->inv[a], tr->inv[a]};
+        v4f tn = (np - on) * inv, tf = (fp - of) * inv;
+        t0 = v4_select(tn > t0, tn, t0);            /* NaN tn: ignored */
+        t1 = v4_select(tf < t1, tf, t1);            /* NaN tf: ignored */
+    }
+    t1 = t1 * grow;
+    t1 = v4_select(t1 < vmax, t1, vmax);
+    hit = t0 <= t1;
+    memcpy(entry, &t0, sizeof t0);
+    return (unsigned)((hit[0] & 1) | (hit[1] & 2) | (hit[2] & 4) |
+                      (hit[3] & 8));
+}
+#else
+static inline unsigned boxes_hit(const ray__node4 *q, const trav *tr,
+                                 float tmax, float entry[4])
+{
+    float t0[4], t1[4];
+    unsigned mask = 0;
+    int a, k;
+
+    for (k = 0; k < 4; k++) {
+        t0[k] = tr->tmin;
+        t1[k] = HUGE_VALF;
+    }
+    for (a = 0; a < 3; a++) {
+        const float *np = tr->near_hi[a] ? q->hi[a] : q->lo[a];
+        const float *fp = tr->near_hi[a] ? q->lo[a] : q->hi[a];
+        for (k = 0; k < 4; k++) {
+            float tn = (np[k] - tr->o_near[a]) * tr->inv[a];
+            float tf = (fp[k] - tr->o_far[a]) * tr->inv[a];
+            t0[k] = tn > t0[k] ? tn : t0[k];        /* NaN tn: ignored */
+            t1[k] = tf < t1[k] ? tf : t1[k];        /* NaN tf: ignored */
+        }
+    }
+    for (k = 0; k < 4; k++) {
+        float far = t1[k] * FLOAT_GROW;
+        far = far < tmax ? far : tmax;
+        entry[k] = t0[k];
+        mask |= (unsigned)(t0[k] <= far) << k;
+    }
+    return mask;
+}
+#endif
+
+enum { LEAF_TRIANGLES, LEAF_PRIMS };
+
+static int tri_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
+static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
 
 /*
-** Ordered traversal: of two children hit, the nearer is visited first and
-** the farther pushed with its entry distance, and popped only if still in
+** Ordered traversal: the children a ray enters are visited nearest first,
+** the others pushed with their entry distances and popped only if still in
 ** front of the nearest hit found since.  "any": stop at the first hit.
+** "leaf" picks the primitive test; the function is inlined into each
+** caller, so that choice is made at compile time.
 */
-static int traverse(const ray_scene *s, const ray__bvh *bvh, ray_ray *r,
-                    leaf_test test, void *best, int any,
-                    unsigned long long *tests)
+static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
+                           ray_ray *r, int leaf, void *best, int any,
+                           unsigned long long *tests)
 {
-    unsigned stack[64], ni = 0;
-    double stack_t[64], entry;
+    unsigned stack[4 * 64], ni = 0;
+    float stack_t[4 * 64], tmax;
     unsigned long long n_tests = 0;
     int sp = 0, found = 0;
     trav tr;
 
-    if (bvh->n_nodes == 0)
+    if (bvh->n_nodes4 == 0)
         return 0;
     trav_init(&tr, r);
-    if (!box_hit(&bvh->nodes[0], &tr, r->tmin, r->tmax, &entry))
-        return 0;
+    tmax = tr.tmax;
     for (;;) {
-        const ray__node *n = &bvh->nodes[ni];
-        if (n->count > 0) {
-            unsigned i;
-            for (i = n->first; i < n->first + n->count; i++) {
+        const ray__node4 *q = &bvh->nodes4[ni];
+        float entry[4];
+        unsigned mask = boxes_hit(q, &tr, tmax, entry), order[4];
+        int n = 0, k, j;
+
+        /* The entered children, sorted nearest first (insertion sort). */
+        for (k = 0; k < 4; k++) {
+            if (!(mask >> k & 1) || q->count[k] == RAY__EMPTY)
+                continue;
+            for (j = n; j > 0 && entry[order[j - 1]] > entry[k]; j--)
+                order[j] = order[j - 1];
+            order[j] = (unsigned)k;
+            n++;
+        }
+        /* Leaves now, nearest first; inner nodes go on the stack, the
+        ** nearest on top. */
+        for (k = 0; k < n; k++) {
+            unsigned c = order[k], i;
+            if (q->count[c] == 0 || entry[c] > tmax)
+                continue;
+            for (i = q->child[c]; i < q->child[c] + q->count[c]; i++) {
                 n_tests++;
-                if (test(s, i, r, best)) {
+                if (leaf == LEAF_TRIANGLES ? tri_test(s, i, r, best)
+                                           : prim_test(s, i, r, best)) {
                     found = 1;
                     if (any)
                         goto done;
+                    tmax = ray__float_up(r->tmax);
                 }
             }
-        } else {
-            double e0, e1;
-            int h0 = box_hit(&bvh->nodes[n->first], &tr, r->tmin, r->tmax, &e0);
-            int h1 = box_hit(&bvh->nodes[n->first + 1], &tr, r->tmin, r->tmax,
-                             &e1);
-            if (h0 && h1) {
-                int first_far = e1 < e0;
-                stack[sp] = n->first + (unsigned)!first_far;
-                stack_t[sp++] = first_far ? e0 : e1;
-                ni = n->first + (unsigned)first_far;
-                continue;
-            }
-            if (h0 || h1) {
-                ni = n->first + (unsigned)h1;
-                continue;
+        }
+        for (k = n - 1; k >= 0; k--) {
+            unsigned c = order[k];
+            if (q->count[c] == 0) {
+                stack[sp] = q->child[c];
+                stack_t[sp++] = entry[c];
             }
         }
         for (;;) {
             if (sp == 0)
                 goto done;
             sp--;
-            if (stack_t[sp] <= r->tmax) {
+            if (stack_t[sp] <= tmax) {
                 ni = stack[sp];
                 break;
             }
@@ -139,7 +236,8 @@ typedef struct tri_best {
     double beta, gamma;
 } tri_best;
 
-static int tri_test(const ray_scene *s, unsigned i, ray_ray *r, void *best)
+static inline int tri_test(const ray_scene *s, unsigned i, ray_ray *r,
+                           void *best)
 {
     const ray__tri *t = &s->tris[i];
     double th, beta, gamma;
@@ -210,9 +308,9 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
         }
     if (tests != NULL)
         *tests += s->n_planes;
-    if (traverse(s, &s->prim_bvh, &rr, prim_test, &best, 0, tests))
+    if (traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, &best, 0, tests))
         found = 1;
-    if (traverse(s, &s->tri_bvh, &rr, tri_test, &tb, 0, tests)) {
+    if (traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, &tb, 0, tests)) {
         const ray__tri *t = &s->tris[tb.index];
         /* A usable triangle (checked at commit) always fills. */
         if (ray__triangle_fill(t->a, t->b, t->c, rr.tmax, tb.beta, tb.gamma,
@@ -240,8 +338,8 @@ int ray__occluded(const ray_scene *s, const ray_ray *r,
         if (prim_intersect(s, s->planes[i], &rr, &h))
             return 1;
     }
-    return traverse(s, &s->prim_bvh, &rr, prim_test, NULL, 1, tests) ||
-           traverse(s, &s->tri_bvh, &rr, tri_test, NULL, 1, tests);
+    return traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, NULL, 1, tests) ||
+           traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, NULL, 1, tests);
 }
 
 int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)

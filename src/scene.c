@@ -444,81 +444,119 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
     return RAY_OK;
 }
 
-/* The float box of triangle t, rounded outward. */
-static void tri_box(const ray__tri *t, float *b)
+/* The smallest and largest of three finite numbers (no libm call: the
+** NaN rules of fmin are not needed here, vertices are finite). */
+static double min3(double a, double b, double c)
 {
-    b[0] = ray__float_down(fmin(t->a.x, fmin(t->b.x, t->c.x)));
-    b[1] = ray__float_down(fmin(t->a.y, fmin(t->b.y, t->c.y)));
-    b[2] = ray__float_down(fmin(t->a.z, fmin(t->b.z, t->c.z)));
-    b[3] = ray__float_up(fmax(t->a.x, fmax(t->b.x, t->c.x)));
-    b[4] = ray__float_up(fmax(t->a.y, fmax(t->b.y, t->c.y)));
-    b[5] = ray__float_up(fmax(t->a.z, fmax(t->b.z, t->c.z)));
+    double m = a < b ? a : b;
+    return m < c ? m : c;
 }
 
-/* A triangle that can be hit: its normal exists (see triangle.c). */
+static double max3(double a, double b, double c)
+{
+    double m = a > b ? a : b;
+    return m > c ? m : c;
+}
+
+/* The float box of triangle i of the scene, rounded outward. */
+static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
+{
+    const ray__tri *t = &((const ray_scene *)ud)->tris[i];
+
+    lo[0] = ray__float_down(min3(t->a.x, t->b.x, t->c.x));
+    lo[1] = ray__float_down(min3(t->a.y, t->b.y, t->c.y));
+    lo[2] = ray__float_down(min3(t->a.z, t->b.z, t->c.z));
+    hi[0] = ray__float_up(max3(t->a.x, t->b.x, t->c.x));
+    hi[1] = ray__float_up(max3(t->a.y, t->b.y, t->c.y));
+    hi[2] = ray__float_up(max3(t->a.z, t->b.z, t->c.z));
+}
+
+/* A triangle that can be hit: its normal exists, i.e. its cross product
+** has a non-zero finite component (what v3_normalize in triangle.c needs). */
 static int tri_usable(const ray__tri *t)
 {
-    ray_vec3 n;
-    return v3_normalize(v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a)), &n);
+    ray_vec3 n = v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a));
+    double m = fmax(fabs(n.x), fmax(fabs(n.y), fabs(n.z)));
+    return m > 0 && m < HUGE_VAL;
 }
 
 /*
-** The triangle BVH.  Unusable (zero-area) triangles are dropped; the rest
-** are rewritten in leaf order, so every leaf is a contiguous run of tris
-** and traversal needs no index indirection.  On failure nothing changes.
+** Put tris[i] (and its ids) at position i of leaf order, i.e. apply the
+** permutation items (item index of leaf position i) in place, walking its
+** cycles; the top bit of items[] marks the positions already placed
+** (indices are below 2^31).
+*/
+static void permute_tris(ray_scene *s, unsigned *items, size_t n)
+{
+    const unsigned done = 0x80000000u;
+    size_t start;
+
+    for (start = 0; start < n; start++) {
+        ray__tri t;
+        ray__tri_id id;
+        size_t pos = start;
+        if (items[start] & done)
+            continue;
+        t = s->tris[start];
+        id = s->tri_ids[start];
+        for (;;) {
+            size_t src = items[pos];
+            items[pos] |= done;
+            if (src == start) {
+                s->tris[pos] = t;
+                s->tri_ids[pos] = id;
+                break;
+            }
+            s->tris[pos] = s->tris[src];
+            s->tri_ids[pos] = s->tri_ids[src];
+            pos = src;
+        }
+    }
+}
+
+/*
+** The triangle BVH.  Unusable (zero-area) triangles are dropped (the
+** arrays are compacted in place), the rest rewritten in leaf order, so
+** every leaf is a contiguous run of tris and traversal needs no index
+** indirection.  On failure the triangles are only compacted: the same
+** set, so the scene answers the same.
 */
 static int commit_triangles(ray_scene *s)
 {
-    size_t total = s->n_tris, n = 0, i;
-    unsigned *keep;
-    float *boxes;
-    ray__tri *tris;
-    ray__tri_id *ids;
+    size_t n = 0, i;
     int rc;
 
-    if (total == 0)
-        return RAY_OK;
-    keep = ray__alloc(s, total * sizeof *keep);
-    boxes = ray__alloc(s, 6 * total * sizeof *boxes);
-    tris = ray__alloc(s, total * sizeof *tris);
-    ids = ray__alloc(s, total * sizeof *ids);
-    rc = keep && boxes && tris && ids ? RAY_OK : RAY_ENOMEM;
-    if (rc == RAY_OK) {
-        for (i = 0; i < total; i++)
-            if (tri_usable(&s->tris[i])) {
-                tri_box(&s->tris[i], boxes + 6 * n);
-                keep[n++] = (unsigned)i;
-            }
-        rc = ray__bvh_build(s, boxes, n, &s->tri_bvh);
-    }
-    if (rc == RAY_OK) {
-        for (i = 0; i < n; i++) {
-            unsigned src = keep[s->tri_bvh.items[i]];
-            tris[i] = s->tris[src];
-            ids[i] = s->tri_ids[src];
+    for (i = 0; i < s->n_tris; i++)
+        if (tri_usable(&s->tris[i])) {
+            s->tris[n] = s->tris[i];
+            s->tri_ids[n++] = s->tri_ids[i];
         }
-        /* Leaves now index tris directly: the permutation is not kept. */
-        ray__free(s, s->tri_bvh.items, s->tri_bvh.n_items * sizeof(unsigned));
-        s->tri_bvh.items = NULL;
-        s->tri_bvh.n_items = 0;
-        ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
-        ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
-        s->tris = tris;
-        s->tri_ids = ids;
-        s->cap_tris = s->cap_tri_ids = total;
-        s->n_tris = n;
-    } else {
-        ray__free(s, tris, total * sizeof *tris);
-        ray__free(s, ids, total * sizeof *ids);
-    }
-    ray__free(s, keep, total * sizeof *keep);
-    ray__free(s, boxes, 6 * total * sizeof *boxes);
-    return rc;
+    s->n_tris = n;
+    if (n == 0)
+        return RAY_OK;
+    rc = ray__bvh_build(s, tri_box, s, n, &s->tri_bvh);
+    if (rc != RAY_OK)
+        return rc;
+    permute_tris(s, s->tri_bvh.items, n);
+    /* Leaves now index tris directly: the permutation is not kept. */
+    ray__free(s, s->tri_bvh.items, s->tri_bvh.n_items * sizeof(unsigned));
+    s->tri_bvh.items = NULL;
+    s->tri_bvh.n_items = 0;
+    return RAY_OK;
 }
 
+/* The bounded primitives' ids, for the box callback. */
+typedef struct prim_list {
+    const ray_scene *s;
+    const unsigned *ids;
+} prim_list;
+
 /* The float box of a bounded non-triangle primitive, rounded outward. */
-static void prim_box(const ray_scene *s, const ray__prim *p, float *b)
+static void prim_box(const void *ud, size_t item, float *blo, float *bhi)
 {
+    const prim_list *pl = ud;
+    const ray_scene *s = pl->s;
+    const ray__prim *p = &s->prims[pl->ids[item]];
     ray_vec3 lo, hi;
     size_t i;
 
@@ -534,12 +572,12 @@ static void prim_box(const ray_scene *s, const ray__prim *p, float *b)
         }
     }
     /* lo - r and hi + r round too: one more float step covers that. */
-    b[0] = nextafterf(ray__float_down(lo.x), -HUGE_VALF);
-    b[1] = nextafterf(ray__float_down(lo.y), -HUGE_VALF);
-    b[2] = nextafterf(ray__float_down(lo.z), -HUGE_VALF);
-    b[3] = nextafterf(ray__float_up(hi.x), HUGE_VALF);
-    b[4] = nextafterf(ray__float_up(hi.y), HUGE_VALF);
-    b[5] = nextafterf(ray__float_up(hi.z), HUGE_VALF);
+    blo[0] = nextafterf(ray__float_down(lo.x), -HUGE_VALF);
+    blo[1] = nextafterf(ray__float_down(lo.y), -HUGE_VALF);
+    blo[2] = nextafterf(ray__float_down(lo.z), -HUGE_VALF);
+    bhi[0] = nextafterf(ray__float_up(hi.x), HUGE_VALF);
+    bhi[1] = nextafterf(ray__float_up(hi.y), HUGE_VALF);
+    bhi[2] = nextafterf(ray__float_up(hi.z), HUGE_VALF);
 }
 
 /*
@@ -548,9 +586,9 @@ static void prim_box(const ray_scene *s, const ray__prim *p, float *b)
 */
 static int commit_prims(ray_scene *s)
 {
-    size_t n_bounded = 0, n_planes = 0, i, k;
+    size_t n_bounded = 0, n_planes = 0, nb = 0, np = 0, i, k;
     unsigned *ids = NULL, *planes = NULL;
-    float *boxes = NULL;
+    prim_list pl;
     int rc = RAY_OK;
 
     for (i = 0; i < s->n_prims; i++) {
@@ -558,25 +596,22 @@ static int commit_prims(ray_scene *s)
         n_bounded += kind == PRIM_SPHERE || kind == PRIM_POLYGON;
         n_planes += kind == PRIM_PLANE;
     }
-    if (n_planes > 0 && (planes = ray__alloc(s, n_planes * sizeof *planes)) == NULL)
+    if (n_planes > 0 &&
+        (planes = ray__alloc(s, n_planes * sizeof *planes)) == NULL)
         return RAY_ENOMEM;
-    if (n_bounded > 0) {
-        ids = ray__alloc(s, n_bounded * sizeof *ids);
-        boxes = ray__alloc(s, 6 * n_bounded * sizeof *boxes);
-        rc = ids && boxes ? RAY_OK : RAY_ENOMEM;
-    }
+    if (n_bounded > 0 && (ids = ray__alloc(s, n_bounded * sizeof *ids)) == NULL)
+        rc = RAY_ENOMEM;
     if (rc == RAY_OK) {
-        size_t nb = 0, np = 0;
         for (i = 0; i < s->n_prims; i++) {
             int kind = s->prims[i].kind;
             if (kind == PRIM_PLANE)
                 planes[np++] = (unsigned)i;
-            else if (kind == PRIM_SPHERE || kind == PRIM_POLYGON) {
-                prim_box(s, &s->prims[i], boxes + 6 * nb);
+            else if (kind == PRIM_SPHERE || kind == PRIM_POLYGON)
                 ids[nb++] = (unsigned)i;
-            }
         }
-        rc = ray__bvh_build(s, boxes, n_bounded, &s->prim_bvh);
+        pl.s = s;
+        pl.ids = ids;
+        rc = ray__bvh_build(s, prim_box, &pl, n_bounded, &s->prim_bvh);
     }
     if (rc == RAY_OK) {
         /* Items become prim indices. */
@@ -587,7 +622,6 @@ static int commit_prims(ray_scene *s)
     } else
         ray__free(s, planes, n_planes * sizeof *planes);
     ray__free(s, ids, n_bounded * sizeof *ids);
-    ray__free(s, boxes, 6 * n_bounded * sizeof *boxes);
     return rc;
 }
 

@@ -70,19 +70,34 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     double ei_hf = e * i - h * f, gf_di = g * f - d * i, dh_eg = d * h - e * g;
     double ak_jb = a * k - j * b, jc_al = j * c - a * l, bl_kc = b * l - k * c;
     double m = a * ei_hf + b * gf_di + c * dh_eg;
-    double t, beta, gamma;
+    double t_num, gamma_num, beta_num, sign, t, beta, gamma;
 
-    /* Divisions rather than one reciprocal: each quotient is then
-    ** correctly rounded, and an edge hit stays exactly on its edge. */
     if (m == 0)                  /* parallel ray, or zero-area triangle */
         return 0;
-    t = -(f * ak_jb + e * jc_al + d * bl_kc) / m;
+    /*
+    ** Sign filters on the numerators first, exact and division-free: for
+    ** sign = sign(m), x/m >= 0 exactly when sign * x >= 0 (the quotient of
+    ** a signed zero is a zero of the same sign), and a NaN fails both.  So
+    ** these reject nothing the tests below would accept, and most misses
+    ** never pay for a division.
+    */
+    sign = m > 0 ? 1.0 : -1.0;
+    gamma_num = i * ak_jb + h * jc_al + g * bl_kc;
+    beta_num = j * ei_hf + k * gf_di + l * dh_eg;
+    if (!(sign * gamma_num >= 0 && sign * beta_num >= 0))
+        return 0;
+    t_num = -(f * ak_jb + e * jc_al + d * bl_kc);
+    if (r->tmin >= 0 && !(sign * t_num > 0))      /* t <= 0 <= tmin */
+        return 0;
+    /* Divisions rather than one reciprocal: each quotient is then
+    ** correctly rounded, and an edge hit stays exactly on its edge. */
+    t = t_num / m;
     if (!(t > r->tmin && t < r->tmax))
         return 0;
-    gamma = (i * ak_jb + h * jc_al + g * bl_kc) / m;
+    gamma = gamma_num / m;
     if (!(gamma >= 0 && gamma <= 1))
         return 0;
-    beta = (j * ei_hf + k * gf_di + l * dh_eg) / m;
+    beta = beta_num / m;
     if (!(beta >= 0 && beta <= 1 - gamma))
         return 0;
     *t_out = t;

@@ -24,6 +24,7 @@ Suite *scene_suite(void);
 Suite *trace_suite(void);
 Suite *render_suite(void);
 Suite *bvh_suite(void);
+Suite *obj_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)

@@ -1,0 +1,601 @@
+/*
+** mesh.c -- BVH benchmark on the Stanford bunny (scripts/fetch-bunny.sh):
+** build time, primary-ray and incoherent-ray throughput at 1 thread and
+** all threads, bytes per triangle, the BVH against brute force on the
+** small bunny, and -- when built with Embree (HAVE_EMBREE) -- the same
+** rays through Embree's rtcIntersect1/rtcOccluded1 in the same run, with
+** throughput ratios and agreement.  Prints Markdown; asserts nothing.
+**
+**     mesh DATA_DIR          (bunny.obj, bunny-2.obj, bunny-4.obj)
+**
+** Method: every timing is the median of REPS runs after one warm-up run;
+** ours and Embree's alternate within each repetition, so a noisy
+** neighbour hits both.  BENCH_QUICK=1: 256 x 256 rays, fewer repetitions,
+** and the 940k mesh skipped.
+*/
+#include <pthread.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "obj.h"
+#include "common.h"
+
+#ifdef HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
+static int reps = 5;
+
+/* ------------------------------------------------------------ timing */
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* ------------------------------------------------------------ rays */
+
+typedef struct ray_set {
+    ray_ray *rays;
+    size_t n;
+    int occlusion;           /* any-hit queries (shadow-style) */
+} ray_set;
+
+/* Results of one pass: hit flag, t, primitive per ray. */
+typedef struct results {
+    unsigned char *hit;
+    double *t;
+    unsigned *prim;
+} results;
+
+static void results_alloc(results *r, size_t n)
+{
+    r->hit = calloc(n, 1);
+    r->t = calloc(n, sizeof *r->t);
+    r->prim = calloc(n, sizeof *r->prim);
+    if (r->hit == NULL || r->t == NULL || r->prim == NULL) {
+        fprintf(stderr, "bench: out of memory\n");
+        exit(1);
+    }
+}
+
+static void results_free(results *r)
+{
+    free(r->hit);
+    free(r->t);
+    free(r->prim);
+}
+
+/* Camera on +z at dist * diag from the centre, 45 degrees, res x res. */
+static ray_set primary_rays(ray_vec3 centre, double diag, double dist,
+                            unsigned res)
+{
+    ray_set s;
+    double half = tan(45.0 * 3.14159265358979323846 / 360.0);
+    unsigned x, y;
+
+    s.n = (size_t)res * res;
+    s.occlusion = 0;
+    s.rays = malloc(s.n * sizeof *s.rays);
+    if (s.rays == NULL)
+        exit(1);
+    for (y = 0; y < res; y++)
+        for (x = 0; x < res; x++) {
+            ray_ray *r = &s.rays[(size_t)y * res + x];
+            r->org = vec(centre.x, centre.y, centre.z + dist * diag);
+            r->dir = vec((2 * (x + 0.5) / res - 1) * half,
+                         (1 - 2 * (y + 0.5) / res) * half, -1);
+            r->tmin = 0;
+            r->tmax = HUGE_VAL;
+        }
+    return s;
+}
+
+/*
+** Incoherent rays: from each primary hit, a direction drawn from the
+** cosine distribution about the normal on the side the ray came from
+** (Malley's method: a uniform disk sample lifted to the hemisphere),
+** origin offset by ray_spawn.  Shadow-style (any-hit) if occlusion.
+**
+** ray_spawn's offset is scaled to our double hit point's error (~1e-15
+** here); Embree works in float and has no such offset, so from the same
+** origin it re-hits the surface the ray leaves at t ~ 1e-7.  To compare
+** like with like, both engines get tmin = 1e-5 diagonals (about 100 float
+** ulps of the coordinates): hits closer than that are ignored by both.
+*/
+static ray_set secondary_rays(const ray_scene *scene, const ray_set *prim,
+                              int occlusion, double diag)
+{
+    ray_set s;
+    size_t i;
+    unsigned long long state = 12345;
+
+    s.rays = malloc(prim->n * sizeof *s.rays);
+    s.n = 0;
+    s.occlusion = occlusion;
+    if (s.rays == NULL)
+        exit(1);
+    for (i = 0; i < prim->n; i++) {
+        ray_hit h;
+        ray_vec3 n, t1, t2, d;
+        double u1, u2, r, phi;
+        if (!ray_intersect(scene, &prim->rays[i], &h))
+            continue;
+        n = h.n;
+        if (n.x * prim->rays[i].dir.x + n.y * prim->rays[i].dir.y +
+            n.z * prim->rays[i].dir.z > 0)
+            n = vec(-n.x, -n.y, -n.z);
+        t1 = fabs(n.x) > 0.5 ? vec(n.y, -n.x, 0) : vec(0, n.z, -n.y);
+        r = sqrt(t1.x * t1.x + t1.y * t1.y + t1.z * t1.z);
+        t1 = vec(t1.x / r, t1.y / r, t1.z / r);
+        t2 = vec(n.y * t1.z - n.z * t1.y, n.z * t1.x - n.x * t1.z,
+                 n.x * t1.y - n.y * t1.x);
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        u1 = (double)(state >> 11) / 9007199254740992.0;
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        u2 = (double)(state >> 11) / 9007199254740992.0;
+        r = sqrt(u1);
+        phi = 2 * 3.14159265358979323846 * u2;
+        d = vec(t1.x * r * cos(phi) + t2.x * r * sin(phi) + n.x * sqrt(1 - u1),
+                t1.y * r * cos(phi) + t2.y * r * sin(phi) + n.y * sqrt(1 - u1),
+                t1.z * r * cos(phi) + t2.z * r * sin(phi) + n.z * sqrt(1 - u1));
+        if (ray_spawn(&h, d, &s.rays[s.n]) == RAY_OK) {
+            s.rays[s.n].tmin = 1e-5 * diag;
+            s.n++;
+        }
+    }
+    return s;
+}
+
+/* ------------------------------------------------------------ tracing */
+
+typedef struct job {
+    const ray_set *set;
+    results *out;
+    void *engine;            /* ray_scene or RTCScene */
+    int embree;
+    pthread_mutex_t lock;
+    size_t next;
+} job;
+
+#define CHUNK 4096
+
+#ifdef HAVE_EMBREE
+static void embree_trace(RTCScene scene, const ray_ray *r, int occlusion,
+                         results *out, size_t i)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    if (occlusion) {
+        struct RTCRay ray;
+        ray.org_x = (float)r->org.x;
+        ray.org_y = (float)r->org.y;
+        ray.org_z = (float)r->org.z;
+        ray.dir_x = (float)r->dir.x;
+        ray.dir_y = (float)r->dir.y;
+        ray.dir_z = (float)r->dir.z;
+        ray.tnear = (float)r->tmin;
+        ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
+        ray.mask = 0xffffffffu;
+        ray.flags = 0;
+        ray.time = 0;
+        rtcOccluded1(scene, &ctx, &ray);
+        out->hit[i] = ray.tfar < 0;
+    } else {
+        struct RTCRayHit rh;
+        rh.ray.org_x = (float)r->org.x;
+        rh.ray.org_y = (float)r->org.y;
+        rh.ray.org_z = (float)r->org.z;
+        rh.ray.dir_x = (float)r->dir.x;
+        rh.ray.dir_y = (float)r->dir.y;
+        rh.ray.dir_z = (float)r->dir.z;
+        rh.ray.tnear = (float)r->tmin;
+        rh.ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
+        rh.ray.mask = 0xffffffffu;
+        rh.ray.flags = 0;
+        rh.ray.time = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &rh);
+        out->hit[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        out->t[i] = rh.ray.tfar;
+        out->prim[i] = rh.hit.primID;
+    }
+}
+#endif
+
+static void *trace_worker(void *arg)
+{
+    job *j = arg;
+    for (;;) {
+        size_t begin, end, i;
+        pthread_mutex_lock(&j->lock);
+        begin = j->next;
+        j->next += CHUNK;
+        pthread_mutex_unlock(&j->lock);
+        if (begin >= j->set->n)
+            return NULL;
+        end = begin + CHUNK < j->set->n ? begin + CHUNK : j->set->n;
+        for (i = begin; i < end; i++) {
+            const ray_ray *r = &j->set->rays[i];
+#ifdef HAVE_EMBREE
+            if (j->embree) {
+                embree_trace((RTCScene)j->engine, r, j->set->occlusion,
+                             j->out, i);
+                continue;
+            }
+#endif
+            if (j->set->occlusion)
+                j->out->hit[i] = (unsigned char)ray_occluded(j->engine, r);
+            else {
+                ray_hit h;
+                j->out->hit[i] = (unsigned char)ray_intersect(j->engine, r, &h);
+                if (j->out->hit[i]) {
+                    j->out->t[i] = h.t;
+                    j->out->prim[i] = h.prim_id;
+                }
+            }
+        }
+    }
+}
+
+/* Trace the set with "threads" threads; returns seconds. */
+static double trace_all(void *engine, int embree, const ray_set *set,
+                        results *out, unsigned threads)
+{
+    pthread_t tid[256];
+    job j;
+    unsigned k;
+    double t;
+
+    j.set = set;
+    j.out = out;
+    j.engine = engine;
+    j.embree = embree;
+    j.next = 0;
+    pthread_mutex_init(&j.lock, NULL);
+    t = now_seconds();
+    for (k = 1; k < threads; k++)
+        pthread_create(&tid[k], NULL, trace_worker, &j);
+    trace_worker(&j);
+    for (k = 1; k < threads; k++)
+        pthread_join(tid[k], NULL);
+    t = now_seconds() - t;
+    pthread_mutex_destroy(&j.lock);
+    return t;
+}
+
+/* ------------------------------------------------------------ scenes */
+
+typedef struct counting {
+    long long now, peak;
+} counting;
+
+static void *counting_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    counting *c = ud;
+    void *p;
+
+    if (nsize == 0) {
+        c->now -= (long long)osize;
+        free(ptr);
+        return NULL;
+    }
+    p = realloc(ptr, nsize);
+    if (p != NULL) {
+        c->now += (long long)nsize - (long long)osize;
+        if (c->now > c->peak)
+            c->peak = c->now;
+    }
+    return p;
+}
+
+static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                      ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    (void)out;
+}
+
+/* Our scene of the mesh; *build_s: the commit (BVH build) time. */
+static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
+                            double *build_s)
+{
+    ray_material m = {nop_shade, NULL, 0};
+    ray_mesh mesh = obj_as_ray_mesh(obj);
+    ray_scene *s;
+    unsigned mat;
+    double t;
+
+    check(ray_scene_new(&s, counting_alloc, cnt), "ray_scene_new");
+    check(ray_scene_add_material(s, &m, &mat), "material");
+    check(ray_scene_add_mesh(s, &mesh, mat, NULL), "mesh");
+    t = now_seconds();
+    check(ray_scene_commit(s), "commit");
+    *build_s = now_seconds() - t;
+    return s;
+}
+
+#ifdef HAVE_EMBREE
+/* Embree's scene of the same mesh (float vertices: Embree's format). */
+static RTCScene embree_scene(RTCDevice dev, const obj_mesh *obj,
+                             double *build_s)
+{
+    RTCScene scene = rtcNewScene(dev);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                       RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                       obj->vertex_count);
+    unsigned *idx = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
+                                            RTC_FORMAT_UINT3,
+                                            3 * sizeof(unsigned),
+                                            obj->triangle_count);
+    size_t i;
+    double t;
+
+    for (i = 0; i < obj->vertex_count; i++) {
+        v[3 * i] = (float)obj->vertices[i].x;
+        v[3 * i + 1] = (float)obj->vertices[i].y;
+        v[3 * i + 2] = (float)obj->vertices[i].z;
+    }
+    memcpy(idx, obj->indices, 3 * obj->triangle_count * sizeof *idx);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    t = now_seconds();
+    rtcCommitScene(scene);
+    *build_s = now_seconds() - t;
+    return scene;
+}
+#endif
+
+/* ------------------------------------------------------------ report */
+
+static void bbox(const obj_mesh *obj, ray_vec3 *centre, double *diag)
+{
+    ray_vec3 lo = obj->vertices[0], hi = lo;
+    size_t i;
+
+    for (i = 1; i < obj->vertex_count; i++) {
+        ray_vec3 v = obj->vertices[i];
+        lo = vec(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
+        hi = vec(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
+    }
+    *centre = vec((lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2);
+    *diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
+                 (hi.z - lo.z) * (hi.z - lo.z));
+}
+
+/* Fraction of rays with the same hit/miss and (closest-hit) primitive;
+** the largest relative difference of t among rays both hit. */
+static void agreement(const ray_set *set, const results *a, const results *b,
+                      double *same, double *t_rel)
+{
+    size_t i, agree = 0;
+    double worst = 0;
+
+    for (i = 0; i < set->n; i++) {
+        int ok = a->hit[i] == b->hit[i];
+        if (ok && a->hit[i] && !set->occlusion) {
+            double d = fabs(a->t[i] - b->t[i]) / fmax(fabs(a->t[i]), 1e-30);
+            ok = a->prim[i] == b->prim[i];
+            if (d > worst)
+                worst = d;
+        }
+        agree += (size_t)ok;
+    }
+    *same = (double)agree / (double)set->n;
+    *t_rel = worst;
+}
+
+static void run_set(const char *name, ray_scene *ours, void *embree,
+                    const ray_set *set, unsigned threads)
+{
+    double t_ours[9], t_emb[9], mo, me = 0, same = 0, t_rel = 0;
+    results ro, re;
+    int k;
+
+    results_alloc(&ro, set->n);
+    results_alloc(&re, set->n);
+    trace_all(ours, 0, set, &ro, threads);               /* warm-up */
+#ifdef HAVE_EMBREE
+    trace_all(embree, 1, set, &re, threads);
+#else
+    (void)embree;
+#endif
+    for (k = 0; k < reps; k++) {
+        t_ours[k] = trace_all(ours, 0, set, &ro, threads);
+#ifdef HAVE_EMBREE
+        t_emb[k] = trace_all(embree, 1, set, &re, threads);
+#else
+        t_emb[k] = 0;
+#endif
+    }
+    mo = median(t_ours, reps);
+#ifdef HAVE_EMBREE
+    me = median(t_emb, reps);
+    agreement(set, &ro, &re, &same, &t_rel);
+    printf("| %s | %u | %zu | %.2f | %.2f | %.2f | %.4f%% | %.1e |\n", name,
+           threads, set->n, (double)set->n / mo / 1e6,
+           (double)set->n / me / 1e6, me / mo,
+           100 * same, t_rel);
+#else
+    (void)t_emb;
+    (void)same;
+    (void)t_rel;
+    (void)agreement;
+    printf("| %s | %u | %zu | %.2f | - | - | - | - |\n", name, threads,
+           set->n, (double)set->n / mo / 1e6);
+#endif
+    results_free(&ro);
+    results_free(&re);
+}
+
+static void bench_mesh(const char *path, unsigned res, unsigned cpus,
+                       void *device)
+{
+    obj_mesh obj;
+    char err[600];
+    counting cnt = {0, 0};
+    double builds[9], build_emb[9], b_ours, b_emb = 0, diag;
+    ray_scene *ours = NULL;
+    void *emb = NULL;
+    ray_vec3 centre;
+    ray_set far, near, diffuse, shadow;
+    int k;
+
+    if (obj_load(path, &obj, err, sizeof err) != 0) {
+        printf("(skipped: %s)\n\n", err);
+        return;
+    }
+    for (k = 0; k < reps; k++) {
+        if (ours != NULL)
+            ray_scene_free(ours);
+        cnt.now = cnt.peak = 0;
+        ours = our_scene(&obj, &cnt, &builds[k]);
+#ifdef HAVE_EMBREE
+        if (emb != NULL)
+            rtcReleaseScene((RTCScene)emb);
+        emb = embree_scene((RTCDevice)device, &obj, &build_emb[k]);
+#else
+        (void)device;
+        build_emb[k] = 0;
+#endif
+    }
+    b_ours = median(builds, reps);
+    printf("### %s: %zu triangles\n\n", path, obj.triangle_count);
+    printf("BVH build (ray_scene_commit, one thread): %.1f ms; memory after "
+           "commit %.1f bytes/triangle, peak %.1f\n", 1e3 * b_ours,
+           (double)cnt.now / (double)obj.triangle_count,
+           (double)cnt.peak / (double)obj.triangle_count);
+#ifdef HAVE_EMBREE
+    b_emb = median(build_emb, reps);
+    printf("Embree rtcCommitScene (its own thread pool, all CPUs): %.1f ms\n",
+           1e3 * b_emb);
+#endif
+    printf("\n| rays | threads | count | ours Mrays/s | Embree Mrays/s | "
+           "ours / Embree | same hit and primitive | max rel. t diff |\n");
+    printf("|---|---|---|---|---|---|---|---|\n");
+    bbox(&obj, &centre, &diag);
+    far = primary_rays(centre, diag, 2.5, res);
+    near = primary_rays(centre, diag, 1.0, res);
+    diffuse = secondary_rays(ours, &near, 0, diag);
+    shadow = secondary_rays(ours, &near, 1, diag);
+    run_set("primary, 2.5 diagonals", ours, emb, &far, 1);
+    run_set("primary, 2.5 diagonals", ours, emb, &far, cpus);
+    run_set("primary, 1.0 diagonal", ours, emb, &near, 1);
+    run_set("primary, 1.0 diagonal", ours, emb, &near, cpus);
+    run_set("incoherent (cosine), closest", ours, emb, &diffuse, 1);
+    run_set("incoherent (cosine), closest", ours, emb, &diffuse, cpus);
+    run_set("incoherent (cosine), any-hit", ours, emb, &shadow, 1);
+    run_set("incoherent (cosine), any-hit", ours, emb, &shadow, cpus);
+    printf("\n");
+    free(far.rays);
+    free(near.rays);
+    free(diffuse.rays);
+    free(shadow.rays);
+    ray_scene_free(ours);
+#ifdef HAVE_EMBREE
+    rtcReleaseScene((RTCScene)emb);
+#endif
+    obj_free(&obj);
+}
+
+/* The BVH against testing every triangle, on the small bunny. */
+static void bench_brute(const char *path)
+{
+    obj_mesh obj;
+    char err[600];
+    counting cnt = {0, 0};
+    double b, diag, t_bvh[9], t_brute[9];
+    ray_scene *ours;
+    ray_vec3 centre;
+    ray_set set;
+    size_t i, j;
+    int k;
+
+    if (obj_load(path, &obj, err, sizeof err) != 0) {
+        printf("(skipped: %s)\n\n", err);
+        return;
+    }
+    ours = our_scene(&obj, &cnt, &b);
+    bbox(&obj, &centre, &diag);
+    set = primary_rays(centre, diag, 1.0, 64);
+    for (k = 0; k < reps; k++) {
+        double t = now_seconds();
+        for (i = 0; i < set.n; i++) {
+            ray_hit h;
+            ray_intersect(ours, &set.rays[i], &h);
+        }
+        t_bvh[k] = now_seconds() - t;
+        t = now_seconds();
+        for (i = 0; i < set.n; i++) {
+            ray_ray r = set.rays[i];
+            ray_hit h;
+            for (j = 0; j < obj.triangle_count; j++) {
+                const unsigned *f = obj.indices + 3 * j;
+                if (ray_triangle(&r, obj.vertices[f[0]], obj.vertices[f[1]],
+                                 obj.vertices[f[2]], &h))
+                    r.tmax = h.t;
+            }
+        }
+        t_brute[k] = now_seconds() - t;
+    }
+    printf("BVH vs brute force (%s, %zu triangles, %zu primary rays at 1.0 "
+           "diagonal): %.3g vs %.3g us per ray, BVH %.0fx faster\n\n", path,
+           obj.triangle_count, set.n,
+           1e6 * median(t_bvh, reps) / (double)set.n,
+           1e6 * median(t_brute, reps) / (double)set.n,
+           median(t_brute, reps) / median(t_bvh, reps));
+    free(set.rays);
+    ray_scene_free(ours);
+    obj_free(&obj);
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = argc > 1 ? argv[1] : "data";
+    int quick = getenv("BENCH_QUICK") != NULL;
+    unsigned res = quick ? 256 : 1024;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    unsigned cpus = n > 0 ? (n > 256 ? 256 : (unsigned)n) : 1;
+    char path[512];
+    void *device = NULL;
+
+    reps = quick ? 3 : 5;
+    printf("## Meshes: the Stanford bunny, BVH vs %s\n\n",
+#ifdef HAVE_EMBREE
+           "Embree " RTC_VERSION_STRING " (rtcIntersect1 / rtcOccluded1, "
+           "default scene flags, float)"
+#else
+           "brute force (Embree absent: install libembree-dev and rerun)"
+#endif
+    );
+    printf("Rays: %ux%u, 1 per pixel, camera on +z at the given distance in "
+           "bounding-box diagonals from the centre, 45 degree field of view; "
+           "incoherent rays: cosine-distributed from the 1.0-diagonal hits. "
+           "Median of %d runs; %u CPUs.\n\n", res, res, reps, cpus);
+#ifdef HAVE_EMBREE
+    device = rtcNewDevice(NULL);
+#endif
+    snprintf(path, sizeof path, "%s/bunny.obj", dir);
+    bench_brute(path);
+    snprintf(path, sizeof path, "%s/bunny-2.obj", dir);
+    bench_mesh(path, res, cpus, device);
+    if (!quick) {
+        snprintf(path, sizeof path, "%s/bunny-4.obj", dir);
+        bench_mesh(path, res, cpus, device);
+    }
+#ifdef HAVE_EMBREE
+    rtcReleaseDevice((RTCDevice)device);
+#endif
+    return 0;
+}
