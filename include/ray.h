@@ -421,8 +421,9 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** ray_shade_args.shading_normal) and per-vertex texture coordinates (s, t)
 ** (two doubles per vertex, interpolated into ray_shade_args.u, v).
 ** Everything is COPIED: the arrays may be freed when the call returns.
-** Hits report the mesh's geom_id and prim_id = i.  Triangles of zero area
-** are kept in the count but can never be hit.
+** Hits report the mesh's geom_id and prim_id = i.  Triangles that have no
+** normal (zero area, or a cross product that overflows) are kept in the
+** count but can never be hit.
 **
 ** Errors, with nothing added: RAY_EINVAL for NULL pointers, no triangles,
 ** an index >= vertex_count, a NaN/Inf vertex, normal or texture coordinate,

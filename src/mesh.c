@@ -13,8 +13,7 @@ static int mesh_valid(const ray_mesh *m)
     size_t i;
 
     if (m->vertices == NULL || m->indices == NULL || m->vertex_count == 0 ||
-        m->triangle_count == 0 ||
-        m->triangle_count > ((size_t)-1) / 3 / sizeof(unsigned))
+        m->triangle_count == 0)
         return 0;
     for (i = 0; i < 3 * m->triangle_count; i++)
         if (m->indices[i] >= m->vertex_count)
@@ -88,6 +87,8 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
         return RAY_EINVAL;
     if (s->committed)
         return RAY_ESTATE;
+    if (m->triangle_count > ((size_t)-1) / 3 / sizeof(unsigned))
+        return RAY_ENOMEM;                  /* the index count overflows */
     if (!mesh_valid(m) || material >= s->n_materials)
         return RAY_EINVAL;
     rc = ray__reserve_tris(s, m->triangle_count);

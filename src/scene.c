@@ -480,6 +480,30 @@ static int tri_usable(const ray__tri *t)
     return m > 0 && m < HUGE_VAL;
 }
 
+/* Give back the spare capacity that doubling left in the triangle arrays
+** (a failed shrink keeps the larger block: harmless). */
+static void trim_tris(ray_scene *s)
+{
+    void *p;
+
+    if (s->cap_tris > s->n_tris) {
+        p = ray__realloc(s, s->tris, s->cap_tris * sizeof *s->tris,
+                         s->n_tris * sizeof *s->tris);
+        if (p != NULL) {
+            s->tris = p;
+            s->cap_tris = s->n_tris;
+        }
+    }
+    if (s->cap_tri_ids > s->n_tris) {
+        p = ray__realloc(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids,
+                         s->n_tris * sizeof *s->tri_ids);
+        if (p != NULL) {
+            s->tri_ids = p;
+            s->cap_tri_ids = s->n_tris;
+        }
+    }
+}
+
 /*
 ** Put tris[i] (and its ids) at position i of leaf order, i.e. apply the
 ** permutation items (item index of leaf position i) in place, walking its
@@ -542,6 +566,7 @@ static int commit_triangles(ray_scene *s)
     ray__free(s, s->tri_bvh.items, s->tri_bvh.n_items * sizeof(unsigned));
     s->tri_bvh.items = NULL;
     s->tri_bvh.n_items = 0;
+    trim_tris(s);
     return RAY_OK;
 }
 
