@@ -51,20 +51,40 @@ static inline int progress_bar(void *ud, unsigned done, unsigned total)
     return 0;
 }
 
-static inline void print_stats(const char *name, const ray_stats *s, double seconds)
+static inline void print_stats(const char *name, const ray_stats *s,
+                               double seconds)
 {
     unsigned long long total = s->rays[RAY_KIND_PRIMARY] +
                                s->rays[RAY_KIND_SHADOW] +
                                s->rays[RAY_KIND_REFLECTION] +
                                s->rays[RAY_KIND_REFRACTION];
+    unsigned long long sum = 0;
+    int k, lo = -1, hi = -1;
 
     printf("%s: rays primary %llu, shadow %llu, reflection %llu, "
            "refraction %llu (total %llu)\n", name,
            s->rays[RAY_KIND_PRIMARY], s->rays[RAY_KIND_SHADOW],
            s->rays[RAY_KIND_REFLECTION], s->rays[RAY_KIND_REFRACTION], total);
-    printf("%s: intersection tests %llu, deepest level %u, cut by depth "
-           "%llu, weight %llu, fan-out %llu\n", name, s->tests, s->max_depth,
-           s->cut_depth, s->cut_weight, s->cut_fanout);
+    printf("%s: intersection tests %llu (spheres %llu, planes %llu, "
+           "triangles %llu, polygons %llu)\n", name, s->tests,
+           s->tests_by_kind[RAY_PRIM_SPHERE], s->tests_by_kind[RAY_PRIM_PLANE],
+           s->tests_by_kind[RAY_PRIM_TRIANGLE],
+           s->tests_by_kind[RAY_PRIM_POLYGON]);
+    printf("%s: deepest level %u, rays cut by depth %llu, weight %llu, "
+           "fan-out %llu\n", name, s->max_depth, s->cut_depth, s->cut_weight,
+           s->cut_fanout);
+    for (k = 0; k < RAY_HIST_BINS; k++) {
+        if (s->samples_hist[k] == 0)
+            continue;
+        if (lo < 0)
+            lo = k;
+        hi = k;
+        sum += s->samples_hist[k] * (unsigned long long)k;
+    }
+    if (s->pixels > 0)
+        printf("%s: samples per pixel: min %d, mean %.2f, max %d%s\n", name,
+               lo, (double)sum / (double)s->pixels, hi,
+               hi == RAY_HIST_BINS - 1 ? " or more" : "");
     if (seconds > 0)
         printf("%s: %.3f s, %.2f Mrays/s\n", name, seconds,
                (double)total / seconds / 1e6);
@@ -112,6 +132,13 @@ static inline int render_to_png(const char *name, const ray_scene *scene,
     opt.samples = argc > 4 ? (unsigned)atoi(argv[4]) : 4;
     opt.threads = argc > 5 ? (unsigned)atoi(argv[5]) : 0;
     opt.progress = progress_bar;
+    /* RAY_ADAPTIVE=threshold[,depth] turns adaptive antialiasing on. */
+    if (getenv("RAY_ADAPTIVE") != NULL) {
+        char *end;
+        opt.adaptive_threshold = strtod(getenv("RAY_ADAPTIVE"), &end);
+        if (*end == ',')
+            opt.adaptive_depth = (unsigned)atoi(end + 1);
+    }
     if (width == 0 || height == 0 || opt.samples == 0) {
         fprintf(stderr, "usage: %s [out.png [width height [samples "
                         "[threads]]]]\n", name);

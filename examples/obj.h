@@ -69,6 +69,16 @@ typedef struct obj_parser {
     size_t errlen;
 } obj_parser;
 
+/* Let the compiler check obj_fail's format strings like printf's. */
+#if defined(__GNUC__)
+#define OBJ_PRINTF_LIKE __attribute__((format(printf, 2, 3)))
+#else
+#define OBJ_PRINTF_LIKE
+#endif
+
+static inline int obj_fail(obj_parser *p, const char *fmt, ...)
+    OBJ_PRINTF_LIKE;
+
 static inline int obj_fail(obj_parser *p, const char *fmt, ...)
 {
     va_list ap;

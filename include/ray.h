@@ -282,6 +282,9 @@ enum {
 #define RAY_EFFECT_REFLECTION 1u   /* may call ray_trace(.., REFLECTION) */
 #define RAY_EFFECT_REFRACTION 2u   /* may call ray_trace(.., REFRACTION) */
 #define RAY_EFFECT_SHADOW     4u   /* ray_light_visible casts shadow rays */
+#define RAY_EFFECT_TEXTURE    8u   /* reads args->u, v: without any such
+                                      material the scene skips
+                                      interpolating mesh (s, t) */
 
 /*
 ** Everything a material callback gets to shade one hit.  Read-only; valid
@@ -301,6 +304,10 @@ typedef struct ray_shade_args {
     ray_vec3 shading_normal; /* interpolated vertex normal of a mesh with
                                 normals, turned to the side of "normal";
                                 else equal to "normal" */
+    int prune;               /* 1 (default): skip what cannot contribute
+                                (zero weights, lights behind the surface);
+                                0: the scene's naive mode, spawn every
+                                declared effect (for comparisons) */
 } ray_shade_args;
 
 /*
@@ -471,6 +478,20 @@ RAY_API int ray_scene_set_ambient(ray_scene *scene, ray_rgb ambient);
 RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 
 /*
+** ray_scene_set_pruning -- 1 (the default): the tracer cuts rays whose
+** path weight falls below min_weight, and materials are told (args->prune)
+** to spawn nothing that cannot contribute.  0: a naive mode that traces
+** every declared effect up to max_depth, for measuring what pruning saves
+** (the bench does).  RAY_EINVAL (NULL), RAY_ESTATE after commit.
+**
+** ray_scene_effects -- after commit, the RAY_EFFECT_* bits the scene can
+** ever need: the union of the effects of the materials its geometry uses,
+** without RAY_EFFECT_SHADOW when it has no lights.  0 before commit.
+*/
+RAY_API int ray_scene_set_pruning(ray_scene *scene, int enabled);
+RAY_API unsigned ray_scene_effects(const ray_scene *scene);
+
+/*
 ** ray_scene_commit -- finish building: the scene becomes read-only and
 ** safe to share between threads.  Returns RAY_OK, RAY_EINVAL (NULL),
 ** RAY_ENOMEM (acceleration structures), or RAY_ESTATE if already
@@ -491,14 +512,30 @@ RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
 
 /* ---------------------------------------------------------------- tracing */
 
+/* Kinds of primitives, for the intersection-test counters. */
+enum {
+    RAY_PRIM_SPHERE = 0,
+    RAY_PRIM_PLANE,
+    RAY_PRIM_TRIANGLE,           /* triangles and mesh triangles */
+    RAY_PRIM_POLYGON,
+    RAY_PRIM_KINDS
+};
+
+/* samples_hist[n] counts the pixels that took n samples (n < 64);
+** samples_hist[64], those that took 64 or more. */
+#define RAY_HIST_BINS 65
+
 /* Counters of one context or one render (summed over its threads). */
 typedef struct ray_stats {
     unsigned long long rays[RAY_KIND_COUNT];  /* traced, by RAY_KIND_* */
     unsigned long long tests;       /* ray-primitive intersection tests */
+    unsigned long long tests_by_kind[RAY_PRIM_KINDS];  /* the same, split */
     unsigned long long cut_depth;   /* rays refused by max_depth */
     unsigned long long cut_weight;  /* rays refused by min_weight */
     unsigned long long cut_fanout;  /* rays refused by max_fanout */
     unsigned max_depth;             /* deepest level reached */
+    unsigned long long pixels;      /* pixels rendered (ray_render) */
+    unsigned long long samples_hist[RAY_HIST_BINS];
 } ray_stats;
 
 /*
@@ -652,9 +689,19 @@ typedef struct ray_render_options {
     unsigned long long seed; /* frame seed of every pixel's sampler */
     ray_progress_fn progress;
     void *progress_ud;
+    /* Adaptive antialiasing (Whitted 1980), used when adaptive_threshold
+    ** > 0 (then "samples" is ignored): the pixel's four corners are
+    ** sampled; where any channel differs between them by more than the
+    ** threshold the square is split in four, down to adaptive_depth levels
+    ** (1 .. 8), so a pixel takes 4 to (2^depth + 1)^2 samples.  Samples sit
+    ** on a fixed lattice of the frame and are seeded by their position:
+    ** any thread count or region split gives the same bytes. */
+    double adaptive_threshold;
+    unsigned adaptive_depth;
 } ray_render_options;
 
-/* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback. */
+/* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
+** no adaptive antialiasing (threshold 0, depth 2 if it is turned on). */
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 
@@ -670,7 +717,9 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** time, and never again after it asked to cancel.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
 ** unspecified); RAY_EINVAL for NULLs, an uncommitted scene, zero sizes,
-** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, y0 >= y1 or y1 > height, or
+** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that
+** is NaN or negative or an adaptive depth outside 1 .. 8, y0 >= y1 or
+** y1 > height, or
 ** a degenerate camera (eye at look_at, up parallel to the view, vfov not
 ** in (0, 180)); RAY_ENOMEM.  If fewer threads than asked can be started,
 ** the render goes on with those it has: the image is the same.

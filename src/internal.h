@@ -231,6 +231,8 @@ struct ray_scene {
     ray_background_fn background_fn;
     void *background_ud;
     ray_limits limits;
+    int prune;               /* ray_scene_set_pruning; 1 by default */
+    unsigned effects;        /* what the scene can need, set by commit */
     int committed;
 };
 
@@ -303,13 +305,13 @@ static inline float ray__float_up(double x)
 }
 
 /*
-** Nearest hit / any hit over the scene, counting intersection tests into
-** *tests (may be NULL).  The public ray_intersect/ray_occluded wrap these.
+** Nearest hit / any hit over the scene, counting intersection tests, in
+** all and by kind of primitive, into *st (may be NULL).  The public
+** ray_intersect/ray_occluded wrap these.
 */
 int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                   unsigned long long *tests);
-int ray__occluded(const ray_scene *s, const ray_ray *r,
-                  unsigned long long *tests);
+                   ray_stats *st);
+int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
 /* ------------------------------------------------------------ trace state */
 

@@ -151,6 +151,34 @@ static inline unsigned boxes_hit(const ray__node4 *q, const trav *tr,
 
 enum { LEAF_TRIANGLES, LEAF_PRIMS };
 
+/* The public counter index of an internal primitive kind. */
+static int kind_of(int prim_kind)
+{
+    switch (prim_kind) {
+    case PRIM_SPHERE:
+        return RAY_PRIM_SPHERE;
+    case PRIM_PLANE:
+        return RAY_PRIM_PLANE;
+    case PRIM_POLYGON:
+        return RAY_PRIM_POLYGON;
+    default:
+        return RAY_PRIM_TRIANGLE;
+    }
+}
+
+/* Add a query's per-kind counts to *st (if any), and their sum. */
+static void add_counts(ray_stats *st, const unsigned long long *counts)
+{
+    int k;
+
+    if (st == NULL)
+        return;
+    for (k = 0; k < RAY_PRIM_KINDS; k++) {
+        st->tests_by_kind[k] += counts[k];
+        st->tests += counts[k];
+    }
+}
+
 static int tri_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
 static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
 
@@ -163,11 +191,10 @@ static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
 */
 static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
                            ray_ray *r, int leaf, void *best, int any,
-                           unsigned long long *tests)
+                           unsigned long long counts[RAY_PRIM_KINDS])
 {
     unsigned stack[4 * 64], ni = 0;
     float stack_t[4 * 64], tmax;
-    unsigned long long n_tests = 0;
     int sp = 0, found = 0;
     trav tr;
 
@@ -197,7 +224,10 @@ static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
             if (q->count[c] == 0 || entry[c] > tmax)
                 continue;
             for (i = q->child[c]; i < q->child[c] + q->count[c]; i++) {
-                n_tests++;
+                if (leaf == LEAF_TRIANGLES)
+                    counts[RAY_PRIM_TRIANGLE]++;
+                else
+                    counts[kind_of(s->prims[bvh->items[i]].kind)]++;
                 if (leaf == LEAF_TRIANGLES ? tri_test(s, i, r, best)
                                            : prim_test(s, i, r, best)) {
                     found = 1;
@@ -225,8 +255,6 @@ static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
         }
     }
 done:
-    if (tests != NULL)
-        *tests += n_tests;
     return found;
 }
 
@@ -293,8 +321,9 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
 }
 
 int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                   unsigned long long *tests)
+                   ray_stats *st)
 {
+    unsigned long long counts[RAY_PRIM_KINDS] = {0, 0, 0, 0};
     ray_ray rr = *r;
     ray_hit best;
     tri_best tb;
@@ -306,11 +335,10 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
             rr.tmax = best.t;
             found = 1;
         }
-    if (tests != NULL)
-        *tests += s->n_planes;
-    if (traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, &best, 0, tests))
+    counts[RAY_PRIM_PLANE] += s->n_planes;
+    if (traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, &best, 0, counts))
         found = 1;
-    if (traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, &tb, 0, tests)) {
+    if (traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, &tb, 0, counts)) {
         const ray__tri *t = &s->tris[tb.index];
         /* A usable triangle (checked at commit) always fills. */
         if (ray__triangle_fill(t->a, t->b, t->c, rr.tmax, tb.beta, tb.gamma,
@@ -320,26 +348,29 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
             found = 1;
         }
     }
+    add_counts(st, counts);
     if (found)
         *hit = best;
     return found;
 }
 
-int ray__occluded(const ray_scene *s, const ray_ray *r,
-                  unsigned long long *tests)
+int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
 {
+    unsigned long long counts[RAY_PRIM_KINDS] = {0, 0, 0, 0};
     ray_ray rr = *r;
     ray_hit h;
     size_t i;
+    int hit = 0;
 
-    for (i = 0; i < s->n_planes; i++) {
-        if (tests != NULL)
-            (*tests)++;
-        if (prim_intersect(s, s->planes[i], &rr, &h))
-            return 1;
+    for (i = 0; i < s->n_planes && !hit; i++) {
+        counts[RAY_PRIM_PLANE]++;
+        hit = prim_intersect(s, s->planes[i], &rr, &h);
     }
-    return traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, NULL, 1, tests) ||
-           traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, NULL, 1, tests);
+    if (!hit)
+        hit = traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, NULL, 1, counts) ||
+              traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, NULL, 1, counts);
+    add_counts(st, counts);
+    return hit;
 }
 
 int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)

@@ -138,5 +138,5 @@ int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
     if (rc != RAY_OK)
         return 0;
     ctx->stats.rays[RAY_KIND_SHADOW]++;
-    return !ray__occluded(ctx->scene, &shadow, &ctx->stats.tests);
+    return !ray__occluded(ctx->scene, &shadow, &ctx->stats);
 }

@@ -67,7 +67,7 @@ static void add_reflection(ray_ctx *ctx, const ray_shade_args *a, ray_rgb k,
     ray_ray r;
     ray_rgb c;
 
-    if (!(max3(k) > 0))        /* nothing to reflect: spawn nothing */
+    if (a->prune && !(max3(k) > 0))    /* nothing to reflect: spawn nothing */
         return;
     if (ray_spawn(a->hit, ray_reflect(a->ray->dir, a->normal), &r) != RAY_OK)
         return;
@@ -119,13 +119,17 @@ static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
             if (ray_light_sample_at(ctx, a, li, si, &ls) != RAY_OK)
                 continue;
             ndotl = dot(n, ls.dir);
-            if (ndotl <= 0)       /* light behind: no shadow ray needed */
+            /* A light behind the surface, or a zero contribution, needs no
+            ** shadow ray -- unless the scene is in its naive mode. */
+            if (ndotl <= 0 && a->prune)
                 continue;
-            spec = specular_term(p, n, ls.dir, v);
+            spec = ndotl > 0 ? specular_term(p, n, ls.dir, v) : 0;
+            if (ndotl < 0)
+                ndotl = 0;
             f = rgb(p->diffuse.r * ndotl + p->specular.r * spec,
                     p->diffuse.g * ndotl + p->specular.g * spec,
                     p->diffuse.b * ndotl + p->specular.b * spec);
-            if (max3(f) <= 0 || !ray_light_visible(ctx, a, &ls))
+            if ((max3(f) <= 0 && a->prune) || !ray_light_visible(ctx, a, &ls))
                 continue;
             add_product(out, f, ls.radiance);
         }
@@ -190,7 +194,7 @@ static void glass_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     eta = a->entering ? 1.0 / p->ior : p->ior;
     F = ray_fresnel(-dot(d, a->normal), eta);
     add_reflection(ctx, a, rgb(F, F, F), out);
-    if (F < 1 && ray_refract(d, a->normal, eta, &t) &&
+    if ((F < 1 || !a->prune) && ray_refract(d, a->normal, eta, &t) &&
         ray_spawn(a->hit, t, &r) == RAY_OK &&
         ray_trace(ctx, &r, RAY_KIND_REFRACTION, 1 - F, &c) == RAY_OK)
         add_product(out, rgb(1 - F, 1 - F, 1 - F), c);
@@ -236,6 +240,7 @@ ray_material ray_material_checker(const ray_checker_params *p)
 
     m.shade = checker_shade;
     m.ud = unconst(p);
-    m.effects = p != NULL ? p->even.effects | p->odd.effects : 0;
+    m.effects = RAY_EFFECT_TEXTURE |
+                (p != NULL ? p->even.effects | p->odd.effects : 0);
     return m;
 }

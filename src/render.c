@@ -34,6 +34,7 @@ typedef struct render_worker {
     ray_ctx ctx;
     pthread_t thread;
     int started;
+    ray_rgb *top, *bottom;   /* adaptive: the row's corner samples */
 } render_worker;
 
 /*
@@ -104,6 +105,13 @@ static unsigned lattice_generator(unsigned n)
     return g ? g : 1;
 }
 
+/* One more pixel that took n samples, in the histogram. */
+static void count_pixel(ray_stats *st, unsigned long long n)
+{
+    st->pixels++;
+    st->samples_hist[n < RAY_HIST_BINS - 1 ? n : RAY_HIST_BINS - 1]++;
+}
+
 /*
 ** One pixel.  Sample s of pixel (x, y) is seeded from (seed, x, y, s)
 ** alone, so the value does not depend on the thread or the region.  One
@@ -143,6 +151,141 @@ static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
     out[0] = (float)(sum.r / o->samples);
     out[1] = (float)(sum.g / o->samples);
     out[2] = (float)(sum.b / o->samples);
+    count_pixel(&ctx->stats, o->samples);
+}
+
+/* ------------------------------------------------ adaptive antialiasing */
+
+/*
+** Whitted's adaptive supersampling ("An Improved Illumination Model for
+** Shaded Display", CACM 23(6), 1980): sample the corners of the pixel and
+** subdivide only where they differ.  Samples lie on a lattice of 2^depth
+** points per pixel side; lattice point (lx, ly) always gets the same ray
+** and the same random numbers, seeded from its position, whoever
+** computes it -- so neighbouring pixels, rows taken by other threads and
+** separately rendered regions all agree bit for bit.
+*/
+static ray_rgb lattice_sample(render_job *job, ray_ctx *ctx,
+                              unsigned long long lx, unsigned long long ly)
+{
+    double scale = 1.0 / (double)(1u << job->opt->adaptive_depth);
+    double lens_x = 0, lens_y = 0;
+    ray_ray r;
+    ray_rgb c = {0, 0, 0};
+
+    /* The lattice coordinates, folded into the 32-bit hash inputs; the
+    ** sample index 0xA0000000 + depth keeps these apart from the uniform
+    ** sampler's streams. */
+    ray__ctx_start(ctx, ray__pixel_seed(job->opt->seed,
+                                        (unsigned)(lx ^ (lx >> 32)),
+                                        (unsigned)(ly ^ (ly >> 32)),
+                                        0xA0000000u + job->opt->adaptive_depth));
+    if (job->cam.lens_radius > 0) {
+        lens_x = 2 * ray_ctx_random(ctx) - 1;
+        lens_y = 2 * ray_ctx_random(ctx) - 1;
+    }
+    ray__camera_ray(&job->cam, (double)lx * scale, (double)ly * scale, lens_x,
+                    lens_y, &r);
+    if (ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c) != RAY_OK)
+        c.r = c.g = c.b = 0;
+    return c;
+}
+
+/* Do the four corners differ, in any channel, by more than the threshold? */
+static int corners_differ(const ray_rgb c[4], double threshold)
+{
+    double lo[3], hi[3];
+    int k;
+
+    lo[0] = hi[0] = c[0].r;
+    lo[1] = hi[1] = c[0].g;
+    lo[2] = hi[2] = c[0].b;
+    for (k = 1; k < 4; k++) {
+        lo[0] = fmin(lo[0], c[k].r);
+        hi[0] = fmax(hi[0], c[k].r);
+        lo[1] = fmin(lo[1], c[k].g);
+        hi[1] = fmax(hi[1], c[k].g);
+        lo[2] = fmin(lo[2], c[k].b);
+        hi[2] = fmax(hi[2], c[k].b);
+    }
+    return hi[0] - lo[0] > threshold || hi[1] - lo[1] > threshold ||
+           hi[2] - lo[2] > threshold;
+}
+
+static ray_rgb rgb_mean4(const ray_rgb c[4])
+{
+    ray_rgb m;
+    m.r = 0.25 * (c[0].r + c[1].r + c[2].r + c[3].r);
+    m.g = 0.25 * (c[0].g + c[1].g + c[2].g + c[3].g);
+    m.b = 0.25 * (c[0].b + c[1].b + c[2].b + c[3].b);
+    return m;
+}
+
+/*
+** The mean over the square of side "size" lattice steps at (lx, ly),
+** corners c = (top-left, top-right, bottom-left, bottom-right): the mean
+** of the corners, or, where they differ and the lattice allows, the mean of
+** the four quarter squares, for which the edge midpoints and the centre
+** are sampled (5 more samples, counted in *n).
+*/
+static ray_rgb adaptive_square(render_job *job, ray_ctx *ctx,
+                               unsigned long long lx, unsigned long long ly,
+                               unsigned long long size, const ray_rgb c[4],
+                               unsigned long long *n)
+{
+    unsigned long long h = size / 2;
+    ray_rgb top, left, mid, right, bottom, q[4], sub[4];
+
+    if (size < 2 || !corners_differ(c, job->opt->adaptive_threshold))
+        return rgb_mean4(c);
+    top = lattice_sample(job, ctx, lx + h, ly);
+    left = lattice_sample(job, ctx, lx, ly + h);
+    mid = lattice_sample(job, ctx, lx + h, ly + h);
+    right = lattice_sample(job, ctx, lx + size, ly + h);
+    bottom = lattice_sample(job, ctx, lx + h, ly + size);
+    *n += 5;
+    q[0] = c[0], q[1] = top, q[2] = left, q[3] = mid;
+    sub[0] = adaptive_square(job, ctx, lx, ly, h, q, n);
+    q[0] = top, q[1] = c[1], q[2] = mid, q[3] = right;
+    sub[1] = adaptive_square(job, ctx, lx + h, ly, h, q, n);
+    q[0] = left, q[1] = mid, q[2] = c[2], q[3] = bottom;
+    sub[2] = adaptive_square(job, ctx, lx, ly + h, h, q, n);
+    q[0] = mid, q[1] = right, q[2] = bottom, q[3] = c[3];
+    sub[3] = adaptive_square(job, ctx, lx + h, ly + h, h, q, n);
+    return rgb_mean4(sub);
+}
+
+/*
+** One row, adaptively: the corner samples of its top and bottom edges are
+** taken once for the row (about 2 rays per pixel where nothing varies),
+** then each pixel is refined from its four corners.  A pixel's sample
+** count is the lattice points its estimate uses: 4 to 4 + 5 (4^d - 1) / 3
+** (points on an edge shared by two refined squares are traced twice).
+*/
+static void render_row_adaptive(render_job *job, render_worker *w,
+                                unsigned row, float *out)
+{
+    unsigned long long side = 1ull << job->opt->adaptive_depth;
+    unsigned x, width = job->opt->width;
+
+    for (x = 0; x <= width; x++) {
+        w->top[x] = lattice_sample(job, &w->ctx, x * side, row * side);
+        w->bottom[x] = lattice_sample(job, &w->ctx, x * side,
+                                      (row + 1ull) * side);
+    }
+    for (x = 0; x < width; x++) {
+        unsigned long long n = 4;
+        ray_rgb c[4], m;
+        c[0] = w->top[x];
+        c[1] = w->top[x + 1];
+        c[2] = w->bottom[x];
+        c[3] = w->bottom[x + 1];
+        m = adaptive_square(job, &w->ctx, x * side, row * side, side, c, &n);
+        out[3 * (size_t)x] = (float)m.r;
+        out[3 * (size_t)x + 1] = (float)m.g;
+        out[3 * (size_t)x + 2] = (float)m.b;
+        count_pixel(&w->ctx.stats, n);
+    }
 }
 
 /* Take the next row, or return 0 when none is left or the render was
@@ -185,8 +328,11 @@ static void *worker_main(void *arg)
 
     while (next_row(job, &row)) {
         float *out = job->rgb + (size_t)(row - job->y0) * job->opt->width * 3;
-        for (x = 0; x < job->opt->width; x++)
-            render_pixel(job, &w->ctx, x, row, out + 3 * (size_t)x);
+        if (job->opt->adaptive_threshold > 0)
+            render_row_adaptive(job, w, row, out);
+        else
+            for (x = 0; x < job->opt->width; x++)
+                render_pixel(job, &w->ctx, x, row, out + 3 * (size_t)x);
         row_finished(job);
     }
     return NULL;
@@ -198,6 +344,37 @@ static unsigned online_cpus(void)
     return n > 0 ? (unsigned)n : 1u;
 }
 
+/* Each worker's two rows of corner samples for adaptive antialiasing. */
+static int alloc_row_caches(const ray_scene *s, void *workers, unsigned n,
+                            unsigned width)
+{
+    size_t bytes = ((size_t)width + 1) * sizeof(ray_rgb);
+    unsigned i;
+
+    for (i = 0; i < n; i++) {
+        render_worker *w = worker_at(workers, i);
+        w->top = ray__alloc(s, bytes);
+        w->bottom = ray__alloc(s, bytes);
+        if (w->top == NULL || w->bottom == NULL)
+            return RAY_ENOMEM;
+    }
+    return RAY_OK;
+}
+
+static void free_row_caches(const ray_scene *s, void *workers, unsigned n,
+                            unsigned width)
+{
+    size_t bytes = ((size_t)width + 1) * sizeof(ray_rgb);
+    unsigned i;
+
+    for (i = 0; i < n; i++) {
+        render_worker *w = worker_at(workers, i);
+        ray__free(s, w->top, bytes);
+        ray__free(s, w->bottom, bytes);
+        w->top = w->bottom = NULL;
+    }
+}
+
 void ray_render_options_init(ray_render_options *o, unsigned width,
                              unsigned height)
 {
@@ -207,11 +384,16 @@ void ray_render_options_init(ray_render_options *o, unsigned width,
     o->width = width;
     o->height = height;
     o->samples = 1;
+    o->adaptive_depth = 2;
 }
 
 static int options_valid(const ray_render_options *o, unsigned *y1)
 {
     *y1 = o->y1 ? o->y1 : o->height;
+    if (!(o->adaptive_threshold >= 0) ||
+        (o->adaptive_threshold > 0 &&
+         (o->adaptive_depth < 1 || o->adaptive_depth > 8)))
+        return 0;
     return o->width > 0 && o->height > 0 && o->samples > 0 &&
            o->samples <= RAY_MAX_PIXEL_SAMPLES &&
            o->y0 < *y1 && *y1 <= o->height &&
@@ -229,6 +411,11 @@ static void sum_stats(void *workers, unsigned n, ray_stats *out)
         for (k = 0; k < RAY_KIND_COUNT; k++)
             out->rays[k] += s->rays[k];
         out->tests += s->tests;
+        for (k = 0; k < RAY_PRIM_KINDS; k++)
+            out->tests_by_kind[k] += s->tests_by_kind[k];
+        for (k = 0; k < RAY_HIST_BINS; k++)
+            out->samples_hist[k] += s->samples_hist[k];
+        out->pixels += s->pixels;
         out->cut_depth += s->cut_depth;
         out->cut_weight += s->cut_weight;
         out->cut_fanout += s->cut_fanout;
@@ -299,12 +486,20 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
         worker_at(workers, i)->job = &job;
         worker_at(workers, i)->ctx.scene = scene;
     }
+    if (opt->adaptive_threshold > 0 &&
+        alloc_row_caches(scene, workers, n, opt->width) != RAY_OK) {
+        free_row_caches(scene, workers, n, opt->width);
+        ray__free(scene, workers, n * WORKER_STRIDE);
+        return RAY_ENOMEM;
+    }
     if (pthread_mutex_init(&job.lock, NULL) != 0) {
+        free_row_caches(scene, workers, n, opt->width);
         ray__free(scene, workers, n * WORKER_STRIDE);
         return RAY_ENOMEM;
     }
     if (pthread_mutex_init(&job.progress_lock, NULL) != 0) {
         pthread_mutex_destroy(&job.lock);
+        free_row_caches(scene, workers, n, opt->width);
         ray__free(scene, workers, n * WORKER_STRIDE);
         return RAY_ENOMEM;
     }
@@ -318,6 +513,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     pthread_mutex_destroy(&job.lock);
     if (stats != NULL)
         sum_stats(workers, n, stats);
+    free_row_caches(scene, workers, n, opt->width);
     ray__free(scene, workers, n * WORKER_STRIDE);
     return job.cancelled ? RAY_ECANCELED : RAY_OK;
 }

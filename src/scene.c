@@ -75,6 +75,7 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     s->limits.max_depth = RAY_DEFAULT_MAX_DEPTH;
     s->limits.min_weight = RAY_DEFAULT_MIN_WEIGHT;
     s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
+    s->prune = 1;
     *out = s;
     return RAY_OK;
 }
@@ -119,7 +120,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
                            unsigned *id)
 {
     const unsigned known = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
-                           RAY_EFFECT_SHADOW;
+                           RAY_EFFECT_SHADOW | RAY_EFFECT_TEXTURE;
     void *p;
     int rc = editable(s);
 
@@ -650,6 +651,38 @@ static int commit_prims(ray_scene *s)
     return rc;
 }
 
+int ray_scene_set_pruning(ray_scene *s, int enabled)
+{
+    int rc = editable(s);
+
+    if (rc != RAY_OK)
+        return rc;
+    s->prune = enabled != 0;
+    return RAY_OK;
+}
+
+unsigned ray_scene_effects(const ray_scene *s)
+{
+    return s != NULL && s->committed ? s->effects : 0u;
+}
+
+/*
+** What the scene can ever need: the effects of the materials its geometry
+** uses (a material no geometry uses is never shaded), and shadow rays only
+** if there is a light to cast them toward.
+*/
+static unsigned scene_effects(const ray_scene *s)
+{
+    unsigned e = 0;
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++)
+        e |= s->materials[s->prims[i].material].effects;
+    if (s->n_lights == 0)
+        e &= ~RAY_EFFECT_SHADOW;
+    return e;
+}
+
 /*
 ** Build the acceleration structures; the scene is then read-only.  A
 ** failure (out of memory) leaves the scene uncommitted and unchanged, so
@@ -672,6 +705,7 @@ int ray_scene_commit(ray_scene *s)
         s->n_planes = 0;
         return rc;
     }
+    s->effects = scene_effects(s);
     s->committed = 1;
     return RAY_OK;
 }

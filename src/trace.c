@@ -86,8 +86,9 @@ static int admit(ray_ctx *ctx, unsigned kind, double attenuation,
         ctx->stats.cut_depth++;
         return RAY_ELIMIT;
     }
-    /* Written so that a NaN weight is cut too. */
-    if (!(*weight >= lim->min_weight)) {
+    /* Written so that a NaN weight is cut too.  Without pruning (the
+    ** naive mode) only depth and fan-out bound the tree. */
+    if (ctx->scene->prune && !(*weight >= lim->min_weight)) {
         ctx->stats.cut_weight++;
         return RAY_ELIMIT;
     }
@@ -109,7 +110,8 @@ static void background(const ray_scene *s, const ray_ray *r, ray_rgb *out)
 /*
 ** A mesh's shading data at a hit: the vertex normals and texture
 ** coordinates interpolated with the hit's barycentrics (1-u-v, u, v), the
-** lecture's "what about texturing?".  The shading normal is turned to the
+** lecture's "what about texturing?"; the latter only if some material of
+** the scene declared RAY_EFFECT_TEXTURE.  The shading normal is turned to the
 ** side of the facing geometric normal; if the interpolation cancels (or
 ** the mesh has no normals) it is the geometric one.
 */
@@ -135,7 +137,7 @@ static void mesh_shading(const ray_scene *s, const ray_hit *hit,
             args->shading_normal = v3_dot(n, args->normal) < 0
                                        ? v3_scale(n, -1.0) : n;
     }
-    if (m->texcoords != NULL) {
+    if (m->texcoords != NULL && (s->effects & RAY_EFFECT_TEXTURE)) {
         const double *st = m->texcoords;
         args->u = w0 * st[2 * t[0]] + w1 * st[2 * t[1]] + w2 * st[2 * t[2]];
         args->v = w0 * st[2 * t[0] + 1] + w1 * st[2 * t[1] + 1] +
@@ -143,13 +145,20 @@ static void mesh_shading(const ray_scene *s, const ray_hit *hit,
     }
 }
 
-/* Shade "hit" with its material, with the context set up for the hit
-** and restored afterwards (the callback may recurse through it). */
+/*
+** Shade "hit" with its material, with the context set up for the hit and
+** restored afterwards.  Only a material that declared reflection or
+** refraction can call ray_trace back (any other call is refused as
+** RAY_EEFFECT), so only then is the recursion state saved and restored:
+** a scene without such materials pays no recursion bookkeeping.
+*/
 static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
                   unsigned depth, double weight, ray_rgb *out)
 {
     const ray_scene *s = ctx->scene;
     const ray_material *m = &s->materials[s->prims[hit->geom_id].material];
+    int recursive = (m->effects &
+                     (RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION)) != 0;
     int in_shade = ctx->in_shade;
     unsigned saved_depth = ctx->depth, effects = ctx->effects;
     unsigned fanout = ctx->fanout;
@@ -167,19 +176,24 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     args.weight = weight;
     args.ambient = s->ambient;
     args.shading_normal = args.normal;
+    args.prune = s->prune;
     mesh_shading(s, hit, &args);
     ctx->in_shade = 1;
-    ctx->depth = depth;
-    ctx->weight = weight;
     ctx->effects = m->effects;
-    ctx->fanout = 0;
+    if (recursive) {
+        ctx->depth = depth;
+        ctx->weight = weight;
+        ctx->fanout = 0;
+    }
     out->r = out->g = out->b = 0.0;
     m->shade(m->ud, ctx, &args, out);
     ctx->in_shade = in_shade;
-    ctx->depth = saved_depth;
-    ctx->weight = saved_weight;
     ctx->effects = effects;
-    ctx->fanout = fanout;
+    if (recursive) {
+        ctx->depth = saved_depth;
+        ctx->weight = saved_weight;
+        ctx->fanout = fanout;
+    }
 }
 
 int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
@@ -200,7 +214,7 @@ int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
     ctx->stats.rays[kind]++;
     if (depth > ctx->stats.max_depth)
         ctx->stats.max_depth = depth;
-    if (!ray__intersect(ctx->scene, r, &hit, &ctx->stats.tests))
+    if (!ray__intersect(ctx->scene, r, &hit, &ctx->stats))
         background(ctx->scene, r, out);
     else
         shade(ctx, r, &hit, depth, weight, out);
