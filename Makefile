@@ -120,6 +120,7 @@ bench: deps-build lib $(BENCHES)
 	$(BUILD)/bench/threads
 	scripts/fetch-bunny.sh data
 	$(BUILD)/bench/mesh data
+	$(BUILD)/bench/effects data
 
 # The header alone must compile as strict C99 and as C++.
 header-test: include/ray.h tests/header_c99.c

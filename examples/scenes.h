@@ -6,6 +6,7 @@
 #define EXAMPLES_SCENES_H
 
 #include "common.h"
+#include "obj.h"
 
 /* Sky: a vertical gradient of the escaping ray's direction. */
 static inline void sky(void *ud, const ray_ray *r, ray_rgb *out)
@@ -22,9 +23,10 @@ static inline void sky(void *ud, const ray_ray *r, ray_rgb *out)
 /*
 ** Whitted's 1980 scene: a red and yellow checkerboard floor, a mirror
 ** sphere and a glass sphere under a point light, a sky gradient.
-** Returns a committed scene and fills *cam.
+** Returns a committed scene and fills *cam.  prune = 0 builds it in the
+** naive mode (ray_scene_set_pruning), for the benchmarks.
 */
-static inline ray_scene *whitted_scene(ray_camera *cam)
+static inline ray_scene *whitted_scene(ray_camera *cam, int prune)
 {
     static const ray_phong_params red = {{0.75, 0.08, 0.06}, {0.2, 0.2, 0.2},
                                          40, 1, {0, 0, 0}};
@@ -59,6 +61,7 @@ static inline ray_scene *whitted_scene(ray_camera *cam)
     check(ray_scene_add_light(scene, &light, NULL), "light");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
     check(ray_scene_set_background_fn(scene, sky, NULL), "background");
+    check(ray_scene_set_pruning(scene, prune), "pruning");
     check(ray_scene_commit(scene), "commit");
     *cam = view;
     return scene;
@@ -109,9 +112,10 @@ static inline void add_block(ray_scene *s, double cx, double cz, double hx,
 /*
 ** A Cornell-box-like room of polygons (floor, ceiling, back wall, block)
 ** and triangles (red and green side walls), a rectangular area light under
-** the ceiling, a glass and a mirror sphere.  Committed; fills *cam.
+** the ceiling, a glass and a mirror sphere.  Committed; fills *cam;
+** prune as for whitted_scene.
 */
-static inline ray_scene *cornell_scene(ray_camera *cam)
+static inline ray_scene *cornell_scene(ray_camera *cam, int prune)
 {
     static const ray_phong_params white = {{0.75, 0.75, 0.72}, {0, 0, 0}, 1,
                                            0, {0, 0, 0}};
@@ -159,9 +163,78 @@ static inline ray_scene *cornell_scene(ray_camera *cam)
           "mirror sphere");
     check(ray_scene_add_light(scene, &lamp, NULL), "lamp");
     check(ray_scene_set_ambient(scene, rgb(0.06, 0.06, 0.06)), "ambient");
+    check(ray_scene_set_pruning(scene, prune), "pruning");
     check(ray_scene_commit(scene), "commit");
 
     *cam = view;
+    return scene;
+}
+
+/*
+** A Wavefront OBJ model in clay (Blinn-Phong; smooth if the file has
+** normals) on a slightly reflective floor under a spherical light, the
+** camera on the +z side framing the model.  NULL (with a message on
+** stderr) if the file cannot be read.  *triangles: the model's count.
+*/
+static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
+                                    int prune, size_t *triangles)
+{
+    static const ray_phong_params clay = {{0.7, 0.66, 0.6}, {0.25, 0.25, 0.25},
+                                          30, 1, {0, 0, 0}};
+    static const ray_phong_params ground = {{0.35, 0.4, 0.45}, {0, 0, 0}, 1,
+                                            0, {0.2, 0.2, 0.2}};
+    ray_vec3 lo, hi, centre;
+    obj_mesh obj;
+    ray_mesh mesh;
+    ray_material m;
+    ray_light lamp;
+    ray_scene *scene;
+    unsigned m_clay, m_ground;
+    double diag;
+    char err[600];
+    size_t i;
+
+    if (obj_load(path, &obj, err, sizeof err) != 0) {
+        fprintf(stderr, "%s\n", err);
+        return NULL;
+    }
+    lo = hi = obj.vertices[0];
+    for (i = 1; i < obj.vertex_count; i++) {
+        ray_vec3 v = obj.vertices[i];
+        lo = vec(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
+        hi = vec(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
+    }
+    centre = vec((lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2);
+    diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
+                (hi.z - lo.z) * (hi.z - lo.z));
+    check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
+    m = ray_material_phong(&clay);
+    check(ray_scene_add_material(scene, &m, &m_clay), "material");
+    m = ray_material_phong(&ground);
+    check(ray_scene_add_material(scene, &m, &m_ground), "material");
+    mesh = obj_as_ray_mesh(&obj);
+    check(ray_scene_add_mesh(scene, &mesh, m_clay, NULL), "ray_scene_add_mesh");
+    check(ray_scene_add_plane(scene, vec(0, lo.y, 0), vec(0, 1, 0), m_ground,
+                              NULL), "floor");
+    memset(&lamp, 0, sizeof lamp);
+    lamp.kind = RAY_LIGHT_SPHERE;
+    lamp.position = vec(centre.x + diag, hi.y + diag, centre.z + diag);
+    lamp.radius = 0.15 * diag;
+    lamp.intensity = rgb(2.2 * diag * diag, 2.2 * diag * diag, 2.2 * diag * diag);
+    lamp.samples = 9;
+    check(ray_scene_add_light(scene, &lamp, NULL), "light");
+    check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
+    check(ray_scene_set_background(scene, rgb(0.55, 0.65, 0.8)), "background");
+    check(ray_scene_set_pruning(scene, prune), "pruning");
+    check(ray_scene_commit(scene), "ray_scene_commit");
+    memset(cam, 0, sizeof *cam);
+    cam->position = vec(centre.x, centre.y + 0.25 * diag, centre.z + 1.3 * diag);
+    cam->look_at = centre;
+    cam->up = vec(0, 1, 0);
+    cam->vfov = 40;
+    if (triangles != NULL)
+        *triangles = obj.triangle_count;
+    obj_free(&obj);
     return scene;
 }
 
