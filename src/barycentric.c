@@ -58,3 +58,22 @@ int ray_barycentric(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
         *inside = alpha >= 0 && beta >= 0 && gamma >= 0;
     return RAY_OK;
 }
+
+/*
+** The lecture's normalisation, each signed area divided by N.N computed
+** on its own: kept (not exported) for the stability tests and the bench,
+** which show its alpha + beta + gamma drift against ray_barycentric's.
+*/
+int ray__barycentric_naive(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                           double abg[3])
+{
+    ray_vec3 n = v3_cross(v3_sub(b, a), v3_sub(c, a));
+    double nn = v3_dot(n, n);
+
+    if (!(nn > 0 && nn < HUGE_VAL))
+        return RAY_EDEGENERATE;
+    abg[0] = v3_dot(v3_cross(v3_sub(c, b), v3_sub(p, b)), n) / nn;
+    abg[1] = v3_dot(v3_cross(v3_sub(a, c), v3_sub(p, c)), n) / nn;
+    abg[2] = v3_dot(v3_cross(v3_sub(b, a), v3_sub(p, a)), n) / nn;
+    return RAY_OK;
+}

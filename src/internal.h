@@ -232,6 +232,7 @@ struct ray_scene {
     void *background_ud;
     ray_limits limits;
     int prune;               /* ray_scene_set_pruning; 1 by default */
+    int watertight;          /* ray_scene_set_watertight; 1 by default */
     unsigned effects;        /* what the scene can need, set by commit */
     int committed;
 };
@@ -254,6 +255,9 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                        double *t, double *beta, double *gamma);
 int ray__triangle_fill(ray_vec3 a, ray_vec3 b, ray_vec3 c, double t,
                        double beta, double gamma, ray_hit *hit);
+int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 a, ray_vec3 b,
+                                  ray_vec3 c, double *t, double *beta,
+                                  double *gamma);
 
 /*
 ** Build a BVH over n items whose float boxes box(ud, i, lo, hi) writes
@@ -352,5 +356,12 @@ void ray__concentric_disk(double a, double b, double *x, double *y);
 
 /* Reset a context's per-sample state. */
 void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
+
+/* The naive variants the stability suite and the bench compare with
+** (not exported): float Cramer, and barycentrics divided by N.N. */
+int ray__triangle_float(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                        double *t);
+int ray__barycentric_naive(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                           double abg[3]);
 
 #endif /* RAY_INTERNAL_H */

@@ -269,8 +269,13 @@ static inline int tri_test(const ray_scene *s, unsigned i, ray_ray *r,
 {
     const ray__tri *t = &s->tris[i];
     double th, beta, gamma;
+    int hit = s->watertight
+                  ? ray__triangle_watertight_test(r, t->a, t->b, t->c, &th,
+                                                  &beta, &gamma)
+                  : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
+                                       &gamma);
 
-    if (!ray__triangle_test(r, t->a, t->b, t->c, &th, &beta, &gamma))
+    if (!hit)
         return 0;
     r->tmax = th;
     if (best != NULL) {

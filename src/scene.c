@@ -76,6 +76,7 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     s->limits.min_weight = RAY_DEFAULT_MIN_WEIGHT;
     s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
     s->prune = 1;
+    s->watertight = 1;
     *out = s;
     return RAY_OK;
 }
@@ -658,6 +659,16 @@ int ray_scene_set_pruning(ray_scene *s, int enabled)
     if (rc != RAY_OK)
         return rc;
     s->prune = enabled != 0;
+    return RAY_OK;
+}
+
+int ray_scene_set_watertight(ray_scene *s, int enabled)
+{
+    int rc = editable(s);
+
+    if (rc != RAY_OK)
+        return rc;
+    s->watertight = enabled != 0;
     return RAY_OK;
 }
 

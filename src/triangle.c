@@ -115,3 +115,155 @@ int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
         return 0;
     return ray__triangle_fill(va, vb, vc, t, beta, gamma, hit);
 }
+
+/* ------------------------------------------------------------ watertight */
+
+static double axis(ray_vec3 v, int k)
+{
+    return k == 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
+/*
+** The 2x2 edge function a_x b_y - a_y b_x in long double (64 significant
+** bits on x87; plain double elsewhere).  Used only to re-evaluate the edge
+** functions when one is exactly 0 in double: more often then its true
+** sign shows.  It stays exactly antisymmetric, fl(p - q) = -fl(q - p), so
+** two triangles sharing the edge still get opposite values.
+*/
+static double edge_extended(double ax, double ay, double bx, double by)
+{
+    return (double)((long double)ax * by - (long double)ay * bx);
+}
+
+/*
+** Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT
+** 2(1), 2013, in double.  The vertices are translated to the ray origin,
+** the axes permuted so the largest direction component is z (and swapped
+** for a negative one, to keep the winding), and sheared so the ray is the
+** +z axis; the triangle is then hit iff the origin of the xy plane is
+** inside it, decided by the three 2-D edge functions U, V, W.
+**
+** Why it is watertight: each vertex is transformed on its own, so a
+** vertex shared by two triangles gets the same coordinates in both, and an
+** edge function depends only on its edge's two vertices: a shared edge
+** gives exactly -U in the neighbour (without FMA contraction, which the
+** build forbids).  Edge functions are accepted with their sign inclusive,
+** so a ray exactly on the edge hits at least one side.  When one is
+** exactly 0 all three are re-evaluated in long double (the paper's double
+** fallback for float), which picks the true side more often.
+**
+** t and the barycentrics come from the same quantities: det = U + V + W,
+** t = (U Az + V Bz + W Cz) / det, beta = V / det, gamma = W / det.
+*/
+int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
+                                  ray_vec3 vc, double *t_out,
+                                  double *beta_out, double *gamma_out)
+{
+    ray_vec3 ad = v3_abs(r->dir);
+    int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+    double dz = axis(r->dir, kz), sx, sy, sz;
+    double ax, ay, bx, by, cx, cy, az, bz, cz, u, v, w, det, t_num;
+    ray_vec3 a = v3_sub(va, r->org), b = v3_sub(vb, r->org),
+             c = v3_sub(vc, r->org);
+
+    if (dz < 0) {
+        int tmp = kx;
+        kx = ky;
+        ky = tmp;
+    }
+    if (dz == 0 || dz != dz)        /* zero or NaN direction: a miss */
+        return 0;
+    sx = axis(r->dir, kx) / dz;
+    sy = axis(r->dir, ky) / dz;
+    sz = 1.0 / dz;
+    ax = axis(a, kx) - sx * axis(a, kz);
+    ay = axis(a, ky) - sy * axis(a, kz);
+    bx = axis(b, kx) - sx * axis(b, kz);
+    by = axis(b, ky) - sy * axis(b, kz);
+    cx = axis(c, kx) - sx * axis(c, kz);
+    cy = axis(c, ky) - sy * axis(c, kz);
+    u = cx * by - cy * bx;
+    v = ax * cy - ay * cx;
+    w = bx * ay - by * ax;
+    if (u == 0 || v == 0 || w == 0) {
+        u = edge_extended(cx, cy, bx, by);
+        v = edge_extended(ax, ay, cx, cy);
+        w = edge_extended(bx, by, ax, ay);
+    }
+    /* Inclusive on both signs: a miss only when the signs truly differ. */
+    if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0))
+        return 0;
+    det = u + v + w;
+    if (det == 0 || det != det)     /* edge-on, degenerate or bad input */
+        return 0;
+    az = sz * axis(a, kz);
+    bz = sz * axis(b, kz);
+    cz = sz * axis(c, kz);
+    t_num = u * az + v * bz + w * cz;
+    {
+        double t = t_num / det, beta = v / det, gamma = w / det;
+        if (!(t > r->tmin && t < r->tmax))
+            return 0;
+        /* u, v, w share det's sign, so beta, gamma >= 0 and their sum
+        ** <= 1 up to rounding; clamp that rounding for the hit record. */
+        if (beta < 0)
+            beta = 0;
+        if (gamma < 0)
+            gamma = 0;
+        if (beta + gamma > 1) {
+            double s = beta + gamma;
+            beta /= s;
+            gamma /= s;
+        }
+        *t_out = t;
+        *beta_out = beta;
+        *gamma_out = gamma;
+    }
+    return 1;
+}
+
+int ray_triangle_watertight(const ray_ray *r, ray_vec3 a, ray_vec3 b,
+                            ray_vec3 c, ray_hit *hit)
+{
+    double t, beta, gamma;
+
+    if (!ray__triangle_watertight_test(r, a, b, c, &t, &beta, &gamma))
+        return 0;
+    return ray__triangle_fill(a, b, c, t, beta, gamma, hit);
+}
+
+/* ------------------------------------------------------------------ naive */
+
+/*
+** Cramer's rule as above but in float, as a game engine storing float
+** vertices would run it: kept (not exported) so the stability tests and
+** the accuracy bench can show what double and the watertight test buy.
+*/
+int ray__triangle_float(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
+                        ray_vec3 vc, double *t_out)
+{
+    float ox = (float)r->org.x, oy = (float)r->org.y, oz = (float)r->org.z;
+    float ax = (float)va.x, ay = (float)va.y, az = (float)va.z;
+    float a = ax - (float)vb.x, b = ay - (float)vb.y, c = az - (float)vb.z;
+    float d = ax - (float)vc.x, e = ay - (float)vc.y, f = az - (float)vc.z;
+    float g = (float)r->dir.x, h = (float)r->dir.y, i = (float)r->dir.z;
+    float j = ax - ox, k = ay - oy, l = az - oz;
+    float ei_hf = e * i - h * f, gf_di = g * f - d * i, dh_eg = d * h - e * g;
+    float ak_jb = a * k - j * b, jc_al = j * c - a * l, bl_kc = b * l - k * c;
+    float m = a * ei_hf + b * gf_di + c * dh_eg, t, beta, gamma;
+
+    if (m == 0)
+        return 0;
+    t = -(f * ak_jb + e * jc_al + d * bl_kc) / m;
+    if (!((double)t > r->tmin && (double)t < r->tmax))
+        return 0;
+    gamma = (i * ak_jb + h * jc_al + g * bl_kc) / m;
+    if (!(gamma >= 0 && gamma <= 1))
+        return 0;
+    beta = (j * ei_hf + k * gf_di + l * dh_eg) / m;
+    if (!(beta >= 0 && beta <= 1 - gamma))
+        return 0;
+    *t_out = (double)t;
+    return 1;
+}

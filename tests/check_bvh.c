@@ -119,11 +119,20 @@ static ray_ray random_ray(rng *g)
     return r;
 }
 
+/* The triangle test a scene uses in mode "watertight" (loop index). */
+static int tri_by_mode(int watertight, const ray_ray *r, ray_vec3 a,
+                       ray_vec3 b, ray_vec3 c, ray_hit *h)
+{
+    return watertight ? ray_triangle_watertight(r, a, b, c, h)
+                      : ray_triangle(r, a, b, c, h);
+}
+
+/* In both triangle modes (the loop index: 0 Cramer, 1 watertight). */
 START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
 {
     size_t sizes[] = {1, 2, 7, 100, 3000};
     rng g = {2024};
-    int k;
+    int k, mode = _i;
 
     for (k = 0; k < 5; k++) {
         size_t n = sizes[k], i, j;
@@ -139,6 +148,7 @@ START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
         mesh.indices = idx;
         mesh.triangle_count = n;
         ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, &id), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_watertight(s, mode), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         for (j = 0; j < 4000; j++) {
             ray_ray r = random_ray(&g), br = r;
@@ -147,8 +157,8 @@ START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
             size_t bi = 0;
 
             for (i = 0; i < n; i++)
-                if (ray_triangle(&br, v[3 * i], v[3 * i + 1], v[3 * i + 2],
-                                 &tmp)) {
+                if (tri_by_mode(mode, &br, v[3 * i], v[3 * i + 1],
+                                v[3 * i + 2], &tmp)) {
                     br.tmax = tmp.t;
                     bh = tmp;
                     bi = i;
@@ -167,7 +177,7 @@ START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
                 ray_ray rr = r;
                 ray_hit t2;
                 rr.tmax = HUGE_VAL;
-                ck_assert(ray_triangle(&rr, p[0], p[1], p[2], &t2));
+                ck_assert(tri_by_mode(mode, &rr, p[0], p[1], p[2], &t2));
                 ck_assert_double_eq(t2.t, bh.t);
                 (void)q;
             } else {
@@ -186,6 +196,7 @@ END_TEST
 ** nearest of all of them, as brute force finds it. */
 START_TEST(bvh_should_equal_brute_force_on_mixed_scenes)
 {
+    int mode = _i;
     rng g = {77};
     ray_scene *s;
     unsigned mat;
@@ -211,6 +222,7 @@ START_TEST(bvh_should_equal_brute_force_on_mixed_scenes)
         ck_assert_int_eq(ray_scene_add_triangle(s, tri[i][0], tri[i][1], tri[i][2], mat, NULL), RAY_OK);
     }
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, -12, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_watertight(s, mode), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     for (j = 0; j < 20000; j++) {
         ray_ray r = random_ray(&g), br = r;
@@ -228,7 +240,7 @@ START_TEST(bvh_should_equal_brute_force_on_mixed_scenes)
                 bh = tmp;
                 bhit = 1;
             }
-            if (ray_triangle(&br, tri[i][0], tri[i][1], tri[i][2], &tmp)) {
+            if (tri_by_mode(mode, &br, tri[i][0], tri[i][1], tri[i][2], &tmp)) {
                 br.tmax = tmp.t;
                 bh = tmp;
                 bhit = 1;
@@ -540,8 +552,8 @@ Suite *bvh_suite(void)
 
     tcase_set_timeout(eq, 120);
     tcase_set_timeout(mesh, 120);
-    tcase_add_test(eq, bvh_should_equal_brute_force_on_hostile_soups);
-    tcase_add_test(eq, bvh_should_equal_brute_force_on_mixed_scenes);
+    tcase_add_loop_test(eq, bvh_should_equal_brute_force_on_hostile_soups, 0, 2);
+    tcase_add_loop_test(eq, bvh_should_equal_brute_force_on_mixed_scenes, 0, 2);
     tcase_add_test(eq, bvh_should_handle_empty_and_single_scenes);
     tcase_add_loop_test(eq, bvh_should_not_lose_hits_on_flat_boxes, 0, N_OFFSETS);
     tcase_add_test(mesh, mesh_should_reject_bad_input);

@@ -24,6 +24,7 @@ int main(void)
     srunner_add_suite(sr, bvh_suite());
     srunner_add_suite(sr, obj_suite());
     srunner_add_suite(sr, effects_suite());
+    srunner_add_suite(sr, numerics_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

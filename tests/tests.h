@@ -26,6 +26,7 @@ Suite *render_suite(void);
 Suite *bvh_suite(void);
 Suite *obj_suite(void);
 Suite *effects_suite(void);
+Suite *numerics_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)

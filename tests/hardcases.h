@@ -1,0 +1,469 @@
+/*
+** hardcases.h -- the hard cases of the stability suite, as measurements
+** that tests/check_numerics.c asserts on and bench/numerics.c prints:
+** each runs the naive variant and the library's on the same inputs and
+** reports errors against a higher-precision reference (long double), or
+** counts of leaks, false hits, misclassifications and self-hits.
+** Header-only; every function is static.  Uses the library's internal
+** naive variants (src/internal.h).
+*/
+#ifndef RAY_HARDCASES_H
+#define RAY_HARDCASES_H
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+/* splitmix64: a fixed-seed generator (the same inputs on every run). */
+typedef struct hc_rng {
+    unsigned long long s;
+} hc_rng;
+
+static inline double hc_unit(hc_rng *g)
+{
+    unsigned long long z = (g->s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static inline ray_vec3 hc_dir(hc_rng *g)
+{
+    for (;;) {
+        ray_vec3 v = v3(2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1,
+                        2 * hc_unit(g) - 1);
+        double l2 = v3_dot(v, v);
+        if (l2 > 1e-4 && l2 <= 1)
+            return v3_scale(v, 1.0 / sqrt(l2));
+    }
+}
+
+/* |a - b| in units of the spacing of doubles at b. */
+static inline double hc_ulps(double a, long double b)
+{
+    double ref = (double)b;
+    double ulp = nextafter(fabs(ref), HUGE_VAL) - fabs(ref);
+    return (double)(fabsl((long double)a - b) / (long double)ulp);
+}
+
+/* ------------------------------------------------------------- spheres */
+
+typedef struct hc_sphere_result {
+    long wrong;          /* hit/miss opposite to the exact answer */
+    long rays;
+    double max_ulps;     /* largest error of t, in ulps of t */
+} hc_sphere_result;
+
+/*
+** A sphere of radius r at distance D down -z, an orthographic n x n grid
+** of rays from z = 0 over [-1.2 r, 1.2 r]^2.  The exact answer, in long
+** double: hit iff x^2 + y^2 < r^2 (rays within 1e-6 r^2 of the silhouette
+** are skipped: their answer is decided by the rounding of the inputs),
+** t = D - sqrt(r^2 - x^2 - y^2).
+*/
+static inline hc_sphere_result hc_sphere_far(double r, double D, int n,
+                                             int naive)
+{
+    hc_sphere_result res = {0, 0, 0};
+    ray_vec3 c = v3(0, 0, -D);
+    int i, j;
+
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) {
+            double x = r * (-1.2 + 2.4 * (i + 0.5) / n);
+            double y = r * (-1.2 + 2.4 * (j + 0.5) / n);
+            long double rho2 = (long double)x * x + (long double)y * y;
+            long double gap = (long double)r * r - rho2;
+            ray_ray ray;
+            ray_hit h;
+            int expect, got;
+
+            if (fabsl(gap) < 1e-6L * r * r)
+                continue;
+            ray.org = v3(x, y, 0);
+            ray.dir = v3(0, 0, -1);
+            ray.tmin = 0;
+            ray.tmax = HUGE_VAL;
+            expect = gap > 0;
+            got = naive ? ray__sphere_naive(&ray, c, r, &h)
+                        : ray_sphere(&ray, c, r, &h);
+            res.rays++;
+            if (got != expect)
+                res.wrong++;
+            else if (got) {
+                double e = hc_ulps(h.t, (long double)D - sqrtl(gap));
+                if (e > res.max_ulps)
+                    res.max_ulps = e;
+            }
+        }
+    return res;
+}
+
+/*
+** A ground sphere of radius R centred R below the origin, rays from
+** height h down at slopes 1 .. 1e-3 below the horizontal (all hit near the
+** origin).  Reference t: the near root of the same quadratic in long
+** double, by the cancellation-free form.  Returns the largest error of t
+** relative to t (the near root of the textbook form cancels).
+*/
+static inline double hc_ground(double R, double h, int naive)
+{
+    ray_vec3 c = v3(0, -R, 0);
+    double worst = 0;
+    int k;
+
+    for (k = 0; k <= 30; k++) {
+        double slope = pow(10.0, -3.0 * k / 30.0);
+        ray_ray ray;
+        ray_hit hit;
+        long double a, b, cc, disc, t_ref;
+
+        ray.org = v3(0, h, 0);
+        ray.dir = v3(1, -slope, 0);
+        ray.tmin = 0;
+        ray.tmax = HUGE_VAL;
+        /* f = org - c = (0, h + R, 0): a t^2 - 2 b t + cc = 0. */
+        a = 1.0L + (long double)slope * slope;
+        b = (long double)slope * ((long double)h + R);
+        cc = (long double)h * ((long double)h + 2.0L * R);
+        disc = b * b - a * cc;
+        if (disc < 0)
+            continue;
+        t_ref = cc / (b + sqrtl(disc));
+        if (!(naive ? ray__sphere_naive(&ray, c, R, &hit)
+                    : ray_sphere(&ray, c, R, &hit)))
+            return HUGE_VAL;                /* a miss is the worst error */
+        if (fabsl(hit.t - t_ref) / t_ref > worst)
+            worst = (double)(fabsl(hit.t - t_ref) / t_ref);
+    }
+    return worst;
+}
+
+/* --------------------------------------------------------- closed meshes */
+
+typedef struct hc_mesh {
+    ray_vec3 *v;
+    unsigned *idx;
+    size_t nv, nt;
+} hc_mesh;
+
+static inline void hc_mesh_free(hc_mesh *m)
+{
+    free(m->v);
+    free(m->idx);
+}
+
+/* The closed cube [-1,1]^3 + centre, 12 triangles, outward winding. */
+static inline hc_mesh hc_cube(ray_vec3 centre)
+{
+    static const unsigned faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6},
+                                         {0, 1, 5, 4}, {2, 6, 7, 3},
+                                         {0, 4, 6, 2}, {1, 3, 7, 5}};
+    hc_mesh m;
+    int k;
+
+    m.nv = 8;
+    m.nt = 12;
+    m.v = malloc(8 * sizeof *m.v);
+    m.idx = malloc(36 * sizeof *m.idx);
+    for (k = 0; k < 8; k++)
+        m.v[k] = v3(centre.x + (k & 1 ? 1 : -1), centre.y + (k & 2 ? 1 : -1),
+                    centre.z + (k & 4 ? 1 : -1));
+    for (k = 0; k < 6; k++) {
+        unsigned *t = m.idx + 6 * k;
+        t[0] = faces[k][0]; t[1] = faces[k][1]; t[2] = faces[k][2];
+        t[3] = faces[k][0]; t[4] = faces[k][2]; t[5] = faces[k][3];
+    }
+    return m;
+}
+
+/*
+** An icosphere of radius 2 around "centre": the icosahedron with every
+** triangle split in four "level" times, the midpoints pushed out to the
+** sphere (shared through an edge table, so the mesh is closed; vertices
+** are computed around the origin then translated, as a mesh file holds
+** them).
+*/
+static inline hc_mesh hc_icosphere(ray_vec3 centre, int level)
+{
+    static const double t0 = 1.6180339887498949;
+    static const unsigned f20[20][3] = {
+        {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
+        {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+        {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
+        {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    double base[12][3] = {{-1, t0, 0}, {1, t0, 0}, {-1, -t0, 0}, {1, -t0, 0},
+                          {0, -1, t0}, {0, 1, t0}, {0, -1, -t0}, {0, 1, -t0},
+                          {t0, 0, -1}, {t0, 0, 1}, {-t0, 0, -1}, {-t0, 0, 1}};
+    size_t nt = 20, cap_v = 12, nv = 12, i;
+    hc_mesh m;
+    int lv;
+
+    for (lv = 0; lv < level; lv++)
+        cap_v += 30 * ((size_t)1 << (2 * lv));   /* edges at that level */
+    m.v = malloc(cap_v * sizeof *m.v);
+    m.idx = malloc(3 * 20 * ((size_t)1 << (2 * level)) * sizeof *m.idx);
+    for (i = 0; i < 12; i++) {
+        ray_vec3 p = v3(base[i][0], base[i][1], base[i][2]);
+        m.v[i] = v3_scale(p, 2.0 / v3_length(p));
+    }
+    for (i = 0; i < 20; i++)
+        memcpy(m.idx + 3 * i, f20[i], sizeof f20[i]);
+    for (lv = 0; lv < level; lv++) {
+        size_t size = 8 * nt + 1, k;
+        unsigned *key = malloc(2 * size * sizeof *key), *mid = malloc(size * sizeof *mid);
+        unsigned *out = malloc(12 * nt * sizeof *out);
+        for (k = 0; k < size; k++)
+            mid[k] = 0xffffffffu;
+        for (i = 0; i < nt; i++) {
+            unsigned c3[3], e;
+            for (e = 0; e < 3; e++) {
+                unsigned a = m.idx[3 * i + e], b = m.idx[3 * i + (e + 1) % 3];
+                unsigned lo = a < b ? a : b, hi = a < b ? b : a;
+                size_t h = ((size_t)lo * 2654435761u + hi) % size;
+                while (mid[h] != 0xffffffffu &&
+                       (key[2 * h] != lo || key[2 * h + 1] != hi))
+                    h = (h + 1) % size;
+                if (mid[h] == 0xffffffffu) {
+                    ray_vec3 p = v3_scale(v3_add(m.v[lo], m.v[hi]), 0.5);
+                    key[2 * h] = lo;
+                    key[2 * h + 1] = hi;
+                    m.v[nv] = v3_scale(p, 2.0 / v3_length(p));
+                    mid[h] = (unsigned)nv++;
+                }
+                c3[e] = mid[h];
+            }
+            {
+                unsigned a = m.idx[3 * i], b = m.idx[3 * i + 1],
+                         c = m.idx[3 * i + 2], *t = out + 12 * i;
+                t[0] = a;     t[1] = c3[0]; t[2] = c3[2];
+                t[3] = c3[0]; t[4] = b;     t[5] = c3[1];
+                t[6] = c3[2]; t[7] = c3[1]; t[8] = c;
+                t[9] = c3[0]; t[10] = c3[1]; t[11] = c3[2];
+            }
+        }
+        memcpy(m.idx, out, 12 * nt * sizeof *out);
+        nt *= 4;
+        free(key);
+        free(mid);
+        free(out);
+    }
+    for (i = 0; i < nv; i++)
+        m.v[i] = v3_add(m.v[i], centre);
+    m.nv = nv;
+    m.nt = nt;
+    return m;
+}
+
+enum { HC_CRAMER_FLOAT, HC_CRAMER, HC_WATERTIGHT };
+
+/* Does the ray hit any triangle of the mesh, by the given algorithm? */
+static inline int hc_mesh_hit(const hc_mesh *m, const ray_ray *r, int algo)
+{
+    size_t i;
+
+    for (i = 0; i < m->nt; i++) {
+        const unsigned *t = m->idx + 3 * i;
+        double th, b, g;
+        int hit = algo == HC_CRAMER_FLOAT
+                      ? ray__triangle_float(r, m->v[t[0]], m->v[t[1]],
+                                            m->v[t[2]], &th)
+                  : algo == HC_CRAMER
+                      ? ray__triangle_test(r, m->v[t[0]], m->v[t[1]],
+                                           m->v[t[2]], &th, &b, &g)
+                      : ray__triangle_watertight_test(r, m->v[t[0]], m->v[t[1]],
+                                                      m->v[t[2]], &th, &b, &g);
+        if (hit)
+            return 1;
+    }
+    return 0;
+}
+
+/*
+** Rays from random points inside the closed mesh (within 0.9 of its
+** centre), aimed exactly at a random vertex (on_edge = 0) or at a random
+** point of a random edge (on_edge = 1): each must hit the mesh.  Returns
+** the leaks: rays that hit nothing.
+*/
+static inline long hc_leaks(const hc_mesh *m, ray_vec3 centre, long rays,
+                            int on_edge, int algo, unsigned long long seed)
+{
+    hc_rng g = {seed};
+    long leaks = 0, k;
+
+    for (k = 0; k < rays; k++) {
+        size_t ti = (size_t)(hc_unit(&g) * (double)m->nt) % m->nt;
+        unsigned e = (unsigned)(hc_unit(&g) * 3) % 3;
+        ray_vec3 a = m->v[m->idx[3 * ti + e]],
+                 b = m->v[m->idx[3 * ti + (e + 1) % 3]], target;
+        ray_vec3 org = v3_add(centre, v3_scale(hc_dir(&g), 0.9 * hc_unit(&g)));
+        ray_ray r;
+        if (on_edge) {
+            double s = hc_unit(&g);
+            target = v3_add(v3_scale(a, 1 - s), v3_scale(b, s));
+        } else
+            target = a;
+        r.org = org;
+        r.dir = v3_sub(target, org);
+        r.tmin = 0;
+        r.tmax = HUGE_VAL;
+        leaks += !hc_mesh_hit(m, &r, algo);
+    }
+    return leaks;
+}
+
+/*
+** Rays aimed at points a relative distance "gap" outside an edge of a
+** triangle (away from the opposite vertex), from above: any hit is false.
+*/
+static inline long hc_false_hits(double gap, long rays, int algo)
+{
+    hc_rng g = {99};
+    long hits = 0, k;
+
+    for (k = 0; k < rays; k++) {
+        ray_vec3 a = v3(10 * hc_unit(&g), 10 * hc_unit(&g), 0);
+        ray_vec3 b = v3_add(a, v3(1 + hc_unit(&g), 0.3 * hc_unit(&g), 0));
+        ray_vec3 c = v3_add(a, v3(0.3 * hc_unit(&g), 1 + hc_unit(&g), 0));
+        double s = hc_unit(&g);
+        ray_vec3 on = v3_add(v3_scale(a, 1 - s), v3_scale(b, s));
+        ray_vec3 out = v3_sub(on, v3_scale(v3_sub(c, on), gap));
+        ray_vec3 org = v3_add(out, v3(hc_unit(&g) - 0.5, hc_unit(&g) - 0.5, 2));
+        hc_mesh one;
+        unsigned idx[3] = {0, 1, 2};
+        ray_vec3 vv[3];
+        ray_ray r;
+        vv[0] = a;
+        vv[1] = b;
+        vv[2] = c;
+        one.v = vv;
+        one.idx = idx;
+        one.nt = 1;
+        one.nv = 3;
+        r.org = org;
+        r.dir = v3_sub(out, org);
+        r.tmin = 0;
+        r.tmax = HUGE_VAL;
+        hits += hc_mesh_hit(&one, &r, algo);
+    }
+    return hits;
+}
+
+/* ------------------------------------------------------- self-intersection */
+
+enum { HC_NO_OFFSET, HC_FIXED_EPSILON, HC_SPAWN };
+
+/* The ray leaving hit h toward dir, or toward "to" (if non-NULL) as a
+** shadow segment, by one of the three methods: no offset at all; the
+** fixed epsilon of many tracers, origin p + 1e-4 n; ray_spawn(_to). */
+static inline int hc_leave(const ray_hit *h, ray_vec3 dir, const ray_vec3 *to,
+                           int method, ray_ray *out)
+{
+    ray_vec3 n = v3_dot(dir, h->n) < 0 ? v3_scale(h->n, -1.0) : h->n;
+
+    if (method == HC_SPAWN)
+        return (to ? ray_spawn_to(h, *to, out) : ray_spawn(h, dir, out)) ==
+               RAY_OK;
+    out->org = method == HC_FIXED_EPSILON ? v3_madd(h->p, 1e-4, n) : h->p;
+    out->dir = to ? v3_sub(*to, out->org) : dir;
+    out->tmin = 0;
+    out->tmax = to ? 1.0 : HUGE_VAL;
+    return 1;
+}
+
+/*
+** From "n" primary hits on a unit sphere centred at (X, 0, 0), an outgoing
+** ray in a random direction of the normal's hemisphere each: a self-hit
+** is any hit of the same (convex) sphere.
+*/
+static inline long hc_sphere_acne(double X, long n, int method)
+{
+    hc_rng g = {7};
+    ray_vec3 c = v3(X, 0, 0);
+    long self = 0, k;
+
+    for (k = 0; k < n; k++) {
+        ray_vec3 d = hc_dir(&g), w = hc_dir(&g);
+        ray_ray prim, out;
+        ray_hit h, h2;
+        prim.org = v3_add(c, v3_scale(d, 5));
+        prim.dir = v3_scale(d, -1);
+        prim.tmin = 0;
+        prim.tmax = HUGE_VAL;
+        if (!ray_sphere(&prim, c, 1.0, &h))
+            continue;
+        if (v3_dot(w, h.n) < 0)
+            w = v3_scale(w, -1);
+        if (!hc_leave(&h, w, NULL, method, &out))
+            continue;
+        self += ray_sphere(&out, c, 1.0, &h2);
+    }
+    return self;
+}
+
+/*
+** A thin sheet: two parallel planes "gap" apart near (X, 0, X).  From n hits
+** on the lower one, shadow rays toward a light high above: each must be
+** blocked by the upper plane.  Returns the rays that leak through.
+*/
+static inline long hc_thin_sheet_leaks(double X, double gap, long n,
+                                       int method)
+{
+    hc_rng g = {11};
+    long leaks = 0, k;
+
+    for (k = 0; k < n; k++) {
+        ray_vec3 light, at = v3(X + 10 * hc_unit(&g), gap / 2, X + 10 * hc_unit(&g));
+        ray_ray prim, out;
+        ray_hit h, h2;
+        prim.org = at;
+        prim.dir = v3(0.3 * hc_unit(&g) - 0.15, -1, 0.3 * hc_unit(&g) - 0.15);
+        prim.tmin = 0;
+        prim.tmax = HUGE_VAL;
+        if (!ray_plane(&prim, v3(X, 0, X), v3(0, 1, 0), &h))
+            continue;
+        light = v3(X, 100, X);
+        if (!hc_leave(&h, v3_sub(light, h.p), &light, method, &out))
+            continue;
+        leaks += !ray_plane(&out, v3(X, gap, X), v3(0, 1, 0), &h2);
+    }
+    return leaks;
+}
+
+/* ------------------------------------------------------------ barycentric */
+
+/* The largest |alpha + beta + gamma - 1| over n random triangles in
+** [-10, 10]^3 and random points inside them. */
+static inline double hc_bary_drift(long n, int naive)
+{
+    hc_rng g = {5};
+    double worst = 0;
+    long k;
+
+    for (k = 0; k < n; k++) {
+        ray_vec3 a = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
+        ray_vec3 b = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
+        ray_vec3 c = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
+        double u = hc_unit(&g), v = hc_unit(&g), abg[3], e;
+        ray_vec3 p;
+        if (u + v > 1) {
+            u = 1 - u;
+            v = 1 - v;
+        }
+        p = v3_add(v3_add(v3_scale(a, 1 - u - v), v3_scale(b, u)),
+                   v3_scale(c, v));
+        int rc = naive ? ray__barycentric_naive(p, a, b, c, abg)
+                       : ray_barycentric(p, a, b, c, abg, NULL);
+        if (rc != RAY_OK)
+            continue;
+        e = fabs(abg[0] + abg[1] + abg[2] - 1);
+        if (e > worst)
+            worst = e;
+    }
+    return worst;
+}
+
+#endif
