@@ -49,6 +49,7 @@ MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 
     ray_scene_new:ray_scene_set_background_fn \
     ray_scene_new:ray_scene_set_ambient ray_scene_new:ray_scene_set_limits \
     ray_scene_new:ray_scene_light_count \
+    ray_scene_effects:ray_scene_set_pruning \
     ray_scene_add_sphere:ray_scene_add_plane \
     ray_scene_add_sphere:ray_scene_add_triangle \
     ray_scene_add_sphere:ray_scene_add_polygon \
@@ -91,7 +92,7 @@ $(SHARED): $(OBJS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
-$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h examples/obj.h $(STATIC)
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h examples/obj.h $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(STD_CFLAGS) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples $(CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
@@ -108,15 +109,16 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
-$(BUILD)/bench/%: bench/%.c $(wildcard examples/*.h) $(STATIC)
+$(BUILD)/bench/%: bench/%.c $(wildcard examples/*.h) tests/hardcases.h $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(if $(filter bench/mesh.c,$<),$(EMBREE_FLAGS)) \
+	$(CC) $(ALL_CFLAGS) -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c,$<),$(EMBREE_FLAGS)) \
 	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  BENCH_QUICK=1 for a short run.
 bench: deps-build lib $(BENCHES)
 	@echo "# libray benchmarks ($$(uname -m), $$(nproc) CPUs, $(CC))"; echo
+	$(BUILD)/bench/numerics
 	$(BUILD)/bench/threads
 	scripts/fetch-bunny.sh data
 	$(BUILD)/bench/mesh data
