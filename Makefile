@@ -117,12 +117,7 @@ $(BUILD)/bench/%: bench/%.c $(wildcard examples/*.h) tests/hardcases.h $(STATIC)
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  BENCH_QUICK=1 for a short run.
 bench: deps-build lib $(BENCHES)
-	@echo "# libray benchmarks ($$(uname -m), $$(nproc) CPUs, $(CC))"; echo
-	$(BUILD)/bench/numerics
-	$(BUILD)/bench/threads
-	scripts/fetch-bunny.sh data
-	$(BUILD)/bench/mesh data
-	$(BUILD)/bench/effects data
+	bench/run.sh $(BUILD)
 
 # The header alone must compile as strict C99 and as C++.
 header-test: include/ray.h tests/header_c99.c

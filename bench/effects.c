@@ -67,18 +67,18 @@ typedef ray_scene *(*scene_fn)(const char *arg, ray_camera *cam, int prune);
 static ray_scene *make_whitted(const char *arg, ray_camera *cam, int prune)
 {
     (void)arg;
-    return whitted_scene(cam, prune);
+    return whitted_scene(cam, prune, NULL);
 }
 
 static ray_scene *make_cornell(const char *arg, ray_camera *cam, int prune)
 {
     (void)arg;
-    return cornell_scene(cam, prune);
+    return cornell_scene(cam, prune, NULL);
 }
 
 static ray_scene *make_mesh(const char *arg, ray_camera *cam, int prune)
 {
-    return mesh_scene(arg, cam, prune, NULL);
+    return mesh_scene(arg, cam, prune, NULL, NULL);
 }
 
 /* One row of the pruned-versus-naive table. */

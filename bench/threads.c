@@ -43,7 +43,7 @@ int main(int argc, char **argv)
     unsigned long long rays;
     ray_render_options opt;
     ray_camera cam;
-    ray_scene *scene = whitted_scene(&cam, 1);
+    ray_scene *scene = whitted_scene(&cam, 1, NULL);
     ray_stats st;
     float *img = malloc(sizeof(float) * 3 * width * height);
 

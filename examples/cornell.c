@@ -12,7 +12,7 @@
 int main(int argc, char **argv)
 {
     ray_camera cam;
-    ray_scene *scene = cornell_scene(&cam, 1);
+    ray_scene *scene = cornell_scene(&cam, 1, NULL);
     int rc = render_to_png("cornell", scene, &cam, argc, argv, 400, 400);
 
     ray_scene_free(scene);

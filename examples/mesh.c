@@ -21,7 +21,7 @@ int main(int argc, char **argv)
                         "[samples [threads]]]]\n");
         return 2;
     }
-    scene = mesh_scene(argv[1], &cam, 1, &triangles);
+    scene = mesh_scene(argv[1], &cam, 1, NULL, &triangles);
     if (scene == NULL)
         return 1;
     printf("mesh: %s: %zu triangles\n", argv[1], triangles);

@@ -24,9 +24,11 @@ static inline void sky(void *ud, const ray_ray *r, ray_rgb *out)
 ** Whitted's 1980 scene: a red and yellow checkerboard floor, a mirror
 ** sphere and a glass sphere under a point light, a sky gradient.
 ** Returns a committed scene and fills *cam.  prune = 0 builds it in the
-** naive mode (ray_scene_set_pruning), for the benchmarks.
+** naive mode (ray_scene_set_pruning), and "limits" (NULL: the defaults)
+** bounds its ray tree, for the benchmarks.
 */
-static inline ray_scene *whitted_scene(ray_camera *cam, int prune)
+static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
+                                       const ray_limits *limits)
 {
     static const ray_phong_params red = {{0.75, 0.08, 0.06}, {0.2, 0.2, 0.2},
                                          40, 1, {0, 0, 0}};
@@ -62,6 +64,7 @@ static inline ray_scene *whitted_scene(ray_camera *cam, int prune)
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
     check(ray_scene_set_background_fn(scene, sky, NULL), "background");
     check(ray_scene_set_pruning(scene, prune), "pruning");
+    check(ray_scene_set_limits(scene, limits), "limits");
     check(ray_scene_commit(scene), "commit");
     *cam = view;
     return scene;
@@ -115,7 +118,8 @@ static inline void add_block(ray_scene *s, double cx, double cz, double hx,
 ** the ceiling, a glass and a mirror sphere.  Committed; fills *cam;
 ** prune as for whitted_scene.
 */
-static inline ray_scene *cornell_scene(ray_camera *cam, int prune)
+static inline ray_scene *cornell_scene(ray_camera *cam, int prune,
+                                       const ray_limits *limits)
 {
     static const ray_phong_params white = {{0.75, 0.75, 0.72}, {0, 0, 0}, 1,
                                            0, {0, 0, 0}};
@@ -164,6 +168,7 @@ static inline ray_scene *cornell_scene(ray_camera *cam, int prune)
     check(ray_scene_add_light(scene, &lamp, NULL), "lamp");
     check(ray_scene_set_ambient(scene, rgb(0.06, 0.06, 0.06)), "ambient");
     check(ray_scene_set_pruning(scene, prune), "pruning");
+    check(ray_scene_set_limits(scene, limits), "limits");
     check(ray_scene_commit(scene), "commit");
 
     *cam = view;
@@ -177,7 +182,8 @@ static inline ray_scene *cornell_scene(ray_camera *cam, int prune)
 ** stderr) if the file cannot be read.  *triangles: the model's count.
 */
 static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
-                                    int prune, size_t *triangles)
+                                    int prune, const ray_limits *limits,
+                                    size_t *triangles)
 {
     static const ray_phong_params clay = {{0.7, 0.66, 0.6}, {0.25, 0.25, 0.25},
                                           30, 1, {0, 0, 0}};
@@ -226,6 +232,7 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
     check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
     check(ray_scene_set_background(scene, rgb(0.55, 0.65, 0.8)), "background");
     check(ray_scene_set_pruning(scene, prune), "pruning");
+    check(ray_scene_set_limits(scene, limits), "limits");
     check(ray_scene_commit(scene), "ray_scene_commit");
     memset(cam, 0, sizeof *cam);
     cam->position = vec(centre.x, centre.y + 0.25 * diag, centre.z + 1.3 * diag);

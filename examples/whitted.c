@@ -11,7 +11,7 @@
 int main(int argc, char **argv)
 {
     ray_camera cam;
-    ray_scene *scene = whitted_scene(&cam, 1);
+    ray_scene *scene = whitted_scene(&cam, 1, NULL);
     int rc = render_to_png("whitted", scene, &cam, argc, argv, 640, 480);
 
     ray_scene_free(scene);

@@ -1,0 +1,743 @@
+/*
+** accuracy.c -- what accuracy costs in time, every knob in one run:
+**
+**   1. each primitive's variants (float / double, textbook / cancellation-
+**      free, Cramer / watertight): nanoseconds per test on the same rays,
+**      the error of t and of the hit point against long double (median,
+**      99th percentile, maximum, in ulps), and failures on the stability
+**      suite's hard-case sets (tests/hardcases.h);
+**   2. per image (Whitted, Cornell box, bunny): samples per pixel (uniform
+**      and adaptive), maximum depth, minimum weight: render time against
+**      the error (RMSE, PSNR) from a converged reference;
+**   3. robust ray offsets against a fixed epsilon: acne pixels and time.
+**
+**     accuracy DATA_DIR PLOT_DIR    (prints Markdown; writes .dat files to PLOT_DIR)
+**
+** Method: a warm-up, then the median of REPS repetitions; variants compared
+** on the same inputs in the same run.  BENCH_QUICK=1: small sizes (< 1 min).
+** Asserts nothing (bench/run.sh turns the output into bench/RESULTS.md).
+*/
+#include "hardcases.h"
+#include "scenes.h"
+
+static int reps = 5;
+static int quick;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The q-quantile (0..1) of v[0..n-1], sorting v. */
+static double quantile(double *v, size_t n, double q)
+{
+    size_t k;
+    if (n == 0)
+        return 0;
+    qsort(v, n, sizeof *v, cmp_double);
+    k = (size_t)(q * (double)(n - 1) + 0.5);
+    return v[k];
+}
+
+/* ------------------------------------------------------------ workloads */
+
+/*
+** A workload: n rays each with its own primitive, half aimed at a point
+** on it (hits) and half at a point beside it (misses), from 1 to 20 units
+** away -- the same inputs for every variant of that primitive.
+*/
+typedef struct work {
+    size_t n;
+    ray_ray *rays;
+    ray_vec3 *a, *b, *c;     /* sphere: a = centre, r[i] radius */
+    double *r;
+} work;
+
+static void work_alloc(work *w, size_t n)
+{
+    w->n = n;
+    w->rays = malloc(n * sizeof *w->rays);
+    w->a = malloc(n * sizeof *w->a);
+    w->b = malloc(n * sizeof *w->b);
+    w->c = malloc(n * sizeof *w->c);
+    w->r = malloc(n * sizeof *w->r);
+}
+
+static void work_free(work *w)
+{
+    free(w->rays);
+    free(w->a);
+    free(w->b);
+    free(w->c);
+    free(w->r);
+}
+
+static ray_ray aimed(hc_rng *g, ray_vec3 target)
+{
+    ray_ray r;
+    r.org = v3_add(target, v3_scale(hc_dir(g), 1 + 19 * hc_unit(g)));
+    r.dir = v3_sub(target, r.org);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    return r;
+}
+
+static ray_vec3 rnd_point(hc_rng *g, double s)
+{
+    return v3(s * (2 * hc_unit(g) - 1), s * (2 * hc_unit(g) - 1),
+              s * (2 * hc_unit(g) - 1));
+}
+
+static work sphere_work(size_t n)
+{
+    hc_rng g = {1};
+    work w;
+    size_t i;
+
+    work_alloc(&w, n);
+    for (i = 0; i < n; i++) {
+        ray_vec3 nrm = hc_dir(&g);
+        w.a[i] = rnd_point(&g, 100);
+        w.r[i] = 0.1 + 5 * hc_unit(&g);
+        w.rays[i] = aimed(&g, v3_add(w.a[i],
+                                     v3_scale(nrm, w.r[i] * (i & 1 ? 1.2 : 0.8))));
+    }
+    return w;
+}
+
+static work triangle_work(size_t n)
+{
+    hc_rng g = {2};
+    work w;
+    size_t i;
+
+    work_alloc(&w, n);
+    for (i = 0; i < n; i++) {
+        double u = hc_unit(&g), v = hc_unit(&g);
+        w.a[i] = rnd_point(&g, 100);
+        w.b[i] = v3_add(w.a[i], v3_scale(hc_dir(&g), 0.5 + 3 * hc_unit(&g)));
+        w.c[i] = v3_add(w.a[i], v3_scale(hc_dir(&g), 0.5 + 3 * hc_unit(&g)));
+        if (u + v > 1) {
+            u = 1 - u;
+            v = 1 - v;
+        }
+        if (i & 1)                       /* beside the triangle */
+            u = -0.2 - u;
+        w.rays[i] = aimed(&g, v3_add(v3_add(v3_scale(w.a[i], 1 - u - v),
+                                            v3_scale(w.b[i], u)),
+                                     v3_scale(w.c[i], v)));
+    }
+    return w;
+}
+
+static work plane_work(size_t n)
+{
+    hc_rng g = {3};
+    work w;
+    size_t i;
+
+    work_alloc(&w, n);
+    for (i = 0; i < n; i++) {
+        ray_vec3 nrm = hc_dir(&g), t1, t2;
+        ray__tangent_frame(nrm, &t1, &t2);
+        w.a[i] = rnd_point(&g, 100);
+        w.b[i] = nrm;
+        w.rays[i] = aimed(&g, v3_add(w.a[i], v3_add(v3_scale(t1, 5 * hc_unit(&g)),
+                                                    v3_scale(t2, 5 * hc_unit(&g)))));
+        if (i & 1)                       /* pointing away: a miss */
+            w.rays[i].dir = v3_scale(w.rays[i].dir, -1);
+    }
+    return w;
+}
+
+/* ------------------------------------------------------------ references */
+
+/* The robust sphere root in long double: the reference for both forms. */
+static int sphere_ref(const ray_ray *r, ray_vec3 c, double R, long double *t)
+{
+    long double f[3] = {(long double)r->org.x - c.x, (long double)r->org.y - c.y,
+                        (long double)r->org.z - c.z};
+    long double d[3] = {r->dir.x, r->dir.y, r->dir.z}, a = 0, b = 0, l2 = 0,
+                f2 = 0, disc, cc, q, t0, t1;
+    int k;
+
+    for (k = 0; k < 3; k++) {
+        a += d[k] * d[k];
+        b -= f[k] * d[k];
+        f2 += f[k] * f[k];
+    }
+    for (k = 0; k < 3; k++) {
+        long double l = f[k] + b / a * d[k];
+        l2 += l * l;
+    }
+    disc = ((long double)R - sqrtl(l2)) * ((long double)R + sqrtl(l2));
+    if (disc < 0)
+        return 0;
+    cc = (sqrtl(f2) - R) * (sqrtl(f2) + R);
+    q = b + (b < 0 ? -1 : 1) * sqrtl(a * disc);
+    t0 = cc / q;
+    t1 = q / a;
+    if (t0 > t1) {
+        long double s = t0;
+        t0 = t1;
+        t1 = s;
+    }
+    *t = t0 > 0 ? t0 : t1;
+    return *t > 0;
+}
+
+/* Cramer's rule in long double: the triangle reference. */
+static int triangle_ref(const ray_ray *r, ray_vec3 A, ray_vec3 B, ray_vec3 C,
+                        long double *t)
+{
+    long double a = (long double)A.x - B.x, b = (long double)A.y - B.y,
+                c = (long double)A.z - B.z, d = (long double)A.x - C.x,
+                e = (long double)A.y - C.y, f = (long double)A.z - C.z,
+                g = r->dir.x, h = r->dir.y, i = r->dir.z,
+                j = (long double)A.x - r->org.x, k = (long double)A.y - r->org.y,
+                l = (long double)A.z - r->org.z;
+    long double m = a * (e * i - h * f) + b * (g * f - d * i) + c * (d * h - e * g);
+
+    if (m == 0)
+        return 0;
+    *t = -(f * (a * k - j * b) + e * (j * c - a * l) + d * (b * l - k * c)) / m;
+    return 1;
+}
+
+static int plane_ref(const ray_ray *r, ray_vec3 p, ray_vec3 n, long double *t)
+{
+    long double num = ((long double)p.x - r->org.x) * n.x +
+                      ((long double)p.y - r->org.y) * n.y +
+                      ((long double)p.z - r->org.z) * n.z;
+    long double den = (long double)r->dir.x * n.x + (long double)r->dir.y * n.y +
+                      (long double)r->dir.z * n.z;
+    if (den == 0)
+        return 0;
+    *t = num / den;
+    return *t > 0;
+}
+
+/* Hit-point error: |p - (o + t_ref d)| in ulps of the point's largest
+** coordinate. */
+static double point_ulps(ray_vec3 p, const ray_ray *r, long double t)
+{
+    long double q[3] = {r->org.x + t * r->dir.x, r->org.y + t * r->dir.y,
+                        r->org.z + t * r->dir.z};
+    long double e = fabsl(p.x - q[0]), m = fabsl(q[0]);
+    double scale;
+
+    if (fabsl(p.y - q[1]) > e)
+        e = fabsl(p.y - q[1]);
+    if (fabsl(p.z - q[2]) > e)
+        e = fabsl(p.z - q[2]);
+    if (fabsl(q[1]) > m)
+        m = fabsl(q[1]);
+    if (fabsl(q[2]) > m)
+        m = fabsl(q[2]);
+    scale = nextafter((double)m, HUGE_VAL) - (double)m;
+    return (double)(e / (long double)scale);
+}
+
+/* ------------------------------------------------------------ variants */
+
+enum {
+    V_SPHERE_TEXTBOOK, V_SPHERE_ROBUST,
+    V_TRI_FLOAT, V_TRI_CRAMER, V_TRI_WATERTIGHT,
+    V_PLANE_RAW, V_PLANE,
+    V_COUNT
+};
+
+static const char *variant_name[V_COUNT] = {
+    "sphere, textbook b^2 - 4ac (double)",
+    "sphere, cancellation-free (ray_sphere)",
+    "triangle, Cramer in float",
+    "triangle, Cramer in double (ray_triangle)",
+    "triangle, watertight (ray_triangle_watertight)",
+    "plane, hit point e + t d",
+    "plane, projected hit point (ray_plane)"
+};
+
+/* Run variant v on ray i of w: 1 on a hit, with t and the point. */
+static int run_variant(int v, const work *w, size_t i, double *t, ray_vec3 *p)
+{
+    const ray_ray *r = &w->rays[i];
+    ray_hit h;
+    int hit;
+
+    switch (v) {
+    case V_SPHERE_TEXTBOOK: hit = ray__sphere_naive(r, w->a[i], w->r[i], &h); break;
+    case V_SPHERE_ROBUST: hit = ray_sphere(r, w->a[i], w->r[i], &h); break;
+    case V_TRI_FLOAT:
+        hit = ray__triangle_float(r, w->a[i], w->b[i], w->c[i], &h.t);
+        h.p = v3_madd(r->org, h.t, r->dir);
+        break;
+    case V_TRI_CRAMER: hit = ray_triangle(r, w->a[i], w->b[i], w->c[i], &h); break;
+    case V_TRI_WATERTIGHT:
+        hit = ray_triangle_watertight(r, w->a[i], w->b[i], w->c[i], &h);
+        break;
+    case V_PLANE_RAW:
+        hit = ray_plane(r, w->a[i], w->b[i], &h);
+        h.p = v3_madd(r->org, h.t, r->dir);
+        break;
+    default: hit = ray_plane(r, w->a[i], w->b[i], &h); break;
+    }
+    *t = h.t;
+    *p = h.p;
+    return hit;
+}
+
+static int reference(int v, const work *w, size_t i, long double *t)
+{
+    if (v <= V_SPHERE_ROBUST)
+        return sphere_ref(&w->rays[i], w->a[i], w->r[i], t);
+    if (v <= V_TRI_WATERTIGHT)
+        return triangle_ref(&w->rays[i], w->a[i], w->b[i], w->c[i], t);
+    return plane_ref(&w->rays[i], w->a[i], w->b[i], t);
+}
+
+/* Nanoseconds per test: the median of reps passes over the workload. */
+static double ns_per_test(int v, const work *w)
+{
+    double times[16], t, sink = 0;
+    ray_vec3 p;
+    int k;
+    size_t i;
+
+    for (k = 0; k <= reps; k++) {
+        double t0 = now_seconds();
+        for (i = 0; i < w->n; i++)
+            if (run_variant(v, w, i, &t, &p))
+                sink += t;
+        if (k > 0)                       /* pass 0 is the warm-up */
+            times[k - 1] = now_seconds() - t0;
+    }
+    if (sink == 42.0)                    /* keep the loop alive */
+        printf(" ");
+    return quantile(times, (size_t)reps, 0.5) * 1e9 / (double)w->n;
+}
+
+/* One row: timing, errors of t and p, and hard-case failures. */
+static void primitive_row(int v, const work *w, const char *failures,
+                          double *base_ns)
+{
+    double *et = malloc(w->n * sizeof *et), *ep = malloc(w->n * sizeof *ep);
+    size_t i, m = 0, missed = 0;
+    double ns = ns_per_test(v, w);
+
+    for (i = 0; i < w->n; i++) {
+        long double tr;
+        double t;
+        ray_vec3 p;
+        int hit = run_variant(v, w, i, &t, &p), ref = reference(v, w, i, &tr);
+        if (ref && !hit && (i & 1) == 0)
+            missed++;
+        if (!hit || !ref)
+            continue;
+        et[m] = hc_ulps(t, tr);
+        ep[m++] = point_ulps(p, &w->rays[i], tr);
+    }
+    if (*base_ns == 0)
+        *base_ns = ns;
+    printf("| %s | %.1f | %.2f | %.3g / %.3g / %.3g | %.3g / %.3g / %.3g | "
+           "%zu | %s |\n", variant_name[v], ns, ns / *base_ns,
+           quantile(et, m, 0.5), quantile(et, m, 0.99), quantile(et, m, 1.0),
+           quantile(ep, m, 0.5), quantile(ep, m, 0.99), quantile(ep, m, 1.0),
+           missed, failures);
+    free(et);
+    free(ep);
+}
+
+static void primitives(void)
+{
+    size_t n = quick ? 20000 : 200000;
+    long hard = quick ? 5000 : 50000;
+    work sw = sphere_work(n), tw = triangle_work(n), pw = plane_work(n);
+    char f[4][160];
+    double base;
+    hc_mesh ico = hc_icosphere(v3(0, 0, 0), 2);
+    hc_sphere_result sn = hc_sphere_far(1e-2, 1e6, 101, 1),
+                     sr = hc_sphere_far(1e-2, 1e6, 101, 0);
+
+    printf("### Primitives\n\n%zu rays per primitive, half hits and half "
+           "misses, from 1 to 20 units away, primitives within 100 of the "
+           "origin; errors against long double (64-bit significand) as "
+           "median / 99th percentile / maximum in ulps of t and of the hit "
+           "point's largest coordinate.  \"missed\": aimed hits not found.  "
+           "Hard cases: the stability suite's sets (tests/hardcases.h).\n\n",
+           n);
+    printf("| variant | ns per test | time ratio | error of t (ulps) | "
+           "error of point (ulps) | missed | hard cases |\n"
+           "|---|---|---|---|---|---|---|\n");
+    snprintf(f[0], sizeof f[0], "sphere r 1e-2 at 1e6: %ld of %ld rays wrong",
+             sn.wrong, sn.rays);
+    snprintf(f[1], sizeof f[1], "sphere r 1e-2 at 1e6: %ld of %ld wrong",
+             sr.wrong, sr.rays);
+    base = 0;
+    primitive_row(V_SPHERE_TEXTBOOK, &sw, f[0], &base);
+    primitive_row(V_SPHERE_ROBUST, &sw, f[1], &base);
+    snprintf(f[0], sizeof f[0], "leaks %ld of %ld edge rays; false hits %ld "
+             "of %ld at 1e-9", hc_leaks(&ico, v3(0, 0, 0), hard, 1, HC_CRAMER_FLOAT, 1),
+             hard, hc_false_hits(1e-9, hard, HC_CRAMER_FLOAT), hard);
+    snprintf(f[1], sizeof f[1], "leaks %ld of %ld edge rays; false hits %ld "
+             "of %ld at 1e-9", hc_leaks(&ico, v3(0, 0, 0), hard, 1, HC_CRAMER, 1),
+             hard, hc_false_hits(1e-9, hard, HC_CRAMER), hard);
+    snprintf(f[2], sizeof f[2], "leaks %ld of %ld edge rays; false hits %ld "
+             "of %ld at 1e-9", hc_leaks(&ico, v3(0, 0, 0), hard, 1, HC_WATERTIGHT, 1),
+             hard, hc_false_hits(1e-9, hard, HC_WATERTIGHT), hard);
+    base = 0;
+    primitive_row(V_TRI_CRAMER, &tw, f[1], &base);
+    primitive_row(V_TRI_FLOAT, &tw, f[0], &base);
+    primitive_row(V_TRI_WATERTIGHT, &tw, f[2], &base);
+    base = 0;
+    primitive_row(V_PLANE, &pw, "-", &base);
+    primitive_row(V_PLANE_RAW, &pw, "-", &base);
+    {
+        double t0, nb, nn;
+        hc_rng g = {4};
+        size_t i, m = quick ? 20000 : 200000;
+        ray_vec3 *pts = malloc(4 * m * sizeof *pts);
+        double abg[3], sink = 0;
+        for (i = 0; i < 4 * m; i++)
+            pts[i] = rnd_point(&g, 10);
+        t0 = now_seconds();
+        for (i = 0; i < m; i++)
+            if (ray__barycentric_naive(pts[4 * i], pts[4 * i + 1], pts[4 * i + 2],
+                                       pts[4 * i + 3], abg) == RAY_OK)
+                sink += abg[0];
+        nn = (now_seconds() - t0) * 1e9 / (double)m;
+        t0 = now_seconds();
+        for (i = 0; i < m; i++)
+            if (ray_barycentric(pts[4 * i], pts[4 * i + 1], pts[4 * i + 2],
+                                pts[4 * i + 3], abg, NULL) == RAY_OK)
+                sink += abg[0];
+        nb = (now_seconds() - t0) * 1e9 / (double)m;
+        printf("| barycentric, divided by N.N (lecture) | %.1f | 1.00 | - | - "
+               "| - | max drift of alpha+beta+gamma: %.2g |\n", nn,
+               hc_bary_drift(hard, 1));
+        printf("| barycentric, divided by the sum (ray_barycentric) | %.1f | "
+               "%.2f | - | - | - | max drift: %.2g |\n", nb, nb / nn,
+               hc_bary_drift(hard, 0));
+        if (sink == 42.0)
+            printf(" ");
+        free(pts);
+    }
+    {
+        /* Polygons: one variant (the ray-frame crossing test); its cost
+        ** per test on quads, and the shared-edge partition. */
+        hc_rng g = {6};
+        size_t i, m = quick ? 20000 : 200000, both = 0, none = 0;
+        double t0, ns;
+        ray_vec3 q[4] = {{0.1, 0.2, 0}, {3.7, 0.3, 0}, {2.9, 4.1, 0},
+                         {0.2, 3.3, 0}}, left[3], right[3];
+        ray_hit h;
+        ray_ray *rays = malloc(m * sizeof *rays);
+        double sink = 0;
+        left[0] = q[0], left[1] = q[1], left[2] = q[2];
+        right[0] = q[0], right[1] = q[2], right[2] = q[3];
+        for (i = 0; i < m; i++)
+            rays[i] = aimed(&g, v3(4 * hc_unit(&g), 4 * hc_unit(&g), 0));
+        t0 = now_seconds();
+        for (i = 0; i < m; i++)
+            if (ray_polygon(&rays[i], q, 4, &h))
+                sink += h.t;
+        ns = (now_seconds() - t0) * 1e9 / (double)m;
+        if (sink == 42.0)
+            printf(" ");
+        free(rays);
+        for (i = 0; i < (size_t)hard; i++) {
+            double s = 0.01 + 0.98 * hc_unit(&g);
+            ray_ray r = aimed(&g, v3_add(v3_scale(q[0], 1 - s), v3_scale(q[2], s)));
+            int k = ray_polygon(&r, left, 3, &h) + ray_polygon(&r, right, 3, &h);
+            both += k == 2;
+            none += k == 0;
+        }
+        printf("| polygon, crossings in the ray's frame (ray_polygon, 4 "
+               "vertices) | %.1f | - | - | - | - | rays at a shared edge in "
+               "both: %zu, in neither: %zu of %ld |\n\n", ns, both, none, hard);
+    }
+    printf("Float Cramer is the fastest test in isolation, but it leaks "
+           "through shared edges, hits points 1e-9 outside an edge about half "
+           "the time, and its t is off by ~1e9 ulps of double: libray does "
+           "not export float variants (a game keeps float vertices and "
+           "converts them when adding a mesh; the scene stores doubles).  "
+           "The watertight test costs about 1.5 Cramer tests in isolation; "
+           "inside a whole traversal the difference is a few percent (see "
+           "the mesh benchmark).\n\n");
+    work_free(&sw);
+    work_free(&tw);
+    work_free(&pw);
+    hc_mesh_free(&ico);
+}
+
+/* ------------------------------------------------------------- images */
+
+static double rmse(const float *a, const float *b, size_t n)
+{
+    double sum = 0;
+    size_t i;
+
+    for (i = 0; i < 3 * n; i++) {
+        double x = fmin(fmax(a[i], 0.0f), 1.0f), y = fmin(fmax(b[i], 0.0f), 1.0f);
+        sum += (x - y) * (x - y);
+    }
+    return sqrt(sum / (double)(3 * n));
+}
+
+static double psnr(double e)
+{
+    return e > 0 ? -20.0 * log10(e) : 99.0;
+}
+
+static double render_timed(const ray_scene *s, const ray_camera *cam,
+                           ray_render_options *o, float *img, ray_stats *st)
+{
+    double t = now_seconds();
+    check(ray_render(s, cam, o, img, st), "ray_render");
+    return now_seconds() - t;
+}
+
+static FILE *plot_file(const char *dir, const char *scene, const char *what)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/%s-%s.dat", dir, scene, what);
+    return fopen(path, "w");
+}
+
+/* The curves of one scene. */
+static void image_curves(const char *name, const char *tag, ray_scene *s,
+                         const ray_camera *cam, unsigned w, unsigned h,
+                         const char *plot_dir,
+                         ray_scene *(*rebuild)(const ray_limits *, ray_camera *,
+                                               const void *),
+                         const void *arg)
+{
+    static const unsigned spp[] = {1, 4, 16, 64};
+    static const double thr[] = {0.1, 0.03, 0.01};
+    static const double weights[] = {0.0, 1.0 / 4096, 1.0 / 256, 1.0 / 64,
+                                     1.0 / 16};
+    size_t n = (size_t)w * h;
+    float *ref = malloc(3 * n * sizeof *ref), *img = malloc(3 * n * sizeof *img);
+    ray_render_options o;
+    ray_stats st;
+    FILE *fu = plot_file(plot_dir, tag, "uniform"),
+         *fa = plot_file(plot_dir, tag, "adaptive");
+    unsigned k, d;
+
+    ray_render_options_init(&o, w, h);
+    o.samples = quick ? 64 : 256;
+    o.seed = 0x5eed;         /* independent of the measured renders' noise */
+    render_timed(s, cam, &o, ref, &st);
+    printf("#### %s (%ux%u, reference %u samples per pixel)\n\n", name, w, h,
+           o.samples);
+    printf("| knob | setting | time (s) | rays | RMSE | PSNR (dB) |\n"
+           "|---|---|---|---|---|---|\n");
+    for (k = 0; k < 4; k++) {
+        double t, e;
+        ray_render_options_init(&o, w, h);
+        o.samples = spp[k];
+        t = render_timed(s, cam, &o, img, &st);
+        e = rmse(img, ref, n);
+        printf("| samples (uniform) | %u | %.3f | %llu | %.4f | %.1f |\n",
+               spp[k], t, st.rays[0] + st.rays[1] + st.rays[2] + st.rays[3],
+               e, psnr(e));
+        if (fu != NULL)
+            fprintf(fu, "%g %g\n", t, e);
+    }
+    for (k = 0; k < 3; k++) {
+        double t, e;
+        ray_render_options_init(&o, w, h);
+        o.adaptive_threshold = thr[k];
+        o.adaptive_depth = 2;
+        t = render_timed(s, cam, &o, img, &st);
+        e = rmse(img, ref, n);
+        printf("| samples (adaptive, depth 2) | threshold %g, %.1f per pixel | "
+               "%.3f | %llu | %.4f | %.1f |\n", thr[k],
+               (double)st.rays[0] / (double)n, t,
+               st.rays[0] + st.rays[1] + st.rays[2] + st.rays[3], e, psnr(e));
+        if (fa != NULL)
+            fprintf(fa, "%g %g\n", t, e);
+    }
+    for (d = 1; d <= 8; d += (d < 4 ? 1 : 4)) {
+        ray_limits lim = {d, RAY_DEFAULT_MIN_WEIGHT, RAY_DEFAULT_MAX_FANOUT};
+        ray_camera c2;
+        ray_scene *s2 = rebuild(&lim, &c2, arg);
+        double t, e;
+        ray_render_options_init(&o, w, h);
+        o.samples = quick ? 4 : 16;
+        t = render_timed(s2, &c2, &o, img, &st);
+        e = rmse(img, ref, n);
+        printf("| maximum depth (%u spp) | %u | %.3f | %llu | %.4f | %.1f |\n",
+               o.samples, d, t,
+               st.rays[0] + st.rays[1] + st.rays[2] + st.rays[3], e, psnr(e));
+        ray_scene_free(s2);
+    }
+    for (k = 0; k < 5; k++) {
+        ray_limits lim = {RAY_DEFAULT_MAX_DEPTH, weights[k],
+                          RAY_DEFAULT_MAX_FANOUT};
+        ray_camera c2;
+        ray_scene *s2 = rebuild(&lim, &c2, arg);
+        double t, e;
+        ray_render_options_init(&o, w, h);
+        o.samples = quick ? 4 : 16;
+        t = render_timed(s2, &c2, &o, img, &st);
+        e = rmse(img, ref, n);
+        printf("| minimum weight (%u spp) | %g | %.3f | %llu | %.4f | %.1f |\n",
+               o.samples, weights[k], t,
+               st.rays[0] + st.rays[1] + st.rays[2] + st.rays[3], e, psnr(e));
+        ray_scene_free(s2);
+    }
+    printf("\n");
+    if (fu != NULL)
+        fclose(fu);
+    if (fa != NULL)
+        fclose(fa);
+    free(ref);
+    free(img);
+}
+
+/* Rebuilders with other ray-tree limits, for the depth and weight sweeps. */
+static ray_scene *rebuild_whitted(const ray_limits *lim, ray_camera *cam,
+                                  const void *arg)
+{
+    (void)arg;
+    return whitted_scene(cam, 1, lim);
+}
+
+static ray_scene *rebuild_cornell(const ray_limits *lim, ray_camera *cam,
+                                  const void *arg)
+{
+    (void)arg;
+    return cornell_scene(cam, 1, lim);
+}
+
+static ray_scene *rebuild_mesh(const ray_limits *lim, ray_camera *cam,
+                               const void *arg)
+{
+    return mesh_scene(arg, cam, 1, lim, NULL);
+}
+
+/* --------------------------------------------------- offsets vs epsilon */
+
+/*
+** A diffuse shader that casts its own shadow ray, leaving the surface by
+** one of the three methods of tests/hardcases.h, and counts acne: a
+** shadow ray blocked although nothing but the surface itself lies between
+** it and the light (the scene is one sphere).  Rendered on one thread, so
+** the counter needs no lock.
+*/
+typedef struct acne_shader {
+    int method;
+    long lit, acne;
+} acne_shader;
+
+static void acne_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                       ray_rgb *out)
+{
+    acne_shader *sh = ud;
+    ray_light_sample ls;
+    ray_ray shadow;
+    double cosine;
+
+    if (ray_light_sample_at(ctx, a, 0, 0, &ls) != RAY_OK)
+        return;
+    cosine = v3_dot(a->normal, ls.dir);
+    if (cosine <= 0.05)
+        return;
+    sh->lit++;
+    if (!hc_leave(a->hit, ls.dir, &ls.point, sh->method, &shadow))
+        return;
+    if (ray_occluded(a->scene, &shadow)) {
+        sh->acne++;
+        return;
+    }
+    out->r = out->g = out->b = cosine;
+}
+
+static void offsets(void)
+{
+    static const double dist[] = {0, 1e5, 1e6};
+    static const char *names[] = {"no offset", "fixed 1e-4", "ray_spawn"};
+    unsigned w = quick ? 96 : 256, h = w;
+    float *img = malloc(3 * (size_t)w * h * sizeof *img);
+    int k, m;
+
+    printf("### Ray offsets against a fixed epsilon\n\n"
+           "A unit sphere at distance X from the origin, lit by a point "
+           "light, %ux%u pixels, one thread: acne pixels (lit, yet the "
+           "shadow ray is blocked by the sphere itself) and render time.\n\n"
+           "| X | method | lit pixels | acne pixels | time (s) |\n"
+           "|---|---|---|---|---|\n", w, h);
+    for (k = 0; k < 3; k++)
+        for (m = 0; m < 3; m++) {
+            double X = dist[k], t;
+            acne_shader sh = {0, 0, 0};
+            ray_material mat = {acne_shade, NULL, 0};
+            ray_light l;
+            ray_camera cam;
+            ray_render_options o;
+            ray_scene *s;
+            unsigned id;
+            sh.method = m == 0 ? HC_NO_OFFSET : (m == 1 ? HC_FIXED_EPSILON : HC_SPAWN);
+            mat.ud = &sh;
+            memset(&l, 0, sizeof l);
+            l.kind = RAY_LIGHT_POINT;
+            l.position = v3(X + 3, 4, 5);
+            l.intensity = rgb(1, 1, 1);
+            check(ray_scene_new(&s, NULL, NULL), "scene");
+            check(ray_scene_add_material(s, &mat, &id), "material");
+            check(ray_scene_add_sphere(s, v3(X, 0, 0), 1, id, NULL), "sphere");
+            check(ray_scene_add_light(s, &l, NULL), "light");
+            check(ray_scene_commit(s), "commit");
+            memset(&cam, 0, sizeof cam);
+            cam.position = v3(X + 1, 1, 4);
+            cam.look_at = v3(X, 0, 0);
+            cam.up = v3(0, 1, 0);
+            cam.vfov = 40;
+            ray_render_options_init(&o, w, h);
+            o.threads = 1;
+            t = now_seconds();
+            check(ray_render(s, &cam, &o, img, NULL), "render");
+            t = now_seconds() - t;
+            printf("| %g | %s | %ld | %ld | %.3f |\n", X, names[m], sh.lit,
+                   sh.acne, t);
+            ray_scene_free(s);
+        }
+    printf("\n");
+    free(img);
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = argc > 1 ? argv[1] : "data";
+    const char *plots = argc > 2 ? argv[2] : ".";
+    char bunny[512];
+    unsigned w, h;
+    ray_camera cam;
+    ray_scene *s;
+
+    quick = getenv("BENCH_QUICK") != NULL;
+    reps = quick ? 3 : 5;
+    w = quick ? 64 : 160;
+    h = quick ? 48 : 120;
+    snprintf(bunny, sizeof bunny, "%s/bunny.obj", dir);
+    printf("## What accuracy costs\n\n");
+    primitives();
+    printf("### Images: time against error\n\n");
+    s = whitted_scene(&cam, 1, NULL);
+    image_curves("Whitted scene", "whitted", s, &cam, w, h, plots,
+                 rebuild_whitted, NULL);
+    ray_scene_free(s);
+    s = cornell_scene(&cam, 1, NULL);
+    image_curves("Cornell box", "cornell", s, &cam, w, h, plots,
+                 rebuild_cornell, NULL);
+    ray_scene_free(s);
+    s = mesh_scene(bunny, &cam, 1, NULL, NULL);
+    if (s != NULL) {
+        image_curves("Stanford bunny (3,674 triangles)", "bunny", s, &cam, w,
+                     h, plots, rebuild_mesh, bunny);
+        ray_scene_free(s);
+    }
+    offsets();
+    return 0;
+}

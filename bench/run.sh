@@ -1,0 +1,59 @@
+#!/bin/sh
+# run.sh BUILD_DIR -- run every benchmark, write bench/RESULTS.md, put the
+# headline table of "What accuracy costs" into README.md (between the
+# <!-- accuracy:begin --> and <!-- accuracy:end --> markers) and, when
+# gnuplot is installed, draw bench/accuracy.png.  BENCH_QUICK=1 for a short
+# run (under a minute).  Prints the results as it goes.
+set -eu
+build=${1:-build}
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+out=bench/RESULTS.md
+plots=$(mktemp -d)
+trap 'rm -rf "$plots"' EXIT
+
+scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or curl needed): mesh rows skipped" >&2
+{
+    echo "# libray benchmark results"
+    echo
+    echo "Command: \`${BENCH_QUICK:+BENCH_QUICK=1 }make bench\`; machine: $(uname -m),"
+    echo "$(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //' || echo unknown)),"
+    echo "$(${CC:-cc} --version | head -1); $(date -u +%Y-%m-%d)."
+    echo
+    "$build/bench/accuracy" data "$plots"
+    "$build/bench/numerics"
+    "$build/bench/effects" data
+    "$build/bench/threads"
+    "$build/bench/mesh" data
+} | tee "$out.tmp"
+mv "$out.tmp" "$out"
+
+# The headline: the primitives table, into the README.
+awk '/^### Primitives/{on=1} on&&/^### Images/{exit} on' "$out" > "$plots/headline.md"
+awk -v f="$plots/headline.md" '
+    /<!-- accuracy:begin -->/ { print; while ((getline l < f) > 0) print l; skip=1; next }
+    /<!-- accuracy:end -->/ { skip=0 }
+    !skip' README.md > "$plots/README.md" && cp "$plots/README.md" README.md
+
+if command -v gnuplot >/dev/null 2>&1; then
+    gnuplot <<GP
+set terminal pngcairo size 800,500 noenhanced
+set output "bench/accuracy.png"
+set title "Render time against image error (RMSE from a converged reference)"
+set xlabel "render time (s), 2 threads"
+set ylabel "RMSE"
+set logscale xy
+set key bottom left box opaque
+set grid
+plot "$plots/whitted-uniform.dat" with linespoints title "Whitted, uniform 1-64 spp", \
+     "$plots/whitted-adaptive.dat" with linespoints title "Whitted, adaptive", \
+     "$plots/cornell-uniform.dat" with linespoints title "Cornell, uniform", \
+     "$plots/cornell-adaptive.dat" with linespoints title "Cornell, adaptive", \
+     "$plots/bunny-uniform.dat" with linespoints title "bunny, uniform", \
+     "$plots/bunny-adaptive.dat" with linespoints title "bunny, adaptive"
+GP
+    echo "bench: wrote bench/accuracy.png" >&2
+else
+    echo "bench: gnuplot not installed: no plot (apt-get install gnuplot-nox)" >&2
+fi
+echo "bench: wrote $out" >&2
