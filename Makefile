@@ -16,15 +16,15 @@ BUILD      ?= build
 VERSION = 0.1.0
 SOMAJOR = 0
 
-# Always on, whatever CFLAGS says: ISO C99 and no floating-point
-# contraction.  gcc fuses a*b+c into an FMA in its GNU modes, which rounds
+# Always on, whatever CFLAGS says (they come after it on the command line,
+# so they win): ISO C99 and no floating-point contraction.  gcc fuses a*b+c into an FMA in its GNU modes, which rounds
 # the same edge differently in two neighbouring triangles and breaks
 # watertightness (shared/research/robustness.md, section 9.3).
 STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
        -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \
        -Wconversion -Wdouble-promotion -Wformat=2
-ALL_CFLAGS = $(STD_CFLAGS) $(WARN) -Iinclude $(CFLAGS)
+ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
 PNG_CFLAGS  = $(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null)
@@ -50,6 +50,8 @@ MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 
     ray_scene_new:ray_scene_set_ambient ray_scene_new:ray_scene_set_limits \
     ray_scene_new:ray_scene_light_count \
     ray_scene_effects:ray_scene_set_pruning \
+    ray_scene_effects:ray_scene_set_watertight \
+    ray_triangle:ray_triangle_watertight \
     ray_scene_add_sphere:ray_scene_add_plane \
     ray_scene_add_sphere:ray_scene_add_triangle \
     ray_scene_add_sphere:ray_scene_add_polygon \
@@ -94,7 +96,7 @@ $(SHARED): $(OBJS)
 # ------------------------------------------------------------------ tests
 $(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h examples/obj.h $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(STD_CFLAGS) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples $(CFLAGS) \
+	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 

@@ -307,7 +307,7 @@ static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 
 /* Our scene of the mesh; *build_s: the commit (BVH build) time. */
 static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
-                            double *build_s)
+                            double *build_s, int watertight)
 {
     ray_material m = {nop_shade, NULL, 0};
     ray_mesh mesh = obj_as_ray_mesh(obj);
@@ -318,6 +318,7 @@ static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
     check(ray_scene_new(&s, counting_alloc, cnt), "ray_scene_new");
     check(ray_scene_add_material(s, &m, &mat), "material");
     check(ray_scene_add_mesh(s, &mesh, mat, NULL), "mesh");
+    check(ray_scene_set_watertight(s, watertight), "watertight");
     t = now_seconds();
     check(ray_scene_commit(s), "commit");
     *build_s = now_seconds() - t;
@@ -372,6 +373,46 @@ static void bbox(const obj_mesh *obj, ray_vec3 *centre, double *diag)
     *centre = vec((lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2);
     *diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
                  (hi.z - lo.z) * (hi.z - lo.z));
+}
+
+/* Median seconds to trace "set" on one thread with scene s. */
+static double one_thread(ray_scene *s, const ray_set *set, results *r)
+{
+    double t[9];
+    int k;
+
+    trace_all(s, 0, set, r, 1);
+    for (k = 0; k < reps; k++)
+        t[k] = trace_all(s, 0, set, r, 1);
+    return median(t, reps);
+}
+
+/* The default watertight triangle test against Cramer's rule (the fast
+** path, ray_scene_set_watertight(s, 0)) inside whole traversals. */
+static void triangle_test_cost(const obj_mesh *obj, const ray_set *primary,
+                               const ray_set *incoherent)
+{
+    counting c1 = {0, 0}, c2 = {0, 0};
+    double b;
+    ray_scene *wt = our_scene(obj, &c1, &b, 1), *cr = our_scene(obj, &c2, &b, 0);
+    results r;
+    double pw, pc, iw, ic;
+
+    results_alloc(&r, primary->n);
+    pw = one_thread(wt, primary, &r);
+    pc = one_thread(cr, primary, &r);
+    iw = one_thread(wt, incoherent, &r);
+    ic = one_thread(cr, incoherent, &r);
+    printf("Triangle test inside the traversal, one thread: primary rays "
+           "(1.0 diagonal) %.2f Mrays/s watertight, %.2f Cramer (ratio "
+           "%.2f); incoherent rays %.2f watertight, %.2f Cramer (ratio "
+           "%.2f).\n\n", (double)primary->n / pw / 1e6,
+           (double)primary->n / pc / 1e6, pw / pc,
+           (double)incoherent->n / iw / 1e6, (double)incoherent->n / ic / 1e6,
+           iw / ic);
+    results_free(&r);
+    ray_scene_free(wt);
+    ray_scene_free(cr);
 }
 
 /* Fraction of rays with the same hit/miss and (closest-hit) primitive;
@@ -460,7 +501,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
         if (ours != NULL)
             ray_scene_free(ours);
         cnt.now = cnt.peak = 0;
-        ours = our_scene(&obj, &cnt, &builds[k]);
+        ours = our_scene(&obj, &cnt, &builds[k], 1);
 #ifdef HAVE_EMBREE
         if (emb != NULL)
             rtcReleaseScene((RTCScene)emb);
@@ -498,6 +539,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     run_set("incoherent (cosine), any-hit", ours, emb, &shadow, 1);
     run_set("incoherent (cosine), any-hit", ours, emb, &shadow, cpus);
     printf("\n");
+    triangle_test_cost(&obj, &near, &diffuse);
     free(far.rays);
     free(near.rays);
     free(diffuse.rays);
@@ -526,7 +568,7 @@ static void bench_brute(const char *path)
         printf("(skipped: %s)\n\n", err);
         return;
     }
-    ours = our_scene(&obj, &cnt, &b);
+    ours = our_scene(&obj, &cnt, &b, 1);
     bbox(&obj, &centre, &diag);
     set = primary_rays(centre, diag, 1.0, 64);
     for (k = 0; k < reps; k++) {

@@ -157,7 +157,7 @@ RAY_API int ray_triangle(const ray_ray *r, ray_vec3 a, ray_vec3 b,
 ** from the same two vertices.  So a ray through a shared edge or vertex of
 ** a closed mesh hits at least one of its triangles, always -- which
 ** Cramer's rule does not promise (it leaks some rays aimed exactly at
-** shared vertices and edges, see ray(7)).  Scenes use it by default
+** shared vertices and edges, see ray-numerics(7)).  Scenes use it by default
 ** (ray_scene_set_watertight).  Same (u, v), normal and p as ray_triangle.
 */
 RAY_API int ray_triangle_watertight(const ray_ray *r, ray_vec3 a, ray_vec3 b,
@@ -514,8 +514,9 @@ RAY_API unsigned ray_scene_effects(const ray_scene *scene);
 ** meshes are intersected with ray_triangle_watertight, so no ray passes
 ** between the triangles of a closed mesh (measured: Cramer's rule in
 ** double lets 0.1 to 10% of the rays aimed exactly at shared vertices and
-** edges through, see ray(7)).  0: with ray_triangle, the lecture's
-** Cramer's rule, the fast path (about 6% faster on incoherent rays).
+** edges through, see ray-numerics(7)).  0: with ray_triangle, the
+** lecture's Cramer's rule, the fast path (bench/RESULTS.md gives both
+** speeds on the bunny).
 ** RAY_EINVAL (NULL), RAY_ESTATE after commit.
 */
 RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);

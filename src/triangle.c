@@ -125,7 +125,7 @@ static double axis(ray_vec3 v, int k)
 
 /*
 ** The 2x2 edge function a_x b_y - a_y b_x in long double (64 significant
-** bits on x87; plain double elsewhere).  Used only to re-evaluate the edge
+** bits on x86, 113 on AArch64 Linux, plain double on some platforms).  Used only to re-evaluate the edge
 ** functions when one is exactly 0 in double: more often then its true
 ** sign shows.  It stays exactly antisymmetric, fl(p - q) = -fl(q - p), so
 ** two triangles sharing the edge still get opposite values.
