@@ -94,9 +94,9 @@ $(SHARED): $(OBJS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
-$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h examples/obj.h $(STATIC)
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h examples/obj.h bench/bench.h $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples $(CFLAGS) $(STD_CFLAGS) \
+	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
@@ -111,7 +111,7 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
-$(BUILD)/bench/%: bench/%.c $(wildcard examples/*.h) tests/hardcases.h $(STATIC)
+$(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) tests/hardcases.h $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c,$<),$(EMBREE_FLAGS)) \
 	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)

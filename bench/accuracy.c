@@ -18,16 +18,11 @@
 ** Asserts nothing (bench/run.sh turns the output into bench/RESULTS.md).
 */
 #include "hardcases.h"
+#include "bench.h"
 #include "scenes.h"
 
 static int reps = 5;
 static int quick;
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 /* The q-quantile (0..1) of v[0..n-1], sorting v. */
 static double quantile(double *v, size_t n, double q)
@@ -35,7 +30,7 @@ static double quantile(double *v, size_t n, double q)
     size_t k;
     if (n == 0)
         return 0;
-    qsort(v, n, sizeof *v, cmp_double);
+    qsort(v, n, sizeof *v, bench_cmp_double);
     k = (size_t)(q * (double)(n - 1) + 0.5);
     return v[k];
 }
@@ -468,25 +463,6 @@ static void primitives(void)
     work_free(&tw);
     work_free(&pw);
     hc_mesh_free(&ico);
-}
-
-/* ------------------------------------------------------------- images */
-
-static double rmse(const float *a, const float *b, size_t n)
-{
-    double sum = 0;
-    size_t i;
-
-    for (i = 0; i < 3 * n; i++) {
-        double x = fmin(fmax(a[i], 0.0f), 1.0f), y = fmin(fmax(b[i], 0.0f), 1.0f);
-        sum += (x - y) * (x - y);
-    }
-    return sqrt(sum / (double)(3 * n));
-}
-
-static double psnr(double e)
-{
-    return e > 0 ? -20.0 * log10(e) : 99.0;
 }
 
 static double render_timed(const ray_scene *s, const ray_camera *cam,

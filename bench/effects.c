@@ -12,46 +12,15 @@
 ** Method: one warm-up render, then the median of REPS; pruned and naive
 ** alternate within each repetition.  BENCH_QUICK=1: smaller images.
 */
+#include "bench.h"
 #include "scenes.h"
 
 static int reps = 3;
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static unsigned long long total_rays(const ray_stats *s)
 {
     return s->rays[RAY_KIND_PRIMARY] + s->rays[RAY_KIND_SHADOW] +
            s->rays[RAY_KIND_REFLECTION] + s->rays[RAY_KIND_REFRACTION];
-}
-
-/* Root-mean-square difference of two images, values clamped to [0, 1]
-** (what a display shows), over all channels. */
-static double rmse(const float *a, const float *b, size_t n)
-{
-    double sum = 0;
-    size_t i;
-
-    for (i = 0; i < 3 * n; i++) {
-        double x = fmin(fmax(a[i], 0.0f), 1.0f), y = fmin(fmax(b[i], 0.0f), 1.0f);
-        sum += (x - y) * (x - y);
-    }
-    return sqrt(sum / (double)(3 * n));
-}
-
-/* PSNR in dB for a peak of 1; "inf" for identical images. */
-static double psnr(double e)
-{
-    return e > 0 ? -20.0 * log10(e) : HUGE_VAL;
 }
 
 static double render(const ray_scene *s, const ray_camera *cam,

@@ -17,6 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench.h"
 #include "obj.h"
 #include "common.h"
 
@@ -25,20 +26,6 @@
 #endif
 
 static int reps = 5;
-
-/* ------------------------------------------------------------ timing */
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* ------------------------------------------------------------ rays */
 
@@ -269,31 +256,6 @@ static double trace_all(void *engine, int embree, const ray_set *set,
     t = now_seconds() - t;
     pthread_mutex_destroy(&j.lock);
     return t;
-}
-
-/* ------------------------------------------------------------ scenes */
-
-typedef struct counting {
-    long long now, peak;
-} counting;
-
-static void *counting_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
-{
-    counting *c = ud;
-    void *p;
-
-    if (nsize == 0) {
-        c->now -= (long long)osize;
-        free(ptr);
-        return NULL;
-    }
-    p = realloc(ptr, nsize);
-    if (p != NULL) {
-        c->now += (long long)nsize - (long long)osize;
-        if (c->now > c->peak)
-            c->peak = c->now;
-    }
-    return p;
 }
 
 static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,

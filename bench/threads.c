@@ -7,21 +7,10 @@
 ** thread and once with N (interleaved, so a noisy neighbour hits both),
 ** and the median of each.  No assertion: a benchmark reports, tests test.
 */
+#include "bench.h"
 #include "scenes.h"
 
 #define REPS 5
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static double timed_render(const ray_scene *s, const ray_camera *cam,
                            ray_render_options *opt, float *img,

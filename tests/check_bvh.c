@@ -7,6 +7,7 @@
 */
 #include <stdlib.h>
 
+#include "bench.h"
 #include "tests.h"
 
 static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
@@ -457,30 +458,6 @@ START_TEST(mesh_should_interpolate_normals_and_texcoords)
     ray_scene_free(s);
 }
 END_TEST
-
-/* Bytes outstanding through a counting allocator, and the peak. */
-typedef struct counting {
-    long long now, peak;
-} counting;
-
-static void *counting_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
-{
-    counting *c = ud;
-    void *p;
-
-    if (nsize == 0) {
-        c->now -= (long long)osize;
-        free(ptr);
-        return NULL;
-    }
-    p = realloc(ptr, nsize);
-    if (p != NULL) {
-        c->now += (long long)nsize - (long long)osize;
-        if (c->now > c->peak)
-            c->peak = c->now;
-    }
-    return p;
-}
 
 /*
 ** A million-triangle mesh (a 724 x 724 grid, 1,048,352 triangles) builds

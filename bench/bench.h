@@ -1,0 +1,70 @@
+/*
+** bench.h -- what the benchmarks share: medians, image error, a counting
+** allocator.  Header-only; not part of the library.
+*/
+#ifndef BENCH_BENCH_H
+#define BENCH_BENCH_H
+
+#include <math.h>
+#include <stdlib.h>
+
+static int bench_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median of v[0..n-1] (sorts v). */
+static inline double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Root-mean-square difference of two images of n RGB pixels, values
+** clamped to [0, 1] (what a display shows), over all channels. */
+static inline double rmse(const float *a, const float *b, size_t n)
+{
+    double sum = 0;
+    size_t i;
+
+    for (i = 0; i < 3 * n; i++) {
+        double x = fmin(fmax(a[i], 0.0f), 1.0f), y = fmin(fmax(b[i], 0.0f), 1.0f);
+        sum += (x - y) * (x - y);
+    }
+    return sqrt(sum / (double)(3 * n));
+}
+
+/* PSNR in dB for a peak of 1 (99 for identical images). */
+static inline double psnr(double e)
+{
+    return e > 0 ? -20.0 * log10(e) : 99.0;
+}
+
+/* An allocator for ray_scene_new that counts the bytes in use and their
+** peak (bytes per triangle, leak checks). */
+typedef struct counting {
+    long long now, peak;
+} counting;
+
+static inline void *counting_alloc(void *ud, void *ptr, size_t osize,
+                                   size_t nsize)
+{
+    counting *c = ud;
+    void *p;
+
+    if (nsize == 0) {
+        c->now -= (long long)osize;
+        free(ptr);
+        return NULL;
+    }
+    p = realloc(ptr, nsize);
+    if (p != NULL) {
+        c->now += (long long)nsize - (long long)osize;
+        if (c->now > c->peak)
+            c->peak = c->now;
+    }
+    return p;
+}
+
+#endif
