@@ -132,7 +132,8 @@ static double axis(ray_vec3 v, int k)
 */
 static double edge_extended(double ax, double ay, double bx, double by)
 {
-    return (double)((long double)ax * by - (long double)ay * bx);
+    return (double)((long double)ax * (long double)by -
+                    (long double)ay * (long double)bx);
 }
 
 /*
