@@ -80,7 +80,9 @@ static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
     double m = fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z)));
     double len;
 
-    if (!(m > 0 && m < HUGE_VAL))
+    /* fmax ignores a NaN operand, so check every component: a cross
+    ** product of huge vectors can hold Inf - Inf = NaN beside finite ones. */
+    if (!(m > 0 && m < HUGE_VAL) || a.x != a.x || a.y != a.y || a.z != a.z)
         return 0;
     a = v3_scale(a, 1.0 / m);
     len = v3_length(a);
