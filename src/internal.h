@@ -72,7 +72,8 @@ static inline double v3_length(ray_vec3 a)
 ** a / |a| into *out, safe from overflow and underflow of |a|^2: a is first
 ** divided by its largest |component|, which brings that component to 1
 ** and |a| into [1, sqrt 3], so the normal of a 1e-150-sized triangle
-** (|n|^2 ~ 1e-600) or of a 1e200-sized one still comes out unit.
+** (|n|^2 ~ 1e-600), of a denormal one or of a 1e200-sized one still comes
+** out unit.
 ** Returns 0, leaving *out untouched, for a zero or non-finite vector.
 */
 static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
@@ -84,7 +85,9 @@ static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
     ** product of huge vectors can hold Inf - Inf = NaN beside finite ones. */
     if (!(m > 0 && m < HUGE_VAL) || a.x != a.x || a.y != a.y || a.z != a.z)
         return 0;
-    a = v3_scale(a, 1.0 / m);
+    /* Divide by m rather than multiply by 1/m: for a denormal m, 1/m
+    ** overflows to Inf, while each quotient here is at most 1. */
+    a = v3(a.x / m, a.y / m, a.z / m);
     len = v3_length(a);
     *out = v3_scale(a, 1.0 / len);
     return 1;
