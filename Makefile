@@ -19,7 +19,8 @@ SOMAJOR = 0
 # Always on, whatever CFLAGS says (they come after it on the command line,
 # so they win): ISO C99 and no floating-point contraction.  gcc fuses a*b+c into an FMA in its GNU modes, which rounds
 # the same edge differently in two neighbouring triangles and breaks
-# watertightness (shared/research/robustness.md, section 9.3).
+# watertightness (see ray-numerics(7); GCC manual, "Floating point
+# implementation").
 STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
        -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \

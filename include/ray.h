@@ -11,8 +11,9 @@
 **   * A ray is p(t) = org + t*dir on the OPEN interval tmin < t < tmax.
 **     "dir" need not be normalised, so t is measured in units of |dir|.
 **     Results exactly at tmin or tmax are not hits.
-**   * The intersection functions (ray_sphere, ray_triangle, ray_plane,
-**     ray_polygon) return 1 for a hit and 0 for a miss.  They never fail:
+**   * The intersection functions (ray_sphere, ray_triangle,
+**     ray_triangle_watertight, ray_plane, ray_polygon) return 1 for a hit
+**     and 0 for a miss.  They never fail:
 **     NaN or infinite input, a zero-length direction, tmin > tmax and
 **     degenerate geometry are all misses; tmax = +Inf (HUGE_VAL) is
 **     allowed and is the usual unbounded ray.  On a hit they fill *hit;
@@ -457,7 +458,7 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 **
 ** Memory: each triangle costs 80 bytes (its three vertices, flattened for
 ** traversal, and its ids) plus about 32 bytes of BVH after commit (112 in
-** all, measured on a million-triangle grid; 127 on the Stanford bunny),
+** all, measured on a million-triangle grid; 118 on the Stanford bunny),
 ** plus 12 bytes of indices and the per-vertex attributes when normals or
 ** texture coordinates are given.  ray_scene_commit briefly needs about
 ** 180 bytes per triangle (205 on the bunny).
@@ -611,7 +612,7 @@ RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
 **
 ** ray_light_visible answers whether the sample is unoccluded.  When the
 ** calling material declared RAY_EFFECT_SHADOW it casts one shadow ray
-** (any-hit, from ray_spawn_to); otherwise it casts nothing and answers 1:
+** (any-hit, from ray_spawn_to, or ray_spawn toward a directional light); otherwise it casts nothing and answers 1:
 ** unshadowed light, a documented no-op (also outside any callback).  So a
 ** material asks only for the samples that would contribute (n.l > 0), and
 ** only those cost a ray.

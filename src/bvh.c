@@ -13,7 +13,7 @@
 #include "internal.h"
 
 #define BINS 16
-#define MAX_DEPTH 60     /* traversal stacks hold 64 entries */
+#define MAX_DEPTH 60     /* traversal stacks hold 64 levels */
 #ifndef MAX_LEAF
 #define MAX_LEAF 8       /* a node with more items is always split */
 #endif

@@ -43,8 +43,8 @@ int ray_refract(ray_vec3 d, ray_vec3 n, double eta, ray_vec3 *out)
 /*
 ** Exact unpolarised Fresnel reflectance of a dielectric interface (the
 ** average of r_s^2 and r_p^2; Born and Wolf, Principles of Optics, 1.5.2),
-** not Schlick's approximation, whose error reaches 23 % for n = 1.5
-** (robustness.md, row 17).
+** not Schlick's approximation, whose relative error reaches 23% for
+** n = 1.5 (forwardscattering.org, post 65, "Schlick's approximation").
 */
 double ray_fresnel(double cos_i, double eta)
 {
