@@ -324,17 +324,9 @@ static RTCScene embree_scene(RTCDevice dev, const obj_mesh *obj,
 
 static void bbox(const obj_mesh *obj, ray_vec3 *centre, double *diag)
 {
-    ray_vec3 lo = obj->vertices[0], hi = lo;
-    size_t i;
+    ray_vec3 lo, hi;
 
-    for (i = 1; i < obj->vertex_count; i++) {
-        ray_vec3 v = obj->vertices[i];
-        lo = vec(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
-        hi = vec(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
-    }
-    *centre = vec((lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2);
-    *diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
-                 (hi.z - lo.z) * (hi.z - lo.z));
+    obj_bounds(obj, &lo, &hi, centre, diag);
 }
 
 /* Median seconds to trace "set" on one thread with scene s. */

@@ -195,38 +195,36 @@ static inline int obj_parse_face(obj_parser *p, const char *s)
     return 0;
 }
 
+/* "x y z" (of a "v" or "vn" line) appended to array a as a ray_vec3. */
+static inline int obj_parse_vec3(obj_parser *p, const char *s, obj_array *a)
+{
+    double x[3];
+    ray_vec3 v;
+
+    if (obj_numbers(p, &s, x, 3, 3))
+        return -1;
+    v.x = x[0];
+    v.y = x[1];
+    v.z = x[2];
+    return obj_push(a, &v) ? obj_fail(p, "out of memory") : 0;
+}
+
 static inline int obj_parse_line(obj_parser *p, const char *s)
 {
     double x[3];
 
     while (*s == ' ' || *s == '\t')
         s++;
-    if (s[0] == 'v' && (s[1] == ' ' || s[1] == '\t')) {
-        ray_vec3 v;
-        s += 1;
-        if (obj_numbers(p, &s, x, 3, 3))
-            return -1;
-        v.x = x[0];
-        v.y = x[1];
-        v.z = x[2];
-        return obj_push(&p->v, &v) ? obj_fail(p, "out of memory") : 0;
-    }
+    if (s[0] == 'v' && (s[1] == ' ' || s[1] == '\t'))
+        return obj_parse_vec3(p, s + 1, &p->v);
     if (s[0] == 'v' && s[1] == 't' && (s[2] == ' ' || s[2] == '\t')) {
         s += 2;
         if (obj_numbers(p, &s, x, 2, 1))        /* t may be omitted */
             return -1;
         return obj_push(&p->vt, x) ? obj_fail(p, "out of memory") : 0;
     }
-    if (s[0] == 'v' && s[1] == 'n' && (s[2] == ' ' || s[2] == '\t')) {
-        ray_vec3 n;
-        s += 2;
-        if (obj_numbers(p, &s, x, 3, 3))
-            return -1;
-        n.x = x[0];
-        n.y = x[1];
-        n.z = x[2];
-        return obj_push(&p->vn, &n) ? obj_fail(p, "out of memory") : 0;
-    }
+    if (s[0] == 'v' && s[1] == 'n' && (s[2] == ' ' || s[2] == '\t'))
+        return obj_parse_vec3(p, s + 2, &p->vn);
     if (s[0] == 'f' && (s[1] == ' ' || s[1] == '\t'))
         return obj_parse_face(p, s + 1);
     return 0;                               /* comments and the rest */
@@ -393,6 +391,34 @@ static inline int obj_load(const char *path, obj_mesh *m, char *err,
     if (rc != 0 && snprintf(err, errlen, "%s: %s", path, msg) < 0)
         err[0] = '\0';
     return rc;
+}
+
+/*
+** The mesh's bounding box lo .. hi, its centre and the length of its
+** diagonal (for framing a camera).  m must have a vertex.
+*/
+static inline void obj_bounds(const obj_mesh *m, ray_vec3 *lo, ray_vec3 *hi,
+                              ray_vec3 *centre, double *diag)
+{
+    ray_vec3 a = m->vertices[0], b = a;
+    size_t i;
+
+    for (i = 1; i < m->vertex_count; i++) {
+        ray_vec3 v = m->vertices[i];
+        a.x = fmin(a.x, v.x);
+        a.y = fmin(a.y, v.y);
+        a.z = fmin(a.z, v.z);
+        b.x = fmax(b.x, v.x);
+        b.y = fmax(b.y, v.y);
+        b.z = fmax(b.z, v.z);
+    }
+    *lo = a;
+    *hi = b;
+    centre->x = (a.x + b.x) / 2;
+    centre->y = (a.y + b.y) / 2;
+    centre->z = (a.z + b.z) / 2;
+    *diag = sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y) +
+                 (b.z - a.z) * (b.z - a.z));
 }
 
 /* The mesh as ray_scene_add_mesh takes it. */

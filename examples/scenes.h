@@ -198,21 +198,12 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
     unsigned m_clay, m_ground;
     double diag;
     char err[600];
-    size_t i;
 
     if (obj_load(path, &obj, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return NULL;
     }
-    lo = hi = obj.vertices[0];
-    for (i = 1; i < obj.vertex_count; i++) {
-        ray_vec3 v = obj.vertices[i];
-        lo = vec(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
-        hi = vec(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
-    }
-    centre = vec((lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2);
-    diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
-                (hi.z - lo.z) * (hi.z - lo.z));
+    obj_bounds(&obj, &lo, &hi, &centre, &diag);
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
     m = ray_material_phong(&clay);
     check(ray_scene_add_material(scene, &m, &m_clay), "material");

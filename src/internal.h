@@ -93,6 +93,12 @@ static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
     return 1;
 }
 
+/* Component k (0: x, 1: y, 2: z) of v. */
+static inline double v3_axis(ray_vec3 v, int k)
+{
+    return k == 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
 /* 1 when every component is finite (neither NaN nor +-Inf). */
 static inline int v3_isfinite(ray_vec3 a)
 {
@@ -114,6 +120,51 @@ static inline double ray__gamma(int n)
 }
 
 /* ----------------------------------------------------- shared internals */
+
+/*
+** The ray's own frame (Woop, Benthin, Wald, "Watertight Ray/Triangle
+** Intersection", JCGT 2(1), 2013, section 3): kz is the axis of dir's
+** largest component, kx and ky the two others in cyclic order, and the
+** shear (sx, sy) maps dir onto the kz axis.  A vertex is projected on its
+** own, translated to the ray origin and sheared, so vertices shared by two
+** primitives get bit-identical coordinates: what makes both the polygon
+** test and the watertight triangle test watertight.
+*/
+typedef struct ray__frame {
+    int kx, ky, kz;
+    double dz;               /* dir's component along kz */
+    double sx, sy;
+    ray_vec3 org;
+} ray__frame;
+
+/* Set up the frame of r; 0 (frame unset) for a zero or NaN direction. */
+static inline int ray__frame_init(ray__frame *f, const ray_ray *r)
+{
+    ray_vec3 ad = v3_abs(r->dir);
+
+    f->kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    f->kx = (f->kz + 1) % 3;
+    f->ky = (f->kx + 1) % 3;
+    f->dz = v3_axis(r->dir, f->kz);
+    if (f->dz == 0 || f->dz != f->dz)
+        return 0;
+    f->sx = v3_axis(r->dir, f->kx) / f->dz;
+    f->sy = v3_axis(r->dir, f->ky) / f->dz;
+    f->org = r->org;
+    return 1;
+}
+
+/* Vertex v in the frame: p[0], p[1] sheared so the ray is (0, 0); p[2]
+** the unsheared distance along kz (v - org)[kz]. */
+static inline void ray__frame_project(const ray__frame *f, ray_vec3 v,
+                                      double p[3])
+{
+    ray_vec3 a = v3_sub(v, f->org);
+
+    p[2] = v3_axis(a, f->kz);
+    p[0] = v3_axis(a, f->kx) - f->sx * p[2];
+    p[1] = v3_axis(a, f->ky) - f->sy * p[2];
+}
 
 /*
 ** The orthonormal tangents (t1, t2) of unit normal n, so that (t1, t2, n)
@@ -355,6 +406,9 @@ static inline unsigned long long ray__pixel_seed(unsigned long long seed,
     h = ray__mix64(h ^ (((unsigned long long)y << 32) | x));
     return ray__mix64(h + s);
 }
+
+/* The least k with k * k >= n (n <= 65536): a square grid of strata. */
+unsigned ray__strata_side(unsigned n);
 
 /* (a, b) in [-1,1]^2 onto the unit disk, by the concentric map. */
 void ray__concentric_disk(double a, double b, double *x, double *y);

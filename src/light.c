@@ -7,11 +7,7 @@
 ** square k*k, so the samples can be stratified on a k x k grid. */
 static unsigned strata_side(const ray_light *l)
 {
-    unsigned n = l->samples ? l->samples : 16, k = 1;
-
-    while (k * k < n)
-        k++;
-    return k;
+    return ray__strata_side(l->samples ? l->samples : 16);
 }
 
 unsigned ray_light_samples(const ray_scene *s, unsigned light)

@@ -6,51 +6,6 @@
 #include "internal.h"
 
 /*
-** The ray's frame: the axis kz of dir's largest component, the two others
-** kx, ky, and the shear that maps dir onto that axis (Woop, Benthin, Wald,
-** "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013, section 3).
-*/
-typedef struct ray_frame {
-    int kx, ky, kz;
-    double sx, sy;
-    ray_vec3 org;
-} ray_frame;
-
-static double component(ray_vec3 v, int k)
-{
-    return k == 0 ? v.x : (k == 1 ? v.y : v.z);
-}
-
-static void frame_init(ray_frame *f, const ray_ray *r)
-{
-    ray_vec3 ad = v3_abs(r->dir);
-    double dz;
-
-    f->kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    f->kx = (f->kz + 1) % 3;
-    f->ky = (f->kx + 1) % 3;
-    dz = component(r->dir, f->kz);
-    f->sx = component(r->dir, f->kx) / dz;
-    f->sy = component(r->dir, f->ky) / dz;
-    f->org = r->org;
-}
-
-/*
-** Vertex v as seen along the ray: translated to the ray origin and
-** sheared so the ray is the point (0, 0).  The result depends on v and the
-** ray alone, so two polygons sharing v get bit-identical 2-D vertices.
-*/
-static void frame_project(const ray_frame *f, ray_vec3 v, double *x,
-                          double *y)
-{
-    ray_vec3 a = v3_sub(v, f->org);
-    double az = component(a, f->kz);
-
-    *x = component(a, f->kx) - f->sx * az;
-    *y = component(a, f->ky) - f->sy * az;
-}
-
-/*
 ** Does edge (x0,y0)-(x1,y1) cross the ray from (0,0) toward +x?
 ** Half-open rule (Haines, Graphics Gems IV): an endpoint with y >= 0 is
 ** "above", so a vertex on the test line is counted once or, for a touch,
@@ -75,28 +30,33 @@ static int edge_crosses(double x0, double y0, double x1, double y1)
     return (hy - ly) * lx - (hx - lx) * ly >= 0;
 }
 
-/* Even-odd count of the polygon's edges crossing the ray's +x half-line. */
+/*
+** Even-odd count of the polygon's edges crossing the ray's +x half-line,
+** in the ray's frame (ray__frame: the ray is the point (0, 0), and every
+** vertex is projected on its own).
+*/
 static int inside_along_ray(const ray_ray *r, const ray_vec3 *v, size_t n)
 {
-    ray_frame f;
-    double x0, y0, x1, y1, xf, yf;
+    ray__frame f;
+    double p0[3], p1[3], first[3];
     int inside = 0;
     size_t i;
 
-    frame_init(&f, r);
-    frame_project(&f, v[0], &xf, &yf);
-    x0 = xf;
-    y0 = yf;
+    if (!ray__frame_init(&f, r))
+        return 0;
+    ray__frame_project(&f, v[0], first);
+    p0[0] = first[0];
+    p0[1] = first[1];
     for (i = 1; i <= n; i++) {
         if (i < n)
-            frame_project(&f, v[i], &x1, &y1);
+            ray__frame_project(&f, v[i], p1);
         else {
-            x1 = xf;
-            y1 = yf;
+            p1[0] = first[0];
+            p1[1] = first[1];
         }
-        inside ^= edge_crosses(x0, y0, x1, y1);
-        x0 = x1;
-        y0 = y1;
+        inside ^= edge_crosses(p0[0], p0[1], p1[0], p1[1]);
+        p0[0] = p1[0];
+        p0[1] = p1[1];
     }
     return inside;
 }

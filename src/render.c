@@ -451,6 +451,32 @@ static void run_workers(void *workers, unsigned n)
         pthread_attr_destroy(&attr);
 }
 
+/*
+** Make the job's two mutexes, run the workers over its rows, sum their
+** counters into *stats (if any).  RAY_ENOMEM if a mutex cannot be made,
+** RAY_ECANCELED if the progress callback cancelled, else RAY_OK.
+*/
+static int run_job(render_job *job, void *workers, unsigned n,
+                   ray_stats *stats)
+{
+    if (pthread_mutex_init(&job->lock, NULL) != 0)
+        return RAY_ENOMEM;
+    if (pthread_mutex_init(&job->progress_lock, NULL) != 0) {
+        pthread_mutex_destroy(&job->lock);
+        return RAY_ENOMEM;
+    }
+    job->next_row = job->y0;
+    job->rows_done = 0;
+    job->cancelled = 0;
+    job->stopped = 0;
+    run_workers(workers, n);
+    pthread_mutex_destroy(&job->progress_lock);
+    pthread_mutex_destroy(&job->lock);
+    if (stats != NULL)
+        sum_stats(workers, n, stats);
+    return job->cancelled ? RAY_ECANCELED : RAY_OK;
+}
+
 int ray_render(const ray_scene *scene, const ray_camera *camera,
                const ray_render_options *opt, float *rgb, ray_stats *stats)
 {
@@ -468,8 +494,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     rc = ray__camera_setup(&job.cam, camera, opt->width, opt->height);
     if (rc != RAY_OK)
         return rc;
-    for (job.side = 1; job.side * job.side < opt->samples; job.side++)
-        ;                    /* samples <= 65536: side <= 256, no overflow */
+    job.side = ray__strata_side(opt->samples);
     if (job.side * job.side != opt->samples)
         job.side = 0;
     job.lattice = lattice_generator(opt->samples);
@@ -486,34 +511,12 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
         worker_at(workers, i)->job = &job;
         worker_at(workers, i)->ctx.scene = scene;
     }
-    if (opt->adaptive_threshold > 0 &&
-        alloc_row_caches(scene, workers, n, opt->width) != RAY_OK) {
-        free_row_caches(scene, workers, n, opt->width);
-        ray__free(scene, workers, n * WORKER_STRIDE);
-        return RAY_ENOMEM;
-    }
-    if (pthread_mutex_init(&job.lock, NULL) != 0) {
-        free_row_caches(scene, workers, n, opt->width);
-        ray__free(scene, workers, n * WORKER_STRIDE);
-        return RAY_ENOMEM;
-    }
-    if (pthread_mutex_init(&job.progress_lock, NULL) != 0) {
-        pthread_mutex_destroy(&job.lock);
-        free_row_caches(scene, workers, n, opt->width);
-        ray__free(scene, workers, n * WORKER_STRIDE);
-        return RAY_ENOMEM;
-    }
     job.rgb = rgb;
-    job.next_row = job.y0;
-    job.rows_done = 0;
-    job.cancelled = 0;
-    job.stopped = 0;
-    run_workers(workers, n);
-    pthread_mutex_destroy(&job.progress_lock);
-    pthread_mutex_destroy(&job.lock);
-    if (stats != NULL)
-        sum_stats(workers, n, stats);
+    rc = RAY_ENOMEM;
+    if (opt->adaptive_threshold <= 0 ||
+        alloc_row_caches(scene, workers, n, opt->width) == RAY_OK)
+        rc = run_job(&job, workers, n, stats);
     free_row_caches(scene, workers, n, opt->width);
     ray__free(scene, workers, n * WORKER_STRIDE);
-    return job.cancelled ? RAY_ECANCELED : RAY_OK;
+    return rc;
 }

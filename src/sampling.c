@@ -27,3 +27,17 @@ void ray__concentric_disk(double a, double b, double *x, double *y)
     *x = rad * cos(phi);
     *y = rad * sin(phi);
 }
+
+/*
+** The side k of the smallest square grid k x k that holds n samples (the
+** least k with k^2 >= n), for stratifying light and pixel samples.  Both
+** callers bound n by 65536, so k <= 256 and k * k cannot overflow.
+*/
+unsigned ray__strata_side(unsigned n)
+{
+    unsigned k = 1;
+
+    while (k * k < n)
+        k++;
+    return k;
+}

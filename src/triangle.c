@@ -118,16 +118,11 @@ int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
 
 /* ------------------------------------------------------------ watertight */
 
-static double axis(ray_vec3 v, int k)
-{
-    return k == 0 ? v.x : (k == 1 ? v.y : v.z);
-}
-
 /*
 ** The 2x2 edge function a_x b_y - a_y b_x in long double (64 significant
-** bits on x86, 113 on AArch64 Linux, plain double on some platforms).  Used only to re-evaluate the edge
-** functions when one is exactly 0 in double: more often then its true
-** sign shows.  It stays exactly antisymmetric, fl(p - q) = -fl(q - p), so
+** bits on x86, 113 on AArch64 Linux, plain double on some platforms).
+** Used only to re-evaluate the edge functions when one is exactly 0 in
+** double: more often then its true sign shows.  It stays exactly antisymmetric, fl(p - q) = -fl(q - p), so
 ** two triangles sharing the edge still get opposite values.
 */
 static double edge_extended(double ax, double ay, double bx, double by)
@@ -160,30 +155,27 @@ int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
                                   ray_vec3 vc, double *t_out,
                                   double *beta_out, double *gamma_out)
 {
-    ray_vec3 ad = v3_abs(r->dir);
-    int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
-    double dz = axis(r->dir, kz), sx, sy, sz;
-    double ax, ay, bx, by, cx, cy, az, bz, cz, u, v, w, det, t_num;
-    ray_vec3 a = v3_sub(va, r->org), b = v3_sub(vb, r->org),
-             c = v3_sub(vc, r->org);
+    ray__frame f;
+    double pa[3], pb[3], pc[3], sz;
+    double ax, ay, bx, by, cx, cy, u, v, w, det, t_num;
 
-    if (dz < 0) {
-        int tmp = kx;
-        kx = ky;
-        ky = tmp;
-    }
-    if (dz == 0 || dz != dz)        /* zero or NaN direction: a miss */
+    if (!ray__frame_init(&f, r))     /* zero or NaN direction: a miss */
         return 0;
-    sx = axis(r->dir, kx) / dz;
-    sy = axis(r->dir, ky) / dz;
-    sz = 1.0 / dz;
-    ax = axis(a, kx) - sx * axis(a, kz);
-    ay = axis(a, ky) - sy * axis(a, kz);
-    bx = axis(b, kx) - sx * axis(b, kz);
-    by = axis(b, ky) - sy * axis(b, kz);
-    cx = axis(c, kx) - sx * axis(c, kz);
-    cy = axis(c, ky) - sy * axis(c, kz);
+    if (f.dz < 0) {                  /* keep the winding: swap x and y */
+        int k = f.kx;
+        double s = f.sx;
+        f.kx = f.ky;
+        f.ky = k;
+        f.sx = f.sy;
+        f.sy = s;
+    }
+    sz = 1.0 / f.dz;
+    ray__frame_project(&f, va, pa);
+    ray__frame_project(&f, vb, pb);
+    ray__frame_project(&f, vc, pc);
+    ax = pa[0], ay = pa[1];
+    bx = pb[0], by = pb[1];
+    cx = pc[0], cy = pc[1];
     u = cx * by - cy * bx;
     v = ax * cy - ay * cx;
     w = bx * ay - by * ax;
@@ -198,10 +190,7 @@ int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     det = u + v + w;
     if (det == 0 || det != det)     /* edge-on, degenerate or bad input */
         return 0;
-    az = sz * axis(a, kz);
-    bz = sz * axis(b, kz);
-    cz = sz * axis(c, kz);
-    t_num = u * az + v * bz + w * cz;
+    t_num = u * (sz * pa[2]) + v * (sz * pb[2]) + w * (sz * pc[2]);
     {
         double t = t_num / det, beta = v / det, gamma = w / det;
         if (!(t > r->tmin && t < r->tmax))
