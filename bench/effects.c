@@ -55,7 +55,8 @@ static void pruning_row(const char *name, scene_fn make, const char *arg,
                         unsigned w, unsigned h)
 {
     ray_camera cam;
-    ray_scene *pruned = make(arg, &cam, 1), *naive;
+    ray_scene *pruned = make(arg, &cam, 1),
+              *naive = pruned != NULL ? make(arg, &cam, 0) : NULL;
     ray_render_options o;
     ray_stats sp, sn;
     float *ip = malloc(sizeof(float) * 3 * w * h),
@@ -63,13 +64,14 @@ static void pruning_row(const char *name, scene_fn make, const char *arg,
     double tp[9], tn[9];
     int k;
 
-    if (pruned == NULL || ip == NULL || in == NULL) {
+    if (pruned == NULL || naive == NULL || ip == NULL || in == NULL) {
         printf("| %s | (skipped) | | | | | |\n", name);
+        ray_scene_free(pruned);
+        ray_scene_free(naive);
         free(ip);
         free(in);
         return;
     }
-    naive = make(arg, &cam, 0);
     ray_render_options_init(&o, w, h);
     o.samples = 4;
     render(pruned, &cam, &o, ip, &sp);
@@ -104,6 +106,7 @@ static void antialiasing_rows(const char *name, scene_fn make,
 
     if (s == NULL || ref == NULL || img == NULL) {
         printf("| %s | (skipped) | | | | |\n", name);
+        ray_scene_free(s);
         free(ref);
         free(img);
         return;
