@@ -1,6 +1,7 @@
 /*
 ** bench.h -- what the benchmarks share: medians, image error, a counting
-** allocator, a large grid mesh.  Header-only; not part of the library.
+** allocator, a material that shades nothing, a large grid mesh.
+** Header-only; not part of the library.
 */
 #ifndef BENCH_BENCH_H
 #define BENCH_BENCH_H
@@ -68,6 +69,16 @@ static inline void *counting_alloc(void *ud, void *ptr, size_t osize,
             c->peak = c->now;
     }
     return p;
+}
+
+/* A material that shades nothing, for scenes that are only intersected. */
+static inline void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                             ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    (void)out;
 }
 
 /*

@@ -258,15 +258,6 @@ static double trace_all(void *engine, int embree, const ray_set *set,
     return t;
 }
 
-static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                      ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
 /* Our scene of the mesh; *build_s: the commit (BVH build) time. */
 static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
                             double *build_s, int watertight)

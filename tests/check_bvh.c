@@ -10,15 +10,6 @@
 #include "bench.h"
 #include "tests.h"
 
-static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                      ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
 static ray_scene *new_scene(unsigned *mat)
 {
     ray_material m;
