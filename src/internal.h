@@ -263,6 +263,15 @@ typedef struct ray__bvh {
     size_t n_items;
 } ray__bvh;
 
+/* A light as added, with the unit vector every sample of it needs
+** computed once when it is added: the direction toward a directional
+** light (-direction) or the emitting normal of a rect light
+** (edge1 x edge2); unused by the other kinds. */
+typedef struct ray__light {
+    ray_light desc;
+    ray_vec3 axis;
+} ray__light;
+
 struct ray_scene {
     ray_alloc_fn alloc;
     void *alloc_ud;
@@ -281,7 +290,7 @@ struct ray_scene {
     size_t n_verts, cap_verts;
     ray_material *materials;
     size_t n_materials, cap_materials;
-    ray_light *lights;
+    ray__light *lights;
     size_t n_lights, cap_lights;
     ray_rgb background, ambient;
     ray_background_fn background_fn;

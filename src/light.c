@@ -17,7 +17,7 @@ unsigned ray_light_samples(const ray_scene *s, unsigned light)
 
     if (s == NULL || light >= s->n_lights)
         return 0;
-    l = &s->lights[light];
+    l = &s->lights[light].desc;
     if (l->kind == RAY_LIGHT_POINT || l->kind == RAY_LIGHT_DIRECTIONAL)
         return 1;
     k = strata_side(l);
@@ -62,6 +62,7 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
                         unsigned light, unsigned index,
                         ray_light_sample *out)
 {
+    const ray__light *sl;
     const ray_light *l;
     ray_light_sample ls;
     ray_vec3 p, to;
@@ -71,11 +72,11 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
         light >= ctx->scene->n_lights ||
         index >= ray_light_samples(ctx->scene, light))
         return RAY_EINVAL;
-    l = &ctx->scene->lights[light];
+    sl = &ctx->scene->lights[light];
+    l = &sl->desc;
     p = args->hit->p;
     if (l->kind == RAY_LIGHT_DIRECTIONAL) {
-        if (!v3_normalize(v3_scale(l->direction, -1.0), &ls.dir))
-            return RAY_EINVAL;
+        ls.dir = sl->axis;
         ls.dist = HUGE_VAL;
         ls.radiance = l->intensity;
         ls.point = p;
@@ -103,11 +104,7 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
     if (l->kind == RAY_LIGHT_RECT) {
         /* A one-sided Lambertian emitter: its intensity toward the point
         ** falls with the cosine at the light, and is 0 behind it. */
-        ray_vec3 ln;
-        double cos_l;
-        if (!v3_normalize(v3_cross(l->edge1, l->edge2), &ln))
-            return RAY_EINVAL;      /* not reached: checked when added */
-        cos_l = -v3_dot(ln, ls.dir);
+        double cos_l = -v3_dot(sl->axis, ls.dir);
         ls.radiance = rgb_scale(ls.radiance, cos_l > 0 ? cos_l : 0.0);
     }
     if (!(ls.radiance.r < HUGE_VAL && ls.radiance.g < HUGE_VAL &&

@@ -336,27 +336,28 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
     return RAY_OK;
 }
 
-/* Light validation: every kind needs a finite, non-negative intensity. */
-static int light_valid(const ray_light *l)
+/* Light validation: every kind needs a finite, non-negative intensity.
+** *axis: the unit vector of ray__light. */
+static int light_valid(const ray_light *l, ray_vec3 *axis)
 {
-    ray_vec3 e;
-
     if (!(l->intensity.r >= 0 && l->intensity.r < HUGE_VAL &&
           l->intensity.g >= 0 && l->intensity.g < HUGE_VAL &&
           l->intensity.b >= 0 && l->intensity.b < HUGE_VAL))
         return 0;
+    *axis = v3(0, 0, 0);
     switch (l->kind) {
     case RAY_LIGHT_POINT:
         return v3_isfinite(l->position);
     case RAY_LIGHT_DIRECTIONAL:
-        return v3_isfinite(l->direction) && v3_normalize(l->direction, &e);
+        return v3_isfinite(l->direction) &&
+               v3_normalize(v3_scale(l->direction, -1.0), axis);
     case RAY_LIGHT_SPHERE:
         return v3_isfinite(l->position) &&
                l->radius > 0 && l->radius < HUGE_VAL;
     case RAY_LIGHT_RECT:
         return v3_isfinite(l->position) && v3_isfinite(l->edge1) &&
                v3_isfinite(l->edge2) &&
-               v3_normalize(v3_cross(l->edge1, l->edge2), &e);
+               v3_normalize(v3_cross(l->edge1, l->edge2), axis);
     default:
         return 0;
     }
@@ -365,11 +366,12 @@ static int light_valid(const ray_light *l)
 int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
 {
     void *p;
+    ray_vec3 axis;
     int rc = editable(s);
 
     if (rc != RAY_OK)
         return rc;
-    if (light == NULL || !light_valid(light) ||
+    if (light == NULL || !light_valid(light, &axis) ||
         light->samples > RAY_MAX_LIGHT_SAMPLES)
         return RAY_EINVAL;
     if (s->n_lights >= RAY_INVALID_ID)
@@ -378,7 +380,8 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
     if (p == NULL)
         return RAY_ENOMEM;
     s->lights = p;
-    s->lights[s->n_lights] = *light;
+    s->lights[s->n_lights].desc = *light;
+    s->lights[s->n_lights].axis = axis;
     if (id != NULL)
         *id = (unsigned)s->n_lights;
     s->n_lights++;
