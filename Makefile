@@ -65,7 +65,14 @@ MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 
     ray_material_phong:ray_material_mirror \
     ray_material_phong:ray_material_glass \
     ray_material_phong:ray_material_checker \
-    ray_render:ray_render_options_init
+    ray_render:ray_render_options_init \
+    ray_implicit:ray_implicit_blobs ray_torus:ray_implicit_torus \
+    ray_parametric:ray_bezier_surface \
+    ray_scene_add_implicit:ray_scene_add_torus \
+    ray_scene_add_implicit:ray_scene_add_parametric \
+    ray_scene_add_implicit:ray_scene_add_bezier \
+    ray_image_load_png:ray_image_free ray_image_load_png:ray_image_size \
+    ray_image_load_png:ray_image_sample ray_image_load_png:ray_texture_image
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test \
         man-lint install uninstall clean deps-build deps-check bench
@@ -82,7 +89,7 @@ deps-check:
 $(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
-	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) -c $< -o $@
+	    $(if $(filter src/png.c src/image.c,$<),$(PNG_CFLAGS)) -c $< -o $@
 
 $(STATIC): $(OBJS)
 	rm -f $@
@@ -95,7 +102,7 @@ $(SHARED): $(OBJS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
-$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h examples/obj.h bench/bench.h $(STATIC)
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h $(wildcard examples/*.h) bench/bench.h $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
@@ -159,6 +166,12 @@ check: deps-check lib $(TEST_BIN) examples $(BENCHES) header-test symbols-test m
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
+	$(BUILD)/examples/implicit $(BUILD)/implicit.png 48 30 1 2 >/dev/null 2>&1
+	$(BUILD)/examples/textures doc/cornell.png $(BUILD)/textures.png 48 30 1 2 >/dev/null 2>&1
+	@if [ -f data/teapot.bpt ]; then \
+	    echo "$(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2"; \
+	    $(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2 >/dev/null 2>&1; \
+	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
 
 test: check
 

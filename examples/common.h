@@ -66,10 +66,16 @@ static inline void print_stats(const char *name, const ray_stats *s,
            s->rays[RAY_KIND_PRIMARY], s->rays[RAY_KIND_SHADOW],
            s->rays[RAY_KIND_REFLECTION], s->rays[RAY_KIND_REFRACTION], total);
     printf("%s: intersection tests %llu (spheres %llu, planes %llu, "
-           "triangles %llu, polygons %llu)\n", name, s->tests,
+           "triangles %llu, polygons %llu, tori %llu, implicit %llu, "
+           "parametric %llu)\n", name, s->tests,
            s->tests_by_kind[RAY_PRIM_SPHERE], s->tests_by_kind[RAY_PRIM_PLANE],
            s->tests_by_kind[RAY_PRIM_TRIANGLE],
-           s->tests_by_kind[RAY_PRIM_POLYGON]);
+           s->tests_by_kind[RAY_PRIM_POLYGON], s->tests_by_kind[RAY_PRIM_TORUS],
+           s->tests_by_kind[RAY_PRIM_IMPLICIT],
+           s->tests_by_kind[RAY_PRIM_PARAMETRIC]);
+    if (s->root_failures > 0)
+        printf("%s: %llu implicit or parametric tests ran out of iterations "
+               "(taken as misses)\n", name, s->root_failures);
     printf("%s: deepest level %u, rays cut by depth %llu, weight %llu, "
            "fan-out %llu\n", name, s->max_depth, s->cut_depth, s->cut_weight,
            s->cut_fanout);

@@ -7,7 +7,7 @@
 int main(void)
 {
     static const ray_phong_params red = {{0.8, 0.1, 0.1}, {0, 0, 0}, 1, 0,
-                                         {0, 0, 0}};
+                                         {0, 0, 0}, {NULL, NULL}};
     static float image[160 * 120 * 3];
     ray_material m = ray_material_phong(&red);
     ray_light light = {RAY_LIGHT_POINT, {5, 5, 5}, {0, 0, 0}, {0, 0, 0},

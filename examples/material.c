@@ -55,7 +55,7 @@ int main(void)
 {
     static glazed teal = {{0.1, 0.6, 0.6}, 0.25};
     static const ray_phong_params grey = {{0.7, 0.7, 0.7}, {0, 0, 0}, 1, 0,
-                                          {0, 0, 0}};
+                                          {0, 0, 0}, {NULL, NULL}};
     static float image[320 * 240 * 3];
     ray_material glaze = {glazed_shade, &teal,
                           RAY_EFFECT_SHADOW | RAY_EFFECT_REFLECTION};

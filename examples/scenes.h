@@ -31,9 +31,9 @@ static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
                                        const ray_limits *limits)
 {
     static const ray_phong_params red = {{0.75, 0.08, 0.06}, {0.2, 0.2, 0.2},
-                                         40, 1, {0, 0, 0}};
+                                         40, 1, {0, 0, 0}, {NULL, NULL}};
     static const ray_phong_params yellow = {{0.8, 0.7, 0.1}, {0.2, 0.2, 0.2},
-                                            40, 1, {0, 0, 0}};
+                                            40, 1, {0, 0, 0}, {NULL, NULL}};
     static const ray_rgb chrome = {0.9, 0.9, 0.9};
     static const ray_glass_params glass = {1.5, {0.05, 0.02, 0.01}};
     static ray_checker_params floor_params;
@@ -122,11 +122,11 @@ static inline ray_scene *cornell_scene(ray_camera *cam, int prune,
                                        const ray_limits *limits)
 {
     static const ray_phong_params white = {{0.75, 0.75, 0.72}, {0, 0, 0}, 1,
-                                           0, {0, 0, 0}};
+                                           0, {0, 0, 0}, {NULL, NULL}};
     static const ray_phong_params red = {{0.65, 0.06, 0.05}, {0, 0, 0}, 1, 0,
-                                         {0, 0, 0}};
+                                         {0, 0, 0}, {NULL, NULL}};
     static const ray_phong_params green = {{0.12, 0.5, 0.09}, {0, 0, 0}, 1,
-                                           0, {0, 0, 0}};
+                                           0, {0, 0, 0}, {NULL, NULL}};
     static const ray_rgb chrome = {0.92, 0.92, 0.92};
     static const ray_glass_params glass = {1.5, {0, 0, 0}};
     /* edge1 x edge2 = (0, -2.25, 0): the lamp shines down. */
@@ -186,9 +186,9 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
                                     size_t *triangles)
 {
     static const ray_phong_params clay = {{0.7, 0.66, 0.6}, {0.25, 0.25, 0.25},
-                                          30, 1, {0, 0, 0}};
+                                          30, 1, {0, 0, 0}, {NULL, NULL}};
     static const ray_phong_params ground = {{0.35, 0.4, 0.45}, {0, 0, 0}, 1,
-                                            0, {0.2, 0.2, 0.2}};
+                                            0, {0.2, 0.2, 0.2}, {NULL, NULL}};
     ray_vec3 lo, hi, centre;
     obj_mesh obj;
     ray_mesh mesh;

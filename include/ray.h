@@ -12,12 +12,14 @@
 **     "dir" need not be normalised, so t is measured in units of |dir|.
 **     Results exactly at tmin or tmax are not hits.
 **   * The intersection functions (ray_sphere, ray_triangle,
-**     ray_triangle_watertight, ray_plane, ray_polygon) return 1 for a hit
-**     and 0 for a miss.  They never fail:
+**     ray_triangle_watertight, ray_plane, ray_polygon, ray_torus) return 1
+**     for a hit and 0 for a miss.  They never fail:
 **     NaN or infinite input, a zero-length direction, tmin > tmax and
 **     degenerate geometry are all misses; tmax = +Inf (HUGE_VAL) is
 **     allowed and is the usual unbounded ray.  On a hit they fill *hit;
 **     on a miss they leave it untouched.  No NaN or Inf reaches *hit.
+**     The iterative ones (ray_implicit, ray_parametric) may also fail,
+**     returning a negated status instead of guessing.
 **   * Every other fallible function returns an int status: RAY_OK (0) on
 **     success, one of the RAY_E* codes otherwise, and then leaves its
 **     outputs untouched.
@@ -68,7 +70,8 @@ enum {
     RAY_EPNG,            /* libpng reported an error */
     RAY_ESTATE,          /* call not allowed in the object's current state */
     RAY_ECANCELED,       /* the caller's progress callback cancelled */
-    RAY_ELIMIT,          /* a ray-tree limit (depth, weight, fan-out) */
+    RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
+                            weight, fan-out) or iterations */
     RAY_EEFFECT          /* a material asked for an undeclared effect */
 };
 
@@ -227,6 +230,218 @@ RAY_API int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t n,
 */
 RAY_API int ray_barycentric(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                             double abg[3], int *inside);
+
+/* ------------------------------------- implicit and parametric surfaces */
+
+/*
+** ray_implicit -- ray against the implicit surface f(p) = 0, as root
+** finding on g(t) = f(org + t*dir) (the lecture's "ray ∩ implicit").
+**
+** f is the user's callback: f < 0 inside, f > 0 outside.  Only roots in
+** the box [lo, hi] are searched: the ray is clipped to it first.  Then:
+**
+**   * lipschitz = L > 0 promises |f(p) - f(q)| <= L |p - q| in the box, so
+**     no root lies within |f(p)| / L of p: the march steps by that much
+**     (sphere tracing: Hart, "Sphere Tracing", The Visual Computer 12(10),
+**     1996), never less than the tolerance.  A thin feature cannot be
+**     skipped, and a double root (a ray tangent to the surface) is found:
+**     where the step falls to the tolerance the gradient step
+**     p - f grad f / |grad f|^2 is probed, and a surface point of the
+**     other sign within the tolerance of the ray counts as a hit.
+**   * lipschitz = 0 (no bound known): the march samples g every "step"
+**     (world units) and detects sign changes, so features thinner than the
+**     step, and double roots, can be missed.
+**
+** A sign change brackets a root; it is refined by safeguarded Newton (on
+** g'(t) = grad f . dir, when a gradient callback is given) or else the
+** Illinois variant of regula falsi, both falling back to bisection, until the bracket is narrower than "tolerance"
+** (world units along the ray) or no double lies inside it.  The hit is the
+** root of the first bracket along the ray: it is REAL (f changes sign
+** within the tolerance of hit->p), never a guess.
+**
+** On a hit: n = the unit gradient at p (outward: toward f > 0), from the
+** "gradient" callback or central differences; (u, v) from the "uv"
+** callback, else 0; p_err covers the tolerance and p's rounding.
+**
+** Returns 1 (hit), 0 (miss, also for an invalid ray), or a NEGATED status
+** with *hit untouched: -RAY_ELIMIT when max_iterations evaluations of f
+** ran out before the march decided (a grazing ray can need many small
+** steps), -RAY_EINVAL for NULL pointers, an invalid descriptor (NULL f, a
+** box that is not finite or has lo > hi, negative or non-finite settings),
+** or callbacks that misbehave: f NaN or Inf at a point of the box, a zero
+** or non-finite gradient at the hit, a non-finite (u, v).
+**
+** Defaults (a field left 0): step = box diagonal / 128; tolerance =
+** 1e-9 * (box diagonal + largest |coordinate| of the box), about 2^23
+** ulps of the box's coordinates; max_iterations = 100000 (sphere tracing
+** needs ~3 sqrt(2 R / tolerance) steps to bring a ray tangent to a
+** surface of curvature radius R within the tolerance: 63,000 for a
+** sphere filling its box).
+** Thread-safe if the callbacks are.
+*/
+typedef double (*ray_field_fn)(void *ud, ray_vec3 p);
+typedef ray_vec3 (*ray_gradient_fn)(void *ud, ray_vec3 p);
+typedef void (*ray_uv_fn)(void *ud, ray_vec3 p, ray_vec3 n, double *u,
+                          double *v);
+
+typedef struct ray_implicit_surface {
+    ray_field_fn f;              /* f(p): < 0 inside, > 0 outside */
+    ray_gradient_fn gradient;    /* grad f, or NULL: central differences */
+    ray_uv_fn uv;                /* texture coordinates, or NULL: 0, 0 */
+    void *ud;                    /* passed to the three; borrowed */
+    ray_vec3 lo, hi;             /* a box containing the surface */
+    double lipschitz;            /* > 0: a bound on |grad f|; 0: none */
+    double step;                 /* without a bound: the sampling step */
+    double tolerance;            /* of the hit along the ray, world units */
+    unsigned max_iterations;     /* evaluations of f per ray */
+} ray_implicit_surface;
+
+RAY_API int ray_implicit(const ray_ray *r, const ray_implicit_surface *s,
+                         ray_hit *hit);
+
+/*
+** ray_torus -- ray against the ring torus of "major" radius R (centre to
+** tube centre) and "minor" radius r, 0 < r < R, around the axis through
+** "center" along "axis" (any length).  (A spindle torus, r >= R, crosses
+** itself: its quartic has an inner surface that this contract does not
+** cover, so it is refused.)
+**
+** Exact: the quartic g(t) = (|q|^2 + R^2 - r^2)^2 - 4R^2|q - (q.a)a|^2 = 0
+** in the torus's own frame, with the ray origin first moved to the point
+** of the ray nearest the centre (so far-away rays keep their digits, as in
+** ray_sphere).  Its real roots are isolated by the roots of its
+** derivatives (cubic, then quadratic, solved the same way) and each is
+** refined by safeguarded Newton inside its monotone interval (Yuksel,
+** "High-Performance Polynomial Root Finding for Graphics", HPG 2022): no
+** closed formula, so no catastrophic cancellation of Ferrari's method.
+** Tangent rays (double roots) hit where the polynomial touches zero in
+** floating point.
+**
+** On a hit: n = outward unit normal; u = angle around the axis / 2pi,
+** v = angle around the tube / 2pi, both in [0, 1].  Returns 1 or 0 (*hit
+** untouched); invalid input (NULL, NaN, Inf, zero axis, radii not > 0) is
+** a miss (also r >= R).
+**
+** ray_implicit_torus -- the same torus as a ray_implicit_surface for the
+** generic method: its exact signed distance (Lipschitz constant 1), its
+** gradient and the same (u, v).  The params are BORROWED (they are the
+** surface's ud).  RAY_OK, or RAY_EINVAL (nothing written).
+*/
+typedef struct ray_torus_params {
+    ray_vec3 center;
+    ray_vec3 axis;
+    double major, minor;
+} ray_torus_params;
+
+RAY_API int ray_torus(const ray_ray *r, const ray_torus_params *t,
+                      ray_hit *hit);
+RAY_API int ray_implicit_torus(const ray_torus_params *t,
+                               ray_implicit_surface *out);
+
+/*
+** ray_implicit_blobs -- metaballs (Blinn's "blobby molecules", with
+** Wyvill's compact falloff): f(p) = threshold - sum of strength_i *
+** (1 - |p - c_i|^2 / radius_i^2)^2 over the blobs whose radius reaches p.
+** Strengths may be negative (a blob that carves).  Fills *out with f, its
+** exact gradient, the box of the positive blobs (where f < threshold is
+** possible), (u, v) = the normal's longitude and latitude as ray_sphere
+** gives them, and the Lipschitz bound
+** sum |strength_i| * 8 / (3 sqrt(3) radius_i) (the falloff's steepest
+** slope), so ray_implicit sphere-traces it.  The params and the blob
+** array are BORROWED.  RAY_OK, or RAY_EINVAL (NULL, no blobs, a
+** non-finite value, a radius not > 0, a threshold not > 0).
+*/
+typedef struct ray_blob {
+    ray_vec3 center;
+    double radius;               /* of influence */
+    double strength;
+} ray_blob;
+
+typedef struct ray_blobs_params {
+    const ray_blob *blobs;
+    size_t count;
+    double threshold;            /* e.g. 0.5 */
+} ray_blobs_params;
+
+RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
+                               ray_implicit_surface *out);
+
+/*
+** ray_parametric -- ray against the parametric surface S(u, v), u in
+** [u0, u1], v in [v0, v1] (the lecture's "ray ∩ parametric"): solve
+** org + t*dir = S(u, v) for (t, u, v) by Newton's method, each step's
+** 3x3 system [dir, -S_u, -S_v] [dt du dv]^T = S(u, v) - org - t*dir solved
+** by Cramer's rule.
+**
+** Starting guesses come from subdividing the (u, v) domain: the "bounds"
+** callback gives a box containing S over a sub-rectangle; sub-rectangles
+** whose box the ray misses (or enters beyond the nearest hit so far) are
+** dropped, the others split in four down to "subdivisions" levels, and
+** Newton starts at the centre of each remaining one, at the t where the
+** ray enters its box.  Iterates stay in that sub-rectangle grown by 1/16
+** of its size (so roots on its border are not lost) and in the domain: a
+** step out is cut at the border, and from the border the iterate slides
+** along it (that parameter held, the others solved by least squares), as
+** it does where S does not move along a parameter (a collapsed edge).  An
+** iterate is accepted when |org + t*dir - S(u, v)| <= tolerance and
+** tmin < t < tmax.  A sub-rectangle whose start finds no root, or finds
+** one, is split again, up to 8 more levels and 4096 boxes per ray (Sweeney
+** and Bartels's refinement: smaller boxes prove a miss or give better
+** starts, and a grazing ray's nearer crossing is not lost).  A singular
+** system (a ray parallel to the tangent plane) is a miss.  The nearest
+** accepted root is the hit.
+**
+** On a hit: n = normalize(S_u x S_v) (the parameterisation's orientation),
+** taken 1e-6 (then 1e-4, 1e-2) of the domain's size toward its centre
+** where that cross product vanishes or is rounding noise (the collapsed
+** edges of a Bezier patch), else -dir/|dir|; (u, v) as found, inside the
+** domain; p = S(u, v); p_err = tolerance + gamma(18) * the box's largest
+** |coordinate| per axis (the rounding of a Bezier evaluation).
+**
+** Returns 1, 0 (miss), or -RAY_ELIMIT (*hit untouched) when no root was
+** accepted and some Newton start at the deepest refinement neither
+** converged nor left within max_iterations steps, or the refinement ran
+** out of boxes (non-convergence, reported rather than taken for a miss);
+** -RAY_EINVAL for NULL r, s or hit, an invalid descriptor (NULL
+** callbacks, an empty or non-finite domain, subdivisions > 12, a negative
+** or non-finite tolerance), or non-finite values or a box with lo > hi
+** from the callbacks.  An invalid ray is a miss, decided before any
+** callback runs.
+** Defaults (a field left 0): the domain [0, 1]^2 when u0 = u1 = v0 = v1 =
+** 0; subdivisions = 4; tolerance = 1e-9 * (diagonal + largest |coordinate|)
+** of the whole surface's box; max_iterations = 16.
+*/
+typedef void (*ray_surface_fn)(void *ud, double u, double v, ray_vec3 *s,
+                               ray_vec3 *s_u, ray_vec3 *s_v);
+typedef void (*ray_surface_bounds_fn)(void *ud, double u0, double u1,
+                                      double v0, double v1, ray_vec3 *lo,
+                                      ray_vec3 *hi);
+
+typedef struct ray_parametric_surface {
+    ray_surface_fn eval;         /* S(u, v) and its partials S_u, S_v */
+    ray_surface_bounds_fn bounds;/* a box containing S over a rectangle */
+    void *ud;                    /* passed to both; borrowed */
+    double u0, u1, v0, v1;       /* the domain */
+    unsigned subdivisions;       /* levels of the domain's quad tree */
+    double tolerance;            /* |e + td - S(u, v)| at a root */
+    unsigned max_iterations;     /* Newton steps per start */
+} ray_parametric_surface;
+
+RAY_API int ray_parametric(const ray_ray *r,
+                           const ray_parametric_surface *s, ray_hit *hit);
+
+/*
+** ray_bezier_surface -- the bicubic Bezier patch with control points
+** cp[4*i + j] (row i along v, column j along u, so cp[0], cp[3], cp[12],
+** cp[15] are the corners at (u, v) = (0,0), (1,0), (0,1), (1,1)) as a
+** ray_parametric_surface over [0, 1]^2.  Its bounds are the boxes of the
+** control points of the sub-patch (de Casteljau subdivision; the convex
+** hull property makes them contain it), grown by gamma(22) * max |cp| for
+** rounding; rectangles are clamped to [0, 1]^2.  The 16 points are BORROWED.
+** RAY_OK, or RAY_EINVAL (NULL, a non-finite point).
+*/
+RAY_API int ray_bezier_surface(const ray_vec3 cp[16],
+                               ray_parametric_surface *out);
 
 /* ----------------------------------------------------- secondary rays */
 
@@ -476,6 +691,34 @@ RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
                                unsigned material, unsigned *geom_id);
 
 /*
+** Curved surfaces in a scene, inside its BVH through their boxes.
+**
+** ray_scene_add_implicit: copies the descriptor (its ud stays BORROWED and
+** must outlive the scene); hits as ray_implicit.  ray_scene_add_torus:
+** copies the params, intersected with the quartic of ray_torus.
+** ray_scene_add_parametric: copies the descriptor (ud borrowed); the box
+** is its bounds over the whole domain.  ray_scene_add_bezier: copies the
+** 16 control points (as ray_bezier_surface lays them out).  Their hits
+** report prim_id 0 and (u, v) as the functions do.  A ray for which
+** ray_implicit or ray_parametric fails (a negative answer) counts as a
+** miss of that surface and adds 1 to ray_stats.root_failures.
+**
+** Errors, with nothing added: RAY_EINVAL (NULLs, an invalid descriptor or
+** torus, a non-finite control point, an unknown material), RAY_ENOMEM,
+** RAY_ESTATE after commit.
+*/
+RAY_API int ray_scene_add_implicit(ray_scene *scene,
+                                   const ray_implicit_surface *s,
+                                   unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_torus(ray_scene *scene, const ray_torus_params *t,
+                                unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_parametric(ray_scene *scene,
+                                     const ray_parametric_surface *s,
+                                     unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_bezier(ray_scene *scene, const ray_vec3 cp[16],
+                                 unsigned material, unsigned *geom_id);
+
+/*
 ** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
 ** negative intensity, a zero direction (directional), a radius not > 0
 ** (sphere), parallel edges (rect) or samples > RAY_MAX_LIGHT_SAMPLES.
@@ -549,6 +792,9 @@ enum {
     RAY_PRIM_PLANE,
     RAY_PRIM_TRIANGLE,           /* triangles and mesh triangles */
     RAY_PRIM_POLYGON,
+    RAY_PRIM_TORUS,
+    RAY_PRIM_IMPLICIT,
+    RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
     RAY_PRIM_KINDS
 };
 
@@ -567,6 +813,10 @@ typedef struct ray_stats {
     unsigned max_depth;             /* deepest level reached */
     unsigned long long pixels;      /* pixels rendered (ray_render) */
     unsigned long long samples_hist[RAY_HIST_BINS];
+    unsigned long long root_failures;  /* implicit or parametric tests that
+                                          failed (iteration limit, or a
+                                          callback giving NaN or Inf) and
+                                          were taken as misses */
 } ray_stats;
 
 /*
@@ -642,6 +892,61 @@ RAY_API int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
 ** sequence: deterministic for a given pixel, sample and frame seed. */
 RAY_API double ray_ctx_random(ray_ctx *ctx);
 
+/* ---------------------------------------------------------------- textures */
+
+/*
+** Texture coordinates (s, t) reach a material as ray_shade_args.u, v:
+** sphere: longitude and latitude (ray_sphere); plane and polygon: the
+** projected tangent axes (ray_plane); triangle: the barycentrics; mesh:
+** its per-vertex (s, t) interpolated by the barycentrics; torus: its two
+** angles; Bezier and parametric: (u, v); implicit: the surface's uv
+** callback.
+**
+** A texture is a function of the shading point, called CONCURRENTLY from
+** the render threads: write the colour at args (usually at args->u, v)
+** into *out.  Materials that take one (ray_phong_params.texture) declare
+** RAY_EFFECT_TEXTURE.
+*/
+typedef void (*ray_texture_fn)(void *ud, const ray_shade_args *args,
+                               ray_rgb *out);
+
+typedef struct ray_texture {
+    ray_texture_fn fn;           /* NULL: no texture */
+    void *ud;                    /* borrowed */
+} ray_texture;
+
+/*
+** Images for textures.  ray_image_load_png reads a PNG file through libpng
+** (any bit depth and colour type: palette and grey are expanded, alpha
+** dropped) and stores it as linear RGB floats: 8-bit files are taken as
+** sRGB and decoded with the exact IEC 61966-2-1 curve, 16-bit files as
+** linear (ray_write_png's 16-bit files are; libpng converts one that
+** declares another gamma).  RAY_OK; RAY_EINVAL (NULLs); RAY_EIO
+** (the file cannot be opened or read: errno); RAY_EPNG (not a PNG, or
+** corrupt); RAY_ENOMEM; RAY_ERANGE (more than 2^14 pixels on a side).
+** ray_image_free(NULL) is a no-op.  ray_image_size writes width and
+** height (either pointer may be NULL).
+**
+** ray_image_sample -- the image at texture coordinates (s, t), s from the
+** left edge (0) to the right (1), t from the BOTTOM row (0) to the top (1),
+** repeating outside [0, 1) (wrap), filtered bilinearly between the four
+** nearest texel centres.  RAY_OK, or RAY_EINVAL (NULL, s or t not finite:
+** nothing written).
+**
+** ray_texture_image -- a texture that samples "img" at (args->u, args->v).
+** The image is BORROWED: it must outlive every scene that uses it.
+** Loaded images are read-only and may be shared between threads.
+*/
+typedef struct ray_image ray_image;
+
+RAY_API int ray_image_load_png(const char *path, ray_image **out);
+RAY_API void ray_image_free(ray_image *img);
+RAY_API void ray_image_size(const ray_image *img, unsigned *width,
+                            unsigned *height);
+RAY_API int ray_image_sample(const ray_image *img, double s, double t,
+                             ray_rgb *out);
+RAY_API ray_texture ray_texture_image(const ray_image *img);
+
 /* ------------------------------------------------------ built-in materials */
 
 /*
@@ -653,7 +958,8 @@ RAY_API double ray_ctx_random(ray_ctx *ctx);
 **   max(0, n.l) + specular * max(0, r.v)^shininess (Phong) or
 **   max(0, n.h)^shininess (Blinn-Phong if blinn != 0), each light sample
 **   shadowed; plus a mirror term if reflect is non-zero.  Lambert is
-**   specular = reflect = 0.
+**   specular = reflect = 0.  With a texture, diffuse is multiplied by
+**   the texture's colour at the hit (and RAY_EFFECT_TEXTURE declared).
 ** ray_material_mirror: perfect mirror, reflectance per channel.
 ** ray_material_glass: dielectric: Fresnel-weighted reflection and
 **   refraction (Snell; total internal reflection), optional Beer-Lambert
@@ -672,6 +978,7 @@ typedef struct ray_phong_params {
     double shininess;
     int blinn;
     ray_rgb reflect;
+    ray_texture texture;     /* fn != NULL: diffuse is multiplied by it */
 } ray_phong_params;
 
 typedef struct ray_glass_params {

@@ -105,6 +105,19 @@ static inline int v3_isfinite(ray_vec3 a)
     return isfinite(a.x) && isfinite(a.y) && isfinite(a.z);
 }
 
+/* A borrowed const pointer as the plain void * of a callback's ud: the
+** library only reads through it.  A union rather than a cast, so the
+** compiler's -Wcast-qual still guards every other cast. */
+static inline void *ray__unconst(const void *p)
+{
+    union {
+        const void *c;
+        void *m;
+    } u;
+    u.c = p;
+    return u.m;
+}
+
 /* ------------------------------------------------------ rounding bounds */
 
 /*
@@ -117,6 +130,28 @@ static inline double ray__gamma(int n)
 {
     double nu = (double)n * (DBL_EPSILON * 0.5);
     return nu / (1.0 - nu);
+}
+
+/*
+** The default tolerance of ray_implicit and ray_parametric for a surface
+** in the box [lo, hi] (ray.h): 1e-9 of the box's diagonal plus its largest
+** |coordinate|, some 2^23 ulps of its coordinates -- far above the
+** rounding of a reasonable field or S(u, v), far below what a picture can
+** show, and still above the coordinates' ulps far from the origin.  The
+** diagonal is formed from coordinates divided by the largest, so it
+** neither overflows nor underflows.
+*/
+static inline double ray__default_tolerance(ray_vec3 lo, ray_vec3 hi)
+{
+    double m = fmax(fmax(fabs(lo.x), fabs(hi.x)),
+                    fmax(fmax(fabs(lo.y), fabs(hi.y)),
+                         fmax(fabs(lo.z), fabs(hi.z))));
+    ray_vec3 e;
+
+    if (!(m > 0))
+        return 0;
+    e = v3(hi.x / m - lo.x / m, hi.y / m - lo.y / m, hi.z / m - lo.z / m);
+    return 1e-9 * m * (v3_length(e) + 1);
 }
 
 /* ----------------------------------------------------- shared internals */
@@ -191,14 +226,42 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
                     ray_vec3 origin, double t, ray_hit *hit);
 
+/*
+** The real roots of the polynomial c[0] + c[1] x + ... + c[degree] x^degree
+** in [lo, hi], ascending, into roots[] (room for degree + 1 needed):
+** src/poly.c, after Yuksel (HPG 2022).  c[degree] must not be 0.
+*/
+#define RAY__POLY_MAX_DEGREE 4
+int ray__poly_roots(const double *c, int degree, double lo, double hi,
+                    double *roots);
+
+/* The tolerance ray_implicit uses for a valid descriptor (its own or
+** the default); hits lie within it of the surface's box. */
+double ray__implicit_tolerance(const ray_implicit_surface *s);
+
+/* The box of a torus, rounded outward (0 for invalid params). */
+int ray__torus_box(const ray_torus_params *t, ray_vec3 *lo, ray_vec3 *hi);
+
 /* ------------------------------------------------------------ the scene */
 
-enum { PRIM_SPHERE, PRIM_PLANE, PRIM_TRIANGLE, PRIM_POLYGON, PRIM_MESH };
+enum {
+    PRIM_SPHERE, PRIM_PLANE, PRIM_TRIANGLE, PRIM_POLYGON, PRIM_MESH,
+    PRIM_TORUS, PRIM_IMPLICIT, PRIM_PARAMETRIC, PRIM_BEZIER
+};
+
+/* A curved surface's descriptor as added (the field of its kind). */
+typedef struct ray__surface {
+    ray_torus_params torus;
+    ray_implicit_surface implicit;
+    ray_parametric_surface parametric;
+} ray__surface;
 
 /* One piece of geometry (what a geom_id names).  By kind: sphere: a =
 ** centre; plane: a = point, b = unit normal; triangle and mesh: tris[first
 ** .. first+count-1] of the scene (until commit reorders them), and for a
-** mesh meshes[mesh]; polygon: verts[first .. first+count-1]. */
+** mesh meshes[mesh]; polygon: verts[first .. first+count-1]; torus,
+** implicit and parametric: surfaces[surface], and Bezier: its 16 control
+** points at verts[first ..]; all four keep their box in a (lo), b (hi). */
 typedef struct ray__prim {
     int kind;
     unsigned material;
@@ -206,6 +269,7 @@ typedef struct ray__prim {
     double radius;
     size_t first, count;
     unsigned mesh;
+    unsigned surface;
 } ray__prim;
 
 /* Triangles are stored flat, three vertices each, whatever they came
@@ -282,6 +346,8 @@ struct ray_scene {
     size_t n_tris, cap_tris, cap_tri_ids;
     ray__mesh *meshes;
     size_t n_meshes, cap_meshes;
+    ray__surface *surfaces;
+    size_t n_surfaces, cap_surfaces;
     ray__bvh tri_bvh;        /* over tris, reordered to leaf order */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
@@ -306,6 +372,22 @@ struct ray_scene {
 void *ray__alloc(const ray_scene *s, size_t size);
 void ray__free(const ray_scene *s, void *ptr, size_t size);
 void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize);
+
+/* Append a validated primitive (checks its material; RAY_EINVAL,
+** RAY_ENOMEM); *geom_id, if not NULL, receives its id. */
+int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id);
+
+/* RAY_OK if the scene may still be changed (RAY_EINVAL for NULL,
+** RAY_ESTATE after commit). */
+int ray__editable(const ray_scene *s);
+
+/* Room for "more" vertices in the scene's verts array. */
+int ray__reserve_verts(ray_scene *s, size_t more);
+
+/* Grow an array of "size"-byte items through the scene's allocator so it
+** holds used + 1; returns the (maybe moved) array or NULL. */
+void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
+                size_t size);
 
 /* The geometry record of a mesh over tris[first .. first+count-1]. */
 int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,

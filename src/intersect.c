@@ -1,7 +1,8 @@
 /*
 ** intersect.c -- nearest-hit and any-hit queries over a committed scene:
 ** the planes one by one, then two BVHs, one over the triangles (stored in
-** leaf order) and one over spheres and polygons.  Each hit shrinks tmax,
+** leaf order) and one over the other bounded primitives (spheres,
+** polygons and the curved surfaces).  Each hit shrinks tmax,
 ** so every later box and primitive is tested against the nearest so far.
 */
 #include <string.h>
@@ -161,26 +162,42 @@ static int kind_of(int prim_kind)
         return RAY_PRIM_PLANE;
     case PRIM_POLYGON:
         return RAY_PRIM_POLYGON;
+    case PRIM_TORUS:
+        return RAY_PRIM_TORUS;
+    case PRIM_IMPLICIT:
+        return RAY_PRIM_IMPLICIT;
+    case PRIM_PARAMETRIC:
+    case PRIM_BEZIER:
+        return RAY_PRIM_PARAMETRIC;
     default:
         return RAY_PRIM_TRIANGLE;
     }
 }
 
-/* Add a query's per-kind counts to *st (if any), and their sum. */
-static void add_counts(ray_stats *st, const unsigned long long *counts)
+/* What one query counts: tests by kind, and the curved-surface tests
+** that failed (iteration limit) and were taken as misses. */
+typedef struct query_counts {
+    unsigned long long tests[RAY_PRIM_KINDS];
+    unsigned long long failures;
+} query_counts;
+
+/* Add a query's counts to *st (if any). */
+static void add_counts(ray_stats *st, const query_counts *qc)
 {
     int k;
 
     if (st == NULL)
         return;
     for (k = 0; k < RAY_PRIM_KINDS; k++) {
-        st->tests_by_kind[k] += counts[k];
-        st->tests += counts[k];
+        st->tests_by_kind[k] += qc->tests[k];
+        st->tests += qc->tests[k];
     }
+    st->root_failures += qc->failures;
 }
 
 static int tri_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
-static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
+static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
+                     query_counts *qc);
 
 /*
 ** Ordered traversal: the children a ray enters are visited nearest first,
@@ -191,7 +208,7 @@ static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
 */
 static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
                            ray_ray *r, int leaf, void *best, int any,
-                           unsigned long long counts[RAY_PRIM_KINDS])
+                           query_counts *qc)
 {
     unsigned stack[4 * 64], ni = 0;
     float stack_t[4 * 64], tmax;
@@ -225,11 +242,11 @@ static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
                 continue;
             for (i = q->child[c]; i < q->child[c] + q->count[c]; i++) {
                 if (leaf == LEAF_TRIANGLES)
-                    counts[RAY_PRIM_TRIANGLE]++;
+                    qc->tests[RAY_PRIM_TRIANGLE]++;
                 else
-                    counts[kind_of(s->prims[bvh->items[i]].kind)]++;
+                    qc->tests[kind_of(s->prims[bvh->items[i]].kind)]++;
                 if (leaf == LEAF_TRIANGLES ? tri_test(s, i, r, best)
-                                           : prim_test(s, i, r, best)) {
+                                           : prim_test(s, i, r, best, qc)) {
                     found = 1;
                     if (any)
                         goto done;
@@ -287,9 +304,24 @@ static inline int tri_test(const ray_scene *s, unsigned i, ray_ray *r,
     return 1;
 }
 
-/* One sphere, plane or polygon against the ray; fills *hit on a hit. */
+/* A Bezier patch from its control points in the scene. */
+static int bezier_intersect(const ray_scene *s, const ray__prim *p,
+                            const ray_ray *r, ray_hit *hit)
+{
+    ray_parametric_surface ps;
+
+    if (ray_bezier_surface(s->verts + p->first, &ps) != RAY_OK)
+        return 0;          /* cannot happen: checked when added */
+    return ray_parametric(r, &ps, hit);
+}
+
+/*
+** One primitive other than a triangle against the ray; fills *hit on a
+** hit.  A curved surface whose iteration failed (a negative answer) is a
+** miss, counted in *failures.
+*/
 static int prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
-                          ray_hit *hit)
+                          ray_hit *hit, unsigned long long *failures)
 {
     const ray__prim *p = &s->prims[i];
     int ok;
@@ -301,9 +333,25 @@ static int prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
     case PRIM_PLANE:
         ok = ray_plane(r, p->a, p->b, hit);
         break;
+    case PRIM_TORUS:
+        ok = ray_torus(r, &s->surfaces[p->surface].torus, hit);
+        break;
+    case PRIM_IMPLICIT:
+        ok = ray_implicit(r, &s->surfaces[p->surface].implicit, hit);
+        break;
+    case PRIM_PARAMETRIC:
+        ok = ray_parametric(r, &s->surfaces[p->surface].parametric, hit);
+        break;
+    case PRIM_BEZIER:
+        ok = bezier_intersect(s, p, r, hit);
+        break;
     default:
         ok = ray_polygon(r, s->verts + p->first, p->count, hit);
         break;
+    }
+    if (ok < 0) {
+        (*failures)++;
+        return 0;
     }
     if (ok) {
         hit->geom_id = i;
@@ -313,11 +361,11 @@ static int prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
 }
 
 static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
-                     void *best)
+                     void *best, query_counts *qc)
 {
     ray_hit h;
 
-    if (!prim_intersect(s, s->prim_bvh.items[item], r, &h))
+    if (!prim_intersect(s, s->prim_bvh.items[item], r, &h, &qc->failures))
         return 0;
     r->tmax = h.t;
     if (best != NULL)
@@ -328,22 +376,23 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
 int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                    ray_stats *st)
 {
-    unsigned long long counts[RAY_PRIM_KINDS] = {0, 0, 0, 0};
+    query_counts qc;
     ray_ray rr = *r;
     ray_hit best;
     tri_best tb;
     int found = 0;
     size_t i;
 
+    memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes; i++)
-        if (prim_intersect(s, s->planes[i], &rr, &best)) {
+        if (prim_intersect(s, s->planes[i], &rr, &best, &qc.failures)) {
             rr.tmax = best.t;
             found = 1;
         }
-    counts[RAY_PRIM_PLANE] += s->n_planes;
-    if (traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, &best, 0, counts))
+    qc.tests[RAY_PRIM_PLANE] += s->n_planes;
+    if (traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, &best, 0, &qc))
         found = 1;
-    if (traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, &tb, 0, counts)) {
+    if (traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, &tb, 0, &qc)) {
         const ray__tri *t = &s->tris[tb.index];
         /* A usable triangle (checked at commit) always fills. */
         if (ray__triangle_fill(t->a, t->b, t->c, rr.tmax, tb.beta, tb.gamma,
@@ -353,7 +402,7 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
             found = 1;
         }
     }
-    add_counts(st, counts);
+    add_counts(st, &qc);
     if (found)
         *hit = best;
     return found;
@@ -361,20 +410,21 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
 {
-    unsigned long long counts[RAY_PRIM_KINDS] = {0, 0, 0, 0};
+    query_counts qc;
     ray_ray rr = *r;
     ray_hit h;
     size_t i;
     int hit = 0;
 
+    memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes && !hit; i++) {
-        counts[RAY_PRIM_PLANE]++;
-        hit = prim_intersect(s, s->planes[i], &rr, &h);
+        qc.tests[RAY_PRIM_PLANE]++;
+        hit = prim_intersect(s, s->planes[i], &rr, &h, &qc.failures);
     }
     if (!hit)
-        hit = traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, NULL, 1, counts) ||
-              traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, NULL, 1, counts);
-    add_counts(st, counts);
+        hit = traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, NULL, 1, &qc) ||
+              traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, NULL, 1, &qc);
+    add_counts(st, &qc);
     return hit;
 }
 

@@ -96,19 +96,34 @@ static double specular_term(const ray_phong_params *p, ray_vec3 n,
     return c > 0 ? pow(c, p->shininess) : 0;
 }
 
+/* The diffuse colour at the hit: the parameter, times the texture's
+** colour there if the material has a texture (preset to white, so a
+** texture that writes nothing leaves the colour as it is). */
+static ray_rgb diffuse_at(const ray_phong_params *p, const ray_shade_args *a)
+{
+    ray_rgb t = rgb(1, 1, 1);
+
+    if (p->texture.fn == NULL)
+        return p->diffuse;
+    p->texture.fn(p->texture.ud, a, &t);
+    return rgb(p->diffuse.r * t.r, p->diffuse.g * t.g, p->diffuse.b * t.b);
+}
+
 static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                         ray_rgb *out)
 {
     const ray_phong_params *p = ud;
     ray_vec3 n = a->shading_normal, v = unit(a->ray->dir);
+    ray_rgb diffuse;
     unsigned li, si;
 
     if (p == NULL)
         return;
+    diffuse = diffuse_at(p, a);
     v.x = -v.x;
     v.y = -v.y;
     v.z = -v.z;
-    add_product(out, a->ambient, p->diffuse);
+    add_product(out, a->ambient, diffuse);
     for (li = 0; li < ray_scene_light_count(a->scene); li++) {
         unsigned ns = ray_light_samples(a->scene, li);
         for (si = 0; si < ns; si++) {
@@ -126,9 +141,9 @@ static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
             spec = ndotl > 0 ? specular_term(p, n, ls.dir, v) : 0;
             if (ndotl < 0)
                 ndotl = 0;
-            f = rgb(p->diffuse.r * ndotl + p->specular.r * spec,
-                    p->diffuse.g * ndotl + p->specular.g * spec,
-                    p->diffuse.b * ndotl + p->specular.b * spec);
+            f = rgb(diffuse.r * ndotl + p->specular.r * spec,
+                    diffuse.g * ndotl + p->specular.g * spec,
+                    diffuse.b * ndotl + p->specular.b * spec);
             if ((max3(f) <= 0 && a->prune) || !ray_light_visible(ctx, a, &ls))
                 continue;
             add_product(out, f, ls.radiance);
@@ -147,6 +162,8 @@ ray_material ray_material_phong(const ray_phong_params *p)
     m.effects = RAY_EFFECT_SHADOW;
     if (p != NULL && max3(p->reflect) > 0)
         m.effects |= RAY_EFFECT_REFLECTION;
+    if (p != NULL && p->texture.fn != NULL)
+        m.effects |= RAY_EFFECT_TEXTURE;
     return m;
 }
 

@@ -419,6 +419,7 @@ static void sum_stats(void *workers, unsigned n, ray_stats *out)
         out->cut_depth += s->cut_depth;
         out->cut_weight += s->cut_weight;
         out->cut_fanout += s->cut_fanout;
+        out->root_failures += s->root_failures;
         if (s->max_depth > out->max_depth)
             out->max_depth = s->max_depth;
     }

@@ -39,8 +39,8 @@ void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize)
 ** more than "used": itself, or a copy twice as large (*cap updated).  NULL
 ** when that allocation fails, with items and *cap unchanged.
 */
-static void *grow(ray_scene *s, void *items, size_t *cap, size_t used,
-                  size_t elem)
+void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
+                size_t elem)
 {
     size_t ncap;
     void *p;
@@ -97,6 +97,7 @@ void ray_scene_free(ray_scene *s)
     for (i = 0; i < s->n_meshes; i++)
         mesh_free(s, &s->meshes[i]);
     ray__free(s, s->meshes, s->cap_meshes * sizeof *s->meshes);
+    ray__free(s, s->surfaces, s->cap_surfaces * sizeof *s->surfaces);
     ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
     ray__bvh_free(s, &s->tri_bvh);
@@ -110,7 +111,7 @@ void ray_scene_free(ray_scene *s)
 }
 
 /* RAY_OK if the scene may still be changed. */
-static int editable(const ray_scene *s)
+int ray__editable(const ray_scene *s)
 {
     if (s == NULL)
         return RAY_EINVAL;
@@ -123,7 +124,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
     const unsigned known = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
                            RAY_EFFECT_SHADOW | RAY_EFFECT_TEXTURE;
     void *p;
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -131,7 +132,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
         return RAY_EINVAL;
     if (s->n_materials >= RAY_INVALID_ID)
         return RAY_ENOMEM;
-    p = grow(s, s->materials, &s->cap_materials, s->n_materials,
+    p = ray__grow(s, s->materials, &s->cap_materials, s->n_materials,
              sizeof *s->materials);
     if (p == NULL)
         return RAY_ENOMEM;
@@ -144,7 +145,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
 }
 
 /* Append a primitive already validated. */
-static int add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
+int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
 {
     void *p;
 
@@ -152,7 +153,7 @@ static int add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
         return RAY_EINVAL;
     if (s->n_prims >= RAY_INVALID_ID)
         return RAY_ENOMEM;
-    p = grow(s, s->prims, &s->cap_prims, s->n_prims, sizeof *s->prims);
+    p = ray__grow(s, s->prims, &s->cap_prims, s->n_prims, sizeof *s->prims);
     if (p == NULL)
         return RAY_ENOMEM;
     s->prims = p;
@@ -177,7 +178,7 @@ int ray_scene_add_sphere(ray_scene *s, ray_vec3 center, double radius,
                          unsigned material, unsigned *geom_id)
 {
     ray__prim p = prim_of(PRIM_SPHERE, material);
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -185,14 +186,14 @@ int ray_scene_add_sphere(ray_scene *s, ray_vec3 center, double radius,
         return RAY_EINVAL;
     p.a = center;
     p.radius = radius;
-    return add_prim(s, &p, geom_id);
+    return ray__add_prim(s, &p, geom_id);
 }
 
 int ray_scene_add_plane(ray_scene *s, ray_vec3 point, ray_vec3 normal,
                         unsigned material, unsigned *geom_id)
 {
     ray__prim p = prim_of(PRIM_PLANE, material);
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -200,7 +201,7 @@ int ray_scene_add_plane(ray_scene *s, ray_vec3 point, ray_vec3 normal,
         !v3_normalize(normal, &p.b))
         return RAY_EINVAL;
     p.a = point;
-    return add_prim(s, &p, geom_id);
+    return ray__add_prim(s, &p, geom_id);
 }
 
 int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
@@ -208,7 +209,7 @@ int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
 {
     ray__prim p = prim_of(PRIM_TRIANGLE, material);
     ray_vec3 n;
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -226,7 +227,7 @@ int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
     p.c = c;
     p.first = s->n_tris;
     p.count = 1;
-    rc = add_prim(s, &p, geom_id);
+    rc = ray__add_prim(s, &p, geom_id);
     if (rc != RAY_OK)
         return rc;
     s->tris[s->n_tris].a = a;
@@ -252,17 +253,33 @@ int ray__reserve_tris(ray_scene *s, size_t more)
         return RAY_ENOMEM;              /* ids and BVH items are 32-bit */
     need = s->n_tris + more;
     while (s->cap_tris < need) {
-        p = grow(s, s->tris, &s->cap_tris, s->cap_tris, sizeof *s->tris);
+        p = ray__grow(s, s->tris, &s->cap_tris, s->cap_tris, sizeof *s->tris);
         if (p == NULL)
             return RAY_ENOMEM;
         s->tris = p;
     }
     while (s->cap_tri_ids < need) {
-        p = grow(s, s->tri_ids, &s->cap_tri_ids, s->cap_tri_ids,
+        p = ray__grow(s, s->tri_ids, &s->cap_tri_ids, s->cap_tri_ids,
                  sizeof *s->tri_ids);
         if (p == NULL)
             return RAY_ENOMEM;
         s->tri_ids = p;
+    }
+    return RAY_OK;
+}
+
+int ray__reserve_verts(ray_scene *s, size_t more)
+{
+    void *grown;
+
+    if (more > (size_t)-1 / 2 - s->n_verts)
+        return RAY_ENOMEM;
+    while (s->cap_verts < s->n_verts + more) {
+        grown = ray__grow(s, s->verts, &s->cap_verts, s->cap_verts,
+                          sizeof *s->verts);
+        if (grown == NULL)
+            return RAY_ENOMEM;
+        s->verts = grown;
     }
     return RAY_OK;
 }
@@ -272,9 +289,8 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
 {
     ray__prim p = prim_of(PRIM_POLYGON, material);
     ray_vec3 area = v3(0, 0, 0), unit;
-    void *grown;
     size_t i;
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -290,18 +306,12 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
         return RAY_EDEGENERATE;
     if (material >= s->n_materials)
         return RAY_EINVAL;
-    if (n > (size_t)-1 / 2 - s->n_verts)
-        return RAY_ENOMEM;
-    while (s->cap_verts < s->n_verts + n) {
-        grown = grow(s, s->verts, &s->cap_verts, s->cap_verts,
-                     sizeof *s->verts);
-        if (grown == NULL)
-            return RAY_ENOMEM;
-        s->verts = grown;
-    }
+    rc = ray__reserve_verts(s, n);
+    if (rc != RAY_OK)
+        return rc;
     p.first = s->n_verts;
     p.count = n;
-    rc = add_prim(s, &p, geom_id);
+    rc = ray__add_prim(s, &p, geom_id);
     if (rc != RAY_OK)
         return rc;
     memcpy(s->verts + s->n_verts, v, n * sizeof *v);
@@ -321,7 +331,7 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
     void *grown;
     int rc;
 
-    grown = grow(s, s->meshes, &s->cap_meshes, s->n_meshes,
+    grown = ray__grow(s, s->meshes, &s->cap_meshes, s->n_meshes,
                  sizeof *s->meshes);
     if (grown == NULL)
         return RAY_ENOMEM;
@@ -329,7 +339,7 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
     p.first = first;
     p.count = count;
     p.mesh = (unsigned)s->n_meshes;
-    rc = add_prim(s, &p, id);
+    rc = ray__add_prim(s, &p, id);
     if (rc != RAY_OK)
         return rc;
     s->meshes[s->n_meshes++] = *shading;
@@ -367,7 +377,7 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
 {
     void *p;
     ray_vec3 axis;
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -376,7 +386,7 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
         return RAY_EINVAL;
     if (s->n_lights >= RAY_INVALID_ID)
         return RAY_ENOMEM;
-    p = grow(s, s->lights, &s->cap_lights, s->n_lights, sizeof *s->lights);
+    p = ray__grow(s, s->lights, &s->cap_lights, s->n_lights, sizeof *s->lights);
     if (p == NULL)
         return RAY_ENOMEM;
     s->lights = p;
@@ -396,7 +406,7 @@ static int rgb_valid(ray_rgb c)
 
 int ray_scene_set_background(ray_scene *s, ray_rgb color)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -409,7 +419,7 @@ int ray_scene_set_background(ray_scene *s, ray_rgb color)
 int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
                                 void *ud)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -420,7 +430,7 @@ int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
 
 int ray_scene_set_ambient(ray_scene *s, ray_rgb ambient)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -432,7 +442,7 @@ int ray_scene_set_ambient(ray_scene *s, ray_rgb ambient)
 
 int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -593,6 +603,9 @@ static void prim_box(const void *ud, size_t item, float *blo, float *bhi)
     if (p->kind == PRIM_SPHERE) {
         lo = v3(p->a.x - p->radius, p->a.y - p->radius, p->a.z - p->radius);
         hi = v3(p->a.x + p->radius, p->a.y + p->radius, p->a.z + p->radius);
+    } else if (p->kind != PRIM_POLYGON) {      /* the curved surfaces */
+        lo = p->a;
+        hi = p->b;
     } else {
         lo = hi = s->verts[p->first];
         for (i = 1; i < p->count; i++) {
@@ -611,7 +624,8 @@ static void prim_box(const void *ud, size_t item, float *blo, float *bhi)
 }
 
 /*
-** The BVH over spheres and polygons (items are prim indices), and the list
+** The BVH over the bounded primitives but triangles: spheres, polygons
+** and the curved surfaces (items are prim indices), and the list
 ** of planes, which have no bounds and are tested on every ray.
 */
 static int commit_prims(ray_scene *s)
@@ -623,8 +637,9 @@ static int commit_prims(ray_scene *s)
 
     for (i = 0; i < s->n_prims; i++) {
         int kind = s->prims[i].kind;
-        n_bounded += kind == PRIM_SPHERE || kind == PRIM_POLYGON;
         n_planes += kind == PRIM_PLANE;
+        n_bounded += kind != PRIM_PLANE && kind != PRIM_TRIANGLE &&
+                     kind != PRIM_MESH;
     }
     if (n_planes > 0 &&
         (planes = ray__alloc(s, n_planes * sizeof *planes)) == NULL)
@@ -636,7 +651,7 @@ static int commit_prims(ray_scene *s)
             int kind = s->prims[i].kind;
             if (kind == PRIM_PLANE)
                 planes[np++] = (unsigned)i;
-            else if (kind == PRIM_SPHERE || kind == PRIM_POLYGON)
+            else if (kind != PRIM_TRIANGLE && kind != PRIM_MESH)
                 ids[nb++] = (unsigned)i;
         }
         pl.s = s;
@@ -657,7 +672,7 @@ static int commit_prims(ray_scene *s)
 
 int ray_scene_set_pruning(ray_scene *s, int enabled)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -667,7 +682,7 @@ int ray_scene_set_pruning(ray_scene *s, int enabled)
 
 int ray_scene_set_watertight(ray_scene *s, int enabled)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;
@@ -704,7 +719,7 @@ static unsigned scene_effects(const ray_scene *s)
 */
 int ray_scene_commit(ray_scene *s)
 {
-    int rc = editable(s);
+    int rc = ray__editable(s);
 
     if (rc != RAY_OK)
         return rc;

@@ -42,7 +42,7 @@ static ray_stats render_counts(const ray_scene *s, const ray_camera *cam,
 START_TEST(diffuse_scene_should_cast_exact_counts)
 {
     static const ray_phong_params lambert = {{0.5, 0.5, 0.5}, {0, 0, 0}, 1, 0,
-                                             {0, 0, 0}};
+                                             {0, 0, 0}, {NULL, NULL}};
     int lights;
 
     for (lights = 0; lights <= 2; lights++) {
@@ -176,7 +176,7 @@ END_TEST
 ** textured materials does not interpolate mesh (s, t). */
 START_TEST(texture_effect_should_follow_the_materials)
 {
-    static const ray_phong_params a = {{1, 0, 0}, {0, 0, 0}, 1, 0, {0, 0, 0}};
+    static const ray_phong_params a = {{1, 0, 0}, {0, 0, 0}, 1, 0, {0, 0, 0}, {NULL, NULL}};
     ray_checker_params cp;
     ray_material m;
     ray_scene *s;

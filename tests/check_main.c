@@ -25,6 +25,11 @@ int main(void)
     srunner_add_suite(sr, obj_suite());
     srunner_add_suite(sr, effects_suite());
     srunner_add_suite(sr, numerics_suite());
+    srunner_add_suite(sr, implicit_suite());
+    srunner_add_suite(sr, parametric_suite());
+    srunner_add_suite(sr, texture_suite());
+    srunner_add_suite(sr, bpt_suite());
+    srunner_add_suite(sr, surfaces_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

@@ -250,7 +250,7 @@ END_TEST
 START_TEST(shadow_rays_should_not_hit_their_own_surface)
 {
     static const ray_phong_params kd = {{0.5, 0.5, 0.5}, {0, 0, 0}, 1, 0,
-                                        {0, 0, 0}};
+                                        {0, 0, 0}, {NULL, NULL}};
     double offsets[] = {0.0, 1e5, 1e6};
     int k;
 

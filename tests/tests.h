@@ -27,6 +27,11 @@ Suite *bvh_suite(void);
 Suite *obj_suite(void);
 Suite *effects_suite(void);
 Suite *numerics_suite(void);
+Suite *implicit_suite(void);
+Suite *parametric_suite(void);
+Suite *texture_suite(void);
+Suite *bpt_suite(void);
+Suite *surfaces_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)

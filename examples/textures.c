@@ -1,0 +1,147 @@
+/*
+** textures.c -- texture coordinates from every kind of primitive, and
+** textures of both kinds: a PNG image (loaded with ray_image_load_png,
+** filtered bilinearly) and procedural functions (ray_texture_fn).
+**
+**   * a sphere wrapped in the image by its longitude and latitude;
+**   * a curved Bezier "canvas" showing the image by its (u, v);
+**   * a mesh quad with per-vertex (s, t) showing it too;
+**   * a torus striped by its two angles (procedural);
+**   * the floor, a plane, with procedural rings in its own axes.
+**
+**     textures [image.png [out.png [width height [samples [threads]]]]]
+**
+** image.png defaults to doc/cornell.png (run from the repository root).
+*/
+#include "common.h"
+
+/* Stripes around a torus: light along the tube (v), dark bands around
+** the axis (u), from the two angles ray_torus gives. */
+static void torus_stripes(void *ud, const ray_shade_args *a, ray_rgb *out)
+{
+    double band = 0.5 + 0.5 * cos(2 * 3.14159265358979 * 12 * a->u);
+    double ring = 0.5 + 0.5 * cos(2 * 3.14159265358979 * 3 * a->v);
+    (void)ud;
+    *out = rgb(0.3 + 0.7 * band, 0.25 + 0.5 * band * ring, 0.2 + 0.2 * ring);
+}
+
+/* Rings on the floor, around its origin, in the plane's (u, v) axes. */
+static void floor_rings(void *ud, const ray_shade_args *a, ray_rgb *out)
+{
+    double r = sqrt(a->u * a->u + a->v * a->v);
+    double k = 0.5 + 0.5 * cos(2 * 3.14159265358979 * 1.5 * r);
+    (void)ud;
+    *out = rgb(0.55 + 0.3 * k, 0.45 + 0.25 * k, 0.35 + 0.15 * k);
+}
+
+static void sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    double len = sqrt(r->dir.x * r->dir.x + r->dir.y * r->dir.y +
+                      r->dir.z * r->dir.z);
+    double k = len > 0 ? 0.5 * (r->dir.y / len + 1) : 0.5;
+    (void)ud;
+    *out = rgb(0.5 + 0.2 * k, 0.55 + 0.25 * k, 0.65 + 0.3 * k);
+}
+
+/* A textured Lambert-plus-highlight block; other fields zero. */
+static ray_phong_params textured(ray_texture t, double specular)
+{
+    ray_phong_params p;
+    memset(&p, 0, sizeof p);
+    p.diffuse = rgb(0.9, 0.9, 0.9);
+    p.specular = rgb(specular, specular, specular);
+    p.shininess = 60;
+    p.blinn = 1;
+    p.texture = t;
+    return p;
+}
+
+static unsigned add_material(ray_scene *s, const ray_phong_params *p)
+{
+    ray_material m = ray_material_phong(p);
+    unsigned id;
+    check(ray_scene_add_material(s, &m, &id), "ray_scene_add_material");
+    return id;
+}
+
+/* A canvas: a Bezier patch bulging toward +z, 2.4 wide and 1.8 high,
+** standing on the floor at x = cx; (u, v) = (0, 0) at its lower left, so
+** the image shows upright. */
+static void canvas(ray_vec3 cp[16], double cx, double cz)
+{
+    int i, j;
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++) {
+            double bulge = (i == 1 || i == 2) && (j == 1 || j == 2) ? 0.5 : 0;
+            cp[4 * i + j] = vec(cx - 1.2 + 0.8 * j, 0.2 + 0.6 * i,
+                                cz + bulge + 0.15 * (j - 1.5) * (j - 1.5));
+        }
+}
+
+/* A quad as a two-triangle mesh with per-vertex (s, t). */
+static void add_quad(ray_scene *s, unsigned material)
+{
+    static const ray_vec3 v[4] = {{-3.1, 0.15, 0.4}, {-1.9, 0.15, 1.0},
+                                  {-1.9, 1.05, 1.0}, {-3.1, 1.05, 0.4}};
+    static const double st[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    static const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    ray_mesh m;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 4;
+    m.indices = idx;
+    m.triangle_count = 2;
+    m.texcoords = st;
+    check(ray_scene_add_mesh(s, &m, material, NULL), "ray_scene_add_mesh");
+}
+
+int main(int argc, char **argv)
+{
+    static ray_phong_params image_mat, torus_mat, floor_mat;
+    const char *image_path = argc > 1 ? argv[1] : "doc/cornell.png";
+    ray_torus_params torus = {{2.3, 0.5, 0.6}, {0.2, 1, 0.5}, 0.6, 0.25};
+    ray_light key = {RAY_LIGHT_SPHERE, {2, 6, 5}, {0, 0, 0}, {0, 0, 0},
+                     {0, 0, 0}, 0.5, {50, 50, 48}, 16};
+    ray_camera cam = {{0, 2.0, 6.5}, {0, 0.8, 0}, {0, 1, 0}, 42, 0, 0};
+    ray_texture stripes = {torus_stripes, NULL}, rings = {floor_rings, NULL};
+    ray_image *image;
+    ray_scene *scene;
+    ray_vec3 cp[16];
+    unsigned w, h;
+    int rc;
+
+    rc = ray_image_load_png(image_path, &image);
+    if (rc != RAY_OK) {
+        fprintf(stderr, "textures: %s: %s\n", image_path, ray_strerror(rc));
+        return 1;
+    }
+    ray_image_size(image, &w, &h);
+    printf("textures: %s: %u x %u texels\n", image_path, w, h);
+    image_mat = textured(ray_texture_image(image), 0.3);
+    torus_mat = textured(stripes, 0.5);
+    floor_mat = textured(rings, 0);
+
+    check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
+    check(ray_scene_add_plane(scene, vec(0, 0, 0), vec(0, 1, 0),
+                              add_material(scene, &floor_mat), NULL),
+          "floor");
+    check(ray_scene_add_sphere(scene, vec(-0.9, 0.75, 1.4), 0.75,
+                               add_material(scene, &image_mat), NULL),
+          "sphere");
+    canvas(cp, 0.2, -1.2);
+    check(ray_scene_add_bezier(scene, cp, add_material(scene, &image_mat),
+                               NULL), "canvas");
+    add_quad(scene, add_material(scene, &image_mat));
+    check(ray_scene_add_torus(scene, &torus,
+                              add_material(scene, &torus_mat), NULL),
+          "torus");
+    check(ray_scene_add_light(scene, &key, NULL), "light");
+    check(ray_scene_set_background_fn(scene, sky, NULL), "background");
+    check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
+    check(ray_scene_commit(scene), "ray_scene_commit");
+    rc = render_to_png("textures", scene, &cam, argc - 1, argv + 1, 480, 300);
+    ray_scene_free(scene);
+    ray_image_free(image);
+    return rc;
+}

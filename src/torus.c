@@ -1,0 +1,263 @@
+/*
+** torus.c -- ray / torus: the exact quartic, solved without a closed
+** formula; and the same torus as an implicit surface (its signed
+** distance) for ray_implicit, so the two methods can check each other.
+*/
+#include "internal.h"
+
+/* The torus in its own frame: a unit axis "a" (local z) with the
+** tangents t1, t2 (local x, y) of ray__tangent_frame. */
+typedef struct torus_frame {
+    ray_vec3 c, t1, t2, a;
+    double major, minor;
+} torus_frame;
+
+static int torus_frame_init(const ray_torus_params *t, torus_frame *f)
+{
+    if (t == NULL || !v3_isfinite(t->center) || !v3_normalize(t->axis, &f->a))
+        return 0;
+    /* A ring torus only: a spindle torus (minor >= major) crosses itself,
+    ** and its quartic's inner surface is not the tube projected on below. */
+    if (!(t->major > 0 && t->major < HUGE_VAL) ||
+        !(t->minor > 0 && t->minor < t->major) ||
+        !(t->major + t->minor < HUGE_VAL))
+        return 0;
+    ray__tangent_frame(f->a, &f->t1, &f->t2);
+    f->c = t->center;
+    f->major = t->major;
+    f->minor = t->minor;
+    return 1;
+}
+
+static ray_vec3 to_local(const torus_frame *f, ray_vec3 v)
+{
+    return v3(v3_dot(v, f->t1), v3_dot(v, f->t2), v3_dot(v, f->a));
+}
+
+static ray_vec3 to_world(const torus_frame *f, ray_vec3 v)
+{
+    return v3_add(v3_add(v3_scale(f->t1, v.x), v3_scale(f->t2, v.y)),
+                  v3_scale(f->a, v.z));
+}
+
+/*
+** The box of the torus: along world axis k the tube's centre circle
+** reaches R sqrt(1 - a_k^2) from the centre, and the tube r beyond.  It is
+** grown by gamma(8) of the coordinates' magnitude, more than the few
+** roundings of this sum and of the frame, so it contains every hit point
+** the intersection can compute.
+*/
+int ray__torus_box(const ray_torus_params *t, ray_vec3 *lo, ray_vec3 *hi)
+{
+    torus_frame f;
+    double ext[3];
+    ray_vec3 e, grow;
+    int k;
+
+    if (!torus_frame_init(t, &f))
+        return 0;
+    for (k = 0; k < 3; k++) {
+        double ak = v3_axis(f.a, k);
+        ext[k] = f.major * sqrt(fmax(0.0, 1.0 - ak * ak)) + f.minor;
+    }
+    e = v3(ext[0], ext[1], ext[2]);
+    grow = v3_scale(v3_add(v3_abs(f.c), e), ray__gamma(8));
+    *lo = v3_sub(v3_sub(f.c, e), grow);
+    *hi = v3_add(v3_add(f.c, e), grow);
+    return v3_isfinite(*lo) && v3_isfinite(*hi);
+}
+
+/*
+** The quartic of the ray q(s) = o + s*d (local, |d| = 1, o the point of
+** the ray nearest the centre) against (|q|^2 + R^2 - r^2)^2 =
+** 4R^2 (q.x^2 + q.y^2).  With a = d.d, b = o.d, K = |o|^2 + R^2 - r^2 and
+** A(s) = a s^2 + 2b s + K:
+**   c4 = a^2, c3 = 4ab, c2 = 4b^2 + 2aK - 4R^2 (dx^2 + dy^2),
+**   c1 = 4bK - 8R^2 (ox dx + oy dy), c0 = K^2 - 4R^2 rho^2.
+** c0 is the difference of two ~R^4 terms that nearly cancel when the ray
+** passes close to the tube, so it is formed as the product
+** (K - 2R rho)(K + 2R rho) with K - 2R rho = D^2 - r^2 = (D - r)(D + r),
+** D = the distance from o to the tube's centre circle: the same trick as
+** ray_sphere's c = (|f| - R)(|f| + R).
+*/
+static void torus_quartic(ray_vec3 o, ray_vec3 d, double major, double minor,
+                          double c[5])
+{
+    double a = v3_dot(d, d), b = v3_dot(o, d);
+    double rho = hypot(o.x, o.y);
+    double dist = hypot(rho - major, o.z);
+    double k = v3_dot(o, o) + (major - minor) * (major + minor);
+    double r2 = 4.0 * major * major;
+
+    c[4] = a * a;
+    c[3] = 4.0 * a * b;
+    c[2] = 4.0 * b * b + 2.0 * a * k - r2 * (d.x * d.x + d.y * d.y);
+    c[1] = 4.0 * b * k - 2.0 * r2 * (o.x * d.x + o.y * d.y);
+    c[0] = (dist - minor) * (dist + minor) * (k + 2.0 * major * rho);
+}
+
+/*
+** The hit at local point q (in units scaled by 1/scale): q is projected
+** onto the torus (onto the tube around its nearest centre-circle point),
+** which removes the error accumulated along the ray, as ray_sphere does.
+** What is left is the rounding of that projection and of the frame
+** change back to world space: a few tens of roundings of numbers no
+** larger than |c| + 2(R + r), bounded by gamma(32) of that.
+*/
+static int torus_fill(const torus_frame *f, ray_vec3 q, double scale,
+                      double t, ray_hit *hit)
+{
+    double rho = hypot(q.x, q.y), big = f->major * scale;
+    ray_vec3 ring, w, nl, p, n, err;
+
+    /* On the axis (never on a ring torus's surface, but rounding may put
+    ** a far-off hit there) every direction is the nearest: take t1's. */
+    ring = rho > 0 ? v3(big * q.x / rho, big * q.y / rho, 0) : v3(big, 0, 0);
+    w = v3_sub(q, ring);
+    if (!v3_normalize(w, &nl))
+        return 0;
+    p = v3_add(f->c, v3_scale(to_world(f, v3_madd(ring, f->minor * scale,
+                                                  nl)),
+                              1.0 / scale));
+    n = to_world(f, nl);
+    err = v3_scale(v3_add(v3_abs(f->c),
+                          v3_scale(v3(1, 1, 1), 2.0 * (f->major + f->minor))),
+                   ray__gamma(32));
+    if (!v3_isfinite(p) || !v3_isfinite(n) || !v3_isfinite(err))
+        return 0;
+    hit->t = t;
+    hit->p = p;
+    hit->n = n;
+    hit->u = atan2(q.y, q.x) / (2.0 * RAY__PI) + 0.5;
+    hit->v = atan2(w.z, rho - big) / (2.0 * RAY__PI) + 0.5;
+    hit->p_err = err;
+    hit->geom_id = RAY_INVALID_ID;
+    hit->prim_id = RAY_INVALID_ID;
+    return 1;
+}
+
+/*
+** The ray is moved into the torus's frame and scaled by a power of two
+** near 1/(R + r), exactly, so the torus has size ~1 whatever its units
+** (R^4 would underflow for R = 1e-100 and overflow for R = 1e100); its
+** origin is moved to the point nearest the centre, so a far-away ray
+** keeps its digits.  The roots are searched in the torus's bounding
+** sphere only, |q| <= R + r.
+*/
+int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
+{
+    torus_frame f;
+    ray_vec3 o, d;
+    double dlen, scale, s0, reach, half, c[5];
+    double roots[RAY__POLY_MAX_DEGREE + 1];
+    int exponent, n, i;
+
+    if (r == NULL || hit == NULL || !torus_frame_init(t, &f) ||
+        !v3_isfinite(r->org) || !v3_isfinite(r->dir) ||
+        !(r->tmin < r->tmax))
+        return 0;
+    dlen = v3_length(r->dir);
+    if (!(dlen > 0 && dlen < HUGE_VAL))
+        return 0;
+    frexp(f.major + f.minor, &exponent);
+    scale = ldexp(1.0, -exponent);
+    d = to_local(&f, v3_scale(r->dir, 1.0 / dlen));
+    o = v3_scale(to_local(&f, v3_sub(r->org, f.c)), scale);
+    s0 = -v3_dot(o, d);
+    o = v3_madd(o, s0, d);
+    reach = (f.major + f.minor) * scale;
+    /* Beyond the bounding sphere (with a few ulps of slack): a miss. */
+    half = (reach - v3_length(o)) * (reach + v3_length(o));
+    if (!(half >= -4 * DBL_EPSILON * reach * reach))
+        return 0;
+    half = sqrt(fmax(half, 0.0) / v3_dot(d, d)) * (1 + 4 * DBL_EPSILON) +
+           4 * DBL_EPSILON * reach;
+    torus_quartic(o, d, f.major * scale, f.minor * scale, c);
+    for (i = 0; i < 5; i++)
+        if (!isfinite(c[i]))
+            return 0;
+    n = ray__poly_roots(c, 4, -half, half, roots);
+    for (i = 0; i < n; i++) {
+        double th = (s0 + roots[i]) / scale / dlen;
+        if (th > r->tmin && th < r->tmax)
+            return torus_fill(&f, v3_madd(o, roots[i], d), scale, th, hit);
+    }
+    return 0;
+}
+
+/* -------------------------------------------- the torus as a field */
+
+/* p's distance along the axis (z) and from it (rho), and the unit
+** radial direction e (t1 on the axis itself). */
+static void torus_cylindrical(const ray_torus_params *t, ray_vec3 p,
+                              double *z, double *rho, ray_vec3 *e)
+{
+    torus_frame f;
+    ray_vec3 q, radial;
+
+    torus_frame_init(t, &f);
+    q = v3_sub(p, f.c);
+    *z = v3_dot(q, f.a);
+    radial = v3_madd(q, -*z, f.a);
+    *rho = v3_length(radial);
+    if (!v3_normalize(radial, e))
+        *e = f.t1;
+}
+
+/* The signed distance to the torus: |p - nearest point of the centre
+** circle| - r.  1-Lipschitz, as every distance function is. */
+static double torus_field(void *ud, ray_vec3 p)
+{
+    const ray_torus_params *t = ud;
+    double z, rho;
+    ray_vec3 e;
+
+    torus_cylindrical(t, p, &z, &rho, &e);
+    return hypot(rho - t->major, z) - t->minor;
+}
+
+static ray_vec3 torus_gradient(void *ud, ray_vec3 p)
+{
+    const ray_torus_params *t = ud;
+    double z, rho;
+    ray_vec3 e, g;
+
+    torus_cylindrical(t, p, &z, &rho, &e);
+    g = v3_sub(p, v3_madd(t->center, t->major, e));
+    return v3_normalize(g, &g) ? g : e;
+}
+
+/* ray_torus's (u, v): the angle around the axis, then around the tube. */
+static void torus_uv(void *ud, ray_vec3 p, ray_vec3 n, double *u, double *v)
+{
+    const ray_torus_params *t = ud;
+    torus_frame f;
+    ray_vec3 q;
+    double z, rho;
+    ray_vec3 e;
+
+    (void)n;
+    torus_frame_init(t, &f);
+    q = to_local(&f, v3_sub(p, f.c));
+    torus_cylindrical(t, p, &z, &rho, &e);
+    *u = atan2(q.y, q.x) / (2.0 * RAY__PI) + 0.5;
+    *v = atan2(z, rho - t->major) / (2.0 * RAY__PI) + 0.5;
+}
+
+int ray_implicit_torus(const ray_torus_params *t, ray_implicit_surface *out)
+{
+    ray_implicit_surface s;
+
+    if (out == NULL || !ray__torus_box(t, &s.lo, &s.hi))
+        return RAY_EINVAL;
+    s.f = torus_field;
+    s.gradient = torus_gradient;
+    s.uv = torus_uv;
+    s.ud = ray__unconst(t);
+    s.lipschitz = 1.0;
+    s.step = 0;
+    s.tolerance = 0;
+    s.max_iterations = 0;
+    *out = s;
+    return RAY_OK;
+}

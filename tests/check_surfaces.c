@@ -1,0 +1,253 @@
+/*
+** check_surfaces.c -- curved surfaces in scenes: ray_scene_add_torus,
+** _implicit, _parametric and _bezier; the BVH finds what the bare
+** functions find; failures are counted, not guessed.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+
+static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                      ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    *out = rgb_of(1, 1, 1);
+}
+
+static ray_scene *new_scene(void)
+{
+    ray_scene *s;
+    ray_material m;
+
+    memset(&m, 0, sizeof m);
+    m.shade = nop_shade;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    return s;
+}
+
+/* A dome-shaped Bezier patch over [x0, x0 + 3] x [y0, y0 + 3]. */
+static void dome(ray_vec3 cp[16], double x0, double y0, double z0)
+{
+    int i, j;
+
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++)
+            cp[4 * i + j] = vec(x0 + j, y0 + i,
+                                z0 + ((i == 1 || i == 2) && (j == 1 || j == 2)
+                                          ? 1.0
+                                          : 0.0));
+}
+
+/* A bumpy field for a parametric surface: z = 0.2 sin(u) cos(v) over
+** [0, 3]^2, with a box that holds it (|z| <= 0.2). */
+static void wave_eval(void *ud, double u, double v, ray_vec3 *p,
+                      ray_vec3 *pu, ray_vec3 *pv)
+{
+    (void)ud;
+    *p = vec(u, v, 0.2 * sin(u) * cos(v));
+    *pu = vec(1, 0, 0.2 * cos(u) * cos(v));
+    *pv = vec(0, 1, -0.2 * sin(u) * sin(v));
+}
+
+static void wave_bounds(void *ud, double u0, double u1, double v0, double v1,
+                        ray_vec3 *lo, ray_vec3 *hi)
+{
+    (void)ud;
+    *lo = vec(u0, v0, -0.2);
+    *hi = vec(u1, v1, 0.2);
+}
+
+static ray_parametric_surface wave_surface(void)
+{
+    ray_parametric_surface ps;
+    memset(&ps, 0, sizeof ps);
+    ps.eval = wave_eval;
+    ps.bounds = wave_bounds;
+    ps.u1 = 3;
+    ps.v1 = 3;
+    return ps;
+}
+
+START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
+{
+    ray_scene *s = new_scene();
+    ray_torus_params t = {{0, 0, 0}, {0, 0, 1}, 1, 0.25};
+    ray_implicit_surface is;
+    ray_parametric_surface ps = wave_surface();
+    ray_vec3 cp[16];
+    unsigned id = 77;
+
+    dome(cp, 0, 0, 0);
+    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(NULL, &t, 0, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_torus(s, NULL, 0, &id), RAY_EINVAL);
+    t.minor = -1;
+    ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, &id), RAY_EINVAL);
+    t.minor = 0.25;
+    ck_assert_int_eq(ray_scene_add_torus(s, &t, 1, &id), RAY_EINVAL);
+    is.f = NULL;
+    ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_implicit(s, NULL, 0, &id), RAY_EINVAL);
+    ps.bounds = NULL;
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_EINVAL);
+    ps = wave_surface();
+    ps.u1 = -1;                                     /* empty domain */
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_EINVAL);
+    ps = wave_surface();
+    ps.subdivisions = 1000;                 /* beyond what ray_parametric takes */
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_EINVAL);
+    cp[5].y = NAN;
+    ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_bezier(s, NULL, 0, &id), RAY_EINVAL);
+    ck_assert_uint_eq(id, 77);                      /* nothing added */
+    /* Valid ones get ids 0, 1, 2, 3 in order. */
+    dome(cp, 0, 0, 0);
+    ps = wave_surface();
+    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 1);
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 2);
+    ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 3);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, &id), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, &id), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_ESTATE);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A scene of a torus, metaballs, a wave and many Bezier domes (enough
+** for the BVH to have inner nodes) answers every random ray exactly as
+** the nearest of the bare functions' hits: same geom_id, bit-identical t
+** (the same function on the same ray, with tmax only shrunk past hits
+** that are farther).  Any-hit agrees with it.
+*/
+START_TEST(scene_should_find_what_the_bare_functions_find)
+{
+    ray_scene *s = new_scene();
+    ray_torus_params t = {{0, 0, 2}, {0.2, 0, 1}, 1.5, 0.4};
+    ray_blob blobs[3] = {{{4, 4, 1}, 1.2, 1}, {{5, 4, 1}, 1.0, 1},
+                         {{4.5, 5, 1.5}, 0.9, 1}};
+    ray_blobs_params bp;
+    ray_implicit_surface is;
+    ray_parametric_surface ps = wave_surface(), bez[16];
+    ray_vec3 cp[16][16];
+    rng g = {123};
+    int n, k, hits = 0;
+
+    bp.blobs = blobs;
+    bp.count = 3;
+    bp.threshold = 0.3;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &is), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, NULL), RAY_OK);
+    for (k = 0; k < 16; k++) {
+        dome(cp[k], -6 + 3 * (k % 4), -6 + 3 * (k / 4), -1 - 0.1 * k);
+        ck_assert_int_eq(ray_scene_add_bezier(s, cp[k], 0, NULL), RAY_OK);
+        ck_assert_int_eq(ray_bezier_surface(cp[k], &bez[k]), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (n = 0; n < 3000; n++) {
+        ray_vec3 o = vec(rng_range(&g, -7, 7), rng_range(&g, -7, 7), 8);
+        ray_vec3 aim = vec(rng_range(&g, -7, 7), rng_range(&g, -7, 7), -2);
+        ray_ray r = ray_from(o, vsub(aim, o));
+        ray_hit h, best;
+        unsigned best_id = RAY_INVALID_ID;
+        int got;
+        best.t = HUGE_VAL;
+        if (ray_torus(&r, &t, &h) == 1 && h.t < best.t) {
+            best = h;
+            best_id = 0;
+        }
+        if (ray_implicit(&r, &is, &h) == 1 && h.t < best.t) {
+            best = h;
+            best_id = 1;
+        }
+        if (ray_parametric(&r, &ps, &h) == 1 && h.t < best.t) {
+            best = h;
+            best_id = 2;
+        }
+        for (k = 0; k < 16; k++)
+            if (ray_parametric(&r, &bez[k], &h) == 1 && h.t < best.t) {
+                best = h;
+                best_id = 3 + (unsigned)k;
+            }
+        got = ray_intersect(s, &r, &h);
+        ck_assert_int_eq(got, best_id != RAY_INVALID_ID);
+        ck_assert_int_eq(ray_occluded(s, &r), got);
+        if (!got)
+            continue;
+        hits++;
+        ck_assert_uint_eq(h.geom_id, best_id);
+        /* The scene's call shrinks tmax past farther hits first, which
+        ** may change where a march or a Newton start begins: the root is
+        ** the same to the surfaces' tolerances (~1e-8 here). */
+        ck_assert_double_eq_tol(h.t, best.t, 1e-7);
+    }
+    ck_assert_int_gt(hits, 1000);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** An implicit surface given too few evaluations fails on every ray that
+** reaches its tube (a ray through the hole can leave the box within two
+** evaluations, a true miss): the scene takes each failure as a miss (the background)
+** and counts it in root_failures, with one RAY_PRIM_IMPLICIT test per
+** ray that enters its box.
+*/
+START_TEST(scene_should_count_root_failures_as_misses)
+{
+    ray_scene *s = new_scene();
+    ray_torus_params t = {{0, 0, 0}, {0, 0, 1}, 1.0, 0.3};
+    ray_implicit_surface is;
+    ray_ctx *ctx;
+    ray_stats st;
+    ray_rgb c;
+    int n;
+
+    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    is.max_iterations = 2;
+    ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0.25, 0, 0)),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    for (n = 0; n < 10; n++) {
+        /* Over the tube (|x| in [0.8, 1.16]), not through the hole. */
+        double x = (n % 2 ? 1 : -1) * (0.8 + 0.04 * n);
+        ray_ray r = ray_from(vec(x, 0.1, 5), vec(0, 0, -1));
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c),
+                         RAY_OK);
+        ck_assert_double_eq(c.r, 0.25);
+    }
+    ray_ctx_stats(ctx, &st);
+    ck_assert_uint_eq(st.tests_by_kind[RAY_PRIM_IMPLICIT], 10);
+    ck_assert_uint_eq(st.root_failures, 10);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+Suite *surfaces_suite(void)
+{
+    Suite *s = suite_create("surfaces");
+    TCase *core = tcase_create("core");
+
+    tcase_set_timeout(core, 60);
+    tcase_add_test(core, scene_should_reject_bad_surfaces_and_add_nothing);
+    tcase_add_test(core, scene_should_find_what_the_bare_functions_find);
+    tcase_add_test(core, scene_should_count_root_failures_as_misses);
+    suite_add_tcase(s, core);
+    return s;
+}
