@@ -24,16 +24,23 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/numerics"
     "$build/bench/effects" data
     "$build/bench/threads"
+    "$build/bench/surfaces"
     "$build/bench/mesh" data
 } | tee "$out.tmp"
 mv "$out.tmp" "$out"
 
-# The headline: the primitives table, into the README.
+# Tables copied into the README between <!-- NAME:begin --> and
+# <!-- NAME:end -->: the primitives (headline) and the curved surfaces.
+splice() {
+    awk -v f="$2" -v b="<!-- $1:begin -->" -v e="<!-- $1:end -->" '
+        $0 == b { print; while ((getline l < f) > 0) print l; skip=1; next }
+        $0 == e { skip=0 }
+        !skip' README.md > "$plots/README.md" && cp "$plots/README.md" README.md
+}
 awk '/^### Primitives/{on=1} on&&/^### Images/{exit} on' "$out" > "$plots/headline.md"
-awk -v f="$plots/headline.md" '
-    /<!-- accuracy:begin -->/ { print; while ((getline l < f) > 0) print l; skip=1; next }
-    /<!-- accuracy:end -->/ { skip=0 }
-    !skip' README.md > "$plots/README.md" && cp "$plots/README.md" README.md
+splice accuracy "$plots/headline.md"
+awk '/^\| surface \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/surfaces.md"
+splice surfaces "$plots/surfaces.md"
 
 if command -v gnuplot >/dev/null 2>&1; then
     gnuplot <<GP
