@@ -37,6 +37,8 @@
 
 #include <ray.h>
 
+#include "parse.h"
+
 #ifndef BPT_REALLOC
 #define BPT_REALLOC realloc
 #endif
@@ -98,13 +100,12 @@ static inline int bpt_fail(bpt_parser *p, const char *fmt, ...)
 static inline int bpt_fail(bpt_parser *p, const char *fmt, ...)
 {
     va_list ap;
-    int n = snprintf(p->err, p->errlen, "line %zu: ", p->line);
+    int rc;
 
     va_start(ap, fmt);
-    if (n >= 0 && (size_t)n < p->errlen)
-        vsnprintf(p->err + n, p->errlen - (size_t)n, fmt, ap);
+    rc = parse_vfail(p->err, p->errlen, p->line, fmt, ap);
     va_end(ap);
-    return -1;
+    return rc;
 }
 
 static inline int bpt_is_blank(char c)

@@ -96,6 +96,41 @@ static inline void print_stats(const char *name, const ray_stats *s,
                (double)total / seconds / 1e6);
 }
 
+/* A Blinn-Phong parameter block; the fields not named (the texture) are
+** zero.  Built field by field, so fields added to the struct later stay
+** zero. */
+static inline ray_phong_params phong_params(ray_rgb diffuse, ray_rgb specular,
+                                            double shininess, ray_rgb reflect)
+{
+    ray_phong_params p;
+
+    memset(&p, 0, sizeof p);
+    p.diffuse = diffuse;
+    p.specular = specular;
+    p.shininess = shininess;
+    p.blinn = 1;
+    p.reflect = reflect;
+    return p;
+}
+
+/* A sky for ray_scene_set_background_fn: base + delta * k, k going from 0
+** for rays straight down to 1 straight up; ud is a sky_colors. */
+typedef struct sky_colors {
+    ray_rgb base, delta;
+} sky_colors;
+
+static inline void sky_gradient(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    const sky_colors *c = ud;
+    double len = r->dir.x * r->dir.x + r->dir.y * r->dir.y +
+                 r->dir.z * r->dir.z;
+    double up = len > 0 ? r->dir.y / sqrt(len) : 0;
+    double k = 0.5 * (up + 1);
+
+    *out = rgb(c->base.r + c->delta.r * k, c->base.g + c->delta.g * k,
+               c->base.b + c->delta.b * k);
+}
+
 /* Die with a message naming the failed call. */
 static inline void check(int rc, const char *what)
 {

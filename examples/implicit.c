@@ -44,28 +44,6 @@ static void squircle_uv(void *ud, ray_vec3 p, ray_vec3 n, double *u,
     *v = (p.y - s->c.y) / s->r;
 }
 
-static void sky(void *ud, const ray_ray *r, ray_rgb *out)
-{
-    double len = sqrt(r->dir.x * r->dir.x + r->dir.y * r->dir.y +
-                      r->dir.z * r->dir.z);
-    double k = len > 0 ? 0.5 * (r->dir.y / len + 1) : 0.5;
-    (void)ud;
-    *out = rgb(0.55 + 0.2 * k, 0.6 + 0.25 * k, 0.7 + 0.25 * k);
-}
-
-/* A Blinn-Phong block; unnamed fields (texture) stay zero. */
-static ray_phong_params phong(ray_rgb diffuse, ray_rgb specular,
-                              double shininess, ray_rgb reflect)
-{
-    ray_phong_params p;
-    memset(&p, 0, sizeof p);
-    p.diffuse = diffuse;
-    p.specular = specular;
-    p.shininess = shininess;
-    p.blinn = 1;
-    p.reflect = reflect;
-    return p;
-}
 
 static unsigned add_material(ray_scene *s, ray_material m)
 {
@@ -76,6 +54,8 @@ static unsigned add_material(ray_scene *s, ray_material m)
 
 int main(int argc, char **argv)
 {
+    /* The sky: pale grey-blue, brighter overhead. */
+    static sky_colors pale_sky = {{0.55, 0.6, 0.7}, {0.2, 0.25, 0.25}};
     /* Everything the scene borrows lives as long as main. */
     static ray_phong_params gold, blue, ivory, light_sq, dark_sq;
     static ray_checker_params floor_params;
@@ -95,14 +75,14 @@ int main(int argc, char **argv)
     unsigned floor_mat;
     int rc;
 
-    gold = phong(rgb(0.8, 0.55, 0.15), rgb(0.6, 0.55, 0.4), 80,
+    gold = phong_params(rgb(0.8, 0.55, 0.15), rgb(0.6, 0.55, 0.4), 80,
                  rgb(0.25, 0.2, 0.1));
-    blue = phong(rgb(0.15, 0.3, 0.8), rgb(0.5, 0.5, 0.5), 120,
+    blue = phong_params(rgb(0.15, 0.3, 0.8), rgb(0.5, 0.5, 0.5), 120,
                  rgb(0.05, 0.05, 0.05));
-    ivory = phong(rgb(0.85, 0.82, 0.75), rgb(0.3, 0.3, 0.3), 40,
+    ivory = phong_params(rgb(0.85, 0.82, 0.75), rgb(0.3, 0.3, 0.3), 40,
                   rgb(0, 0, 0));
-    light_sq = phong(rgb(0.75, 0.75, 0.72), rgb(0, 0, 0), 1, rgb(0, 0, 0));
-    dark_sq = phong(rgb(0.25, 0.27, 0.3), rgb(0, 0, 0), 1, rgb(0, 0, 0));
+    light_sq = phong_params(rgb(0.75, 0.75, 0.72), rgb(0, 0, 0), 1, rgb(0, 0, 0));
+    dark_sq = phong_params(rgb(0.25, 0.27, 0.3), rgb(0, 0, 0), 1, rgb(0, 0, 0));
     floor_params.even = ray_material_phong(&light_sq);
     floor_params.odd = ray_material_phong(&dark_sq);
     floor_params.scale = 1.0;
@@ -141,7 +121,8 @@ int main(int argc, char **argv)
                                               ray_material_phong(&ivory)),
                                  NULL), "rounded cube");
     check(ray_scene_add_light(scene, &key, NULL), "light");
-    check(ray_scene_set_background_fn(scene, sky, NULL), "background");
+    check(ray_scene_set_background_fn(scene, sky_gradient, &pale_sky),
+          "background");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
     check(ray_scene_commit(scene), "ray_scene_commit");
     rc = render_to_png("implicit", scene, &cam, argc, argv, 480, 300);

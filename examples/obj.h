@@ -21,6 +21,8 @@
 
 #include <ray.h>
 
+#include "parse.h"
+
 /* A mesh ready for ray_scene_add_mesh (arrays owned here). */
 typedef struct obj_mesh {
     ray_vec3 *vertices;
@@ -82,13 +84,12 @@ static inline int obj_fail(obj_parser *p, const char *fmt, ...)
 static inline int obj_fail(obj_parser *p, const char *fmt, ...)
 {
     va_list ap;
-    int n = snprintf(p->err, p->errlen, "line %zu: ", p->line);
+    int rc;
 
     va_start(ap, fmt);
-    if (n >= 0 && (size_t)n < p->errlen)
-        vsnprintf(p->err + n, p->errlen - (size_t)n, fmt, ap);
+    rc = parse_vfail(p->err, p->errlen, p->line, fmt, ap);
     va_end(ap);
-    return -1;
+    return rc;
 }
 
 /* Parse "count" finite numbers from *s (spaces/tabs between). */

@@ -8,17 +8,6 @@
 #include "common.h"
 #include "obj.h"
 
-/* Sky: a vertical gradient of the escaping ray's direction. */
-static inline void sky(void *ud, const ray_ray *r, ray_rgb *out)
-{
-    double len = r->dir.x * r->dir.x + r->dir.y * r->dir.y +
-                 r->dir.z * r->dir.z;
-    double up = len > 0 ? r->dir.y / sqrt(len) : 0;
-    double k = 0.5 * (up + 1);
-
-    (void)ud;
-    *out = rgb(0.35 + 0.25 * k, 0.45 + 0.3 * k, 0.75 + 0.2 * k);
-}
 
 /*
 ** Whitted's 1980 scene: a red and yellow checkerboard floor, a mirror
@@ -37,6 +26,8 @@ static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
     static const ray_rgb chrome = {0.9, 0.9, 0.9};
     static const ray_glass_params glass = {1.5, {0.05, 0.02, 0.01}};
     static ray_checker_params floor_params;
+    /* The sky: a vertical gradient of the escaping ray's direction. */
+    static sky_colors blue_sky = {{0.35, 0.45, 0.75}, {0.25, 0.3, 0.2}};
     ray_light light = {RAY_LIGHT_POINT, {4, 7, 5}, {0, 0, 0}, {0, 0, 0},
                        {0, 0, 0}, 0, {80, 80, 80}, 0};
     ray_camera view = {{0, 1.5, 5.5}, {0, 0.9, 0}, {0, 1, 0}, 45, 0, 0};
@@ -62,7 +53,8 @@ static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
                                NULL), "glass sphere");
     check(ray_scene_add_light(scene, &light, NULL), "light");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
-    check(ray_scene_set_background_fn(scene, sky, NULL), "background");
+    check(ray_scene_set_background_fn(scene, sky_gradient, &blue_sky),
+          "background");
     check(ray_scene_set_pruning(scene, prune), "pruning");
     check(ray_scene_set_limits(scene, limits), "limits");
     check(ray_scene_commit(scene), "commit");

@@ -64,23 +64,6 @@ static void add_patches(ray_scene *scene, const bpt_patches *model,
     }
 }
 
-/* A Blinn-Phong parameter block; the fields not named are zero (no
-** texture).  Built field by field, so fields added to the struct later
-** stay zero. */
-static ray_phong_params phong(ray_rgb diffuse, ray_rgb specular,
-                              double shininess, ray_rgb reflect)
-{
-    ray_phong_params p;
-
-    memset(&p, 0, sizeof p);
-    p.diffuse = diffuse;
-    p.specular = specular;
-    p.shininess = shininess;
-    p.blinn = 1;
-    p.reflect = reflect;
-    return p;
-}
-
 /*
 ** The floor: light and dark squares an eighth of the model's size, just
 ** below it.  The teapot's bottom touches z = 0 at its centre and rises
@@ -98,9 +81,9 @@ static void add_floor(ray_scene *scene, double floor_y, double diag)
     ray_material m;
     unsigned id;
 
-    light = phong(rgb(0.78, 0.76, 0.72), rgb(0.1, 0.1, 0.1), 20,
+    light = phong_params(rgb(0.78, 0.76, 0.72), rgb(0.1, 0.1, 0.1), 20,
                   rgb(0, 0, 0));
-    dark = phong(rgb(0.3, 0.32, 0.36), rgb(0.1, 0.1, 0.1), 20, rgb(0, 0, 0));
+    dark = phong_params(rgb(0.3, 0.32, 0.36), rgb(0.1, 0.1, 0.1), 20, rgb(0, 0, 0));
     floor_params.even = ray_material_phong(&light);
     floor_params.odd = ray_material_phong(&dark);
     floor_params.scale = 8.0 / diag;
@@ -165,7 +148,7 @@ static ray_scene *teapot_scene(const bpt_patches *model, ray_camera *cam)
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
     /* A glazed red: saturated diffuse, a sharp white highlight, and a
     ** faint reflection of the floor and the backdrop. */
-    glaze = phong(rgb(0.6, 0.07, 0.05), rgb(0.7, 0.7, 0.7), 90,
+    glaze = phong_params(rgb(0.6, 0.07, 0.05), rgb(0.7, 0.7, 0.7), 90,
                   rgb(0.06, 0.06, 0.06));
     m = ray_material_phong(&glaze);
     check(ray_scene_add_material(scene, &m, &glaze_id), "glaze material");

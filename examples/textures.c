@@ -34,14 +34,6 @@ static void floor_rings(void *ud, const ray_shade_args *a, ray_rgb *out)
     *out = rgb(0.55 + 0.3 * k, 0.45 + 0.25 * k, 0.35 + 0.15 * k);
 }
 
-static void sky(void *ud, const ray_ray *r, ray_rgb *out)
-{
-    double len = sqrt(r->dir.x * r->dir.x + r->dir.y * r->dir.y +
-                      r->dir.z * r->dir.z);
-    double k = len > 0 ? 0.5 * (r->dir.y / len + 1) : 0.5;
-    (void)ud;
-    *out = rgb(0.5 + 0.2 * k, 0.55 + 0.25 * k, 0.65 + 0.3 * k);
-}
 
 /* A textured Lambert-plus-highlight block; other fields zero. */
 static ray_phong_params textured(ray_texture t, double specular)
@@ -98,6 +90,8 @@ static void add_quad(ray_scene *s, unsigned material)
 
 int main(int argc, char **argv)
 {
+    /* The sky: pale grey-blue, brighter overhead. */
+    static sky_colors pale_sky = {{0.5, 0.55, 0.65}, {0.2, 0.25, 0.3}};
     static ray_phong_params image_mat, torus_mat, floor_mat;
     const char *image_path = argc > 1 ? argv[1] : "doc/cornell.png";
     ray_torus_params torus = {{2.3, 0.5, 0.6}, {0.2, 1, 0.5}, 0.6, 0.25};
@@ -137,7 +131,8 @@ int main(int argc, char **argv)
                               add_material(scene, &torus_mat), NULL),
           "torus");
     check(ray_scene_add_light(scene, &key, NULL), "light");
-    check(ray_scene_set_background_fn(scene, sky, NULL), "background");
+    check(ray_scene_set_background_fn(scene, sky_gradient, &pale_sky),
+          "background");
     check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
     check(ray_scene_commit(scene), "ray_scene_commit");
     rc = render_to_png("textures", scene, &cam, argc - 1, argv + 1, 480, 300);

@@ -56,18 +56,28 @@ int ray_scene_add_torus(ray_scene *s, const ray_torus_params *t,
     return add_surface(s, PRIM_TORUS, material, &surf, lo, hi, geom_id);
 }
 
-/* ray_implicit's own check of a descriptor, without a ray: it answers
-** -RAY_EINVAL for an invalid one whatever the ray, so ask with a ray
-** that misses every box (an empty interval). */
-static int implicit_valid(const ray_implicit_surface *is)
+/*
+** ray_implicit and ray_parametric check their descriptor before the ray
+** and answer -RAY_EINVAL for an invalid one whatever the ray: asked with
+** a ray of empty interval, which misses every valid surface, they tell
+** whether a descriptor is valid without tracing anything.
+*/
+static ray_ray empty_ray(void)
 {
     ray_ray r;
-    ray_hit h;
 
     memset(&r, 0, sizeof r);
     r.dir.x = 1;
     r.tmin = 1;
     r.tmax = 0;
+    return r;
+}
+
+static int implicit_valid(const ray_implicit_surface *is)
+{
+    ray_ray r = empty_ray();
+    ray_hit h;
+
     return is != NULL && ray_implicit(&r, is, &h) != -RAY_EINVAL;
 }
 
@@ -112,17 +122,11 @@ static int parametric_domain(const ray_parametric_surface *ps, double d[4])
            isfinite(d[3]) && d[0] < d[1] && d[2] < d[3];
 }
 
-/* ray_parametric checks its descriptor before the ray: an empty ray
-** interval tells an invalid descriptor (-RAY_EINVAL) from a valid one. */
 static int parametric_valid(const ray_parametric_surface *ps)
 {
-    ray_ray r;
+    ray_ray r = empty_ray();
     ray_hit h;
 
-    memset(&r, 0, sizeof r);
-    r.dir.x = 1;
-    r.tmin = 1;
-    r.tmax = 0;
     return ray_parametric(&r, ps, &h) != -RAY_EINVAL;
 }
 

@@ -257,24 +257,10 @@ START_TEST(bpt_should_survive_mutated_files)
 
     ck_assert_uint_lt(len, sizeof buf);
     for (k = 0; k < 20000; k++) {
-        size_t n = len, i, edits = 1 + rng_next(&g) % 4;
+        size_t n = len;
         bpt_patches b;
         memcpy(buf, base, len);
-        for (i = 0; i < edits && n > 0; i++) {
-            size_t at = (size_t)(rng_next(&g) % n);
-            switch (rng_next(&g) % 3) {
-            case 0:
-                buf[at] = alphabet[rng_next(&g) % (sizeof alphabet - 1)];
-                break;
-            case 1:
-                memmove(buf + at, buf + at + 1, n - at - 1);
-                n--;
-                break;
-            default:
-                n = at + 1;
-                break;
-            }
-        }
+        mutate(&g, buf, &n, alphabet, sizeof alphabet - 1);
         if (bpt_parse(buf, n, &b, err, sizeof err) == 0) {
             size_t j;
             int c;

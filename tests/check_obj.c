@@ -116,24 +116,10 @@ START_TEST(obj_should_survive_mutated_files)
     int k;
 
     for (k = 0; k < 20000; k++) {
-        size_t n = len, i, edits = 1 + rng_next(&g) % 4;
+        size_t n = len;
         obj_mesh m;
         memcpy(buf, base, len);
-        for (i = 0; i < edits && n > 0; i++) {
-            size_t at = (size_t)(rng_next(&g) % n);
-            switch (rng_next(&g) % 3) {
-            case 0:
-                buf[at] = alphabet[rng_next(&g) % (sizeof alphabet - 1)];
-                break;
-            case 1:
-                memmove(buf + at, buf + at + 1, n - at - 1);
-                n--;
-                break;
-            default:
-                n = at + 1;
-                break;
-            }
-        }
+        mutate(&g, buf, &n, alphabet, sizeof alphabet - 1);
         if (obj_parse(buf, n, &m, err, sizeof err) == 0) {
             size_t j;
             for (j = 0; j < 3 * m.triangle_count; j++)

@@ -191,6 +191,31 @@ static inline double rng_range(rng *g, double lo, double hi)
     return lo + (hi - lo) * rng_unit(g);
 }
 
+/* One to four random edits of buf[0 .. *n): a byte replaced by one of
+** "alphabet" (alen characters), a byte deleted, or the rest cut off: the
+** file readers' fuzz tests (check_obj.c, check_bpt.c). */
+static inline void mutate(rng *g, char *buf, size_t *n, const char *alphabet,
+                          size_t alen)
+{
+    size_t i, edits = 1 + rng_next(g) % 4;
+
+    for (i = 0; i < edits && *n > 0; i++) {
+        size_t at = (size_t)(rng_next(g) % *n);
+        switch (rng_next(g) % 3) {
+        case 0:
+            buf[at] = alphabet[rng_next(g) % alen];
+            break;
+        case 1:
+            memmove(buf + at, buf + at + 1, *n - at - 1);
+            (*n)--;
+            break;
+        default:
+            *n = at + 1;
+            break;
+        }
+    }
+}
+
 /* Uniform direction on the unit sphere (Marsaglia-style rejection). */
 static inline ray_vec3 rng_dir(rng *g)
 {
