@@ -254,8 +254,9 @@ RAY_API int ray_barycentric(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
 **
 ** A sign change brackets a root; it is refined by safeguarded Newton (on
 ** g'(t) = grad f . dir, when a gradient callback is given) or else the
-** Illinois variant of regula falsi, both falling back to bisection, until the bracket is narrower than "tolerance"
-** (world units along the ray) or no double lies inside it.  The hit is the
+** Illinois variant of regula falsi, both falling back to bisection,
+** until the bracket is narrower than "tolerance" (world units along the
+** ray) or no double lies inside it.  The hit is the
 ** root of the first bracket along the ray: it is REAL (f changes sign
 ** within the tolerance of hit->p), never a guess.
 **
@@ -272,8 +273,9 @@ RAY_API int ray_barycentric(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
 ** or non-finite gradient at the hit, a non-finite (u, v).
 **
 ** Defaults (a field left 0): step = box diagonal / 128; tolerance =
-** 1e-9 * (box diagonal + largest |coordinate| of the box), about 2^23
-** ulps of the box's coordinates; max_iterations = 100000 (sphere tracing
+** 1e-9 * box diagonal + 64 * DBL_EPSILON * largest |coordinate| of the
+** box (the surface's size, and the coarseness of coordinates far from
+** the origin); max_iterations = 100000 (sphere tracing
 ** needs ~3 sqrt(2 R / tolerance) steps to bring a ray tangent to a
 ** surface of curvature radius R within the tolerance: 63,000 for a
 ** sphere filling its box).
@@ -384,10 +386,13 @@ RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
 ** along it (that parameter held, the others solved by least squares), as
 ** it does where S does not move along a parameter (a collapsed edge).  An
 ** iterate is accepted when |org + t*dir - S(u, v)| <= tolerance and
-** tmin < t < tmax.  A sub-rectangle whose start finds no root, or finds
-** one, is split again, up to 8 more levels and 4096 boxes per ray (Sweeney
-** and Bartels's refinement: smaller boxes prove a miss or give better
-** starts, and a grazing ray's nearer crossing is not lost).  A singular
+** tmin < t < tmax.  A sub-rectangle whose start finds no root is split
+** again, up to 8 more levels and 4096 boxes per ray; one whose start finds
+** a root is split too, unless the normals at its corners, centre and root
+** all face the ray the same way with a margin larger than their spread
+** (the ray then crosses it once) (Sweeney and Bartels's refinement:
+** smaller boxes prove a miss or give better starts, and a grazing ray's
+** nearer crossing is not lost).  A singular
 ** system (a ray parallel to the tangent plane) is a miss.  The nearest
 ** accepted root is the hit.
 **
@@ -408,8 +413,9 @@ RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
 ** from the callbacks.  An invalid ray is a miss, decided before any
 ** callback runs.
 ** Defaults (a field left 0): the domain [0, 1]^2 when u0 = u1 = v0 = v1 =
-** 0; subdivisions = 4; tolerance = 1e-9 * (diagonal + largest |coordinate|)
-** of the whole surface's box; max_iterations = 16.
+** 0; subdivisions = 4; tolerance = 1e-9 * diagonal + 64 * DBL_EPSILON *
+** largest |coordinate| of the whole surface's box (as ray_implicit);
+** max_iterations = 16.
 */
 typedef void (*ray_surface_fn)(void *ud, double u, double v, ray_vec3 *s,
                                ray_vec3 *s_u, ray_vec3 *s_v);
@@ -918,12 +924,14 @@ typedef struct ray_texture {
 /*
 ** Images for textures.  ray_image_load_png reads a PNG file through libpng
 ** (any bit depth and colour type: palette and grey are expanded, alpha
-** dropped) and stores it as linear RGB floats: 8-bit files are taken as
-** sRGB and decoded with the exact IEC 61966-2-1 curve, 16-bit files as
-** linear (ray_write_png's 16-bit files are; libpng converts one that
-** declares another gamma).  RAY_OK; RAY_EINVAL (NULLs); RAY_EIO
-** (the file cannot be opened or read: errno); RAY_EPNG (not a PNG, or
-** corrupt); RAY_ENOMEM; RAY_ERANGE (more than 2^14 pixels on a side).
+** composed on black) and stores it as linear RGB floats: 8-bit files are
+** taken as sRGB and decoded with the exact IEC 61966-2-1 curve, 16-bit
+** files as linear (ray_write_png's 16-bit files are; libpng converts a
+** file that declares another gamma, through its own approximate curve).
+** RAY_OK; RAY_EINVAL (NULLs); RAY_EIO (the file cannot be opened or read:
+** errno); RAY_EPNG (not a PNG, corrupt, or wider than libpng's own limit
+** of 10^6 pixels); RAY_ENOMEM; RAY_ERANGE (more than 2^14 pixels on a
+** side).
 ** ray_image_free(NULL) is a no-op.  ray_image_size writes width and
 ** height (either pointer may be NULL).
 **

@@ -12,6 +12,18 @@
 ** polynomial of the same kind): smooth where it ends, and zero outside the
 ** radius, so far blobs cost nothing but the distance test.
 */
+/* x = |p - c|^2 / r^2 as |w|^2 with w = (p - c) / r (into *wp if not
+** NULL): dividing first keeps r^2 from overflowing or underflowing for
+** radii like 1e200 or 1e-200. */
+static double scaled_distance2(const ray_blob *b, ray_vec3 p, ray_vec3 *wp)
+{
+    ray_vec3 w = v3_scale(v3_sub(p, b->center), 1.0 / b->radius);
+
+    if (wp != NULL)
+        *wp = w;
+    return v3_dot(w, w);
+}
+
 static double blobs_field(void *ud, ray_vec3 p)
 {
     const ray_blobs_params *bp = ud;
@@ -20,8 +32,7 @@ static double blobs_field(void *ud, ray_vec3 p)
 
     for (i = 0; i < bp->count; i++) {
         const ray_blob *b = &bp->blobs[i];
-        ray_vec3 q = v3_sub(p, b->center);
-        double x = v3_dot(q, q) / (b->radius * b->radius);
+        double x = scaled_distance2(b, p, NULL);
         if (x < 1)
             sum += b->strength * (1 - x) * (1 - x);
     }
@@ -38,10 +49,10 @@ static ray_vec3 blobs_gradient(void *ud, ray_vec3 p)
 
     for (i = 0; i < bp->count; i++) {
         const ray_blob *b = &bp->blobs[i];
-        ray_vec3 q = v3_sub(p, b->center);
-        double r2 = b->radius * b->radius, x = v3_dot(q, q) / r2;
-        if (x < 1)
-            g = v3_madd(g, 4 * b->strength * (1 - x) / r2, q);
+        ray_vec3 w;
+        double x = scaled_distance2(b, p, &w);
+        if (x < 1)   /* 4 s (1 - x) (p - c) / r^2 = 4 s (1 - x) w / r */
+            g = v3_madd(g, 4 * b->strength * (1 - x) / b->radius, w);
     }
     return g;
 }

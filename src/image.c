@@ -31,8 +31,8 @@ static double srgb_decode(double encoded)
 }
 
 /*
-** libpng converts on reading (palettes and grey expanded; alpha dropped,
-** i.e. composed on black, as there is no background).  An 8-bit file is
+** libpng converts on reading (palettes and grey expanded; alpha composed
+** on black, as there is no background).  An 8-bit file is
 ** read as 8-bit sRGB codes (libpng re-encodes a file that declares
 ** another gamma) and decoded here with the exact IEC curve: libpng's own
 ** linear output approximates sRGB by a 2.2 power, up to 1% off in the
@@ -53,24 +53,28 @@ static int read_pixels(png_image *png, ray_image **out)
     }
     png->format = sixteen ? PNG_FORMAT_LINEAR_RGB : PNG_FORMAT_RGB;
     count = (size_t)png->width * png->height * 3;
-    img = malloc(sizeof *img);
-    buf = malloc(count * (sixteen ? sizeof(png_uint_16) : 1));
-    if (img != NULL)
-        img->rgb = malloc(count * sizeof *img->rgb);
-    if (img == NULL || buf == NULL || img->rgb == NULL) {
-        if (img != NULL)
-            free(img->rgb);
-        free(img);
-        free(buf);
+    /* Zeroed: without a background colour libpng composes alpha "onto
+    ** the buffer" (png.h), so transparent pixels become black rather than
+    ** whatever the heap held -- as the 16-bit path does by itself. */
+    buf = calloc(count, sixteen ? sizeof(png_uint_16) : 1);
+    if (buf == NULL) {
         png_image_free(png);
         return RAY_ENOMEM;
     }
     if (!png_image_finish_read(png, NULL, buf, 0, NULL)) {
-        free(img->rgb);
-        free(img);
         free(buf);
         png_image_free(png);
         return RAY_EPNG;
+    }
+    /* The floats only once the file decoded: a truncated file that
+    ** declares a huge size fails before this allocation. */
+    img = malloc(sizeof *img);
+    if (img != NULL)
+        img->rgb = malloc(count * sizeof *img->rgb);
+    if (img == NULL || img->rgb == NULL) {
+        free(img);
+        free(buf);
+        return RAY_ENOMEM;
     }
     for (i = 0; i < 256; i++)
         lut[i] = (float)srgb_decode((double)i / 255.0);

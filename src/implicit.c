@@ -90,12 +90,17 @@ static double job_eval(implicit_job *j, double t)
 ** (Press et al., Numerical Recipes, 3rd ed., 5.7).  "scale" is that of
 ** the box, so h follows the surface's size.
 */
-static ray_vec3 job_gradient(const implicit_job *j, ray_vec3 p)
+static ray_vec3 job_gradient(implicit_job *j, ray_vec3 p)
 {
     const ray_implicit_surface *s = j->s;
     double h, g[3];
     int k;
 
+    /* Charged to max_iterations like the samples: one call of the
+    ** gradient callback, or the six of f below. */
+    unsigned cost = s->gradient != NULL ? 1u : 6u;
+
+    j->evals_left -= j->evals_left < cost ? j->evals_left : cost;
     if (s->gradient != NULL)
         return s->gradient(s->ud, p);
     h = cbrt(DBL_EPSILON) *
@@ -244,11 +249,22 @@ static int crossing_ahead(implicit_job *j, double t, double g, double slope,
 ** root can be nearer -- but never less than the tolerance, so the march
 ** ends; or the fixed step without a bound.
 */
-static double next_step(const implicit_job *j, double g)
+/* The smallest step: the tolerance, but never below 2 ulps of t, since
+** a smaller step would round back to t and sample the same point again
+** until the evaluations ran out (a ray from far away, or a tolerance
+** below the spacing of the doubles near t). */
+static double floor_step(const implicit_job *j, double t)
 {
+    return fmax(j->tol_t, 2 * DBL_EPSILON * fabs(t));
+}
+
+static double next_step(const implicit_job *j, double t, double g)
+{
+    double floor_t = floor_step(j, t);
+
     if (j->lip_t > 0)
-        return fmax(fabs(g) / j->lip_t, j->tol_t);
-    return j->step_t;
+        return fmax(fabs(g) / j->lip_t, floor_t);
+    return fmax(j->step_t, floor_t);
 }
 
 /*
@@ -268,7 +284,7 @@ static int march(implicit_job *j, double t0, double t1, double *t,
         return 1;
     }
     while (!j->bad) {
-        double h = next_step(j, ga), tb, gb, width, slope;
+        double h = next_step(j, ta, ga), tb, gb, width, slope;
         if (j->evals_left == 0)
             return -1;
         tb = ta + h < t1 ? ta + h : t1;
@@ -289,7 +305,8 @@ static int march(implicit_job *j, double t0, double t1, double *t,
             *err = width * j->dlen;
             return *t > j->r->tmin && *t < j->r->tmax;
         }
-        if (j->lip_t > 0 && h == j->tol_t && ga != 0 && ta > j->r->tmin &&
+        if (j->lip_t > 0 && h <= floor_step(j, ta) && ga != 0 &&
+            ta > j->r->tmin &&
             touches(j, ta, ga, err, &slope)) {
             if (crossing_ahead(j, ta, ga, slope, t1, &tb, &gb)) {
                 *t = refine(j, ta, tb, ga, gb, &width);
@@ -315,7 +332,7 @@ static int march(implicit_job *j, double t0, double t1, double *t,
 ** Fill *hit at t: p = org + t*dir, whose rounding is at most gamma(2) of
 ** |org| + |t dir| per component, and the surface within "err" of it.
 */
-static int implicit_fill(const implicit_job *j, double t, double err,
+static int implicit_fill(implicit_job *j, double t, double err,
                          ray_hit *hit)
 {
     const ray_implicit_surface *s = j->s;

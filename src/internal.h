@@ -134,13 +134,17 @@ static inline double ray__gamma(int n)
 
 /*
 ** The default tolerance of ray_implicit and ray_parametric for a surface
-** in the box [lo, hi] (ray.h): 1e-9 of the box's diagonal plus its largest
-** |coordinate|, some 2^23 ulps of its coordinates -- far above the
-** rounding of a reasonable field or S(u, v), far below what a picture can
-** show, and still above the coordinates' ulps far from the origin.  The
-** diagonal is formed from coordinates divided by the largest, so it
-** neither overflows nor underflows.
+** in the box [lo, hi] (ray.h): 1e-9 of the box's diagonal -- far below
+** what a picture shows, far above the rounding of a reasonable field or
+** S(u, v) of a surface that size -- plus 64 ulps of the box's largest
+** |coordinate| (64 DBL_EPSILON m), because far from the origin the
+** coordinates themselves, and f computed from them, are that coarse.
+** (Relative to the coordinates alone, a unit sphere at 1e9 would get a
+** tolerance of 1.)  The diagonal is formed from coordinates divided by
+** the largest, so it neither overflows nor underflows.
 */
+#define RAY__TOLERANCE_OF_DIAGONAL 1e-9
+#define RAY__TOLERANCE_ULPS 64.0
 static inline double ray__default_tolerance(ray_vec3 lo, ray_vec3 hi)
 {
     double m = fmax(fmax(fabs(lo.x), fabs(hi.x)),
@@ -151,7 +155,8 @@ static inline double ray__default_tolerance(ray_vec3 lo, ray_vec3 hi)
     if (!(m > 0))
         return 0;
     e = v3(hi.x / m - lo.x / m, hi.y / m - lo.y / m, hi.z / m - lo.z / m);
-    return 1e-9 * m * (v3_length(e) + 1);
+    return m * (RAY__TOLERANCE_OF_DIAGONAL * v3_length(e) +
+                RAY__TOLERANCE_ULPS * DBL_EPSILON);
 }
 
 /* ----------------------------------------------------- shared internals */

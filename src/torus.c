@@ -20,7 +20,7 @@ static int torus_frame_init(const ray_torus_params *t, torus_frame *f)
     ** and its quartic's inner surface is not the tube projected on below. */
     if (!(t->major > 0 && t->major < HUGE_VAL) ||
         !(t->minor > 0 && t->minor < t->major) ||
-        !(t->major + t->minor < HUGE_VAL))
+        !(2 * (t->major + t->minor) < HUGE_VAL))  /* the error bound's */
         return 0;
     ray__tangent_frame(f->a, &f->t1, &f->t2);
     f->c = t->center;
@@ -148,7 +148,7 @@ int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
 {
     torus_frame f;
     ray_vec3 o, d;
-    double dlen, scale, s0, reach, half, c[5];
+    double dlen, scale, s0, reach, half, b, c[5];
     double roots[RAY__POLY_MAX_DEGREE + 1];
     int exponent, n, i;
 
@@ -156,27 +156,38 @@ int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
         !v3_isfinite(r->org) || !v3_isfinite(r->dir) ||
         !(r->tmin < r->tmax))
         return 0;
-    dlen = v3_length(r->dir);
+    /* The unit direction and |dir| without overflow or underflow of
+    ** |dir|^2 (v3_normalize divides by the largest component first). */
+    if (!v3_normalize(r->dir, &d))
+        return 0;
+    dlen = v3_dot(r->dir, d);
     if (!(dlen > 0 && dlen < HUGE_VAL))
         return 0;
     frexp(f.major + f.minor, &exponent);
     scale = ldexp(1.0, -exponent);
-    d = to_local(&f, v3_scale(r->dir, 1.0 / dlen));
+    d = to_local(&f, d);
     o = v3_scale(to_local(&f, v3_sub(r->org, f.c)), scale);
     s0 = -v3_dot(o, d);
     o = v3_madd(o, s0, d);
     reach = (f.major + f.minor) * scale;
-    /* Beyond the bounding sphere (with a few ulps of slack): a miss. */
-    half = (reach - v3_length(o)) * (reach + v3_length(o));
+    /* The roots lie where the ray is inside the bounding sphere,
+    ** |o + s d| <= reach: s in -b -+ sqrt(b^2 - (|o|^2 - reach^2)).  b =
+    ** o.d is not quite 0 after the shift (a few ulps of the original
+    ** |o|, which far away is large against the torus), so it is kept:
+    ** dropping it once lost the near crossing of rays entering close to
+    ** the outer equator, where the torus touches that sphere.  A few ulps
+    ** of slack keep roots on the sphere itself inside. */
+    b = v3_dot(o, d);
+    half = b * b - (v3_length(o) - reach) * (v3_length(o) + reach);
     if (!(half >= -4 * DBL_EPSILON * reach * reach))
         return 0;
-    half = sqrt(fmax(half, 0.0) / v3_dot(d, d)) * (1 + 4 * DBL_EPSILON) +
+    half = sqrt(fmax(half, 0.0)) * (1 + 4 * DBL_EPSILON) +
            4 * DBL_EPSILON * reach;
     torus_quartic(o, d, f.major * scale, f.minor * scale, c);
     for (i = 0; i < 5; i++)
         if (!isfinite(c[i]))
             return 0;
-    n = ray__poly_roots(c, 4, -half, half, roots);
+    n = ray__poly_roots(c, 4, -b - half, -b + half, roots);
     for (i = 0; i < n; i++) {
         double th = (s0 + roots[i]) / scale / dlen;
         if (th > r->tmin && th < r->tmax)

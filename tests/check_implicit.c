@@ -35,13 +35,13 @@ static ray_implicit_surface sphere_surface(sphere_field *sf, double lipschitz)
 }
 
 /* The tolerance ray_implicit uses by default for box [lo, hi]: 1e-9 of
-** the diagonal plus the largest |coordinate| (ray.h). */
+** the diagonal plus 64 DBL_EPSILON of the largest |coordinate| (ray.h). */
 static double default_tol(const ray_implicit_surface *s)
 {
     double big = fmax(fmax(fabs(s->lo.x), fabs(s->hi.x)),
                       fmax(fmax(fabs(s->lo.y), fabs(s->hi.y)),
                            fmax(fabs(s->lo.z), fabs(s->hi.z))));
-    return 1e-9 * (vdist(s->hi, s->lo) + big);
+    return 1e-9 * vdist(s->hi, s->lo) + 64 * DBL_EPSILON * big;
 }
 
 /* The exact distance of p from the sphere, in long double (64-bit
@@ -535,6 +535,56 @@ START_TEST(torus_should_miss_on_bad_input)
 }
 END_TEST
 
+/*
+** Regressions found in review.  A ray entering a torus near its outer
+** equator from far away (where the torus touches its bounding sphere)
+** got the exit: the root interval assumed the shifted origin exactly
+** nearest the centre.  Reference t from __float128 root finding: the ray
+** point there is on the torus to 1e-32.  Here 1e3 away, t to 1e-12
+** relative (a few ulps of the 1e3 distance).
+*/
+START_TEST(torus_should_find_the_entry_near_the_outer_equator)
+{
+    ray_torus_params t = {{0, 0, 0}, {0, 0, 1}, 1.5, 0.5};
+    ray_ray r = ray_from(vec(383.77318736018316, 919.93633513208283,
+                             96.040341684605792),
+                         vec(-0.3819163765650766, -0.9191931974118891,
+                             -0.096040341227581871));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_torus(&r, &t, &h), 1);
+    ck_assert_double_eq_tol(h.t, 999.99999999999989, 1e-9);
+}
+END_TEST
+
+/*
+** Sphere tracing from far away: at t ~ 1e9 the default tolerance
+** (~3.5e-9 for a unit sphere) is below the spacing of doubles near t, and
+** a step that small rounded back to t, sampling one point until the
+** evaluations ran out.  The step is now at least 2 ulps of t: the ray
+** hits, within the coarseness of points 1e9 away (ulp(1e9) = 1.2e-7).
+** Likewise a tolerance of 1e-300.
+*/
+START_TEST(implicit_should_march_from_far_away_and_at_tiny_tolerance)
+{
+    sphere_field sf;
+    ray_implicit_surface s;
+    ray_ray far = ray_from(vec(-1e9, 0.3, 0.2), vec(1, 0, 0));
+    ray_ray near = ray_from(vec(-5, 0.9, 0.01), vec(1, 0, 0));
+    ray_hit h;
+
+    sf.c = vec(0, 0, 0);
+    sf.radius = 1.0;
+    s = sphere_surface(&sf, 1);
+    ck_assert_int_eq(ray_implicit(&far, &s, &h), 1);
+    ck_assert_double_le(sphere_distance(h.p, sf.c, sf.radius), 1e-6);
+    s.tolerance = 1e-300;
+    ck_assert_int_eq(ray_implicit(&near, &s, &h), 1);
+    /* As accurate as double allows: a few ulps of the coordinates. */
+    ck_assert_double_le(sphere_distance(h.p, sf.c, sf.radius), 1e-15);
+}
+END_TEST
+
 /* ----------------------------------------------------------- blobs */
 
 /*
@@ -615,6 +665,35 @@ START_TEST(blobs_lipschitz_bound_should_hold)
         ck_assert_int_eq(ray_implicit(&r, &s, &h), 1);
         ck_assert(hit_is_finite(&h));
         ck_assert_double_lt(h.p.x, 0);
+    }
+}
+END_TEST
+
+/* A blob of radius 1e200 (r^2 overflows) or 1e-200 (underflows) still
+** works: the distances are divided by the radius before squaring. */
+START_TEST(blobs_should_work_at_extreme_radii)
+{
+    double radii[2] = {1e200, 1e-200};
+    int k;
+
+    for (k = 0; k < 2; k++) {
+        ray_blob b;
+        ray_blobs_params p;
+        ray_implicit_surface s;
+        ray_ray r;
+        ray_hit h;
+        b.center = vec(0, 0, 0);
+        b.radius = radii[k];
+        b.strength = 1;
+        p.blobs = &b;
+        p.count = 1;
+        p.threshold = 0.25;
+        ck_assert_int_eq(ray_implicit_blobs(&p, &s), RAY_OK);
+        r = ray_from(vec(-3 * radii[k], 0, 0), vec(1, 0, 0));
+        ck_assert_int_eq(ray_implicit(&r, &s, &h), 1);
+        /* The sphere of radius R sqrt(1 - sqrt(1/4)): hit at x = -R/sqrt 2,
+        ** to the default tolerance (1e-9 of the box's diagonal). */
+        ck_assert_double_eq_tol(h.p.x / radii[k], -sqrt(0.5), 1e-8);
     }
 }
 END_TEST
@@ -718,6 +797,9 @@ Suite *implicit_suite(void)
     tcase_add_test(hard, torus_should_classify_tangent_rays);
     tcase_add_test(hard, torus_should_miss_on_bad_input);
     tcase_add_test(hard, blobs_should_reject_bad_input);
+    tcase_add_test(hard, blobs_should_work_at_extreme_radii);
+    tcase_add_test(hard, torus_should_find_the_entry_near_the_outer_equator);
+    tcase_add_test(hard, implicit_should_march_from_far_away_and_at_tiny_tolerance);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);
     return s;

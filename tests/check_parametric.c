@@ -78,7 +78,8 @@ static void collapsed_dome(ray_vec3 cp[16])
 }
 
 /* The default tolerance ray_parametric derives for a Bezier patch:
-** 1e-9 * (diagonal + largest |coordinate|) of its control points' box
+** 1e-9 * diagonal + 64 DBL_EPSILON * largest |coordinate| of its control
+** points' box
 ** (the library grows that box by ~1e-15 relative, which changes this by
 ** far less than the factors of 2 the assertions allow). */
 static double patch_tol(const ray_vec3 cp[16])
@@ -96,7 +97,7 @@ static double patch_tol(const ray_vec3 cp[16])
     big = fmax(fmax(fmax(fabs(lo.x), fabs(hi.x)),
                     fmax(fabs(lo.y), fabs(hi.y))),
                fmax(fabs(lo.z), fabs(hi.z)));
-    return 1e-9 * (vdist(hi, lo) + big);
+    return 1e-9 * vdist(hi, lo) + 64 * DBL_EPSILON * big;
 }
 
 static ray_vec3 unit(ray_vec3 a)

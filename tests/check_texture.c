@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <png.h>
+
 #include "tests.h"
 
 static char *temp_path(const char *tag)
@@ -130,6 +132,41 @@ START_TEST(image_should_decode_8_bit_srgb)
     ck_assert_double_eq_tol(c.r, 0.75, 0.0044);
     ck_assert_double_eq_tol(c.g, 0.5, 0.0044);
     ck_assert_double_eq_tol(c.b, 0.5, 0.0044);
+    ray_image_free(img);
+}
+END_TEST
+
+/*
+** Alpha is composed on black, deterministically: libpng composes onto
+** the output buffer when given no background, which the loader zeroes
+** (it once held whatever the heap did: under ASan, 0xbe grey).  A fully
+** transparent red texel is black; a half-transparent green one keeps no
+** red or blue.  The file is written as 8-bit RGBA through libpng.
+*/
+START_TEST(image_should_compose_alpha_on_black)
+{
+    static const unsigned char rgba[8] = {255, 0, 0, 0, 0, 255, 0, 128};
+    const char *path = temp_path("rgba");
+    png_image png;
+    ray_image *img = NULL;
+    ray_rgb c;
+
+    memset(&png, 0, sizeof png);
+    png.version = PNG_IMAGE_VERSION;
+    png.width = 2;
+    png.height = 1;
+    png.format = PNG_FORMAT_RGBA;
+    ck_assert(png_image_write_to_file(&png, path, 0, rgba, 0, NULL));
+    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    unlink(path);
+    ray_image_sample(img, 0.25, 0.5, &c);      /* texel 0's centre */
+    ck_assert_double_eq(c.r, 0);
+    ck_assert_double_eq(c.g, 0);
+    ck_assert_double_eq(c.b, 0);
+    ray_image_sample(img, 0.75, 0.5, &c);      /* texel 1's centre */
+    ck_assert_double_eq(c.r, 0);
+    ck_assert_double_gt(c.g, 0.1);
+    ck_assert_double_eq(c.b, 0);
     ray_image_free(img);
 }
 END_TEST
@@ -341,6 +378,7 @@ Suite *texture_suite(void)
     tcase_add_test(core, image_should_filter_bilinearly_and_wrap);
     tcase_add_test(core, image_should_decode_8_bit_srgb);
     tcase_add_test(core, image_should_reject_bad_files_and_arguments);
+    tcase_add_test(core, image_should_compose_alpha_on_black);
     tcase_add_test(core, texture_should_see_every_primitives_coordinates);
     tcase_add_test(core, textured_phong_should_multiply_diffuse_by_the_image);
     suite_add_tcase(s, core);
