@@ -220,7 +220,8 @@ int main(void)
            "ratio against the first method of the object; accuracy is the "
            "largest distance of a hit point from the exact surface (long "
            "double).  The generic methods' default tolerance is 1e-9 of "
-           "the box's scale (~4.5e-9 here).\n\n", n, rounds);
+           "the box's diagonal plus 64 ulps of its largest coordinate "
+           "(~3.5e-9 here).\n\n", n, rounds);
     printf("| surface | method | ns per ray | ratio | hits | failures | "
            "max distance from surface |\n|---|---|---|---|---|---|---|\n");
     for (k = 0; k < (int)(sizeof rows / sizeof rows[0]); k++) {
