@@ -395,6 +395,11 @@ RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
 ** nearer crossing is not lost).  A singular
 ** system (a ray parallel to the tangent plane) is a miss.  The nearest
 ** accepted root is the hit.
+** For a surface made by ray_bezier_surface over its own domain [0, 1]^2,
+** the bounds callback is called once, for the whole patch: the boxes of
+** sub-rectangles come from the parent's control net halved by de
+** Casteljau, grown by gamma(6L + 2) * (max |cp| + 2 DBL_MIN) per axis at
+** level L, and contain the sub-patch like the callback's (twice as fast).
 **
 ** On a hit: n = normalize(S_u x S_v) (the parameterisation's orientation),
 ** taken 1e-6 (then 1e-4, 1e-2) of the domain's size toward its centre

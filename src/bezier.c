@@ -122,21 +122,28 @@ static double clamp01(double x)
 }
 
 /*
-** The box of the sub-patch over [u0, u1] x [v0, v1] (clamped to the
-** patch's domain [0, 1]^2): its 16 control points are Mv P Mu^T, with
-** M the restriction matrices, and their box contains it (convex hull);
-** grown by the rounding bound of BOX_ROUNDINGS.
+** The box of the control points Mv P Mu^T of the sub-patch over [u0, u1]
+** x [v0, v1], with M the restriction matrices.  For the whole patch,
+** the first box ray_parametric asks for, the restriction matrices are
+** the identity, exactly (blossom weights of 0s and 1s, and sums with
+** products by 0), so its points are cp: taken as they are, with the
+** same result and none of the work.
 */
-static void bezier_bounds(void *ud, double u0, double u1, double v0,
-                          double v1, ray_vec3 *lo, ray_vec3 *hi)
+static void sub_net_box(const ray_vec3 *cp, double u0, double u1, double v0,
+                        double v1, ray_vec3 *lo, ray_vec3 *hi)
 {
-    const ray_vec3 *cp = ud;
     double mu[4][4], mv[4][4];
-    ray_vec3 rows[16], mag = v3(0, 0, 0), grow;
+    ray_vec3 rows[16];
     int i, k;
 
-    restriction(clamp01(u0), clamp01(u1), mu);
-    restriction(clamp01(v0), clamp01(v1), mv);
+    if (u0 == 0 && u1 == 1 && v0 == 0 && v1 == 1) {
+        *lo = *hi = cp[0];
+        for (i = 1; i < 16; i++)
+            include(lo, hi, cp[i]);
+        return;
+    }
+    restriction(u0, u1, mu);
+    restriction(v0, v1, mv);
     for (i = 0; i < 4; i++)
         for (k = 0; k < 4; k++)
             rows[4 * i + k] = combine4(mu[k], cp + 4 * i, 1);
@@ -148,6 +155,22 @@ static void bezier_bounds(void *ud, double u0, double u1, double v0,
             include(lo, hi, p);
         }
     }
+}
+
+/*
+** The box of the sub-patch over [u0, u1] x [v0, v1] (clamped to the
+** patch's domain [0, 1]^2): its 16 control points (sub_net_box) contain
+** it (convex hull); grown by the rounding bound of BOX_ROUNDINGS.
+*/
+static void bezier_bounds(void *ud, double u0, double u1, double v0,
+                          double v1, ray_vec3 *lo, ray_vec3 *hi)
+{
+    const ray_vec3 *cp = ud;
+    ray_vec3 mag = v3(0, 0, 0), grow;
+    int i;
+
+    sub_net_box(cp, clamp01(u0), clamp01(u1), clamp01(v0), clamp01(v1), lo,
+                hi);
     for (i = 0; i < 16; i++) {
         ray_vec3 a = v3_abs(cp[i]);
         mag.x = a.x > mag.x ? a.x : mag.x;
@@ -157,6 +180,153 @@ static void bezier_bounds(void *ud, double u0, double u1, double v0,
     grow = v3_scale(mag, ray__gamma(BOX_ROUNDINGS));
     *lo = v3_sub(*lo, grow);
     *hi = v3_add(*hi, grow);
+}
+
+/* ------------------------------------------------ halving (fast path) */
+
+/*
+** Rounding of a net carried down the quad tree by halving
+** (ray__bezier_split).  A midpoint (a + b) * 0.5 rounds once, in the
+** sum: the halving is exact, except where the result is subnormal
+** (below).  Halving a cubic at 1/2 nests 3 midpoints (de Casteljau
+** subdivision: Farin, CAGD, section 5.5), the tensor-product net 3 along
+** u then 3 along v: each child point is sum_k w_k p_k (1 + theta_k) with
+** exact de Casteljau weights w_k >= 0 summing to 1 and |theta_k| <=
+** gamma(6) (Higham, Lemma 3.1), so it is within gamma(6) max |p_k| of
+** the exact point, per axis.  Over levels: with M = max |cp| per axis
+** (every exact sub-net lies in the patch net's convex hull, so within M)
+** and e_L the error of the nets at level L, e_0 = 0 (the patch's own
+** points) and
+**     e_L <= e_{L-1} + gamma(6) (M + e_{L-1})
+** (the exact halving of an error is a convex combination of it, no
+** larger), so 1 + e_L / M <= (1 + gamma(6))^L <= 1 + gamma(6 L)
+** (Higham, Lemma 3.3): a level-L net is within gamma(6 L) M of the exact
+** sub-patch's net, and growing its box by that contains the sub-patch.
+** 2 more roundings cover the growth itself (a product and a difference,
+** as BOX_ROUNDINGS).  Where a midpoint is subnormal its halving may
+** round, by at most half the smallest subnormal eta = 2^-1074 (a sum
+** that underflows is exact: Hauser, "Handling Floating-Point Exceptions
+** in Numeric Programs", ACM TOPLAS 18(2), 1996), at most 3 L eta over L
+** levels; M is
+** taken as max |cp| + UNDERFLOW_MARGIN, which adds gamma(n) 2^-1021 >=
+** n 2^-53 2^-1021 = n eta to the growth for n roundings, more than
+** enough -- without subnormal constants, whose arithmetic is slow on
+** x86, in the loop.  (Martin et al., JGT 2000, likewise bound
+** sub-patches by the boxes of refined control nets.)
+*/
+#define HALVING_ROUNDINGS 6
+#define GROWTH_ROUNDINGS 2
+#define UNDERFLOW_MARGIN (2.0 * DBL_MIN)
+
+static ray_vec3 midpoint(ray_vec3 a, ray_vec3 b)
+{
+    return v3_scale(v3_add(a, b), 0.5);
+}
+
+/*
+** The cubic p[0], p[ps], p[2 ps], p[3 ps] halved at 1/2 by de Casteljau
+** (Farin, CAGD, section 5.5): out[0..3 os] is the control polygon of its
+** first half and out[3 os..6 os] of its second, sharing out[3 os].
+*/
+static void halve_cubic(const ray_vec3 *p, int ps, ray_vec3 *out, int os)
+{
+    ray_vec3 a = midpoint(p[0], p[ps]), b = midpoint(p[ps], p[2 * ps]);
+    ray_vec3 c = midpoint(p[2 * ps], p[3 * ps]);
+    ray_vec3 d = midpoint(a, b), e = midpoint(b, c);
+
+    out[0] = p[0];
+    out[os] = a;
+    out[2 * os] = d;
+    out[3 * os] = midpoint(d, e);
+    out[4 * os] = e;
+    out[5 * os] = c;
+    out[6 * os] = p[3 * ps];
+}
+
+/* The smaller and the larger of a and b, for finite values (comparisons,
+** which compile to single min/max instructions, as in include). */
+static double lesser(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static double greater(double a, double b)
+{
+    return a > b ? a : b;
+}
+
+/*
+** The box of the 16 points of a net (row i, column k at net[stride*i +
+** k]), grown by "grow".  Accumulated in locals, not through lo and hi,
+** which the compiler must assume may alias the net.
+*/
+static void net_box(const ray_vec3 *net, int stride, ray_vec3 grow,
+                    ray_vec3 *lo, ray_vec3 *hi)
+{
+    double x0 = net[0].x, y0 = net[0].y, z0 = net[0].z;
+    double x1 = x0, y1 = y0, z1 = z0;
+    int i, k;
+
+    for (i = 0; i < 4; i++)
+        for (k = 0; k < 4; k++) {
+            ray_vec3 p = net[stride * i + k];
+            x0 = lesser(p.x, x0);
+            y0 = lesser(p.y, y0);
+            z0 = lesser(p.z, z0);
+            x1 = greater(p.x, x1);
+            y1 = greater(p.y, y1);
+            z1 = greater(p.z, z1);
+        }
+    *lo = v3(x0 - grow.x, y0 - grow.y, z0 - grow.z);
+    *hi = v3(x1 + grow.x, y1 + grow.y, z1 + grow.z);
+}
+
+/* M of the bound above: max |cp| per axis, plus UNDERFLOW_MARGIN. */
+ray_vec3 ray__bezier_magnitude(const ray_vec3 cp[16])
+{
+    ray_vec3 m = v3(0, 0, 0);
+    int k;
+
+    for (k = 0; k < 16; k++) {
+        ray_vec3 a = v3_abs(cp[k]);
+        m = v3(greater(a.x, m.x), greater(a.y, m.y), greater(a.z, m.z));
+    }
+    return v3(m.x + UNDERFLOW_MARGIN, m.y + UNDERFLOW_MARGIN,
+              m.z + UNDERFLOW_MARGIN);
+}
+
+/*
+** The net halved at u = v = 1/2: the rows along u (into 4 x 7 points),
+** then the 7 columns along v, into grid; then the quarters' boxes, grown
+** by the bound above for "level" halvings below the patch's net.
+*/
+void ray__bezier_split(const ray_vec3 *net, int stride, ray_vec3 mag,
+                       unsigned level,
+                       ray_vec3 grid[RAY__BEZIER_GRID * RAY__BEZIER_GRID],
+                       ray_vec3 lo[4], ray_vec3 hi[4])
+{
+    ray_vec3 rows[4 * RAY__BEZIER_GRID], grow;
+    unsigned q;
+    int i;
+
+    for (i = 0; i < 4; i++)
+        halve_cubic(net + stride * i, 1, rows + RAY__BEZIER_GRID * i, 1);
+    for (i = 0; i < RAY__BEZIER_GRID; i++)
+        halve_cubic(rows + i, RAY__BEZIER_GRID, grid + i, RAY__BEZIER_GRID);
+    grow = v3_scale(mag, ray__gamma(HALVING_ROUNDINGS * (int)level +
+                                    GROWTH_ROUNDINGS));
+    for (q = 0; q < 4; q++)
+        net_box(grid + ray__bezier_quarter(q), RAY__BEZIER_GRID, grow,
+                &lo[q], &hi[q]);
+}
+
+/* bezier_bounds identifies the surfaces ray_bezier_surface made (eval is
+** checked too, so a user pairing it with another eval is not taken). */
+const ray_vec3 *ray__bezier_points(const ray_parametric_surface *s)
+{
+    if (s->bounds == bezier_bounds && s->eval == bezier_eval)
+        return s->ud;
+    return NULL;
 }
 
 int ray_bezier_surface(const ray_vec3 cp[16], ray_parametric_surface *out)

@@ -519,4 +519,30 @@ int ray__triangle_float(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,
 int ray__barycentric_naive(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                            double abg[3]);
 
+/*
+** The bicubic Bezier fast path of ray_parametric (bezier.c), declared
+** here for parametric.c: instead of one bounds call per rectangle, which
+** rebuilds the sub-patch's control net from the whole patch, the
+** traversal carries each quad-tree node's 4 x 4 net and halves it by de
+** Casteljau.  ray__bezier_points: the 16 control points of a surface
+** made by ray_bezier_surface, NULL for any other.  ray__bezier_magnitude:
+** the "mag" the boxes are grown with.  ray__bezier_split: the net (row
+** i, column j at net[stride*i + j]) split at u = v = 1/2 into the 7 x 7
+** grid whose 4 x 4 corner blocks, at grid + ray__bezier_quarter(q), are
+** the quarters' nets (q: bit 0 the upper u half, bit 1 the upper v
+** half), and their boxes, grown to contain the exact sub-patches at
+** "level" halvings below the patch.
+*/
+#define RAY__BEZIER_GRID 7
+const ray_vec3 *ray__bezier_points(const ray_parametric_surface *s);
+ray_vec3 ray__bezier_magnitude(const ray_vec3 cp[16]);
+void ray__bezier_split(const ray_vec3 *net, int stride, ray_vec3 mag,
+                       unsigned level,
+                       ray_vec3 grid[RAY__BEZIER_GRID * RAY__BEZIER_GRID],
+                       ray_vec3 lo[4], ray_vec3 hi[4]);
+static inline int ray__bezier_quarter(unsigned q)
+{
+    return RAY__BEZIER_GRID * ((q & 2u) ? 3 : 0) + ((q & 1u) ? 3 : 0);
+}
+
 #endif /* RAY_INTERNAL_H */

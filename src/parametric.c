@@ -99,7 +99,12 @@ typedef struct node {
     rect r;
     double tnear;            /* where the ray enters its box */
     unsigned level;          /* 0: the whole domain */
+    unsigned quad;           /* its quarter of its parent: bit 0 the
+                                upper u half, bit 1 the upper v half */
 } node;
+
+/* A halved control net (ray__bezier_split): 7 x 7 points. */
+#define GRID_POINTS (RAY__BEZIER_GRID * RAY__BEZIER_GRID)
 
 /* How one Newton start ended. */
 enum {
@@ -127,6 +132,10 @@ typedef struct job {
     ray_vec3 p, s_u, s_v;    /* S and its partials there */
     double end_u, end_v;     /* where the last start's root was */
     ray_vec3 end_su, end_sv; /* S_u and S_v there */
+    /* The Bezier fast path (see bezier_search); cp NULL: the callbacks. */
+    const ray_vec3 *cp;      /* the patch's 16 control points */
+    ray_vec3 mag;            /* ray__bezier_magnitude */
+    ray_vec3 (*grids)[GRID_POINTS]; /* grids[L - 1]: level L's nets */
 } job;
 
 /* ------------------------------------------------------------ validation */
@@ -594,6 +603,54 @@ static int root_settles(const job *j, const rect *r, double lo, double hi)
 /* ------------------------------------------------------------- traversal */
 
 /*
+** The control net of a Bezier node: the patch's own at the root, else
+** its quarter of the 7 x 7 grid its parent was halved into.  The grid
+** of level L is still there when a node of level L is popped: the stack
+** holds levels in non-decreasing order from the bottom (a popped node
+** is the deepest, and its children go on top one level deeper), so no
+** node of a deeper level is left to have overwritten it.
+*/
+static const ray_vec3 *net_of(const job *j, const node *n, int *stride)
+{
+    if (n->level == 0) {
+        *stride = 4;
+        return j->cp;
+    }
+    *stride = RAY__BEZIER_GRID;
+    return j->grids[n->level - 1] + ray__bezier_quarter(n->quad);
+}
+
+/*
+** The boxes of n's 4 quarters (numbered as node.quad): by the callback,
+** or for a Bezier patch from its net halved by de Casteljau into the
+** grid of the children's level -- one halving (~400 flops) instead of 4
+** nets rebuilt from the whole patch.  Returns 0 if a box is not finite
+** (box_of also checks the callback's for lo > hi; a net's box, a
+** min and max, cannot have it).
+*/
+static int quarter_boxes(const job *j, const node *n, const rect kid[4],
+                         ray_vec3 lo[4], ray_vec3 hi[4])
+{
+    const ray_vec3 *net;
+    int stride;
+    unsigned q;
+
+    if (j->cp == NULL) {
+        for (q = 0; q < 4; q++)
+            if (!box_of(j, &kid[q], &lo[q], &hi[q]))
+                return 0;
+        return 1;
+    }
+    net = net_of(j, n, &stride);
+    ray__bezier_split(net, stride, j->mag, n->level + 1,
+                      j->grids[n->level], lo, hi);
+    for (q = 0; q < 4; q++)
+        if (!v3_isfinite(lo[q]) || !v3_isfinite(hi[q]))
+            return 0;
+    return 1;
+}
+
+/*
 ** Push the quarters of n whose boxes the ray meets (before the best root
 ** so far), the farthest first so that the nearest is popped next.
 ** Returns 0 if a box was not finite.
@@ -603,20 +660,25 @@ static int split(job *j, const node *n, node *stack, unsigned *top)
     double um = n->r.u0 + 0.5 * (n->r.u1 - n->r.u0);
     double vm = n->r.v0 + 0.5 * (n->r.v1 - n->r.v0);
     node kids[4];
+    rect kid[4];
+    ray_vec3 lo[4], hi[4];
     unsigned count = 0, q, a;
 
     for (q = 0; q < 4; q++) {
+        kid[q].u0 = (q & 1u) ? um : n->r.u0;
+        kid[q].u1 = (q & 1u) ? n->r.u1 : um;
+        kid[q].v0 = (q & 2u) ? vm : n->r.v0;
+        kid[q].v1 = (q & 2u) ? n->r.v1 : vm;
+    }
+    if (!quarter_boxes(j, n, kid, lo, hi))
+        return 0;
+    for (q = 0; q < 4; q++) {
         node c;
-        ray_vec3 lo, hi;
 
-        c.r.u0 = (q & 1u) ? um : n->r.u0;
-        c.r.u1 = (q & 1u) ? n->r.u1 : um;
-        c.r.v0 = (q & 2u) ? vm : n->r.v0;
-        c.r.v1 = (q & 2u) ? n->r.v1 : vm;
+        c.r = kid[q];
         c.level = n->level + 1;
-        if (!box_of(j, &c.r, &lo, &hi))
-            return 0;
-        if (ray_meets_box(j, lo, hi, &c.tnear))
+        c.quad = q;
+        if (ray_meets_box(j, lo[q], hi[q], &c.tnear))
             kids[count++] = c;
     }
     /* Insertion sort of at most 4, by decreasing tnear. */
@@ -689,6 +751,27 @@ static int search(job *j, const node *root)
         }
     }
     return 1;
+}
+
+/*
+** The Bezier fast path: bounds from control nets carried down the quad
+** tree (quarter_boxes), for a surface made by ray_bezier_surface over
+** its own domain [0, 1]^2 (a user-set domain takes the callbacks, which
+** clamp to it).  The nets' boxes contain the exact sub-patches, as the
+** callback's do (rounding bounds in bezier.c), so the same rectangles
+** survive up to boxes differing by rounding (at most ~1e-14 of max
+** |cp|, the size of the 64-ulp term of the default tolerance the slab
+** test grows them by).  The grids take MAX_LEVELS * 49 * 24 bytes
+** (~23 KiB) of stack, here only, not on the generic path.  0 on bad
+** callback values.
+*/
+static int bezier_search(job *j, const node *root)
+{
+    ray_vec3 grids[MAX_LEVELS][GRID_POINTS];
+
+    j->mag = ray__bezier_magnitude(j->cp);
+    j->grids = grids;
+    return search(j, root);
 }
 
 /* ------------------------------------------------------------ hit record */
@@ -825,7 +908,12 @@ int ray_parametric(const ray_ray *r, const ray_parametric_surface *s,
         return 0;
     root.r = j.domain;
     root.level = 0;
-    if (!search(&j, &root))
+    root.quad = 0;
+    j.cp = ray__bezier_points(s);
+    if (j.cp != NULL && !(j.domain.u0 == 0 && j.domain.u1 == 1 &&
+                          j.domain.v0 == 0 && j.domain.v1 == 1))
+        j.cp = NULL;
+    if (!(j.cp != NULL ? bezier_search(&j, &root) : search(&j, &root)))
         return -RAY_EINVAL;
     if (j.found)
         return fill_hit(&j, hit) ? 1 : -RAY_EINVAL;

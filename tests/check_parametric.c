@@ -1074,6 +1074,93 @@ START_TEST(bezier_bounds_should_be_exact_for_an_affine_patch)
 }
 END_TEST
 
+/*
+** The Bezier fast path (control nets halved down the quad tree) against
+** the generic one: the same patch through callbacks that forward to
+** ray_bezier_surface's, which ray_parametric does not recognise, so each
+** box comes from the bounds callback (blossoming).  Both boxes contain
+** the sub-patches, so both searches find the nearest root; the roots
+** may differ by where Newton stops (a box differing by rounding moves
+** the start).  Each accepted root is within tol of the ray, so along a
+** unit ray crossing at cosine c each is within tol / c of the exact
+** crossing in t (see the top of the file), and they are within 2 tol / c
+** of each other; 1 + 1e-3 leaves room for the term quadratic in tol.
+** A ray hitting in one and missing in the other is allowed only within
+** (u, v) BORDER_NEAR of the domain's border, where both are right up
+** to the tolerance; the random patches are mild (heights in [-0.5,
+** 0.5] over a unit square), so there are no grazing double roots.
+*/
+static void forward_eval(void *ud, double u, double v, ray_vec3 *s,
+                         ray_vec3 *s_u, ray_vec3 *s_v)
+{
+    const ray_parametric_surface *inner = ud;
+
+    inner->eval(inner->ud, u, v, s, s_u, s_v);
+}
+
+static void forward_bounds(void *ud, double u0, double u1, double v0,
+                           double v1, ray_vec3 *lo, ray_vec3 *hi)
+{
+    const ray_parametric_surface *inner = ud;
+
+    inner->bounds(inner->ud, u0, u1, v0, v1, lo, hi);
+}
+
+static int near_border(const ray_hit *h)
+{
+    /* Far above the (u, v) a tolerance of ~1e-9 of the patch moves. */
+    const double border_near = 1e-6;
+
+    return h->u < border_near || h->u > 1 - border_near ||
+           h->v < border_near || h->v > 1 - border_near;
+}
+
+START_TEST(bezier_fast_path_should_agree_with_the_callbacks)
+{
+    rng g = {8080};
+    int patch, k, i, j, hits = 0;
+
+    for (patch = 0; patch < 4; patch++) {
+        ray_vec3 cp[16];
+        ray_parametric_surface fast, slow;
+        double tol;
+
+        for (i = 0; i < 4; i++)
+            for (j = 0; j < 4; j++)
+                cp[4 * i + j] = vec(j / 3.0 + rng_range(&g, -0.1, 0.1),
+                                    i / 3.0 + rng_range(&g, -0.1, 0.1),
+                                    rng_range(&g, -0.5, 0.5));
+        ck_assert_int_eq(ray_bezier_surface(cp, &fast), RAY_OK);
+        slow = fast;
+        slow.eval = forward_eval;
+        slow.bounds = forward_bounds;
+        slow.ud = &fast;
+        tol = patch_tol(cp);
+        for (k = 0; k < 500; k++) {
+            ray_vec3 aim = vec(rng_range(&g, -0.2, 1.2),
+                               rng_range(&g, -0.2, 1.2),
+                               rng_range(&g, -0.5, 0.5));
+            ray_vec3 org = vadd(vec(0.5, 0.5, 0), vscale(rng_dir(&g), 3));
+            ray_ray r = ray_from(org, unit(vsub(aim, org)));
+            ray_hit a, b;
+            int ha = ray_parametric(&r, &fast, &a);
+            int hb = ray_parametric(&r, &slow, &b);
+
+            ck_assert(ha >= 0 && hb >= 0);
+            if (ha != hb) {
+                ck_assert(near_border(ha ? &a : &b));
+            } else if (ha) {
+                double c = fabs(vdot(r.dir, a.n));
+                ck_assert(fabs(a.t - b.t) <= 2 * tol / c * (1 + 1e-3));
+                hits++;
+            }
+        }
+    }
+    /* About a third of the rays hit (726 of 2000): not a vacuous pass. */
+    ck_assert_int_gt(hits, 500);
+}
+END_TEST
+
 Suite *parametric_suite(void)
 {
     Suite *s = suite_create("parametric");
@@ -1103,6 +1190,7 @@ Suite *parametric_suite(void)
     tcase_add_loop_test(box, bezier_bounds_should_contain_the_patch, 0,
                         N_OFFSETS);
     tcase_add_test(box, bezier_bounds_should_be_exact_for_an_affine_patch);
+    tcase_add_test(box, bezier_fast_path_should_agree_with_the_callbacks);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);
     suite_add_tcase(s, bad);
