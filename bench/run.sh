@@ -30,7 +30,8 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
 mv "$out.tmp" "$out"
 
 # Tables copied into the README between <!-- NAME:begin --> and
-# <!-- NAME:end -->: the primitives (headline) and the curved surfaces.
+# <!-- NAME:end -->: the primitives (headline), the curved surfaces, the
+# effects, the thread speed-up and the meshes.
 splice() {
     awk -v f="$2" -v b="<!-- $1:begin -->" -v e="<!-- $1:end -->" '
         $0 == b { print; while ((getline l < f) > 0) print l; skip=1; next }
@@ -41,6 +42,13 @@ awk '/^### Primitives/{on=1} on&&/^### Images/{exit} on' "$out" > "$plots/headli
 splice accuracy "$plots/headline.md"
 awk '/^\| surface \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/surfaces.md"
 splice surfaces "$plots/surfaces.md"
+awk '/^Pruned \(effect analysis/{on=1} /^## Whitted scene/{exit} on' "$out" |
+    sed -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/effects.md"
+splice effects "$plots/effects.md"
+awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
+splice threads "$plots/threads.md"
+awk '/^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
+splice mesh "$plots/mesh.md"
 
 if command -v gnuplot >/dev/null 2>&1; then
     gnuplot <<GP
