@@ -10,6 +10,18 @@
 #include <stddef.h>
 #include <stdio.h>
 
+/* A printf-like format for the compiler to check (clang's
+** -Wformat-nonliteral wants the va_list function marked too). */
+#if defined(__GNUC__)
+#define PARSE_VPRINTF_LIKE __attribute__((format(printf, 4, 0)))
+#else
+#define PARSE_VPRINTF_LIKE
+#endif
+
+static inline int parse_vfail(char *err, size_t errlen, size_t line,
+                              const char *fmt, va_list ap)
+    PARSE_VPRINTF_LIKE;
+
 /* Write "line N: <message>" into err[0 .. errlen-1] (cut to fit, always
 ** terminated when errlen > 0); returns -1, the readers' failure. */
 static inline int parse_vfail(char *err, size_t errlen, size_t line,
