@@ -86,15 +86,9 @@ typedef struct bpt_parser {
     size_t errlen;
 } bpt_parser;
 
-/* Let the compiler check bpt_fail's format strings like printf's. */
-#if defined(__GNUC__)
-#define BPT_PRINTF_LIKE __attribute__((format(printf, 2, 3)))
-#else
-#define BPT_PRINTF_LIKE
-#endif
-
+/* The compiler checks bpt_fail's format strings like printf's. */
 static inline int bpt_fail(bpt_parser *p, const char *fmt, ...)
-    BPT_PRINTF_LIKE;
+    PARSE_PRINTF_LIKE(2, 3);
 
 /* Write "line N: <message>" into the caller's buffer; returns -1. */
 static inline int bpt_fail(bpt_parser *p, const char *fmt, ...)

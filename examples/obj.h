@@ -71,15 +71,9 @@ typedef struct obj_parser {
     size_t errlen;
 } obj_parser;
 
-/* Let the compiler check obj_fail's format strings like printf's. */
-#if defined(__GNUC__)
-#define OBJ_PRINTF_LIKE __attribute__((format(printf, 2, 3)))
-#else
-#define OBJ_PRINTF_LIKE
-#endif
-
+/* The compiler checks obj_fail's format strings like printf's. */
 static inline int obj_fail(obj_parser *p, const char *fmt, ...)
-    OBJ_PRINTF_LIKE;
+    PARSE_PRINTF_LIKE(2, 3);
 
 static inline int obj_fail(obj_parser *p, const char *fmt, ...)
 {

@@ -10,17 +10,18 @@
 #include <stddef.h>
 #include <stdio.h>
 
-/* A printf-like format for the compiler to check (clang's
-** -Wformat-nonliteral wants the va_list function marked too). */
+/* Argument "f" is a printf format whose arguments start at "a" (0: a
+** va_list), for the compiler to check; clang's -Wformat-nonliteral wants
+** the va_list function marked too. */
 #if defined(__GNUC__)
-#define PARSE_VPRINTF_LIKE __attribute__((format(printf, 4, 0)))
+#define PARSE_PRINTF_LIKE(f, a) __attribute__((format(printf, f, a)))
 #else
-#define PARSE_VPRINTF_LIKE
+#define PARSE_PRINTF_LIKE(f, a)
 #endif
 
 static inline int parse_vfail(char *err, size_t errlen, size_t line,
                               const char *fmt, va_list ap)
-    PARSE_VPRINTF_LIKE;
+    PARSE_PRINTF_LIKE(4, 0);
 
 /* Write "line N: <message>" into err[0 .. errlen-1] (cut to fit, always
 ** terminated when errlen > 0); returns -1, the readers' failure. */
