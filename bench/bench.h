@@ -81,6 +81,30 @@ static inline void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     (void)out;
 }
 
+/* A new scene (through "alloc", NULL for libc) whose material 0 shades
+** nothing.  RAY_OK, or the failing call's status (nothing kept). */
+static inline int nop_scene_new(ray_scene **out, ray_alloc_fn alloc,
+                                void *alloc_ud)
+{
+    ray_material m;
+    ray_scene *s;
+    int rc;
+
+    m.shade = nop_shade;
+    m.ud = NULL;
+    m.effects = 0;
+    rc = ray_scene_new(&s, alloc, alloc_ud);
+    if (rc != RAY_OK)
+        return rc;
+    rc = ray_scene_add_material(s, &m, NULL);
+    if (rc != RAY_OK) {
+        ray_scene_free(s);
+        return rc;
+    }
+    *out = s;
+    return RAY_OK;
+}
+
 /*
 ** A gently waving n x n grid of unit squares near the z = 0 plane, two
 ** triangles each: (n+1)^2 vertices, 2 n^2 triangles (n = 724 gives

@@ -262,15 +262,12 @@ static double trace_all(void *engine, int embree, const ray_set *set,
 static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
                             double *build_s, int watertight)
 {
-    ray_material m = {nop_shade, NULL, 0};
     ray_mesh mesh = obj_as_ray_mesh(obj);
     ray_scene *s;
-    unsigned mat;
     double t;
 
-    check(ray_scene_new(&s, counting_alloc, cnt), "ray_scene_new");
-    check(ray_scene_add_material(s, &m, &mat), "material");
-    check(ray_scene_add_mesh(s, &mesh, mat, NULL), "mesh");
+    check(nop_scene_new(&s, counting_alloc, cnt), "nop_scene_new");
+    check(ray_scene_add_mesh(s, &mesh, 0, NULL), "mesh");
     check(ray_scene_set_watertight(s, watertight), "watertight");
     t = now_seconds();
     check(ray_scene_commit(s), "commit");
@@ -553,9 +550,8 @@ static void bench_grid_memory(void)
 {
     enum { N = 724 };
     counting cnt = {0, 0};
-    ray_material m = {nop_shade, NULL, 0};
     ray_vec3 *v;
-    unsigned *idx, mat;
+    unsigned *idx;
     ray_mesh mesh;
     ray_scene *s;
     long long base;
@@ -564,10 +560,9 @@ static void bench_grid_memory(void)
         printf("(grid memory skipped: out of memory)\n\n");
         return;
     }
-    check(ray_scene_new(&s, counting_alloc, &cnt), "ray_scene_new");
-    check(ray_scene_add_material(s, &m, &mat), "material");
+    check(nop_scene_new(&s, counting_alloc, &cnt), "nop_scene_new");
     base = cnt.now;
-    check(ray_scene_add_mesh(s, &mesh, mat, NULL), "mesh");
+    check(ray_scene_add_mesh(s, &mesh, 0, NULL), "mesh");
     cnt.peak = cnt.now;
     check(ray_scene_commit(s), "commit");
     printf("Memory on a %u x %u grid (%zu triangles, the test's mesh): after "

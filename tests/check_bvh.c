@@ -10,16 +10,13 @@
 #include "bench.h"
 #include "tests.h"
 
+/* A scene whose material *mat (0) shades nothing. */
 static ray_scene *new_scene(unsigned *mat)
 {
-    ray_material m;
     ray_scene *s;
 
-    m.shade = nop_shade;
-    m.ud = NULL;
-    m.effects = 0;
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m, mat), RAY_OK);
+    ck_assert_int_eq(nop_scene_new(&s, NULL, NULL), RAY_OK);
+    *mat = 0;
     return s;
 }
 
@@ -463,9 +460,8 @@ END_TEST
 START_TEST(mesh_should_build_a_million_triangles_in_bounded_memory)
 {
     ray_vec3 *v;
-    unsigned *idx, mat;
+    unsigned *idx;
     counting cnt = {0, 0};
-    ray_material m;
     ray_scene *s;
     ray_mesh mesh;
     size_t tris;
@@ -475,13 +471,9 @@ START_TEST(mesh_should_build_a_million_triangles_in_bounded_memory)
 
     ck_assert_int_eq(grid_mesh(724, &mesh, &v, &idx), 0);
     tris = mesh.triangle_count;
-    m.shade = nop_shade;
-    m.ud = NULL;
-    m.effects = 0;
-    ck_assert_int_eq(ray_scene_new(&s, counting_alloc, &cnt), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(nop_scene_new(&s, counting_alloc, &cnt), RAY_OK);
     base = cnt.now;
-    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_OK);
     cnt.peak = cnt.now;
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_msg((double)(cnt.now - base) / (double)tris <= 120.0,

@@ -5,26 +5,15 @@
 */
 #include <stdlib.h>
 
+#include "bench.h"
 #include "tests.h"
 
-static void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                      ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    *out = rgb_of(1, 1, 1);
-}
-
+/* A scene whose material 0 shades nothing (the tests only intersect). */
 static ray_scene *new_scene(void)
 {
     ray_scene *s;
-    ray_material m;
 
-    memset(&m, 0, sizeof m);
-    m.shade = nop_shade;
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(nop_scene_new(&s, NULL, NULL), RAY_OK);
     return s;
 }
 
