@@ -455,50 +455,17 @@ static inline int bpt_parse(const char *text, size_t len, bpt_patches *out,
 static inline int bpt_load(const char *path, bpt_patches *out, char *err,
                            size_t errlen)
 {
-    /* Files grow by doubling from this: the teapot (7 kB) in one read. */
-    const size_t first_chunk = 65536;
-    FILE *f = fopen(path, "rb");
-    char *text = NULL, msg[512];
-    size_t len = 0, cap = 0;
+    char *text, msg[512];
+    size_t len;
     int rc;
 
     memset(out, 0, sizeof *out);
-    if (f == NULL) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+    if (parse_read_file(path, BPT_REALLOC, &text, &len, err, errlen) != 0)
         return -1;
-    }
-    for (;;) {
-        size_t got;
-        if (len == cap) {
-            size_t ncap = cap ? 2 * cap : first_chunk;
-            char *t = cap > (size_t)-1 / 2 ? NULL : BPT_REALLOC(text, ncap);
-            if (t == NULL) {
-                free(text);
-                fclose(f);
-                snprintf(err, errlen, "%s: out of memory", path);
-                return -1;
-            }
-            text = t;
-            cap = ncap;
-        }
-        got = fread(text + len, 1, cap - len, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    rc = ferror(f) ? -1 : 0;
-    fclose(f);
-    if (rc != 0) {
-        free(text);
-        snprintf(err, errlen, "%s: read error", path);
-        return -1;
-    }
     rc = bpt_parse(text, len, out, msg, sizeof msg);
     free(text);
-    /* A long path may truncate the message: snprintf ends it anyway. */
-    if (rc != 0 && snprintf(err, errlen, "%s: %s", path, msg) < 0 &&
-        errlen > 0)
-        err[0] = '\0';
+    if (rc != 0)
+        parse_error_at(err, errlen, path, msg);
     return rc;
 }
 

@@ -345,46 +345,16 @@ static inline int obj_parse(const char *text, size_t len, obj_mesh *m,
 static inline int obj_load(const char *path, obj_mesh *m, char *err,
                            size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    char *text = NULL, msg[512];
-    size_t len = 0, cap = 0;
+    char *text, msg[512];
+    size_t len;
     int rc;
 
-    if (f == NULL) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+    if (parse_read_file(path, realloc, &text, &len, err, errlen) != 0)
         return -1;
-    }
-    for (;;) {
-        size_t got;
-        if (len == cap) {
-            char *t = cap > (size_t)-1 / 2 ? NULL
-                                           : realloc(text, cap ? 2 * cap : 65536);
-            if (t == NULL) {
-                free(text);
-                fclose(f);
-                snprintf(err, errlen, "%s: out of memory", path);
-                return -1;
-            }
-            text = t;
-            cap = cap ? 2 * cap : 65536;
-        }
-        got = fread(text + len, 1, cap - len, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    rc = ferror(f) ? -1 : 0;
-    fclose(f);
-    if (rc != 0) {
-        free(text);
-        snprintf(err, errlen, "%s: read error", path);
-        return -1;
-    }
     rc = obj_parse(text, len, m, msg, sizeof msg);
     free(text);
-    /* A long path may truncate the message: snprintf ends it anyway. */
-    if (rc != 0 && snprintf(err, errlen, "%s: %s", path, msg) < 0)
-        err[0] = '\0';
+    if (rc != 0)
+        parse_error_at(err, errlen, path, msg);
     return rc;
 }
 

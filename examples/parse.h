@@ -8,7 +8,10 @@
 
 #include <stdarg.h>
 #include <stddef.h>
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 /* Argument "f" is a printf format whose arguments start at "a" (0: a
 ** va_list), for the compiler to check; clang's -Wformat-nonliteral wants
@@ -33,6 +36,66 @@ static inline int parse_vfail(char *err, size_t errlen, size_t line,
     if (n >= 0 && (size_t)n < errlen)
         vsnprintf(err + n, errlen - (size_t)n, fmt, ap);
     return -1;
+}
+
+/*
+** The whole file "path" in a buffer from realloc_fn (grown by doubling
+** from 64 KiB: the usual model in one read; the caller frees it) into
+** *text and *len.  0, or -1 with "path: reason" in err and nothing kept.
+*/
+static inline int parse_read_file(const char *path,
+                                  void *(*realloc_fn)(void *, size_t),
+                                  char **text_out, size_t *len_out,
+                                  char *err, size_t errlen)
+{
+    const size_t first_chunk = 65536;
+    FILE *f = fopen(path, "rb");
+    char *text = NULL;
+    size_t len = 0, cap = 0;
+    int failed;
+
+    if (f == NULL) {
+        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+        return -1;
+    }
+    for (;;) {
+        size_t got;
+        if (len == cap) {
+            size_t ncap = cap ? 2 * cap : first_chunk;
+            char *t = cap > (size_t)-1 / 2 ? NULL : realloc_fn(text, ncap);
+            if (t == NULL) {
+                free(text);
+                fclose(f);
+                snprintf(err, errlen, "%s: out of memory", path);
+                return -1;
+            }
+            text = t;
+            cap = ncap;
+        }
+        got = fread(text + len, 1, cap - len, f);
+        len += got;
+        if (got == 0)
+            break;
+    }
+    failed = ferror(f);
+    fclose(f);
+    if (failed) {
+        free(text);
+        snprintf(err, errlen, "%s: read error", path);
+        return -1;
+    }
+    *text_out = text;
+    *len_out = len;
+    return 0;
+}
+
+/* "path: msg" into err; a long path may truncate it (snprintf still ends
+** the string; on an encoding error the message is emptied). */
+static inline void parse_error_at(char *err, size_t errlen, const char *path,
+                                  const char *msg)
+{
+    if (snprintf(err, errlen, "%s: %s", path, msg) < 0 && errlen > 0)
+        err[0] = '\0';
 }
 
 #endif
