@@ -198,21 +198,30 @@ int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
 
 /* -------------------------------------------- the torus as a field */
 
-/* p's distance along the axis (z) and from it (rho), and the unit
-** radial direction e (t1 on the axis itself). */
-static void torus_cylindrical(const ray_torus_params *t, ray_vec3 p,
-                              double *z, double *rho, ray_vec3 *e)
+/* p's distance along the unit axis a (z) and from it (rho), and the unit
+** radial direction e (ray__tangent_frame's t1 on the axis itself).  Only
+** the axis is needed, not the whole frame: the field and its gradient
+** are evaluated at every step of a march. */
+static void torus_cylindrical(const ray_torus_params *t, ray_vec3 a,
+                              ray_vec3 p, double *z, double *rho,
+                              ray_vec3 *e)
 {
-    torus_frame f;
-    ray_vec3 q, radial;
+    ray_vec3 q = v3_sub(p, t->center), radial, t2;
 
-    torus_frame_init(t, &f);
-    q = v3_sub(p, f.c);
-    *z = v3_dot(q, f.a);
-    radial = v3_madd(q, -*z, f.a);
+    *z = v3_dot(q, a);
+    radial = v3_madd(q, -*z, a);
     *rho = v3_length(radial);
     if (!v3_normalize(radial, e))
-        *e = f.t1;
+        ray__tangent_frame(a, e, &t2);
+}
+
+/* The unit axis of params checked by ray_implicit_torus. */
+static ray_vec3 torus_axis(const ray_torus_params *t)
+{
+    ray_vec3 a = v3(0, 0, 1);
+
+    v3_normalize(t->axis, &a);
+    return a;
 }
 
 /* The signed distance to the torus: |p - nearest point of the centre
@@ -223,7 +232,7 @@ static double torus_field(void *ud, ray_vec3 p)
     double z, rho;
     ray_vec3 e;
 
-    torus_cylindrical(t, p, &z, &rho, &e);
+    torus_cylindrical(t, torus_axis(t), p, &z, &rho, &e);
     return hypot(rho - t->major, z) - t->minor;
 }
 
@@ -233,7 +242,7 @@ static ray_vec3 torus_gradient(void *ud, ray_vec3 p)
     double z, rho;
     ray_vec3 e, g;
 
-    torus_cylindrical(t, p, &z, &rho, &e);
+    torus_cylindrical(t, torus_axis(t), p, &z, &rho, &e);
     g = v3_sub(p, v3_madd(t->center, t->major, e));
     return v3_normalize(g, &g) ? g : e;
 }
@@ -250,7 +259,7 @@ static void torus_uv(void *ud, ray_vec3 p, ray_vec3 n, double *u, double *v)
     (void)n;
     torus_frame_init(t, &f);
     q = to_local(&f, v3_sub(p, f.c));
-    torus_cylindrical(t, p, &z, &rho, &e);
+    torus_cylindrical(t, f.a, p, &z, &rho, &e);
     *u = atan2(q.y, q.x) / (2.0 * RAY__PI) + 0.5;
     *v = atan2(z, rho - t->major) / (2.0 * RAY__PI) + 0.5;
 }
