@@ -37,6 +37,11 @@ static int descriptor_valid(const ray_implicit_surface *s)
            s->tolerance < HUGE_VAL;
 }
 
+int ray__implicit_valid(const ray_implicit_surface *s)
+{
+    return s != NULL && descriptor_valid(s);
+}
+
 /*
 ** The part of the ray inside the box, grown by the tolerance (a surface
 ** may touch the box), in double: [*t0, *t1] within [tmin, tmax].  A zero

@@ -240,6 +240,14 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
 int ray__poly_roots(const double *c, int degree, double lo, double hi,
                     double *roots);
 
+/* 1 if ray_implicit accepts descriptor s (what it answers -RAY_EINVAL to
+** whatever the ray); for the scene, which checks when a surface is added. */
+int ray__implicit_valid(const ray_implicit_surface *s);
+
+/* 1 if ray_parametric accepts descriptor s, with its domain (defaults
+** applied) in d = {u0, u1, v0, v1}; 0 (d untouched) otherwise. */
+int ray__parametric_domain(const ray_parametric_surface *s, double d[4]);
+
 /* The tolerance ray_implicit uses for a valid descriptor (its own or
 ** the default); hits lie within it of the surface's box. */
 double ray__implicit_tolerance(const ray_implicit_surface *s);

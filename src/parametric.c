@@ -166,6 +166,19 @@ static int settings_valid(const ray_parametric_surface *s)
            s->tolerance < HUGE_VAL;
 }
 
+int ray__parametric_domain(const ray_parametric_surface *s, double d[4])
+{
+    rect r;
+
+    if (s == NULL || !settings_valid(s) || !domain_of(s, &r))
+        return 0;
+    d[0] = r.u0;
+    d[1] = r.u1;
+    d[2] = r.v0;
+    d[3] = r.v1;
+    return 1;
+}
+
 /* A ray that can hit anything: finite, non-zero direction, tmin < tmax. */
 static int ray_valid(const ray_ray *r)
 {

@@ -56,31 +56,6 @@ int ray_scene_add_torus(ray_scene *s, const ray_torus_params *t,
     return add_surface(s, PRIM_TORUS, material, &surf, lo, hi, geom_id);
 }
 
-/*
-** ray_implicit and ray_parametric check their descriptor before the ray
-** and answer -RAY_EINVAL for an invalid one whatever the ray: asked with
-** a ray of empty interval, which misses every valid surface, they tell
-** whether a descriptor is valid without tracing anything.
-*/
-static ray_ray empty_ray(void)
-{
-    ray_ray r;
-
-    memset(&r, 0, sizeof r);
-    r.dir.x = 1;
-    r.tmin = 1;
-    r.tmax = 0;
-    return r;
-}
-
-static int implicit_valid(const ray_implicit_surface *is)
-{
-    ray_ray r = empty_ray();
-    ray_hit h;
-
-    return is != NULL && ray_implicit(&r, is, &h) != -RAY_EINVAL;
-}
-
 int ray_scene_add_implicit(ray_scene *s, const ray_implicit_surface *is,
                            unsigned material, unsigned *geom_id)
 {
@@ -91,7 +66,7 @@ int ray_scene_add_implicit(ray_scene *s, const ray_implicit_surface *is,
 
     if (rc != RAY_OK)
         return rc;
-    if (!implicit_valid(is))
+    if (!ray__implicit_valid(is))
         return RAY_EINVAL;
     memset(&surf, 0, sizeof surf);
     surf.implicit = *is;
@@ -101,33 +76,6 @@ int ray_scene_add_implicit(ray_scene *s, const ray_implicit_surface *is,
     grow = v3(tol, tol, tol);
     return add_surface(s, PRIM_IMPLICIT, material, &surf,
                        v3_sub(is->lo, grow), v3_add(is->hi, grow), geom_id);
-}
-
-/* The domain of a parametric surface with its default ([0, 1]^2 when
-** all four bounds are 0); 0 if it is empty or not finite. */
-static int parametric_domain(const ray_parametric_surface *ps, double d[4])
-{
-    if (ps->u0 == 0 && ps->u1 == 0 && ps->v0 == 0 && ps->v1 == 0) {
-        d[0] = 0;
-        d[1] = 1;
-        d[2] = 0;
-        d[3] = 1;
-    } else {
-        d[0] = ps->u0;
-        d[1] = ps->u1;
-        d[2] = ps->v0;
-        d[3] = ps->v1;
-    }
-    return isfinite(d[0]) && isfinite(d[1]) && isfinite(d[2]) &&
-           isfinite(d[3]) && d[0] < d[1] && d[2] < d[3];
-}
-
-static int parametric_valid(const ray_parametric_surface *ps)
-{
-    ray_ray r = empty_ray();
-    ray_hit h;
-
-    return ray_parametric(&r, ps, &h) != -RAY_EINVAL;
 }
 
 int ray_scene_add_parametric(ray_scene *s, const ray_parametric_surface *ps,
@@ -140,7 +88,7 @@ int ray_scene_add_parametric(ray_scene *s, const ray_parametric_surface *ps,
 
     if (rc != RAY_OK)
         return rc;
-    if (ps == NULL || !parametric_valid(ps) || !parametric_domain(ps, d))
+    if (!ray__parametric_domain(ps, d))
         return RAY_EINVAL;
     ps->bounds(ps->ud, d[0], d[1], d[2], d[3], &lo, &hi);
     if (!v3_isfinite(lo) || !v3_isfinite(hi) || lo.x > hi.x ||
