@@ -228,6 +228,8 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     ray_image_free(img);
     ray_image_free(NULL);
     ray_image_size(NULL, NULL, NULL);
+    /* No image, no texture: a material then keeps its plain colour. */
+    ck_assert(ray_texture_image(NULL).fn == NULL);
 }
 END_TEST
 
