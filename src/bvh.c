@@ -6,6 +6,9 @@
 ** each axis, and the split between two bins that minimises
 **     C_trav + (A_left * N_left + A_right * N_right) / A_node
 ** is taken, unless a leaf (cost N, intersection cost 1) is cheaper.
+** C_trav and the size below which a node is always a leaf are the
+** caller's (ray__bvh_costs: triangles and the costlier curved surfaces
+** differ).
 */
 #include <float.h>
 #include <string.h>
@@ -14,12 +17,7 @@
 
 #define BINS 16
 #define MAX_DEPTH 60     /* traversal stacks hold 64 levels */
-#ifndef MAX_LEAF
 #define MAX_LEAF 8       /* a node with more items is always split */
-#endif
-#ifndef TRAVERSAL_COST
-#define TRAVERSAL_COST 1.0f  /* one box pair vs one triangle test */
-#endif
 
 /*
 ** Builder records: an item's box and id, 32 bytes, permuted in place by
@@ -73,6 +71,7 @@ static float box_area(const box *b)
 }
 
 typedef struct builder {
+    const ray__bvh_costs *costs;
     ref *refs;
     ray__node *nodes;
     size_t n_nodes;
@@ -163,7 +162,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
             n_left += bins[axis][b].count;
             if (n_left == 0 || right_count[b] == 0)
                 continue;
-            cost = TRAVERSAL_COST +
+            cost = bd->costs->traversal +
                    (box_area(&acc) * (float)n_left +
                     right_area[b] * (float)right_count[b]) / node_area;
             if (cost < best.cost) {
@@ -276,7 +275,7 @@ static int build_node(builder *bd, const task *t, task *stack)
     node_set_box(n, &t->b.items);
     n->first = (unsigned)t->begin;
     n->count = (unsigned)count;
-    if (count <= 1 || t->depth >= MAX_DEPTH)
+    if (count <= bd->costs->leaf_items || t->depth >= MAX_DEPTH)
         return 0;
     sp = best_split(bd, t->begin, t->end, &t->b.centroids,
                     box_area(&t->b.items));
@@ -304,12 +303,12 @@ static int build_node(builder *bd, const task *t, task *stack)
 void ray__bvh_free(const ray_scene *s, ray__bvh *bvh)
 {
     ray__free(s, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
-    ray__free(s, bvh->nodes4, bvh->n_nodes4 * sizeof *bvh->nodes4);
+    ray__free(s, bvh->wide, bvh->n_wide * sizeof *bvh->wide);
     ray__free(s, bvh->items, bvh->n_items * sizeof *bvh->items);
     memset(bvh, 0, sizeof *bvh);
 }
 
-/* ---------------------------------------------------- 4-wide collapse */
+/* ------------------------------------------------------- wide collapse */
 
 static float node_area(const ray__node *n)
 {
@@ -319,26 +318,33 @@ static float node_area(const ray__node *n)
     return box_area(&b);
 }
 
+/* Is binary node n an inner node, opened by the collapse? */
+static int opens(const ray__node *n)
+{
+    return n->count == 0;
+}
+
 /*
-** The up to four binary nodes that become the children of the 4-wide node
-** for binary node "n": start from its two children and open the inner one
-** of largest surface area until there are four or only leaves remain (the
-** usual greedy collapse: the largest boxes are the likeliest to be hit, so
-** they gain most from being tested together).  Returns how many.
+** The up to RAY__WIDTH binary nodes that become the children of the wide
+** node for binary node "n": start from its two children and open the
+** inner one of largest surface area until there are RAY__WIDTH or only
+** leaves remain (the usual greedy collapse: the largest boxes are the
+** likeliest to be hit, so they gain most from being tested together).
+** Returns how many.
 */
 static int gather_children(const ray__node *nodes, unsigned n,
-                           unsigned out[4])
+                           unsigned out[RAY__WIDTH])
 {
     int k = 2;
 
     out[0] = nodes[n].first;
     out[1] = nodes[n].first + 1;
-    while (k < 4) {
+    while (k < RAY__WIDTH) {
         int best = -1, i;
         float best_area = -1;
         for (i = 0; i < k; i++) {
             const ray__node *c = &nodes[out[i]];
-            if (c->count == 0 && node_area(c) > best_area) {
+            if (opens(c) && node_area(c) > best_area) {
                 best_area = node_area(c);
                 best = i;
             }
@@ -351,7 +357,7 @@ static int gather_children(const ray__node *nodes, unsigned n,
     return k;
 }
 
-static void slot_set(ray__node4 *q, int k, const ray__node *c)
+static void slot_set(ray__wnode *q, int k, const ray__node *c)
 {
     int a;
     for (a = 0; a < 3; a++) {
@@ -360,7 +366,7 @@ static void slot_set(ray__node4 *q, int k, const ray__node *c)
     }
 }
 
-static void slot_empty(ray__node4 *q, int k)
+static void slot_empty(ray__wnode *q, int k)
 {
     int a;
     for (a = 0; a < 3; a++) {
@@ -368,40 +374,62 @@ static void slot_empty(ray__node4 *q, int k)
         q->hi[a][k] = -HUGE_VALF;
     }
     q->child[k] = 0;
-    q->count[k] = RAY__EMPTY;
+    q->count[k] = RAY__LEAF;            /* a leaf of no items */
+}
+
+/* How many wide nodes the collapse makes: a dry run of it. */
+static size_t count_wide(const ray__node *nodes)
+{
+    unsigned stack[RAY__WIDTH * 64];
+    size_t n = 1;
+    int sp = 0;
+
+    if (opens(&nodes[0]))
+        stack[sp++] = 0;
+    while (sp > 0) {
+        unsigned kids[RAY__WIDTH];
+        int k, m = gather_children(nodes, stack[--sp], kids);
+        for (k = 0; k < m; k++)
+            if (opens(&nodes[kids[k]])) {
+                stack[sp++] = kids[k];
+                n++;
+            }
+    }
+    return n;
 }
 
 /*
-** Collapse the binary BVH into 4-wide nodes.  A binary tree of n nodes has
-** (n - 1) / 2 inner nodes and every 4-wide node consumes at least one of
-** them, so n / 2 + 1 nodes always suffice (trimmed afterwards).
+** Collapse the binary BVH into wide nodes, counted first so that the
+** array is allocated once at its size.  The children of a wide node are
+** numbered consecutively, depth first.
 */
 static int collapse(const ray_scene *s, ray__bvh *bvh)
 {
-    size_t cap = bvh->n_nodes / 2 + 1, used = 1;
-    unsigned stack[4 * 64][2];     /* (binary node, node4): 3 per level */
-    ray__node4 *q4 = ray__alloc(s, cap * sizeof *q4), *trimmed;
+    size_t cap = count_wide(bvh->nodes), used = 1;
+    /* (binary node, wide node): RAY__WIDTH - 1 per level, 64 levels */
+    unsigned stack[RAY__WIDTH * 64][2];
+    ray__wnode *w = ray__alloc(s, cap * sizeof *w);
     int sp = 0;
 
-    if (q4 == NULL)
+    if (w == NULL)
         return RAY_ENOMEM;
-    if (bvh->nodes[0].count > 0) {        /* the root is a leaf */
+    if (!opens(&bvh->nodes[0])) {         /* the root is a leaf */
         int k;
-        for (k = 1; k < 4; k++)
-            slot_empty(&q4[0], k);
-        slot_set(&q4[0], 0, &bvh->nodes[0]);
-        q4[0].child[0] = bvh->nodes[0].first;
-        q4[0].count[0] = bvh->nodes[0].count;
+        for (k = 1; k < RAY__WIDTH; k++)
+            slot_empty(&w[0], k);
+        slot_set(&w[0], 0, &bvh->nodes[0]);
+        w[0].child[0] = bvh->nodes[0].first;
+        w[0].count[0] = RAY__LEAF | bvh->nodes[0].count;
     } else {
         stack[0][0] = 0;
         stack[0][1] = 0;
         sp = 1;
     }
     while (sp > 0) {
-        unsigned n = stack[--sp][0], qi = stack[sp][1], kids[4];
+        unsigned n = stack[--sp][0], qi = stack[sp][1], kids[RAY__WIDTH];
         int k, m = gather_children(bvh->nodes, n, kids);
-        ray__node4 *q = &q4[qi];
-        for (k = 0; k < 4; k++) {
+        ray__wnode *q = &w[qi];
+        for (k = 0; k < RAY__WIDTH; k++) {
             const ray__node *c;
             if (k >= m) {
                 slot_empty(q, k);
@@ -409,9 +437,9 @@ static int collapse(const ray_scene *s, ray__bvh *bvh)
             }
             c = &bvh->nodes[kids[k]];
             slot_set(q, k, c);
-            if (c->count > 0) {
+            if (!opens(c)) {
                 q->child[k] = c->first;
-                q->count[k] = c->count;
+                q->count[k] = RAY__LEAF | c->count;
             } else {
                 q->child[k] = (unsigned)used;
                 q->count[k] = 0;
@@ -420,13 +448,8 @@ static int collapse(const ray_scene *s, ray__bvh *bvh)
             }
         }
     }
-    trimmed = ray__realloc(s, q4, cap * sizeof *q4, used * sizeof *q4);
-    if (trimmed == NULL)                  /* keep the larger block */
-        used = cap;
-    else
-        q4 = trimmed;
-    bvh->nodes4 = q4;
-    bvh->n_nodes4 = used;
+    bvh->wide = w;
+    bvh->n_wide = used;
     ray__free(s, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
     bvh->nodes = NULL;
     bvh->n_nodes = bvh->cap_nodes = 0;
@@ -434,7 +457,7 @@ static int collapse(const ray_scene *s, ray__bvh *bvh)
 }
 
 int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
-                   size_t n, ray__bvh *out)
+                   size_t n, const ray__bvh_costs *costs, ray__bvh *out)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
@@ -448,6 +471,7 @@ int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
     if (n > 0x7fffffffu)
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
+    bd.costs = costs;
     bd.refs = ray__alloc(s, n * sizeof *bd.refs);
     bd.nodes = ray__alloc(s, cap * sizeof *bd.nodes);
     items = ray__alloc(s, n * sizeof *items);

@@ -9,6 +9,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "ray.h"
 
@@ -177,33 +178,56 @@ typedef struct ray__frame {
     ray_vec3 org;
 } ray__frame;
 
-/* Set up the frame of r; 0 (frame unset) for a zero or NaN direction. */
+/* Set up the frame of r; 0 (frame unset) for a zero or NaN direction.
+** Indexing instead of branches: which axis is largest is a coin toss for
+** incoherent rays, and a mispredicted branch costs more than the lot. */
 static inline int ray__frame_init(ray__frame *f, const ray_ray *r)
 {
+    static const int next_axis[3] = {1, 2, 0};
     ray_vec3 ad = v3_abs(r->dir);
+    double d[3];
+    int x_largest = (ad.x > ad.y) & (ad.x > ad.z);
+    int y_largest = !(ad.x > ad.y) & (ad.y > ad.z);
 
-    f->kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    f->kx = (f->kz + 1) % 3;
-    f->ky = (f->kx + 1) % 3;
-    f->dz = v3_axis(r->dir, f->kz);
+    d[0] = r->dir.x;
+    d[1] = r->dir.y;
+    d[2] = r->dir.z;
+    f->kz = 2 - 2 * x_largest - y_largest;
+    f->kx = next_axis[f->kz];
+    f->ky = next_axis[f->kx];
+    f->dz = d[f->kz];
     if (f->dz == 0 || f->dz != f->dz)
         return 0;
-    f->sx = v3_axis(r->dir, f->kx) / f->dz;
-    f->sy = v3_axis(r->dir, f->ky) / f->dz;
+    f->sx = d[f->kx] / f->dz;
+    f->sy = d[f->ky] / f->dz;
     f->org = r->org;
     return 1;
 }
 
 /* Vertex v in the frame: p[0], p[1] sheared so the ray is (0, 0); p[2]
 ** the unsheared distance along kz (v - org)[kz]. */
-static inline void ray__frame_project(const ray__frame *f, ray_vec3 v,
+static inline void ray__frame_project(const ray__frame *f, const ray_vec3 *v,
                                       double p[3])
 {
-    ray_vec3 a = v3_sub(v, f->org);
+    /* An array indexed by the axes: no branch per coordinate. */
+    double a[3];
 
-    p[2] = v3_axis(a, f->kz);
-    p[0] = v3_axis(a, f->kx) - f->sx * p[2];
-    p[1] = v3_axis(a, f->ky) - f->sy * p[2];
+    a[0] = v->x - f->org.x;
+    a[1] = v->y - f->org.y;
+    a[2] = v->z - f->org.z;
+    p[2] = a[f->kz];
+    p[0] = a[f->kx] - f->sx * p[2];
+    p[1] = a[f->ky] - f->sy * p[2];
+}
+
+/* A ray that can hit anything: finite origin and direction, a non-zero
+** direction and tmin < tmax (a hit needs tmin < t < tmax); every other
+** ray hits nothing, whatever the geometry. */
+static inline int ray__ray_usable(const ray_ray *r)
+{
+    return v3_isfinite(r->org) && v3_isfinite(r->dir) &&
+           (r->dir.x != 0 || r->dir.y != 0 || r->dir.z != 0) &&
+           r->tmin < r->tmax;
 }
 
 /*
@@ -306,11 +330,11 @@ typedef struct ray__mesh {
 } ray__mesh;
 
 /*
-** A BVH node: its box, in float, rounded outward from the double geometry
-** so it still contains it; an inner node (count == 0) has its two children
+** A node of the binary BVH that the build makes and collapses into wide
+** nodes: its box, in float, rounded outward from the double geometry so
+** it still contains it; an inner node (count == 0) has its two children
 ** side by side at nodes[first] and nodes[first + 1], a leaf holds items
-** first .. first + count - 1.  32 bytes: both children's boxes in one
-** 64-byte cache line.
+** first .. first + count - 1.
 */
 typedef struct ray__node {
     float lo[3], hi[3];
@@ -318,24 +342,29 @@ typedef struct ray__node {
 } ray__node;
 
 /*
-** The traversal's node: four children's boxes side by side, one float
-** array per bound and axis, so one pass of four-lane arithmetic tests all
-** four (compilers turn the lane loops into SIMD).  child[k] is a node4
-** index when count[k] == 0, else a leaf's first item and count[k] its
-** length; an unused slot has an empty box (lo = +Inf, hi = -Inf) and
-** count RAY__EMPTY.  128 bytes: two cache lines.
+** The traversal's node: up to RAY__WIDTH children's boxes side by side,
+** one float array per bound and axis, so four- or eight-lane arithmetic
+** tests them all at once.  Eight children rather than four halve the
+** depth a ray descends, and traversal is a chain of dependent node visits
+** (each ~70 cycles, mostly latency); the two four-lane halves of a node
+** are independent and overlap.  count[k] == 0: child[k] is the index of an
+** inner node; else slot k is a leaf, count[k] == RAY__LEAF | n, of the n
+** items from child[k].  An unused slot is a leaf of no items with an
+** empty box (lo = +Inf, hi = -Inf), so even a ray that "entered" it would
+** test nothing.  256 bytes: four cache lines.
 */
-#define RAY__EMPTY 0xffffffffu
-typedef struct ray__node4 {
-    float lo[3][4], hi[3][4];
-    unsigned child[4], count[4];
-} ray__node4;
+#define RAY__WIDTH 8
+#define RAY__LEAF 0x80000000u
+typedef struct ray__wnode {
+    float lo[3][RAY__WIDTH], hi[3][RAY__WIDTH];
+    unsigned child[RAY__WIDTH], count[RAY__WIDTH];
+} ray__wnode;
 
 typedef struct ray__bvh {
     ray__node *nodes;    /* binary BVH: built first, freed after collapse */
     size_t n_nodes, cap_nodes;
-    ray__node4 *nodes4;  /* what traversal uses */
-    size_t n_nodes4;
+    ray__wnode *wide;    /* what traversal uses */
+    size_t n_wide;
     unsigned *items;     /* leaf order -> item index */
     size_t n_items;
 } ray__bvh;
@@ -422,50 +451,51 @@ int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 a, ray_vec3 b,
 /*
 ** Build a BVH over n items whose float boxes box(ud, i, lo, hi) writes
 ** (rounded outward), with the binned surface-area heuristic, collapsed to
-** 4-wide nodes.  On success *out holds the nodes and the item permutation
-** (through the scene's allocator).  RAY_OK or RAY_ENOMEM (nothing kept).
+** RAY__WIDTH-wide nodes.  On success *out holds the nodes and the item
+** permutation (through the scene's allocator).  RAY_OK or RAY_ENOMEM
+** (nothing kept).
 */
 typedef void (*ray__box_fn)(const void *ud, size_t i, float lo[3],
                             float hi[3]);
+typedef struct ray__bvh_costs {
+    float traversal;         /* a split's cost, in item tests */
+    unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
+} ray__bvh_costs;
 int ray__bvh_build(const ray_scene *s, ray__box_fn box, const void *ud,
-                   size_t n, ray__bvh *out);
+                   size_t n, const ray__bvh_costs *costs, ray__bvh *out);
 void ray__bvh_free(const ray_scene *s, ray__bvh *bvh);
 
 /*
-** The float next to f toward -Inf (down) or +Inf (up), for f neither NaN
-** nor the infinity in that direction: one step of the IEEE-754 bit
-** pattern, which orders like the value within a sign (an inline
-** nextafterf, which is a libm call).
+** x rounded to a float no larger (down) or no smaller (up) than it, so a
+** double interval becomes a float one that still contains it: the
+** nearest float, moved one step of its IEEE-754 bit pattern (which orders
+** like the value within a sign: an inline nextafterf) when it fell on the
+** wrong side.  Branch-free, since the side is a coin toss for the ray
+** origins of a traversal: the step is +1 or -1 on the bits by the sign,
+** times 0 or 1.  A zero needs no special case: only -0 steps down (to
+** -2^-149: an x below +0 rounds to -0) and only +0 steps up.  NaN stays
+** NaN (both comparisons fail).
 */
-static inline float ray__float_step(float f, int up)
-{
-    union {
-        float f;
-        uint32_t u;
-    } v;
-
-    if (f == 0)
-        return up ? 0x1p-149f : -0x1p-149f;
-    v.f = f;
-    if ((f > 0) == (up != 0))
-        v.u++;
-    else
-        v.u--;
-    return v.f;
-}
-
-/* x rounded to a float no larger (down) or no smaller (up) than it, so a
-** double interval becomes a float one that still contains it. */
 static inline float ray__float_down(double x)
 {
     float f = (float)x;
-    return (double)f > x ? ray__float_step(f, 0) : f;
+    uint32_t u, need = (double)f > x;
+
+    memcpy(&u, &f, sizeof u);
+    u += need * (2u * (u >> 31) - 1u);     /* f > 0: -1; f < 0 or -0: +1 */
+    memcpy(&f, &u, sizeof f);
+    return f;
 }
 
 static inline float ray__float_up(double x)
 {
     float f = (float)x;
-    return (double)f < x ? ray__float_step(f, 1) : f;
+    uint32_t u, need = (double)f < x;
+
+    memcpy(&u, &f, sizeof u);
+    u += need * (1u - 2u * (u >> 31));     /* f >= +0: +1; f < 0: -1 */
+    memcpy(&f, &u, sizeof f);
+    return f;
 }
 
 /*

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "watertight.h"
 
 /*
 ** The slab test, four boxes at a time in float, kept conservative: it may
@@ -32,15 +33,21 @@
 typedef struct trav {
     float o_near[3], o_far[3];   /* the origin end used for near / far */
     float inv[3];
-    int near_hi[3];              /* 1: the near plane is hi on that axis */
-    float tmin, tmax;            /* the interval, widened to floats */
+    size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
+    float tmin;                  /* widened to a float */
+    ray__watertight wt;          /* the triangle test's frame of the ray */
 } trav;
 
 /* float's gamma(3) doubled: 1 + 2 * 3u / (1 - 3u), u = 2^-24. */
 #define FLOAT_GROW (1.0f + 2.0f * (3.0f * 5.96046448e-8f) / \
                                (1.0f - 3.0f * 5.96046448e-8f))
 
-static void trav_init(trav *tr, const ray_ray *r)
+/*
+** The ray's traversal data; 0 for a ray that can hit nothing.  Free of
+** branches on the ray's signs and roundings (each a coin toss for
+** incoherent rays): the choices are made by indexing.
+*/
+static int trav_init(trav *tr, const ray_ray *r)
 {
     double o[3], d[3];
     int k;
@@ -52,95 +59,134 @@ static void trav_init(trav *tr, const ray_ray *r)
     d[1] = r->dir.y;
     d[2] = r->dir.z;
     for (k = 0; k < 3; k++) {
-        double inv = 1.0 / d[k];
-        int neg = inv < 0 || (inv == 0 && signbit(d[k]));
-        float lo = ray__float_down(o[k]), hi = ray__float_up(o[k]);
-        tr->inv[k] = (float)inv;
-        tr->near_hi[k] = neg;
+        /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
+        int neg = signbit(d[k]) != 0;
+        float ends[2];
+        size_t at[2];
+        ends[0] = ray__float_down(o[k]);
+        ends[1] = ray__float_up(o[k]);
+        at[0] = offsetof(ray__wnode, lo[k]);
+        at[1] = offsetof(ray__wnode, hi[k]);
+        tr->inv[k] = (float)(1.0 / d[k]);
         /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
         ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
-        tr->o_near[k] = neg ? lo : hi;
-        tr->o_far[k] = neg ? hi : lo;
+        tr->near_at[k] = at[neg];
+        tr->far_at[k] = at[!neg];
+        tr->o_near[k] = ends[!neg];
+        tr->o_far[k] = ends[neg];
     }
     tr->tmin = ray__float_down(r->tmin);
-    tr->tmax = ray__float_up(r->tmax);
+    return ray__watertight_init(&tr->wt, r);
 }
 
-/* Which of node q's four boxes does the ray enter within (tmin, tmax)?
-** Returns a bit mask; entry[k] is where it enters box k. */
-#if defined(__GNUC__) && !defined(RAY_NO_VECTOR_EXTENSIONS)
+/* Node q's bound array at byte offset "at" (one of trav's offsets). */
+static inline const float *bound_at(const ray__wnode *q, size_t at)
+{
+    return (const float *)(const void *)((const char *)q + at);
+}
+
 /*
-** With GCC or Clang, the four lanes are written with their vector
-** extensions (one SSE/NEON register per quantity); the arithmetic is the
-** same as the plain loop below, lane for lane.  Selections go through
-** comparison masks so that a NaN lane keeps the old value exactly as the
-** plain "tn > t0 ? tn : t0" does.
+** Which of node q's boxes does the ray enter within (tmin, tmax)?
+** boxes_hit returns a bit mask; entry[k] is where it enters box k.  The
+** ray's quantities are first spread over the lanes ("lanes", once per
+** traversal), so a node costs only its loads and the arithmetic.
 */
-typedef float v4f __attribute__((vector_size(16)));
-typedef int v4i __attribute__((vector_size(16)));
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#include <emmintrin.h>
+#if RAY__WIDTH != 8
+#error "boxes_hit below tests two halves of four lanes"
+#endif
+/*
+** SSE: four lanes a register, the same arithmetic as the plain loop below
+** lane for lane; a node's two halves are independent, so their latencies
+** overlap.  maxps / minps return their second operand when either is NaN,
+** so max(tn, t0) keeps t0 for a NaN tn exactly as the plain
+** "tn > t0 ? tn : t0" does.
+*/
+typedef struct lanes {
+    __m128 o_near[3], o_far[3], inv[3], tmin, grow;
+    size_t near_at[3], far_at[3];
+} lanes;
 
-static inline v4f v4_load(const float *p)
+static void lanes_init(lanes *l, const trav *tr)
 {
-    v4f v;
-    memcpy(&v, p, sizeof v);     /* no alignment assumed: movups */
-    return v;
-}
-
-static inline v4f v4_select(v4i mask, v4f a, v4f b)
-{
-    return (v4f)(((v4i)a & mask) | ((v4i)b & ~mask));
-}
-
-static inline unsigned boxes_hit(const ray__node4 *q, const trav *tr,
-                                 float tmax, float entry[4])
-{
-    v4f t0 = {tr->tmin, tr->tmin, tr->tmin, tr->tmin};
-    v4f t1 = {HUGE_VALF, HUGE_VALF, HUGE_VALF, HUGE_VALF};
-    v4f grow = {FLOAT_GROW, FLOAT_GROW, FLOAT_GROW, FLOAT_GROW};
-    v4f vmax = {tmax, tmax, tmax, tmax};
-    v4i hit;
     int a;
 
     for (a = 0; a < 3; a++) {
-        v4f np = v4_load(tr->near_hi[a] ? q->hi[a] : q->lo[a]);
-        v4f fp = v4_load(tr->near_hi[a] ? q->lo[a] : q->hi[a]);
-        v4f on = {tr->o_near[a], tr->o_near[a], tr->o_near[a], tr->o_near[a]};
-        v4f of = {tr->o_far[a], tr->o_far[a], tr->o_far[a], tr->o_far[a]};
-        v4f inv = {tr->inv[a], tr->inv[a], tr->inv[a], tr->inv[a]};
-        v4f tn = (np - on) * inv, tf = (fp - of) * inv;
-        t0 = v4_select(tn > t0, tn, t0);            /* NaN tn: ignored */
-        t1 = v4_select(tf < t1, tf, t1);            /* NaN tf: ignored */
+        l->o_near[a] = _mm_set1_ps(tr->o_near[a]);
+        l->o_far[a] = _mm_set1_ps(tr->o_far[a]);
+        l->inv[a] = _mm_set1_ps(tr->inv[a]);
+        l->near_at[a] = tr->near_at[a];
+        l->far_at[a] = tr->far_at[a];
     }
-    t1 = t1 * grow;
-    t1 = v4_select(t1 < vmax, t1, vmax);
-    hit = t0 <= t1;
-    memcpy(entry, &t0, sizeof t0);
-    return (unsigned)((hit[0] & 1) | (hit[1] & 2) | (hit[2] & 4) |
-                      (hit[3] & 8));
+    l->tmin = _mm_set1_ps(tr->tmin);
+    l->grow = _mm_set1_ps(FLOAT_GROW);
+}
+
+/* Narrow [*t0, *t1] to the slab of axis a, in lanes lane .. lane + 3. */
+static inline void slab4(const ray__wnode *q, const lanes *l, int a,
+                         int lane, __m128 *t0, __m128 *t1)
+{
+    __m128 np = _mm_loadu_ps(bound_at(q, l->near_at[a]) + lane);
+    __m128 fp = _mm_loadu_ps(bound_at(q, l->far_at[a]) + lane);
+    __m128 tn = _mm_mul_ps(_mm_sub_ps(np, l->o_near[a]), l->inv[a]);
+    __m128 tf = _mm_mul_ps(_mm_sub_ps(fp, l->o_far[a]), l->inv[a]);
+
+    *t0 = _mm_max_ps(tn, *t0);                       /* NaN tn: ignored */
+    *t1 = _mm_min_ps(tf, *t1);                       /* NaN tf: ignored */
+}
+
+static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
+                                  __m128 vmax, int lane, float *entry)
+{
+    __m128 t0 = l->tmin, t1 = _mm_set1_ps(HUGE_VALF);
+
+    slab4(q, l, 0, lane, &t0, &t1);
+    slab4(q, l, 1, lane, &t0, &t1);
+    slab4(q, l, 2, lane, &t0, &t1);
+    t1 = _mm_min_ps(_mm_mul_ps(t1, l->grow), vmax);
+    _mm_storeu_ps(entry + lane, t0);
+    return (unsigned)_mm_movemask_ps(_mm_cmple_ps(t0, t1)) << lane;
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    __m128 vmax = _mm_set1_ps(tmax);
+
+    /* Written out for the two halves (-O2 does not unroll a loop). */
+    return boxes_hit4(q, l, vmax, 0, entry) | boxes_hit4(q, l, vmax, 4, entry);
 }
 #else
-static inline unsigned boxes_hit(const ray__node4 *q, const trav *tr,
-                                 float tmax, float entry[4])
+typedef trav lanes;
+
+static void lanes_init(lanes *l, const trav *tr)
 {
-    float t0[4], t1[4];
+    *l = *tr;
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *tr,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    float t0[RAY__WIDTH], t1[RAY__WIDTH];
     unsigned mask = 0;
     int a, k;
 
-    for (k = 0; k < 4; k++) {
+    for (k = 0; k < RAY__WIDTH; k++) {
         t0[k] = tr->tmin;
         t1[k] = HUGE_VALF;
     }
     for (a = 0; a < 3; a++) {
-        const float *np = tr->near_hi[a] ? q->hi[a] : q->lo[a];
-        const float *fp = tr->near_hi[a] ? q->lo[a] : q->hi[a];
-        for (k = 0; k < 4; k++) {
+        const float *np = bound_at(q, tr->near_at[a]);
+        const float *fp = bound_at(q, tr->far_at[a]);
+        for (k = 0; k < RAY__WIDTH; k++) {
             float tn = (np[k] - tr->o_near[a]) * tr->inv[a];
             float tf = (fp[k] - tr->o_far[a]) * tr->inv[a];
             t0[k] = tn > t0[k] ? tn : t0[k];        /* NaN tn: ignored */
             t1[k] = tf < t1[k] ? tf : t1[k];        /* NaN tf: ignored */
         }
     }
-    for (k = 0; k < 4; k++) {
+    for (k = 0; k < RAY__WIDTH; k++) {
         float far = t1[k] * FLOAT_GROW;
         far = far < tmax ? far : tmax;
         entry[k] = t0[k];
@@ -195,84 +241,125 @@ static void add_counts(ray_stats *st, const query_counts *qc)
     st->root_failures += qc->failures;
 }
 
-static int tri_test(const ray_scene *s, unsigned i, ray_ray *r, void *best);
+static int tri_test(const ray_scene *s, const trav *tr, unsigned i,
+                    ray_ray *r, void *best);
 static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
                      query_counts *qc);
 
+/* A node's slot waiting on the traversal stack: child and count as in
+** ray__wnode, and where the ray enters its box. */
+typedef struct pending {
+    unsigned child, count;
+    float t;
+} pending;
+
+/* The lowest set bit of a mask of RAY__WIDTH bits (mask != 0). */
+static inline int lowest_bit(unsigned mask)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(mask);
+#else
+    int k = 0;
+    while (!(mask >> k & 1))
+        k++;
+    return k;
+#endif
+}
+
 /*
-** Ordered traversal: the children a ray enters are visited nearest first,
-** the others pushed with their entry distances and popped only if still in
-** front of the nearest hit found since.  "any": stop at the first hit.
-** "leaf" picks the primitive test; the function is inlined into each
-** caller, so that choice is made at compile time.
+** Ordered traversal: of the children a ray enters, the nearest is visited
+** next and the others pushed with their entry distances, the farthest
+** deepest, so they are popped nearest first and only if still in front
+** of the nearest hit found since.  One child entered (the usual case deep
+** in the tree) needs no stack at all, two a single compare.  "any": stop
+** at the first hit.  "leaf" picks the primitive test; the function is
+** inlined into each caller, so that choice is made at compile time.
 */
 static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
-                           ray_ray *r, int leaf, void *best, int any,
-                           query_counts *qc)
+                           const trav *tr, ray_ray *r, int leaf, void *best,
+                           int any, query_counts *qc)
 {
-    unsigned stack[4 * 64], ni = 0;
-    float stack_t[4 * 64], tmax;
+    pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
+    unsigned child = 0, count = 0;    /* the root: an inner node */
+    float tmax = ray__float_up(r->tmax);  /* earlier hits shrank it */
     int sp = 0, found = 0;
-    trav tr;
+    lanes l;
 
-    if (bvh->n_nodes4 == 0)
+    if (bvh->n_wide == 0)
         return 0;
-    trav_init(&tr, r);
-    tmax = tr.tmax;
+    lanes_init(&l, tr);
     for (;;) {
-        const ray__node4 *q = &bvh->nodes4[ni];
-        float entry[4];
-        unsigned mask = boxes_hit(q, &tr, tmax, entry), order[4];
-        int n = 0, k, j;
+        if (count == 0) {                           /* an inner node */
+            const ray__wnode *q = &bvh->wide[child];
+            float entry[RAY__WIDTH];
+            unsigned mask = boxes_hit(q, &l, tmax, entry);
+            int k0, k1, base, j;
 
-        /* The entered children, sorted nearest first (insertion sort). */
-        for (k = 0; k < 4; k++) {
-            if (!(mask >> k & 1) || q->count[k] == RAY__EMPTY)
+            if (mask == 0)
+                goto pop;
+            k0 = lowest_bit(mask);
+            mask &= mask - 1;
+            if (mask == 0) {
+                child = q->child[k0];
+                count = q->count[k0];
                 continue;
-            for (j = n; j > 0 && entry[order[j - 1]] > entry[k]; j--)
-                order[j] = order[j - 1];
-            order[j] = (unsigned)k;
-            n++;
+            }
+            k1 = lowest_bit(mask);
+            mask &= mask - 1;
+            if (mask == 0) {
+                int near = entry[k1] < entry[k0] ? k1 : k0;
+                int far = near == k0 ? k1 : k0;
+                stack[sp].child = q->child[far];
+                stack[sp].count = q->count[far];
+                stack[sp++].t = entry[far];
+                child = q->child[near];
+                count = q->count[near];
+                continue;
+            }
+            /* Three or more: push them all, insertion-sorted so the
+            ** nearest is on top, and pop it. */
+            base = sp;
+            for (mask |= 1u << k0 | 1u << k1; mask != 0; mask &= mask - 1) {
+                int k = lowest_bit(mask);
+                pending p;
+                p.child = q->child[k];
+                p.count = q->count[k];
+                p.t = entry[k];
+                for (j = sp; j > base && stack[j - 1].t < p.t; j--)
+                    stack[j] = stack[j - 1];
+                stack[j] = p;
+                sp++;
+            }
+            sp--;
+            child = stack[sp].child;
+            count = stack[sp].count;
+            continue;
         }
-        /* Leaves now, nearest first; inner nodes go on the stack, the
-        ** nearest on top. */
-        for (k = 0; k < n; k++) {
-            unsigned c = order[k], i;
-            if (q->count[c] == 0 || entry[c] > tmax)
-                continue;
-            for (i = q->child[c]; i < q->child[c] + q->count[c]; i++) {
+        {                                           /* a leaf */
+            unsigned i, end = child + (count & ~RAY__LEAF);
+            for (i = child; i < end; i++) {
                 if (leaf == LEAF_TRIANGLES)
                     qc->tests[RAY_PRIM_TRIANGLE]++;
                 else
                     qc->tests[kind_of(s->prims[bvh->items[i]].kind)]++;
-                if (leaf == LEAF_TRIANGLES ? tri_test(s, i, r, best)
+                if (leaf == LEAF_TRIANGLES ? tri_test(s, tr, i, r, best)
                                            : prim_test(s, i, r, best, qc)) {
                     found = 1;
                     if (any)
-                        goto done;
+                        return found;
                     tmax = ray__float_up(r->tmax);
                 }
             }
         }
-        for (k = n - 1; k >= 0; k--) {
-            unsigned c = order[k];
-            if (q->count[c] == 0) {
-                stack[sp] = q->child[c];
-                stack_t[sp++] = entry[c];
-            }
-        }
-        for (;;) {
+    pop:
+        do {
             if (sp == 0)
-                goto done;
+                return found;
             sp--;
-            if (stack_t[sp] <= tmax) {
-                ni = stack[sp];
-                break;
-            }
-        }
+        } while (stack[sp].t > tmax);
+        child = stack[sp].child;
+        count = stack[sp].count;
     }
-done:
-    return found;
 }
 
 /* The nearest triangle so far. */
@@ -281,14 +368,15 @@ typedef struct tri_best {
     double beta, gamma;
 } tri_best;
 
-static inline int tri_test(const ray_scene *s, unsigned i, ray_ray *r,
-                           void *best)
+static inline int tri_test(const ray_scene *s, const trav *tr, unsigned i,
+                           ray_ray *r, void *best)
 {
     const ray__tri *t = &s->tris[i];
     double th, beta, gamma;
     int hit = s->watertight
-                  ? ray__triangle_watertight_test(r, t->a, t->b, t->c, &th,
-                                                  &beta, &gamma)
+                  ? ray__triangle_watertight_pre(&tr->wt, r->tmin, r->tmax,
+                                                 &t->a, &t->b, &t->c, &th,
+                                                 &beta, &gamma)
                   : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
                                        &gamma);
 
@@ -380,9 +468,12 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
     ray_ray rr = *r;
     ray_hit best;
     tri_best tb;
+    trav tr;
     int found = 0;
     size_t i;
 
+    if (!ray__ray_usable(r) || !trav_init(&tr, r))
+        return 0;
     memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes; i++)
         if (prim_intersect(s, s->planes[i], &rr, &best, &qc.failures)) {
@@ -390,9 +481,9 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
             found = 1;
         }
     qc.tests[RAY_PRIM_PLANE] += s->n_planes;
-    if (traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, &best, 0, &qc))
+    if (traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, &best, 0, &qc))
         found = 1;
-    if (traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, &tb, 0, &qc)) {
+    if (traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc)) {
         const ray__tri *t = &s->tris[tb.index];
         /* A usable triangle (checked at commit) always fills. */
         if (ray__triangle_fill(t->a, t->b, t->c, rr.tmax, tb.beta, tb.gamma,
@@ -413,17 +504,21 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
     query_counts qc;
     ray_ray rr = *r;
     ray_hit h;
+    trav tr;
     size_t i;
     int hit = 0;
 
+    if (!ray__ray_usable(r) || !trav_init(&tr, r))
+        return 0;
     memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes && !hit; i++) {
         qc.tests[RAY_PRIM_PLANE]++;
         hit = prim_intersect(s, s->planes[i], &rr, &h, &qc.failures);
     }
     if (!hit)
-        hit = traverse(s, &s->prim_bvh, &rr, LEAF_PRIMS, NULL, 1, &qc) ||
-              traverse(s, &s->tri_bvh, &rr, LEAF_TRIANGLES, NULL, 1, &qc);
+        hit = traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, NULL, 1, &qc) ||
+              traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1,
+                       &qc);
     add_counts(st, &qc);
     return hit;
 }

@@ -179,14 +179,6 @@ int ray__parametric_domain(const ray_parametric_surface *s, double d[4])
     return 1;
 }
 
-/* A ray that can hit anything: finite, non-zero direction, tmin < tmax. */
-static int ray_valid(const ray_ray *r)
-{
-    return v3_isfinite(r->org) && v3_isfinite(r->dir) &&
-           (r->dir.x != 0 || r->dir.y != 0 || r->dir.z != 0) &&
-           r->tmin < r->tmax;
-}
-
 /* |a|, scaled by its largest component first so that it neither
 ** overflows nor underflows (as v3_normalize). */
 static double safe_length(ray_vec3 a)
@@ -913,7 +905,7 @@ int ray_parametric(const ray_ray *r, const ray_parametric_surface *s,
     if (r == NULL || s == NULL || hit == NULL || !settings_valid(s) ||
         !domain_of(s, &j.domain))
         return -RAY_EINVAL;
-    if (!ray_valid(r))
+    if (!ray__ray_usable(r))
         return 0;
     if (!job_init(&j, r, s, &lo, &hi))
         return -RAY_EINVAL;

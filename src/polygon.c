@@ -44,12 +44,12 @@ static int inside_along_ray(const ray_ray *r, const ray_vec3 *v, size_t n)
 
     if (!ray__frame_init(&f, r))
         return 0;
-    ray__frame_project(&f, v[0], first);
+    ray__frame_project(&f, &v[0], first);
     p0[0] = first[0];
     p0[1] = first[1];
     for (i = 1; i <= n; i++) {
         if (i < n)
-            ray__frame_project(&f, v[i], p1);
+            ray__frame_project(&f, &v[i], p1);
         else {
             p1[0] = first[0];
             p1[1] = first[1];

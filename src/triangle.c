@@ -3,6 +3,7 @@
 ** "Fundamentals of Computer Graphics", 3rd ed., section 4.4.2).
 */
 #include "internal.h"
+#include "watertight.h"
 
 /*
 ** Fill *hit from the barycentrics.  The point is interpolated from the
@@ -118,99 +119,17 @@ int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
 
 /* ------------------------------------------------------------ watertight */
 
-/*
-** The 2x2 edge function a_x b_y - a_y b_x in long double (64 significant
-** bits on x86, 113 on AArch64 Linux, plain double on some platforms).
-** Used only to re-evaluate the edge functions when one is exactly 0 in
-** double: more often then its true sign shows.  It stays exactly antisymmetric, fl(p - q) = -fl(q - p), so
-** two triangles sharing the edge still get opposite values.
-*/
-static double edge_extended(double ax, double ay, double bx, double by)
-{
-    return (double)((long double)ax * (long double)by -
-                    (long double)ay * (long double)bx);
-}
-
-/*
-** Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT
-** 2(1), 2013, in double.  The vertices are translated to the ray origin,
-** the axes permuted so the largest direction component is z (and swapped
-** for a negative one, to keep the winding), and sheared so the ray is the
-** +z axis; the triangle is then hit iff the origin of the xy plane is
-** inside it, decided by the three 2-D edge functions U, V, W.
-**
-** Why it is watertight: each vertex is transformed on its own, so a
-** vertex shared by two triangles gets the same coordinates in both, and an
-** edge function depends only on its edge's two vertices: a shared edge
-** gives exactly -U in the neighbour (without FMA contraction, which the
-** build forbids).  Edge functions are accepted with their sign inclusive,
-** so a ray exactly on the edge hits at least one side.  When one is
-** exactly 0 all three are re-evaluated in long double (the paper's double
-** fallback for float), which picks the true side more often.
-**
-** t and the barycentrics come from the same quantities: det = U + V + W,
-** t = (U Az + V Bz + W Cz) / det, beta = V / det, gamma = W / det.
-*/
+/* The test itself is in watertight.h, inlined into the BVH traversal. */
 int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
                                   ray_vec3 vc, double *t_out,
                                   double *beta_out, double *gamma_out)
 {
-    ray__frame f;
-    double pa[3], pb[3], pc[3], sz;
-    double ax, ay, bx, by, cx, cy, u, v, w, det, t_num;
+    ray__watertight w;
 
-    if (!ray__frame_init(&f, r))     /* zero or NaN direction: a miss */
+    if (!ray__watertight_init(&w, r))
         return 0;
-    if (f.dz < 0) {                  /* keep the winding: swap x and y */
-        int k = f.kx;
-        double s = f.sx;
-        f.kx = f.ky;
-        f.ky = k;
-        f.sx = f.sy;
-        f.sy = s;
-    }
-    sz = 1.0 / f.dz;
-    ray__frame_project(&f, va, pa);
-    ray__frame_project(&f, vb, pb);
-    ray__frame_project(&f, vc, pc);
-    ax = pa[0], ay = pa[1];
-    bx = pb[0], by = pb[1];
-    cx = pc[0], cy = pc[1];
-    u = cx * by - cy * bx;
-    v = ax * cy - ay * cx;
-    w = bx * ay - by * ax;
-    if (u == 0 || v == 0 || w == 0) {
-        u = edge_extended(cx, cy, bx, by);
-        v = edge_extended(ax, ay, cx, cy);
-        w = edge_extended(bx, by, ax, ay);
-    }
-    /* Inclusive on both signs: a miss only when the signs truly differ. */
-    if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0))
-        return 0;
-    det = u + v + w;
-    if (det == 0 || det != det)     /* edge-on, degenerate or bad input */
-        return 0;
-    t_num = u * (sz * pa[2]) + v * (sz * pb[2]) + w * (sz * pc[2]);
-    {
-        double t = t_num / det, beta = v / det, gamma = w / det;
-        if (!(t > r->tmin && t < r->tmax))
-            return 0;
-        /* u, v, w share det's sign, so beta, gamma >= 0 and their sum
-        ** <= 1 up to rounding; clamp that rounding for the hit record. */
-        if (beta < 0)
-            beta = 0;
-        if (gamma < 0)
-            gamma = 0;
-        if (beta + gamma > 1) {
-            double s = beta + gamma;
-            beta /= s;
-            gamma /= s;
-        }
-        *t_out = t;
-        *beta_out = beta;
-        *gamma_out = gamma;
-    }
-    return 1;
+    return ray__triangle_watertight_pre(&w, r->tmin, r->tmax, &va, &vb,
+                                        &vc, t_out, beta_out, gamma_out);
 }
 
 int ray_triangle_watertight(const ray_ray *r, ray_vec3 a, ray_vec3 b,
