@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "bench.h"
+#include "internal.h"
 #include "tests.h"
 
 /* A scene whose material *mat (0) shades nothing. */
@@ -324,6 +325,97 @@ START_TEST(bvh_should_not_lose_hits_on_flat_boxes)
 }
 END_TEST
 
+/*
+** The documented refusals: a ray whose origin or direction is not finite,
+** whose direction is zero, or whose interval is empty or NaN hits nothing
+** in a scene of every bounded kind and a plane, and leaves *hit as it was
+** (the traversal refuses such rays before any box test, so no NaN lane
+** can let it into an unused slot).
+*/
+START_TEST(queries_should_refuse_unusable_rays)
+{
+    unsigned mat;
+    ray_scene *s = new_scene(&mat);
+    ray_vec3 quad[4] = {{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}};
+    ray_ray good = ray_from(vec(0, 0, 5), vec(0, 0, -1)), bad[9];
+    ray_hit h, before;
+    int i;
+
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-2, -2, -1), vec(2, -2, -1), vec(0, 2, -1), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_polygon(s, quad, 4, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -3), vec(0, 0, 1), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect(s, &good, &h), 1);
+    ck_assert_double_eq(h.t, 4.0);
+    for (i = 0; i < 9; i++)
+        bad[i] = good;
+    bad[0].org.x = NAN;
+    bad[1].org.z = INFINITY;
+    bad[2].dir.y = NAN;
+    bad[3].dir.z = -INFINITY;
+    bad[4].dir = vec(0, 0, -0.0);
+    bad[5].tmin = 7;
+    bad[5].tmax = 6;
+    bad[6].tmin = bad[6].tmax = 4;
+    bad[7].tmin = NAN;
+    bad[8].tmax = NAN;
+    memset(&before, 0x5a, sizeof before);
+    for (i = 0; i < 9; i++) {
+        h = before;
+        ck_assert_msg(ray_intersect(s, &bad[i], &h) == 0, "ray %d hit", i);
+        ck_assert_msg(memcmp(&h, &before, sizeof h) == 0, "ray %d wrote", i);
+        ck_assert_msg(ray_occluded(s, &bad[i]) == 0, "ray %d occluded", i);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The traversal's float interval must contain the double one: down(x) is
+** the largest float <= x and up(x) the smallest >= x (the bit-stepping,
+** branch-free versions of internal.h against libm's nextafterf), at
+** zeros, denormals, float's overflow threshold, infinities and on 200,000
+** random doubles of every magnitude; NaN stays NaN.
+*/
+static void check_float_bracket(double x)
+{
+    float lo = ray__float_down(x), hi = ray__float_up(x);
+
+    ck_assert_msg((double)lo <= x && (double)nextafterf(lo, INFINITY) > x,
+                  "down(%a) = %a", x, (double)lo);
+    ck_assert_msg((double)hi >= x && (double)nextafterf(hi, -INFINITY) < x,
+                  "up(%a) = %a", x, (double)hi);
+}
+
+START_TEST(floats_should_bracket_doubles)
+{
+    static const double edges[] = {
+        0.0, -0.0, 0x1p-149, -0x1p-149, 0x1p-150, -0x1p-150, 0x1.8p-150,
+        -0x1.8p-150, 1e-300, -1e-300, 0x1p-126, -0x1p-126, 1.0 / 3, -1.0 / 3,
+        1.0, -1.0, FLT_MAX, -FLT_MAX, (double)FLT_MAX * (1 + 0x1p-30),
+        -(double)FLT_MAX * (1 + 0x1p-30), 1e300, -1e300, DBL_MAX, -DBL_MAX,
+        INFINITY, -INFINITY};
+    rng g = {77};
+    size_t i;
+
+    for (i = 0; i < sizeof edges / sizeof edges[0]; i++) {
+        double x = edges[i];
+        if (isinf(x)) {           /* infinities map to themselves */
+            ck_assert(ray__float_down(x) == (float)x);
+            ck_assert(ray__float_up(x) == (float)x);
+        } else {
+            check_float_bracket(x);
+        }
+    }
+    for (i = 0; i < 200000; i++) {
+        double x = ldexp(rng_range(&g, -1, 1), (int)(rng_next(&g) % 600) - 300);
+        check_float_bracket(x);
+    }
+    ck_assert(isnan(ray__float_down(NAN)) && isnan(ray__float_up(NAN)));
+}
+END_TEST
+
 /* Mesh validation: bad input is refused with nothing added. */
 START_TEST(mesh_should_reject_bad_input)
 {
@@ -503,6 +595,8 @@ Suite *bvh_suite(void)
     tcase_add_loop_test(eq, bvh_should_equal_brute_force_on_mixed_scenes, 0, 2);
     tcase_add_test(eq, bvh_should_handle_empty_and_single_scenes);
     tcase_add_loop_test(eq, bvh_should_not_lose_hits_on_flat_boxes, 0, N_OFFSETS);
+    tcase_add_test(eq, queries_should_refuse_unusable_rays);
+    tcase_add_test(eq, floats_should_bracket_doubles);
     tcase_add_test(mesh, mesh_should_reject_bad_input);
     tcase_add_test(mesh, mesh_should_interpolate_normals_and_texcoords);
     tcase_add_test(mesh, mesh_should_build_a_million_triangles_in_bounded_memory);
