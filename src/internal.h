@@ -8,6 +8,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -172,11 +173,33 @@ static inline double ray__default_tolerance(ray_vec3 lo, ray_vec3 hi)
 ** test and the watertight triangle test watertight.
 */
 typedef struct ray__frame {
-    int kx, ky, kz;
+    size_t at[3];            /* byte offsets of components kx, ky, kz */
+    double o[3];             /* the origin's components kx, ky, kz */
     double dz;               /* dir's component along kz */
     double sx, sy;
-    ray_vec3 org;
 } ray__frame;
+
+/* Component "at" (a byte offset, as in ray__frame) of *v: a load from a
+** per-ray offset, where v3_axis would branch on the axis. */
+static inline double v3_at(const ray_vec3 *v, size_t at)
+{
+    return *(const double *)(const void *)((const char *)v + at);
+}
+
+/* The frame's axes kx, ky, kz (a permutation of 0, 1, 2) for origin org. */
+static inline void ray__frame_axes(ray__frame *f, ray_vec3 org, int kx,
+                                   int ky, int kz)
+{
+    static const size_t at[3] = {offsetof(ray_vec3, x),
+                                 offsetof(ray_vec3, y),
+                                 offsetof(ray_vec3, z)};
+    f->at[0] = at[kx];
+    f->at[1] = at[ky];
+    f->at[2] = at[kz];
+    f->o[0] = v3_at(&org, f->at[0]);
+    f->o[1] = v3_at(&org, f->at[1]);
+    f->o[2] = v3_at(&org, f->at[2]);
+}
 
 /* Set up the frame of r; 0 (frame unset) for a zero or NaN direction.
 ** Indexing instead of branches: which axis is largest is a coin toss for
@@ -188,19 +211,18 @@ static inline int ray__frame_init(ray__frame *f, const ray_ray *r)
     double d[3];
     int x_largest = (ad.x > ad.y) & (ad.x > ad.z);
     int y_largest = !(ad.x > ad.y) & (ad.y > ad.z);
+    int kz = 2 - 2 * x_largest - y_largest, kx = next_axis[kz];
+    int ky = next_axis[kx];
 
     d[0] = r->dir.x;
     d[1] = r->dir.y;
     d[2] = r->dir.z;
-    f->kz = 2 - 2 * x_largest - y_largest;
-    f->kx = next_axis[f->kz];
-    f->ky = next_axis[f->kx];
-    f->dz = d[f->kz];
+    f->dz = d[kz];
     if (f->dz == 0 || f->dz != f->dz)
         return 0;
-    f->sx = d[f->kx] / f->dz;
-    f->sy = d[f->ky] / f->dz;
-    f->org = r->org;
+    f->sx = d[kx] / f->dz;
+    f->sy = d[ky] / f->dz;
+    ray__frame_axes(f, r->org, kx, ky, kz);
     return 1;
 }
 
@@ -209,15 +231,9 @@ static inline int ray__frame_init(ray__frame *f, const ray_ray *r)
 static inline void ray__frame_project(const ray__frame *f, const ray_vec3 *v,
                                       double p[3])
 {
-    /* An array indexed by the axes: no branch per coordinate. */
-    double a[3];
-
-    a[0] = v->x - f->org.x;
-    a[1] = v->y - f->org.y;
-    a[2] = v->z - f->org.z;
-    p[2] = a[f->kz];
-    p[0] = a[f->kx] - f->sx * p[2];
-    p[1] = a[f->ky] - f->sy * p[2];
+    p[2] = v3_at(v, f->at[2]) - f->o[2];
+    p[0] = (v3_at(v, f->at[0]) - f->o[0]) - f->sx * p[2];
+    p[1] = (v3_at(v, f->at[1]) - f->o[1]) - f->sy * p[2];
 }
 
 /* A ray that can hit anything: finite origin and direction, a non-zero

@@ -198,6 +198,14 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *tr,
 
 enum { LEAF_TRIANGLES, LEAF_PRIMS };
 
+/* traverse() is inlined into each caller, its "leaf" and "any" constant
+** there, so that each of the four copies keeps only its own branches. */
+#if defined(__GNUC__)
+#define RAY__INLINE inline __attribute__((always_inline))
+#else
+#define RAY__INLINE inline
+#endif
+
 /* The public counter index of an internal primitive kind. */
 static int kind_of(int prim_kind)
 {
@@ -272,12 +280,11 @@ static inline int lowest_bit(unsigned mask)
 ** deepest, so they are popped nearest first and only if still in front
 ** of the nearest hit found since.  One child entered (the usual case deep
 ** in the tree) needs no stack at all, two a single compare.  "any": stop
-** at the first hit.  "leaf" picks the primitive test; the function is
-** inlined into each caller, so that choice is made at compile time.
+** at the first hit.  "leaf" picks the primitive test.
 */
-static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
-                           const trav *tr, ray_ray *r, int leaf, void *best,
-                           int any, query_counts *qc)
+static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
+                                const trav *tr, ray_ray *r, int leaf,
+                                void *best, int any, query_counts *qc)
 {
     pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
     unsigned child = 0, count = 0;    /* the root: an inner node */
@@ -307,7 +314,9 @@ static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
             k1 = lowest_bit(mask);
             mask &= mask - 1;
             if (mask == 0) {
-                int near = entry[k1] < entry[k0] ? k1 : k0;
+                /* Any hit will do: no order (an occluder found a little
+                ** later costs less than ordering every node). */
+                int near = !any && entry[k1] < entry[k0] ? k1 : k0;
                 int far = near == k0 ? k1 : k0;
                 stack[sp].child = q->child[far];
                 stack[sp].count = q->count[far];
@@ -317,7 +326,7 @@ static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
                 continue;
             }
             /* Three or more: push them all, insertion-sorted so the
-            ** nearest is on top, and pop it. */
+            ** nearest is on top (unsorted for any hit), and pop it. */
             base = sp;
             for (mask |= 1u << k0 | 1u << k1; mask != 0; mask &= mask - 1) {
                 int k = lowest_bit(mask);
@@ -325,7 +334,7 @@ static inline int traverse(const ray_scene *s, const ray__bvh *bvh,
                 p.child = q->child[k];
                 p.count = q->count[k];
                 p.t = entry[k];
-                for (j = sp; j > base && stack[j - 1].t < p.t; j--)
+                for (j = sp; !any && j > base && stack[j - 1].t < p.t; j--)
                     stack[j] = stack[j - 1];
                 stack[j] = p;
                 sp++;

@@ -30,6 +30,18 @@ static inline double ray__edge_extended(double ax, double ay, double bx,
                     (long double)ay * (long double)bx);
 }
 
+/* min and max as single instructions (fmin/fmax are libm calls for
+** their NaN rules, not needed here). */
+static inline double dmin(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static inline double dmax(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 /*
 ** Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT
 ** 2(1), 2013, in double.  The vertices are translated to the ray origin,
@@ -53,22 +65,21 @@ static inline double ray__edge_extended(double ax, double ay, double bx,
 static inline int ray__watertight_init(ray__watertight *w,
                                        const ray_ray *r)
 {
-    int axis[2], neg;
-    double shear[2];
+    int neg;
+    size_t at[2];
+    double o[2], shear[2];
 
     if (!ray__frame_init(&w->f, r))  /* zero or NaN direction: a miss */
         return 0;
     /* A negative dz swaps x and y, to keep the winding; by indexing, as
     ** the sign is a coin toss. */
     neg = w->f.dz < 0;
-    axis[0] = w->f.kx;
-    axis[1] = w->f.ky;
-    shear[0] = w->f.sx;
-    shear[1] = w->f.sy;
-    w->f.kx = axis[neg];
-    w->f.ky = axis[!neg];
-    w->f.sx = shear[neg];
-    w->f.sy = shear[!neg];
+    at[0] = w->f.at[0], at[1] = w->f.at[1];
+    o[0] = w->f.o[0], o[1] = w->f.o[1];
+    shear[0] = w->f.sx, shear[1] = w->f.sy;
+    w->f.at[0] = at[neg], w->f.at[1] = at[!neg];
+    w->f.o[0] = o[neg], w->f.o[1] = o[!neg];
+    w->f.sx = shear[neg], w->f.sy = shear[!neg];
     w->sz = 1.0 / w->f.dz;
     return 1;
 }
@@ -90,14 +101,16 @@ static inline int ray__triangle_watertight_pre(
     u = cx * by - cy * bx;
     v = ax * cy - ay * cx;
     w = bx * ay - by * ax;
-    if ((u == 0) | (v == 0) | (w == 0)) {
+    /* One compare each for "any zero" and "signs differ", through the
+    ** smallest magnitude and the extremes (a NaN among u, v, w may go
+    ** either way here: det below is then NaN, a miss in both cases). */
+    if (dmin(dmin(fabs(u), fabs(v)), fabs(w)) == 0) {
         u = ray__edge_extended(cx, cy, bx, by);
         v = ray__edge_extended(ax, ay, cx, cy);
         w = ray__edge_extended(bx, by, ax, ay);
     }
-    /* Inclusive on both signs: a miss only when the signs truly differ
-    ** (one branch, not six: it is taken or not at random). */
-    if (((u < 0) | (v < 0) | (w < 0)) & ((u > 0) | (v > 0) | (w > 0)))
+    /* Inclusive on both signs: a miss only when the signs truly differ. */
+    if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
         return 0;
     det = u + v + w;
     if (det == 0 || det != det)     /* edge-on, degenerate or bad input */
