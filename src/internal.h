@@ -181,9 +181,14 @@ typedef struct ray__frame {
 
 /* Component "at" (a byte offset, as in ray__frame) of *v: a load from a
 ** per-ray offset, where v3_axis would branch on the axis. */
+static inline const double *v3_ptr(const ray_vec3 *v, size_t at)
+{
+    return (const double *)(const void *)((const char *)v + at);
+}
+
 static inline double v3_at(const ray_vec3 *v, size_t at)
 {
-    return *(const double *)(const void *)((const char *)v + at);
+    return *v3_ptr(v, at);
 }
 
 /* The frame's axes kx, ky, kz (a permutation of 0, 1, 2) for origin org. */

@@ -10,6 +10,13 @@
 #include "internal.h"
 #include "watertight.h"
 
+/* Leaves test their triangles in pairs where SSE2 is there. */
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#define RAY__PAIRS 1
+#else
+#define RAY__PAIRS 0
+#endif
+
 /*
 ** The slab test, four boxes at a time in float, kept conservative: it may
 ** let a box through that the ray misses, never the reverse.
@@ -36,6 +43,9 @@ typedef struct trav {
     size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
     float tmin;                  /* widened to a float */
     ray__watertight wt;          /* the triangle test's frame of the ray */
+#if RAY__PAIRS
+    ray__watertight2 wt2;        /* the same, for two triangles at once */
+#endif
 } trav;
 
 /* float's gamma(3) doubled: 1 + 2 * 3u / (1 - 3u), u = 2^-24. */
@@ -76,7 +86,12 @@ static int trav_init(trav *tr, const ray_ray *r)
         tr->o_far[k] = ends[neg];
     }
     tr->tmin = ray__float_down(r->tmin);
-    return ray__watertight_init(&tr->wt, r);
+    if (!ray__watertight_init(&tr->wt, r))
+        return 0;
+#if RAY__PAIRS
+    ray__watertight2_init(&tr->wt2, &tr->wt);
+#endif
+    return 1;
 }
 
 /* Node q's bound array at byte offset "at" (one of trav's offsets). */
@@ -249,8 +264,8 @@ static void add_counts(ray_stats *st, const query_counts *qc)
     st->root_failures += qc->failures;
 }
 
-static int tri_test(const ray_scene *s, const trav *tr, unsigned i,
-                    ray_ray *r, void *best);
+static int tri_leaf(const ray_scene *s, const trav *tr, unsigned first,
+                    unsigned end, ray_ray *r, void *best, int any);
 static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
                      query_counts *qc);
 
@@ -344,15 +359,20 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
             count = stack[sp].count;
             continue;
         }
-        {                                           /* a leaf */
+        if (leaf == LEAF_TRIANGLES) {               /* a leaf */
+            unsigned n = count & ~RAY__LEAF;
+            qc->tests[RAY_PRIM_TRIANGLE] += n;
+            if (tri_leaf(s, tr, child, child + n, r, best, any)) {
+                found = 1;
+                if (any)
+                    return found;
+                tmax = ray__float_up(r->tmax);
+            }
+        } else {
             unsigned i, end = child + (count & ~RAY__LEAF);
             for (i = child; i < end; i++) {
-                if (leaf == LEAF_TRIANGLES)
-                    qc->tests[RAY_PRIM_TRIANGLE]++;
-                else
-                    qc->tests[kind_of(s->prims[bvh->items[i]].kind)]++;
-                if (leaf == LEAF_TRIANGLES ? tri_test(s, tr, i, r, best)
-                                           : prim_test(s, i, r, best, qc)) {
+                qc->tests[kind_of(s->prims[bvh->items[i]].kind)]++;
+                if (prim_test(s, i, r, best, qc)) {
                     found = 1;
                     if (any)
                         return found;
@@ -377,28 +397,89 @@ typedef struct tri_best {
     double beta, gamma;
 } tri_best;
 
-static inline int tri_test(const ray_scene *s, const trav *tr, unsigned i,
+/* Record hit t on triangle i (beta, gamma) as the nearest so far. */
+static inline void tri_hit(unsigned i, double t, double beta, double gamma,
                            ray_ray *r, void *best)
 {
-    const ray__tri *t = &s->tris[i];
-    double th, beta, gamma;
-    int hit = s->watertight
-                  ? ray__triangle_watertight_pre(&tr->wt, r->tmin, r->tmax,
-                                                 &t->a, &t->b, &t->c, &th,
-                                                 &beta, &gamma)
-                  : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
-                                       &gamma);
-
-    if (!hit)
-        return 0;
-    r->tmax = th;
+    r->tmax = t;
     if (best != NULL) {
         tri_best *b = best;
         b->index = i;
         b->beta = beta;
         b->gamma = gamma;
     }
-    return 1;
+}
+
+/*
+** The triangles first .. end - 1 of a leaf, in order, each hit shrinking
+** r->tmax; "any": stop at the first hit.  Where SSE2 is there the
+** watertight test takes them in pairs (an odd one pairs with itself, its
+** twin lane giving the same answer, which the order below ignores); each
+** pair's lanes are ended in order, so the answers are those of testing
+** one triangle after another.
+*/
+static inline int tri_leaf(const ray_scene *s, const trav *tr,
+                           unsigned first, unsigned end, ray_ray *r,
+                           void *best, int any)
+{
+    int found = 0;
+    unsigned i;
+
+#if RAY__PAIRS
+    if (s->watertight) {
+        for (i = first; i < end; i += 2) {
+            unsigned pair[2];
+            const ray__tri *t0 = &s->tris[i], *t1;
+            double u[2], v[2], w[2], z[6];
+            int m, lane;
+            pair[0] = i;
+            pair[1] = i + 1 < end ? i + 1 : i;
+            t1 = &s->tris[pair[1]];
+            m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
+                                     &t1->b, &t0->c, &t1->c, u, v, w, z);
+            if (m == 0)
+                continue;
+            for (lane = 0; lane < 2; lane++) {
+                const ray__tri *t = lane ? t1 : t0;
+                double th, beta, gamma;
+                int hit = m < 0 ? ray__triangle_watertight_pre(
+                                      &tr->wt, r->tmin, r->tmax, &t->a,
+                                      &t->b, &t->c, &th, &beta, &gamma)
+                                : (m >> lane & 1) &&
+                                      ray__watertight_finish(
+                                          &tr->wt, u[lane], v[lane], w[lane],
+                                          z[3 * lane], z[3 * lane + 1],
+                                          z[3 * lane + 2], r->tmin, r->tmax,
+                                          &th, &beta, &gamma);
+                if (hit) {
+                    tri_hit(pair[lane], th, beta, gamma, r, best);
+                    found = 1;
+                    if (any)
+                        return 1;
+                }
+            }
+        }
+        return found;
+    }
+#endif
+    for (i = first; i < end; i++) {
+        const ray__tri *t = &s->tris[i];
+        double th, beta, gamma;
+        int hit = s->watertight
+                      ? ray__triangle_watertight_pre(&tr->wt, r->tmin,
+                                                     r->tmax, &t->a, &t->b,
+                                                     &t->c, &th, &beta,
+                                                     &gamma)
+                      : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
+                                           &gamma);
+        if (hit) {
+            tri_hit(i, th, beta, gamma, r, best);
+            found = 1;
+            if (any)
+                return 1;
+        }
+    }
+    return found;
 }
 
 /* A Bezier patch from its control points in the scene. */

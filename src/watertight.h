@@ -84,13 +84,53 @@ static inline int ray__watertight_init(ray__watertight *w,
     return 1;
 }
 
+/*
+** The test's end, from the edge functions u, v, w (their signs checked)
+** and the projected distances za, zb, zc of the vertices along kz: det,
+** t in (tmin, tmax), the barycentrics.  Shared by the one-triangle test
+** and the SSE pair test, so both give the same bits.
+*/
+static inline int ray__watertight_finish(const ray__watertight *wt,
+                                         double u, double v, double w,
+                                         double za, double zb, double zc,
+                                         double tmin, double tmax,
+                                         double *t_out, double *beta_out,
+                                         double *gamma_out)
+{
+    double det = u + v + w, t_num, t, beta, gamma;
+
+    if (det == 0 || det != det)     /* edge-on, degenerate or bad input */
+        return 0;
+    t_num = u * (wt->sz * za) + v * (wt->sz * zb) + w * (wt->sz * zc);
+    t = t_num / det;
+    if (!(t > tmin && t < tmax))
+        return 0;
+    beta = v / det;
+    gamma = w / det;
+    /* u, v, w share det's sign, so beta, gamma >= 0 and their sum <= 1 up
+    ** to rounding; clamp that rounding for the hit record. */
+    if (beta < 0)
+        beta = 0;
+    if (gamma < 0)
+        gamma = 0;
+    if (beta + gamma > 1) {
+        double sum = beta + gamma;
+        beta /= sum;
+        gamma /= sum;
+    }
+    *t_out = t;
+    *beta_out = beta;
+    *gamma_out = gamma;
+    return 1;
+}
+
 static inline int ray__triangle_watertight_pre(
     const ray__watertight *wt, double tmin, double tmax, const ray_vec3 *va,
     const ray_vec3 *vb, const ray_vec3 *vc, double *t_out, double *beta_out,
     double *gamma_out)
 {
     double pa[3], pb[3], pc[3];
-    double ax, ay, bx, by, cx, cy, u, v, w, det, t_num;
+    double ax, ay, bx, by, cx, cy, u, v, w;
 
     ray__frame_project(&wt->f, va, pa);
     ray__frame_project(&wt->f, vb, pb);
@@ -103,7 +143,7 @@ static inline int ray__triangle_watertight_pre(
     w = bx * ay - by * ax;
     /* One compare each for "any zero" and "signs differ", through the
     ** smallest magnitude and the extremes (a NaN among u, v, w may go
-    ** either way here: det below is then NaN, a miss in both cases). */
+    ** either way here: det is then NaN, a miss in both cases). */
     if (dmin(dmin(fabs(u), fabs(v)), fabs(w)) == 0) {
         u = ray__edge_extended(cx, cy, bx, by);
         v = ray__edge_extended(ax, ay, cx, cy);
@@ -112,33 +152,106 @@ static inline int ray__triangle_watertight_pre(
     /* Inclusive on both signs: a miss only when the signs truly differ. */
     if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
         return 0;
-    det = u + v + w;
-    if (det == 0 || det != det)     /* edge-on, degenerate or bad input */
-        return 0;
-    t_num = u * (wt->sz * pa[2]) + v * (wt->sz * pb[2]) +
-            w * (wt->sz * pc[2]);
-    {
-        double t = t_num / det, beta, gamma;
-        if (!(t > tmin && t < tmax))
-            return 0;
-        beta = v / det;
-        gamma = w / det;
-        /* u, v, w share det's sign, so beta, gamma >= 0 and their sum
-        ** <= 1 up to rounding; clamp that rounding for the hit record. */
-        if (beta < 0)
-            beta = 0;
-        if (gamma < 0)
-            gamma = 0;
-        if (beta + gamma > 1) {
-            double s = beta + gamma;
-            beta /= s;
-            gamma /= s;
-        }
-        *t_out = t;
-        *beta_out = beta;
-        *gamma_out = gamma;
-    }
-    return 1;
+    return ray__watertight_finish(wt, u, v, w, pa[2], pb[2], pc[2], tmin,
+                                  tmax, t_out, beta_out, gamma_out);
 }
+
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#include <emmintrin.h>
+/*
+** Two triangles at once, one per lane of SSE2's double registers: the
+** projection, the edge functions and the sign test above, operation for
+** operation (packed IEEE double arithmetic rounds as scalar does, minpd /
+** maxpd pick as the scalar "a < b ? a : b" does), so each lane's answer
+** is the one-triangle test's.  What the leaves of a BVH spend most of
+** their tests on -- rejecting -- is then done in half the instructions
+** and with one branch per pair.  ray__watertight2 holds the ray's
+** quantities broadcast to both lanes.
+*/
+typedef struct ray__watertight2 {
+    __m128d o[3], sx, sy;
+    size_t at[3];
+} ray__watertight2;
+
+static inline void ray__watertight2_init(ray__watertight2 *w2,
+                                         const ray__watertight *wt)
+{
+    int k;
+
+    for (k = 0; k < 3; k++) {
+        w2->o[k] = _mm_set1_pd(wt->f.o[k]);
+        w2->at[k] = wt->f.at[k];
+    }
+    w2->sx = _mm_set1_pd(wt->f.sx);
+    w2->sy = _mm_set1_pd(wt->f.sy);
+}
+
+/* Component "at" of v0 and of v1, in lanes 0 and 1. */
+static inline __m128d ray__load2(const ray_vec3 *v0, const ray_vec3 *v1,
+                                 size_t at)
+{
+    return _mm_loadh_pd(_mm_load_sd(v3_ptr(v0, at)), v3_ptr(v1, at));
+}
+
+/* Vertex v0 (lane 0) and v1 (lane 1) in the frame: ray__frame_project. */
+static inline void ray__project2(const ray__watertight2 *w,
+                                 const ray_vec3 *v0, const ray_vec3 *v1,
+                                 __m128d p[3])
+{
+    p[2] = _mm_sub_pd(ray__load2(v0, v1, w->at[2]), w->o[2]);
+    p[0] = _mm_sub_pd(_mm_sub_pd(ray__load2(v0, v1, w->at[0]), w->o[0]),
+                      _mm_mul_pd(w->sx, p[2]));
+    p[1] = _mm_sub_pd(_mm_sub_pd(ray__load2(v0, v1, w->at[1]), w->o[1]),
+                      _mm_mul_pd(w->sy, p[2]));
+}
+
+/*
+** Triangles (a0, b0, c0) and (a1, b1, c1) against the ray: a bit mask of
+** the lanes that may hit, their edge functions and distances along kz
+** written to u, v, w, z (lane l at index 3 l for z: za, zb, zc) for
+** ray__watertight_finish to end; -1 when an edge function is exactly 0
+** in a lane: the caller then tests both with ray__triangle_watertight_pre
+** (the long double re-evaluation is scalar; it is rare).
+*/
+static inline int ray__watertight_pair(const ray__watertight2 *w2,
+                                       const ray_vec3 *a0, const ray_vec3 *a1,
+                                       const ray_vec3 *b0, const ray_vec3 *b1,
+                                       const ray_vec3 *c0, const ray_vec3 *c1,
+                                       double u[2], double v[2], double w[2],
+                                       double z[6])
+{
+    const __m128d sign = _mm_set1_pd(-0.0), zero = _mm_setzero_pd();
+    __m128d pa[3], pb[3], pc[3], eu, ev, ew, lo, hi, alo;
+    int miss;
+
+    ray__project2(w2, a0, a1, pa);
+    ray__project2(w2, b0, b1, pb);
+    ray__project2(w2, c0, c1, pc);
+    eu = _mm_sub_pd(_mm_mul_pd(pc[0], pb[1]), _mm_mul_pd(pc[1], pb[0]));
+    ev = _mm_sub_pd(_mm_mul_pd(pa[0], pc[1]), _mm_mul_pd(pa[1], pc[0]));
+    ew = _mm_sub_pd(_mm_mul_pd(pb[0], pa[1]), _mm_mul_pd(pb[1], pa[0]));
+    alo = _mm_min_pd(_mm_min_pd(_mm_andnot_pd(sign, eu),
+                                _mm_andnot_pd(sign, ev)),
+                     _mm_andnot_pd(sign, ew));
+    if (_mm_movemask_pd(_mm_cmpeq_pd(alo, zero)))
+        return -1;
+    lo = _mm_min_pd(_mm_min_pd(eu, ev), ew);
+    hi = _mm_max_pd(_mm_max_pd(eu, ev), ew);
+    miss = _mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(lo, zero),
+                                      _mm_cmpgt_pd(hi, zero)));
+    if (miss == 3)
+        return 0;
+    _mm_storeu_pd(u, eu);
+    _mm_storeu_pd(v, ev);
+    _mm_storeu_pd(w, ew);
+    _mm_storel_pd(&z[0], pa[2]);
+    _mm_storel_pd(&z[1], pb[2]);
+    _mm_storel_pd(&z[2], pc[2]);
+    _mm_storeh_pd(&z[3], pa[2]);
+    _mm_storeh_pd(&z[4], pb[2]);
+    _mm_storeh_pd(&z[5], pc[2]);
+    return ~miss & 3;
+}
+#endif
 
 #endif
