@@ -683,11 +683,11 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** triangles in the scene); RAY_ESTATE after commit.
 **
 ** Memory: each triangle costs 80 bytes (its three vertices, flattened for
-** traversal, and its ids) plus about 32 bytes of BVH after commit (112 in
-** all on a million-triangle grid, 118 on the Stanford bunny: bench/mesh),
-** plus 12 bytes of indices and the per-vertex attributes when normals or
-** texture coordinates are given.  ray_scene_commit briefly needs about
-** 180 bytes per triangle (205 on the bunny).
+** traversal, and its ids) plus 23 to 31 bytes of BVH after commit (111 in
+** all on a million-triangle grid, 103 to 106 on the Stanford bunny:
+** bench/mesh), plus 12 bytes of indices and the per-vertex attributes
+** when normals or texture coordinates are given.  ray_scene_commit
+** briefly needs about 180 bytes per triangle (189 on the bunny).
 */
 typedef struct ray_mesh {
     const ray_vec3 *vertices;

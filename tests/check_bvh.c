@@ -542,10 +542,10 @@ END_TEST
 /*
 ** A million-triangle mesh (a 724 x 724 grid, 1,048,352 triangles) builds
 ** in bounded memory.  After commit the scene keeps 80 bytes per triangle
-** (three double vertices and two ids) plus its 4-wide BVH, 128 bytes per
-** node and about one node per four triangles: 111.7 measured, bound 120.
+** (three double vertices and two ids) plus its 8-wide BVH, 256 bytes per
+** node and about one node per eight triangles: 111.1 measured, bound 120.
 ** During commit the builder adds 32 bytes of records, up to 64 of binary
-** nodes (about 32 touched), 4 of permutation and the 4-wide nodes: 180.0
+** nodes (about 32 touched), 4 of permutation and the wide nodes: 180.0
 ** measured, bound 190.  (bench/mesh prints both figures for this grid;
 ** ray.h documents them.)
 */
