@@ -433,7 +433,7 @@ static inline int tri_leaf(const ray_scene *s, const trav *tr,
             double u[2], v[2], w[2], z[6];
             int m, lane;
             pair[0] = i;
-            pair[1] = i + 1 < end ? i + 1 : i;
+            pair[1] = i + (i + 1 < end);   /* i itself if last; no branch */
             t1 = &s->tris[pair[1]];
             m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
                                      &t1->b, &t0->c, &t1->c, u, v, w, z);
