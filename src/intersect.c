@@ -10,82 +10,136 @@
 #include "internal.h"
 #include "watertight.h"
 
-/* Leaves test their triangles in pairs where SSE2 is there. */
-#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
-#define RAY__PAIRS 1
-#else
-#define RAY__PAIRS 0
-#endif
-
 /*
-** The slab test, four boxes at a time in float, kept conservative: it may
-** let a box through that the ray misses, never the reverse.
+** The slab test, eight boxes at a time in float, kept conservative: it
+** may let a box through that the ray misses, never the reverse.
 **
 **   * The origin is bracketed, o_lo <= o <= o_hi (float_down / float_up),
 **     and each plane distance uses the end that makes the near distance
 **     smaller and the far distance larger; the boxes themselves were
 **     rounded outward from the double geometry.
-**   * (b - o) * (1/d) then carries three float roundings, so the far
-**     distance is grown by 1 + 2 gamma(3) (float's gamma): the bound with
-**     which Ize proves no hit is lost ("Robust BVH Ray Traversal", JCGT
-**     2(2), 2013; pbrt-v4 Bounds3::IntersectP; Embree's robust mode).
+**   * (b - o) * (1/d) then carries three float roundings (gamma(3) of
+**     float, relative), so the far distance -- clipped to tmax first, so
+**     that the same slack covers a near distance rounded past tmax -- is
+**     moved away from zero by FAR_SLACK times its magnitude (a factor,
+**     as in Ize's 1 + 2 gamma(3), would move a negative far distance the
+**     wrong way: tmin may be negative).  Ize proves with that bound that
+**     no hit is lost ("Robust BVH Ray Traversal", JCGT 2(2), 2013;
+**     pbrt-v4 Bounds3::IntersectP; Embree's robust mode); the popped
+**     entries get the same slack against tmax.
+**   * The distances are in units of a direction scaled by a power of two
+**     (exact) so that its largest component lies in [1, 2): 1/d of that
+**     component is then a normal float whatever the ray's length.
 **   * A zero direction component makes 1/d = +-Inf (IEEE), so the slab is
 **     everything or nothing (Williams et al., "An Efficient and Robust
 **     Ray-Box Intersection Algorithm", JGT 10(1), 2005); 0 * Inf = NaN
 **     when the origin is on the plane, and the max/min below ignore a NaN
-**     operand: the box is kept.
+**     operand: the box is kept.  A component too small beside the largest
+**     for 1/d to be a normal float (below 2^-126 of it) gets 1/d = NaN:
+**     its slab is ignored, which only lets more boxes through.
 **
 ** Everything else stays in double: the triangle tests decide the hits.
 */
 typedef struct trav {
     float o_near[3], o_far[3];   /* the origin end used for near / far */
-    float inv[3];
+    float inv[3];                /* 1 / scaled direction (NaN: ignored) */
     size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
-    float tmin;                  /* widened to a float */
+    float tmin;                  /* scaled, widened to a float */
+    double t_scale;              /* distance units of the scaled direction */
     ray__watertight wt;          /* the triangle test's frame of the ray */
 #if RAY__PAIRS
     ray__watertight2 wt2;        /* the same, for two triangles at once */
 #endif
 } trav;
 
-/* float's gamma(3) doubled: 1 + 2 * 3u / (1 - 3u), u = 2^-24. */
-#define FLOAT_GROW (1.0f + 2.0f * (3.0f * 5.96046448e-8f) / \
-                               (1.0f - 3.0f * 5.96046448e-8f))
+/*
+** The far distance's slack, relative: 2 gamma(3) as Ize's bound asks
+** (the near and the far distance each off by gamma(3)), plus 4u for the
+** two roundings of far + |far| * slack itself; u = 2^-24.
+*/
+#define FLOAT_U 5.9604644775390625e-8f
+#define FAR_SLACK (2.0f * (3.0f * FLOAT_U) / (1.0f - 3.0f * FLOAT_U) + \
+                   4.0f * FLOAT_U)
+
+/* The interval's end t in the scaled units, rounded up to a float. */
+static inline float trav_tmax(const trav *tr, double t)
+{
+    return ray__float_up(t * tr->t_scale);
+}
+
+/* t moved away from zero by the slack. */
+static inline float with_slack(float t)
+{
+    return t + fabsf(t) * FAR_SLACK;
+}
+
+/* 2^e for e in [-1022, 1023], built from its bits (exact). */
+static inline double pow2(int e)
+{
+    uint64_t bits = (uint64_t)(e + 1023) << 52;
+    double x;
+
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+/* The binary exponent of finite x > 0, clamped to [-1022, 1023] (a
+** subnormal gets -1022). */
+static inline int exponent_of(double x)
+{
+    uint64_t bits;
+    int e;
+
+    memcpy(&bits, &x, sizeof bits);
+    e = (int)(bits >> 52 & 0x7ff) - 1023;
+    return e < -1022 ? -1022 : e;
+}
+
+/* Axis k of the traversal data: origin component o, direction component
+** d, and d scaled by the power of two (ds). */
+static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
+{
+    /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
+    int neg = signbit(d) != 0;
+    double inv = 1.0 / ds;
+    float ends[2];
+    size_t at[2];
+
+    ends[0] = ray__float_down(o);
+    ends[1] = ray__float_up(o);
+    at[0] = offsetof(ray__wnode, lo[k]);
+    at[1] = offsetof(ray__wnode, hi[k]);
+    if (d != 0 && !(fabs(ds) >= 0x1p-126))
+        inv = NAN;                  /* 1/d beyond float: slab ignored */
+    tr->inv[k] = (float)inv;
+    /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
+    ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
+    tr->near_at[k] = at[neg];
+    tr->far_at[k] = at[!neg];
+    tr->o_near[k] = ends[!neg];
+    tr->o_far[k] = ends[neg];
+}
 
 /*
 ** The ray's traversal data; 0 for a ray that can hit nothing.  Free of
 ** branches on the ray's signs and roundings (each a coin toss for
-** incoherent rays): the choices are made by indexing.
+** incoherent rays): the choices are made by indexing, and the axes are
+** written out (a loop's exit is mispredicted once a ray).
 */
 static int trav_init(trav *tr, const ray_ray *r)
 {
-    double o[3], d[3];
-    int k;
+    ray_vec3 ad = v3_abs(r->dir);
+    double m = ad.x > ad.y ? ad.x : ad.y, down;
+    int e;
 
-    o[0] = r->org.x;
-    o[1] = r->org.y;
-    o[2] = r->org.z;
-    d[0] = r->dir.x;
-    d[1] = r->dir.y;
-    d[2] = r->dir.z;
-    for (k = 0; k < 3; k++) {
-        /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
-        int neg = signbit(d[k]) != 0;
-        float ends[2];
-        size_t at[2];
-        ends[0] = ray__float_down(o[k]);
-        ends[1] = ray__float_up(o[k]);
-        at[0] = offsetof(ray__wnode, lo[k]);
-        at[1] = offsetof(ray__wnode, hi[k]);
-        tr->inv[k] = (float)(1.0 / d[k]);
-        /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
-        ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
-        tr->near_at[k] = at[neg];
-        tr->far_at[k] = at[!neg];
-        tr->o_near[k] = ends[!neg];
-        tr->o_far[k] = ends[neg];
-    }
-    tr->tmin = ray__float_down(r->tmin);
+    m = m > ad.z ? m : ad.z;
+    e = exponent_of(m);
+    tr->t_scale = pow2(e);          /* t' = t 2^e for d' = d 2^-e */
+    down = pow2(-e);
+    trav_axis(tr, 0, r->org.x, r->dir.x, r->dir.x * down);
+    trav_axis(tr, 1, r->org.y, r->dir.y, r->dir.y * down);
+    trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
+    tr->tmin = ray__float_down(r->tmin * tr->t_scale);
     if (!ray__watertight_init(&tr->wt, r))
         return 0;
 #if RAY__PAIRS
@@ -119,7 +173,7 @@ static inline const float *bound_at(const ray__wnode *q, size_t at)
 ** "tn > t0 ? tn : t0" does.
 */
 typedef struct lanes {
-    __m128 o_near[3], o_far[3], inv[3], tmin, grow;
+    __m128 o_near[3], o_far[3], inv[3], tmin, slack;
     size_t near_at[3], far_at[3];
 } lanes;
 
@@ -135,7 +189,7 @@ static void lanes_init(lanes *l, const trav *tr)
         l->far_at[a] = tr->far_at[a];
     }
     l->tmin = _mm_set1_ps(tr->tmin);
-    l->grow = _mm_set1_ps(FLOAT_GROW);
+    l->slack = _mm_set1_ps(FAR_SLACK);
 }
 
 /* Narrow [*t0, *t1] to the slab of axis a, in lanes lane .. lane + 3. */
@@ -159,7 +213,12 @@ static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
     slab4(q, l, 0, lane, &t0, &t1);
     slab4(q, l, 1, lane, &t0, &t1);
     slab4(q, l, 2, lane, &t0, &t1);
-    t1 = _mm_min_ps(_mm_mul_ps(t1, l->grow), vmax);
+    /* Clipped to tmax, then the slack: t1 is never NaN; -Inf (a box
+    ** wholly outside a slab of a zero direction component) gives NaN,
+    ** a miss. */
+    t1 = _mm_min_ps(t1, vmax);
+    t1 = _mm_add_ps(t1, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), t1),
+                                   l->slack));
     _mm_storeu_ps(entry + lane, t0);
     return (unsigned)_mm_movemask_ps(_mm_cmple_ps(t0, t1)) << lane;
 }
@@ -202,8 +261,8 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *tr,
         }
     }
     for (k = 0; k < RAY__WIDTH; k++) {
-        float far = t1[k] * FLOAT_GROW;
-        far = far < tmax ? far : tmax;
+        float far = t1[k] < tmax ? t1[k] : tmax;
+        far = with_slack(far);                  /* as the SSE lanes */
         entry[k] = t0[k];
         mask |= (unsigned)(t0[k] <= far) << k;
     }
@@ -303,7 +362,8 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
 {
     pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
     unsigned child = 0, count = 0;    /* the root: an inner node */
-    float tmax = ray__float_up(r->tmax);  /* earlier hits shrank it */
+    float tmax = trav_tmax(tr, r->tmax);  /* earlier hits shrank it */
+    float tpop = with_slack(tmax);        /* what popped entries face */
     int sp = 0, found = 0;
     lanes l;
 
@@ -366,7 +426,8 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
                 found = 1;
                 if (any)
                     return found;
-                tmax = ray__float_up(r->tmax);
+                tmax = trav_tmax(tr, r->tmax);
+                tpop = with_slack(tmax);
             }
         } else {
             unsigned i, end = child + (count & ~RAY__LEAF);
@@ -376,7 +437,8 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
                     found = 1;
                     if (any)
                         return found;
-                    tmax = ray__float_up(r->tmax);
+                    tmax = trav_tmax(tr, r->tmax);
+                    tpop = with_slack(tmax);
                 }
             }
         }
@@ -385,7 +447,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
             if (sp == 0)
                 return found;
             sp--;
-        } while (stack[sp].t > tmax);
+        } while (stack[sp].t > tpop);
         child = stack[sp].child;
         count = stack[sp].count;
     }

@@ -31,7 +31,7 @@ static inline double ray__edge_extended(double ax, double ay, double bx,
 }
 
 /* min and max as single instructions (fmin/fmax are libm calls for
-** their NaN rules, not needed here). */
+** their NaN rules, not needed here); minpd / maxpd pick the same way. */
 static inline double dmin(double a, double b)
 {
     return a < b ? a : b;
@@ -141,22 +141,35 @@ static inline int ray__triangle_watertight_pre(
     u = cx * by - cy * bx;
     v = ax * cy - ay * cx;
     w = bx * ay - by * ax;
-    /* One compare each for "any zero" and "signs differ", through the
-    ** smallest magnitude and the extremes (a NaN among u, v, w may go
-    ** either way here: det is then NaN, a miss in both cases). */
-    if (dmin(dmin(fabs(u), fabs(v)), fabs(w)) == 0) {
+    /* "Any zero" by bitwise or, one branch; not through the smallest
+    ** magnitude, which a NaN in another edge function (Inf - Inf in
+    ** double, finite in long double) would hide. */
+    if ((u == 0) | (v == 0) | (w == 0)) {
         u = ray__edge_extended(cx, cy, bx, by);
         v = ray__edge_extended(ax, ay, cx, cy);
         w = ray__edge_extended(bx, by, ax, ay);
     }
-    /* Inclusive on both signs: a miss only when the signs truly differ. */
+    /* Inclusive on both signs: a miss only when the signs truly differ
+    ** (one compare each through the extremes; a NaN may go either way
+    ** here, as det is then NaN: a miss in both cases). */
     if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
         return 0;
     return ray__watertight_finish(wt, u, v, w, pa[2], pb[2], pc[2], tmin,
                                   tmax, t_out, beta_out, gamma_out);
 }
 
-#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+/*
+** Pairs need SSE2 and doubles evaluated as doubles (FLT_EVAL_METHOD 0):
+** on i386 the scalar test may run on the x87 unit, in extended precision,
+** and the lanes would then round differently from it.
+*/
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD) && FLT_EVAL_METHOD == 0
+#define RAY__PAIRS 1
+#else
+#define RAY__PAIRS 0
+#endif
+
+#if RAY__PAIRS
 #include <emmintrin.h>
 /*
 ** Two triangles at once, one per lane of SSE2's double registers: the
@@ -220,8 +233,8 @@ static inline int ray__watertight_pair(const ray__watertight2 *w2,
                                        double u[2], double v[2], double w[2],
                                        double z[6])
 {
-    const __m128d sign = _mm_set1_pd(-0.0), zero = _mm_setzero_pd();
-    __m128d pa[3], pb[3], pc[3], eu, ev, ew, lo, hi, alo;
+    const __m128d zero = _mm_setzero_pd();
+    __m128d pa[3], pb[3], pc[3], eu, ev, ew, lo, hi;
     int miss;
 
     ray__project2(w2, a0, a1, pa);
@@ -230,10 +243,9 @@ static inline int ray__watertight_pair(const ray__watertight2 *w2,
     eu = _mm_sub_pd(_mm_mul_pd(pc[0], pb[1]), _mm_mul_pd(pc[1], pb[0]));
     ev = _mm_sub_pd(_mm_mul_pd(pa[0], pc[1]), _mm_mul_pd(pa[1], pc[0]));
     ew = _mm_sub_pd(_mm_mul_pd(pb[0], pa[1]), _mm_mul_pd(pb[1], pa[0]));
-    alo = _mm_min_pd(_mm_min_pd(_mm_andnot_pd(sign, eu),
-                                _mm_andnot_pd(sign, ev)),
-                     _mm_andnot_pd(sign, ew));
-    if (_mm_movemask_pd(_mm_cmpeq_pd(alo, zero)))
+    if (_mm_movemask_pd(_mm_or_pd(_mm_or_pd(_mm_cmpeq_pd(eu, zero),
+                                            _mm_cmpeq_pd(ev, zero)),
+                                  _mm_cmpeq_pd(ew, zero))))
         return -1;
     lo = _mm_min_pd(_mm_min_pd(eu, ev), ew);
     hi = _mm_max_pd(_mm_max_pd(eu, ev), ew);

@@ -325,12 +325,87 @@ START_TEST(bvh_should_not_lose_hits_on_flat_boxes)
 }
 END_TEST
 
+/* Brute force and both scene queries agree on ray r and triangle abc;
+** returns the bare test's answer. */
+static int agrees_with_bare(ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                            const ray_ray *r, const char *what)
+{
+    unsigned mat;
+    ray_scene *s = new_scene(&mat);
+    ray_hit bare, got;
+    int want;
+
+    ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    want = ray_triangle_watertight(r, a, b, c, &bare);
+    ck_assert_msg(ray_intersect(s, r, &got) == want, "%s: intersect", what);
+    ck_assert_msg(ray_occluded(s, r) == want, "%s: occluded", what);
+    if (want)
+        ck_assert_msg(got.t == bare.t, "%s: t %.17g, bare %.17g", what,
+                      got.t, bare.t);
+    ray_scene_free(s);
+    return want;
+}
+
+/*
+** Cases a review found (each failed before its fix; the expected values
+** are the bare watertight test's, and exact).
+**   * An exact-zero edge function next to one that overflows (Inf - Inf)
+**     in double: the long double re-evaluation must still be taken.
+**   * tmin < 0 and a box behind the origin: the far distance's slack
+**     must move a negative distance away from zero, not shrink it.
+**   * tmax just past the hit (its next double): the near distance,
+**     rounded up past float_up(tmax), must still get the slack.
+**   * Direction components whose reciprocals leave float's range (1e-39
+**     beside 1, 1e46 beside 1e30), and whole directions of length 1e-300
+**     and 1e300: the slab test works in a direction scaled by a power of
+**     two and ignores the slabs it cannot compute.
+*/
+START_TEST(bvh_should_keep_the_hard_cases_of_review)
+{
+    ray_ray r = ray_from(vec(0, 0, 0), vec(0, 0, 1));
+    unsigned k, lost = 0, tried = 0;
+
+    ck_assert(agrees_with_bare(vec(1.9e154, 1.85e154, 1), vec(-1, -1, 1),
+                               vec(1e154, 1e154, 1), &r, "hidden zero"));
+    r = ray_from(vec(0, 0, 0), vec(1.63, 0.01, 0.02));
+    r.tmin = -100;
+    r.tmax = 100;
+    ck_assert(agrees_with_bare(vec(-49, -1, -1), vec(-49, 1, -1),
+                               vec(-49, 0, 2), &r, "behind, tmin < 0"));
+    for (k = 1; k < 3000; k++) {
+        double x = 1.0 + (double)(k % 97);
+        ray_vec3 a = vec(x, -1, -1), b = vec(x, 1, -1), c = vec(x, 0, 2);
+        ray_hit h;
+        r = ray_from(vec(0, 0, 0), vec(1.0 + (double)k * 1e-3, 0.01, 0.02));
+        if (!ray_triangle_watertight(&r, a, b, c, &h))
+            continue;                   /* a ray past the triangle */
+        r.tmax = nextafter(h.t, HUGE_VAL);
+        lost += !agrees_with_bare(a, b, c, &r, "tmax just past");
+        tried++;
+    }
+    ck_assert_uint_eq(lost, 0);
+    ck_assert_uint_gt(tried, 1000);
+    r = ray_from(vec(0, 0, 0), vec(1e-39, 1, 0));
+    ck_assert(agrees_with_bare(vec(1e-38, 15, -1), vec(1, 15, -1),
+                               vec(1e-38, 15, 1), &r, "d.x = 1e-39"));
+    r = ray_from(vec(0, 0, 0), vec(1e46, 1e30, 0));
+    ck_assert(agrees_with_bare(vec(1e16, 1.5, -1), vec(2e16, 1.5, -1),
+                               vec(1e16, 1.5, 1), &r, "d.x = 1e46"));
+    r = ray_from(vec(0.25, 0.25, 5), vec(1e-302, 2e-302, -1e-300));
+    ck_assert(agrees_with_bare(vec(-1, -1, 0), vec(2, -1, 0), vec(-1, 2, 0),
+                               &r, "|d| = 1e-300"));
+    r = ray_from(vec(0.25, 0.25, 5), vec(1e298, 2e298, -1e300));
+    ck_assert(agrees_with_bare(vec(-1, -1, 0), vec(2, -1, 0), vec(-1, 2, 0),
+                               &r, "|d| = 1e300"));
+}
+END_TEST
+
 /*
 ** The documented refusals: a ray whose origin or direction is not finite,
 ** whose direction is zero, or whose interval is empty or NaN hits nothing
 ** in a scene of every bounded kind and a plane, and leaves *hit as it was
-** (the traversal refuses such rays before any box test, so no NaN lane
-** can let it into an unused slot).
+** (the queries refuse such rays before any box or primitive test).
 */
 START_TEST(queries_should_refuse_unusable_rays)
 {
@@ -596,6 +671,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, bvh_should_handle_empty_and_single_scenes);
     tcase_add_loop_test(eq, bvh_should_not_lose_hits_on_flat_boxes, 0, N_OFFSETS);
     tcase_add_test(eq, queries_should_refuse_unusable_rays);
+    tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);
     tcase_add_test(mesh, mesh_should_reject_bad_input);
     tcase_add_test(mesh, mesh_should_interpolate_normals_and_texcoords);
