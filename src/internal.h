@@ -246,9 +246,14 @@ static inline void ray__frame_project(const ray__frame *f, const ray_vec3 *v,
 ** ray hits nothing, whatever the geometry. */
 static inline int ray__ray_usable(const ray_ray *r)
 {
-    return v3_isfinite(r->org) && v3_isfinite(r->dir) &&
-           (r->dir.x != 0 || r->dir.y != 0 || r->dir.z != 0) &&
-           r->tmin < r->tmax;
+    /* x - x is 0 for a finite x and NaN for an infinite or NaN one: one
+    ** compare for all six components, and no branch but the last. */
+    double finite = ((r->org.x - r->org.x) + (r->org.y - r->org.y)) +
+                    ((r->org.z - r->org.z) + (r->dir.x - r->dir.x)) +
+                    ((r->dir.y - r->dir.y) + (r->dir.z - r->dir.z));
+    int nonzero = (r->dir.x != 0) | (r->dir.y != 0) | (r->dir.z != 0);
+
+    return (finite == 0) & nonzero & (r->tmin < r->tmax);
 }
 
 /*

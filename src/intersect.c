@@ -46,6 +46,7 @@ typedef struct trav {
     size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
     float tmin;                  /* scaled, widened to a float */
     double t_scale;              /* distance units of the scaled direction */
+    int framed;                  /* wt set up: 1; 0 not yet; -1 cannot be */
     ray__watertight wt;          /* the triangle test's frame of the ray */
 #if RAY__PAIRS
     ray__watertight2 wt2;        /* the same, for two triangles at once */
@@ -109,9 +110,14 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
     ends[1] = ray__float_up(o);
     at[0] = offsetof(ray__wnode, lo[k]);
     at[1] = offsetof(ray__wnode, hi[k]);
-    if (d != 0 && !(fabs(ds) >= 0x1p-126))
-        inv = NAN;                  /* 1/d beyond float: slab ignored */
-    tr->inv[k] = (float)inv;
+    /* 1/d beyond float: NaN, the slab ignored (chosen by indexing, as
+    ** the other choices here). */
+    {
+        double choice[2];
+        choice[0] = inv;
+        choice[1] = NAN;
+        tr->inv[k] = (float)choice[(d != 0) & !(fabs(ds) >= 0x1p-126)];
+    }
     /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
     ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
     tr->near_at[k] = at[neg];
@@ -140,12 +146,27 @@ static int trav_init(trav *tr, const ray_ray *r)
     trav_axis(tr, 1, r->org.y, r->dir.y, r->dir.y * down);
     trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
     tr->tmin = ray__float_down(r->tmin * tr->t_scale);
-    if (!ray__watertight_init(&tr->wt, r))
-        return 0;
-#if RAY__PAIRS
-    ray__watertight2_init(&tr->wt2, &tr->wt);
-#endif
+    tr->framed = 0;
     return 1;
+}
+
+/*
+** The triangle test's frame of the ray, set up when the ray first reaches
+** a leaf of triangles: most primary rays of a scene that does not fill
+** the frame reach none, and would pay its three divisions for nothing.
+** 0 if the ray has no frame (a zero or NaN direction: never for a ray
+** that passed ray__ray_usable).
+*/
+static inline int trav_frame(trav *tr, const ray_ray *r)
+{
+    if (tr->framed == 0) {
+        tr->framed = ray__watertight_init(&tr->wt, r) ? 1 : -1;
+#if RAY__PAIRS
+        if (tr->framed > 0)
+            ray__watertight2_init(&tr->wt2, &tr->wt);
+#endif
+    }
+    return tr->framed > 0;
 }
 
 /* Node q's bound array at byte offset "at" (one of trav's offsets). */
@@ -177,17 +198,20 @@ typedef struct lanes {
     size_t near_at[3], far_at[3];
 } lanes;
 
+static inline void lanes_axis(lanes *l, const trav *tr, int a)
+{
+    l->o_near[a] = _mm_set1_ps(tr->o_near[a]);
+    l->o_far[a] = _mm_set1_ps(tr->o_far[a]);
+    l->inv[a] = _mm_set1_ps(tr->inv[a]);
+    l->near_at[a] = tr->near_at[a];
+    l->far_at[a] = tr->far_at[a];
+}
+
 static void lanes_init(lanes *l, const trav *tr)
 {
-    int a;
-
-    for (a = 0; a < 3; a++) {
-        l->o_near[a] = _mm_set1_ps(tr->o_near[a]);
-        l->o_far[a] = _mm_set1_ps(tr->o_far[a]);
-        l->inv[a] = _mm_set1_ps(tr->inv[a]);
-        l->near_at[a] = tr->near_at[a];
-        l->far_at[a] = tr->far_at[a];
-    }
+    lanes_axis(l, tr, 0);           /* written out: no loop to exit */
+    lanes_axis(l, tr, 1);
+    lanes_axis(l, tr, 2);
     l->tmin = _mm_set1_ps(tr->tmin);
     l->slack = _mm_set1_ps(FAR_SLACK);
 }
@@ -323,7 +347,7 @@ static void add_counts(ray_stats *st, const query_counts *qc)
     st->root_failures += qc->failures;
 }
 
-static int tri_leaf(const ray_scene *s, const trav *tr, unsigned first,
+static int tri_leaf(const ray_scene *s, trav *tr, unsigned first,
                     unsigned end, ray_ray *r, void *best, int any);
 static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
                      query_counts *qc);
@@ -357,7 +381,7 @@ static inline int lowest_bit(unsigned mask)
 ** at the first hit.  "leaf" picks the primitive test.
 */
 static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
-                                const trav *tr, ray_ray *r, int leaf,
+                                trav *tr, ray_ray *r, int leaf,
                                 void *best, int any, query_counts *qc)
 {
     pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
@@ -480,13 +504,15 @@ static inline void tri_hit(unsigned i, double t, double beta, double gamma,
 ** pair's lanes are ended in order, so the answers are those of testing
 ** one triangle after another.
 */
-static inline int tri_leaf(const ray_scene *s, const trav *tr,
+static inline int tri_leaf(const ray_scene *s, trav *tr,
                            unsigned first, unsigned end, ray_ray *r,
                            void *best, int any)
 {
     int found = 0;
     unsigned i;
 
+    if (s->watertight && !trav_frame(tr, r))
+        return 0;
 #if RAY__PAIRS
     if (s->watertight) {
         for (i = first; i < end; i += 2) {
