@@ -11,6 +11,7 @@
 ** differ).
 */
 #include <float.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "internal.h"
@@ -26,8 +27,10 @@
 ** binning only needs an affine image of it.
 */
 typedef struct ref {
-    float lo[3], hi[3];
-    unsigned id, pad;
+    float lo[3];
+    unsigned id;             /* lo and id, hi and pad: one SSE load each */
+    float hi[3];
+    unsigned pad;
 } ref;
 
 typedef struct box {
@@ -90,16 +93,104 @@ static inline float centroid2(const ref *r, int axis)
     return r->lo[axis] + r->hi[axis];
 }
 
+/* The bin of doubled centroid c: clamped in float before the conversion
+** (a NaN, from an infinite box, goes to bin 0), as the SSE binning does. */
 static inline int bin_of(float c, float cmin, float scale, int bins)
 {
-    int b = (int)((c - cmin) * scale);
-    return b < 0 ? 0 : (b >= bins ? bins - 1 : b);
+    float x = (c - cmin) * scale, top = (float)(bins - 1);
+
+    x = x > 0 ? x : 0;
+    x = x < top ? x : top;
+    return (int)x;
 }
 
 typedef struct bin {
     box b;
     size_t count;
 } bin;
+
+/*
+** Drop refs[begin, end) into the bins of each axis (bins[axis][b], the
+** first nb of each, empty on entry): the build's inner loop.
+*/
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#include <emmintrin.h>
+/*
+** With SSE: one register holds an item's lo (or hi) on all three axes,
+** so its three bins grow by one min and one max each, where the scalar
+** loop below does three of each; the bin indices of the three axes come
+** from one subtraction, one product, one clamp and one conversion.  The
+** arithmetic is bin_of's and box_grow's, lane for lane (minps / maxps
+** pick as their "a < b ? a : b"), so both loops make the same tree.
+*/
+static void bin_items(const builder *bd, size_t begin, size_t end,
+                      const box *cb, const float scale[3], int nb,
+                      bin bins[3][BINS])
+{
+    __m128 lo_acc[3][BINS], hi_acc[3][BINS];
+    size_t count[3][BINS], i;
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
+    const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
+    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
+    int axis, b;
+
+    for (axis = 0; axis < 3; axis++)
+        for (b = 0; b < nb; b++) {
+            lo_acc[axis][b] = _mm_set1_ps(FLT_MAX);
+            hi_acc[axis][b] = _mm_set1_ps(-FLT_MAX);
+            count[axis][b] = 0;
+        }
+    for (i = begin; i < end; i++) {
+        const char *r = (const char *)&bd->refs[i];
+        /* The fourth lanes (id, pad) are zeroed: never arithmetic on them. */
+        __m128 lo = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
+                                            (r + offsetof(ref, lo))), xyz);
+        __m128 hi = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
+                                            (r + offsetof(ref, hi))), xyz);
+        __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
+        int k[4];
+        x = _mm_min_ps(_mm_max_ps(x, zero), top);
+        _mm_storeu_si128((__m128i *)(void *)k, _mm_cvttps_epi32(x));
+        lo_acc[0][k[0]] = _mm_min_ps(lo_acc[0][k[0]], lo);
+        hi_acc[0][k[0]] = _mm_max_ps(hi_acc[0][k[0]], hi);
+        count[0][k[0]]++;
+        lo_acc[1][k[1]] = _mm_min_ps(lo_acc[1][k[1]], lo);
+        hi_acc[1][k[1]] = _mm_max_ps(hi_acc[1][k[1]], hi);
+        count[1][k[1]]++;
+        lo_acc[2][k[2]] = _mm_min_ps(lo_acc[2][k[2]], lo);
+        hi_acc[2][k[2]] = _mm_max_ps(hi_acc[2][k[2]], hi);
+        count[2][k[2]]++;
+    }
+    for (axis = 0; axis < 3; axis++)
+        for (b = 0; b < nb; b++) {
+            float l[4], h[4];
+            _mm_storeu_ps(l, lo_acc[axis][b]);
+            _mm_storeu_ps(h, hi_acc[axis][b]);
+            memcpy(bins[axis][b].b.lo, l, sizeof bins[axis][b].b.lo);
+            memcpy(bins[axis][b].b.hi, h, sizeof bins[axis][b].b.hi);
+            bins[axis][b].count = count[axis][b];
+        }
+}
+#else
+static void bin_items(const builder *bd, size_t begin, size_t end,
+                      const box *cb, const float scale[3], int nb,
+                      bin bins[3][BINS])
+{
+    size_t i;
+    int axis;
+
+    for (i = begin; i < end; i++) {
+        const ref *r = &bd->refs[i];
+        for (axis = 0; axis < 3; axis++) {
+            bin *bn = &bins[axis][bin_of(centroid2(r, axis), cb->lo[axis],
+                                         scale[axis], nb)];
+            box_grow(&bn->b, r->lo, r->hi);
+            bn->count++;
+        }
+    }
+}
+#endif
 
 /*
 ** The best binned split of refs[begin, end), all three axes binned in one
@@ -113,7 +204,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     bin bins[3][BINS];
     float scale[3];
     split best;
-    size_t i, count = end - begin;
+    size_t count = end - begin;
     int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
 
     best.axis = -1;
@@ -132,15 +223,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
             bins[axis][b].count = 0;
         }
     }
-    for (i = begin; i < end; i++) {
-        const ref *r = &bd->refs[i];
-        for (axis = 0; axis < 3; axis++) {
-            bin *bn = &bins[axis][bin_of(centroid2(r, axis), cb->lo[axis],
-                                         scale[axis], nb)];
-            box_grow(&bn->b, r->lo, r->hi);
-            bn->count++;
-        }
-    }
+    bin_items(bd, begin, end, cb, scale, nb, bins);
     for (axis = 0; axis < 3; axis++) {
         float right_area[BINS];
         size_t right_count[BINS], n_left = 0;
@@ -183,13 +266,64 @@ typedef struct bounds {
     box items, centroids;
 } bounds;
 
-static void bounds_empty(bounds *b)
+
+/*
+** Move the items of the split's left side to the front, gathering both
+** sides' bounds on the way (so the children need no pass of their own);
+** returns the first index of the right side.
+*/
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+/* Bounds as four registers (items' lo and hi, centroids' lo and hi);
+** bounds4_grow is the plain version's box_grow twice, lane for lane. */
+typedef struct bounds4 {
+    __m128 lo, hi, clo, chi;
+} bounds4;
+
+static void bounds4_empty(bounds4 *b)
+{
+    b->lo = b->clo = _mm_set1_ps(FLT_MAX);
+    b->hi = b->chi = _mm_set1_ps(-FLT_MAX);
+}
+
+static inline void bounds4_grow(bounds4 *b, const ref *r)
+{
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    const char *p = (const char *)r;
+    __m128 lo = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
+                                        (p + offsetof(ref, lo))), xyz);
+    __m128 hi = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
+                                        (p + offsetof(ref, hi))), xyz);
+    __m128 c = _mm_add_ps(lo, hi);
+
+    b->lo = _mm_min_ps(b->lo, lo);
+    b->hi = _mm_max_ps(b->hi, hi);
+    b->clo = _mm_min_ps(b->clo, c);
+    b->chi = _mm_max_ps(b->chi, c);
+}
+
+static void bounds4_store(const bounds4 *b, bounds *out)
+{
+    float v[4];
+
+    _mm_storeu_ps(v, b->lo);
+    memcpy(out->items.lo, v, sizeof out->items.lo);
+    _mm_storeu_ps(v, b->hi);
+    memcpy(out->items.hi, v, sizeof out->items.hi);
+    _mm_storeu_ps(v, b->clo);
+    memcpy(out->centroids.lo, v, sizeof out->centroids.lo);
+    _mm_storeu_ps(v, b->chi);
+    memcpy(out->centroids.hi, v, sizeof out->centroids.hi);
+}
+#else
+typedef bounds bounds4;
+
+static void bounds4_empty(bounds4 *b)
 {
     box_empty(&b->items);
     box_empty(&b->centroids);
 }
 
-static inline void bounds_grow(bounds *b, const ref *r)
+static inline void bounds4_grow(bounds4 *b, const ref *r)
 {
     float c[3];
 
@@ -200,30 +334,43 @@ static inline void bounds_grow(bounds *b, const ref *r)
     box_grow(&b->centroids, c, c);
 }
 
+static void bounds4_store(const bounds4 *b, bounds *out)
+{
+    *out = *b;
+}
+#endif
+
 /*
 ** Move the items of the split's left side to the front, gathering both
 ** sides' bounds on the way (so the children need no pass of their own);
-** returns the first index of the right side.
+** returns the first index of the right side.  An item goes left when its
+** bin is at most sp->bin, i.e. when its unclamped bin coordinate is not
+** >= sp->bin + 1 (the same test, without bin_of's clamp and conversion:
+** a NaN goes to bin 0 there and left here).
 */
 static size_t partition(builder *bd, size_t begin, size_t end,
                         const split *sp, bounds *left, bounds *right)
 {
     size_t i = begin, j = end;
+    float edge = (float)(sp->bin + 1);
+    bounds4 l, r;
 
-    bounds_empty(left);
-    bounds_empty(right);
+    bounds4_empty(&l);
+    bounds4_empty(&r);
     while (i < j) {
-        if (bin_of(centroid2(&bd->refs[i], sp->axis), sp->cmin, sp->scale,
-                   sp->bins) <= sp->bin) {
-            bounds_grow(left, &bd->refs[i]);
+        float x = (centroid2(&bd->refs[i], sp->axis) - sp->cmin) * sp->scale;
+        if (!(x >= edge)) {
+            bounds4_grow(&l, &bd->refs[i]);
             i++;
         } else {
             ref t = bd->refs[i];
-            bounds_grow(right, &t);
+            bounds4_grow(&r, &t);
             bd->refs[i] = bd->refs[--j];
             bd->refs[j] = t;
         }
     }
+    bounds4_store(&l, left);
+    bounds4_store(&r, right);
     return i;
 }
 
@@ -232,10 +379,12 @@ static void bounds_of(const builder *bd, size_t begin, size_t end,
                       bounds *out)
 {
     size_t i;
+    bounds4 b;
 
-    bounds_empty(out);
+    bounds4_empty(&b);
     for (i = begin; i < end; i++)
-        bounds_grow(out, &bd->refs[i]);
+        bounds4_grow(&b, &bd->refs[i]);
+    bounds4_store(&b, out);
 }
 
 static void node_set_box(ray__node *n, const box *b)
