@@ -93,16 +93,6 @@ static inline float centroid2(const ref *r, int axis)
     return r->lo[axis] + r->hi[axis];
 }
 
-/* The bin of doubled centroid c: clamped in float before the conversion
-** (a NaN, from an infinite box, goes to bin 0), as the SSE binning does. */
-static inline int bin_of(float c, float cmin, float scale, int bins)
-{
-    float x = (c - cmin) * scale, top = (float)(bins - 1);
-
-    x = x > 0 ? x : 0;
-    x = x < top ? x : top;
-    return (int)x;
-}
 
 typedef struct bin {
     box b;
@@ -173,6 +163,17 @@ static void bin_items(const builder *bd, size_t begin, size_t end,
         }
 }
 #else
+/* The bin of doubled centroid c: clamped in float before the conversion
+** (a NaN, from an infinite box, goes to bin 0), as the SSE binning does. */
+static inline int bin_of(float c, float cmin, float scale, int bins)
+{
+    float x = (c - cmin) * scale, top = (float)(bins - 1);
+
+    x = x > 0 ? x : 0;
+    x = x < top ? x : top;
+    return (int)x;
+}
+
 static void bin_items(const builder *bd, size_t begin, size_t end,
                       const box *cb, const float scale[3], int nb,
                       bin bins[3][BINS])

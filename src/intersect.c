@@ -115,7 +115,7 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
     {
         double choice[2];
         choice[0] = inv;
-        choice[1] = NAN;
+        choice[1] = (double)NAN;
         tr->inv[k] = (float)choice[(d != 0) & !(fabs(ds) >= 0x1p-126)];
     }
     /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
