@@ -86,10 +86,16 @@ deps-build:
 deps-check:
 	@scripts/deps.sh pkg-config libpng check mandoc
 
+# src/intersect_avx2.c is the BVH queries again, built with -mavx2 where
+# the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
+AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
+                $(shell $(CC) -dumpmachine 2>/dev/null)),-mavx2)
+
 $(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
-	    $(if $(filter src/png.c src/image.c,$<),$(PNG_CFLAGS)) -c $< -o $@
+	    $(if $(filter src/png.c src/image.c,$<),$(PNG_CFLAGS)) \
+	    $(if $(filter src/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
 
 $(STATIC): $(OBJS)
 	rm -f $@

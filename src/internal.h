@@ -533,6 +533,23 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                    ray_stats *st);
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
+/* The same queries for the baseline instruction set and for AVX2 (x86
+** with GCC or Clang only, intersect_avx2.c: RAY__AVX2_COPY), which
+** ray__intersect and ray__occluded choose between; the tests compare the
+** two. */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(RAY_NO_SIMD) && !defined(RAY_NO_AVX2)
+#define RAY__AVX2_COPY 1
+#else
+#define RAY__AVX2_COPY 0
+#endif
+int ray__intersect_base(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                        ray_stats *st);
+int ray__occluded_base(const ray_scene *s, const ray_ray *r, ray_stats *st);
+int ray__intersect_avx2(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                        ray_stats *st);
+int ray__occluded_avx2(const ray_scene *s, const ray_ray *r, ray_stats *st);
+
 /* ------------------------------------------------------------ trace state */
 
 struct ray_ctx {

@@ -325,6 +325,63 @@ START_TEST(bvh_should_not_lose_hits_on_flat_boxes)
 }
 END_TEST
 
+/*
+** The baseline and the AVX2 copies of the queries (intersect.c,
+** intersect_avx2.c) give the same answers, bit for bit, on hostile soups
+** and a mixed scene, in both triangle modes: both do the same arithmetic
+** lane for lane.  (On a CPU without AVX2, or a build without the copy,
+** there is nothing to compare.)
+*/
+START_TEST(queries_should_be_the_same_with_and_without_avx2)
+{
+#if RAY__AVX2_COPY
+    rng g = {77};
+    size_t n = 3000, i, j;
+    int mode;
+
+    if (!__builtin_cpu_supports("avx2"))
+        return;
+    for (mode = 0; mode < 2; mode++) {
+        ray_vec3 *v = malloc(3 * n * sizeof *v);
+        unsigned *idx = malloc(3 * n * sizeof *idx), mat;
+        ray_mesh mesh;
+        ray_scene *s = new_scene(&mat);
+
+        make_soup(&g, v, idx, n);
+        memset(&mesh, 0, sizeof mesh);
+        mesh.vertices = v;
+        mesh.vertex_count = 3 * n;
+        mesh.indices = idx;
+        mesh.triangle_count = n;
+        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, NULL), RAY_OK);
+        for (i = 0; i < 20; i++)
+            ck_assert_int_eq(ray_scene_add_sphere(s, rng_point(&g, -10, 10),
+                                                  rng_range(&g, 0.1, 2), mat,
+                                                  NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_watertight(s, mode), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (j = 0; j < 20000; j++) {
+            ray_ray r = random_ray(&g);
+            ray_hit a, b;
+            int ha, hb;
+            memset(&a, 0, sizeof a);
+            memset(&b, 0, sizeof b);
+            ha = ray__intersect_base(s, &r, &a, NULL);
+            hb = ray__intersect_avx2(s, &r, &b, NULL);
+            ck_assert_int_eq(ha, hb);
+            /* ray_hit has no padding: 13 doubles, then 2 unsigned. */
+            ck_assert_msg(memcmp(&a, &b, sizeof a) == 0, "ray %zu", j);
+            ck_assert_int_eq(ray__occluded_base(s, &r, NULL),
+                             ray__occluded_avx2(s, &r, NULL));
+        }
+        ray_scene_free(s);
+        free(v);
+        free(idx);
+    }
+#endif
+}
+END_TEST
+
 /* Brute force and both scene queries agree on ray r and triangle abc;
 ** returns the bare test's answer. */
 static int agrees_with_bare(ray_vec3 a, ray_vec3 b, ray_vec3 c,
@@ -671,6 +728,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, bvh_should_handle_empty_and_single_scenes);
     tcase_add_loop_test(eq, bvh_should_not_lose_hits_on_flat_boxes, 0, N_OFFSETS);
     tcase_add_test(eq, queries_should_refuse_unusable_rays);
+    tcase_add_test(eq, queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);
     tcase_add_test(mesh, mesh_should_reject_bad_input);

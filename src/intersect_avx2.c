@@ -1,0 +1,25 @@
+/*
+** intersect_avx2.c -- the scene queries of traverse.h once more, built
+** with -mavx2 where the compiler targets x86 (see the Makefile): the box
+** test then takes a node's eight boxes in one register.  intersect.c
+** calls these only on a CPU with AVX2.  Built without -mavx2 (another
+** build system), they are the baseline code again: slower, not wrong.
+*/
+#include "internal.h"
+
+#if RAY__AVX2_COPY
+#include "traverse.h"
+
+int ray__intersect_avx2(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                        ray_stats *st)
+{
+    return query_nearest(s, r, hit, st);
+}
+
+int ray__occluded_avx2(const ray_scene *s, const ray_ray *r, ray_stats *st)
+{
+    return query_any(s, r, st);
+}
+#else
+typedef int ray__no_avx2_copy;  /* ISO C wants a declaration in a file */
+#endif

@@ -1,0 +1,768 @@
+/*
+** traverse.h -- the scene queries (nearest hit, any hit) over the planes
+** and the two BVHs, as static functions: included by intersect.c, built
+** for the baseline instruction set, and by intersect_avx2.c, built with
+** AVX2 (the Makefile adds -mavx2 on x86), which ray__intersect and
+** ray__occluded pick at run time on CPUs that have it.  Both copies do
+** the same arithmetic, lane for lane, so they give the same answers.
+*/
+#ifndef RAY_TRAVERSE_H
+#define RAY_TRAVERSE_H
+
+#include <string.h>
+
+#include "internal.h"
+#include "watertight.h"
+
+
+/*
+** The slab test, eight boxes at a time in float, kept conservative: it
+** may let a box through that the ray misses, never the reverse.
+**
+**   * The origin is bracketed, o_lo <= o <= o_hi (float_down / float_up),
+**     and each plane distance uses the end that makes the near distance
+**     smaller and the far distance larger; the boxes themselves were
+**     rounded outward from the double geometry.
+**   * (b - o) * (1/d) then carries three float roundings (gamma(3) of
+**     float, relative), so the far distance -- clipped to tmax first, so
+**     that the same slack covers a near distance rounded past tmax -- is
+**     moved away from zero by FAR_SLACK times its magnitude (a factor,
+**     as in Ize's 1 + 2 gamma(3), would move a negative far distance the
+**     wrong way: tmin may be negative).  Ize proves with that bound that
+**     no hit is lost ("Robust BVH Ray Traversal", JCGT 2(2), 2013;
+**     pbrt-v4 Bounds3::IntersectP; Embree's robust mode); the popped
+**     entries get the same slack against tmax.
+**   * The distances are in units of a direction scaled by a power of two
+**     (exact) so that its largest component lies in [1, 2): 1/d of that
+**     component is then a normal float whatever the ray's length.
+**   * A zero direction component makes 1/d = +-Inf (IEEE), so the slab is
+**     everything or nothing (Williams et al., "An Efficient and Robust
+**     Ray-Box Intersection Algorithm", JGT 10(1), 2005); 0 * Inf = NaN
+**     when the origin is on the plane, and the max/min below ignore a NaN
+**     operand: the box is kept.  A component too small beside the largest
+**     for 1/d to be a normal float (below 2^-126 of it) gets 1/d = NaN:
+**     its slab is ignored, which only lets more boxes through.
+**
+** Everything else stays in double: the triangle tests decide the hits.
+*/
+typedef struct trav {
+    float o_near[3], o_far[3];   /* the origin end used for near / far */
+    float inv[3];                /* 1 / scaled direction (NaN: ignored) */
+    size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
+    float tmin;                  /* scaled, widened to a float */
+    double t_scale;              /* distance units of the scaled direction */
+    int framed;                  /* wt set up: 1; 0 not yet; -1 cannot be */
+    ray__watertight wt;          /* the triangle test's frame of the ray */
+#if RAY__PAIRS
+    ray__watertight2 wt2;        /* the same, for two triangles at once */
+#endif
+} trav;
+
+/*
+** The far distance's slack, relative: 2 gamma(3) as Ize's bound asks
+** (the near and the far distance each off by gamma(3)), plus 4u for the
+** two roundings of far + |far| * slack itself; u = 2^-24.
+*/
+#define FLOAT_U 5.9604644775390625e-8f
+#define FAR_SLACK (2.0f * (3.0f * FLOAT_U) / (1.0f - 3.0f * FLOAT_U) + \
+                   4.0f * FLOAT_U)
+
+/* The interval's end t in the scaled units, rounded up to a float. */
+static inline float trav_tmax(const trav *tr, double t)
+{
+    return ray__float_up(t * tr->t_scale);
+}
+
+/* t moved away from zero by the slack. */
+static inline float with_slack(float t)
+{
+    return t + fabsf(t) * FAR_SLACK;
+}
+
+/* 2^e for e in [-1022, 1023], built from its bits (exact). */
+static inline double pow2(int e)
+{
+    uint64_t bits = (uint64_t)(e + 1023) << 52;
+    double x;
+
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+/* The binary exponent of finite x > 0, clamped to [-1022, 1023] (a
+** subnormal gets -1022). */
+static inline int exponent_of(double x)
+{
+    uint64_t bits;
+    int e;
+
+    memcpy(&bits, &x, sizeof bits);
+    e = (int)(bits >> 52 & 0x7ff) - 1023;
+    return e < -1022 ? -1022 : e;
+}
+
+/* Axis k of the traversal data: origin component o, direction component
+** d, and d scaled by the power of two (ds). */
+static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
+{
+    /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
+    int neg = signbit(d) != 0;
+    double inv = 1.0 / ds;
+    float ends[2];
+    size_t at[2];
+
+    ends[0] = ray__float_down(o);
+    ends[1] = ray__float_up(o);
+    at[0] = offsetof(ray__wnode, lo[k]);
+    at[1] = offsetof(ray__wnode, hi[k]);
+    /* 1/d beyond float: NaN, the slab ignored (chosen by indexing, as
+    ** the other choices here). */
+    {
+        double choice[2];
+        choice[0] = inv;
+        choice[1] = (double)NAN;
+        tr->inv[k] = (float)choice[(d != 0) & !(fabs(ds) >= 0x1p-126)];
+    }
+    /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
+    ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
+    tr->near_at[k] = at[neg];
+    tr->far_at[k] = at[!neg];
+    tr->o_near[k] = ends[!neg];
+    tr->o_far[k] = ends[neg];
+}
+
+/*
+** The ray's traversal data; 0 for a ray that can hit nothing.  Free of
+** branches on the ray's signs and roundings (each a coin toss for
+** incoherent rays): the choices are made by indexing, and the axes are
+** written out (a loop's exit is mispredicted once a ray).
+*/
+static int trav_init(trav *tr, const ray_ray *r)
+{
+    ray_vec3 ad = v3_abs(r->dir);
+    double m = ad.x > ad.y ? ad.x : ad.y, down;
+    int e;
+
+    m = m > ad.z ? m : ad.z;
+    e = exponent_of(m);
+    tr->t_scale = pow2(e);          /* t' = t 2^e for d' = d 2^-e */
+    down = pow2(-e);
+    trav_axis(tr, 0, r->org.x, r->dir.x, r->dir.x * down);
+    trav_axis(tr, 1, r->org.y, r->dir.y, r->dir.y * down);
+    trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
+    tr->tmin = ray__float_down(r->tmin * tr->t_scale);
+    tr->framed = 0;
+    return 1;
+}
+
+/*
+** The triangle test's frame of the ray, set up when the ray first reaches
+** a leaf of triangles: most primary rays of a scene that does not fill
+** the frame reach none, and would pay its three divisions for nothing.
+** 0 if the ray has no frame (a zero or NaN direction: never for a ray
+** that passed ray__ray_usable).
+*/
+static inline int trav_frame(trav *tr, const ray_ray *r)
+{
+    if (tr->framed == 0) {
+        tr->framed = ray__watertight_init(&tr->wt, r) ? 1 : -1;
+#if RAY__PAIRS
+        if (tr->framed > 0)
+            ray__watertight2_init(&tr->wt2, &tr->wt);
+#endif
+    }
+    return tr->framed > 0;
+}
+
+/* Node q's bound array at byte offset "at" (one of trav's offsets). */
+static inline const float *bound_at(const ray__wnode *q, size_t at)
+{
+    return (const float *)(const void *)((const char *)q + at);
+}
+
+/*
+** Which of node q's boxes does the ray enter within (tmin, tmax)?
+** boxes_hit returns a bit mask; entry[k] is where it enters box k.  The
+** ray's quantities are first spread over the lanes ("lanes", once per
+** traversal), so a node costs only its loads and the arithmetic.
+*/
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+#include <immintrin.h>
+#if RAY__WIDTH != 8
+#error "boxes_hit below tests eight lanes"
+#endif
+/*
+** AVX: all eight lanes in one register, the same arithmetic as the plain
+** loop below lane for lane (vmaxps / vminps pick as maxps / minps do).
+*/
+typedef struct lanes {
+    __m256 o_near[3], o_far[3], inv[3], tmin, slack;
+    size_t near_at[3], far_at[3];
+} lanes;
+
+static inline void lanes_axis(lanes *l, const trav *tr, int a)
+{
+    l->o_near[a] = _mm256_set1_ps(tr->o_near[a]);
+    l->o_far[a] = _mm256_set1_ps(tr->o_far[a]);
+    l->inv[a] = _mm256_set1_ps(tr->inv[a]);
+    l->near_at[a] = tr->near_at[a];
+    l->far_at[a] = tr->far_at[a];
+}
+
+static void lanes_init(lanes *l, const trav *tr)
+{
+    lanes_axis(l, tr, 0);           /* written out: no loop to exit */
+    lanes_axis(l, tr, 1);
+    lanes_axis(l, tr, 2);
+    l->tmin = _mm256_set1_ps(tr->tmin);
+    l->slack = _mm256_set1_ps(FAR_SLACK);
+}
+
+static inline void slab8(const ray__wnode *q, const lanes *l, int a,
+                         __m256 *t0, __m256 *t1)
+{
+    __m256 np = _mm256_loadu_ps(bound_at(q, l->near_at[a]));
+    __m256 fp = _mm256_loadu_ps(bound_at(q, l->far_at[a]));
+    __m256 tn = _mm256_mul_ps(_mm256_sub_ps(np, l->o_near[a]), l->inv[a]);
+    __m256 tf = _mm256_mul_ps(_mm256_sub_ps(fp, l->o_far[a]), l->inv[a]);
+
+    *t0 = _mm256_max_ps(tn, *t0);                    /* NaN tn: ignored */
+    *t1 = _mm256_min_ps(tf, *t1);                    /* NaN tf: ignored */
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    __m256 t0 = l->tmin, t1 = _mm256_set1_ps(HUGE_VALF);
+
+    slab8(q, l, 0, &t0, &t1);
+    slab8(q, l, 1, &t0, &t1);
+    slab8(q, l, 2, &t0, &t1);
+    t1 = _mm256_min_ps(t1, _mm256_set1_ps(tmax));
+    t1 = _mm256_add_ps(t1, _mm256_mul_ps(
+                               _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t1),
+                               l->slack));
+    _mm256_storeu_ps(entry, t0);
+    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
+}
+#elif defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#include <emmintrin.h>
+#if RAY__WIDTH != 8
+#error "boxes_hit below tests two halves of four lanes"
+#endif
+/*
+** SSE: four lanes a register, the same arithmetic as the plain loop below
+** lane for lane; a node's two halves are independent, so their latencies
+** overlap.  maxps / minps return their second operand when either is NaN,
+** so max(tn, t0) keeps t0 for a NaN tn exactly as the plain
+** "tn > t0 ? tn : t0" does.
+*/
+typedef struct lanes {
+    __m128 o_near[3], o_far[3], inv[3], tmin, slack;
+    size_t near_at[3], far_at[3];
+} lanes;
+
+static inline void lanes_axis(lanes *l, const trav *tr, int a)
+{
+    l->o_near[a] = _mm_set1_ps(tr->o_near[a]);
+    l->o_far[a] = _mm_set1_ps(tr->o_far[a]);
+    l->inv[a] = _mm_set1_ps(tr->inv[a]);
+    l->near_at[a] = tr->near_at[a];
+    l->far_at[a] = tr->far_at[a];
+}
+
+static void lanes_init(lanes *l, const trav *tr)
+{
+    lanes_axis(l, tr, 0);           /* written out: no loop to exit */
+    lanes_axis(l, tr, 1);
+    lanes_axis(l, tr, 2);
+    l->tmin = _mm_set1_ps(tr->tmin);
+    l->slack = _mm_set1_ps(FAR_SLACK);
+}
+
+/* Narrow [*t0, *t1] to the slab of axis a, in lanes lane .. lane + 3. */
+static inline void slab4(const ray__wnode *q, const lanes *l, int a,
+                         int lane, __m128 *t0, __m128 *t1)
+{
+    __m128 np = _mm_loadu_ps(bound_at(q, l->near_at[a]) + lane);
+    __m128 fp = _mm_loadu_ps(bound_at(q, l->far_at[a]) + lane);
+    __m128 tn = _mm_mul_ps(_mm_sub_ps(np, l->o_near[a]), l->inv[a]);
+    __m128 tf = _mm_mul_ps(_mm_sub_ps(fp, l->o_far[a]), l->inv[a]);
+
+    *t0 = _mm_max_ps(tn, *t0);                       /* NaN tn: ignored */
+    *t1 = _mm_min_ps(tf, *t1);                       /* NaN tf: ignored */
+}
+
+static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
+                                  __m128 vmax, int lane, float *entry)
+{
+    __m128 t0 = l->tmin, t1 = _mm_set1_ps(HUGE_VALF);
+
+    slab4(q, l, 0, lane, &t0, &t1);
+    slab4(q, l, 1, lane, &t0, &t1);
+    slab4(q, l, 2, lane, &t0, &t1);
+    /* Clipped to tmax, then the slack: t1 is never NaN; -Inf (a box
+    ** wholly outside a slab of a zero direction component) gives NaN,
+    ** a miss. */
+    t1 = _mm_min_ps(t1, vmax);
+    t1 = _mm_add_ps(t1, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), t1),
+                                   l->slack));
+    _mm_storeu_ps(entry + lane, t0);
+    return (unsigned)_mm_movemask_ps(_mm_cmple_ps(t0, t1)) << lane;
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    __m128 vmax = _mm_set1_ps(tmax);
+
+    /* Written out for the two halves (-O2 does not unroll a loop). */
+    return boxes_hit4(q, l, vmax, 0, entry) | boxes_hit4(q, l, vmax, 4, entry);
+}
+#else
+typedef trav lanes;
+
+static void lanes_init(lanes *l, const trav *tr)
+{
+    *l = *tr;
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *tr,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    float t0[RAY__WIDTH], t1[RAY__WIDTH];
+    unsigned mask = 0;
+    int a, k;
+
+    for (k = 0; k < RAY__WIDTH; k++) {
+        t0[k] = tr->tmin;
+        t1[k] = HUGE_VALF;
+    }
+    for (a = 0; a < 3; a++) {
+        const float *np = bound_at(q, tr->near_at[a]);
+        const float *fp = bound_at(q, tr->far_at[a]);
+        for (k = 0; k < RAY__WIDTH; k++) {
+            float tn = (np[k] - tr->o_near[a]) * tr->inv[a];
+            float tf = (fp[k] - tr->o_far[a]) * tr->inv[a];
+            t0[k] = tn > t0[k] ? tn : t0[k];        /* NaN tn: ignored */
+            t1[k] = tf < t1[k] ? tf : t1[k];        /* NaN tf: ignored */
+        }
+    }
+    for (k = 0; k < RAY__WIDTH; k++) {
+        float far = t1[k] < tmax ? t1[k] : tmax;
+        far = with_slack(far);                  /* as the SSE lanes */
+        entry[k] = t0[k];
+        mask |= (unsigned)(t0[k] <= far) << k;
+    }
+    return mask;
+}
+#endif
+
+enum { LEAF_TRIANGLES, LEAF_PRIMS };
+
+/* traverse() is inlined into each caller, its "leaf" and "any" constant
+** there, so that each of the four copies keeps only its own branches. */
+#if defined(__GNUC__)
+#define RAY__INLINE inline __attribute__((always_inline))
+#else
+#define RAY__INLINE inline
+#endif
+
+/* The public counter index of an internal primitive kind. */
+static int kind_of(int prim_kind)
+{
+    switch (prim_kind) {
+    case PRIM_SPHERE:
+        return RAY_PRIM_SPHERE;
+    case PRIM_PLANE:
+        return RAY_PRIM_PLANE;
+    case PRIM_POLYGON:
+        return RAY_PRIM_POLYGON;
+    case PRIM_TORUS:
+        return RAY_PRIM_TORUS;
+    case PRIM_IMPLICIT:
+        return RAY_PRIM_IMPLICIT;
+    case PRIM_PARAMETRIC:
+    case PRIM_BEZIER:
+        return RAY_PRIM_PARAMETRIC;
+    default:
+        return RAY_PRIM_TRIANGLE;
+    }
+}
+
+/* What one query counts: tests by kind, and the curved-surface tests
+** that failed (iteration limit) and were taken as misses. */
+typedef struct query_counts {
+    unsigned long long tests[RAY_PRIM_KINDS];
+    unsigned long long failures;
+} query_counts;
+
+/* Add a query's counts to *st (if any). */
+static void add_counts(ray_stats *st, const query_counts *qc)
+{
+    int k;
+
+    if (st == NULL)
+        return;
+    for (k = 0; k < RAY_PRIM_KINDS; k++) {
+        st->tests_by_kind[k] += qc->tests[k];
+        st->tests += qc->tests[k];
+    }
+    st->root_failures += qc->failures;
+}
+
+static int tri_leaf(const ray_scene *s, trav *tr, unsigned first,
+                    unsigned end, ray_ray *r, void *best, int any);
+static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
+                     query_counts *qc);
+
+/* A node's slot waiting on the traversal stack: child and count as in
+** ray__wnode, and where the ray enters its box. */
+typedef struct pending {
+    unsigned child, count;
+    float t;
+} pending;
+
+/* The lowest set bit of a mask of RAY__WIDTH bits (mask != 0). */
+static inline int lowest_bit(unsigned mask)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(mask);
+#else
+    int k = 0;
+    while (!(mask >> k & 1))
+        k++;
+    return k;
+#endif
+}
+
+/*
+** Ordered traversal: of the children a ray enters, the nearest is visited
+** next and the others pushed with their entry distances, the farthest
+** deepest, so they are popped nearest first and only if still in front
+** of the nearest hit found since.  One child entered (the usual case deep
+** in the tree) needs no stack at all, two a single compare.  "any": stop
+** at the first hit.  "leaf" picks the primitive test.
+*/
+static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
+                                trav *tr, ray_ray *r, int leaf,
+                                void *best, int any, query_counts *qc)
+{
+    pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
+    unsigned child = 0, count = 0;    /* the root: an inner node */
+    float tmax = trav_tmax(tr, r->tmax);  /* earlier hits shrank it */
+    float tpop = with_slack(tmax);        /* what popped entries face */
+    int sp = 0, found = 0;
+    lanes l;
+
+    if (bvh->n_wide == 0)
+        return 0;
+    lanes_init(&l, tr);
+    for (;;) {
+        if (count == 0) {                           /* an inner node */
+            const ray__wnode *q = &bvh->wide[child];
+            float entry[RAY__WIDTH];
+            unsigned mask = boxes_hit(q, &l, tmax, entry);
+            int k0, k1, base, j;
+
+            if (mask == 0)
+                goto pop;
+            k0 = lowest_bit(mask);
+            mask &= mask - 1;
+            if (mask == 0) {
+                child = q->child[k0];
+                count = q->count[k0];
+                continue;
+            }
+            k1 = lowest_bit(mask);
+            mask &= mask - 1;
+            if (mask == 0) {
+                /* Any hit will do: no order (an occluder found a little
+                ** later costs less than ordering every node). */
+                int near = !any && entry[k1] < entry[k0] ? k1 : k0;
+                int far = near == k0 ? k1 : k0;
+                stack[sp].child = q->child[far];
+                stack[sp].count = q->count[far];
+                stack[sp++].t = entry[far];
+                child = q->child[near];
+                count = q->count[near];
+                continue;
+            }
+            /* Three or more: push them all, insertion-sorted so the
+            ** nearest is on top (unsorted for any hit), and pop it. */
+            base = sp;
+            for (mask |= 1u << k0 | 1u << k1; mask != 0; mask &= mask - 1) {
+                int k = lowest_bit(mask);
+                pending p;
+                p.child = q->child[k];
+                p.count = q->count[k];
+                p.t = entry[k];
+                for (j = sp; !any && j > base && stack[j - 1].t < p.t; j--)
+                    stack[j] = stack[j - 1];
+                stack[j] = p;
+                sp++;
+            }
+            sp--;
+            child = stack[sp].child;
+            count = stack[sp].count;
+            continue;
+        }
+        if (leaf == LEAF_TRIANGLES) {               /* a leaf */
+            unsigned n = count & ~RAY__LEAF;
+            qc->tests[RAY_PRIM_TRIANGLE] += n;
+            if (tri_leaf(s, tr, child, child + n, r, best, any)) {
+                found = 1;
+                if (any)
+                    return found;
+                tmax = trav_tmax(tr, r->tmax);
+                tpop = with_slack(tmax);
+            }
+        } else {
+            unsigned i, end = child + (count & ~RAY__LEAF);
+            for (i = child; i < end; i++) {
+                qc->tests[kind_of(s->prims[bvh->items[i]].kind)]++;
+                if (prim_test(s, i, r, best, qc)) {
+                    found = 1;
+                    if (any)
+                        return found;
+                    tmax = trav_tmax(tr, r->tmax);
+                    tpop = with_slack(tmax);
+                }
+            }
+        }
+    pop:
+        do {
+            if (sp == 0)
+                return found;
+            sp--;
+        } while (stack[sp].t > tpop);
+        child = stack[sp].child;
+        count = stack[sp].count;
+    }
+}
+
+/* The nearest triangle so far. */
+typedef struct tri_best {
+    unsigned index;
+    double beta, gamma;
+} tri_best;
+
+/* Record hit t on triangle i (beta, gamma) as the nearest so far. */
+static inline void tri_hit(unsigned i, double t, double beta, double gamma,
+                           ray_ray *r, void *best)
+{
+    r->tmax = t;
+    if (best != NULL) {
+        tri_best *b = best;
+        b->index = i;
+        b->beta = beta;
+        b->gamma = gamma;
+    }
+}
+
+/*
+** The triangles first .. end - 1 of a leaf, in order, each hit shrinking
+** r->tmax; "any": stop at the first hit.  Where SSE2 is there the
+** watertight test takes them in pairs (an odd one pairs with itself, its
+** twin lane giving the same answer, which the order below ignores); each
+** pair's lanes are ended in order, so the answers are those of testing
+** one triangle after another.
+*/
+static inline int tri_leaf(const ray_scene *s, trav *tr,
+                           unsigned first, unsigned end, ray_ray *r,
+                           void *best, int any)
+{
+    int found = 0;
+    unsigned i;
+
+    if (s->watertight && !trav_frame(tr, r))
+        return 0;
+#if RAY__PAIRS
+    if (s->watertight) {
+        for (i = first; i < end; i += 2) {
+            unsigned pair[2];
+            const ray__tri *t0 = &s->tris[i], *t1;
+            double u[2], v[2], w[2], z[6];
+            int m, lane;
+            pair[0] = i;
+            pair[1] = i + (i + 1 < end);   /* i itself if last; no branch */
+            t1 = &s->tris[pair[1]];
+            m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
+                                     &t1->b, &t0->c, &t1->c, u, v, w, z);
+            if (m == 0)
+                continue;
+            for (lane = 0; lane < 2; lane++) {
+                const ray__tri *t = lane ? t1 : t0;
+                double th, beta, gamma;
+                int hit = m < 0 ? ray__triangle_watertight_pre(
+                                      &tr->wt, r->tmin, r->tmax, &t->a,
+                                      &t->b, &t->c, &th, &beta, &gamma)
+                                : (m >> lane & 1) &&
+                                      ray__watertight_finish(
+                                          &tr->wt, u[lane], v[lane], w[lane],
+                                          z[3 * lane], z[3 * lane + 1],
+                                          z[3 * lane + 2], r->tmin, r->tmax,
+                                          &th, &beta, &gamma);
+                if (hit) {
+                    tri_hit(pair[lane], th, beta, gamma, r, best);
+                    found = 1;
+                    if (any)
+                        return 1;
+                }
+            }
+        }
+        return found;
+    }
+#endif
+    for (i = first; i < end; i++) {
+        const ray__tri *t = &s->tris[i];
+        double th, beta, gamma;
+        int hit = s->watertight
+                      ? ray__triangle_watertight_pre(&tr->wt, r->tmin,
+                                                     r->tmax, &t->a, &t->b,
+                                                     &t->c, &th, &beta,
+                                                     &gamma)
+                      : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
+                                           &gamma);
+        if (hit) {
+            tri_hit(i, th, beta, gamma, r, best);
+            found = 1;
+            if (any)
+                return 1;
+        }
+    }
+    return found;
+}
+
+/* A Bezier patch from its control points in the scene. */
+static int bezier_intersect(const ray_scene *s, const ray__prim *p,
+                            const ray_ray *r, ray_hit *hit)
+{
+    ray_parametric_surface ps;
+
+    if (ray_bezier_surface(s->verts + p->first, &ps) != RAY_OK)
+        return 0;          /* cannot happen: checked when added */
+    return ray_parametric(r, &ps, hit);
+}
+
+/*
+** One primitive other than a triangle against the ray; fills *hit on a
+** hit.  A curved surface whose iteration failed (a negative answer) is a
+** miss, counted in *failures.
+*/
+static int prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
+                          ray_hit *hit, unsigned long long *failures)
+{
+    const ray__prim *p = &s->prims[i];
+    int ok;
+
+    switch (p->kind) {
+    case PRIM_SPHERE:
+        ok = ray_sphere(r, p->a, p->radius, hit);
+        break;
+    case PRIM_PLANE:
+        ok = ray_plane(r, p->a, p->b, hit);
+        break;
+    case PRIM_TORUS:
+        ok = ray_torus(r, &s->surfaces[p->surface].torus, hit);
+        break;
+    case PRIM_IMPLICIT:
+        ok = ray_implicit(r, &s->surfaces[p->surface].implicit, hit);
+        break;
+    case PRIM_PARAMETRIC:
+        ok = ray_parametric(r, &s->surfaces[p->surface].parametric, hit);
+        break;
+    case PRIM_BEZIER:
+        ok = bezier_intersect(s, p, r, hit);
+        break;
+    default:
+        ok = ray_polygon(r, s->verts + p->first, p->count, hit);
+        break;
+    }
+    if (ok < 0) {
+        (*failures)++;
+        return 0;
+    }
+    if (ok) {
+        hit->geom_id = i;
+        hit->prim_id = 0;
+    }
+    return ok;
+}
+
+static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
+                     void *best, query_counts *qc)
+{
+    ray_hit h;
+
+    if (!prim_intersect(s, s->prim_bvh.items[item], r, &h, &qc->failures))
+        return 0;
+    r->tmax = h.t;
+    if (best != NULL)
+        *(ray_hit *)best = h;
+    return 1;
+}
+
+static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                         ray_stats *st)
+{
+    query_counts qc;
+    ray_ray rr = *r;
+    ray_hit best;
+    tri_best tb;
+    trav tr;
+    int found = 0;
+    size_t i;
+
+    if (!ray__ray_usable(r) || !trav_init(&tr, r))
+        return 0;
+    memset(&qc, 0, sizeof qc);
+    for (i = 0; i < s->n_planes; i++)
+        if (prim_intersect(s, s->planes[i], &rr, &best, &qc.failures)) {
+            rr.tmax = best.t;
+            found = 1;
+        }
+    qc.tests[RAY_PRIM_PLANE] += s->n_planes;
+    if (traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, &best, 0, &qc))
+        found = 1;
+    if (traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc)) {
+        const ray__tri *t = &s->tris[tb.index];
+        /* A usable triangle (checked at commit) always fills. */
+        if (ray__triangle_fill(t->a, t->b, t->c, rr.tmax, tb.beta, tb.gamma,
+                               &best)) {
+            best.geom_id = s->tri_ids[tb.index].geom_id;
+            best.prim_id = s->tri_ids[tb.index].prim_id;
+            found = 1;
+        }
+    }
+    add_counts(st, &qc);
+    if (found)
+        *hit = best;
+    return found;
+}
+
+static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
+{
+    query_counts qc;
+    ray_ray rr = *r;
+    ray_hit h;
+    trav tr;
+    size_t i;
+    int hit = 0;
+
+    if (!ray__ray_usable(r) || !trav_init(&tr, r))
+        return 0;
+    memset(&qc, 0, sizeof qc);
+    for (i = 0; i < s->n_planes && !hit; i++) {
+        qc.tests[RAY_PRIM_PLANE]++;
+        hit = prim_intersect(s, s->planes[i], &rr, &h, &qc.failures);
+    }
+    if (!hit)
+        hit = traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, NULL, 1, &qc) ||
+              traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1,
+                       &qc);
+    add_counts(st, &qc);
+    return hit;
+}
+
+#endif
