@@ -186,25 +186,34 @@ static inline const float *bound_at(const ray__wnode *q, size_t at)
 ** ray's quantities are first spread over the lanes ("lanes", once per
 ** traversal), so a node costs only its loads and the arithmetic.
 */
-#if defined(__AVX__) && !defined(RAY_NO_SIMD)
-#include <immintrin.h>
+#if !defined(RAY_NO_SIMD) && (defined(__AVX__) || defined(__SSE2__))
 #if RAY__WIDTH != 8
-#error "boxes_hit below tests eight lanes"
+#error "boxes_hit below tests eight lanes, or two halves of four"
 #endif
 /*
-** AVX: all eight lanes in one register, the same arithmetic as the plain
-** loop below lane for lane (vmaxps / vminps pick as maxps / minps do).
+** The ray's quantities in a register each: eight lanes with AVX (the
+** AVX2 copy of the queries), four with SSE.
 */
+#if defined(__AVX__)
+#include <immintrin.h>
+typedef __m256 vf;
+#define VF_SET1 _mm256_set1_ps
+#else
+#include <emmintrin.h>
+typedef __m128 vf;
+#define VF_SET1 _mm_set1_ps
+#endif
+
 typedef struct lanes {
-    __m256 o_near[3], o_far[3], inv[3], tmin, slack;
+    vf o_near[3], o_far[3], inv[3], tmin, slack;
     size_t near_at[3], far_at[3];
 } lanes;
 
 static inline void lanes_axis(lanes *l, const trav *tr, int a)
 {
-    l->o_near[a] = _mm256_set1_ps(tr->o_near[a]);
-    l->o_far[a] = _mm256_set1_ps(tr->o_far[a]);
-    l->inv[a] = _mm256_set1_ps(tr->inv[a]);
+    l->o_near[a] = VF_SET1(tr->o_near[a]);
+    l->o_far[a] = VF_SET1(tr->o_far[a]);
+    l->inv[a] = VF_SET1(tr->inv[a]);
     l->near_at[a] = tr->near_at[a];
     l->far_at[a] = tr->far_at[a];
 }
@@ -214,10 +223,16 @@ static void lanes_init(lanes *l, const trav *tr)
     lanes_axis(l, tr, 0);           /* written out: no loop to exit */
     lanes_axis(l, tr, 1);
     lanes_axis(l, tr, 2);
-    l->tmin = _mm256_set1_ps(tr->tmin);
-    l->slack = _mm256_set1_ps(FAR_SLACK);
+    l->tmin = VF_SET1(tr->tmin);
+    l->slack = VF_SET1(FAR_SLACK);
 }
+#endif
 
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+/*
+** AVX: all eight lanes in one register, the same arithmetic as the plain
+** loop below lane for lane (vmaxps / vminps pick as maxps / minps do).
+*/
 static inline void slab8(const ray__wnode *q, const lanes *l, int a,
                          __m256 *t0, __m256 *t1)
 {
@@ -246,10 +261,6 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
 }
 #elif defined(__SSE2__) && !defined(RAY_NO_SIMD)
-#include <emmintrin.h>
-#if RAY__WIDTH != 8
-#error "boxes_hit below tests two halves of four lanes"
-#endif
 /*
 ** SSE: four lanes a register, the same arithmetic as the plain loop below
 ** lane for lane; a node's two halves are independent, so their latencies
@@ -257,29 +268,6 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
 ** so max(tn, t0) keeps t0 for a NaN tn exactly as the plain
 ** "tn > t0 ? tn : t0" does.
 */
-typedef struct lanes {
-    __m128 o_near[3], o_far[3], inv[3], tmin, slack;
-    size_t near_at[3], far_at[3];
-} lanes;
-
-static inline void lanes_axis(lanes *l, const trav *tr, int a)
-{
-    l->o_near[a] = _mm_set1_ps(tr->o_near[a]);
-    l->o_far[a] = _mm_set1_ps(tr->o_far[a]);
-    l->inv[a] = _mm_set1_ps(tr->inv[a]);
-    l->near_at[a] = tr->near_at[a];
-    l->far_at[a] = tr->far_at[a];
-}
-
-static void lanes_init(lanes *l, const trav *tr)
-{
-    lanes_axis(l, tr, 0);           /* written out: no loop to exit */
-    lanes_axis(l, tr, 1);
-    lanes_axis(l, tr, 2);
-    l->tmin = _mm_set1_ps(tr->tmin);
-    l->slack = _mm_set1_ps(FAR_SLACK);
-}
-
 /* Narrow [*t0, *t1] to the slab of axis a, in lanes lane .. lane + 3. */
 static inline void slab4(const ray__wnode *q, const lanes *l, int a,
                          int lane, __m128 *t0, __m128 *t1)

@@ -84,6 +84,27 @@ static void make_soup(rng *g, ray_vec3 *v, unsigned *idx, size_t n)
     }
 }
 
+/* A scene holding a hostile soup of n triangles as one mesh (its id in
+** *id); *v and *idx are the soup's arrays, for brute force (free them). */
+static ray_scene *soup_scene(rng *g, size_t n, ray_vec3 **v, unsigned **idx,
+                             unsigned *mat, unsigned *id)
+{
+    ray_scene *s = new_scene(mat);
+    ray_mesh mesh;
+
+    *v = malloc(3 * n * sizeof **v);
+    *idx = malloc(3 * n * sizeof **idx);
+    ck_assert(*v != NULL && *idx != NULL);
+    make_soup(g, *v, *idx, n);
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = *v;
+    mesh.vertex_count = 3 * n;
+    mesh.indices = *idx;
+    mesh.triangle_count = n;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, *mat, id), RAY_OK);
+    return s;
+}
+
 /* A random test ray: from anywhere (inside the soup's boxes too), some
 ** with zero direction components, some with a bounded interval. */
 static ray_ray random_ray(rng *g)
@@ -126,18 +147,10 @@ START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
 
     for (k = 0; k < 5; k++) {
         size_t n = sizes[k], i, j;
-        ray_vec3 *v = malloc(3 * n * sizeof *v);
-        unsigned *idx = malloc(3 * n * sizeof *idx), mat, id;
-        ray_mesh mesh;
-        ray_scene *s = new_scene(&mat);
+        ray_vec3 *v;
+        unsigned *idx, mat, id;
+        ray_scene *s = soup_scene(&g, n, &v, &idx, &mat, &id);
 
-        make_soup(&g, v, idx, n);
-        memset(&mesh, 0, sizeof mesh);
-        mesh.vertices = v;
-        mesh.vertex_count = 3 * n;
-        mesh.indices = idx;
-        mesh.triangle_count = n;
-        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, &id), RAY_OK);
         ck_assert_int_eq(ray_scene_set_watertight(s, mode), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         for (j = 0; j < 4000; j++) {
@@ -342,18 +355,10 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
     if (!__builtin_cpu_supports("avx2"))
         return;
     for (mode = 0; mode < 2; mode++) {
-        ray_vec3 *v = malloc(3 * n * sizeof *v);
-        unsigned *idx = malloc(3 * n * sizeof *idx), mat;
-        ray_mesh mesh;
-        ray_scene *s = new_scene(&mat);
+        ray_vec3 *v;
+        unsigned *idx, mat, id;
+        ray_scene *s = soup_scene(&g, n, &v, &idx, &mat, &id);
 
-        make_soup(&g, v, idx, n);
-        memset(&mesh, 0, sizeof mesh);
-        mesh.vertices = v;
-        mesh.vertex_count = 3 * n;
-        mesh.indices = idx;
-        mesh.triangle_count = n;
-        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mat, NULL), RAY_OK);
         for (i = 0; i < 20; i++)
             ck_assert_int_eq(ray_scene_add_sphere(s, rng_point(&g, -10, 10),
                                                   rng_range(&g, 0.1, 2), mat,
