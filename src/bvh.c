@@ -93,18 +93,28 @@ static inline float centroid2(const ref *r, int axis)
     return r->lo[axis] + r->hi[axis];
 }
 
-
 typedef struct bin {
     box b;
     size_t count;
 } bin;
 
 /*
-** Drop refs[begin, end) into the bins of each axis (bins[axis][b], the
-** first nb of each, empty on entry): the build's inner loop.
+** Drop refs[begin, end) into the first nb bins of each axis (bins[axis][b],
+** emptied first): the build's inner loop.
 */
 #if defined(__SSE2__) && !defined(RAY_NO_SIMD)
 #include <emmintrin.h>
+
+/* A ref's lo (or hi) in one register, the fourth lane (id, pad) zeroed:
+** never arithmetic on it. */
+static inline __m128 ref_lanes(const ref *r, size_t at)
+{
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+
+    return _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
+                                   ((const char *)r + at)), xyz);
+}
+
 /*
 ** With SSE: one register holds an item's lo (or hi) on all three axes,
 ** so its three bins grow by one min and one max each, where the scalar
@@ -119,7 +129,6 @@ static void bin_items(const builder *bd, size_t begin, size_t end,
 {
     __m128 lo_acc[3][BINS], hi_acc[3][BINS];
     size_t count[3][BINS], i;
-    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
     const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
     const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
     const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
@@ -132,12 +141,8 @@ static void bin_items(const builder *bd, size_t begin, size_t end,
             count[axis][b] = 0;
         }
     for (i = begin; i < end; i++) {
-        const char *r = (const char *)&bd->refs[i];
-        /* The fourth lanes (id, pad) are zeroed: never arithmetic on them. */
-        __m128 lo = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
-                                            (r + offsetof(ref, lo))), xyz);
-        __m128 hi = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
-                                            (r + offsetof(ref, hi))), xyz);
+        __m128 lo = ref_lanes(&bd->refs[i], offsetof(ref, lo));
+        __m128 hi = ref_lanes(&bd->refs[i], offsetof(ref, hi));
         __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
         int k[4];
         x = _mm_min_ps(_mm_max_ps(x, zero), top);
@@ -179,8 +184,13 @@ static void bin_items(const builder *bd, size_t begin, size_t end,
                       bin bins[3][BINS])
 {
     size_t i;
-    int axis;
+    int axis, b;
 
+    for (axis = 0; axis < 3; axis++)
+        for (b = 0; b < nb; b++) {
+            box_empty(&bins[axis][b].b);
+            bins[axis][b].count = 0;
+        }
     for (i = begin; i < end; i++) {
         const ref *r = &bd->refs[i];
         for (axis = 0; axis < 3; axis++) {
@@ -219,10 +229,6 @@ static split best_split(const builder *bd, size_t begin, size_t end,
         /* nb * (1 - eps) / extent keeps the largest centroid in range; a
         ** flat axis gets scale 0: everything in bin 0, never split. */
         scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
-        for (b = 0; b < nb; b++) {
-            box_empty(&bins[axis][b].b);
-            bins[axis][b].count = 0;
-        }
     }
     bin_items(bd, begin, end, cb, scale, nb, bins);
     for (axis = 0; axis < 3; axis++) {
@@ -267,12 +273,6 @@ typedef struct bounds {
     box items, centroids;
 } bounds;
 
-
-/*
-** Move the items of the split's left side to the front, gathering both
-** sides' bounds on the way (so the children need no pass of their own);
-** returns the first index of the right side.
-*/
 #if defined(__SSE2__) && !defined(RAY_NO_SIMD)
 /* Bounds as four registers (items' lo and hi, centroids' lo and hi);
 ** bounds4_grow is the plain version's box_grow twice, lane for lane. */
@@ -288,12 +288,8 @@ static void bounds4_empty(bounds4 *b)
 
 static inline void bounds4_grow(bounds4 *b, const ref *r)
 {
-    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
-    const char *p = (const char *)r;
-    __m128 lo = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
-                                        (p + offsetof(ref, lo))), xyz);
-    __m128 hi = _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
-                                        (p + offsetof(ref, hi))), xyz);
+    __m128 lo = ref_lanes(r, offsetof(ref, lo));
+    __m128 hi = ref_lanes(r, offsetof(ref, hi));
     __m128 c = _mm_add_ps(lo, hi);
 
     b->lo = _mm_min_ps(b->lo, lo);

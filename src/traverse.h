@@ -14,7 +14,6 @@
 #include "internal.h"
 #include "watertight.h"
 
-
 /*
 ** The slab test, eight boxes at a time in float, kept conservative: it
 ** may let a box through that the ray misses, never the reverse.
@@ -132,12 +131,12 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
 }
 
 /*
-** The ray's traversal data; 0 for a ray that can hit nothing.  Free of
+** The traversal data of r, a ray that passed ray__ray_usable.  Free of
 ** branches on the ray's signs and roundings (each a coin toss for
 ** incoherent rays): the choices are made by indexing, and the axes are
 ** written out (a loop's exit is mispredicted once a ray).
 */
-static int trav_init(trav *tr, const ray_ray *r)
+static void trav_init(trav *tr, const ray_ray *r)
 {
     ray_vec3 ad = v3_abs(r->dir);
     double m = ad.x > ad.y ? ad.x : ad.y, down;
@@ -152,7 +151,6 @@ static int trav_init(trav *tr, const ray_ray *r)
     trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
     tr->tmin = ray__float_down(r->tmin * tr->t_scale);
     tr->framed = 0;
-    return 1;
 }
 
 /*
@@ -266,9 +264,9 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
 ** lane for lane; a node's two halves are independent, so their latencies
 ** overlap.  maxps / minps return their second operand when either is NaN,
 ** so max(tn, t0) keeps t0 for a NaN tn exactly as the plain
-** "tn > t0 ? tn : t0" does.
+** "tn > t0 ? tn : t0" does.  slab4 narrows [*t0, *t1] to the slab of
+** axis a in lanes lane .. lane + 3.
 */
-/* Narrow [*t0, *t1] to the slab of axis a, in lanes lane .. lane + 3. */
 static inline void slab4(const ray__wnode *q, const lanes *l, int a,
                          int lane, __m128 *t0, __m128 *t1)
 {
@@ -308,16 +306,20 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
     return boxes_hit4(q, l, vmax, 0, entry) | boxes_hit4(q, l, vmax, 4, entry);
 }
 #else
-typedef trav lanes;
+/* Plain C reads the ray's quantities from the traversal data itself. */
+typedef struct lanes {
+    const trav *tr;
+} lanes;
 
 static void lanes_init(lanes *l, const trav *tr)
 {
-    *l = *tr;
+    l->tr = tr;
 }
 
-static inline unsigned boxes_hit(const ray__wnode *q, const lanes *tr,
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
                                  float tmax, float entry[RAY__WIDTH])
 {
+    const trav *tr = l->tr;
     float t0[RAY__WIDTH], t1[RAY__WIDTH];
     unsigned mask = 0;
     int a, k;
@@ -702,8 +704,9 @@ static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
     int found = 0;
     size_t i;
 
-    if (!ray__ray_usable(r) || !trav_init(&tr, r))
+    if (!ray__ray_usable(r))
         return 0;
+    trav_init(&tr, r);
     memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes; i++)
         if (prim_intersect(s, s->planes[i], &rr, &best, &qc.failures)) {
@@ -738,8 +741,9 @@ static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
     size_t i;
     int hit = 0;
 
-    if (!ray__ray_usable(r) || !trav_init(&tr, r))
+    if (!ray__ray_usable(r))
         return 0;
+    trav_init(&tr, r);
     memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes && !hit; i++) {
         qc.tests[RAY_PRIM_PLANE]++;
