@@ -91,7 +91,10 @@ deps-check:
 AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
                 $(shell $(CC) -dumpmachine 2>/dev/null)),-mavx2)
 
-$(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h
+# The package probes run before any compile (order-only), so a parallel
+# make on a fresh machine does not compile against headers still being
+# installed.
+$(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
 	    $(if $(filter src/png.c src/image.c,$<),$(PNG_CFLAGS)) \
@@ -108,7 +111,7 @@ $(SHARED): $(OBJS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
-$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h $(wildcard examples/*.h) bench/bench.h $(STATIC)
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h $(wildcard examples/*.h) bench/bench.h $(STATIC) | deps-check
 	@mkdir -p $(@D)
 	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
