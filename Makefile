@@ -111,7 +111,7 @@ $(SHARED): $(OBJS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
-$(TEST_BIN): $(TEST_SRCS) tests/check_main.c tests/tests.h tests/hardcases.h $(wildcard examples/*.h) bench/bench.h $(STATIC) | deps-check
+$(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(STATIC) | deps-check
 	@mkdir -p $(@D)
 	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
@@ -131,7 +131,7 @@ EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 # Benchmarks mix float, double and long double on purpose (float variants,
 # long double references), so -Wdouble-promotion, which guards the
 # library's geometry code, is off for them.
-$(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) tests/hardcases.h $(STATIC)
+$(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c,$<),$(EMBREE_FLAGS)) \
 	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)
