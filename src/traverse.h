@@ -572,13 +572,14 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
         for (i = first; i < end; i += 2) {
             unsigned pair[2];
             const ray__tri *t0 = &s->tris[i], *t1;
-            double u[2], v[2], w[2], z[6];
+            double u[2], v[2], w[2], z[6], mx[2], my[2];
             int m, lane;
             pair[0] = i;
             pair[1] = i + (i + 1 < end);   /* i itself if last; no branch */
             t1 = &s->tris[pair[1]];
             m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
-                                     &t1->b, &t0->c, &t1->c, u, v, w, z);
+                                     &t1->b, &t0->c, &t1->c, u, v, w, z, mx,
+                                     my);
             if (m == 0)
                 continue;
             for (lane = 0; lane < 2; lane++) {
@@ -591,8 +592,9 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
                                       ray__watertight_finish(
                                           &tr->wt, u[lane], v[lane], w[lane],
                                           z[3 * lane], z[3 * lane + 1],
-                                          z[3 * lane + 2], r->tmin, r->tmax,
-                                          &th, &beta, &gamma);
+                                          z[3 * lane + 2], mx[lane],
+                                          my[lane], r->tmin, r->tmax, &th,
+                                          &beta, &gamma);
                 if (hit) {
                     tri_hit(pair[lane], th, beta, gamma, r, best);
                     found = 1;

@@ -41,6 +41,35 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
 }
 
 /*
+** A bound on the rounding error of Cramer's t = t_num / m below, by the
+** running error analysis of Higham ("Accuracy and Stability of Numerical
+** Algorithms", 2nd ed., section 3.1), with gamma(n) = n u / (1 - n u):
+** a..f and j..l are differences (one rounding each), so a minor such as
+** ak - jb carries gamma(4) (|ak| + |jb|) (two factors, the product, the
+** difference); the products with f, e, d and the two additions bring
+** t_num's to gamma(7) times the sum of the magnitudes of its terms, and
+** likewise m's (g, h, i are exact) to gamma(6).  With t = t_num / m,
+** |t - t_exact| <= dt_num / |m| + |t| (dm / |m| + u).  A hit must have
+** its whole error interval past tmin: see ray__watertight_t_error.
+*/
+static double cramer_t_error(double a, double b, double c, double d,
+                             double e, double f, double g, double h,
+                             double i, double j, double k, double l,
+                             double m, double t)
+{
+    double dt_num = fabs(f) * (fabs(a * k) + fabs(j * b)) +
+                    fabs(e) * (fabs(j * c) + fabs(a * l)) +
+                    fabs(d) * (fabs(b * l) + fabs(k * c));
+    double dm = fabs(a) * (fabs(e * i) + fabs(h * f)) +
+                fabs(b) * (fabs(g * f) + fabs(d * i)) +
+                fabs(c) * (fabs(d * h) + fabs(e * g));
+
+    dt_num *= ray__gamma(7) * (1 + ray__gamma(3));
+    dm *= ray__gamma(6) * (1 + ray__gamma(3));
+    return (dt_num + fabs(t) * dm) / fabs(m) + ray__gamma(2) * fabs(t);
+}
+
+/*
 ** The system [A-B, A-C, d] [beta gamma t]^T = A - e, with the book's
 ** names for its entries:
 **
@@ -93,7 +122,9 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     /* Divisions rather than one reciprocal: each quotient is then
     ** correctly rounded, and an edge hit stays exactly on its edge. */
     t = t_num / m;
-    if (!(t > r->tmin && t < r->tmax))
+    if (!(t > r->tmin && t < r->tmax) ||
+        !(t - cramer_t_error(a, b, c, d, e, f, g, h, i, j, k, l, m, t) >
+          r->tmin))
         return 0;
     gamma = gamma_num / m;
     if (!(gamma >= 0 && gamma <= 1))

@@ -85,14 +85,67 @@ static inline int ray__watertight_init(ray__watertight *w,
 }
 
 /*
-** The test's end, from the edge functions u, v, w (their signs checked)
-** and the projected distances za, zb, zc of the vertices along kz: det,
-** t in (tmin, tmax), the barycentrics.  Shared by the one-triangle test
-** and the SSE pair test, so both give the same bits.
+** A bound on the rounding error of the t that ray__watertight_finish
+** computes, following pbrt-v4's derivation for this test (Pharr, Jakob,
+** Humphreys, "Physically Based Rendering", 4th ed., section 6.8.4,
+** "Robust Triangle Intersections"), with gamma(n) = n u / (1 - n u) the
+** bound on n successive roundings (Higham) and u = DBL_EPSILON / 2:
+**
+**   x, y: (v - o) - s z rounds three times on top of the direction's own
+**         rounding into s: dx = gamma(5) (max|x| + |s_x| max|z|), dy
+**         likewise (pbrt writes max|z|, as |s| <= 1 there too: kz is the
+**         largest component; the factor |s| keeps the bound tight for a
+**         ray nearly along kz);
+**   z:    (v - o)[kz] * (1 / dz): dz_s = gamma(3) max|z s_z|;
+**   e:    a x b y - a y b x: de = 2 (gamma(2) max|x| max|y|
+**         + dy max|x| + dx max|y|) (also bounds the long double re-
+**         evaluation, which rounds less);
+**   t_num = sum e_i z_i s_z: 3 (gamma(3) max|e| max|z s_z| + de max|z s_z|
+**         + dz_s max|e|);
+**   det = e_a + e_b + e_c, whose terms share a sign: gamma(2) |det| + 3 de,
+** so |t - t_exact| <= (dt_num + 3 de |t|) / |det| + gamma(4) |t| (the
+** division and det's relative error).  pbrt keeps only the first term,
+** as it tests t > bound against 0; the others make the bound hold for
+** any tmin.
+**
+** Why it matters: a ray leaving a surface starts on it, or within its
+** rounding error, so the exact t of that surface is 0 or negative; the
+** computed t is rounding noise around it (about 1e-17 for a triangle in
+** the plane y = 0, where ray_spawn has no error to offset by).  Only a t
+** whose whole error interval lies past tmin is a hit.
+*/
+static inline double ray__watertight_t_error(const ray__watertight *wt,
+                                             double u, double v, double w,
+                                             double za, double zb,
+                                             double zc, double max_x,
+                                             double max_y, double det,
+                                             double t)
+{
+    double max_zs = dmax(dmax(fabs(za), fabs(zb)), fabs(zc));
+    double max_z = max_zs, max_e = dmax(dmax(fabs(u), fabs(v)), fabs(w));
+    double dx, dy, dzs, de, dt_num, at = fabs(t);
+
+    max_zs *= fabs(wt->sz) * (1 + ray__gamma(1));
+    dx = ray__gamma(5) * (max_x + fabs(wt->f.sx) * max_z);
+    dy = ray__gamma(5) * (max_y + fabs(wt->f.sy) * max_z);
+    dzs = ray__gamma(3) * max_zs;
+    de = 2 * (ray__gamma(2) * max_x * max_y + dy * max_x + dx * max_y);
+    dt_num = 3 * (ray__gamma(3) * max_e * max_zs + de * max_zs +
+                  dzs * max_e);
+    return (dt_num + 3 * de * at) / fabs(det) + ray__gamma(4) * at;
+}
+
+/*
+** The test's end, from the edge functions u, v, w (their signs checked),
+** the projected distances za, zb, zc of the vertices along kz and the
+** largest |x| and |y| of the projected vertices: det, t in (tmin, tmax)
+** with its whole error interval past tmin, the barycentrics.  Shared by
+** the one-triangle test and the SSE pair test, so both give the same bits.
 */
 static inline int ray__watertight_finish(const ray__watertight *wt,
                                          double u, double v, double w,
                                          double za, double zb, double zc,
+                                         double max_x, double max_y,
                                          double tmin, double tmax,
                                          double *t_out, double *beta_out,
                                          double *gamma_out)
@@ -104,6 +157,9 @@ static inline int ray__watertight_finish(const ray__watertight *wt,
     t_num = u * (wt->sz * za) + v * (wt->sz * zb) + w * (wt->sz * zc);
     t = t_num / det;
     if (!(t > tmin && t < tmax))
+        return 0;
+    if (!(t - ray__watertight_t_error(wt, u, v, w, za, zb, zc, max_x, max_y,
+                                      det, t) > tmin))
         return 0;
     beta = v / det;
     gamma = w / det;
@@ -154,8 +210,11 @@ static inline int ray__triangle_watertight_pre(
     ** here, as det is then NaN: a miss in both cases). */
     if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
         return 0;
-    return ray__watertight_finish(wt, u, v, w, pa[2], pb[2], pc[2], tmin,
-                                  tmax, t_out, beta_out, gamma_out);
+    return ray__watertight_finish(
+        wt, u, v, w, pa[2], pb[2], pc[2],
+        dmax(dmax(fabs(ax), fabs(bx)), fabs(cx)),
+        dmax(dmax(fabs(ay), fabs(by)), fabs(cy)), tmin, tmax, t_out,
+        beta_out, gamma_out);
 }
 
 /*
@@ -221,17 +280,24 @@ static inline void ray__project2(const ray__watertight2 *w,
 /*
 ** Triangles (a0, b0, c0) and (a1, b1, c1) against the ray: a bit mask of
 ** the lanes that may hit, their edge functions and distances along kz
-** written to u, v, w, z (lane l at index 3 l for z: za, zb, zc) for
+** written to u, v, w, z (lane l at index 3 l for z: za, zb, zc) and the
+** largest |x|, |y| of their projected vertices to mx, my, for
 ** ray__watertight_finish to end; -1 when an edge function is exactly 0
 ** in a lane: the caller then tests both with ray__triangle_watertight_pre
 ** (the long double re-evaluation is scalar; it is rare).
 */
+static inline __m128d ray__abs2(__m128d x)
+{
+    return _mm_andnot_pd(_mm_set1_pd(-0.0), x);
+}
+
 static inline int ray__watertight_pair(const ray__watertight2 *w2,
                                        const ray_vec3 *a0, const ray_vec3 *a1,
                                        const ray_vec3 *b0, const ray_vec3 *b1,
                                        const ray_vec3 *c0, const ray_vec3 *c1,
                                        double u[2], double v[2], double w[2],
-                                       double z[6])
+                                       double z[6], double mx[2],
+                                       double my[2])
 {
     const __m128d zero = _mm_setzero_pd();
     __m128d pa[3], pb[3], pc[3], eu, ev, ew, lo, hi;
@@ -262,6 +328,13 @@ static inline int ray__watertight_pair(const ray__watertight2 *w2,
     _mm_storeh_pd(&z[3], pa[2]);
     _mm_storeh_pd(&z[4], pb[2]);
     _mm_storeh_pd(&z[5], pc[2]);
+    /* Exact, as the scalar fabs and dmax are: the same bits. */
+    _mm_storeu_pd(mx, _mm_max_pd(_mm_max_pd(ray__abs2(pa[0]),
+                                            ray__abs2(pb[0])),
+                                 ray__abs2(pc[0])));
+    _mm_storeu_pd(my, _mm_max_pd(_mm_max_pd(ray__abs2(pa[1]),
+                                            ray__abs2(pb[1])),
+                                 ray__abs2(pc[1])));
     return ~miss & 3;
 }
 #endif

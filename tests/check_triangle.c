@@ -176,8 +176,17 @@ START_TEST(triangle_should_respect_open_interval)
     ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 0);
     r.tmax = nextafter(1.0, 2.0);
     ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 1);
-    r.tmin = nextafter(1.0, 0.0);
+    ck_assert_int_eq(ray_triangle_watertight(&r, a, b, c, &h), 1);
+    /* tmin is conservative: the hit at t = 1 (exact here) counts only
+    ** when tmin lies below t's rounding-error interval, a few ulps of
+    ** the coordinates (ray_triangle(3)); 1e-9 below is far past it, one
+    ** ulp below is inside it. */
+    r.tmin = 1.0 - 1e-9;
     ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 1);
+    ck_assert_int_eq(ray_triangle_watertight(&r, a, b, c, &h), 1);
+    r.tmin = nextafter(1.0, 0.0);
+    ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 0);
+    ck_assert_int_eq(ray_triangle_watertight(&r, a, b, c, &h), 0);
     r.tmin = 2.0;
     r.tmax = 0.5;
     ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 0);
