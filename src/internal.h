@@ -278,6 +278,8 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 ** tangent-frame (u, v) of ray_plane, measured from "origin".  Returns 0,
 ** leaving *hit untouched, if a result is not finite.
 */
+double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
+                          double denom, double t);
 int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
                     ray_vec3 origin, double t, ray_hit *hit);
 

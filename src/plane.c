@@ -49,6 +49,33 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
 }
 
 /*
+** A bound on the rounding error of t = ((point - org).n) / (dir.n), for
+** the difference po = point - org as computed (running error analysis,
+** Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed.,
+** section 3.1; gamma(n) = n u / (1 - n u)): the numerator's difference,
+** product and two additions give gamma(4) sum |po_i n_i| (po's computed
+** magnitudes, hence the extra gamma(1)), the denominator's gamma(3) sum
+** |d_i n_i|, and |t - t_exact| <= (d_num + |t| d_den) / |den| + u |t|.
+** A hit must lie past tmin by more than this: a ray leaving the plane
+** starts on it, or within its rounding error, and its computed t for
+** that plane is rounding noise around 0 or a negative number
+** (ray__watertight_t_error in watertight.h says more).
+*/
+double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
+                          double denom, double t)
+{
+    double num_mag = fabs(po.x * n.x) + fabs(po.y * n.y) + fabs(po.z * n.z);
+    double den_mag = fabs(dir.x * n.x) + fabs(dir.y * n.y) +
+                     fabs(dir.z * n.z);
+    double at = fabs(t);
+
+    return (ray__gamma(4) * (1 + ray__gamma(2)) * num_mag +
+            at * ray__gamma(3) * (1 + ray__gamma(1)) * den_mag) /
+               fabs(denom) +
+           ray__gamma(1) * at;
+}
+
+/*
 ** t does not depend on the normal's length, so it is computed with the
 ** normal as given and only a hit pays for normalising it.  d.n == 0 (a
 ** parallel ray, or one lying in the plane: 0/0) is tested exactly; a
@@ -59,13 +86,16 @@ int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
               ray_hit *hit)
 {
     double denom = v3_dot(r->dir, normal);
-    ray_vec3 n;
+    ray_vec3 n, po;
     double t;
 
     if (denom == 0)
         return 0;
-    t = v3_dot(v3_sub(point, r->org), normal) / denom;
-    if (!(t > r->tmin && t < r->tmax) || !v3_normalize(normal, &n))
+    po = v3_sub(point, r->org);
+    t = v3_dot(po, normal) / denom;
+    if (!(t > r->tmin && t < r->tmax) ||
+        !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin) ||
+        !v3_normalize(normal, &n))
         return 0;
     return ray__plane_fill(r, point, n, point, t, hit);
 }

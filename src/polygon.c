@@ -89,7 +89,7 @@ static int polygon_plane(const ray_vec3 *v, size_t n, ray_vec3 *c,
 int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
                 ray_hit *hit)
 {
-    ray_vec3 c, normal, n;
+    ray_vec3 c, normal, n, co;
     double denom, t;
 
     if (v == NULL || count < 3 || !polygon_plane(v, count, &c, &normal))
@@ -97,8 +97,10 @@ int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
     denom = v3_dot(r->dir, normal);
     if (denom == 0)
         return 0;
-    t = v3_dot(v3_sub(c, r->org), normal) / denom;
-    if (!(t > r->tmin && t < r->tmax))
+    co = v3_sub(c, r->org);
+    t = v3_dot(co, normal) / denom;
+    if (!(t > r->tmin && t < r->tmax) ||
+        !(t - ray__plane_t_error(co, normal, r->dir, denom, t) > r->tmin))
         return 0;
     if (!inside_along_ray(r, v, count) || !v3_normalize(normal, &n))
         return 0;

@@ -56,6 +56,97 @@ static int nearest_root(const ray_ray *r, double t0, double t1, double *t)
 }
 
 /*
+** The direction scaled by a power of two so that its largest component
+** lies in [0.5, 1): exact (a power of two only moves the exponent, barring
+** underflow of components ~2^-1000 times smaller than the largest, which
+** are noise beside it), so a direction of length 1e-200 or 1e200 gives
+** the same hit as the unit one: d.d can neither overflow nor underflow.
+** t for the scaled direction is t for dir times 2^-exponent, exactly.
+*/
+static int scaled_dir(ray_vec3 dir, ray_vec3 *d, double *scale)
+{
+    double m = fmax(fabs(dir.x), fmax(fabs(dir.y), fabs(dir.z)));
+    int e;
+
+    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
+        dir.z != dir.z)
+        return 0;
+    frexp(m, &e);
+    *scale = ldexp(1.0, -e);
+    *d = v3_scale(dir, *scale);
+    return 1;
+}
+
+/*
+** A bound on the rounding error of a root t of a t^2 - 2 b' t + c (the
+** quadratic below, in the scaled direction), by running error analysis
+** (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed.,
+** 3.1; gamma(n) = n u / (1 - n u)) of the quantities as ray_sphere forms
+** them, with f = org - center rounded once:
+**   a = d.d:              da = gamma(3) a;
+**   b' = -f.d:            db = gamma(4) sum |f_i d_i|;
+**   c = (|f| - R)(|f| + R), |f| within gamma(4) |f|:
+**                         dc = gamma(4) |f| (|f| + R + ||f| - R|) + gamma(3) |c|;
+**   disc = (R - l)(R + l), l = |f + (b'/a) d| within
+**                         dl = gamma(8) (|f| + |b'/a| |d|) (the b'/a error
+**                         included, as |b'| <= |f| |d|), so
+**                         ddisc = dl (R + l + |R - l|) + gamma(3) |disc|.
+** The coefficients' errors move g(t) by at most dg = dc + 2|t| db + t^2 da,
+** and so a simple root by dg / |g'(t)| = dg / (2 s), s = sqrt(a disc) (to
+** first order; times 2 for the second), and a double root by at most
+** 2 sqrt(dg / a): the smaller bound holds.  The root's own evaluation
+** through s (q = b' +- s, then c/q or q/a) adds |t| ds / s + gamma(4) |t|,
+** ds bounding s's error from ddisc.  Used to require a hit's whole error
+** interval past tmin: a ray leaving the sphere starts on it or within its
+** rounding error, and its near root is then rounding noise around 0
+** (ray__watertight_t_error in watertight.h says more).
+*/
+typedef struct sphere_quadratic {
+    double a, b, c, disc, l, f_len, fd_mag, radius, d_len;
+} sphere_quadratic;
+
+static double sphere_t_error(const sphere_quadratic *k, double t)
+{
+    double at = fabs(t), R = k->radius;
+    double da = ray__gamma(3) * k->a, db = ray__gamma(4) * k->fd_mag;
+    double dc = ray__gamma(4) * k->f_len *
+                    (k->f_len + R + fabs(k->f_len - R)) +
+                ray__gamma(3) * fabs(k->c);
+    double dl = ray__gamma(8) * (k->f_len + fabs(k->b / k->a) * k->d_len);
+    double ddisc = dl * (R + k->l + fabs(R - k->l)) +
+                   ray__gamma(3) * fabs(k->disc);
+    double dg = dc + 2 * at * db + at * at * da;
+    double s = sqrt(k->a * k->disc), s_low, ds, simple, twofold;
+
+    s_low = sqrt(k->a * fmax(k->disc - ddisc, 0.0)) * (1 - ray__gamma(4));
+    ds = s - s_low;
+    twofold = 2 * sqrt(dg / k->a);
+    simple = s_low > 0 ? dg / s_low : HUGE_VAL;
+    return fmin(simple, twofold) * (1 + ray__gamma(4)) +
+           (s > 0 ? at * ds / s : 0) + ray__gamma(4) * at;
+}
+
+/* The nearer of the roots t0, t1 whose error interval lies in (tmin,
+** tmax) for the scaled tmin and tmax; 0 if neither does. */
+static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
+                                double tmax, double t0, double t1, double *t)
+{
+    if (t0 > t1) {
+        double s = t0;
+        t0 = t1;
+        t1 = s;
+    }
+    /* Written so that a NaN root fails the test instead of passing it. */
+    if (t0 > tmin && t0 < tmax && t0 - sphere_t_error(k, t0) > tmin)
+        *t = t0;
+    else if (t1 > tmin && t1 < tmax && t1 - sphere_t_error(k, t1) > tmin)
+        *t = t1;
+    else
+        return 0;
+    return 1;
+}
+
+/*
 ** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
 ** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
 **
@@ -72,27 +163,39 @@ static int nearest_root(const ray_ray *r, double t0, double t1, double *t)
 ** Roots: q = b' + sign(b') sqrt(a*disc), t0 = c/q, t1 = q/a (Press et al.,
 ** Numerical Recipes, 5.6): both roots come from an addition of like signs,
 ** so the near root of a huge sphere does not cancel.
+**
+** The direction is first scaled by a power of two (scaled_dir), and t,
+** tmin and tmax with it.
 */
 int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
                ray_hit *hit)
 {
-    ray_vec3 f = v3_sub(r->org, center);
-    double a = v3_dot(r->dir, r->dir);
-    double b, l_len, disc, f_len, c, q, t;
+    ray_vec3 f = v3_sub(r->org, center), d;
+    sphere_quadratic k;
+    double scale, q, t;
 
     /* Exact tests, no epsilon: a radius that is not a positive finite
-    ** number, or a direction whose squared length is 0 (or NaN), misses. */
-    if (!(radius > 0 && radius < HUGE_VAL) || !(a > 0))
+    ** number, or a zero (or NaN) direction, misses. */
+    if (!(radius > 0 && radius < HUGE_VAL) || !scaled_dir(r->dir, &d, &scale))
         return 0;
-    b = -v3_dot(f, r->dir);
-    l_len = v3_length(v3_madd(f, b / a, r->dir));
-    disc = (radius - l_len) * (radius + l_len);
-    if (!(disc >= 0))           /* < 0: the line misses; NaN: bad input */
+    k.a = v3_dot(d, d);
+    k.b = -v3_dot(f, d);
+    k.l = v3_length(v3_madd(f, k.b / k.a, d));
+    k.disc = (radius - k.l) * (radius + k.l);
+    if (!(k.disc >= 0))         /* < 0: the line misses; NaN: bad input */
         return 0;
-    f_len = v3_length(f);
-    c = (f_len - radius) * (f_len + radius);
-    q = b + copysign(sqrt(a * disc), b);
-    if (!nearest_root(r, c / q, q / a, &t))
+    k.f_len = v3_length(f);
+    k.c = (k.f_len - radius) * (k.f_len + radius);
+    k.fd_mag = fabs(f.x * d.x) + fabs(f.y * d.y) + fabs(f.z * d.z);
+    k.radius = radius;
+    k.d_len = v3_length(d);
+    q = k.b + copysign(sqrt(k.a * k.disc), k.b);
+    /* tmin, tmax in the scaled direction's units: t_scaled = t / scale. */
+    if (!nearest_root_bounded(&k, r->tmin / scale, r->tmax / scale,
+                              k.c / q, q / k.a, &t))
+        return 0;
+    t *= scale;
+    if (!(t > r->tmin && t < r->tmax))  /* the product rounded past one */
         return 0;
     return sphere_fill(r, center, radius, t, hit);
 }

@@ -200,8 +200,14 @@ END_TEST
 
 /*
 ** Self-intersection: rays leaving a unit sphere at 0, 1e3, 1e5 and 1e6
-** from the origin.  Without an offset about a third re-hit it (acne);
-** ray_spawn: none of 20,000 at each distance.
+** from the origin.  ray_spawn: none of 20,000 at each distance re-hits
+** it.  Without an offset, from the hit point itself: at the origin none
+** (about a third did before ray_sphere required a root's whole error
+** interval past tmin: the near root is rounding noise around 0 there);
+** from 1e3 on still about half, as the hit point itself is then off the
+** sphere by up to its p_err (~1e-12 at 1e3), often inside it, and the
+** exact root from there is a true hit: only the offset moves the origin
+** out (tests/selfhit.h covers every kind).
 */
 START_TEST(spawned_rays_should_not_rehit)
 {
@@ -210,7 +216,10 @@ START_TEST(spawned_rays_should_not_rehit)
 
     for (k = 0; k < 4; k++) {
         ck_assert_int_eq(hc_sphere_acne(X[k], 20000, HC_SPAWN), 0);
-        ck_assert_int_gt(hc_sphere_acne(X[k], 2000, HC_NO_OFFSET), 100);
+        if (k == 0)
+            ck_assert_int_eq(hc_sphere_acne(X[k], 2000, HC_NO_OFFSET), 0);
+        else
+            ck_assert_int_gt(hc_sphere_acne(X[k], 2000, HC_NO_OFFSET), 100);
     }
 }
 END_TEST

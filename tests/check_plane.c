@@ -80,9 +80,14 @@ START_TEST(plane_should_respect_open_interval)
     r.tmax = HUGE_VAL;
     r.tmin = 2.0;
     ck_assert_int_eq(ray_plane(&r, vec(0, 0, 0), vec(0, 1, 0), &h), 0);
-    r.tmin = nextafter(2.0, 0.0);
+    /* tmin is conservative: the hit at t = 2 (exact here) counts only
+    ** when tmin lies below t's rounding-error interval (ray_plane(3));
+    ** 1e-9 below is far past it, one ulp below is inside it. */
+    r.tmin = 2.0 - 1e-9;
     ck_assert_int_eq(ray_plane(&r, vec(0, 0, 0), vec(0, 1, 0), &h), 1);
     ck_assert_double_eq(h.t, 2.0);
+    r.tmin = nextafter(2.0, 0.0);
+    ck_assert_int_eq(ray_plane(&r, vec(0, 0, 0), vec(0, 1, 0), &h), 0);
 }
 END_TEST
 
