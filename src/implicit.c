@@ -273,6 +273,20 @@ static double next_step(const implicit_job *j, double t, double g)
 }
 
 /*
+** Is a root at t past tmin by more than the tolerance?  The root is known
+** only to the tolerance along the ray (the bracket's width, or the touch's
+** distance), so one closer to tmin may be the surface the ray starts on
+** (a ray leaving it, its origin within the tolerance of it): not a hit.
+** The same rule as the analytic primitives' rounding-error bounds
+** (ray__watertight_t_error in watertight.h); ray_spawn offsets by twice
+** p_err, which covers the tolerance, so secondary rays clear it.
+*/
+static int past_tmin(const implicit_job *j, double t)
+{
+    return t - j->tol_t > j->r->tmin;
+}
+
+/*
 ** March from t0 to t1.  Returns 1 with *t and *err (the world distance
 ** within which the surface lies from the ray point at *t) on a hit, 0 on a
 ** miss, -1 when the evaluations ran out.
@@ -283,7 +297,7 @@ static int march(implicit_job *j, double t0, double t1, double *t,
     double ta = t0, ga = job_eval(j, t0);
 
     /* A root exactly at the start counts only if it is past tmin. */
-    if (ga == 0 && t0 > j->r->tmin && !j->bad) {
+    if (ga == 0 && past_tmin(j, t0) && !j->bad) {
         *t = t0;
         *err = 0;
         return 1;
@@ -308,7 +322,13 @@ static int march(implicit_job *j, double t0, double t1, double *t,
             if (width > j->tol_t && j->evals_left == 0)
                 return -1;   /* ran out before the bracket was narrow */
             *err = width * j->dlen;
-            return *t > j->r->tmin && *t < j->r->tmax;
+            if (past_tmin(j, *t))
+                return *t < j->r->tmax;
+            /* A root within the tolerance of tmin: the ray leaving the
+            ** surface it starts on.  Not a hit; look further along. */
+            ta = tb;
+            ga = gb;
+            continue;
         }
         if (j->lip_t > 0 && h <= floor_step(j, ta) && ga != 0 &&
             ta > j->r->tmin &&
@@ -323,7 +343,7 @@ static int march(implicit_job *j, double t0, double t1, double *t,
             }
             if (j->bad)
                 break;
-            return *t > j->r->tmin && *t < j->r->tmax;
+            return past_tmin(j, *t) && *t < j->r->tmax;
         }
         if (tb >= t1)
             return 0;

@@ -424,7 +424,10 @@ static int accept_root(job *j, double t, double u, double v, ray_vec3 s,
 
     if (j->found)
         before -= j->tol_t;
-    if (!(t > j->ray->tmin && t < before))
+    /* Past tmin by more than the tolerance (t is known only to it): a
+    ** closer root may be the surface the ray starts on (a ray leaving it),
+    ** as ray_implicit's past_tmin explains. */
+    if (!(t - j->tol_t > j->ray->tmin && t < before))
         return START_OUTSIDE;
     j->found = 1;
     j->t = t;

@@ -137,6 +137,45 @@ static int torus_fill(const torus_frame *f, ray_vec3 q, double scale,
 }
 
 /*
+** A bound on the error of a root s of the quartic (in the scaled local
+** frame, |d| = 1 up to rounding), by first-order perturbation (Higham,
+** "Accuracy and Stability of Numerical Algorithms", 2nd ed., 3.1 and
+** 5.1; gamma(n) = n u / (1 - n u)).  The quartic is g(s) = F(o + s d) with
+** F(q) = (|q|^2 + R^2 - r^2)^2 - 4R^2 (q_x^2 + q_y^2), so an error e in the
+** ray's point (the origin's rounding into the frame and by the shift, at
+** most gamma(6) (|o before the shift| + |s0|), and the direction's, gamma(6)
+** |s|) moves g by |grad F| e; the coefficients' own rounding, bounded by
+** gamma(12) times the magnitudes of the terms they sum (in this frame
+** every quantity is at most ~2, so c0's cancelling hypot is covered by
+** the same gamma(12) times its terms' size), and Horner's, gamma(8) sum
+** |c_i| |s|^i, add to it.  Then a simple root moves by dg / |g'(s)|,
+** g' = grad F . d, and any root by at most 2 (dg / c4)^(1/4) (the bound
+** for a quadruple root); the smaller holds.
+*/
+static double torus_root_error(const double c[5], ray_vec3 o, ray_vec3 d,
+                               double major, double minor, double o_err,
+                               double s)
+{
+    ray_vec3 q = v3_madd(o, s, d), grad;
+    double as = fabs(s), k = v3_dot(q, q) + (major - minor) * (major + minor);
+    double r2 = 4.0 * major * major, mag = 0, slope, dg, terms;
+    int i;
+
+    grad = v3_sub(v3_scale(q, 4.0 * k), v3(2 * r2 * q.x, 2 * r2 * q.y, 0));
+    for (i = 4; i >= 0; i--)
+        mag = mag * as + fabs(c[i]);
+    terms = (fabs(v3_dot(o, o)) + major * major + minor * minor) *
+            (fabs(v3_dot(o, o)) + major * major + minor * minor + 4.0);
+    dg = v3_length(grad) * (o_err + ray__gamma(6) * as) +
+         ray__gamma(12) * terms * (1 + as) * (1 + as) * (1 + as) * (1 + as) +
+         ray__gamma(8) * mag;
+    slope = fabs(v3_dot(grad, d));
+    return fmin(slope > 0 ? dg / slope : HUGE_VAL,
+                2 * sqrt(sqrt(dg / c[4]))) *
+           (1 + ray__gamma(4));
+}
+
+/*
 ** The ray is moved into the torus's frame and scaled by a power of two
 ** near 1/(R + r), exactly, so the torus has size ~1 whatever its units
 ** (R^4 would underflow for R = 1e-100 and overflow for R = 1e100); its
@@ -148,7 +187,7 @@ int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
 {
     torus_frame f;
     ray_vec3 o, d;
-    double dlen, scale, s0, reach, half, b, c[5];
+    double dlen, scale, s0, o_err, reach, half, b, c[5];
     double roots[RAY__POLY_MAX_DEGREE + 1];
     int exponent, n, i;
 
@@ -168,6 +207,7 @@ int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
     d = to_local(&f, d);
     o = v3_scale(to_local(&f, v3_sub(r->org, f.c)), scale);
     s0 = -v3_dot(o, d);
+    o_err = ray__gamma(6) * (v3_length(o) + fabs(s0));
     o = v3_madd(o, s0, d);
     reach = (f.major + f.minor) * scale;
     /* The roots lie where the ray is inside the bounding sphere,
@@ -188,9 +228,20 @@ int ray_torus(const ray_ray *r, const ray_torus_params *t, ray_hit *hit)
         if (!isfinite(c[i]))
             return 0;
     n = ray__poly_roots(c, 4, -b - half, -b + half, roots);
+    /* A root counts when its whole error interval lies past tmin: a ray
+    ** leaving the torus starts on it or within its rounding error, and
+    ** its root there is rounding noise around 0 (ray__watertight_t_error
+    ** in watertight.h says more).  s0 + root rounds once more. */
     for (i = 0; i < n; i++) {
-        double th = (s0 + roots[i]) / scale / dlen;
-        if (th > r->tmin && th < r->tmax)
+        double th = (s0 + roots[i]) / scale / dlen, err;
+        if (!(th > r->tmin && th < r->tmax))
+            continue;
+        err = (torus_root_error(c, o, d, f.major * scale, f.minor * scale,
+                                o_err, roots[i]) +
+               ray__gamma(1) * (fabs(s0) + fabs(roots[i]))) /
+                  scale / dlen +
+              ray__gamma(3) * fabs(th);
+        if (th - err > r->tmin)
             return torus_fill(&f, v3_madd(o, roots[i], d), scale, th, hit);
     }
     return 0;
