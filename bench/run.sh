@@ -22,6 +22,7 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     echo
     "$build/bench/accuracy" data "$plots"
     "$build/bench/numerics"
+    "$build/bench/selfhit"
     "$build/bench/effects" data
     "$build/bench/threads"
     "$build/bench/surfaces"
