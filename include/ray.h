@@ -105,7 +105,9 @@ typedef struct ray_ray {
 ** it rather than to a fixed epsilon (pbrt-v4 section 6.8, "pError").
 */
 typedef struct ray_hit {
-    double t;          /* ray parameter of the hit, tmin < t < tmax */
+    double t;          /* ray parameter of the hit, tmin < t < tmax; t
+                          minus its rounding-error bound is still > tmin
+                          (no acne: ray-numerics(7)) */
     ray_vec3 p;        /* hit point, computed on the surface (see p_err) */
     ray_vec3 n;        /* geometric unit normal (orientation: see each fn) */
     double u, v;       /* the primitive's own parametric coordinates */
