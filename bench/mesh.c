@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** mesh.c -- BVH benchmark on the Stanford bunny (scripts/fetch-bunny.sh):
 ** build time, primary-ray and incoherent-ray throughput at 1 thread and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ray.h -- the whole public interface of libray, a small C99 ray-tracing
 ** library.

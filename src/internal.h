@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** internal.h -- private declarations shared by the library's sources.
 ** Nothing here is part of the API; names are lower_snake_case and static

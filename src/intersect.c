@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** intersect.c -- nearest-hit and any-hit queries over a committed scene:
 ** the planes one by one, then two BVHs, one over the triangles (stored in

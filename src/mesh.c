@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** mesh.c -- indexed triangle meshes: validated, then copied into the
 ** scene's flat triangle array (for traversal) and, when the mesh has

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** scene.c -- building a scene: geometry, materials, lights, settings,
 ** then commit.  Every add either completes or leaves the scene as it was.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** surfaces.c -- adding the curved surfaces to a scene: torus, implicit,
 ** parametric and Bezier.  Each is kept with its box, through which the

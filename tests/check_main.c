@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_main.c -- runs every suite.  Fork mode stays on (Check's default),
 ** so a crash fails one test instead of the run.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_scene.c -- building scenes: errors, lifetime, allocator failures,
 ** and the ray_intersect / ray_occluded queries.

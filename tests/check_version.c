@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_version.c -- version macros and function, status-code strings.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** tests.h -- helpers shared by the Check suites in tests/.
 */
