@@ -77,8 +77,10 @@ enum {
 };
 
 /*
-** A static, English, one-line description of status code "code"; an
-** unknown code gives "unknown error".  Never NULL; do not free.
+** A static, English, one-line description of status code "code", or of
+** its negation (-RAY_ELIMIT reads as RAY_ELIMIT: the queries and the
+** iterative intersections return negated statuses); an unknown code gives
+** "unknown error".  Never NULL; do not free.
 */
 RAY_API const char *ray_strerror(int code);
 
@@ -790,7 +792,10 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 ** nearest hit in (tmin, tmax), with geom_id set and prim_id the
 ** triangle's index for a mesh, 0 otherwise (1), or a miss (0, *hit
 ** untouched).  ray_occluded: 1 if anything lies in (tmin, tmax) (any-hit,
-** stops at the first).  Both return 0 for an uncommitted scene or NULLs.
+** stops at the first), else 0.  Misuse is a NEGATED status, never taken
+** for a miss: -RAY_EINVAL for a NULL pointer, -RAY_ESTATE for a scene not
+** yet committed (*hit untouched).  So test "> 0" for a hit: a negative
+** value is true in C.
 */
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);

@@ -4,8 +4,12 @@
 */
 #include "ray.h"
 
+/* Negated statuses (ray_intersect, ray_implicit...) name the same error.
+** Only known codes are negated back: -INT_MIN would overflow. */
 const char *ray_strerror(int code)
 {
+    if (code < 0 && code >= -RAY_EEFFECT)
+        code = -code;
     switch (code) {
     case RAY_OK:          return "success";
     case RAY_EINVAL:      return "invalid argument";

@@ -235,8 +235,9 @@ START_TEST(intersect_should_find_nearest_and_any)
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, mat, &far_id), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &near_id), RAY_OK);
     hit_poison(&h);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);     /* not committed */
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    /* Not committed: a negated status, so that it is not read as a miss. */
+    ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_occluded(s, &r), -RAY_ESTATE);
     ck_assert(hit_is_poisoned(&h));
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
@@ -249,9 +250,21 @@ START_TEST(intersect_should_find_nearest_and_any)
     r.tmax = HUGE_VAL;
     ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
     ck_assert_uint_eq(h.geom_id, far_id);
-    ck_assert_int_eq(ray_intersect(NULL, &r, &h), 0);
-    ck_assert_int_eq(ray_intersect(s, NULL, &h), 0);
-    ck_assert_int_eq(ray_intersect(s, &r, NULL), 0);
+    hit_poison(&h);
+    ck_assert_int_eq(ray_intersect(NULL, &r, &h), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, NULL, &h), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, &r, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(NULL, &r), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(s, NULL), -RAY_EINVAL);
+    ck_assert(hit_is_poisoned(&h));
+    /* An invalid ray is not misuse: it is a miss, as for the primitives. */
+    r.dir = vec(0, 0, 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    r.dir = vec(NAN, 0, -1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert(hit_is_poisoned(&h));
     ray_scene_free(s);
 }
 END_TEST
