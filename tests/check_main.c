@@ -31,6 +31,7 @@ int main(void)
     srunner_add_suite(sr, texture_suite());
     srunner_add_suite(sr, bpt_suite());
     srunner_add_suite(sr, surfaces_suite());
+    srunner_add_suite(sr, errmsg_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

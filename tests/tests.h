@@ -33,6 +33,7 @@ Suite *parametric_suite(void);
 Suite *texture_suite(void);
 Suite *bpt_suite(void);
 Suite *surfaces_suite(void);
+Suite *errmsg_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
