@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # libray -- plain Makefile.  Override any variable on the command line or
 # in config.mak (e.g. CC=clang, CFLAGS=-O3, PREFIX=/usr).
 PREFIX     ?= /usr/local
@@ -5,6 +6,7 @@ LIBDIR     ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 MANDIR     ?= $(PREFIX)/share/man
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+DOCDIR     ?= $(PREFIX)/share/doc/libray
 DESTDIR    ?=
 CC         ?= cc
 CXX        ?= c++
@@ -75,7 +77,7 @@ MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 
     ray_image_load_png:ray_image_sample ray_image_load_png:ray_texture_image
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test \
-        man-lint install uninstall clean deps-build deps-check bench
+        man-lint license-test install uninstall clean deps-build deps-check bench
 
 all: lib
 
@@ -158,6 +160,11 @@ symbols-test: $(SHARED)
 	if [ -n "$$bad" ]; then echo "symbols-test: unexpected exports: $$bad"; exit 1; fi; \
 	echo "symbols-test: exports: $$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | tr '\n' ' ')"
 
+# Every file says its licence (scripts/check-spdx.sh: which files, and
+# why the PNGs and LICENSE itself are exempt).
+license-test:
+	@scripts/check-spdx.sh
+
 man-lint:
 	@test -n "$(MANPAGES)" || { echo "man-lint: no man pages found"; exit 1; }
 	@if command -v mandoc >/dev/null 2>&1; then \
@@ -168,7 +175,7 @@ man-lint:
 	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
 	fi
 
-check: deps-check lib $(TEST_BIN) examples $(BENCHES) header-test symbols-test man-lint
+check: deps-check lib $(TEST_BIN) examples $(BENCHES) header-test symbols-test man-lint license-test
 	$(TEST_BIN)
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
@@ -208,7 +215,8 @@ libray.pc: libray.pc.in Makefile
 
 install: lib libray.pc
 	install -d $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
-	    $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(MANDIR)/man3 $(DESTDIR)$(MANDIR)/man7
+	    $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(MANDIR)/man3 $(DESTDIR)$(MANDIR)/man7 \
+	    $(DESTDIR)$(DOCDIR)
 	install -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/libray.a
 	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/libray.so.$(VERSION)
 	ln -sf libray.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libray.so.$(SOMAJOR)
@@ -217,6 +225,7 @@ install: lib libray.pc
 	install -m 644 $(BUILD)/libray.pc $(DESTDIR)$(PKGCONFIGDIR)/libray.pc
 	install -m 644 man/man3/*.3 $(DESTDIR)$(MANDIR)/man3/
 	install -m 644 man/man7/*.7 $(DESTDIR)$(MANDIR)/man7/
+	install -m 644 LICENSE $(DESTDIR)$(DOCDIR)/LICENSE
 	@set -e; for l in $(MLINKS); do \
 	    ln -sf $${l%%:*}.3 $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
 
@@ -228,6 +237,8 @@ uninstall:
 	for f in $(notdir $(wildcard man/man3/*.3)); do rm -f $(DESTDIR)$(MANDIR)/man3/$$f; done
 	for l in $(MLINKS); do rm -f $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
 	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
+	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
+	rmdir $(DESTDIR)$(DOCDIR) 2>/dev/null || true
 
 clean:
 	rm -rf $(BUILD) whitted.png hello.png cornell.png primitives.png material.png

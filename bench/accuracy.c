@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** accuracy.c -- what accuracy costs in time, every knob in one run:
 **

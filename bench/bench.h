@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench.h -- what the benchmarks share: medians, image error, a counting
 ** allocator, a material that shades nothing, a large grid mesh.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** effects.c -- what simulating only the needed effects saves: for each
 ** example scene, the rays cast and the render time with the effect

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** mesh.c -- BVH benchmark on the Stanford bunny (scripts/fetch-bunny.sh):
 ** build time, primary-ray and incoherent-ray throughput at 1 thread and
@@ -415,6 +416,7 @@ static void run_set(const char *name, ray_scene *ours, void *embree,
            (double)set->n / me / 1e6, median(ratio, reps),
            100 * same, t_rel);
 #else
+    (void)me;
     (void)t_emb;
     (void)ratio;
     (void)same;
@@ -470,7 +472,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     printf("Embree rtcCommitScene (its own thread pool, all CPUs): %.1f ms\n",
            1e3 * b_emb);
 #else
-    (void)b_emb;
+    (void)b_emb;          /* used only with Embree; -Werror builds without */
     (void)build_emb;
 #endif
     printf("\n| rays | threads | count | ours Mrays/s | Embree Mrays/s | "

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** numerics.c -- the stability suite's hard cases measured, naive against
 ** robust, on the same inputs (tests/hardcases.h; tests/check_numerics.c

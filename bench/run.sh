@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # run.sh BUILD_DIR -- run every benchmark, write bench/RESULTS.md, put the
 # headline table of "What accuracy costs" into README.md (between the
 # <!-- accuracy:begin --> and <!-- accuracy:end --> markers) and, when
@@ -14,6 +15,7 @@ trap 'rm -rf "$plots"' EXIT
 
 scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or curl needed): mesh rows skipped" >&2
 {
+    echo "<!-- SPDX-License-Identifier: MIT -->"   # scripts/check-spdx.sh
     echo "# libray benchmark results"
     echo
     echo "Command: \`${BENCH_QUICK:+BENCH_QUICK=1 }make bench\`; machine: $(uname -m),"

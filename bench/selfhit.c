@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** selfhit.c -- acne per primitive kind: secondary rays (shadow,
 ** reflection, refraction) spawned with ray_spawn / ray_spawn_to that hit

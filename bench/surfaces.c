@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** surfaces.c -- what the curved surfaces cost: the generic root finders
 ** (ray_implicit, ray_parametric) against the exact or flat methods on the

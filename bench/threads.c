@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** threads.c -- the Whitted scene's render time at 1 thread and at N
 ** threads (default 2; "threads N" or BENCH_THREADS=N for more), the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bpt.h -- a reader for Bezier patch files in the "Newell" text format of
 ** the Utah teapot (scripts/fetch-teapot.sh writes data/teapot.bpt):

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** common.h -- small helpers shared by the examples: vectors, colours, a
 ** progress bar and the statistics printout.  Not part of the library.

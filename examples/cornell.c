@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cornell.c -- a Cornell-box-like room of polygons and triangles, lit by
 ** a rectangular area light under the ceiling (soft shadows), with a tall

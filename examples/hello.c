@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** hello.c -- the smallest program that renders something: one red sphere,
 ** one light, one PNG.

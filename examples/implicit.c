@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** implicit.c -- the lecture's "ray ∩ implicit surface", three ways: a
 ** gold torus solved exactly (ray_scene_add_torus, the quartic), blue

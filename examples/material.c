@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** material.c -- a complete user material: a "glazed" surface, a diffuse
 ** colour under a glossy coat that reflects a fixed fraction.  It shows

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** mesh.c -- load a Wavefront OBJ and render it: clay (Blinn-Phong, smooth
 ** if the file has normals) on a slightly reflective floor, under a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** obj.h -- a small Wavefront OBJ reader for the examples, the benchmarks
 ** and the tests: v, vt, vn and f (polygons fan-triangulated; v, v/t,

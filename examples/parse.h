@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** parse.h -- what the examples' file readers (obj.h, bpt.h) share: the
 ** "line N: message" error they write into the caller's buffer.

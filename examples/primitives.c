@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** primitives.c -- the primitives alone, without a scene: a sphere and a triangle, seen by a
 ** pinhole camera, shaded by the angle to a light, written as a PNG.

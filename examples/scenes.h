@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** scenes.h -- the showcase scenes, shared by the examples and the
 ** benchmarks so both render exactly the same thing.  Header-only.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** teapot.c -- the Utah teapot (Martin Newell, 1975) as its 32 bicubic
 ** Bezier patches, each intersected as a curved surface

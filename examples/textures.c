@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** textures.c -- texture coordinates from every kind of primitive, and
 ** textures of both kinds: a PNG image (loaded with ray_image_load_png,

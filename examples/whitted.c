@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** whitted.c -- the classic scene of Whitted's 1980 paper: a checkerboard
 ** floor, a mirror sphere and a glass sphere under a point light.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ray.h -- the whole public interface of libray, a small C99 ray-tracing
 ** library.
@@ -23,8 +24,14 @@
 **   * Every other fallible function returns an int status: RAY_OK (0) on
 **     success, one of the RAY_E* codes otherwise, and then leaves its
 **     outputs untouched.
-**   * No function keeps global state: all are reentrant and may be called
-**     concurrently from any number of threads.
+**   * No function keeps global or static state.  Threads: a scene is
+**     built by one thread at a time (its ray_scene_add_*, ray_scene_set_*,
+**     ray_scene_commit, ray_scene_errmsg and ray_scene_free calls must not
+**     overlap); once committed it is read-only and any number of threads
+**     may query and render it at once; a ray_ctx belongs to one thread at
+**     a time; the functions that take no object (the primitives, optics,
+**     ray_strerror) are reentrant.  ray(7), "Threads", states the rule in
+**     full.
 */
 #ifndef RAY_H
 #define RAY_H
@@ -76,8 +83,10 @@ enum {
 };
 
 /*
-** A static, English, one-line description of status code "code"; an
-** unknown code gives "unknown error".  Never NULL; do not free.
+** A static, English, one-line description of status code "code", or of
+** its negation (-RAY_ELIMIT reads as RAY_ELIMIT: the queries and the
+** iterative intersections return negated statuses); an unknown code gives
+** "unknown error".  Never NULL; do not free.
 */
 RAY_API const char *ray_strerror(int code);
 
@@ -638,6 +647,19 @@ RAY_API int ray_scene_new(ray_scene **out, ray_alloc_fn alloc,
 RAY_API void ray_scene_free(ray_scene *scene);
 
 /*
+** ray_scene_errmsg -- what went wrong in the scene's most recent building
+** call (ray_scene_add_*, ray_scene_set_*, ray_scene_commit), as
+** sqlite3_errmsg: the function's name, then which argument, index or value
+** failed, e.g. "ray_scene_add_mesh: triangle 0 index 7 out of range (3
+** vertices)".  The empty string "" when that call succeeded, or before
+** any.  For a NULL scene, the static text "no scene (NULL)" (a call on a
+** NULL scene has nowhere to leave a message).  The string is owned by the
+** scene: valid until its next building call or ray_scene_free; do not
+** free it.  Like those calls, not to be called concurrently with them.
+*/
+RAY_API const char *ray_scene_errmsg(const ray_scene *scene);
+
+/*
 ** Materials are copied into the scene (the ud they point to is borrowed).
 ** *id, if not NULL, receives the material's id, counted from 0.
 ** RAY_EINVAL for a NULL scene, material or shade function, or unknown
@@ -791,7 +813,10 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 ** nearest hit in (tmin, tmax), with geom_id set and prim_id the
 ** triangle's index for a mesh, 0 otherwise (1), or a miss (0, *hit
 ** untouched).  ray_occluded: 1 if anything lies in (tmin, tmax) (any-hit,
-** stops at the first).  Both return 0 for an uncommitted scene or NULLs.
+** stops at the first), else 0.  Misuse is a NEGATED status, never taken
+** for a miss: -RAY_EINVAL for a NULL pointer, -RAY_ESTATE for a scene not
+** yet committed (*hit untouched).  So test "> 0" for a hit: a negative
+** value is true in C.
 */
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);

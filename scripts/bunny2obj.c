@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bunny2obj.c -- turn the npm package "bunny" (index.js: exports.positions
 ** = [[x,y,z],...]; exports.cells = [[i,j,k],...], 0-based) into a

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # deps.sh -- make sure the Debian packages a make target needs are present.
 #
 # Usage: scripts/deps.sh NEED...   where NEED is one of

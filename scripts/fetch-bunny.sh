@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # fetch-bunny.sh [DIR] -- the Stanford bunny from the npm package "bunny"
 # (its low-resolution version) as Wavefront OBJ files in DIR (default
 # data/, not committed):

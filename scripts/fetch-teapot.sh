@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # fetch-teapot.sh [DIR] -- the Utah teapot as Bezier patches, written to
 # DIR/teapot.bpt (default data/, not committed) for examples/teapot.c:
 #   teapot.bpt    32 bicubic patches over 290 control points

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** barycentric.c -- barycentric coordinates from signed areas.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bezier.c -- the bicubic Bezier patch as a ray_parametric_surface:
 ** S(u, v) = sum_i sum_j B_i(v) B_j(u) cp[4*i + j] with the cubic

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** blobs.c -- metaballs as an implicit surface for ray_implicit: a field
 ** summed from blobs, each with Wyvill's compact falloff, and the

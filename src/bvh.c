@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bvh.c -- building a bounding volume hierarchy with the binned
 ** surface-area heuristic (Wald, "On fast Construction of SAH-based

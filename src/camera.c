@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** camera.c -- primary rays from a pinhole or thin-lens camera.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** camera.h -- the camera's precomputed frame (private).
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** image.c -- images for textures: loaded from PNG through libpng's
 ** simplified API (libpng 1.6, png.h section 5), kept as linear RGB floats,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** implicit.c -- ray / implicit surface f(p) = 0, as root finding on
 ** g(t) = f(org + t*dir): march along the ray to bracket the first sign

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** internal.h -- private declarations shared by the library's sources.
 ** Nothing here is part of the API; names are lower_snake_case and static
@@ -16,6 +17,23 @@
 
 /* pi, which strict C99 <math.h> does not define. */
 #define RAY__PI 3.14159265358979323846
+
+/* Let gcc and clang check the arguments of printf-like functions
+** (-Wformat); other compilers ignore it. */
+#if defined(__GNUC__)
+#define RAY__PRINTF(fmt, first) __attribute__((format(printf, fmt, first)))
+#else
+#define RAY__PRINTF(fmt, first)
+#endif
+
+/* A scene's error message (ray_scene_errmsg): room for the longest one,
+** a function name, two size_t and three %g vectors (about 150 bytes);
+** snprintf cuts anything longer. */
+#define RAY__ERRMSG_SIZE 256
+
+/* A vector in a message: printf("at " RAY__V3FMT, RAY__V3ARGS(v)). */
+#define RAY__V3FMT "(%g, %g, %g)"
+#define RAY__V3ARGS(v) (v).x, (v).y, (v).z
 
 /* ------------------------------------------------------- vector helpers */
 
@@ -436,6 +454,11 @@ struct ray_scene {
     int watertight;          /* ray_scene_set_watertight; 1 by default */
     unsigned effects;        /* what the scene can need, set by commit */
     int committed;
+    /* ray_scene_errmsg: the building call now running (a function name,
+    ** static) and the message of its failure, "" while none.  A fixed
+    ** buffer, so that out of memory can be reported too. */
+    const char *op;
+    char errmsg[RAY__ERRMSG_SIZE];
 };
 
 /* Allocation through the scene's allocator (libc when it has none). */
@@ -447,9 +470,21 @@ void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize);
 ** RAY_ENOMEM); *geom_id, if not NULL, receives its id. */
 int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id);
 
-/* RAY_OK if the scene may still be changed (RAY_EINVAL for NULL,
-** RAY_ESTATE after commit). */
-int ray__editable(const ray_scene *s);
+/*
+** ray__begin -- the start of every building call ("op", its name, heads
+** its messages): clears the last message (a success leaves none) and
+** returns RAY_OK if the scene may still be changed, RAY_EINVAL for NULL,
+** RAY_ESTATE (with its message) after commit.
+** ray__fail -- record the failure of the running call: "op: " and the
+** printf-formatted message, cut to the buffer; returns "code".
+*/
+int ray__begin(ray_scene *s, const char *op);
+int ray__fail(ray_scene *s, int code, const char *fmt, ...)
+    RAY__PRINTF(3, 4);
+
+/* RAY_OK if "material" names a material of the scene, else RAY_EINVAL with
+** its message. */
+int ray__material_known(ray_scene *s, unsigned material);
 
 /* Room for "more" vertices in the scene's verts array. */
 int ray__reserve_verts(ray_scene *s, size_t more);

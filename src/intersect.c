@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** intersect.c -- nearest-hit and any-hit queries over a committed scene:
 ** the planes one by one, then two BVHs, one over the triangles (stored in
@@ -41,16 +42,31 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
     return query_any(s, r, st);
 }
 
+/* Misuse is a negated status, not 0, so that it cannot pass for a miss
+** (as ray_implicit does); checked once per call, before any traversal. */
+static int query_misuse(const ray_scene *s, const ray_ray *r)
+{
+    if (s == NULL || r == NULL)
+        return -RAY_EINVAL;
+    return s->committed ? RAY_OK : -RAY_ESTATE;
+}
+
 int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)
 {
-    if (s == NULL || r == NULL || hit == NULL || !s->committed)
-        return 0;
+    int rc = query_misuse(s, r);
+
+    if (rc != RAY_OK)
+        return rc;
+    if (hit == NULL)
+        return -RAY_EINVAL;
     return ray__intersect(s, r, hit, NULL);
 }
 
 int ray_occluded(const ray_scene *s, const ray_ray *r)
 {
-    if (s == NULL || r == NULL || !s->committed)
-        return 0;
+    int rc = query_misuse(s, r);
+
+    if (rc != RAY_OK)
+        return rc;
     return ray__occluded(s, r, NULL);
 }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** intersect_avx2.c -- the scene queries of traverse.h once more, built
 ** with -mavx2 where the compiler targets x86 (see the Makefile): the box

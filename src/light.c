@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** light.c -- light samples and shadow rays for material callbacks.
 */

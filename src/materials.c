@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** materials.c -- the built-in materials.  Written against the public API
 ** only (ray.h), so they double as examples of material callbacks.

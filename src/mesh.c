@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** mesh.c -- indexed triangle meshes: validated, then copied into the
 ** scene's flat triangle array (for traversal) and, when the mesh has
@@ -7,25 +8,57 @@
 
 #include "internal.h"
 
-/* Every index in range, every vertex and attribute finite. */
-static int mesh_valid(const ray_mesh *m)
+/* The arrays are there and not empty: RAY_OK, or the failure. */
+static int mesh_arrays_check(ray_scene *s, const ray_mesh *m)
+{
+    if (m->vertices == NULL)
+        return ray__fail(s, RAY_EINVAL, "vertices is NULL");
+    if (m->indices == NULL)
+        return ray__fail(s, RAY_EINVAL, "indices is NULL");
+    if (m->vertex_count == 0)
+        return ray__fail(s, RAY_EINVAL, "no vertices (vertex_count 0)");
+    if (m->triangle_count == 0)
+        return ray__fail(s, RAY_EINVAL, "no triangles (triangle_count 0)");
+    return RAY_OK;
+}
+
+/* Vertex i and its attributes are finite: RAY_OK, or the failure. */
+static int mesh_vertex_check(ray_scene *s, const ray_mesh *m, size_t i)
+{
+    if (!v3_isfinite(m->vertices[i]))
+        return ray__fail(s, RAY_EINVAL, "vertex %zu " RAY__V3FMT " is not "
+                         "finite", i, RAY__V3ARGS(m->vertices[i]));
+    if (m->normals != NULL && !v3_isfinite(m->normals[i]))
+        return ray__fail(s, RAY_EINVAL, "normal %zu " RAY__V3FMT " is not "
+                         "finite", i, RAY__V3ARGS(m->normals[i]));
+    if (m->texcoords != NULL && (!isfinite(m->texcoords[2 * i]) ||
+                                 !isfinite(m->texcoords[2 * i + 1])))
+        return ray__fail(s, RAY_EINVAL, "texture coordinates %zu (%g, %g) "
+                         "are not finite", i, m->texcoords[2 * i],
+                         m->texcoords[2 * i + 1]);
+    return RAY_OK;
+}
+
+/* Every index in range, every vertex and attribute finite: RAY_OK, or the
+** first failure, named by triangle and corner, or by vertex. */
+static int mesh_check(ray_scene *s, const ray_mesh *m)
 {
     size_t i;
+    int rc = mesh_arrays_check(s, m);
 
-    if (m->vertices == NULL || m->indices == NULL || m->vertex_count == 0 ||
-        m->triangle_count == 0)
-        return 0;
+    if (rc != RAY_OK)
+        return rc;
     for (i = 0; i < 3 * m->triangle_count; i++)
         if (m->indices[i] >= m->vertex_count)
-            return 0;
+            return ray__fail(s, RAY_EINVAL, "triangle %zu index %u out of "
+                             "range (%zu vertices)", i / 3, m->indices[i],
+                             m->vertex_count);
     for (i = 0; i < m->vertex_count; i++) {
-        if (!v3_isfinite(m->vertices[i]) ||
-            (m->normals != NULL && !v3_isfinite(m->normals[i])) ||
-            (m->texcoords != NULL && (!isfinite(m->texcoords[2 * i]) ||
-                                      !isfinite(m->texcoords[2 * i + 1]))))
-            return 0;
+        rc = mesh_vertex_check(s, m, i);
+        if (rc != RAY_OK)
+            return rc;
     }
-    return 1;
+    return RAY_OK;
 }
 
 /* Copy "count" elements of "size" bytes (NULL stays NULL). */
@@ -81,22 +114,27 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
     ray__mesh shading;
     unsigned id;
     size_t i;
-    int rc;
+    int rc = ray__begin(s, "ray_scene_add_mesh");
 
-    if (s == NULL || m == NULL)
-        return RAY_EINVAL;
-    if (s->committed)
-        return RAY_ESTATE;
+    if (rc != RAY_OK)
+        return rc;
+    if (m == NULL)
+        return ray__fail(s, RAY_EINVAL, "mesh is NULL");
     if (m->triangle_count > ((size_t)-1) / 3 / sizeof(unsigned))
-        return RAY_ENOMEM;                  /* the index count overflows */
-    if (!mesh_valid(m) || material >= s->n_materials)
-        return RAY_EINVAL;
-    rc = ray__reserve_tris(s, m->triangle_count);
+        return ray__fail(s, RAY_ENOMEM, "%zu triangles: the index count "
+                         "overflows size_t", m->triangle_count);
+    rc = mesh_check(s, m);
+    if (rc == RAY_OK)
+        rc = ray__material_known(s, material);
+    if (rc == RAY_OK)
+        rc = ray__reserve_tris(s, m->triangle_count);
     if (rc != RAY_OK)
         return rc;
     rc = mesh_shading_copy(s, m, &shading);
     if (rc != RAY_OK)
-        return rc;
+        return ray__fail(s, rc, "out of memory (copying the normals or "
+                         "texture coordinates of %zu vertices)",
+                         m->vertex_count);
     rc = ray__add_mesh_prim(s, material, s->n_tris, m->triangle_count,
                             &shading, &id);
     if (rc != RAY_OK) {

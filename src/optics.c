@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** optics.c -- reflection, refraction and Fresnel reflectance.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** parametric.c -- ray / parametric surface S(u, v) (the lecture's "ray ∩
 ** parametric object"): e + t d = S(u, v) solved for (t, u, v) by Newton's

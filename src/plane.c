@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** plane.c -- ray / plane: t = (p1 - e).n / (d.n), from substituting the
 ** ray into the plane equation (p - p1).n = 0.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** png.c -- PNG output through libpng's simplified API (libpng 1.6,
 ** png.h section 5): no setjmp, no callbacks, errors come back as a message

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** poly.c -- the real roots of a polynomial inside an interval, without a
 ** closed formula (used by the torus's quartic).

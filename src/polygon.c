@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** polygon.c -- ray / planar polygon: the plane hit, then an inside test.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** render.c -- the image: rows handed to pthreads one at a time from a
 ** shared counter (dynamic scheduling: rows of a Whitted scene differ in

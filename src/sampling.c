@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** sampling.c -- mapping uniform samples onto shapes.
 */

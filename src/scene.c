@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** scene.c -- building a scene: geometry, materials, lights, settings,
 ** then commit.  Every add either completes or leaves the scene as it was.
@@ -110,12 +111,12 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s, sizeof *s);
 }
 
-/* RAY_OK if the scene may still be changed. */
-int ray__editable(const ray_scene *s)
+int ray__material_known(ray_scene *s, unsigned material)
 {
-    if (s == NULL)
-        return RAY_EINVAL;
-    return s->committed ? RAY_ESTATE : RAY_OK;
+    if (material < s->n_materials)
+        return RAY_OK;
+    return ray__fail(s, RAY_EINVAL, "material %u does not exist (the scene "
+                     "has %zu)", material, s->n_materials);
 }
 
 int ray_scene_add_material(ray_scene *s, const ray_material *m,
@@ -124,18 +125,25 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
     const unsigned known = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
                            RAY_EFFECT_SHADOW | RAY_EFFECT_TEXTURE;
     void *p;
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_material");
 
     if (rc != RAY_OK)
         return rc;
-    if (m == NULL || m->shade == NULL || (m->effects & ~known) != 0)
-        return RAY_EINVAL;
+    if (m == NULL)
+        return ray__fail(s, RAY_EINVAL, "material is NULL");
+    if (m->shade == NULL)
+        return ray__fail(s, RAY_EINVAL, "shade function is NULL");
+    if ((m->effects & ~known) != 0)
+        return ray__fail(s, RAY_EINVAL, "unknown effect bits 0x%x (known: "
+                         "RAY_EFFECT_* = 0x%x)", m->effects & ~known, known);
     if (s->n_materials >= RAY_INVALID_ID)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "too many materials (%zu: ids are "
+                         "32-bit)", s->n_materials);
     p = ray__grow(s, s->materials, &s->cap_materials, s->n_materials,
              sizeof *s->materials);
     if (p == NULL)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "out of memory (material %zu)",
+                         s->n_materials);
     s->materials = p;
     s->materials[s->n_materials] = *m;
     if (id != NULL)
@@ -148,14 +156,17 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
 int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
 {
     void *p;
+    int rc = ray__material_known(s, prim->material);
 
-    if (prim->material >= s->n_materials)
-        return RAY_EINVAL;
+    if (rc != RAY_OK)
+        return rc;
     if (s->n_prims >= RAY_INVALID_ID)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "too many geometries (%zu: ids are "
+                         "32-bit)", s->n_prims);
     p = ray__grow(s, s->prims, &s->cap_prims, s->n_prims, sizeof *s->prims);
     if (p == NULL)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "out of memory (geometry %zu)",
+                         s->n_prims);
     s->prims = p;
     s->prims[s->n_prims] = *prim;
     if (geom_id != NULL)
@@ -178,12 +189,16 @@ int ray_scene_add_sphere(ray_scene *s, ray_vec3 center, double radius,
                          unsigned material, unsigned *geom_id)
 {
     ray__prim p = prim_of(PRIM_SPHERE, material);
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_sphere");
 
     if (rc != RAY_OK)
         return rc;
-    if (!v3_isfinite(center) || !(radius > 0 && radius < HUGE_VAL))
-        return RAY_EINVAL;
+    if (!v3_isfinite(center))
+        return ray__fail(s, RAY_EINVAL, "center " RAY__V3FMT " is not "
+                         "finite", RAY__V3ARGS(center));
+    if (!(radius > 0 && radius < HUGE_VAL))
+        return ray__fail(s, RAY_EINVAL, "radius %g is not positive and "
+                         "finite", radius);
     p.a = center;
     p.radius = radius;
     return ray__add_prim(s, &p, geom_id);
@@ -193,13 +208,17 @@ int ray_scene_add_plane(ray_scene *s, ray_vec3 point, ray_vec3 normal,
                         unsigned material, unsigned *geom_id)
 {
     ray__prim p = prim_of(PRIM_PLANE, material);
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_plane");
 
     if (rc != RAY_OK)
         return rc;
-    if (!v3_isfinite(point) || !v3_isfinite(normal) ||
-        !v3_normalize(normal, &p.b))
-        return RAY_EINVAL;
+    if (!v3_isfinite(point))
+        return ray__fail(s, RAY_EINVAL, "point " RAY__V3FMT " is not "
+                         "finite", RAY__V3ARGS(point));
+    /* A finite normal fails to normalise only when it is zero. */
+    if (!v3_isfinite(normal) || !v3_normalize(normal, &p.b))
+        return ray__fail(s, RAY_EINVAL, "normal " RAY__V3FMT " is zero or "
+                         "not finite", RAY__V3ARGS(normal));
     p.a = point;
     return ray__add_prim(s, &p, geom_id);
 }
@@ -208,17 +227,26 @@ int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                            unsigned material, unsigned *geom_id)
 {
     ray__prim p = prim_of(PRIM_TRIANGLE, material);
-    ray_vec3 n;
-    int rc = ray__editable(s);
+    ray_vec3 n, v[3];
+    int rc = ray__begin(s, "ray_scene_add_triangle"), k;
 
     if (rc != RAY_OK)
         return rc;
-    if (!v3_isfinite(a) || !v3_isfinite(b) || !v3_isfinite(c))
-        return RAY_EINVAL;
+    v[0] = a;
+    v[1] = b;
+    v[2] = c;
+    for (k = 0; k < 3; k++)
+        if (!v3_isfinite(v[k]))
+            return ray__fail(s, RAY_EINVAL, "vertex %c " RAY__V3FMT " is "
+                             "not finite", "abc"[k], RAY__V3ARGS(v[k]));
     if (!v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)), &n))
-        return RAY_EDEGENERATE;
-    if (material >= s->n_materials)
-        return RAY_EINVAL;
+        return ray__fail(s, RAY_EDEGENERATE, "zero area: vertices "
+                         RAY__V3FMT ", " RAY__V3FMT ", " RAY__V3FMT " are "
+                         "collinear", RAY__V3ARGS(a), RAY__V3ARGS(b),
+                         RAY__V3ARGS(c));
+    rc = ray__material_known(s, material);
+    if (rc != RAY_OK)
+        return rc;
     rc = ray__reserve_tris(s, 1);
     if (rc != RAY_OK)
         return rc;
@@ -249,20 +277,23 @@ int ray__reserve_tris(ray_scene *s, size_t more)
     size_t need;
     void *p;
 
-    if (more > 0x7fffffffu - s->n_tris)
-        return RAY_ENOMEM;              /* ids and BVH items are 32-bit */
+    if (more > 0x7fffffffu - s->n_tris)     /* ids and BVH items are 32-bit */
+        return ray__fail(s, RAY_ENOMEM, "%zu + %zu triangles: more than "
+                         "2^31 - 1 in a scene", s->n_tris, more);
     need = s->n_tris + more;
     while (s->cap_tris < need) {
         p = ray__grow(s, s->tris, &s->cap_tris, s->cap_tris, sizeof *s->tris);
         if (p == NULL)
-            return RAY_ENOMEM;
+            return ray__fail(s, RAY_ENOMEM, "out of memory (room for %zu "
+                             "triangles)", need);
         s->tris = p;
     }
     while (s->cap_tri_ids < need) {
         p = ray__grow(s, s->tri_ids, &s->cap_tri_ids, s->cap_tri_ids,
                  sizeof *s->tri_ids);
         if (p == NULL)
-            return RAY_ENOMEM;
+            return ray__fail(s, RAY_ENOMEM, "out of memory (room for %zu "
+                             "triangles)", need);
         s->tri_ids = p;
     }
     return RAY_OK;
@@ -273,12 +304,14 @@ int ray__reserve_verts(ray_scene *s, size_t more)
     void *grown;
 
     if (more > (size_t)-1 / 2 - s->n_verts)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "%zu + %zu vertices overflow "
+                         "size_t", s->n_verts, more);
     while (s->cap_verts < s->n_verts + more) {
         grown = ray__grow(s, s->verts, &s->cap_verts, s->cap_verts,
                           sizeof *s->verts);
         if (grown == NULL)
-            return RAY_ENOMEM;
+            return ray__fail(s, RAY_ENOMEM, "out of memory (room for %zu "
+                             "vertices)", s->n_verts + more);
         s->verts = grown;
     }
     return RAY_OK;
@@ -290,22 +323,28 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
     ray__prim p = prim_of(PRIM_POLYGON, material);
     ray_vec3 area = v3(0, 0, 0), unit;
     size_t i;
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_polygon");
 
     if (rc != RAY_OK)
         return rc;
-    if (v == NULL || n < 3)
-        return RAY_EINVAL;
+    if (v == NULL)
+        return ray__fail(s, RAY_EINVAL, "vertex array is NULL");
+    if (n < 3)
+        return ray__fail(s, RAY_EINVAL, "%zu vertices: a polygon needs at "
+                         "least 3", n);
     for (i = 0; i < n; i++) {
         if (!v3_isfinite(v[i]))
-            return RAY_EINVAL;
+            return ray__fail(s, RAY_EINVAL, "vertex %zu " RAY__V3FMT " is "
+                             "not finite", i, RAY__V3ARGS(v[i]));
         area = v3_add(area, v3_cross(v3_sub(v[i], v[0]),
                                      v3_sub(v[(i + 1) % n], v[0])));
     }
     if (!v3_normalize(area, &unit))
-        return RAY_EDEGENERATE;
-    if (material >= s->n_materials)
-        return RAY_EINVAL;
+        return ray__fail(s, RAY_EDEGENERATE, "zero area: the %zu vertices "
+                         "are collinear or the outline cancels itself", n);
+    rc = ray__material_known(s, material);
+    if (rc != RAY_OK)
+        return rc;
     rc = ray__reserve_verts(s, n);
     if (rc != RAY_OK)
         return rc;
@@ -334,7 +373,8 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
     grown = ray__grow(s, s->meshes, &s->cap_meshes, s->n_meshes,
                  sizeof *s->meshes);
     if (grown == NULL)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "out of memory (mesh %zu)",
+                         s->n_meshes);
     s->meshes = grown;
     p.first = first;
     p.count = count;
@@ -346,30 +386,50 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
     return RAY_OK;
 }
 
-/* Light validation: every kind needs a finite, non-negative intensity.
-** *axis: the unit vector of ray__light. */
-static int light_valid(const ray_light *l, ray_vec3 *axis)
+static int rgb_valid(ray_rgb c)
 {
-    if (!(l->intensity.r >= 0 && l->intensity.r < HUGE_VAL &&
-          l->intensity.g >= 0 && l->intensity.g < HUGE_VAL &&
-          l->intensity.b >= 0 && l->intensity.b < HUGE_VAL))
-        return 0;
+    return c.r >= 0 && c.r < HUGE_VAL && c.g >= 0 && c.g < HUGE_VAL &&
+           c.b >= 0 && c.b < HUGE_VAL;
+}
+
+/* A light's point (position) must be finite: RAY_OK or the failure. */
+static int light_position(ray_scene *s, const ray_light *l)
+{
+    if (v3_isfinite(l->position))
+        return RAY_OK;
+    return ray__fail(s, RAY_EINVAL, "position " RAY__V3FMT " is not finite",
+                     RAY__V3ARGS(l->position));
+}
+
+/* The geometry of each kind of light, and *axis, the unit vector of
+** ray__light (zero for the kinds without one). */
+static int light_shape(ray_scene *s, const ray_light *l, ray_vec3 *axis)
+{
     *axis = v3(0, 0, 0);
     switch (l->kind) {
     case RAY_LIGHT_POINT:
-        return v3_isfinite(l->position);
+        return light_position(s, l);
     case RAY_LIGHT_DIRECTIONAL:
-        return v3_isfinite(l->direction) &&
-               v3_normalize(v3_scale(l->direction, -1.0), axis);
+        if (v3_isfinite(l->direction) &&
+            v3_normalize(v3_scale(l->direction, -1.0), axis))
+            return RAY_OK;
+        return ray__fail(s, RAY_EINVAL, "direction " RAY__V3FMT " is zero "
+                         "or not finite", RAY__V3ARGS(l->direction));
     case RAY_LIGHT_SPHERE:
-        return v3_isfinite(l->position) &&
-               l->radius > 0 && l->radius < HUGE_VAL;
+        if (!(l->radius > 0 && l->radius < HUGE_VAL))
+            return ray__fail(s, RAY_EINVAL, "sphere light radius %g is not "
+                             "positive and finite", l->radius);
+        return light_position(s, l);
     case RAY_LIGHT_RECT:
-        return v3_isfinite(l->position) && v3_isfinite(l->edge1) &&
-               v3_isfinite(l->edge2) &&
-               v3_normalize(v3_cross(l->edge1, l->edge2), axis);
+        if (!v3_isfinite(l->edge1) || !v3_isfinite(l->edge2) ||
+            !v3_normalize(v3_cross(l->edge1, l->edge2), axis))
+            return ray__fail(s, RAY_EINVAL, "edges " RAY__V3FMT " and "
+                             RAY__V3FMT " are parallel, zero or not finite",
+                             RAY__V3ARGS(l->edge1), RAY__V3ARGS(l->edge2));
+        return light_position(s, l);
     default:
-        return 0;
+        return ray__fail(s, RAY_EINVAL, "unknown kind %d (not a "
+                         "RAY_LIGHT_*)", l->kind);
     }
 }
 
@@ -377,18 +437,30 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
 {
     void *p;
     ray_vec3 axis;
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_light");
 
     if (rc != RAY_OK)
         return rc;
-    if (light == NULL || !light_valid(light, &axis) ||
-        light->samples > RAY_MAX_LIGHT_SAMPLES)
-        return RAY_EINVAL;
+    if (light == NULL)
+        return ray__fail(s, RAY_EINVAL, "light is NULL");
+    if (!rgb_valid(light->intensity))
+        return ray__fail(s, RAY_EINVAL, "intensity (%g, %g, %g) is negative "
+                         "or not finite", light->intensity.r,
+                         light->intensity.g, light->intensity.b);
+    rc = light_shape(s, light, &axis);
+    if (rc != RAY_OK)
+        return rc;
+    if (light->samples > RAY_MAX_LIGHT_SAMPLES)
+        return ray__fail(s, RAY_EINVAL, "samples %u is more than "
+                         "RAY_MAX_LIGHT_SAMPLES (%u)", light->samples,
+                         RAY_MAX_LIGHT_SAMPLES);
     if (s->n_lights >= RAY_INVALID_ID)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "too many lights (%zu: ids are "
+                         "32-bit)", s->n_lights);
     p = ray__grow(s, s->lights, &s->cap_lights, s->n_lights, sizeof *s->lights);
     if (p == NULL)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "out of memory (light %zu)",
+                         s->n_lights);
     s->lights = p;
     s->lights[s->n_lights].desc = *light;
     s->lights[s->n_lights].axis = axis;
@@ -398,20 +470,24 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
     return RAY_OK;
 }
 
-static int rgb_valid(ray_rgb c)
+/* A colour setting: finite and not negative. */
+static int rgb_check(ray_scene *s, const char *what, ray_rgb c)
 {
-    return c.r >= 0 && c.r < HUGE_VAL && c.g >= 0 && c.g < HUGE_VAL &&
-           c.b >= 0 && c.b < HUGE_VAL;
+    if (rgb_valid(c))
+        return RAY_OK;
+    return ray__fail(s, RAY_EINVAL, "%s (%g, %g, %g) is negative or not "
+                     "finite", what, c.r, c.g, c.b);
 }
 
 int ray_scene_set_background(ray_scene *s, ray_rgb color)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_set_background");
 
     if (rc != RAY_OK)
         return rc;
-    if (!rgb_valid(color))
-        return RAY_EINVAL;
+    rc = rgb_check(s, "colour", color);
+    if (rc != RAY_OK)
+        return rc;
     s->background = color;
     return RAY_OK;
 }
@@ -419,7 +495,7 @@ int ray_scene_set_background(ray_scene *s, ray_rgb color)
 int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
                                 void *ud)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_set_background_fn");
 
     if (rc != RAY_OK)
         return rc;
@@ -430,19 +506,20 @@ int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
 
 int ray_scene_set_ambient(ray_scene *s, ray_rgb ambient)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_set_ambient");
 
     if (rc != RAY_OK)
         return rc;
-    if (!rgb_valid(ambient))
-        return RAY_EINVAL;
+    rc = rgb_check(s, "ambient light", ambient);
+    if (rc != RAY_OK)
+        return rc;
     s->ambient = ambient;
     return RAY_OK;
 }
 
 int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_set_limits");
 
     if (rc != RAY_OK)
         return rc;
@@ -452,9 +529,13 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
         s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
         return RAY_OK;
     }
-    if (!(limits->min_weight >= 0 && limits->min_weight <= 1) ||
-        limits->max_depth > RAY_MAX_DEPTH)
-        return RAY_EINVAL;
+    if (!(limits->min_weight >= 0 && limits->min_weight <= 1))
+        return ray__fail(s, RAY_EINVAL, "min_weight %g is not in [0, 1]",
+                         limits->min_weight);
+    if (limits->max_depth > RAY_MAX_DEPTH)
+        return ray__fail(s, RAY_EINVAL, "max_depth %u is more than "
+                         "RAY_MAX_DEPTH (%u)", limits->max_depth,
+                         RAY_MAX_DEPTH);
     s->limits = *limits;
     return RAY_OK;
 }
@@ -687,7 +768,7 @@ static int commit_prims(ray_scene *s)
 
 int ray_scene_set_pruning(ray_scene *s, int enabled)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_set_pruning");
 
     if (rc != RAY_OK)
         return rc;
@@ -697,7 +778,7 @@ int ray_scene_set_pruning(ray_scene *s, int enabled)
 
 int ray_scene_set_watertight(ray_scene *s, int enabled)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_set_watertight");
 
     if (rc != RAY_OK)
         return rc;
@@ -734,20 +815,23 @@ static unsigned scene_effects(const ray_scene *s)
 */
 int ray_scene_commit(ray_scene *s)
 {
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_commit");
 
     if (rc != RAY_OK)
         return rc;
     rc = commit_prims(s);
     if (rc != RAY_OK)
-        return rc;
+        return ray__fail(s, rc, "out of memory building the BVH over the "
+                         "spheres, polygons and surfaces (not committed: "
+                         "retry)");
     rc = commit_triangles(s);
     if (rc != RAY_OK) {
         ray__bvh_free(s, &s->prim_bvh);
         ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
         s->planes = NULL;
         s->n_planes = 0;
-        return rc;
+        return ray__fail(s, rc, "out of memory building the BVH over %zu "
+                         "triangles (not committed: retry)", s->n_tris);
     }
     s->effects = scene_effects(s);
     s->committed = 1;

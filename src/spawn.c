@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** spawn.c -- secondary rays that start just off the surface.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** sphere.c -- ray / sphere: the lecture's quadratic, arranged so that
 ** neither the discriminant nor the near root cancels catastrophically.

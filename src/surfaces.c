@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** surfaces.c -- adding the curved surfaces to a scene: torus, implicit,
 ** parametric and Bezier.  Each is kept with its box, through which the
@@ -16,16 +17,18 @@ static int add_surface(ray_scene *s, int kind, unsigned material,
 {
     ray__prim p;
     void *grown;
-    int rc;
+    int rc = ray__material_known(s, material);
 
-    if (material >= s->n_materials)
-        return RAY_EINVAL;
+    if (rc != RAY_OK)
+        return rc;
     if (s->n_surfaces >= RAY_INVALID_ID)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "too many surfaces (%zu: ids are "
+                         "32-bit)", s->n_surfaces);
     grown = ray__grow(s, s->surfaces, &s->cap_surfaces, s->n_surfaces,
                       sizeof *s->surfaces);
     if (grown == NULL)
-        return RAY_ENOMEM;
+        return ray__fail(s, RAY_ENOMEM, "out of memory (surface %zu)",
+                         s->n_surfaces);
     s->surfaces = grown;
     memset(&p, 0, sizeof p);
     p.kind = kind;
@@ -40,17 +43,100 @@ static int add_surface(ray_scene *s, int kind, unsigned material,
     return RAY_OK;
 }
 
+/*
+** The messages of the descriptors' checks.  Whether a descriptor is valid
+** is decided by the primitive's own test (ray__torus_box,
+** ray__implicit_valid, ray__parametric_domain), so that a scene accepts
+** exactly what the bare function does; these run only once that test has
+** refused it, to name the first field that breaks the contract of its man
+** page, and fall back to a general message for what they cannot name.
+*/
+static int torus_fail(ray_scene *s, const ray_torus_params *t)
+{
+    ray_vec3 unit;
+
+    if (t == NULL)
+        return ray__fail(s, RAY_EINVAL, "torus parameters are NULL");
+    if (!v3_isfinite(t->center))
+        return ray__fail(s, RAY_EINVAL, "center " RAY__V3FMT " is not "
+                         "finite", RAY__V3ARGS(t->center));
+    if (!v3_isfinite(t->axis) || !v3_normalize(t->axis, &unit))
+        return ray__fail(s, RAY_EINVAL, "axis " RAY__V3FMT " is zero or "
+                         "not finite", RAY__V3ARGS(t->axis));
+    if (!(t->major > 0 && t->major < HUGE_VAL))
+        return ray__fail(s, RAY_EINVAL, "major radius %g is not positive "
+                         "and finite", t->major);
+    if (!(t->minor > 0 && t->minor < t->major))
+        return ray__fail(s, RAY_EINVAL, "minor radius %g is not in (0, "
+                         "major radius %g): only ring tori", t->minor,
+                         t->major);
+    return ray__fail(s, RAY_EINVAL, "the torus (major radius %g, center "
+                     RAY__V3FMT ") reaches beyond the largest double",
+                     t->major, RAY__V3ARGS(t->center));
+}
+
+/* A setting that must be finite and >= 0 (0 picks the default). */
+static int setting_valid(double x)
+{
+    return x >= 0 && x < HUGE_VAL;
+}
+
+static int implicit_fail(ray_scene *s, const ray_implicit_surface *is)
+{
+    if (is == NULL)
+        return ray__fail(s, RAY_EINVAL, "surface is NULL");
+    if (is->f == NULL)
+        return ray__fail(s, RAY_EINVAL, "field function f is NULL");
+    if (!v3_isfinite(is->lo) || !v3_isfinite(is->hi) ||
+        !(is->lo.x <= is->hi.x && is->lo.y <= is->hi.y &&
+          is->lo.z <= is->hi.z))
+        return ray__fail(s, RAY_EINVAL, "box lo " RAY__V3FMT " hi "
+                         RAY__V3FMT " is not finite or has lo > hi",
+                         RAY__V3ARGS(is->lo), RAY__V3ARGS(is->hi));
+    if (!setting_valid(is->lipschitz))
+        return ray__fail(s, RAY_EINVAL, "lipschitz %g is negative or not "
+                         "finite", is->lipschitz);
+    if (!setting_valid(is->step))
+        return ray__fail(s, RAY_EINVAL, "step %g is negative or not finite",
+                         is->step);
+    if (!setting_valid(is->tolerance))
+        return ray__fail(s, RAY_EINVAL, "tolerance %g is negative or not "
+                         "finite", is->tolerance);
+    return ray__fail(s, RAY_EINVAL, "invalid descriptor");
+}
+
+/* The most subdivisions ray_parametric(3) allows. */
+#define PARAMETRIC_MAX_SUBDIVISIONS 12u
+
+static int parametric_fail(ray_scene *s, const ray_parametric_surface *ps)
+{
+    if (ps == NULL)
+        return ray__fail(s, RAY_EINVAL, "surface is NULL");
+    if (ps->eval == NULL)
+        return ray__fail(s, RAY_EINVAL, "eval is NULL");
+    if (ps->bounds == NULL)
+        return ray__fail(s, RAY_EINVAL, "bounds is NULL");
+    if (ps->subdivisions > PARAMETRIC_MAX_SUBDIVISIONS)
+        return ray__fail(s, RAY_EINVAL, "subdivisions %u is more than %u",
+                         ps->subdivisions, PARAMETRIC_MAX_SUBDIVISIONS);
+    if (!setting_valid(ps->tolerance))
+        return ray__fail(s, RAY_EINVAL, "tolerance %g is negative or not "
+                         "finite", ps->tolerance);
+    return ray__fail(s, RAY_EINVAL, "domain [%g, %g] x [%g, %g] is empty or "
+                     "not finite", ps->u0, ps->u1, ps->v0, ps->v1);
+}
+
 int ray_scene_add_torus(ray_scene *s, const ray_torus_params *t,
                         unsigned material, unsigned *geom_id)
 {
     ray__surface surf;
     ray_vec3 lo, hi;
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_torus");
 
     if (rc != RAY_OK)
         return rc;
     if (!ray__torus_box(t, &lo, &hi))
-        return RAY_EINVAL;
+        return torus_fail(s, t);
     memset(&surf, 0, sizeof surf);
     surf.torus = *t;
     return add_surface(s, PRIM_TORUS, material, &surf, lo, hi, geom_id);
@@ -62,12 +148,12 @@ int ray_scene_add_implicit(ray_scene *s, const ray_implicit_surface *is,
     ray__surface surf;
     ray_vec3 grow;
     double tol;
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_implicit");
 
     if (rc != RAY_OK)
         return rc;
     if (!ray__implicit_valid(is))
-        return RAY_EINVAL;
+        return implicit_fail(s, is);
     memset(&surf, 0, sizeof surf);
     surf.implicit = *is;
     /* A hit lies within the tolerance of the box (ray_implicit clips the
@@ -84,16 +170,18 @@ int ray_scene_add_parametric(ray_scene *s, const ray_parametric_surface *ps,
     ray__surface surf;
     ray_vec3 lo, hi, grow;
     double d[4], tol;
-    int rc = ray__editable(s);
+    int rc = ray__begin(s, "ray_scene_add_parametric");
 
     if (rc != RAY_OK)
         return rc;
     if (!ray__parametric_domain(ps, d))
-        return RAY_EINVAL;
+        return parametric_fail(s, ps);
     ps->bounds(ps->ud, d[0], d[1], d[2], d[3], &lo, &hi);
     if (!v3_isfinite(lo) || !v3_isfinite(hi) || lo.x > hi.x ||
         lo.y > hi.y || lo.z > hi.z)
-        return RAY_EINVAL;
+        return ray__fail(s, RAY_EINVAL, "the bounds callback gave lo "
+                         RAY__V3FMT " hi " RAY__V3FMT ": not finite, or "
+                         "lo > hi", RAY__V3ARGS(lo), RAY__V3ARGS(hi));
     memset(&surf, 0, sizeof surf);
     surf.parametric = *ps;
     /* ray_parametric accepts roots within its tolerance of the box: so
@@ -112,27 +200,29 @@ int ray_scene_add_bezier(ray_scene *s, const ray_vec3 cp[16],
 {
     ray__prim p;
     double tol;
-    int rc = ray__editable(s), k;
+    int rc = ray__begin(s, "ray_scene_add_bezier"), k;
 
     if (rc != RAY_OK)
         return rc;
     if (cp == NULL)
-        return RAY_EINVAL;
+        return ray__fail(s, RAY_EINVAL, "control points are NULL");
     memset(&p, 0, sizeof p);
     p.kind = PRIM_BEZIER;
     p.material = material;
     p.a = p.b = cp[0];
     for (k = 0; k < 16; k++) {
         if (!v3_isfinite(cp[k]))
-            return RAY_EINVAL;
+            return ray__fail(s, RAY_EINVAL, "control point %d " RAY__V3FMT
+                             " is not finite", k, RAY__V3ARGS(cp[k]));
         /* The convex hull property: the patch lies in its points' box. */
         p.a = v3(fmin(p.a.x, cp[k].x), fmin(p.a.y, cp[k].y),
                  fmin(p.a.z, cp[k].z));
         p.b = v3(fmax(p.b.x, cp[k].x), fmax(p.b.y, cp[k].y),
                  fmax(p.b.z, cp[k].z));
     }
-    if (material >= s->n_materials)
-        return RAY_EINVAL;
+    rc = ray__material_known(s, material);
+    if (rc != RAY_OK)
+        return rc;
     /* Roots within the default tolerance of the box are accepted. */
     tol = ray__default_tolerance(p.a, p.b);
     p.a = v3_sub(p.a, v3(tol, tol, tol));

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** torus.c -- ray / torus: the exact quartic, solved without a closed
 ** formula; and the same torus as an implicit surface (its signed

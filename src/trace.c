@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** trace.c -- the recursive ray tree: trace a ray, shade its hit with the
 ** material's callback, which may trace further rays through the same

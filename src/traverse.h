@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** traverse.h -- the scene queries (nearest hit, any hit) over the planes
 ** and the two BVHs, as static functions: included by intersect.c, built

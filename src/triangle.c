@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** triangle.c -- ray / triangle by Cramer's rule (Shirley and Marschner,
 ** "Fundamentals of Computer Graphics", 3rd ed., section 4.4.2).

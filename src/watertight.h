@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** watertight.h -- the watertight ray/triangle test, split in two: what
 ** depends on the ray alone (its frame, set up once per ray) and the test

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_barycentric.c -- ray_barycentric (signed areas).
 */

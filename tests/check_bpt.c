@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_bpt.c -- the examples' Bezier patch file reader (examples/bpt.h):
 ** valid files read exactly, malformed ones rejected with the right line

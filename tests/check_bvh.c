@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_bvh.c -- the acceleration structure must not change any answer:
 ** nearest hits and any-hits through the BVH equal brute force over

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_effects.c -- simulating only what a scene calls for: the effects
 ** a commit derives, exact ray counts of small scenes, pruning against the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_implicit.c -- ray_implicit (sphere tracing and bracketing),
 ** ray_torus (the quartic) against the generic method, metaballs, and the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_main.c -- runs every suite.  Fork mode stays on (Check's default),
 ** so a crash fails one test instead of the run.
@@ -31,6 +32,7 @@ int main(void)
     srunner_add_suite(sr, bpt_suite());
     srunner_add_suite(sr, surfaces_suite());
     srunner_add_suite(sr, selfhit_suite());
+    srunner_add_suite(sr, errmsg_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

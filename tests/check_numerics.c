@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_numerics.c -- the stability suite: for each hard case, the naive
 ** variant fails and the library's passes, with the error measured against

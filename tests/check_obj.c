@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_obj.c -- the examples' OBJ reader (examples/obj.h): valid files,
 ** and malformed ones rejected with a line number, never a crash (the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_optics.c -- ray_reflect, ray_refract, ray_fresnel, ray_spawn.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_parametric.c -- ray_parametric and ray_bezier_surface: patches
 ** with known answers (a planar patch against two triangles, a paraboloid

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_png.c -- ray_image_to_srgb8 and ray_write_png, checked by reading
 ** the file back with libpng and comparing bytes (stb's image_write_test

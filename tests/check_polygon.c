@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_polygon.c -- ray_polygon: convex, concave, self-intersecting,
 ** shared edges and vertices.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_render.c -- ray_render: determinism across thread counts and
 ** region splits, cancellation, options, and the pixels themselves.

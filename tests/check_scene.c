@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_scene.c -- building scenes: errors, lifetime, allocator failures,
 ** and the ray_intersect / ray_occluded queries.
@@ -210,6 +211,10 @@ START_TEST(scene_should_survive_every_allocation_failure)
         rc = ray_scene_new(&s, tracked_alloc, &t);
         if (rc == RAY_OK) {
             rc = build_everything(s);
+            /* Reported in the scene's fixed buffer, which needs no memory. */
+            if (rc == RAY_ENOMEM)
+                ck_assert_msg(strstr(ray_scene_errmsg(s), ": out of memory") != NULL,
+                              "fail_at %ld: \"%s\"", n, ray_scene_errmsg(s));
             ray_scene_free(s);
         }
         ck_assert_msg(rc == RAY_OK || rc == RAY_ENOMEM, "fail_at %ld: %d", n, rc);
@@ -234,8 +239,9 @@ START_TEST(intersect_should_find_nearest_and_any)
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, mat, &far_id), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &near_id), RAY_OK);
     hit_poison(&h);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);     /* not committed */
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    /* Not committed: a negated status, so that it is not read as a miss. */
+    ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_occluded(s, &r), -RAY_ESTATE);
     ck_assert(hit_is_poisoned(&h));
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
@@ -248,9 +254,21 @@ START_TEST(intersect_should_find_nearest_and_any)
     r.tmax = HUGE_VAL;
     ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
     ck_assert_uint_eq(h.geom_id, far_id);
-    ck_assert_int_eq(ray_intersect(NULL, &r, &h), 0);
-    ck_assert_int_eq(ray_intersect(s, NULL, &h), 0);
-    ck_assert_int_eq(ray_intersect(s, &r, NULL), 0);
+    hit_poison(&h);
+    ck_assert_int_eq(ray_intersect(NULL, &r, &h), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, NULL, &h), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, &r, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(NULL, &r), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(s, NULL), -RAY_EINVAL);
+    ck_assert(hit_is_poisoned(&h));
+    /* An invalid ray is not misuse: it is a miss, as for the primitives. */
+    r.dir = vec(0, 0, 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    r.dir = vec(NAN, 0, -1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert(hit_is_poisoned(&h));
     ray_scene_free(s);
 }
 END_TEST

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_selfhit.c -- no acne: rays leaving a surface never hit it again
 ** within its rounding error, for every primitive kind, placement and

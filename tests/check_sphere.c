@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_sphere.c -- ray_sphere: normal cases, hard cases, bad input and a
 ** fixed-seed property test.

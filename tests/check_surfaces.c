@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_surfaces.c -- curved surfaces in scenes: ray_scene_add_torus,
 ** _implicit, _parametric and _bezier; the BVH finds what the bare

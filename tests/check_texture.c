@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_texture.c -- PNG image textures (load, bilinear sampling, wrap),
 ** textured Phong, and the texture coordinates every primitive hands to a

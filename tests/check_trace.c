@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_trace.c -- the ray tree: its limits, declared effects, built-in
 ** materials' optics, and shadow rays that do not hit their own surface.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_triangle.c -- ray_triangle (Cramer's rule).
 */

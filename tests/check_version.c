@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** check_version.c -- version macros and function, status-code strings.
 */
@@ -37,11 +38,33 @@ START_TEST(strerror_should_name_every_code)
 }
 END_TEST
 
+/* The queries and the iterative intersections return negated statuses:
+** each reads as the status itself. */
+START_TEST(strerror_should_accept_negated_codes)
+{
+    int codes[] = {RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE, RAY_ENOMEM,
+                   RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED, RAY_ELIMIT,
+                   RAY_EEFFECT};
+    size_t i;
+
+    for (i = 0; i < sizeof codes / sizeof codes[0]; i++)
+        ck_assert_str_eq(ray_strerror(-codes[i]), ray_strerror(codes[i]));
+    ck_assert_str_eq(ray_strerror(-RAY_ELIMIT),
+                     "a limit was reached (ray tree or iterations)");
+    ck_assert_str_eq(ray_strerror(-RAY_ESTATE),
+                     "operation not allowed in this state");
+}
+END_TEST
+
 START_TEST(strerror_should_survive_unknown_codes)
 {
-    ck_assert_str_eq(ray_strerror(-1), "unknown error");
+    ck_assert_str_eq(ray_strerror(RAY_EEFFECT + 1), "unknown error");
+    ck_assert_str_eq(ray_strerror(-RAY_EEFFECT - 1), "unknown error");
     ck_assert_str_eq(ray_strerror(12345), "unknown error");
+    ck_assert_str_eq(ray_strerror(-12345), "unknown error");
+    /* INT_MIN has no negation in int: it must not be negated. */
     ck_assert_str_eq(ray_strerror(-2147483647 - 1), "unknown error");
+    ck_assert_str_eq(ray_strerror(2147483647), "unknown error");
 }
 END_TEST
 
@@ -52,6 +75,7 @@ Suite *version_suite(void)
 
     tcase_add_test(tc, version_should_match_header);
     tcase_add_test(tc, strerror_should_name_every_code);
+    tcase_add_test(tc, strerror_should_accept_negated_codes);
     tcase_add_test(tc, strerror_should_survive_unknown_codes);
     suite_add_tcase(s, tc);
     return s;

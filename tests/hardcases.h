@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** hardcases.h -- the hard cases of the stability suite, as measurements
 ** that tests/check_numerics.c asserts on and bench/numerics.c prints:

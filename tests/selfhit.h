@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** selfhit.h -- counts "acne": secondary rays, spawned from a hit with
 ** ray_spawn / ray_spawn_to, that hit the surface they leave.  Shared by

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** tests.h -- helpers shared by the Check suites in tests/.
 */
@@ -33,6 +34,7 @@ Suite *texture_suite(void);
 Suite *bpt_suite(void);
 Suite *surfaces_suite(void);
 Suite *selfhit_suite(void);
+Suite *errmsg_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
