@@ -11,24 +11,6 @@
 
 #include "tests.h"
 
-static void black(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                  ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
-static ray_material plain(void)
-{
-    ray_material m;
-    m.shade = black;
-    m.ud = NULL;
-    m.effects = 0;
-    return m;
-}
-
 /* ------------------------------------------------ valid inputs to break */
 
 /* One triangle over three vertices, with normals and texture coordinates,

@@ -7,24 +7,6 @@
 
 #include "tests.h"
 
-static void black(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                  ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
-static ray_material plain(void)
-{
-    ray_material m;
-    m.shade = black;
-    m.ud = NULL;
-    m.effects = 0;
-    return m;
-}
-
 START_TEST(scene_should_assign_ids_in_order)
 {
     ray_scene *s;

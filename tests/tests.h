@@ -237,4 +237,24 @@ static inline ray_vec3 rng_point(rng *g, double lo, double hi)
                rng_range(g, lo, hi));
 }
 
+/* A material that shades nothing (black), declaring no effects: for
+** scenes built only to be validated or queried. */
+static inline void black(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    (void)out;
+}
+
+static inline ray_material plain(void)
+{
+    ray_material m;
+    m.shade = black;
+    m.ud = NULL;
+    m.effects = 0;
+    return m;
+}
+
 #endif
