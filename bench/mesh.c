@@ -415,6 +415,7 @@ static void run_set(const char *name, ray_scene *ours, void *embree,
            (double)set->n / me / 1e6, median(ratio, reps),
            100 * same, t_rel);
 #else
+    (void)me;
     (void)t_emb;
     (void)ratio;
     (void)same;
@@ -468,6 +469,9 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     b_emb = median(build_emb, reps);
     printf("Embree rtcCommitScene (its own thread pool, all CPUs): %.1f ms\n",
            1e3 * b_emb);
+#else
+    (void)b_emb;
+    (void)build_emb;
 #endif
     printf("\n| rays | threads | count | ours Mrays/s | Embree Mrays/s | "
            "ours / Embree | same hit and primitive | max rel. t diff |\n");
