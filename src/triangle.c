@@ -41,6 +41,22 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
 }
 
 /*
+** One component of the normal (A-B) x (A-C), x1 y2 - y1 x2: plain where
+** the two products cancel by less than half (|x1 y2| + |y1 x2| <= 2 |n|,
+** then within 3u), ray__diff_of_products (within 2u) where they cancel
+** more -- always on caps and on needles whose odd edge is not A's, where
+** A-B and A-C are nearly parallel.  See ray__triangle_test.
+*/
+static inline double normal_component(double x1, double y2, double y1, double x2)
+{
+    double n = x1 * y2 - y1 * x2;
+
+    if (fabs(x1 * y2) + fabs(y1 * x2) <= 2 * fabs(n))
+        return n;
+    return ray__diff_of_products(x1, y2, y1, x2);
+}
+
+/*
 ** The system [A-B, A-C, d] [beta gamma t]^T = A - e, with the book's
 ** names for its entries:
 **
@@ -49,11 +65,27 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
 **     | c f i |   | t     |   | l |      g,h,i = d (ray direction)
 **                                        j,k,l = A - e (e: ray origin)
 **
-** Cramer's rule shares six 2x2 minors between the four determinants:
-**   M     = a(ei-hf) + b(gf-di) + c(dh-eg)
+** Cramer's rule with six 2x2 minors for the barycentrics' numerators:
 **   beta  = (j(ei-hf) + k(gf-di) + l(dh-eg)) / M
 **   gamma = (i(ak-jb) + h(jc-al) + g(bl-kc)) / M
-**   t     = -(f(ak-jb) + e(jc-al) + d(bl-kc)) / M
+** and the determinant and t's numerator by the triple products' other
+** order, through the normal N = (A-B) x (A-C) = (bf-ce, cd-af, ae-bd):
+**   M     = det[A-B, A-C, d]   = N . d
+**   t     = det[A-B, A-C, A-e] / M = N . (A-e) / M.
+** The book takes M = a(ei-hf) + b(gf-di) + c(dh-eg) and t from the
+** minors (ak-jb) ... too, but those dot a rounded cross product with a
+** vector nearly parallel to one of its factors when A-B and A-C are
+** nearly parallel (a cap, or a needle seen from its far vertex): the
+** cross product's rounding error, u |A-C| |d| per component in any
+** direction, then survives the cancellation, and M and t lose a factor of
+** the aspect ratio -- 1.6e7 conditioned ulps of t on the slivers of
+** bench/accuracy.c.  N carries the sliver's thinness in its own
+** cancellations (x1 y2 - y1 x2 of nearly parallel edges), which
+** normal_component computes to 2u relative; the dot products that follow
+** lose only what the geometry does (|cos theta| for M, the origin's
+** distance for t).  The barycentrics' numerators keep the book's minors:
+** their errors, divided by M, are at most about u |A-e| / altitude, a few
+** ulps of the barycentric as a distance (the bench's u and v columns).
 **
 ** Only M == 0 exactly is rejected.  The 1997 Moeller-Trumbore code rejects
 ** |M| < 1e-6, which is scale-dependent and drops every triangle with edges
@@ -70,7 +102,9 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     double j = va.x - r->org.x, k = va.y - r->org.y, l = va.z - r->org.z;
     double ei_hf = e * i - h * f, gf_di = g * f - d * i, dh_eg = d * h - e * g;
     double ak_jb = a * k - j * b, jc_al = j * c - a * l, bl_kc = b * l - k * c;
-    double m = a * ei_hf + b * gf_di + c * dh_eg;
+    double nx = normal_component(b, f, c, e), ny = normal_component(c, d, a, f),
+           nz = normal_component(a, e, b, d);
+    double m = nx * g + ny * h + nz * i;
     double t_num, gamma_num, beta_num, sign, t, beta, gamma;
 
     if (m == 0)                  /* parallel ray, or zero-area triangle */
@@ -87,7 +121,7 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     beta_num = j * ei_hf + k * gf_di + l * dh_eg;
     if (!(sign * gamma_num >= 0 && sign * beta_num >= 0))
         return 0;
-    t_num = -(f * ak_jb + e * jc_al + d * bl_kc);
+    t_num = nx * j + ny * k + nz * l;
     if (r->tmin >= 0 && !(sign * t_num > 0))      /* t <= 0 <= tmin */
         return 0;
     /* Divisions rather than one reciprocal: each quotient is then
