@@ -264,6 +264,41 @@ static inline hc_mesh hc_icosphere(ray_vec3 centre, int level)
     return m;
 }
 
+/*
+** A closed spindle of needle triangles: a ring of n vertices of radius 1
+** around an axis through "centre" (direction (1, 2, 3), to keep off the
+** coordinate axes) and two apexes at +-H along it; 2n triangles, wound
+** outwards, with ring edges of 2 pi / n and long edges of about H, so an
+** aspect ratio of about H n / (2 pi).  Everything within 0.9 of the
+** centre is inside, as hc_leaks wants.
+*/
+static inline hc_mesh hc_spindle(ray_vec3 centre, size_t n, double H)
+{
+    hc_mesh m;
+    ray_vec3 axis = v3_scale(v3(1, 2, 3), 1 / sqrt(14.0)), t1, t2;
+    size_t i;
+
+    ray__tangent_frame(axis, &t1, &t2);
+    m.nv = n + 2;
+    m.nt = 2 * n;
+    m.v = malloc(m.nv * sizeof *m.v);
+    m.idx = malloc(3 * m.nt * sizeof *m.idx);
+    for (i = 0; i < n; i++) {
+        double a = 2 * RAY__PI * (double)i / (double)n;
+        m.v[i] = v3_add(centre, v3_add(v3_scale(t1, cos(a)),
+                                       v3_scale(t2, sin(a))));
+    }
+    m.v[n] = v3_add(centre, v3_scale(axis, H));
+    m.v[n + 1] = v3_add(centre, v3_scale(axis, -H));
+    for (i = 0; i < n; i++) {
+        unsigned a = (unsigned)i, b = (unsigned)((i + 1) % n);
+        unsigned *t = m.idx + 6 * i;
+        t[0] = a, t[1] = b, t[2] = (unsigned)n;            /* top */
+        t[3] = b, t[4] = a, t[5] = (unsigned)(n + 1);      /* bottom */
+    }
+    return m;
+}
+
 enum { HC_CRAMER_FLOAT, HC_CRAMER, HC_WATERTIGHT };
 
 /* Does the ray hit any triangle of the mesh, by the given algorithm? */
