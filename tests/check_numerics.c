@@ -145,8 +145,8 @@ END_TEST
 ** ulps of the inputs moved, the compensated edge functions or normal (2u
 ** relative) and the dot products and quotient forming t (about 5u of t,
 ** and |t| |dir| |cos theta| can reach a few M); bench/accuracy.c measures
-** at most 5.2 on 240,000 slivers.  Before the compensated edge functions
-** the watertight test was off by up to 8.9e5 and Cramer by 1.8e7.  Where
+** at most 5.7 on 1,200,000 slivers.  Before the compensated edge functions
+** the watertight test was off by up to 1.0e6 and Cramer by 2.0e7.  Where
 ** the compiler has no __float128 the reference is not precise enough
 ** (long double loses the aspect ratio, up to 2^23, of its 64 bits): the
 ** test says so and checks nothing.
