@@ -420,7 +420,6 @@ static void run_set(const char *name, ray_scene *ours, void *embree,
     (void)t_emb;
     (void)ratio;
     (void)same;
-    (void)me;
     (void)t_rel;
     (void)agreement;
     printf("| %s | %u | %zu | %.2f | - | - | - | - |\n", name, threads,
@@ -472,7 +471,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     printf("Embree rtcCommitScene (its own thread pool, all CPUs): %.1f ms\n",
            1e3 * b_emb);
 #else
-    (void)b_emb;          /* used only with Embree; -Werror builds without */
+    (void)b_emb;
     (void)build_emb;
 #endif
     printf("\n| rays | threads | count | ours Mrays/s | Embree Mrays/s | "

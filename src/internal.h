@@ -153,6 +153,53 @@ static inline double ray__gamma(int n)
 }
 
 /*
+** a*b - c*d with one rounding's worth of error: the products' rounding
+** errors e1 = a*b - p1 and e2 = c*d - p2 are exact doubles, computed by
+** fma (correctly rounded on every C99 platform, hardware FMA or not, so
+** the result is the same everywhere), and added back:
+**
+**     p1 = fl(a*b), p2 = fl(c*d), e1 = fma(a, b, -p1), e2 = fma(c, d, -p2),
+**     result = fl(fl(p1 - p2) + fl(e1 - e2)).
+**
+** This is the symmetric form of Cornea, Harrison and Tang ("Scientific
+** Computing on Itanium-based Systems", 2002), not Kahan's (pbrt-v4's
+** DifferenceOfProducts, which rounds c*d first and is not symmetric in its
+** two products).  Error, with u = 2^-53 and E = a*b - c*d (Jeannerod,
+** Louvet, Muller, "Further analysis of Kahan's algorithm for the accurate
+** computation of 2x2 determinants", Math. Comp. 82, 2013, do the same
+** kind of case split):
+**   - p1, p2 of one sign within a factor 2 of each other: p1 - p2 is
+**     exact (Sterbenz), so the error is that of the two last roundings,
+**     at most u |E| + u^2 (|ab| + |cd|), |e1 - e2| <= u (|ab| + |cd|);
+**   - otherwise |p1 - p2| >= (|p1| + |p2|) / 4 and |e1 - e2| <= 4 u
+**     |p1 - p2|: three roundings of quantities within 1 + 5u of |E|,
+**     at most 2 u |E| (1 + O(u)).
+** So |error| <= 2u |E| + u^2 (|ab| + |cd|): relative accuracy however much
+** a*b and c*d cancel (the plain fl(fl(ab) - fl(cd)) has absolute error up
+** to u (|ab| + |cd|) + u |E|, unbounded relative to E).  And the sign is
+** E's or zero (in the first case by the monotonicity of rounding, in the
+** second as the error is below |E|).  Products or errors in the subnormal
+** range lose these bounds (the error terms round); libray's callers keep
+** a fallback for that range.
+**
+** Exactly antisymmetric: ray__diff_of_products(c, d, a, b) swaps p1 with
+** p2 and e1 with e2, and fl(x - y) = -fl(y - x), fl(-x + -y) = -fl(x + y)
+** under round-to-nearest-even, so it returns exactly -result; and a*b =
+** b*a, fma(a, b, z) = fma(b, a, z).  So two triangles sharing an edge
+** still get opposite values for it -- and, the products being explicit
+** statements and fma an explicit call, that holds even where a compiler
+** would contract a*b - c*d into an FMA of its own choosing.
+*/
+static inline double ray__diff_of_products(double a, double b, double c,
+                                           double d)
+{
+    double p1 = a * b, p2 = c * d;
+    double e1 = fma(a, b, -p1), e2 = fma(c, d, -p2);
+
+    return (p1 - p2) + (e1 - e2);
+}
+
+/*
 ** The default tolerance of ray_implicit and ray_parametric for a surface
 ** in the box [lo, hi] (ray.h): 1e-9 of the box's diagonal -- far below
 ** what a picture shows, far above the rounding of a reasonable field or

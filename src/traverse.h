@@ -573,29 +573,24 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
         for (i = first; i < end; i += 2) {
             unsigned pair[2];
             const ray__tri *t0 = &s->tris[i], *t1;
-            double u[2], v[2], w[2], z[6], mx[2], my[2];
             int m, lane;
             pair[0] = i;
             pair[1] = i + (i + 1 < end);   /* i itself if last; no branch */
             t1 = &s->tris[pair[1]];
             m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
-                                     &t1->b, &t0->c, &t1->c, u, v, w, z, mx,
-                                     my);
+                                     &t1->b, &t0->c, &t1->c);
             if (m == 0)
                 continue;
             for (lane = 0; lane < 2; lane++) {
                 const ray__tri *t = lane ? t1 : t0;
                 double th, beta, gamma;
-                int hit = m < 0 ? ray__triangle_watertight_pre(
-                                      &tr->wt, r->tmin, r->tmax, &t->a,
-                                      &t->b, &t->c, &th, &beta, &gamma)
-                                : (m >> lane & 1) &&
-                                      ray__watertight_finish(
-                                          &tr->wt, u[lane], v[lane], w[lane],
-                                          z[3 * lane], z[3 * lane + 1],
-                                          z[3 * lane + 2], mx[lane],
-                                          my[lane], r->tmin, r->tmax, &th,
-                                          &beta, &gamma);
+                /* A lane the pair test keeps is a hit candidate: the
+                ** one-triangle test ends it, with the compensated edge
+                ** functions it computes for candidates (fma, scalar). */
+                int hit = (m < 0 || (m >> lane & 1)) &&
+                          ray__triangle_watertight_pre(
+                              &tr->wt, r->tmin, r->tmax, &t->a, &t->b,
+                              &t->c, &th, &beta, &gamma);
                 if (hit) {
                     tri_hit(pair[lane], th, beta, gamma, r, best);
                     found = 1;

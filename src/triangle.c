@@ -42,31 +42,51 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
 }
 
 /*
-** A bound on the rounding error of Cramer's t = t_num / m below, by the
+** One component of the normal (A-B) x (A-C), x1 y2 - y1 x2: plain where
+** the two products cancel by less than half (|x1 y2| + |y1 x2| <= 2 |n|,
+** then within 3u), ray__diff_of_products (within 2u) where they cancel
+** more -- always on caps and on needles whose odd edge is not A's, where
+** A-B and A-C are nearly parallel.  See ray__triangle_test.
+*/
+static inline double normal_component(double x1, double y2, double y1, double x2)
+{
+    double n = x1 * y2 - y1 * x2;
+
+    if (fabs(x1 * y2) + fabs(y1 * x2) <= 2 * fabs(n))
+        return n;
+    return ray__diff_of_products(x1, y2, y1, x2);
+}
+
+/*
+** A bound on the rounding error of t = N.(A-e) / N.d below, by the
 ** running error analysis of Higham ("Accuracy and Stability of Numerical
 ** Algorithms", 2nd ed., section 3.1), with gamma(n) = n u / (1 - n u):
-** a..f and j..l are differences (one rounding each), so a minor such as
-** ak - jb carries gamma(4) (|ak| + |jb|) (two factors, the product, the
-** difference); the products with f, e, d and the two additions bring
-** t_num's to gamma(7) times the sum of the magnitudes of its terms, and
-** likewise m's (g, h, i are exact) to gamma(6).  With t = t_num / m,
+** each component of N = (A-B) x (A-C), x1 y2 - y1 x2 from differences
+** (one rounding each), is within gamma(4) (|x1 y2| + |y1 x2|) (the inputs'
+** 2u, then 3u plain or 2u compensated: normal_component); the dot
+** products add gamma(4) sum |N_i (A-e)_i| (with A-e's rounding) and
+** gamma(3) sum |N_i d_i|.  With t = t_num / m,
 ** |t - t_exact| <= dt_num / |m| + |t| (dm / |m| + u).  A hit must have
 ** its whole error interval past tmin: see ray__watertight_t_error.
 */
 static double cramer_t_error(double a, double b, double c, double d,
-                             double e, double f, double g, double h,
-                             double i, double j, double k, double l,
+                             double e, double f, const double n[3],
+                             const double dir[3], const double ae[3],
                              double m, double t)
 {
-    double dt_num = fabs(f) * (fabs(a * k) + fabs(j * b)) +
-                    fabs(e) * (fabs(j * c) + fabs(a * l)) +
-                    fabs(d) * (fabs(b * l) + fabs(k * c));
-    double dm = fabs(a) * (fabs(e * i) + fabs(h * f)) +
-                fabs(b) * (fabs(g * f) + fabs(d * i)) +
-                fabs(c) * (fabs(d * h) + fabs(e * g));
+    double n_err[3], dt_num = 0, dm = 0;
+    int k;
 
-    dt_num *= ray__gamma(7) * (1 + ray__gamma(3));
-    dm *= ray__gamma(6) * (1 + ray__gamma(3));
+    n_err[0] = ray__gamma(4) * (fabs(b * f) + fabs(c * e));
+    n_err[1] = ray__gamma(4) * (fabs(c * d) + fabs(a * f));
+    n_err[2] = ray__gamma(4) * (fabs(a * e) + fabs(b * d));
+    for (k = 0; k < 3; k++) {
+        dt_num += n_err[k] * fabs(ae[k]) +
+                  ray__gamma(4) * fabs(n[k] * ae[k]);
+        dm += n_err[k] * fabs(dir[k]) + ray__gamma(3) * fabs(n[k] * dir[k]);
+    }
+    dt_num *= 1 + ray__gamma(2);
+    dm *= 1 + ray__gamma(2);
     return (dt_num + fabs(t) * dm) / fabs(m) + ray__gamma(2) * fabs(t);
 }
 
@@ -79,11 +99,27 @@ static double cramer_t_error(double a, double b, double c, double d,
 **     | c f i |   | t     |   | l |      g,h,i = d (ray direction)
 **                                        j,k,l = A - e (e: ray origin)
 **
-** Cramer's rule shares six 2x2 minors between the four determinants:
-**   M     = a(ei-hf) + b(gf-di) + c(dh-eg)
+** Cramer's rule with six 2x2 minors for the barycentrics' numerators:
 **   beta  = (j(ei-hf) + k(gf-di) + l(dh-eg)) / M
 **   gamma = (i(ak-jb) + h(jc-al) + g(bl-kc)) / M
-**   t     = -(f(ak-jb) + e(jc-al) + d(bl-kc)) / M
+** and the determinant and t's numerator by the triple products' other
+** order, through the normal N = (A-B) x (A-C) = (bf-ce, cd-af, ae-bd):
+**   M     = det[A-B, A-C, d]   = N . d
+**   t     = det[A-B, A-C, A-e] / M = N . (A-e) / M.
+** The book takes M = a(ei-hf) + b(gf-di) + c(dh-eg) and t from the
+** minors (ak-jb) ... too, but those dot a rounded cross product with a
+** vector nearly parallel to one of its factors when A-B and A-C are
+** nearly parallel (a cap, or a needle seen from its far vertex): the
+** cross product's rounding error, u |A-C| |d| per component in any
+** direction, then survives the cancellation, and M and t lose a factor of
+** the aspect ratio -- 1.6e7 conditioned ulps of t on the slivers of
+** bench/accuracy.c.  N carries the sliver's thinness in its own
+** cancellations (x1 y2 - y1 x2 of nearly parallel edges), which
+** normal_component computes to 2u relative; the dot products that follow
+** lose only what the geometry does (|cos theta| for M, the origin's
+** distance for t).  The barycentrics' numerators keep the book's minors:
+** their errors, divided by M, are at most about u |A-e| / altitude, a few
+** ulps of the barycentric as a distance (the bench's u and v columns).
 **
 ** Only M == 0 exactly is rejected.  The 1997 Moeller-Trumbore code rejects
 ** |M| < 1e-6, which is scale-dependent and drops every triangle with edges
@@ -100,7 +136,9 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     double j = va.x - r->org.x, k = va.y - r->org.y, l = va.z - r->org.z;
     double ei_hf = e * i - h * f, gf_di = g * f - d * i, dh_eg = d * h - e * g;
     double ak_jb = a * k - j * b, jc_al = j * c - a * l, bl_kc = b * l - k * c;
-    double m = a * ei_hf + b * gf_di + c * dh_eg;
+    double nx = normal_component(b, f, c, e), ny = normal_component(c, d, a, f),
+           nz = normal_component(a, e, b, d);
+    double m = nx * g + ny * h + nz * i;
     double t_num, gamma_num, beta_num, sign, t, beta, gamma;
 
     if (m == 0)                  /* parallel ray, or zero-area triangle */
@@ -117,16 +155,21 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     beta_num = j * ei_hf + k * gf_di + l * dh_eg;
     if (!(sign * gamma_num >= 0 && sign * beta_num >= 0))
         return 0;
-    t_num = -(f * ak_jb + e * jc_al + d * bl_kc);
+    t_num = nx * j + ny * k + nz * l;
     if (r->tmin >= 0 && !(sign * t_num > 0))      /* t <= 0 <= tmin */
         return 0;
     /* Divisions rather than one reciprocal: each quotient is then
     ** correctly rounded, and an edge hit stays exactly on its edge. */
     t = t_num / m;
-    if (!(t > r->tmin && t < r->tmax) ||
-        !(t - cramer_t_error(a, b, c, d, e, f, g, h, i, j, k, l, m, t) >
-          r->tmin))
+    if (!(t > r->tmin && t < r->tmax))
         return 0;
+    {
+        const double n[3] = {nx, ny, nz}, dir[3] = {g, h, i},
+                     ae[3] = {j, k, l};
+        if (!(t - cramer_t_error(a, b, c, d, e, f, n, dir, ae, m, t) >
+              r->tmin))
+            return 0;
+    }
     gamma = gamma_num / m;
     if (!(gamma >= 0 && gamma <= 1))
         return 0;

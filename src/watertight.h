@@ -140,8 +140,7 @@ static inline double ray__watertight_t_error(const ray__watertight *wt,
 ** The test's end, from the edge functions u, v, w (their signs checked),
 ** the projected distances za, zb, zc of the vertices along kz and the
 ** largest |x| and |y| of the projected vertices: det, t in (tmin, tmax)
-** with its whole error interval past tmin, the barycentrics.  Shared by
-** the one-triangle test and the SSE pair test, so both give the same bits.
+** with its whole error interval past tmin, the barycentrics.
 */
 static inline int ray__watertight_finish(const ray__watertight *wt,
                                          double u, double v, double w,
@@ -181,6 +180,29 @@ static inline int ray__watertight_finish(const ray__watertight *wt,
     return 1;
 }
 
+/*
+** Edge function q_x p_y - q_y p_x (edge p -> q; -E of edge q -> p) again,
+** for a triangle the sign test kept: ray__diff_of_products, relative
+** error <= 2u, where the plain value has absolute error up to u (|q_x p_y|
+** + |q_y p_x|) and so, on a short edge far from the ray, wrong digits
+** from the first: its error divided by the edge's length -- what it does
+** to the barycentric opposite -- grows as (distance / edge length)^2, up
+** to 1e5-1e7 ulps on needles and caps (bench/accuracy.c, "Needle and cap
+** triangles").  Filter: where the products cancel by less than half,
+** |q_x p_y| + |q_y p_x| <= 2 |plain|, the plain value is already within
+** 3u (u for its subtraction, at most 2u |plain| for the products) and the
+** fma calls (libm calls where the compiler targets no FMA unit) are
+** skipped.  Only hit candidates pay: the sign test (watertightness) uses
+** the plain values, as before.
+*/
+static inline double ray__edge_refine(double plain, double qx, double py,
+                                      double qy, double px)
+{
+    if (fabs(qx * py) + fabs(qy * px) <= 2 * fabs(plain))
+        return plain;
+    return ray__diff_of_products(qx, py, qy, px);
+}
+
 static inline int ray__triangle_watertight_pre(
     const ray__watertight *wt, double tmin, double tmax, const ray_vec3 *va,
     const ray_vec3 *vb, const ray_vec3 *vc, double *t_out, double *beta_out,
@@ -205,12 +227,24 @@ static inline int ray__triangle_watertight_pre(
         u = ray__edge_extended(cx, cy, bx, by);
         v = ray__edge_extended(ax, ay, cx, cy);
         w = ray__edge_extended(bx, by, ax, ay);
+        /* Inclusive on both signs: a miss only when the signs truly
+        ** differ (one compare each through the extremes; a NaN may go
+        ** either way here, as det is then NaN: a miss in both cases). */
+        if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
+            return 0;
+    } else {
+        if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
+            return 0;
+        /* A candidate: t and the barycentrics from accurate edge
+        ** functions.  Each keeps its sign or becomes 0 (the compensated
+        ** value's sign is the exact one's or 0), so the hit/miss answer
+        ** above stands; the long double values of the branch above,
+        ** already past double's digits and kept for their range (tiny
+        ** triangles whose products underflow in double), are kept. */
+        u = ray__edge_refine(u, cx, by, cy, bx);
+        v = ray__edge_refine(v, ax, cy, ay, cx);
+        w = ray__edge_refine(w, bx, ay, by, ax);
     }
-    /* Inclusive on both signs: a miss only when the signs truly differ
-    ** (one compare each through the extremes; a NaN may go either way
-    ** here, as det is then NaN: a miss in both cases). */
-    if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
-        return 0;
     return ray__watertight_finish(
         wt, u, v, w, pa[2], pb[2], pc[2],
         dmax(dmax(fabs(ax), fabs(bx)), fabs(cx)),
@@ -280,25 +314,19 @@ static inline void ray__project2(const ray__watertight2 *w,
 
 /*
 ** Triangles (a0, b0, c0) and (a1, b1, c1) against the ray: a bit mask of
-** the lanes that may hit, their edge functions and distances along kz
-** written to u, v, w, z (lane l at index 3 l for z: za, zb, zc) and the
-** largest |x|, |y| of their projected vertices to mx, my, for
-** ray__watertight_finish to end; -1 when an edge function is exactly 0
-** in a lane: the caller then tests both with ray__triangle_watertight_pre
-** (the long double re-evaluation is scalar; it is rare).
+** the lanes whose plain edge functions pass the sign test -- the hit
+** candidates, which the caller ends with ray__triangle_watertight_pre
+** (the compensated edge functions need fma, which SSE2 lacks; candidates
+** are few, a handful per ray); -1 when an edge function is exactly 0 in a
+** lane: the caller then tests both with ray__triangle_watertight_pre (the
+** long double re-evaluation is scalar; it is rare).  Lane for lane the
+** scalar test's plain edge functions and sign test, so the lanes it
+** rejects are those the scalar test rejects.
 */
-static inline __m128d ray__abs2(__m128d x)
-{
-    return _mm_andnot_pd(_mm_set1_pd(-0.0), x);
-}
-
 static inline int ray__watertight_pair(const ray__watertight2 *w2,
                                        const ray_vec3 *a0, const ray_vec3 *a1,
                                        const ray_vec3 *b0, const ray_vec3 *b1,
-                                       const ray_vec3 *c0, const ray_vec3 *c1,
-                                       double u[2], double v[2], double w[2],
-                                       double z[6], double mx[2],
-                                       double my[2])
+                                       const ray_vec3 *c0, const ray_vec3 *c1)
 {
     const __m128d zero = _mm_setzero_pd();
     __m128d pa[3], pb[3], pc[3], eu, ev, ew, lo, hi;
@@ -318,24 +346,6 @@ static inline int ray__watertight_pair(const ray__watertight2 *w2,
     hi = _mm_max_pd(_mm_max_pd(eu, ev), ew);
     miss = _mm_movemask_pd(_mm_and_pd(_mm_cmplt_pd(lo, zero),
                                       _mm_cmpgt_pd(hi, zero)));
-    if (miss == 3)
-        return 0;
-    _mm_storeu_pd(u, eu);
-    _mm_storeu_pd(v, ev);
-    _mm_storeu_pd(w, ew);
-    _mm_storel_pd(&z[0], pa[2]);
-    _mm_storel_pd(&z[1], pb[2]);
-    _mm_storel_pd(&z[2], pc[2]);
-    _mm_storeh_pd(&z[3], pa[2]);
-    _mm_storeh_pd(&z[4], pb[2]);
-    _mm_storeh_pd(&z[5], pc[2]);
-    /* Exact, as the scalar fabs and dmax are: the same bits. */
-    _mm_storeu_pd(mx, _mm_max_pd(_mm_max_pd(ray__abs2(pa[0]),
-                                            ray__abs2(pb[0])),
-                                 ray__abs2(pc[0])));
-    _mm_storeu_pd(my, _mm_max_pd(_mm_max_pd(ray__abs2(pa[1]),
-                                            ray__abs2(pb[1])),
-                                 ray__abs2(pc[1])));
     return ~miss & 3;
 }
 #endif

@@ -42,6 +42,12 @@ static inline ray_vec3 hc_dir(hc_rng *g)
     }
 }
 
+/* A point in [-1, 1]^3. */
+static inline ray_vec3 hc_cube_point(hc_rng *g)
+{
+    return v3(2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1);
+}
+
 /* |a - b| in units of the spacing of doubles at b. */
 static inline double hc_ulps(double a, long double b)
 {
@@ -259,6 +265,41 @@ static inline hc_mesh hc_icosphere(ray_vec3 centre, int level)
     return m;
 }
 
+/*
+** A closed spindle of needle triangles: a ring of n vertices of radius 1
+** around an axis through "centre" (direction (1, 2, 3), to keep off the
+** coordinate axes) and two apexes at +-H along it; 2n triangles, wound
+** outwards, with ring edges of 2 pi / n and long edges of about H, so an
+** aspect ratio of about H n / (2 pi).  Everything within 0.9 of the
+** centre is inside, as hc_leaks wants.
+*/
+static inline hc_mesh hc_spindle(ray_vec3 centre, size_t n, double H)
+{
+    hc_mesh m;
+    ray_vec3 axis = v3_scale(v3(1, 2, 3), 1 / sqrt(14.0)), t1, t2;
+    size_t i;
+
+    ray__tangent_frame(axis, &t1, &t2);
+    m.nv = n + 2;
+    m.nt = 2 * n;
+    m.v = malloc(m.nv * sizeof *m.v);
+    m.idx = malloc(3 * m.nt * sizeof *m.idx);
+    for (i = 0; i < n; i++) {
+        double a = 2 * RAY__PI * (double)i / (double)n;
+        m.v[i] = v3_add(centre, v3_add(v3_scale(t1, cos(a)),
+                                       v3_scale(t2, sin(a))));
+    }
+    m.v[n] = v3_add(centre, v3_scale(axis, H));
+    m.v[n + 1] = v3_add(centre, v3_scale(axis, -H));
+    for (i = 0; i < n; i++) {
+        unsigned a = (unsigned)i, b = (unsigned)((i + 1) % n);
+        unsigned *t = m.idx + 6 * i;
+        t[0] = a, t[1] = b, t[2] = (unsigned)n;            /* top */
+        t[3] = b, t[4] = a, t[5] = (unsigned)(n + 1);      /* bottom */
+    }
+    return m;
+}
+
 enum { HC_CRAMER_FLOAT, HC_CRAMER, HC_WATERTIGHT };
 
 /* Does the ray hit any triangle of the mesh, by the given algorithm? */
@@ -465,6 +506,159 @@ static inline double hc_bary_drift(long n, int naive)
             worst = e;
     }
     return worst;
+}
+
+/* ------------------------------------------------- needles and caps */
+
+/*
+** The reference arithmetic for slivers: __float128 (113-bit significand)
+** where the compiler has it (gcc and clang on x86-64 and AArch64; only
+** + - * / are used, which libgcc/compiler-rt provide, so no libquadmath),
+** long double otherwise (64 bits on x86, often just double elsewhere:
+** HC_QUAD says which, and callers print it).  __extension__ keeps
+** -pedantic quiet about the type.
+*/
+#if defined(__SIZEOF_FLOAT128__) && !defined(HC_NO_FLOAT128)
+#define HC_QUAD 1
+__extension__ typedef __float128 hc_quad;
+#else
+#define HC_QUAD 0
+typedef long double hc_quad;
+#endif
+
+enum { HC_NEEDLE, HC_CAP };
+
+/*
+** A sliver and a ray aimed at it, at offset X from the origin.  Needle:
+** a short edge of length L / aspect and two long ones (L in [0.5, 5]);
+** cap: two vertices L apart and the third near the segment between them,
+** L / aspect off it (one angle near 180 degrees).  Aspect 10^U[2, 7], a
+** random orientation, the vertices rotated so the odd edge is in any of
+** the three positions, then translated by X along a random direction (the
+** vertices round to doubles there).  The ray: from 1 to 20 units away
+** (half of them, for X >= 20; the others from 0.5 X to 1.5 X away), in a
+** random direction, aimed at a random interior point.
+*/
+static inline void hc_sliver(hc_rng *g, int kind, double X, ray_vec3 v[3],
+                             ray_ray *r, double *aspect)
+{
+    ray_vec3 e1 = hc_dir(g), e2, n = hc_dir(g), c, p[3], target;
+    double L = 0.5 + 4.5 * hc_unit(g), h, a, b;
+    int k = (int)(3 * hc_unit(g)) % 3, i;
+
+    *aspect = pow(10, 2 + 5 * hc_unit(g));
+    h = L / *aspect;
+    e2 = v3_cross(n, e1);                /* unit: redraw if nearly parallel */
+    while (v3_dot(e2, e2) < 1e-2) {
+        n = hc_dir(g);
+        e2 = v3_cross(n, e1);
+    }
+    e2 = v3_scale(e2, 1 / sqrt(v3_dot(e2, e2)));
+    c = v3_add(hc_cube_point(g), v3_scale(hc_dir(g), X));
+    p[0] = c;
+    if (kind == HC_NEEDLE) {
+        p[1] = v3_add(c, v3_scale(e2, h));
+        p[2] = v3_add(c, v3_add(v3_scale(e1, L), v3_scale(e2, h * hc_unit(g))));
+    } else {
+        p[1] = v3_add(c, v3_scale(e1, L));
+        p[2] = v3_add(c, v3_add(v3_scale(e1, L * (0.2 + 0.6 * hc_unit(g))),
+                                v3_scale(e2, h)));
+    }
+    for (i = 0; i < 3; i++)
+        v[i] = p[(i + k) % 3];
+    a = hc_unit(g);
+    b = hc_unit(g);
+    if (a + b > 1) {
+        a = 1 - a;
+        b = 1 - b;
+    }
+    target = v3_add(v3_add(v3_scale(v[0], 1 - a - b), v3_scale(v[1], a)),
+                    v3_scale(v[2], b));
+    /* Half from 1 to 20 units away, half from as far as the offset (a
+    ** camera near the origin looking at a far triangle). */
+    r->org = v3_add(target, v3_scale(hc_dir(g), hc_unit(g) < 0.5 || X < 20
+                                                    ? 1 + 19 * hc_unit(g)
+                                                    : X * (0.5 + hc_unit(g))));
+    r->dir = v3_sub(target, r->org);
+    r->tmin = 0;
+    r->tmax = HUGE_VAL;
+}
+
+/* The errors of one sliver hit, in conditioned ulps (see hc_sliver_ref). */
+typedef struct hc_sliver_err {
+    double t, u, v;
+} hc_sliver_err;
+
+/*
+** The exact t*, beta*, gamma* of the double inputs, by Moeller-Trumbore's
+** triple products in hc_quad (the differences of doubles within 2^60 of
+** each other are exact in 113 bits; the products then round at 2^-113,
+** far below what is measured), and the errors of (t, beta, gamma) in
+** conditioned ulps:
+**
+**   t:     |t - t*| |dir| |cos theta| / ulp(M)
+**   beta:  |beta - beta*| alt_B |cos theta| / ulp(M)
+**   gamma: |gamma - gamma*| alt_C |cos theta| / ulp(M)
+**
+** M is the largest |component| of the origin and the three vertices,
+** theta the angle between the ray and the normal, alt_B the altitude of
+** the triangle from B (to the line CA), alt_C from C.  Why these: moving
+** the inputs by an ulp of M moves the hit point along the ray by about
+** ulp(M) / |cos theta|, and moves the lines of the edges by about ulp(M),
+** which changes a barycentric by ulp(M) / altitude -- so an algorithm
+** exact on inputs perturbed by a few ulps scores a few, whatever the
+** shape.  (Scaling the barycentrics' errors by the triangle's extent
+** instead would charge a needle its aspect ratio for a one-ulp move of a
+** vertex across the needle: no double algorithm could meet that.)
+** Returns 0 when the reference misses (target outside after rounding).
+*/
+static inline int hc_sliver_ref(const ray_ray *r, ray_vec3 A, ray_vec3 B,
+                                ray_vec3 C, double t, double beta,
+                                double gamma, hc_sliver_err *err)
+{
+    hc_quad e1[3] = {(hc_quad)B.x - A.x, (hc_quad)B.y - A.y,
+                     (hc_quad)B.z - A.z};
+    hc_quad e2[3] = {(hc_quad)C.x - A.x, (hc_quad)C.y - A.y,
+                     (hc_quad)C.z - A.z};
+    hc_quad s[3] = {(hc_quad)r->org.x - A.x, (hc_quad)r->org.y - A.y,
+                    (hc_quad)r->org.z - A.z};
+    hc_quad d[3] = {r->dir.x, r->dir.y, r->dir.z}, pv[3], qv[3], nq[3], det,
+            ts, bs, gs;
+    double nl, cosine, M, ulp, dl;
+    const ray_vec3 *all[4] = {&r->org, &A, &B, &C};
+    int i;
+
+    pv[0] = d[1] * e2[2] - d[2] * e2[1];          /* d x e2 */
+    pv[1] = d[2] * e2[0] - d[0] * e2[2];
+    pv[2] = d[0] * e2[1] - d[1] * e2[0];
+    qv[0] = s[1] * e1[2] - s[2] * e1[1];          /* s x e1 */
+    qv[1] = s[2] * e1[0] - s[0] * e1[2];
+    qv[2] = s[0] * e1[1] - s[1] * e1[0];
+    nq[0] = e1[1] * e2[2] - e1[2] * e2[1];        /* e1 x e2 */
+    nq[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nq[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+    if (det == 0)
+        return 0;
+    bs = (s[0] * pv[0] + s[1] * pv[1] + s[2] * pv[2]) / det;
+    gs = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) / det;
+    ts = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det;
+    if (!(bs >= 0 && gs >= 0 && bs + gs <= 1 && ts > 0))
+        return 0;
+    nl = sqrt((double)(nq[0] * nq[0] + nq[1] * nq[1] + nq[2] * nq[2]));
+    dl = sqrt(v3_dot(r->dir, r->dir));
+    cosine = fabs((double)(det / nl)) / dl;   /* det = -(e1 x e2) . d */
+    M = 0;
+    for (i = 0; i < 4; i++)
+        M = fmax(M, fmax(fabs(all[i]->x), fmax(fabs(all[i]->y),
+                                               fabs(all[i]->z))));
+    ulp = nextafter(M, HUGE_VAL) - M;
+    err->t = fabs((double)(t - ts)) * dl * cosine / ulp;
+    err->u = fabs((double)(beta - bs)) * (nl / v3_length(v3_sub(C, A))) *
+             cosine / ulp;
+    err->v = fabs((double)(gamma - gs)) * (nl / v3_length(v3_sub(B, A))) *
+             cosine / ulp;
+    return 1;
 }
 
 #endif
