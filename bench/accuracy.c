@@ -500,8 +500,11 @@ static int old_watertight(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     }
     if (dmin(dmin(u, v), w) < 0 && dmax(dmax(u, v), w) > 0)
         return 0;
-    return ray__watertight_finish(&wt, u, v, w, pa[2], pb[2], pc[2], r->tmin,
-                                  r->tmax, t_out, beta_out, gamma_out);
+    return ray__watertight_finish(
+        &wt, u, v, w, pa[2], pb[2], pc[2],
+        dmax(dmax(fabs(pa[0]), fabs(pb[0])), fabs(pc[0])),
+        dmax(dmax(fabs(pa[1]), fabs(pb[1])), fabs(pc[1])), r->tmin, r->tmax,
+        t_out, beta_out, gamma_out);
 }
 
 static int old_cramer(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
