@@ -24,6 +24,13 @@
 **   * Every other fallible function returns an int status: RAY_OK (0) on
 **     success, one of the RAY_E* codes otherwise, and then leaves its
 **     outputs untouched.
+**   * NULL, one rule for every function (ray(7), "NULL arguments"): a NULL
+**     where an object is required is never a crash and never a write: a
+**     status is RAY_EINVAL, an intersection is a miss (0, or -RAY_EINVAL
+**     where the function can report misuse: ray_implicit, ray_parametric,
+**     ray_intersect, ray_occluded), a void function does nothing, and a
+**     query answers its neutral value (0, no texture, a fixed string).
+**     Outputs documented as optional ("may be NULL") are skipped.
 **   * No function keeps global or static state.  Threads: a scene is
 **     built by one thread at a time (its ray_scene_add_*, ray_scene_set_*,
 **     ray_scene_commit, ray_scene_errmsg and ray_scene_free calls must not

@@ -86,10 +86,12 @@ double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
 int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
               ray_hit *hit)
 {
-    double denom = v3_dot(r->dir, normal);
+    double denom, t;
     ray_vec3 n, po;
-    double t;
 
+    if (r == NULL || hit == NULL)
+        return 0;
+    denom = v3_dot(r->dir, normal);
     if (denom == 0)
         return 0;
     po = v3_sub(point, r->org);

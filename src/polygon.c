@@ -93,7 +93,8 @@ int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
     ray_vec3 c, normal, n, co;
     double denom, t;
 
-    if (v == NULL || count < 3 || !polygon_plane(v, count, &c, &normal))
+    if (r == NULL || hit == NULL || v == NULL || count < 3 ||
+        !polygon_plane(v, count, &c, &normal))
         return 0;
     denom = v3_dot(r->dir, normal);
     if (denom == 0)

@@ -171,14 +171,15 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
                ray_hit *hit)
 {
-    ray_vec3 f = v3_sub(r->org, center), d;
+    ray_vec3 f, d;
     sphere_quadratic k;
     double scale, q, t;
 
     /* Exact tests, no epsilon: a radius that is not a positive finite
-    ** number, or a zero (or NaN) direction, misses. */
-    if (!(radius > 0 && radius < HUGE_VAL) || !scaled_dir(r->dir, &d, &scale))
+    ** number, or a zero (or NaN) direction, misses; so do NULLs. */
+    if (r == NULL || hit == NULL || !(radius > 0 && radius < HUGE_VAL) || !scaled_dir(r->dir, &d, &scale))
         return 0;
+    f = v3_sub(r->org, center);
     k.a = v3_dot(d, d);
     k.b = -v3_dot(f, d);
     k.l = v3_length(v3_madd(f, k.b / k.a, d));

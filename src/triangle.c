@@ -187,6 +187,8 @@ int ray_triangle(const ray_ray *r, ray_vec3 va, ray_vec3 vb, ray_vec3 vc,
 {
     double t, beta, gamma;
 
+    if (r == NULL || hit == NULL)
+        return 0;
     if (!ray__triangle_test(r, va, vb, vc, &t, &beta, &gamma))
         return 0;
     return ray__triangle_fill(va, vb, vc, t, beta, gamma, hit);
@@ -212,6 +214,8 @@ int ray_triangle_watertight(const ray_ray *r, ray_vec3 a, ray_vec3 b,
 {
     double t, beta, gamma;
 
+    if (r == NULL || hit == NULL)
+        return 0;
     if (!ray__triangle_watertight_test(r, a, b, c, &t, &beta, &gamma))
         return 0;
     return ray__triangle_fill(a, b, c, t, beta, gamma, hit);
