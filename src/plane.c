@@ -28,21 +28,31 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
                     ray_vec3 origin, double t, ray_hit *hit)
 {
     ray_vec3 p = v3_madd(r->org, t, r->dir);
-    ray_vec3 t1, t2, rel, mag;
-    double bound;
+    ray_vec3 t1, t2, half_rel, mag;
+    double bound, u, v;
 
     p = v3_madd(p, -v3_dot(v3_sub(p, point), n), n);
     mag = v3_add(v3_abs(p), v3_abs(point));
     bound = ray__gamma(8) * fmax(mag.x, fmax(mag.y, mag.z));
     if (!v3_isfinite(p) || !(bound < HUGE_VAL))
         return 0;
+    /* (u, v) = ((p - origin).t1, (p - origin).t2), in halves: p - origin
+    ** overflows for coordinates near +-DBL_MAX of opposite signs, and so
+    ** may the dot product's partial sums where the result itself does
+    ** not.  Halving and doubling are exact (barring subnormals), so the
+    ** bits are those of the plain formula wherever it did not overflow.
+    ** A (u, v) beyond double's range is a miss: no Inf reaches a hit. */
     ray__tangent_frame(n, &t1, &t2);
-    rel = v3_sub(p, origin);
+    half_rel = v3_sub(v3_scale(p, 0.5), v3_scale(origin, 0.5));
+    u = v3_dot(half_rel, t1);
+    v = v3_dot(half_rel, t2);
+    if (!(fabs(u) <= DBL_MAX / 2 && fabs(v) <= DBL_MAX / 2))
+        return 0;
     hit->t = t;
     hit->p = p;
     hit->n = n;
-    hit->u = v3_dot(rel, t1);
-    hit->v = v3_dot(rel, t2);
+    hit->u = 2 * u;
+    hit->v = 2 * v;
     hit->p_err = v3(bound, bound, bound);
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;

@@ -130,6 +130,42 @@ END_TEST
 ** error magnified by <= 10 for the angle: 1e3 * 10 * 32 u ~ 4e-11), and the
 ** reported point's distance to the plane is within its error box.
 */
+/*
+** Issue 14, defect 1 (found by fuzzing): origin (-8, 1 + 2^-52, DBL_MAX),
+** direction (-8, 0, 0), normal (1, 1, 1) hit the plane at a point with
+** coordinates near -DBL_MAX and +DBL_MAX, and (u, v) = ((p - point).t1,
+** ...) overflowed to u = -Inf.  No Inf may reach a hit: such a hit is a
+** miss (its texture coordinates are beyond double's range), for the
+** plane and for a polygon through the plane's point, whatever the point;
+** and every finite hit near the range's end has finite (u, v), n, p,
+** p_err.
+*/
+START_TEST(plane_should_never_give_infinite_hit_fields)
+{
+    ray_ray r = ray_from(vec(-8, 1 + 0x1p-52, DBL_MAX), vec(-8, 0, 0));
+    ray_vec3 points[3] = {{0, 0, 0}, {1, 2, 3}, {-8, 1, 1e307}};
+    ray_vec3 poly[3] = {{0, 0, 0}, {1, -1, 0}, {0, 1, -1}};
+    ray_hit h;
+    int k, hit;
+
+    for (k = 0; k < 3; k++) {
+        hit = ray_plane(&r, points[k], vec(1, 1, 1), &h);
+        if (hit)
+            ck_assert(hit_is_finite(&h));
+    }
+    if (ray_polygon(&r, poly, 3, &h))
+        ck_assert(hit_is_finite(&h));
+    /* Far from the origin but within range: hits with finite fields. */
+    for (k = 0; k < 200; k++) {
+        double big = ldexp(1.0, 900 + k / 2);
+        ray_ray q = ray_from(vec(big, big, 1), vec(-1e-3 * k - 1, 0.5, -1));
+        hit = ray_plane(&q, vec(-big, 0, 0), vec(0.3, 0.5, 1), &h);
+        if (hit)
+            ck_assert(hit_is_finite(&h));
+    }
+}
+END_TEST
+
 START_TEST(plane_should_reproduce_aimed_points)
 {
     rng g = {3};
@@ -170,6 +206,7 @@ Suite *plane_suite(void)
     tcase_add_loop_test(hard, plane_should_miss_parallel_rays_without_nan, 0, N_OFFSETS);
     tcase_add_test(hard, plane_should_keep_grazing_hits_on_the_plane);
     tcase_add_test(hard, plane_should_miss_on_bad_input);
+    tcase_add_test(hard, plane_should_never_give_infinite_hit_fields);
     tcase_add_test(prop, plane_should_reproduce_aimed_points);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);
