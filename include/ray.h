@@ -1106,9 +1106,8 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** unspecified); RAY_EINVAL for NULLs, an uncommitted scene, zero sizes,
 ** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that
 ** is NaN or negative or an adaptive depth outside 1 .. 8, y0 >= y1 or
-** y1 > height, or
-** a degenerate camera (eye at look_at, up parallel to the view, vfov not
-** in (0, 180)); RAY_ENOMEM.  If fewer threads than asked can be started,
+** y1 > height, or a degenerate camera (eye at look_at, up within
+** 3.6e-15 rad of the view axis, vfov not in (0, 180)); RAY_ENOMEM.  If fewer threads than asked can be started,
 ** the render goes on with those it has: the image is the same.
 */
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,

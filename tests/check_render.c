@@ -221,6 +221,19 @@ START_TEST(render_should_reject_bad_options)
     cam.look_at = vec(0, 1, 0);
     cam.up = vec(0, 0, -1);           /* parallel to the view direction */
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    /* Issue 14, defect 3: parallel, yet the rounded cross product is not
+    ** zero (~1e-16 |up|): refused by the angle test; and at any scale of
+    ** up.  An up 1e-12 rad off the view axis is a real direction. */
+    cam.position = vec(0, 1, 5);
+    cam.look_at = vec(0, 0, 0);
+    cam.up = vec(0, -1, -5);
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    cam.up = vec(0, -1e-200, -5e-200);
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    cam.up = vec(0, 1e200, 5e200);
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    cam.up = vec(5e-12, -1, -5);
+    ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_OK);
     cam = t.cam;
     cam.vfov = 180;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
