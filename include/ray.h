@@ -1094,7 +1094,9 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 
 /*
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
-** RGB, 3 floats per pixel, width pixels per row, row y0 first.  Rows are
+** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
+** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
+** from a user material is stored as 0).  Rows are
 ** handed to the threads one at a time from a shared counter; every pixel's
 ** samples are seeded from (seed, x, y, sample), so the bytes are the same
 ** whatever the thread count or region split.  "stats", if not NULL,

@@ -11,6 +11,25 @@
 #include "camera.h"
 
 /*
+** A pixel value as the float the image stores: always finite.  Accepted
+** input can exceed float's range -- a background of 1e300, a point light
+** 1e-20 from a surface (1/dist^2 = 1e40) -- and a plain conversion would
+** store +Inf; such values are clamped to +-FLT_MAX (the brightest value
+** the image can hold), and a NaN, which only a user material can produce,
+** becomes 0.  ray_render(3) documents the rule.
+*/
+static float to_pixel(double x)
+{
+    if (!(x == x))
+        return 0.0f;
+    if (x > (double)FLT_MAX)
+        return FLT_MAX;
+    if (x < -(double)FLT_MAX)
+        return -FLT_MAX;
+    return (float)x;
+}
+
+/*
 ** What every worker shares.  "lock" guards next_row and cancelled, and is
 ** held only to take a row; "progress_lock" serialises the progress
 ** callback and guards rows_done and stopped, so a slow callback (a
@@ -149,9 +168,9 @@ static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
             sum.b += c.b;
         }
     }
-    out[0] = (float)(sum.r / o->samples);
-    out[1] = (float)(sum.g / o->samples);
-    out[2] = (float)(sum.b / o->samples);
+    out[0] = to_pixel(sum.r / o->samples);
+    out[1] = to_pixel(sum.g / o->samples);
+    out[2] = to_pixel(sum.b / o->samples);
     count_pixel(&ctx->stats, o->samples);
 }
 
@@ -282,9 +301,9 @@ static void render_row_adaptive(render_job *job, render_worker *w,
         c[2] = w->bottom[x];
         c[3] = w->bottom[x + 1];
         m = adaptive_square(job, &w->ctx, x * side, row * side, side, c, &n);
-        out[3 * (size_t)x] = (float)m.r;
-        out[3 * (size_t)x + 1] = (float)m.g;
-        out[3 * (size_t)x + 2] = (float)m.b;
+        out[3 * (size_t)x] = to_pixel(m.r);
+        out[3 * (size_t)x + 1] = to_pixel(m.g);
+        out[3 * (size_t)x + 2] = to_pixel(m.b);
         count_pixel(&w->ctx.stats, n);
     }
 }

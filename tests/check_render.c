@@ -324,6 +324,72 @@ START_TEST(render_samples_should_cover_every_stratum)
 }
 END_TEST
 
+/* A material whose colour is the user's ud: 3 doubles. */
+static void constant_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                           ray_rgb *out)
+{
+    const double *c = ud;
+    (void)ctx;
+    (void)a;
+    out->r = c[0], out->g = c[1], out->b = c[2];
+}
+
+/*
+** Issue 14, defect 5: accepted input beyond float's range made +Inf
+** pixels (a background of 1e300; a material returning 1e40, as a point
+** light 1e-20 from a surface gives).  Every pixel is finite: clamped to
+** FLT_MAX (and to -FLT_MAX below), a NaN from a user material becomes 0;
+** values within float's range are stored as before, (float)x exactly.
+** For one sample and adaptive sampling both.
+*/
+START_TEST(render_pixels_should_always_be_finite)
+{
+    enum { PW = 8, PH = 6 };
+    static const double colours[4][3] = {
+        {1e40, -1e40, 0.25}, {NAN, 1.0, 1e300}, {0.5, 0.5, 0.5},
+        {HUGE_VAL, -HUGE_VAL, 3.0}};
+    static const float want[4][3] = {
+        {FLT_MAX, -FLT_MAX, 0.25f}, {0.0f, 1.0f, FLT_MAX},
+        {0.5f, 0.5f, 0.5f}, {FLT_MAX, -FLT_MAX, 3.0f}};
+    float img[3 * PW * PH];
+    int k, adaptive, i;
+
+    for (k = 0; k < 4; k++)
+        for (adaptive = 0; adaptive < 2; adaptive++) {
+            ray_material m;
+            ray_scene *s;
+            ray_camera cam;
+            ray_render_options o;
+            ray_rgb bg = {1e300, 1e300, 1e300};
+
+            m.shade = constant_shade;
+            m.ud = ray__test_unconst(colours[k]);
+            m.effects = 0;
+            ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0,
+                                                  NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_set_background(s, bg), RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+            memset(&cam, 0, sizeof cam);
+            cam.position = vec(0, 0, 4), cam.look_at = vec(0, 0, 0);
+            cam.up = vec(0, 1, 0), cam.vfov = 40;
+            ray_render_options_init(&o, PW, PH);
+            if (adaptive)
+                o.adaptive_threshold = 0.05;
+            ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+            for (i = 0; i < 3 * PW * PH; i++)
+                ck_assert(isfinite(img[i]));
+            /* The corner sees the background, the centre the sphere. */
+            ck_assert(img[0] == FLT_MAX);
+            i = 3 * (PH / 2 * PW + PW / 2);
+            ck_assert(img[i] == want[k][0] && img[i + 1] == want[k][1] &&
+                      img[i + 2] == want[k][2]);
+            ray_scene_free(s);
+        }
+}
+END_TEST
+
 Suite *render_suite(void)
 {
     Suite *s = suite_create("render");
@@ -336,6 +402,7 @@ Suite *render_suite(void)
     tcase_add_test(tc, render_should_put_colours_where_the_scene_is);
     tcase_add_test(tc, render_should_reject_bad_options);
     tcase_add_test(tc, render_samples_should_cover_every_stratum);
+    tcase_add_test(tc, render_pixels_should_always_be_finite);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -258,4 +258,16 @@ static inline ray_material plain(void)
     return m;
 }
 
+/* A const pointer as the plain void * of a material's ud (which is only
+** read), without a cast that drops the qualifier. */
+static inline void *ray__test_unconst(const void *p)
+{
+    union {
+        const void *c;
+        void *m;
+    } u;
+    u.c = p;
+    return u.m;
+}
+
 #endif
