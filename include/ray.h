@@ -236,7 +236,9 @@ RAY_API int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t n,
 **     gamma ~ ((b-a) x (p-a)).N,
 ** each divided by their sum (which is N.N in exact arithmetic), so the
 ** sign of each area comes from its dot product with N and
-** alpha + beta + gamma = 1 to within a few ulps.  A point off the plane is
+** |alpha + beta + gamma - 1| <= 3 DBL_EPSILON (|alpha| + |beta| + |gamma|):
+** a few ulps inside or near the triangle, relative to the coordinates'
+** size far outside it.  A point off the plane is
 ** treated as its orthogonal projection onto it.  The convention matches
 ** ray_triangle: beta = hit.u, gamma = hit.v, p = alpha*a + beta*b + gamma*c.
 **

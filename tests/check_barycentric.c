@@ -3,6 +3,7 @@
 ** check_barycentric.c -- ray_barycentric (signed areas).
 */
 #include "tests.h"
+#include "hardcases.h"
 
 START_TEST(barycentric_should_find_centroid_and_vertices)
 {
@@ -175,6 +176,47 @@ START_TEST(barycentric_should_agree_with_ray_triangle)
 }
 END_TEST
 
+/*
+** Issue 14, defect 6: at 1e10 from a small triangle alpha + beta + gamma
+** was 0.99999997 while the header promised "1 within a few ulps".  The
+** promise now reads |alpha + beta + gamma - 1| <= 3 DBL_EPSILON (|alpha|
+** + |beta| + |gamma|) (two roundings of the areas' sum and one per
+** quotient: 2.5 units of DBL_EPSILON against the coordinates' magnitudes
+** in the worst case); checked on 100,000 points from 1e-3 to 1e10 away
+** from unit-size triangles, and the point of the report itself.
+*/
+START_TEST(barycentric_sum_should_hold_its_bound_far_away)
+{
+    hc_rng g = {42};
+    ray_vec3 a = vec(0.1, 0.2, 0.3), b = vec(1.1, 0.25, 0.2),
+             c = vec(0.3, 0.9, 0.7);
+    double abg[3], sum, mag;
+    int i;
+
+    ck_assert_int_eq(ray_barycentric(vec(1e10, -3e9, 7e9), a, b, c, abg,
+                                     NULL), RAY_OK);
+    sum = abg[0] + abg[1] + abg[2];
+    mag = fabs(abg[0]) + fabs(abg[1]) + fabs(abg[2]);
+    ck_assert(mag > 1e9);
+    ck_assert(fabs(sum - 1) <= 3 * DBL_EPSILON * mag);
+    for (i = 0; i < 100000; i++) {
+        double d = pow(10.0, 13 * hc_unit(&g) - 3);
+        ray_vec3 p = vec(d * (2 * hc_unit(&g) - 1),
+                         d * (2 * hc_unit(&g) - 1),
+                         d * (2 * hc_unit(&g) - 1));
+        a = vec(hc_unit(&g), hc_unit(&g), hc_unit(&g));
+        b = vec(hc_unit(&g), hc_unit(&g), hc_unit(&g));
+        c = vec(hc_unit(&g), hc_unit(&g), hc_unit(&g));
+        if (ray_barycentric(p, a, b, c, abg, NULL) != RAY_OK)
+            continue;
+        sum = abg[0] + abg[1] + abg[2];
+        mag = fabs(abg[0]) + fabs(abg[1]) + fabs(abg[2]);
+        ck_assert_msg(fabs(sum - 1) <= 3 * DBL_EPSILON * mag,
+                      "sum %.17g, magnitude %g", sum, mag);
+    }
+}
+END_TEST
+
 Suite *barycentric_suite(void)
 {
     Suite *s = suite_create("barycentric");
@@ -182,6 +224,7 @@ Suite *barycentric_suite(void)
     TCase *hard = tcase_create("hard");
 
     tcase_add_test(core, barycentric_should_find_centroid_and_vertices);
+    tcase_add_test(core, barycentric_sum_should_hold_its_bound_far_away);
     tcase_add_test(core, barycentric_should_put_edges_inside_and_outside_negative);
     tcase_add_test(core, barycentric_should_project_points_off_the_plane);
     tcase_add_test(core, barycentric_should_agree_with_ray_triangle);
