@@ -618,6 +618,16 @@ typedef struct ray_light {
                                 for every kind) */
 } ray_light;
 
+/*
+** ray_light_init -- *l as a light of "kind" (RAY_LIGHT_*) with every
+** other field at its default: at the origin, intensity (1, 1, 1),
+** direction (0, -1, 0) (straight down), radius 1, edges (1, 0, 0) and
+** (0, 0, 1) (a unit square emitting downward), 16 samples.  Structs that
+** may grow in later versions come with such an init function (ray(7),
+** "Versions and ABI"); fields added later default to what init sets.
+*/
+RAY_API void ray_light_init(ray_light *l, int kind);
+
 /* Bounds on settings, so that no setting can overflow a counter or the
 ** stack: 256 x 256 samples per light or per pixel, and a ray tree at most
 ** 64 levels deep (each level nests a few hundred bytes of stack). */
@@ -637,6 +647,9 @@ typedef struct ray_limits {
 #define RAY_DEFAULT_MAX_DEPTH 8
 #define RAY_DEFAULT_MIN_WEIGHT (1.0 / 256)  /* below one 8-bit level */
 #define RAY_DEFAULT_MAX_FANOUT 2            /* a reflection + a refraction */
+
+/* ray_limits_init -- *l set to the defaults above. */
+RAY_API void ray_limits_init(ray_limits *l);
 
 /*
 ** ray_scene_new -- create an empty scene in *out.  "alloc" (NULL: libc)
@@ -730,6 +743,9 @@ typedef struct ray_mesh {
     const ray_vec3 *normals;     /* NULL, or vertex_count normals */
     const double *texcoords;     /* NULL, or 2 * vertex_count values */
 } ray_mesh;
+
+/* ray_mesh_init -- *m empty: every pointer NULL, every count 0. */
+RAY_API void ray_mesh_init(ray_mesh *m);
 
 RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
                                unsigned material, unsigned *geom_id);
@@ -1035,6 +1051,13 @@ typedef struct ray_glass_params {
     ray_rgb absorption;      /* Beer-Lambert coefficient per unit length */
 } ray_glass_params;
 
+/* ray_phong_params_init -- a grey Lambertian surface: diffuse (0.8, 0.8,
+** 0.8), no specular (shininess 32 if one is set), Phong's lobe, no
+** reflection, no texture.  ray_glass_params_init -- ior 1.5 (window
+** glass), no absorption. */
+RAY_API void ray_phong_params_init(ray_phong_params *p);
+RAY_API void ray_glass_params_init(ray_glass_params *p);
+
 typedef struct ray_checker_params {
     ray_material even, odd;
     double scale;
@@ -1059,6 +1082,11 @@ typedef struct ray_camera {
     double aperture;
     double focus_distance;
 } ray_camera;
+
+/* ray_camera_init -- a pinhole camera at the origin looking down -z, up
+** (0, 1, 0), vfov 60 degrees, aperture 0, focus distance 0 (the look-at
+** distance). */
+RAY_API void ray_camera_init(ray_camera *c);
 
 /* Called after each finished row: return non-zero to cancel the render. */
 typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,

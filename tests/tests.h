@@ -35,6 +35,7 @@ Suite *bpt_suite(void);
 Suite *surfaces_suite(void);
 Suite *selfhit_suite(void);
 Suite *null_suite(void);
+Suite *defaults_suite(void);
 Suite *errmsg_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */

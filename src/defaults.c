@@ -1,0 +1,83 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** defaults.c -- the init functions of the public structs that may grow:
+** each sets every field, so a field added in a later version gets its
+** default in programs that call them (ray(7), "Versions and ABI").
+** NULL is a no-op, as for every function returning nothing.
+*/
+#include <string.h>
+
+#include "ray.h"
+
+static ray_vec3 vec3(double x, double y, double z)
+{
+    ray_vec3 v;
+    v.x = x;
+    v.y = y;
+    v.z = z;
+    return v;
+}
+
+static ray_rgb grey(double level)
+{
+    ray_rgb c;
+    c.r = c.g = c.b = level;
+    return c;
+}
+
+void ray_camera_init(ray_camera *c)
+{
+    if (c == NULL)
+        return;
+    memset(c, 0, sizeof *c);
+    c->look_at = vec3(0, 0, -1);
+    c->up = vec3(0, 1, 0);
+    c->vfov = 60;
+}
+
+void ray_light_init(ray_light *l, int kind)
+{
+    if (l == NULL)
+        return;
+    memset(l, 0, sizeof *l);
+    l->kind = kind;
+    l->direction = vec3(0, -1, 0);
+    l->edge1 = vec3(1, 0, 0);
+    l->edge2 = vec3(0, 0, 1);
+    l->radius = 1;
+    l->intensity = grey(1);
+    l->samples = 16;
+}
+
+void ray_limits_init(ray_limits *l)
+{
+    if (l == NULL)
+        return;
+    memset(l, 0, sizeof *l);
+    l->max_depth = RAY_DEFAULT_MAX_DEPTH;
+    l->min_weight = RAY_DEFAULT_MIN_WEIGHT;
+    l->max_fanout = RAY_DEFAULT_MAX_FANOUT;
+}
+
+void ray_mesh_init(ray_mesh *m)
+{
+    if (m != NULL)
+        memset(m, 0, sizeof *m);
+}
+
+void ray_phong_params_init(ray_phong_params *p)
+{
+    if (p == NULL)
+        return;
+    memset(p, 0, sizeof *p);
+    p->diffuse = grey(0.8);
+    p->shininess = 32;
+}
+
+void ray_glass_params_init(ray_glass_params *p)
+{
+    if (p == NULL)
+        return;
+    memset(p, 0, sizeof *p);
+    p->ior = 1.5;
+}
