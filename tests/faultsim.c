@@ -30,6 +30,7 @@
 ** free must name the size that was allocated.  Each workload runs with
 ** the libc allocator (malloc wrapped) and with an allocator hook.
 */
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <pthread.h>
@@ -278,7 +279,7 @@ int __wrap_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg)
 {
     if (fault_point(FP_THREAD))
-        return 11;              /* EAGAIN, the documented failure */
+        return EAGAIN;          /* POSIX: no resources for a thread */
     return __real_pthread_create(thread, attr, start, arg);
 }
 
@@ -286,7 +287,7 @@ int __wrap_pthread_mutex_init(pthread_mutex_t *m,
                               const pthread_mutexattr_t *attr)
 {
     if (fault_point(FP_MUTEX))
-        return 12;              /* ENOMEM */
+        return ENOMEM;          /* POSIX: no memory for the mutex */
     return __real_pthread_mutex_init(m, attr);
 }
 
@@ -794,6 +795,8 @@ static int w_write_png(env *e)
 
     test_card(rgb, 7, 5);
     for (bits = 8; bits <= 16; bits += 8) {
+        long before = injected_so_far();
+
         remove(output_path);
         rc = ray_write_png(output_path, rgb, 7, 5, bits);
         if (rc != RAY_OK && access(output_path, F_OK) == 0) {
@@ -802,7 +805,7 @@ static int w_write_png(env *e)
             return -1;
         }
         /* Retried by hand: the file must be gone before the retry too. */
-        if (rc != RAY_OK && injected_so_far() > 0) {
+        if (rc != RAY_OK && injected_so_far() > before) {
             if (e->first_status == 0)
                 e->first_status = rc;
             if (e->retry)
