@@ -124,6 +124,18 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard ex
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
+# The allocation-failure sweep (tests/faultsim.c): the library's calls to
+# these land in the program's __wrap_* functions, which fail them in turn.
+FAULTSIM = $(BUILD)/tests/faultsim
+comma = ,
+FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
+    png_image_begin_read_from_stdio png_image_finish_read \
+    png_image_write_to_stdio
+$(FAULTSIM): tests/faultsim.c include/ray.h $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/faultsim.c \
+	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
+
 $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
@@ -183,8 +195,9 @@ man-lint:
 	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
 	fi
 
-check: deps-check lib $(TEST_BIN) examples $(BENCHES) header-test symbols-test man-lint license-test
+check: deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) header-test symbols-test man-lint license-test
 	$(TEST_BIN)
+	$(FAULTSIM)
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null

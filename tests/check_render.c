@@ -3,6 +3,7 @@
 ** check_render.c -- ray_render: determinism across thread counts and
 ** region splits, cancellation, options, and the pixels themselves.
 */
+#include <pthread.h>
 #include <stdlib.h>
 
 #include "tests.h"
@@ -125,6 +126,65 @@ START_TEST(render_regions_should_stitch_bit_exactly)
     }
     ck_assert(memcmp(full, ref, sizeof(float) * 3 * W * H) == 0);
     free(full);
+    free(ref);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+/*
+** Several ray_render calls on one scene at once, each with its own
+** buffer and two threads of its own (ray_render(3): a committed scene is
+** read-only, so any number of renders may share it).  Each image must be
+** the bytes of a render made alone; under make tsan this is also the
+** race check of the renderer's shared state.
+*/
+#define CONCURRENT_RENDERS 3
+
+typedef struct render_call {
+    test_scene *t;
+    float *img;
+    int rc;
+} render_call;
+
+static void *render_thread(void *arg)
+{
+    render_call *c = arg;
+    ray_render_options opt;
+
+    ray_render_options_init(&opt, W, H);
+    opt.threads = 2;
+    opt.samples = 4;
+    opt.seed = 2026;
+    c->rc = ray_render(c->t->scene, &c->t->cam, &opt, c->img, NULL);
+    return NULL;
+}
+
+START_TEST(concurrent_renders_of_one_scene_should_match_a_lone_render)
+{
+    test_scene t;
+    render_call calls[CONCURRENT_RENDERS];
+    pthread_t threads[CONCURRENT_RENDERS];
+    float *ref;
+    int k;
+
+    build(&t);
+    ref = render_with(&t, 2, 0, 0, NULL);
+    for (k = 0; k < CONCURRENT_RENDERS; k++) {
+        calls[k].t = &t;
+        calls[k].img = calloc(3 * W * H, sizeof(float));
+        calls[k].rc = -1;
+        ck_assert_ptr_nonnull(calls[k].img);
+        ck_assert_int_eq(pthread_create(&threads[k], NULL, render_thread,
+                                        &calls[k]), 0);
+    }
+    for (k = 0; k < CONCURRENT_RENDERS; k++)
+        ck_assert_int_eq(pthread_join(threads[k], NULL), 0);
+    for (k = 0; k < CONCURRENT_RENDERS; k++) {
+        ck_assert_int_eq(calls[k].rc, RAY_OK);
+        ck_assert_msg(memcmp(calls[k].img, ref, sizeof(float) * 3 * W * H) == 0,
+                      "concurrent render %d differs", k);
+        free(calls[k].img);
+    }
     free(ref);
     ray_scene_free(t.scene);
 }
@@ -398,6 +458,7 @@ Suite *render_suite(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, render_should_be_identical_for_any_thread_count);
     tcase_add_test(tc, render_regions_should_stitch_bit_exactly);
+    tcase_add_test(tc, concurrent_renders_of_one_scene_should_match_a_lone_render);
     tcase_add_test(tc, render_should_cancel_from_progress);
     tcase_add_test(tc, render_should_put_colours_where_the_scene_is);
     tcase_add_test(tc, render_should_reject_bad_options);

@@ -3,6 +3,7 @@
 ** check_scene.c -- building scenes: errors, lifetime, allocator failures,
 ** and the ray_intersect / ray_occluded queries.
 */
+#include <pthread.h>
 #include <stdlib.h>
 
 #include "tests.h"
@@ -255,6 +256,109 @@ START_TEST(intersect_should_find_nearest_and_any)
 }
 END_TEST
 
+/*
+** Queries from several threads on one committed scene (ray_intersect,
+** ray_occluded, and ray_trace through a context per thread): every
+** thread must get the answers a lone thread got, bit for bit.  Under
+** make tsan this is the race check of the query path.
+*/
+#define QUERY_THREADS 4
+#define QUERY_RAYS 512
+
+typedef struct query_answers {
+    ray_hit hit[QUERY_RAYS];
+    int found[QUERY_RAYS], blocked[QUERY_RAYS];
+    ray_rgb colour[QUERY_RAYS];
+} query_answers;
+
+typedef struct query_job {
+    const ray_scene *s;
+    const ray_ray *rays;
+    query_answers *out;
+    int rc;
+} query_job;
+
+static void *query_thread(void *arg)
+{
+    query_job *j = arg;
+    ray_ctx *ctx;
+    int i;
+
+    j->rc = ray_ctx_new(j->s, 7, &ctx);
+    if (j->rc != RAY_OK)
+        return NULL;
+    memset(j->out, 0, sizeof *j->out);
+    for (i = 0; i < QUERY_RAYS && j->rc == RAY_OK; i++) {
+        j->out->found[i] = ray_intersect(j->s, &j->rays[i], &j->out->hit[i]);
+        j->out->blocked[i] = ray_occluded(j->s, &j->rays[i]);
+        j->rc = ray_trace(ctx, &j->rays[i], RAY_KIND_PRIMARY, 1,
+                          &j->out->colour[i]);
+    }
+    ray_ctx_free(ctx);
+    return NULL;
+}
+
+START_TEST(queries_from_several_threads_should_agree_with_one)
+{
+    static const ray_phong_params grey = {{0.6, 0.6, 0.6}, {0.3, 0.3, 0.3},
+                                          10, 0, {0.2, 0.2, 0.2}, {NULL, NULL}};
+    static query_answers ref, got[QUERY_THREADS];
+    static ray_ray rays[QUERY_RAYS];
+    ray_material m = ray_material_phong(&grey);
+    query_job jobs[QUERY_THREADS + 1];
+    pthread_t threads[QUERY_THREADS];
+    ray_torus_params torus = {{10, 1, 0}, {0, 1, 0}, 2, 0.5};
+    ray_light l;
+    ray_scene *s;
+    rng g = {99};
+    unsigned mat;
+    int i, k, hits = 0;
+
+    memset(&l, 0, sizeof l);
+    l.kind = RAY_LIGHT_SPHERE;
+    l.position = vec(10, 8, 5);
+    l.radius = 1;
+    l.intensity = rgb_of(50, 50, 50);
+    l.samples = 4;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    for (i = 0; i < 20; i++) {
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(i, 0, 0), 0.6, mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_triangle(s, vec(i, 1, 0), vec(i + 1, 1, 0),
+                                                vec(i, 2, 1), mat, NULL), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, -1, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(s, &torus, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (i = 0; i < QUERY_RAYS; i++)
+        rays[i] = ray_from(rng_point(&g, -2, 22), rng_dir(&g));
+    jobs[QUERY_THREADS].s = s;
+    jobs[QUERY_THREADS].rays = rays;
+    jobs[QUERY_THREADS].out = &ref;
+    query_thread(&jobs[QUERY_THREADS]);
+    ck_assert_int_eq(jobs[QUERY_THREADS].rc, RAY_OK);
+    for (k = 0; k < QUERY_THREADS; k++) {
+        jobs[k] = jobs[QUERY_THREADS];
+        jobs[k].out = &got[k];
+        jobs[k].rc = -1;
+        ck_assert_int_eq(pthread_create(&threads[k], NULL, query_thread, &jobs[k]), 0);
+    }
+    for (k = 0; k < QUERY_THREADS; k++)
+        ck_assert_int_eq(pthread_join(threads[k], NULL), 0);
+    for (k = 0; k < QUERY_THREADS; k++) {
+        ck_assert_int_eq(jobs[k].rc, RAY_OK);
+        ck_assert_msg(memcmp(&got[k], &ref, sizeof ref) == 0,
+                      "thread %d answered differently", k);
+    }
+    /* The rays must test something: most start among the objects. */
+    for (i = 0; i < QUERY_RAYS; i++)
+        hits += ref.found[i] == 1;
+    ck_assert_int_gt(hits, QUERY_RAYS / 4);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *scene_suite(void)
 {
     Suite *s = suite_create("scene");
@@ -266,6 +370,7 @@ Suite *scene_suite(void)
     tcase_add_test(tc, scene_should_be_read_only_after_commit);
     tcase_add_test(tc, scene_should_survive_every_allocation_failure);
     tcase_add_test(q, intersect_should_find_nearest_and_any);
+    tcase_add_test(q, queries_from_several_threads_should_agree_with_one);
     suite_add_tcase(s, tc);
     suite_add_tcase(s, q);
     return s;
