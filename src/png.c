@@ -1,14 +1,19 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** png.c -- PNG output through libpng's simplified API (libpng 1.6,
-** png.h section 5): no setjmp, no callbacks, errors come back as a message
-** in the png_image.  This is the only file that includes <png.h>.
+** png.c -- PNG files, the only file that includes <png.h>.
+**
+** Output goes through libpng's simplified API (libpng 1.6, png.h section
+** 5): no setjmp, no callbacks.  It is written to a temporary file beside
+** the target and renamed over it only once complete (write_file).
 */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <png.h>
 
@@ -50,26 +55,123 @@ static void to_linear16(const float *rgb, size_t count, png_uint_16 *out)
 }
 
 /*
-** png_image_write_to_stdio, then a checked flush and fclose: a full disk
-** often shows only when the buffered data are written out.  A failed file
-** is removed so no truncated PNG is left behind.
+** The encoded image into fp, then a checked flush (and fsync when "sync"),
+** and fclose: a full disk often shows only when the buffered data are
+** written out, and a file renamed over another must be on the disk first
+** or a crash could leave an empty file where the old one was.
 */
-static int write_file(const char *path, png_image *img, const void *pixels)
+static int write_stream(FILE *fp, png_image *img, const void *pixels,
+                        int sync)
+{
+    int ok = png_image_write_to_stdio(img, fp, 0, pixels, 0, NULL);
+    int io_failed = fflush(fp) != 0 || ferror(fp);
+
+    if (!io_failed && sync)
+        io_failed = fsync(fileno(fp)) != 0;
+    io_failed |= fclose(fp) != 0;
+    if (io_failed)
+        return RAY_EIO;
+    return ok ? RAY_OK : RAY_EPNG;
+}
+
+/*
+** A device or a FIFO (/dev/stdout into a pipe, /dev/null) is written in
+** place: it cannot be replaced, and on failure nothing is removed.
+*/
+static int write_in_place(const char *path, png_image *img,
+                          const void *pixels)
 {
     FILE *fp = fopen(path, "wb");
-    int ok, io_failed, saved_errno;
 
     if (fp == NULL)
         return RAY_EIO;
-    ok = png_image_write_to_stdio(img, fp, 0, pixels, 0, NULL);
-    io_failed = fflush(fp) != 0 || ferror(fp);
-    io_failed |= fclose(fp) != 0;
-    if (ok && !io_failed)
-        return RAY_OK;
-    saved_errno = errno;        /* remove() must not hide the cause */
-    remove(path);
-    errno = saved_errno;
-    return io_failed ? RAY_EIO : RAY_EPNG;
+    return write_stream(fp, img, pixels, 0);
+}
+
+/* Tries at a free temporary name: each EEXIST is another writer of the
+** same path in this process, or the leftover of a crashed one. */
+#define TEMP_ATTEMPTS 100
+/* ".<pid>-<attempt>.tmp": a long's and an int's digits, signs, ".tmp". */
+#define TEMP_SUFFIX_SIZE 48
+
+/*
+** A temporary file beside the target, "<path>.<pid>-<n>.tmp", created
+** with O_EXCL (so two threads, or a planted file, never share it) and mode
+** 0666 less the umask, as fopen would create the target itself; this
+** avoids reading the umask, which only umask() can, by changing it for
+** every thread.  Returns the descriptor, or -1 (errno set).
+*/
+static int create_temp(const char *target, char *temp, size_t size)
+{
+    int attempt, fd = -1;
+
+    for (attempt = 0; attempt < TEMP_ATTEMPTS; attempt++) {
+        snprintf(temp, size, "%s.%ld-%d.tmp", target, (long)getpid(),
+                 attempt);
+        fd = open(temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0 || errno != EEXIST)
+            break;
+    }
+    return fd;
+}
+
+/*
+** A regular file, or none yet: write a temporary file and rename it over
+** the target only once it is complete, so a failure leaves the old file
+** as it was (rename is atomic, POSIX.1-2008 rename()).  An existing file's
+** permission bits are kept (owner and group become the caller's).  On any
+** failure only the temporary file is removed, with errno kept.
+*/
+static int write_replacing(const char *path, const struct stat *old,
+                           png_image *img, const void *pixels)
+{
+    size_t size = strlen(path) + TEMP_SUFFIX_SIZE;
+    char *temp = malloc(size);
+    FILE *fp = NULL;
+    int fd, rc, saved_errno;
+
+    if (temp == NULL)
+        return RAY_ENOMEM;
+    fd = create_temp(path, temp, size);
+    if (fd < 0) {
+        free(temp);
+        return RAY_EIO;
+    }
+    if (old == NULL || fchmod(fd, old->st_mode & 0777) == 0)
+        fp = fdopen(fd, "wb");
+    if (fp == NULL) {
+        rc = RAY_EIO;
+        saved_errno = errno;
+        close(fd);
+        errno = saved_errno;
+    } else {
+        rc = write_stream(fp, img, pixels, 1);
+    }
+    if (rc == RAY_OK && rename(temp, path) != 0)
+        rc = RAY_EIO;
+    if (rc != RAY_OK) {
+        saved_errno = errno;        /* unlink() must not hide the cause */
+        unlink(temp);
+        errno = saved_errno;
+    }
+    free(temp);
+    return rc;
+}
+
+/*
+** stat follows symbolic links: a link to a device is written through, a
+** link to a regular file is replaced by the new file (the file it named
+** is left as it was).  A directory fails at fopen (EISDIR).
+*/
+static int write_file(const char *path, png_image *img, const void *pixels)
+{
+    struct stat st;
+
+    if (stat(path, &st) != 0)
+        return write_replacing(path, NULL, img, pixels);
+    if (S_ISREG(st.st_mode))
+        return write_replacing(path, &st, img, pixels);
+    return write_in_place(path, img, pixels);
 }
 
 int ray_write_png(const char *path, const float *rgb, unsigned width,
@@ -106,3 +208,4 @@ int ray_write_png(const char *path, const float *rgb, unsigned width,
     free(pixels);
     return rc;
 }
+
