@@ -385,7 +385,7 @@ static double sample_at(const png_load *ld, png_const_bytep p, int k,
         unsigned v = (unsigned)p[2 * k] << 8 | p[2 * k + 1];
         if (is_alpha || ld->lut16 == NULL)
             return (double)v / 65535.0;
-        return ld->lut16[v];
+        return (double)ld->lut16[v];
     }
     return is_alpha ? (double)p[k] / 255.0 : (double)ld->lut8[p[k]];
 }

@@ -369,6 +369,7 @@ END_TEST
 ** 255 is linear 1), and black without a tRNS entry (opaque).  A 4-bit
 ** grey file with gAMA 1.0: codes 5 and 15 of 15 are linear 1/3 and 1.
 ** Grey with alpha, 8-bit, no gamma: sRGB code 200 times alpha 128/255.
+** 16-bit grey with gAMA 0.5 goes through the 16-bit table.
 ** Tolerances: a float rounding of each factor, 2 FLT_EPSILON.
 */
 START_TEST(image_should_expand_palettes_grey_and_alpha)
@@ -379,6 +380,7 @@ START_TEST(image_should_expand_palettes_grey_and_alpha)
     static const unsigned char indices[1] = {0x1b};   /* 0, 1, 2, 3 */
     static const unsigned char grey4[1] = {0x5f};     /* 5, 15 */
     static const unsigned char grey_alpha[2] = {200, 128};
+    static const unsigned char grey16[2] = {0x80, 0x00};
     const double tol = 2 * FLT_EPSILON;
     double v;
     png_spec sp;
@@ -433,6 +435,16 @@ START_TEST(image_should_expand_palettes_grey_and_alpha)
     c = texel(img, 0, 0);
     ck_assert_double_eq_tol(c.r, v, tol);
     ck_assert_double_eq_tol(c.g, v, tol);
+    ray_image_free(img);
+
+    /* 16-bit grey with gAMA 0.5: code 32768 is (32768 / 65535)^2. */
+    sp.depth = 16;
+    sp.color_type = PNG_COLOR_TYPE_GRAY;
+    sp.gamma = 0.5;
+    sp.rows = grey16;
+    img = load_spec(&sp);
+    v = (32768.0 / 65535.0) * (32768.0 / 65535.0);
+    ck_assert_double_eq_tol(texel(img, 0, 0).b, v, tol);
     ray_image_free(img);
 }
 END_TEST
