@@ -76,6 +76,7 @@ MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 
     ray_camera_init:ray_light_init ray_camera_init:ray_limits_init \
     ray_camera_init:ray_mesh_init ray_camera_init:ray_phong_params_init \
     ray_camera_init:ray_glass_params_init \
+    ray_image_load_png:ray_image_load_png_opt \
     ray_image_load_png:ray_image_free ray_image_load_png:ray_image_size \
     ray_image_load_png:ray_image_sample ray_image_load_png:ray_texture_image
 
@@ -102,7 +103,7 @@ AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
 $(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
-	    $(if $(filter src/png.c src/image.c,$<),$(PNG_CFLAGS)) \
+	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) \
 	    $(if $(filter src/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
 
 $(STATIC): $(OBJS)

@@ -85,7 +85,7 @@ enum {
     RAY_ESTATE,          /* call not allowed in the object's current state */
     RAY_ECANCELED,       /* the caller's progress callback cancelled */
     RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
-                            weight, fan-out) or iterations */
+                            weight, fan-out), iterations, image load */
     RAY_EEFFECT          /* a material asked for an undeclared effect */
 };
 
@@ -980,15 +980,22 @@ typedef struct ray_texture {
 
 /*
 ** Images for textures.  ray_image_load_png reads a PNG file through libpng
-** (any bit depth and colour type: palette and grey are expanded, alpha
-** composed on black) and stores it as linear RGB floats: 8-bit files are
-** taken as sRGB and decoded with the exact IEC 61966-2-1 curve, 16-bit
-** files as linear (ray_write_png's 16-bit files are; libpng converts a
-** file that declares another gamma, through its own approximate curve).
+** (any bit depth and colour type, interlaced or not: palette and grey are
+** expanded, alpha composed on black in linear light) and stores it as
+** linear RGB floats.  An sRGB chunk, or no gamma information in an 8-bit
+** file, means the exact IEC 61966-2-1 curve; a gAMA chunk g means
+** linear = code^(1/g); a 16-bit file without either is linear (as
+** ray_write_png's 16-bit files are).
 ** RAY_OK; RAY_EINVAL (NULLs); RAY_EIO (the file cannot be opened or read:
-** errno); RAY_EPNG (not a PNG, corrupt, or wider than libpng's own limit
-** of 10^6 pixels); RAY_ENOMEM; RAY_ERANGE (more than 2^14 pixels on a
-** side).
+** errno); RAY_EPNG (not a PNG, corrupt or truncated); RAY_ENOMEM;
+** RAY_ELIMIT (over a load limit, refused from the headers before the
+** image or the chunk is allocated).  *out is untouched on failure.
+**
+** ray_image_load_png_opt -- the same with limits for files from untrusted
+** sources (opt NULL, or a field 0: the default).  Memory grows with the
+** rows decoded, so a file that declares a large image and then fails
+** costs little; a decoded image takes 12 bytes per pixel.
+**
 ** ray_image_free(NULL) is a no-op.  ray_image_size writes width and
 ** height (either pointer may be NULL).
 **
@@ -1004,7 +1011,17 @@ typedef struct ray_texture {
 */
 typedef struct ray_image ray_image;
 
+typedef struct ray_image_load_options {
+    unsigned max_width;      /* pixels; 0: 16384 */
+    unsigned max_height;     /* pixels; 0: 16384 */
+    size_t max_pixels;       /* width * height; 0: 16384 * 16384 */
+    size_t max_chunk_bytes;  /* the largest chunk but IDAT; 0: 64 MiB */
+} ray_image_load_options;
+
 RAY_API int ray_image_load_png(const char *path, ray_image **out);
+RAY_API int ray_image_load_png_opt(const char *path,
+                                   const ray_image_load_options *opt,
+                                   ray_image **out);
 RAY_API void ray_image_free(ray_image *img);
 RAY_API void ray_image_size(const ray_image *img, unsigned *width,
                             unsigned *height);
@@ -1164,10 +1181,16 @@ RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
 ** writes 16-bit LINEAR samples with gAMA 1.0, for tools that want the
 ** unquantised data.  Values are clamped to [0, 1]; NaN becomes 0.
 **
+** A regular file (or none yet) is written as "<path>.<pid>-<n>.tmp" beside
+** it and renamed over it only when complete: on failure only that file is
+** removed and an existing file is left as it was (its permission bits are
+** kept on success; a symbolic link is replaced, not followed).  A device
+** or FIFO is written in place and never removed; a directory is RAY_EIO.
+**
 ** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
 ** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
-** created or written (errno tells why); RAY_EPNG if libpng fails.  A file
-** that failed is removed.  Thread-safe; the image is only read.
+** created or written (errno tells why); RAY_EPNG if libpng fails.
+** Thread-safe; the image is only read.
 */
 RAY_API int ray_write_png(const char *path, const float *rgb,
                           unsigned width, unsigned height, int bits);

@@ -26,7 +26,8 @@ const char *ray_strerror(int code)
     case RAY_EPNG:        return "PNG encoding error";
     case RAY_ESTATE:      return "operation not allowed in this state";
     case RAY_ECANCELED:   return "cancelled by the caller";
-    case RAY_ELIMIT:      return "a limit was reached (ray tree or iterations)";
+    case RAY_ELIMIT:
+        return "a limit was reached (ray tree, iterations, image load)";
     case RAY_EEFFECT:     return "effect not declared by the material";
     default:              return "unknown error";
     }

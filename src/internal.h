@@ -710,4 +710,11 @@ static inline int ray__bezier_quarter(unsigned q)
     return RAY__BEZIER_GRID * ((q & 2u) ? 3 : 0) + ((q & 1u) ? 3 : 0);
 }
 
+/* ------------------------------------------------------------- images */
+
+/* A new image of width x height texels that takes over rgb (3 floats per
+** texel, rows top to bottom), for png.c's loader; NULL when out of memory,
+** rgb then still the caller's. */
+ray_image *ray__image_new(unsigned width, unsigned height, float *rgb);
+
 #endif /* RAY_INTERNAL_H */

@@ -5,9 +5,16 @@
 ** idea: a tiny asymmetric image, different colours on R and B so a channel
 ** swap or a flip shows).
 */
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <png.h>
@@ -138,11 +145,247 @@ START_TEST(png_should_report_bad_arguments_and_io_errors)
                      RAY_EINVAL);
     errno = 0;
     ck_assert_int_eq(ray_write_png(bad, rgb, W, H, 8), RAY_EIO);
-    ck_assert_int_ne(errno, 0);
-    /* A full device: the write fails at flush time and no file remains
-    ** (only where /dev/full exists, as on Linux). */
-    if (access("/dev/full", W_OK) == 0)
+    ck_assert_int_eq(errno, ENOENT);
+}
+END_TEST
+
+/* ------------------------------------------- failures leave files alone */
+
+/* A fresh directory of this test's own, so that leftovers can be counted. */
+static void make_dir(char *dir, size_t size, const char *tag)
+{
+    snprintf(dir, size, "/tmp/libray-check-%s-XXXXXX", tag);
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+}
+
+static char *in_dir(const char *dir, const char *name)
+{
+    static char buf[128];
+    snprintf(buf, sizeof buf, "%s/%s", dir, name);
+    return buf;
+}
+
+/* The entries of dir but . and .., and the directory removed if empty. */
+static int entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int n = 0;
+
+    ck_assert_ptr_nonnull(d);
+    while ((e = readdir(d)) != NULL)
+        n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+    closedir(d);
+    return n;
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *fp = fopen(path, "wb");
+    ck_assert_ptr_nonnull(fp);
+    fputs(text, fp);
+    ck_assert_int_eq(fclose(fp), 0);
+}
+
+/* The file's first bytes (at most size - 1), NUL-terminated. */
+static void read_text(const char *path, char *buf, size_t size)
+{
+    FILE *fp = fopen(path, "rb");
+    size_t n;
+
+    ck_assert_ptr_nonnull(fp);
+    n = fread(buf, 1, size - 1, fp);
+    buf[n] = '\0';
+    fclose(fp);
+}
+
+static const unsigned char png_signature[8] = {137, 80, 78, 71, 13, 10, 26,
+                                               10};
+
+/*
+** Devices are written in place and never removed: /dev/full fails with
+** ENOSPC at flush time and stays (the old code then removed the path: as
+** root, /dev/full itself); /dev/null takes the file.  Only where they
+** exist, as on Linux.
+*/
+START_TEST(png_write_should_leave_devices_in_place)
+{
+    float rgb[3 * W * H];
+    struct stat st;
+
+    test_image(rgb);
+    if (access("/dev/full", W_OK) == 0) {
+        errno = 0;
         ck_assert_int_eq(ray_write_png("/dev/full", rgb, W, H, 8), RAY_EIO);
+        ck_assert_int_eq(errno, ENOSPC);
+        ck_assert_int_eq(stat("/dev/full", &st), 0);
+        ck_assert(S_ISCHR(st.st_mode));
+    }
+    if (access("/dev/null", W_OK) == 0) {
+        ck_assert_int_eq(ray_write_png("/dev/null", rgb, W, H, 16), RAY_OK);
+        ck_assert_int_eq(stat("/dev/null", &st), 0);
+        ck_assert(S_ISCHR(st.st_mode));
+    }
+}
+END_TEST
+
+/* A FIFO is written in place too: the reader gets the PNG, the FIFO stays.
+** The read end is opened first, non-blocking, so the writer's open does
+** not wait; the file (about 100 bytes) fits the pipe's buffer. */
+START_TEST(png_write_should_stream_into_a_fifo)
+{
+    float rgb[3 * W * H];
+    unsigned char got[8];
+    char dir[64];
+    const char *fifo;
+    struct stat st;
+    int fd;
+
+    test_image(rgb);
+    make_dir(dir, sizeof dir, "fifo");
+    fifo = in_dir(dir, "pipe.png");
+    ck_assert_int_eq(mkfifo(fifo, 0600), 0);
+    fd = open(fifo, O_RDONLY | O_NONBLOCK);
+    ck_assert_int_ge(fd, 0);
+    ck_assert_int_eq(ray_write_png(fifo, rgb, W, H, 8), RAY_OK);
+    ck_assert_int_eq(read(fd, got, sizeof got), (ssize_t)sizeof got);
+    ck_assert_mem_eq(got, png_signature, sizeof got);
+    close(fd);
+    ck_assert_int_eq(stat(fifo, &st), 0);
+    ck_assert(S_ISFIFO(st.st_mode));
+    ck_assert_int_eq(entries(dir), 1);     /* no temporary file */
+    unlink(fifo);
+    rmdir(dir);
+}
+END_TEST
+
+/* A directory, or a path through a missing one: RAY_EIO, nothing made. */
+START_TEST(png_write_should_refuse_directories)
+{
+    float rgb[3 * W * H];
+    char dir[64];
+    struct stat st;
+
+    test_image(rgb);
+    make_dir(dir, sizeof dir, "dir");
+    errno = 0;
+    ck_assert_int_eq(ray_write_png(dir, rgb, W, H, 8), RAY_EIO);
+    ck_assert_int_eq(errno, EISDIR);
+    ck_assert_int_eq(stat(dir, &st), 0);
+    ck_assert(S_ISDIR(st.st_mode));
+    errno = 0;
+    ck_assert_int_eq(ray_write_png(in_dir(dir, "missing/x.png"), rgb, W, H,
+                                   8),
+                     RAY_EIO);
+    ck_assert_int_eq(errno, ENOENT);
+    ck_assert_int_eq(entries(dir), 0);
+    rmdir(dir);
+}
+END_TEST
+
+/*
+** A failed write leaves the old file byte for byte.  The full disk is a
+** file size limit (RLIMIT_FSIZE of 1 KiB, SIGXFSZ ignored so the write
+** fails with EFBIG instead of killing), set in a child process so the
+** limit stays there: the 64 x 64 noise image compresses to about 12 KiB.
+** Then a successful write replaces the file, keeping its mode 0600, and
+** leaves no temporary file.
+*/
+START_TEST(png_write_should_keep_the_old_file_on_failure)
+{
+    enum { N = 64 };
+    static float noise[3 * N * N];
+    char dir[64], got[64], path[128];
+    struct stat st;
+    pid_t child;
+    int status, i;
+    unsigned seed = 12345;
+
+    for (i = 0; i < 3 * N * N; i++) {
+        seed = seed * 1103515245u + 12345u;  /* any spread of values */
+        noise[i] = (float)(seed >> 16 & 0x7fff) / 32767.0f;
+    }
+    make_dir(dir, sizeof dir, "keep");
+    snprintf(path, sizeof path, "%s", in_dir(dir, "old.png"));
+    write_text(path, "the old contents");
+    ck_assert_int_eq(chmod(path, 0600), 0);
+    child = fork();
+    ck_assert_int_ge(child, 0);
+    if (child == 0) {
+        struct rlimit lim = {1024, 1024};
+        int rc;
+        signal(SIGXFSZ, SIG_IGN);
+        setrlimit(RLIMIT_FSIZE, &lim);
+        errno = 0;
+        rc = ray_write_png(path, noise, N, N, 8);
+        _exit(rc == RAY_EIO && errno == EFBIG ? 0 : 1);
+    }
+    ck_assert_int_eq(waitpid(child, &status, 0), child);
+    ck_assert(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    read_text(path, got, sizeof got);
+    ck_assert_str_eq(got, "the old contents");
+    ck_assert_int_eq(entries(dir), 1);
+    /* Success: the PNG replaces it, with the old permissions. */
+    ck_assert_int_eq(ray_write_png(path, noise, N, N, 8), RAY_OK);
+    read_text(path, got, 9);
+    ck_assert_mem_eq(got, png_signature, 8);
+    ck_assert_int_eq(stat(path, &st), 0);
+    ck_assert_uint_eq(st.st_mode & 0777, 0600);
+    ck_assert_int_eq(entries(dir), 1);
+    unlink(path);
+    rmdir(dir);
+}
+END_TEST
+
+/* A symbolic link is replaced by the new file, like the file it named
+** would be by rename(2): the file it named is left as it was. */
+START_TEST(png_write_should_replace_a_link_not_its_target)
+{
+    float rgb[3 * W * H];
+    char dir[64], target[128], link[128], got[64];
+    struct stat st;
+
+    test_image(rgb);
+    make_dir(dir, sizeof dir, "link");
+    snprintf(target, sizeof target, "%s", in_dir(dir, "target"));
+    snprintf(link, sizeof link, "%s", in_dir(dir, "link.png"));
+    write_text(target, "kept");
+    ck_assert_int_eq(symlink(target, link), 0);
+    ck_assert_int_eq(ray_write_png(link, rgb, W, H, 8), RAY_OK);
+    ck_assert_int_eq(lstat(link, &st), 0);
+    ck_assert(S_ISREG(st.st_mode));
+    read_text(target, got, sizeof got);
+    ck_assert_str_eq(got, "kept");
+    ck_assert_int_eq(entries(dir), 2);
+    unlink(link);
+    unlink(target);
+    rmdir(dir);
+}
+END_TEST
+
+/* Without write permission on the directory (not for root, whom
+** permissions do not stop: then the missing directory above stands in). */
+START_TEST(png_write_should_fail_in_an_unwritable_directory)
+{
+    float rgb[3 * W * H];
+    char dir[64], path[128], got[64];
+
+    if (geteuid() == 0)
+        return;
+    test_image(rgb);
+    make_dir(dir, sizeof dir, "ro");
+    snprintf(path, sizeof path, "%s", in_dir(dir, "x.png"));
+    write_text(path, "old");
+    ck_assert_int_eq(chmod(dir, 0500), 0);
+    errno = 0;
+    ck_assert_int_eq(ray_write_png(path, rgb, W, H, 8), RAY_EIO);
+    ck_assert_int_eq(errno, EACCES);
+    read_text(path, got, sizeof got);
+    ck_assert_str_eq(got, "old");
+    ck_assert_int_eq(chmod(dir, 0700), 0);
+    ck_assert_int_eq(entries(dir), 1);
+    unlink(path);
+    rmdir(dir);
 }
 END_TEST
 
@@ -155,6 +398,12 @@ Suite *png_suite(void)
     tcase_add_test(tc, png8_should_read_back_identical_bytes);
     tcase_add_test(tc, png16_should_keep_linear_values);
     tcase_add_test(tc, png_should_report_bad_arguments_and_io_errors);
+    tcase_add_test(tc, png_write_should_leave_devices_in_place);
+    tcase_add_test(tc, png_write_should_stream_into_a_fifo);
+    tcase_add_test(tc, png_write_should_refuse_directories);
+    tcase_add_test(tc, png_write_should_keep_the_old_file_on_failure);
+    tcase_add_test(tc, png_write_should_replace_a_link_not_its_target);
+    tcase_add_test(tc, png_write_should_fail_in_an_unwritable_directory);
     suite_add_tcase(s, tc);
     return s;
 }

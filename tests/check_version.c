@@ -50,7 +50,7 @@ START_TEST(strerror_should_accept_negated_codes)
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++)
         ck_assert_str_eq(ray_strerror(-codes[i]), ray_strerror(codes[i]));
     ck_assert_str_eq(ray_strerror(-RAY_ELIMIT),
-                     "a limit was reached (ray tree or iterations)");
+                     "a limit was reached (ray tree, iterations, image load)");
     ck_assert_str_eq(ray_strerror(-RAY_ESTATE),
                      "operation not allowed in this state");
 }
