@@ -130,7 +130,6 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard ex
 FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
-    png_image_begin_read_from_stdio png_image_finish_read \
     png_image_write_to_stdio
 $(FAULTSIM): tests/faultsim.c include/ray.h $(STATIC)
 	@mkdir -p $(@D)
