@@ -7,13 +7,16 @@
 
 int main(void)
 {
-    static const ray_phong_params red = {{0.8, 0.1, 0.1}, {0, 0, 0}, 1, 0,
-                                         {0, 0, 0}, {NULL, NULL}};
+    /* Designated initializers: the fields not named are 0, their default,
+    ** also those a later version adds (ray(7), "Versions and ABI"). */
+    static const ray_phong_params red = {.diffuse = {0.8, 0.1, 0.1},
+                                         .shininess = 1};
     static float image[160 * 120 * 3];
     ray_material m = ray_material_phong(&red);
-    ray_light light = {RAY_LIGHT_POINT, {5, 5, 5}, {0, 0, 0}, {0, 0, 0},
-                       {0, 0, 0}, 0, {60, 60, 60}, 0};
-    ray_camera cam = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 40, 0, 0};
+    ray_light light = {.kind = RAY_LIGHT_POINT, .position = {5, 5, 5},
+                       .intensity = {60, 60, 60}};
+    ray_camera cam = {.position = {0, 0, 5}, .look_at = {0, 0, 0},
+                      .up = {0, 1, 0}, .vfov = 40};
     ray_render_options opt;
     ray_scene *scene;
     ray_stats stats;

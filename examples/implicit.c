@@ -61,17 +61,22 @@ int main(int argc, char **argv)
     static ray_phong_params gold, blue, ivory, light_sq, dark_sq;
     static ray_checker_params floor_params;
     static const ray_blob blobs[] = {
-        {{-0.35, 0.55, 0.0}, 0.75, 1.0}, {{0.35, 0.75, 0.1}, 0.7, 1.0},
-        {{0.0, 1.25, -0.1}, 0.6, 1.0},   {{-0.1, 0.9, 0.45}, 0.5, 0.8},
-        {{0.25, 1.5, 0.3}, 0.45, 0.7}};
+        {.center = {-0.35, 0.55, 0.0}, .radius = 0.75, .strength = 1.0},
+        {.center = {0.35, 0.75, 0.1}, .radius = 0.7, .strength = 1.0},
+        {.center = {0.0, 1.25, -0.1}, .radius = 0.6, .strength = 1.0},
+        {.center = {-0.1, 0.9, 0.45}, .radius = 0.5, .strength = 0.8},
+        {.center = {0.25, 1.5, 0.3}, .radius = 0.45, .strength = 0.7}};
     static ray_blobs_params blob_params;
     static squircle cube = {{1.9, 0.55, -0.6}, 0.55};
-    ray_torus_params torus = {{-1.9, 0.45, -0.4}, {0.35, 1, 0.25}, 0.62,
-                              0.22};
+    ray_torus_params torus = {.center = {-1.9, 0.45, -0.4},
+                              .axis = {0.35, 1, 0.25}, .major = 0.62,
+                              .minor = 0.22};
     ray_implicit_surface blob_surface, cube_surface;
-    ray_light key = {RAY_LIGHT_SPHERE, {-3, 6, 4}, {0, 0, 0}, {0, 0, 0},
-                     {0, 0, 0}, 0.6, {45, 44, 40}, 16};
-    ray_camera cam = {{0, 1.7, 4.9}, {0, 0.7, -0.3}, {0, 1, 0}, 40, 0, 0};
+    ray_light key = {.kind = RAY_LIGHT_SPHERE, .position = {-3, 6, 4},
+                     .radius = 0.6, .intensity = {45, 44, 40},
+                     .samples = 16};
+    ray_camera cam = {.position = {0, 1.7, 4.9}, .look_at = {0, 0.7, -0.3},
+                      .up = {0, 1, 0}, .vfov = 40};
     ray_scene *scene;
     unsigned floor_mat;
     int rc;

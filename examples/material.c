@@ -55,15 +55,18 @@ static void glazed_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 int main(void)
 {
     static glazed teal = {{0.1, 0.6, 0.6}, 0.25};
-    static const ray_phong_params grey = {{0.7, 0.7, 0.7}, {0, 0, 0}, 1, 0,
-                                          {0, 0, 0}, {NULL, NULL}};
+    static const ray_phong_params grey = {.diffuse = {0.7, 0.7, 0.7},
+                                          .shininess = 1};
     static float image[320 * 240 * 3];
-    ray_material glaze = {glazed_shade, &teal,
-                          RAY_EFFECT_SHADOW | RAY_EFFECT_REFLECTION};
+    ray_material glaze = {.shade = glazed_shade, .ud = &teal,
+                          .effects = RAY_EFFECT_SHADOW |
+                                     RAY_EFFECT_REFLECTION};
     ray_material floor_mat = ray_material_phong(&grey);
-    ray_light lamp = {RAY_LIGHT_SPHERE, {3, 6, 4}, {0, 0, 0}, {0, 0, 0},
-                      {0, 0, 0}, 0.8, {60, 60, 60}, 16};
-    ray_camera cam = {{0, 1.5, 5}, {0, 0.8, 0}, {0, 1, 0}, 45, 0, 0};
+    ray_light lamp = {.kind = RAY_LIGHT_SPHERE, .position = {3, 6, 4},
+                      .radius = 0.8, .intensity = {60, 60, 60},
+                      .samples = 16};
+    ray_camera cam = {.position = {0, 1.5, 5}, .look_at = {0, 0.8, 0},
+                      .up = {0, 1, 0}, .vfov = 45};
     ray_render_options opt;
     ray_scene *scene;
     ray_stats stats;

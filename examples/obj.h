@@ -391,6 +391,8 @@ static inline void obj_bounds(const obj_mesh *m, ray_vec3 *lo, ray_vec3 *hi,
 static inline ray_mesh obj_as_ray_mesh(const obj_mesh *m)
 {
     ray_mesh r;
+
+    ray_mesh_init(&r);          /* fields added later get their defaults */
     r.vertices = m->vertices;
     r.vertex_count = m->vertex_count;
     r.indices = m->indices;

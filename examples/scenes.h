@@ -20,18 +20,22 @@
 static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
                                        const ray_limits *limits)
 {
-    static const ray_phong_params red = {{0.75, 0.08, 0.06}, {0.2, 0.2, 0.2},
-                                         40, 1, {0, 0, 0}, {NULL, NULL}};
-    static const ray_phong_params yellow = {{0.8, 0.7, 0.1}, {0.2, 0.2, 0.2},
-                                            40, 1, {0, 0, 0}, {NULL, NULL}};
+    static const ray_phong_params red = {.diffuse = {0.75, 0.08, 0.06},
+                                         .specular = {0.2, 0.2, 0.2},
+                                         .shininess = 40, .blinn = 1};
+    static const ray_phong_params yellow = {.diffuse = {0.8, 0.7, 0.1},
+                                            .specular = {0.2, 0.2, 0.2},
+                                            .shininess = 40, .blinn = 1};
     static const ray_rgb chrome = {0.9, 0.9, 0.9};
-    static const ray_glass_params glass = {1.5, {0.05, 0.02, 0.01}};
+    static const ray_glass_params glass = {.ior = 1.5,
+                                           .absorption = {0.05, 0.02, 0.01}};
     static ray_checker_params floor_params;
     /* The sky: a vertical gradient of the escaping ray's direction. */
     static sky_colors blue_sky = {{0.35, 0.45, 0.75}, {0.25, 0.3, 0.2}};
-    ray_light light = {RAY_LIGHT_POINT, {4, 7, 5}, {0, 0, 0}, {0, 0, 0},
-                       {0, 0, 0}, 0, {80, 80, 80}, 0};
-    ray_camera view = {{0, 1.5, 5.5}, {0, 0.9, 0}, {0, 1, 0}, 45, 0, 0};
+    ray_light light = {.kind = RAY_LIGHT_POINT, .position = {4, 7, 5},
+                       .intensity = {80, 80, 80}};
+    ray_camera view = {.position = {0, 1.5, 5.5}, .look_at = {0, 0.9, 0},
+                       .up = {0, 1, 0}, .vfov = 45};
     ray_material m;
     ray_scene *scene;
     unsigned floor_mat, mirror_mat, glass_mat;
@@ -114,18 +118,21 @@ static inline void add_block(ray_scene *s, double cx, double cz, double hx,
 static inline ray_scene *cornell_scene(ray_camera *cam, int prune,
                                        const ray_limits *limits)
 {
-    static const ray_phong_params white = {{0.75, 0.75, 0.72}, {0, 0, 0}, 1,
-                                           0, {0, 0, 0}, {NULL, NULL}};
-    static const ray_phong_params red = {{0.65, 0.06, 0.05}, {0, 0, 0}, 1, 0,
-                                         {0, 0, 0}, {NULL, NULL}};
-    static const ray_phong_params green = {{0.12, 0.5, 0.09}, {0, 0, 0}, 1,
-                                           0, {0, 0, 0}, {NULL, NULL}};
+    static const ray_phong_params white = {.diffuse = {0.75, 0.75, 0.72},
+                                           .shininess = 1};
+    static const ray_phong_params red = {.diffuse = {0.65, 0.06, 0.05},
+                                         .shininess = 1};
+    static const ray_phong_params green = {.diffuse = {0.12, 0.5, 0.09},
+                                           .shininess = 1};
     static const ray_rgb chrome = {0.92, 0.92, 0.92};
-    static const ray_glass_params glass = {1.5, {0, 0, 0}};
+    static const ray_glass_params glass = {.ior = 1.5};
     /* edge1 x edge2 = (0, -2.25, 0): the lamp shines down. */
-    ray_light lamp = {RAY_LIGHT_RECT, {-0.75, 4.98, -0.75}, {0, 0, 0},
-                      {1.5, 0, 0}, {0, 0, 1.5}, 0, {16, 15, 13}, 16};
-    ray_camera view = {{0, 2.5, 9.5}, {0, 2.5, 0}, {0, 1, 0}, 36, 0, 0};
+    ray_light lamp = {.kind = RAY_LIGHT_RECT,
+                      .position = {-0.75, 4.98, -0.75},
+                      .edge1 = {1.5, 0, 0}, .edge2 = {0, 0, 1.5},
+                      .intensity = {16, 15, 13}, .samples = 16};
+    ray_camera view = {.position = {0, 2.5, 9.5}, .look_at = {0, 2.5, 0},
+                       .up = {0, 1, 0}, .vfov = 36};
     ray_material m;
     ray_scene *scene;
     unsigned w, r, g, mir, gl;
@@ -178,10 +185,12 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
                                     int prune, const ray_limits *limits,
                                     size_t *triangles)
 {
-    static const ray_phong_params clay = {{0.7, 0.66, 0.6}, {0.25, 0.25, 0.25},
-                                          30, 1, {0, 0, 0}, {NULL, NULL}};
-    static const ray_phong_params ground = {{0.35, 0.4, 0.45}, {0, 0, 0}, 1,
-                                            0, {0.2, 0.2, 0.2}, {NULL, NULL}};
+    static const ray_phong_params clay = {.diffuse = {0.7, 0.66, 0.6},
+                                          .specular = {0.25, 0.25, 0.25},
+                                          .shininess = 30, .blinn = 1};
+    static const ray_phong_params ground = {.diffuse = {0.35, 0.4, 0.45},
+                                            .shininess = 1,
+                                            .reflect = {0.2, 0.2, 0.2}};
     ray_vec3 lo, hi, centre;
     obj_mesh obj;
     ray_mesh mesh;

@@ -95,11 +95,14 @@ int main(int argc, char **argv)
     static sky_colors pale_sky = {{0.5, 0.55, 0.65}, {0.2, 0.25, 0.3}};
     static ray_phong_params image_mat, torus_mat, floor_mat;
     const char *image_path = argc > 1 ? argv[1] : "doc/cornell.png";
-    ray_torus_params torus = {{2.3, 0.5, 0.6}, {0.2, 1, 0.5}, 0.6, 0.25};
-    ray_light key = {RAY_LIGHT_SPHERE, {2, 6, 5}, {0, 0, 0}, {0, 0, 0},
-                     {0, 0, 0}, 0.5, {50, 50, 48}, 16};
-    ray_camera cam = {{0, 2.0, 6.5}, {0, 0.8, 0}, {0, 1, 0}, 42, 0, 0};
-    ray_texture stripes = {torus_stripes, NULL}, rings = {floor_rings, NULL};
+    ray_torus_params torus = {.center = {2.3, 0.5, 0.6},
+                              .axis = {0.2, 1, 0.5}, .major = 0.6,
+                              .minor = 0.25};
+    ray_light key = {.kind = RAY_LIGHT_SPHERE, .position = {2, 6, 5},
+                     .radius = 0.5, .intensity = {50, 50, 48}, .samples = 16};
+    ray_camera cam = {.position = {0, 2.0, 6.5}, .look_at = {0, 0.8, 0},
+                      .up = {0, 1, 0}, .vfov = 42};
+    ray_texture stripes = {.fn = torus_stripes}, rings = {.fn = floor_rings};
     ray_image *image;
     ray_scene *scene;
     ray_vec3 cp[16];
