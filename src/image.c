@@ -11,7 +11,7 @@
 
 #include <png.h>
 
-#include "internal.h"
+#include "vec.h"
 
 struct ray_image {
     unsigned width, height;

@@ -12,7 +12,7 @@
 
 #include <png.h>
 
-#include "internal.h"
+#include "vec.h"
 
 /* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN). */
 static double unit_clamp(float x)
