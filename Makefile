@@ -102,7 +102,7 @@ AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
 $(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
-	    $(if $(filter src/png.c src/image.c,$<),$(PNG_CFLAGS)) \
+	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) \
 	    $(if $(filter src/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
 
 $(STATIC): $(OBJS)
