@@ -9,6 +9,9 @@
 */
 #include "scene.h"
 
+/* ray_stats.tests_by_kind holds RAY_PRIM_KINDS_MAX counters (ray.h). */
+typedef char ray__counters_fit[RAY_PRIM_KINDS <= RAY_PRIM_KINDS_MAX ? 1 : -1];
+
 /* ------------------------------------------------------------ the boxes */
 
 static void box_SPHERE(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
