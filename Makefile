@@ -26,7 +26,7 @@ SOMAJOR = 0
 STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
        -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \
-       -Wconversion -Wdouble-promotion -Wformat=2
+       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config

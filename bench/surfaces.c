@@ -10,7 +10,7 @@
 #include <time.h>
 
 #include "bench.h"
-#include "internal.h"
+#include "vec.h"
 
 typedef int (*method_fn)(const ray_ray *r, const void *obj, ray_hit *hit);
 

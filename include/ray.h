@@ -849,7 +849,13 @@ RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
 
 /* ---------------------------------------------------------------- tracing */
 
-/* Kinds of primitives, for the intersection-test counters. */
+/*
+** Kinds of primitives, for the intersection-test counters.
+** RAY_PRIM_KINDS is the number in use; ray_stats.tests_by_kind has room
+** for RAY_PRIM_KINDS_MAX, so that a kind added later (numbered after the
+** last, before RAY_PRIM_KINDS) leaves ray_stats' size and layout as they
+** are.  The counters from RAY_PRIM_KINDS up stay 0.
+*/
 enum {
     RAY_PRIM_SPHERE = 0,
     RAY_PRIM_PLANE,
@@ -860,6 +866,7 @@ enum {
     RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
     RAY_PRIM_KINDS
 };
+#define RAY_PRIM_KINDS_MAX 16
 
 /* samples_hist[n] counts the pixels that took n samples (n < 64);
 ** samples_hist[64], those that took 64 or more. */
@@ -869,7 +876,8 @@ enum {
 typedef struct ray_stats {
     unsigned long long rays[RAY_KIND_COUNT];  /* traced, by RAY_KIND_* */
     unsigned long long tests;       /* ray-primitive intersection tests */
-    unsigned long long tests_by_kind[RAY_PRIM_KINDS];  /* the same, split */
+    unsigned long long tests_by_kind[RAY_PRIM_KINDS_MAX];  /* the same, by
+                                       RAY_PRIM_*; RAY_PRIM_KINDS in use */
     unsigned long long cut_depth;   /* rays refused by max_depth */
     unsigned long long cut_weight;  /* rays refused by min_weight */
     unsigned long long cut_fanout;  /* rays refused by max_fanout */

@@ -2,7 +2,7 @@
 /*
 ** barycentric.c -- barycentric coordinates from signed areas.
 */
-#include "internal.h"
+#include "prim.h"
 
 /*
 ** The lecture's method: the sub-triangles opposite each vertex have

@@ -6,7 +6,7 @@
 ** ed., ch. 14), and boxes of its sub-patches from de Casteljau
 ** subdivision of the control net (the convex hull property).
 */
-#include "internal.h"
+#include "prim.h"
 
 /*
 ** Rounding of the box corners.  Each sub-control point is

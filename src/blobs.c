@@ -4,7 +4,7 @@
 ** summed from blobs, each with Wyvill's compact falloff, and the
 ** Lipschitz bound that lets ray_implicit sphere-trace it.
 */
-#include "internal.h"
+#include "vec.h"
 
 /*
 ** Each blob adds strength * k(|p - c|^2 / radius^2) with k(x) = (1 - x)^2

@@ -15,7 +15,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "internal.h"
+#include "bvh.h"
 
 #define BINS 16
 #define MAX_DEPTH 60     /* traversal stacks hold 64 levels */
@@ -447,11 +447,11 @@ static int build_node(builder *bd, const task *t, task *stack)
     return 2;
 }
 
-void ray__bvh_free(const ray_scene *s, ray__bvh *bvh)
+void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh)
 {
-    ray__free(s, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
-    ray__free(s, bvh->wide, bvh->n_wide * sizeof *bvh->wide);
-    ray__free(s, bvh->items, bvh->n_items * sizeof *bvh->items);
+    ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
+    ray__release(a, bvh->wide, bvh->n_wide * sizeof *bvh->wide);
+    ray__release(a, bvh->items, bvh->n_items * sizeof *bvh->items);
     memset(bvh, 0, sizeof *bvh);
 }
 
@@ -550,12 +550,12 @@ static size_t count_wide(const ray__node *nodes)
 ** array is allocated once at its size.  The children of a wide node are
 ** numbered consecutively, depth first.
 */
-static int collapse(const ray_scene *s, ray__bvh *bvh)
+static int collapse(const ray__allocator *a, ray__bvh *bvh)
 {
     size_t cap = count_wide(bvh->nodes), used = 1;
     /* (binary node, wide node): RAY__WIDTH - 1 per level, 64 levels */
     unsigned stack[RAY__WIDTH * 64][2];
-    ray__wnode *w = ray__alloc(s, cap * sizeof *w);
+    ray__wnode *w = ray__allocate(a, cap * sizeof *w);
     int sp = 0;
 
     if (w == NULL)
@@ -597,14 +597,15 @@ static int collapse(const ray_scene *s, ray__bvh *bvh)
     }
     bvh->wide = w;
     bvh->n_wide = used;
-    ray__free(s, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
+    ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
     bvh->nodes = NULL;
     bvh->n_nodes = bvh->cap_nodes = 0;
     return RAY_OK;
 }
 
-int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
-                   size_t n, const ray__bvh_costs *costs, ray__bvh *out)
+int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
+                   const void *ud, size_t n, const ray__bvh_costs *costs,
+                   ray__bvh *out)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
@@ -619,13 +620,13 @@ int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
     bd.costs = costs;
-    bd.refs = ray__alloc(s, n * sizeof *bd.refs);
-    bd.nodes = ray__alloc(s, cap * sizeof *bd.nodes);
-    items = ray__alloc(s, n * sizeof *items);
+    bd.refs = ray__allocate(a, n * sizeof *bd.refs);
+    bd.nodes = ray__allocate(a, cap * sizeof *bd.nodes);
+    items = ray__allocate(a, n * sizeof *items);
     if (bd.refs == NULL || bd.nodes == NULL || items == NULL) {
-        ray__free(s, bd.refs, n * sizeof *bd.refs);
-        ray__free(s, bd.nodes, cap * sizeof *bd.nodes);
-        ray__free(s, items, n * sizeof *items);
+        ray__release(a, bd.refs, n * sizeof *bd.refs);
+        ray__release(a, bd.nodes, cap * sizeof *bd.nodes);
+        ray__release(a, items, n * sizeof *items);
         return RAY_ENOMEM;
     }
     for (i = 0; i < n; i++) {
@@ -647,9 +648,9 @@ int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
     }
     for (i = 0; i < n; i++)
         items[i] = bd.refs[i].id;
-    ray__free(s, bd.refs, n * sizeof *bd.refs);
-    out->nodes = ray__realloc(s, bd.nodes, cap * sizeof *bd.nodes,
-                              bd.n_nodes * sizeof *bd.nodes);
+    ray__release(a, bd.refs, n * sizeof *bd.refs);
+    out->nodes = ray__reallocate(a, bd.nodes, cap * sizeof *bd.nodes,
+                                 bd.n_nodes * sizeof *bd.nodes);
     out->cap_nodes = bd.n_nodes;
     if (out->nodes == NULL) {            /* shrinking failed: keep it all */
         out->nodes = bd.nodes;
@@ -658,8 +659,8 @@ int ray__bvh_build(const ray_scene *s, ray__box_fn box_of, const void *ud,
     out->n_nodes = bd.n_nodes;
     out->items = items;
     out->n_items = n;
-    if (collapse(s, out) != RAY_OK) {
-        ray__bvh_free(s, out);
+    if (collapse(a, out) != RAY_OK) {
+        ray__bvh_free(a, out);
         return RAY_ENOMEM;
     }
     return RAY_OK;

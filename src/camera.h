@@ -5,7 +5,7 @@
 #ifndef RAY_CAMERA_H
 #define RAY_CAMERA_H
 
-#include "internal.h"
+#include "trace.h"
 
 typedef struct ray__cam {
     ray_vec3 org, u, v, w;   /* right, up, backward */

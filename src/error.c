@@ -8,7 +8,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-#include "internal.h"
+#include "scene.h"
 
 /* Negated statuses (ray_intersect, ray_implicit...) name the same error.
 ** Only known codes are negated back: -INT_MIN would overflow. */

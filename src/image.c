@@ -5,7 +5,7 @@
 */
 #include <stdlib.h>
 
-#include "internal.h"
+#include "image.h"
 
 struct ray_image {
     unsigned width, height;

@@ -5,7 +5,7 @@
 ** change (by sphere tracing when a Lipschitz bound is known, else by a
 ** fixed step), then refine the bracket.
 */
-#include "internal.h"
+#include "prim.h"
 
 /* The descriptor with its defaults filled in, and the ray's own scale. */
 typedef struct implicit_job {

@@ -6,7 +6,7 @@
 ** calls these only on a CPU with AVX2.  Built without -mavx2 (another
 ** build system), they are the baseline code again: slower, not wrong.
 */
-#include "internal.h"
+#include "scene.h"
 
 #if RAY__AVX2_COPY
 #include "traverse.h"

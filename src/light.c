@@ -2,7 +2,7 @@
 /*
 ** light.c -- light samples and shadow rays for material callbacks.
 */
-#include "internal.h"
+#include "trace.h"
 
 /* Samples per shading point: area lights round their count up to a
 ** square k*k, so the samples can be stratified on a k x k grid. */

@@ -6,7 +6,7 @@
 */
 #include <string.h>
 
-#include "internal.h"
+#include "scene.h"
 
 /* The arrays are there and not empty: RAY_OK, or the failure. */
 static int mesh_arrays_check(ray_scene *s, const ray_mesh *m)

@@ -2,7 +2,7 @@
 /*
 ** optics.c -- reflection, refraction and Fresnel reflectance.
 */
-#include "internal.h"
+#include "vec.h"
 
 ray_vec3 ray_reflect(ray_vec3 d, ray_vec3 n)
 {

@@ -22,7 +22,7 @@
 ** start, gets the far one (on random rays at a paraboloid, 1 in 3000, all
 ** within 3 degrees of tangency).
 */
-#include "internal.h"
+#include "prim.h"
 
 /* The header's defaults: 4 levels give 16 x 16 starting rectangles, on
 ** which Newton converges from the centre for the smooth patches of

@@ -3,17 +3,7 @@
 ** plane.c -- ray / plane: t = (p1 - e).n / (d.n), from substituting the
 ** ray into the plane equation (p - p1).n = 0.
 */
-#include "internal.h"
-
-void ray__tangent_frame(ray_vec3 n, ray_vec3 *t1, ray_vec3 *t2)
-{
-    double sign = copysign(1.0, n.z);
-    double a = -1.0 / (sign + n.z);
-    double b = n.x * n.y * a;
-
-    *t1 = v3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    *t2 = v3(b, sign + n.y * n.y * a, -n.y);
-}
+#include "prim.h"
 
 /*
 ** The hit point is e + t d, then projected back onto the plane by one

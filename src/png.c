@@ -26,7 +26,7 @@
 
 #include <png.h>
 
-#include "internal.h"
+#include "image.h"
 
 /* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN). */
 static double unit_clamp(float x)

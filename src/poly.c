@@ -12,7 +12,7 @@
 ** formulas nothing cancels catastrophically: each root is as accurate as
 ** the evaluation of p near it allows.
 */
-#include "internal.h"
+#include "prim.h"
 
 /* p(x) by Horner's rule; c[0] is the constant term. */
 static double poly_eval(const double *c, int degree, double x)

@@ -4,7 +4,7 @@
 */
 #include <stddef.h>
 
-#include "internal.h"
+#include "prim.h"
 
 /*
 ** Does edge (x0,y0)-(x1,y1) cross the ray from (0,0) toward +x?

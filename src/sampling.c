@@ -2,7 +2,7 @@
 /*
 ** sampling.c -- mapping uniform samples onto shapes.
 */
-#include "internal.h"
+#include "trace.h"
 
 /*
 ** Shirley and Chiu's concentric map ("A Low Distortion Map Between Disk

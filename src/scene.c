@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "scene.h"
 
 static void *libc_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 {
@@ -21,18 +21,17 @@ static void *libc_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 
 void *ray__alloc(const ray_scene *s, size_t size)
 {
-    return s->alloc(s->alloc_ud, NULL, 0, size);
+    return ray__allocate(&s->alloc, size);
 }
 
 void ray__free(const ray_scene *s, void *ptr, size_t size)
 {
-    if (ptr != NULL)
-        s->alloc(s->alloc_ud, ptr, size, 0);
+    ray__release(&s->alloc, ptr, size);
 }
 
 void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize)
 {
-    return s->alloc(s->alloc_ud, ptr, osize, nsize);
+    return ray__reallocate(&s->alloc, ptr, osize, nsize);
 }
 
 /*
@@ -51,7 +50,7 @@ void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
     ncap = *cap ? 2 * *cap : 8;
     if (ncap > (size_t)-1 / elem)
         return NULL;
-    p = s->alloc(s->alloc_ud, items, *cap * elem, ncap * elem);
+    p = ray__reallocate(&s->alloc, items, *cap * elem, ncap * elem);
     if (p != NULL)
         *cap = ncap;
     return p;
@@ -71,8 +70,8 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     if (s == NULL)
         return RAY_ENOMEM;
     memset(s, 0, sizeof *s);
-    s->alloc = alloc;
-    s->alloc_ud = alloc_ud;
+    s->alloc.fn = alloc;
+    s->alloc.ud = alloc_ud;
     s->limits.max_depth = RAY_DEFAULT_MAX_DEPTH;
     s->limits.min_weight = RAY_DEFAULT_MIN_WEIGHT;
     s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
@@ -101,8 +100,8 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->surfaces, s->cap_surfaces * sizeof *s->surfaces);
     ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
-    ray__bvh_free(s, &s->tri_bvh);
-    ray__bvh_free(s, &s->prim_bvh);
+    ray__bvh_free(&s->alloc, &s->tri_bvh);
+    ray__bvh_free(&s->alloc, &s->prim_bvh);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
     ray__free(s, s->prims, s->cap_prims * sizeof *s->prims);
     ray__free(s, s->verts, s->cap_verts * sizeof *s->verts);
@@ -175,7 +174,7 @@ int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
     return RAY_OK;
 }
 
-static ray__prim prim_of(int kind, unsigned material)
+static ray__prim prim_of(ray__kind kind, unsigned material)
 {
     ray__prim p;
 
@@ -188,7 +187,7 @@ static ray__prim prim_of(int kind, unsigned material)
 int ray_scene_add_sphere(ray_scene *s, ray_vec3 center, double radius,
                          unsigned material, unsigned *geom_id)
 {
-    ray__prim p = prim_of(PRIM_SPHERE, material);
+    ray__prim p = prim_of(RAY__KIND_SPHERE, material);
     int rc = ray__begin(s, "ray_scene_add_sphere");
 
     if (rc != RAY_OK)
@@ -207,7 +206,7 @@ int ray_scene_add_sphere(ray_scene *s, ray_vec3 center, double radius,
 int ray_scene_add_plane(ray_scene *s, ray_vec3 point, ray_vec3 normal,
                         unsigned material, unsigned *geom_id)
 {
-    ray__prim p = prim_of(PRIM_PLANE, material);
+    ray__prim p = prim_of(RAY__KIND_PLANE, material);
     int rc = ray__begin(s, "ray_scene_add_plane");
 
     if (rc != RAY_OK)
@@ -226,7 +225,7 @@ int ray_scene_add_plane(ray_scene *s, ray_vec3 point, ray_vec3 normal,
 int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                            unsigned material, unsigned *geom_id)
 {
-    ray__prim p = prim_of(PRIM_TRIANGLE, material);
+    ray__prim p = prim_of(RAY__KIND_TRIANGLE, material);
     ray_vec3 n, v[3];
     int rc = ray__begin(s, "ray_scene_add_triangle"), k;
 
@@ -320,7 +319,7 @@ int ray__reserve_verts(ray_scene *s, size_t more)
 int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
                           unsigned material, unsigned *geom_id)
 {
-    ray__prim p = prim_of(PRIM_POLYGON, material);
+    ray__prim p = prim_of(RAY__KIND_POLYGON, material);
     ray_vec3 area = v3(0, 0, 0), unit;
     size_t i;
     int rc = ray__begin(s, "ray_scene_add_polygon");
@@ -366,7 +365,7 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
 int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
                        size_t count, const ray__mesh *shading, unsigned *id)
 {
-    ray__prim p = prim_of(PRIM_MESH, material);
+    ray__prim p = prim_of(RAY__KIND_MESH, material);
     void *grown;
     int rc;
 
@@ -668,7 +667,7 @@ static int commit_triangles(ray_scene *s)
     s->n_tris = n;
     if (n == 0)
         return RAY_OK;
-    rc = ray__bvh_build(s, tri_box, s, n, &tri_costs, &s->tri_bvh);
+    rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs, &s->tri_bvh);
     if (rc != RAY_OK)
         return rc;
     permute_tris(s, s->tri_bvh.items, n);
@@ -691,24 +690,9 @@ static void prim_box(const void *ud, size_t item, float *blo, float *bhi)
 {
     const prim_list *pl = ud;
     const ray_scene *s = pl->s;
-    const ray__prim *p = &s->prims[pl->ids[item]];
     ray_vec3 lo, hi;
-    size_t i;
 
-    if (p->kind == PRIM_SPHERE) {
-        lo = v3(p->a.x - p->radius, p->a.y - p->radius, p->a.z - p->radius);
-        hi = v3(p->a.x + p->radius, p->a.y + p->radius, p->a.z + p->radius);
-    } else if (p->kind != PRIM_POLYGON) {      /* the curved surfaces */
-        lo = p->a;
-        hi = p->b;
-    } else {
-        lo = hi = s->verts[p->first];
-        for (i = 1; i < p->count; i++) {
-            ray_vec3 v = s->verts[p->first + i];
-            lo = v3(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
-            hi = v3(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
-        }
-    }
+    ray__prim_box(s, &s->prims[pl->ids[item]], &lo, &hi);
     /* lo - r and hi + r round too: one more float step covers that. */
     blo[0] = nextafterf(ray__float_down(lo.x), -HUGE_VALF);
     blo[1] = nextafterf(ray__float_down(lo.y), -HUGE_VALF);
@@ -731,10 +715,9 @@ static int commit_prims(ray_scene *s)
     int rc = RAY_OK;
 
     for (i = 0; i < s->n_prims; i++) {
-        int kind = s->prims[i].kind;
-        n_planes += kind == PRIM_PLANE;
-        n_bounded += kind != PRIM_PLANE && kind != PRIM_TRIANGLE &&
-                     kind != PRIM_MESH;
+        ray__class c = ray__kind_class(s->prims[i].kind);
+        n_planes += c == RAY__CLASS_UNBOUNDED;
+        n_bounded += c == RAY__CLASS_BOUNDED;
     }
     if (n_planes > 0 &&
         (planes = ray__alloc(s, n_planes * sizeof *planes)) == NULL)
@@ -743,15 +726,15 @@ static int commit_prims(ray_scene *s)
         rc = RAY_ENOMEM;
     if (rc == RAY_OK) {
         for (i = 0; i < s->n_prims; i++) {
-            int kind = s->prims[i].kind;
-            if (kind == PRIM_PLANE)
+            ray__class c = ray__kind_class(s->prims[i].kind);
+            if (c == RAY__CLASS_UNBOUNDED)
                 planes[np++] = (unsigned)i;
-            else if (kind != PRIM_TRIANGLE && kind != PRIM_MESH)
+            else if (c == RAY__CLASS_BOUNDED)
                 ids[nb++] = (unsigned)i;
         }
         pl.s = s;
         pl.ids = ids;
-        rc = ray__bvh_build(s, prim_box, &pl, n_bounded, &prim_costs,
+        rc = ray__bvh_build(&s->alloc, prim_box, &pl, n_bounded, &prim_costs,
                             &s->prim_bvh);
     }
     if (rc == RAY_OK) {
@@ -826,7 +809,7 @@ int ray_scene_commit(ray_scene *s)
                          "retry)");
     rc = commit_triangles(s);
     if (rc != RAY_OK) {
-        ray__bvh_free(s, &s->prim_bvh);
+        ray__bvh_free(&s->alloc, &s->prim_bvh);
         ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
         s->planes = NULL;
         s->n_planes = 0;

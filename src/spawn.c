@@ -2,7 +2,7 @@
 /*
 ** spawn.c -- secondary rays that start just off the surface.
 */
-#include "internal.h"
+#include "vec.h"
 
 /* x moved one ulp further in the direction of "dir" (not at all if 0). */
 static double step_away(double x, double dir)

@@ -3,7 +3,7 @@
 ** sphere.c -- ray / sphere: the lecture's quadratic, arranged so that
 ** neither the discriminant nor the near root cancels catastrophically.
 */
-#include "internal.h"
+#include "prim.h"
 
 /*
 ** Fill *hit for the root t.  The hit point is projected back onto the

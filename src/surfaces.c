@@ -7,11 +7,11 @@
 */
 #include <string.h>
 
-#include "internal.h"
+#include "scene.h"
 
 /* Append a surface descriptor and the primitive that names it; nothing
 ** is added on failure. */
-static int add_surface(ray_scene *s, int kind, unsigned material,
+static int add_surface(ray_scene *s, ray__kind kind, unsigned material,
                        const ray__surface *surf, ray_vec3 lo, ray_vec3 hi,
                        unsigned *geom_id)
 {
@@ -139,7 +139,7 @@ int ray_scene_add_torus(ray_scene *s, const ray_torus_params *t,
         return torus_fail(s, t);
     memset(&surf, 0, sizeof surf);
     surf.torus = *t;
-    return add_surface(s, PRIM_TORUS, material, &surf, lo, hi, geom_id);
+    return add_surface(s, RAY__KIND_TORUS, material, &surf, lo, hi, geom_id);
 }
 
 int ray_scene_add_implicit(ray_scene *s, const ray_implicit_surface *is,
@@ -160,7 +160,7 @@ int ray_scene_add_implicit(ray_scene *s, const ray_implicit_surface *is,
     ** ray to the box grown by it): so does the BVH's box. */
     tol = ray__implicit_tolerance(is);
     grow = v3(tol, tol, tol);
-    return add_surface(s, PRIM_IMPLICIT, material, &surf,
+    return add_surface(s, RAY__KIND_IMPLICIT, material, &surf,
                        v3_sub(is->lo, grow), v3_add(is->hi, grow), geom_id);
 }
 
@@ -188,7 +188,7 @@ int ray_scene_add_parametric(ray_scene *s, const ray_parametric_surface *ps,
     ** does the BVH's box. */
     tol = ps->tolerance > 0 ? ps->tolerance : ray__default_tolerance(lo, hi);
     grow = v3(tol, tol, tol);
-    return add_surface(s, PRIM_PARAMETRIC, material, &surf,
+    return add_surface(s, RAY__KIND_PARAMETRIC, material, &surf,
                        v3_sub(lo, grow), v3_add(hi, grow), geom_id);
 }
 
@@ -207,7 +207,7 @@ int ray_scene_add_bezier(ray_scene *s, const ray_vec3 cp[16],
     if (cp == NULL)
         return ray__fail(s, RAY_EINVAL, "control points are NULL");
     memset(&p, 0, sizeof p);
-    p.kind = PRIM_BEZIER;
+    p.kind = RAY__KIND_BEZIER;
     p.material = material;
     p.a = p.b = cp[0];
     for (k = 0; k < 16; k++) {

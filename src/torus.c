@@ -4,7 +4,7 @@
 ** formula; and the same torus as an implicit surface (its signed
 ** distance) for ray_implicit, so the two methods can check each other.
 */
-#include "internal.h"
+#include "prim.h"
 
 /* The torus in its own frame: a unit axis "a" (local z) with the
 ** tangents t1, t2 (local x, y) of ray__tangent_frame. */

@@ -6,7 +6,7 @@
 */
 #include <string.h>
 
-#include "internal.h"
+#include "trace.h"
 
 void ray__ctx_start(ray_ctx *ctx, unsigned long long rng)
 {
@@ -124,7 +124,7 @@ static void mesh_shading(const ray_scene *s, const ray_hit *hit,
     const unsigned *t;
     double w0 = 1.0 - hit->u - hit->v, w1 = hit->u, w2 = hit->v;
 
-    if (p->kind != PRIM_MESH)
+    if (p->kind != RAY__KIND_MESH)
         return;
     m = &s->meshes[p->mesh];
     if (m->indices == NULL)

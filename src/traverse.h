@@ -6,13 +6,15 @@
 ** AVX2 (the Makefile adds -mavx2 on x86), which ray__intersect and
 ** ray__occluded pick at run time on CPUs that have it.  Both copies do
 ** the same arithmetic, lane for lane, so they give the same answers.
+** The traversal knows triangles alone, tested inline; every other kind
+** is reached through the kinds' dispatch, ray__prim_intersect (kinds.c).
 */
 #ifndef RAY_TRAVERSE_H
 #define RAY_TRAVERSE_H
 
 #include <string.h>
 
-#include "internal.h"
+#include "scene.h"
 #include "watertight.h"
 
 /*
@@ -359,37 +361,8 @@ enum { LEAF_TRIANGLES, LEAF_PRIMS };
 #define RAY__INLINE inline
 #endif
 
-/* The public counter index of an internal primitive kind. */
-static int kind_of(int prim_kind)
-{
-    switch (prim_kind) {
-    case PRIM_SPHERE:
-        return RAY_PRIM_SPHERE;
-    case PRIM_PLANE:
-        return RAY_PRIM_PLANE;
-    case PRIM_POLYGON:
-        return RAY_PRIM_POLYGON;
-    case PRIM_TORUS:
-        return RAY_PRIM_TORUS;
-    case PRIM_IMPLICIT:
-        return RAY_PRIM_IMPLICIT;
-    case PRIM_PARAMETRIC:
-    case PRIM_BEZIER:
-        return RAY_PRIM_PARAMETRIC;
-    default:
-        return RAY_PRIM_TRIANGLE;
-    }
-}
-
-/* What one query counts: tests by kind, and the curved-surface tests
-** that failed (iteration limit) and were taken as misses. */
-typedef struct query_counts {
-    unsigned long long tests[RAY_PRIM_KINDS];
-    unsigned long long failures;
-} query_counts;
-
 /* Add a query's counts to *st (if any). */
-static void add_counts(ray_stats *st, const query_counts *qc)
+static void add_counts(ray_stats *st, const ray__counts *qc)
 {
     int k;
 
@@ -405,7 +378,7 @@ static void add_counts(ray_stats *st, const query_counts *qc)
 static int tri_leaf(const ray_scene *s, trav *tr, unsigned first,
                     unsigned end, ray_ray *r, void *best, int any);
 static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
-                     query_counts *qc);
+                     ray__counts *qc);
 
 /* A node's slot waiting on the traversal stack: child and count as in
 ** ray__wnode, and where the ray enters its box. */
@@ -437,7 +410,7 @@ static inline int lowest_bit(unsigned mask)
 */
 static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
                                 trav *tr, ray_ray *r, int leaf,
-                                void *best, int any, query_counts *qc)
+                                void *best, int any, ray__counts *qc)
 {
     pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
     unsigned child = 0, count = 0;    /* the root: an inner node */
@@ -511,7 +484,6 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
         } else {
             unsigned i, end = child + (count & ~RAY__LEAF);
             for (i = child; i < end; i++) {
-                qc->tests[kind_of(s->prims[bvh->items[i]].kind)]++;
                 if (prim_test(s, i, r, best, qc)) {
                     found = 1;
                     if (any)
@@ -622,68 +594,12 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
     return found;
 }
 
-/* A Bezier patch from its control points in the scene. */
-static int bezier_intersect(const ray_scene *s, const ray__prim *p,
-                            const ray_ray *r, ray_hit *hit)
-{
-    ray_parametric_surface ps;
-
-    if (ray_bezier_surface(s->verts + p->first, &ps) != RAY_OK)
-        return 0;          /* cannot happen: checked when added */
-    return ray_parametric(r, &ps, hit);
-}
-
-/*
-** One primitive other than a triangle against the ray; fills *hit on a
-** hit.  A curved surface whose iteration failed (a negative answer) is a
-** miss, counted in *failures.
-*/
-static int prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
-                          ray_hit *hit, unsigned long long *failures)
-{
-    const ray__prim *p = &s->prims[i];
-    int ok;
-
-    switch (p->kind) {
-    case PRIM_SPHERE:
-        ok = ray_sphere(r, p->a, p->radius, hit);
-        break;
-    case PRIM_PLANE:
-        ok = ray_plane(r, p->a, p->b, hit);
-        break;
-    case PRIM_TORUS:
-        ok = ray_torus(r, &s->surfaces[p->surface].torus, hit);
-        break;
-    case PRIM_IMPLICIT:
-        ok = ray_implicit(r, &s->surfaces[p->surface].implicit, hit);
-        break;
-    case PRIM_PARAMETRIC:
-        ok = ray_parametric(r, &s->surfaces[p->surface].parametric, hit);
-        break;
-    case PRIM_BEZIER:
-        ok = bezier_intersect(s, p, r, hit);
-        break;
-    default:
-        ok = ray_polygon(r, s->verts + p->first, p->count, hit);
-        break;
-    }
-    if (ok < 0) {
-        (*failures)++;
-        return 0;
-    }
-    if (ok) {
-        hit->geom_id = i;
-        hit->prim_id = 0;
-    }
-    return ok;
-}
-
 static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
-                     void *best, query_counts *qc)
+                     void *best, ray__counts *qc)
 {
     ray_hit h;
 
-    if (!prim_intersect(s, s->prim_bvh.items[item], r, &h, &qc->failures))
+    if (!ray__prim_intersect(s, s->prim_bvh.items[item], r, &h, qc))
         return 0;
     r->tmax = h.t;
     if (best != NULL)
@@ -694,7 +610,7 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
 static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                          ray_stats *st)
 {
-    query_counts qc;
+    ray__counts qc;
     ray_ray rr = *r;
     ray_hit best;
     tri_best tb;
@@ -707,11 +623,10 @@ static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
     trav_init(&tr, r);
     memset(&qc, 0, sizeof qc);
     for (i = 0; i < s->n_planes; i++)
-        if (prim_intersect(s, s->planes[i], &rr, &best, &qc.failures)) {
+        if (ray__prim_intersect(s, s->planes[i], &rr, &best, &qc)) {
             rr.tmax = best.t;
             found = 1;
         }
-    qc.tests[RAY_PRIM_PLANE] += s->n_planes;
     if (traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, &best, 0, &qc))
         found = 1;
     if (traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc)) {
@@ -732,7 +647,7 @@ static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 
 static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
 {
-    query_counts qc;
+    ray__counts qc;
     ray_ray rr = *r;
     ray_hit h;
     trav tr;
@@ -743,10 +658,8 @@ static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
         return 0;
     trav_init(&tr, r);
     memset(&qc, 0, sizeof qc);
-    for (i = 0; i < s->n_planes && !hit; i++) {
-        qc.tests[RAY_PRIM_PLANE]++;
-        hit = prim_intersect(s, s->planes[i], &rr, &h, &qc.failures);
-    }
+    for (i = 0; i < s->n_planes && !hit; i++)
+        hit = ray__prim_intersect(s, s->planes[i], &rr, &h, &qc);
     if (!hit)
         hit = traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, NULL, 1, &qc) ||
               traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1,

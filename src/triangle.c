@@ -3,7 +3,7 @@
 ** triangle.c -- ray / triangle by Cramer's rule (Shirley and Marschner,
 ** "Fundamentals of Computer Graphics", 3rd ed., section 4.4.2).
 */
-#include "internal.h"
+#include "prim.h"
 #include "watertight.h"
 
 /*

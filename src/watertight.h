@@ -9,7 +9,7 @@
 #ifndef RAY_WATERTIGHT_H
 #define RAY_WATERTIGHT_H
 
-#include "internal.h"
+#include "prim.h"
 
 typedef struct ray__watertight {
     ray__frame f;            /* kx, ky swapped for a negative dz */

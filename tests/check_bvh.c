@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 #include "bench.h"
-#include "internal.h"
+#include "scene.h"
 #include "tests.h"
 
 /* A scene whose material *mat (0) shades nothing. */
@@ -512,7 +512,7 @@ END_TEST
 /*
 ** The traversal's float interval must contain the double one: down(x) is
 ** the largest float <= x and up(x) the smallest >= x (the bit-stepping,
-** branch-free versions of internal.h against libm's nextafterf), at
+** branch-free versions of vec.h against libm's nextafterf), at
 ** zeros, denormals, float's overflow threshold, infinities and on 200,000
 ** random doubles of every magnitude; NaN stays NaN.
 */

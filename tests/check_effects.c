@@ -84,6 +84,114 @@ START_TEST(diffuse_scene_should_cast_exact_counts)
 }
 END_TEST
 
+/* Geometry of kind "which" (0 .. 8: sphere, plane, triangle, polygon,
+** mesh, torus, implicit, parametric, Bezier patch), about the origin,
+** under looking_down(); its RAY_PRIM_* counter in *counter.  cp: room
+** for a patch's control points, which the parametric surface borrows. */
+static void add_one_kind(ray_scene *s, int which, unsigned mat,
+                         ray_vec3 cp[16], int *counter)
+{
+    static const ray_vec3 square[4] = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1},
+                                       {-1, 0, 1}};
+    static const unsigned tris[6] = {0, 1, 2, 0, 2, 3};
+    /* static: the implicit torus keeps a pointer to it */
+    static const ray_torus_params t = {{0, 0, 0}, {0, 1, 0}, 1.0, 0.3};
+    ray_implicit_surface is;
+    ray_parametric_surface ps;
+    ray_mesh m;
+    int i, rc = RAY_EINVAL;
+
+    for (i = 0; i < 16; i++)
+        cp[i] = vec(-1 + (i % 4) * (2.0 / 3), 0.1 * (i % 3),
+                    -1 + (i / 4) * (2.0 / 3));
+    switch (which) {
+    case 0:
+        rc = ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL);
+        *counter = RAY_PRIM_SPHERE;
+        break;
+    case 1:
+        rc = ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat,
+                                 NULL);
+        *counter = RAY_PRIM_PLANE;
+        break;
+    case 2:
+        rc = ray_scene_add_triangle(s, square[0], square[1], square[2],
+                                    mat, NULL);
+        *counter = RAY_PRIM_TRIANGLE;
+        break;
+    case 3:
+        rc = ray_scene_add_polygon(s, square, 4, mat, NULL);
+        *counter = RAY_PRIM_POLYGON;
+        break;
+    case 4:
+        ray_mesh_init(&m);
+        m.vertices = square;
+        m.vertex_count = 4;
+        m.indices = tris;
+        m.triangle_count = 2;
+        rc = ray_scene_add_mesh(s, &m, mat, NULL);
+        *counter = RAY_PRIM_TRIANGLE;
+        break;
+    case 5:
+        rc = ray_scene_add_torus(s, &t, mat, NULL);
+        *counter = RAY_PRIM_TORUS;
+        break;
+    case 6:
+        ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+        rc = ray_scene_add_implicit(s, &is, mat, NULL);
+        *counter = RAY_PRIM_IMPLICIT;
+        break;
+    case 7:
+        ck_assert_int_eq(ray_bezier_surface(cp, &ps), RAY_OK);
+        rc = ray_scene_add_parametric(s, &ps, mat, NULL);
+        *counter = RAY_PRIM_PARAMETRIC;
+        break;
+    default:
+        rc = ray_scene_add_bezier(s, cp, mat, NULL);
+        *counter = RAY_PRIM_PARAMETRIC;
+        break;
+    }
+    ck_assert_int_eq(rc, RAY_OK);
+}
+
+/*
+** tests_by_kind has room for RAY_PRIM_KINDS_MAX counters, RAY_PRIM_KINDS
+** of them in use: a scene of one kind of geometry counts every test under
+** that kind's RAY_PRIM_* (triangles and meshes under RAY_PRIM_TRIANGLE,
+** Bezier patches under RAY_PRIM_PARAMETRIC), and every other counter,
+** those past RAY_PRIM_KINDS included, stays exactly 0.
+*/
+START_TEST(tests_should_count_under_each_kinds_counter)
+{
+    ray_stats st;
+    int which;
+
+    ck_assert_int_le(RAY_PRIM_KINDS, RAY_PRIM_KINDS_MAX);
+    ck_assert_uint_eq(sizeof st.tests_by_kind / sizeof st.tests_by_kind[0],
+                      RAY_PRIM_KINDS_MAX);
+    for (which = 0; which <= 8; which++) {
+        ray_camera cam = looking_down();
+        ray_material m = plain();
+        float img[3 * W * H];
+        ray_vec3 cp[16];
+        ray_scene *s;
+        unsigned mat;
+        int counter = -1, k;
+
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+        add_one_kind(s, which, mat, cp, &counter);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        st = render_counts(s, &cam, img);
+        ck_assert_uint_gt(st.tests, 0);
+        for (k = 0; k < RAY_PRIM_KINDS_MAX; k++)
+            ck_assert_uint_eq(st.tests_by_kind[k],
+                              k == counter ? st.tests : 0);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
 /*
 ** A closed box of six mirror planes (reflectance 1) around the camera:
 ** every primary ray bounces until the depth limit, so with max_depth = 5
@@ -393,6 +501,7 @@ Suite *effects_suite(void)
 
     tcase_set_timeout(aa, 120);
     tcase_add_test(counts, diffuse_scene_should_cast_exact_counts);
+    tcase_add_test(counts, tests_should_count_under_each_kinds_counter);
     tcase_add_test(counts, mirror_box_should_stop_at_the_depth_bound);
     tcase_add_test(counts, pruning_should_trace_fewer_rays_than_naive_mode);
     tcase_add_test(counts, texture_effect_should_follow_the_materials);

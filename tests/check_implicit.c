@@ -6,7 +6,7 @@
 */
 #include <stdlib.h>
 
-#include "internal.h"
+#include "prim.h"
 #include "tests.h"
 
 /* ----------------------------------------------------------- fields */

@@ -6,7 +6,7 @@
 ** reports errors against a higher-precision reference (long double), or
 ** counts of leaks, false hits, misclassifications and self-hits.
 ** Header-only; every function is static.  Uses the library's internal
-** naive variants (src/internal.h).
+** naive variants (src/prim.h).
 */
 #ifndef RAY_HARDCASES_H
 #define RAY_HARDCASES_H
@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "prim.h"
 
 /* splitmix64: a fixed-seed generator (the same inputs on every run). */
 typedef struct hc_rng {

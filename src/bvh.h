@@ -1,0 +1,98 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** bvh.h -- the BVH: its node types and its builder (bvh.c), generic over
+** the items' boxes and allocating through an allocator of its own, so it
+** knows nothing of the scene that uses it.
+*/
+#ifndef RAY_BVH_H
+#define RAY_BVH_H
+
+#include "prim.h"
+
+/*
+** A node of the binary BVH that the build makes and collapses into wide
+** nodes: its box, in float, rounded outward from the double geometry so
+** it still contains it; an inner node (count == 0) has its two children
+** side by side at nodes[first] and nodes[first + 1], a leaf holds items
+** first .. first + count - 1.
+*/
+typedef struct ray__node {
+    float lo[3], hi[3];
+    unsigned first, count;
+} ray__node;
+
+/*
+** The traversal's node: up to RAY__WIDTH children's boxes side by side,
+** one float array per bound and axis, so four- or eight-lane arithmetic
+** tests them all at once.  Eight children rather than four halve the
+** depth a ray descends, and traversal is a chain of dependent node visits
+** (each ~70 cycles, mostly latency); the two four-lane halves of a node
+** are independent and overlap.  count[k] == 0: child[k] is the index of an
+** inner node; else slot k is a leaf, count[k] == RAY__LEAF | n, of the n
+** items from child[k].  An unused slot is a leaf of no items with an
+** empty box (lo = +Inf, hi = -Inf), so even a ray that "entered" it would
+** test nothing.  256 bytes: four cache lines.
+*/
+#define RAY__WIDTH 8
+#define RAY__LEAF 0x80000000u
+typedef struct ray__wnode {
+    float lo[3][RAY__WIDTH], hi[3][RAY__WIDTH];
+    unsigned child[RAY__WIDTH], count[RAY__WIDTH];
+} ray__wnode;
+
+typedef struct ray__bvh {
+    ray__node *nodes;    /* binary BVH: built first, freed after collapse */
+    size_t n_nodes, cap_nodes;
+    ray__wnode *wide;    /* what traversal uses */
+    size_t n_wide;
+    unsigned *items;     /* leaf order -> item index */
+    size_t n_items;
+} ray__bvh;
+
+/*
+** An allocator as ray.h's ray_alloc_fn describes it, with its user data:
+** what the BVH allocates through (the scene passes its own), so the BVH
+** needs nothing of the scene.
+*/
+typedef struct ray__allocator {
+    ray_alloc_fn fn;
+    void *ud;
+} ray__allocator;
+
+static inline void *ray__allocate(const ray__allocator *a, size_t size)
+{
+    return a->fn(a->ud, NULL, 0, size);
+}
+
+static inline void ray__release(const ray__allocator *a, void *ptr,
+                                size_t size)
+{
+    if (ptr != NULL)
+        a->fn(a->ud, ptr, size, 0);
+}
+
+static inline void *ray__reallocate(const ray__allocator *a, void *ptr,
+                                    size_t osize, size_t nsize)
+{
+    return a->fn(a->ud, ptr, osize, nsize);
+}
+
+/*
+** Build a BVH over n items whose float boxes box(ud, i, lo, hi) writes
+** (rounded outward), with the binned surface-area heuristic, collapsed to
+** RAY__WIDTH-wide nodes.  On success *out holds the nodes and the item
+** permutation (through allocator a).  RAY_OK or RAY_ENOMEM (nothing
+** kept).  ray__bvh_free gives them back through the same allocator.
+*/
+typedef void (*ray__box_fn)(const void *ud, size_t i, float lo[3],
+                            float hi[3]);
+typedef struct ray__bvh_costs {
+    float traversal;         /* a split's cost, in item tests */
+    unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
+} ray__bvh_costs;
+int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
+                   const void *ud, size_t n, const ray__bvh_costs *costs,
+                   ray__bvh *out);
+void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
+
+#endif /* RAY_BVH_H */

@@ -1,0 +1,263 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** kinds.c -- what the scene does by kind of primitive, generated from the
+** one list of kinds (RAY__PRIM_KINDS, prim.h): each dispatch below is a
+** switch over ray__kind with a case for every kind and no default, each
+** case calling the kind's own function (box_NAME, hit_NAME) or returning
+** its column of the list.  The library is built with -Wswitch-enum, so a
+** kind added to the list without them does not compile.
+*/
+#include "scene.h"
+
+/* ray_stats.tests_by_kind holds RAY_PRIM_KINDS_MAX counters (ray.h). */
+typedef char ray__counters_fit[RAY_PRIM_KINDS <= RAY_PRIM_KINDS_MAX ? 1 : -1];
+
+/* ------------------------------------------------------------ the boxes */
+
+static void box_SPHERE(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                       ray_vec3 *hi)
+{
+    (void)s;
+    *lo = v3(p->a.x - p->radius, p->a.y - p->radius, p->a.z - p->radius);
+    *hi = v3(p->a.x + p->radius, p->a.y + p->radius, p->a.z + p->radius);
+}
+
+/* Unbounded: the whole space (never asked: planes are not in a BVH). */
+static void box_PLANE(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                      ray_vec3 *hi)
+{
+    (void)s;
+    (void)p;
+    *lo = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+    *hi = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+}
+
+/* The box of n points. */
+static void points_box(const ray_vec3 *v, size_t n, ray_vec3 *lo,
+                       ray_vec3 *hi)
+{
+    size_t i;
+
+    *lo = *hi = v[0];
+    for (i = 1; i < n; i++) {
+        *lo = v3(fmin(lo->x, v[i].x), fmin(lo->y, v[i].y),
+                 fmin(lo->z, v[i].z));
+        *hi = v3(fmax(hi->x, v[i].x), fmax(hi->y, v[i].y),
+                 fmax(hi->z, v[i].z));
+    }
+}
+
+/* The box of triangles tris[first ..] (never asked: triangles are boxed
+** one by one for the triangle BVH; and only before commit reorders
+** them). */
+static void triangles_box(const ray_scene *s, const ray__prim *p,
+                          ray_vec3 *lo, ray_vec3 *hi)
+{
+    ray_vec3 tlo, thi;
+    size_t i;
+
+    *lo = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+    *hi = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+    for (i = p->first; i < p->first + p->count; i++) {
+        points_box(&s->tris[i].a, 3, &tlo, &thi);
+        *lo = v3(fmin(lo->x, tlo.x), fmin(lo->y, tlo.y), fmin(lo->z, tlo.z));
+        *hi = v3(fmax(hi->x, thi.x), fmax(hi->y, thi.y), fmax(hi->z, thi.z));
+    }
+}
+
+static void box_TRIANGLE(const ray_scene *s, const ray__prim *p,
+                         ray_vec3 *lo, ray_vec3 *hi)
+{
+    triangles_box(s, p, lo, hi);
+}
+
+static void box_MESH(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                     ray_vec3 *hi)
+{
+    triangles_box(s, p, lo, hi);
+}
+
+static void box_POLYGON(const ray_scene *s, const ray__prim *p,
+                        ray_vec3 *lo, ray_vec3 *hi)
+{
+    points_box(s->verts + p->first, p->count, lo, hi);
+}
+
+/* The curved surfaces keep the box they were added with in a, b. */
+static void stored_box(const ray__prim *p, ray_vec3 *lo, ray_vec3 *hi)
+{
+    *lo = p->a;
+    *hi = p->b;
+}
+
+static void box_TORUS(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                      ray_vec3 *hi)
+{
+    (void)s;
+    stored_box(p, lo, hi);
+}
+
+static void box_IMPLICIT(const ray_scene *s, const ray__prim *p,
+                         ray_vec3 *lo, ray_vec3 *hi)
+{
+    (void)s;
+    stored_box(p, lo, hi);
+}
+
+static void box_PARAMETRIC(const ray_scene *s, const ray__prim *p,
+                           ray_vec3 *lo, ray_vec3 *hi)
+{
+    (void)s;
+    stored_box(p, lo, hi);
+}
+
+static void box_BEZIER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                       ray_vec3 *hi)
+{
+    (void)s;
+    stored_box(p, lo, hi);
+}
+
+/* ----------------------------------------------------- the intersections */
+
+static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
+                      const ray_ray *r, ray_hit *hit)
+{
+    (void)s;
+    return ray_sphere(r, p->a, p->radius, hit);
+}
+
+static int hit_PLANE(const ray_scene *s, const ray__prim *p,
+                     const ray_ray *r, ray_hit *hit)
+{
+    (void)s;
+    return ray_plane(r, p->a, p->b, hit);
+}
+
+/* Triangles are in the triangle BVH, which traverse.h tests inline, so
+** their geometry is never asked (and after commit its tris[first ..]
+** are reordered): a miss. */
+static int in_triangle_bvh(void)
+{
+    return 0;
+}
+
+static int hit_TRIANGLE(const ray_scene *s, const ray__prim *p,
+                        const ray_ray *r, ray_hit *hit)
+{
+    (void)s, (void)p, (void)r, (void)hit;
+    return in_triangle_bvh();
+}
+
+static int hit_MESH(const ray_scene *s, const ray__prim *p,
+                    const ray_ray *r, ray_hit *hit)
+{
+    (void)s, (void)p, (void)r, (void)hit;
+    return in_triangle_bvh();
+}
+
+static int hit_POLYGON(const ray_scene *s, const ray__prim *p,
+                       const ray_ray *r, ray_hit *hit)
+{
+    return ray_polygon(r, s->verts + p->first, p->count, hit);
+}
+
+static int hit_TORUS(const ray_scene *s, const ray__prim *p,
+                     const ray_ray *r, ray_hit *hit)
+{
+    return ray_torus(r, &s->surfaces[p->surface].torus, hit);
+}
+
+static int hit_IMPLICIT(const ray_scene *s, const ray__prim *p,
+                        const ray_ray *r, ray_hit *hit)
+{
+    return ray_implicit(r, &s->surfaces[p->surface].implicit, hit);
+}
+
+static int hit_PARAMETRIC(const ray_scene *s, const ray__prim *p,
+                          const ray_ray *r, ray_hit *hit)
+{
+    return ray_parametric(r, &s->surfaces[p->surface].parametric, hit);
+}
+
+/* A Bezier patch from its control points in the scene. */
+static int hit_BEZIER(const ray_scene *s, const ray__prim *p,
+                      const ray_ray *r, ray_hit *hit)
+{
+    ray_parametric_surface ps;
+
+    if (ray_bezier_surface(s->verts + p->first, &ps) != RAY_OK)
+        return 0;          /* cannot happen: checked when added */
+    return ray_parametric(r, &ps, hit);
+}
+
+/* ---------------------------------------------------------- the dispatch */
+
+ray__class ray__kind_class(ray__kind kind)
+{
+    switch (kind) {
+#define CLASS_OF(name, counted_as, class)                                  \
+    case RAY__KIND_##name:                                                 \
+        return RAY__CLASS_##class;
+        RAY__PRIM_KINDS(CLASS_OF)
+#undef CLASS_OF
+    }
+    return RAY__CLASS_BOUNDED;      /* not a ray__kind: cannot happen */
+}
+
+/* Inline here, where the intersection counts its tests. */
+static inline int counter_of(ray__kind kind)
+{
+    switch (kind) {
+#define COUNTER_OF(name, counted_as, class)                                \
+    case RAY__KIND_##name:                                                 \
+        return counted_as;
+        RAY__PRIM_KINDS(COUNTER_OF)
+#undef COUNTER_OF
+    }
+    return RAY_PRIM_TRIANGLE;       /* not a ray__kind: cannot happen */
+}
+
+int ray__kind_counter(ray__kind kind)
+{
+    return counter_of(kind);
+}
+
+void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                   ray_vec3 *hi)
+{
+    switch (p->kind) {
+#define BOX_OF(name, counted_as, class)                                    \
+    case RAY__KIND_##name:                                                 \
+        box_##name(s, p, lo, hi);                                          \
+        break;
+        RAY__PRIM_KINDS(BOX_OF)
+#undef BOX_OF
+    }
+}
+
+int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc)
+{
+    const ray__prim *p = &s->prims[i];
+    int ok = 0;
+
+    qc->tests[counter_of(p->kind)]++;
+    switch (p->kind) {
+#define HIT_OF(name, counted_as, class)                                    \
+    case RAY__KIND_##name:                                                 \
+        ok = hit_##name(s, p, r, hit);                                     \
+        break;
+        RAY__PRIM_KINDS(HIT_OF)
+#undef HIT_OF
+    }
+    if (ok < 0) {
+        qc->failures++;
+        return 0;
+    }
+    if (ok) {
+        hit->geom_id = i;
+        hit->prim_id = 0;
+    }
+    return ok;
+}

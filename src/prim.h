@@ -1,0 +1,260 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** prim.h -- the primitives' layer: the ray's frame, the default
+** tolerance, the primitives' internal entry points, and the one list of
+** primitive kinds.  A primitive's source file includes this (or vec.h)
+** alone: it cannot see the BVH, the scene or the trace context.
+*/
+#ifndef RAY_PRIM_H
+#define RAY_PRIM_H
+
+#include "vec.h"
+
+/*
+** The default tolerance of ray_implicit and ray_parametric for a surface
+** in the box [lo, hi] (ray.h): 1e-9 of the box's diagonal -- far below
+** what a picture shows, far above the rounding of a reasonable field or
+** S(u, v) of a surface that size -- plus 64 ulps of the box's largest
+** |coordinate| (64 DBL_EPSILON m), because far from the origin the
+** coordinates themselves, and f computed from them, are that coarse.
+** (Relative to the coordinates alone, a unit sphere at 1e9 would get a
+** tolerance of 1.)  The diagonal is formed from coordinates divided by
+** the largest, so it neither overflows nor underflows.
+*/
+#define RAY__TOLERANCE_OF_DIAGONAL 1e-9
+#define RAY__TOLERANCE_ULPS 64.0
+static inline double ray__default_tolerance(ray_vec3 lo, ray_vec3 hi)
+{
+    double m = fmax(fmax(fabs(lo.x), fabs(hi.x)),
+                    fmax(fmax(fabs(lo.y), fabs(hi.y)),
+                         fmax(fabs(lo.z), fabs(hi.z))));
+    ray_vec3 e;
+
+    if (!(m > 0))
+        return 0;
+    e = v3(hi.x / m - lo.x / m, hi.y / m - lo.y / m, hi.z / m - lo.z / m);
+    return m * (RAY__TOLERANCE_OF_DIAGONAL * v3_length(e) +
+                RAY__TOLERANCE_ULPS * DBL_EPSILON);
+}
+
+/* ----------------------------------------------------- shared internals */
+/*
+** The ray's own frame (Woop, Benthin, Wald, "Watertight Ray/Triangle
+** Intersection", JCGT 2(1), 2013, section 3): kz is the axis of dir's
+** largest component, kx and ky the two others in cyclic order, and the
+** shear (sx, sy) maps dir onto the kz axis.  A vertex is projected on its
+** own, translated to the ray origin and sheared, so vertices shared by two
+** primitives get bit-identical coordinates: what makes both the polygon
+** test and the watertight triangle test watertight.
+*/
+typedef struct ray__frame {
+    size_t at[3];            /* byte offsets of components kx, ky, kz */
+    double o[3];             /* the origin's components kx, ky, kz */
+    double dz;               /* dir's component along kz */
+    double sx, sy;
+} ray__frame;
+
+/* The frame's axes kx, ky, kz (a permutation of 0, 1, 2) for origin org. */
+static inline void ray__frame_axes(ray__frame *f, ray_vec3 org, int kx,
+                                   int ky, int kz)
+{
+    static const size_t at[3] = {offsetof(ray_vec3, x),
+                                 offsetof(ray_vec3, y),
+                                 offsetof(ray_vec3, z)};
+    f->at[0] = at[kx];
+    f->at[1] = at[ky];
+    f->at[2] = at[kz];
+    f->o[0] = v3_at(&org, f->at[0]);
+    f->o[1] = v3_at(&org, f->at[1]);
+    f->o[2] = v3_at(&org, f->at[2]);
+}
+
+/* Set up the frame of r; 0 (frame unset) for a zero or NaN direction.
+** Indexing instead of branches: which axis is largest is a coin toss for
+** incoherent rays, and a mispredicted branch costs more than the lot. */
+static inline int ray__frame_init(ray__frame *f, const ray_ray *r)
+{
+    static const int next_axis[3] = {1, 2, 0};
+    ray_vec3 ad = v3_abs(r->dir);
+    double d[3];
+    int x_largest = (ad.x > ad.y) & (ad.x > ad.z);
+    int y_largest = !(ad.x > ad.y) & (ad.y > ad.z);
+    int kz = 2 - 2 * x_largest - y_largest, kx = next_axis[kz];
+    int ky = next_axis[kx];
+
+    d[0] = r->dir.x;
+    d[1] = r->dir.y;
+    d[2] = r->dir.z;
+    f->dz = d[kz];
+    if (f->dz == 0 || f->dz != f->dz)
+        return 0;
+    f->sx = d[kx] / f->dz;
+    f->sy = d[ky] / f->dz;
+    ray__frame_axes(f, r->org, kx, ky, kz);
+    return 1;
+}
+
+/* Vertex v in the frame: p[0], p[1] sheared so the ray is (0, 0); p[2]
+** the unsheared distance along kz (v - org)[kz]. */
+static inline void ray__frame_project(const ray__frame *f, const ray_vec3 *v,
+                                      double p[3])
+{
+    p[2] = v3_at(v, f->at[2]) - f->o[2];
+    p[0] = (v3_at(v, f->at[0]) - f->o[0]) - f->sx * p[2];
+    p[1] = (v3_at(v, f->at[1]) - f->o[1]) - f->sy * p[2];
+}
+
+/* A ray that can hit anything: finite origin and direction, a non-zero
+** direction and tmin < tmax (a hit needs tmin < t < tmax); every other
+** ray hits nothing, whatever the geometry. */
+static inline int ray__ray_usable(const ray_ray *r)
+{
+    /* x - x is 0 for a finite x and NaN for an infinite or NaN one: one
+    ** compare for all six components, and no branch but the last. */
+    double finite = ((r->org.x - r->org.x) + (r->org.y - r->org.y)) +
+                    ((r->org.z - r->org.z) + (r->dir.x - r->dir.x)) +
+                    ((r->dir.y - r->dir.y) + (r->dir.z - r->dir.z));
+    int nonzero = (r->dir.x != 0) | (r->dir.y != 0) | (r->dir.z != 0);
+
+    return (finite == 0) & nonzero & (r->tmin < r->tmax);
+}
+
+/*
+** The textbook sphere test exactly as the lecture writes it (b^2 - ac on
+** the raw coefficients, (-b -+ sqrt)/a).  Kept only so tests and the bench
+** can show what the cancellation-free ray_sphere buys; not exported.
+*/
+int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
+                      ray_hit *hit);
+
+/*
+** Fill *hit for a hit at parameter t on the plane through "point" with
+** UNIT normal n: the point is projected back onto the plane and given the
+** tangent-frame (u, v) of ray_plane, measured from "origin".  Returns 0,
+** leaving *hit untouched, if a result is not finite.
+*/
+double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
+                          double denom, double t);
+int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
+                    ray_vec3 origin, double t, ray_hit *hit);
+
+/*
+** The real roots of the polynomial c[0] + c[1] x + ... + c[degree] x^degree
+** in [lo, hi], ascending, into roots[] (room for degree + 1 needed):
+** src/poly.c, after Yuksel (HPG 2022).  c[degree] must not be 0.
+*/
+#define RAY__POLY_MAX_DEGREE 4
+int ray__poly_roots(const double *c, int degree, double lo, double hi,
+                    double *roots);
+
+/* 1 if ray_implicit accepts descriptor s (what it answers -RAY_EINVAL to
+** whatever the ray); for the scene, which checks when a surface is added. */
+int ray__implicit_valid(const ray_implicit_surface *s);
+
+/* 1 if ray_parametric accepts descriptor s, with its domain (defaults
+** applied) in d = {u0, u1, v0, v1}; 0 (d untouched) otherwise. */
+int ray__parametric_domain(const ray_parametric_surface *s, double d[4]);
+
+/* The tolerance ray_implicit uses for a valid descriptor (its own or
+** the default); hits lie within it of the surface's box. */
+double ray__implicit_tolerance(const ray_implicit_surface *s);
+
+/* The box of a torus, rounded outward (0 for invalid params). */
+int ray__torus_box(const ray_torus_params *t, ray_vec3 *lo, ray_vec3 *hi);
+
+/* The triangle test alone (t, beta, gamma) and the hit record of a hit,
+** split so a BVH can test many triangles and fill only the nearest. */
+int ray__triangle_test(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                       double *t, double *beta, double *gamma);
+int ray__triangle_fill(ray_vec3 a, ray_vec3 b, ray_vec3 c, double t,
+                       double beta, double gamma, ray_hit *hit);
+int ray__triangle_watertight_test(const ray_ray *r, ray_vec3 a, ray_vec3 b,
+                                  ray_vec3 c, double *t, double *beta,
+                                  double *gamma);
+
+/* The naive variants the stability suite and the bench compare with
+** (not exported): float Cramer, and barycentrics divided by N.N. */
+int ray__triangle_float(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                        double *t);
+int ray__barycentric_naive(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                           double abg[3]);
+
+/*
+** The bicubic Bezier fast path of ray_parametric (bezier.c), declared
+** here for parametric.c: instead of one bounds call per rectangle, which
+** rebuilds the sub-patch's control net from the whole patch, the
+** traversal carries each quad-tree node's 4 x 4 net and halves it by de
+** Casteljau.  ray__bezier_points: the 16 control points of a surface
+** made by ray_bezier_surface, NULL for any other.  ray__bezier_magnitude:
+** the "mag" the boxes are grown with.  ray__bezier_split: the net (row
+** i, column j at net[stride*i + j]) split at u = v = 1/2 into the 7 x 7
+** grid whose 4 x 4 corner blocks, at grid + ray__bezier_quarter(q), are
+** the quarters' nets (q: bit 0 the upper u half, bit 1 the upper v
+** half), and their boxes, grown to contain the exact sub-patches at
+** "level" halvings below the patch.
+*/
+#define RAY__BEZIER_GRID 7
+const ray_vec3 *ray__bezier_points(const ray_parametric_surface *s);
+ray_vec3 ray__bezier_magnitude(const ray_vec3 cp[16]);
+void ray__bezier_split(const ray_vec3 *net, int stride, ray_vec3 mag,
+                       unsigned level,
+                       ray_vec3 grid[RAY__BEZIER_GRID * RAY__BEZIER_GRID],
+                       ray_vec3 lo[4], ray_vec3 hi[4]);
+static inline int ray__bezier_quarter(unsigned q)
+{
+    return RAY__BEZIER_GRID * ((q & 2u) ? 3 : 0) + ((q & 1u) ? 3 : 0);
+}
+
+/* ------------------------------------------------------ the kinds */
+
+/*
+** The kinds of primitive, one line each: X(NAME, counted as, class).
+** Everything that depends on the kind is generated from this list: the
+** enum ray__kind below, and in src/kinds.c the box, the class, the
+** intersection and the statistics kind of a piece of geometry.
+**   NAME        the constant RAY__KIND_NAME, and the suffix of the kind's
+**               functions in src/kinds.c, box_NAME and hit_NAME;
+**   counted as  the RAY_PRIM_* of ray.h its tests count under in
+**               ray_stats.tests_by_kind;
+**   class       where a committed scene keeps it (scene.h, ray__class):
+**               TRIANGLES, in the triangle BVH, whose triangles
+**               traverse.h tests inline; BOUNDED, in the BVH over the
+**               other bounded primitives, tested through hit_NAME;
+**               UNBOUNDED, tested on every ray (the plane), through
+**               hit_NAME.
+** No switch over ray__kind has a default, and the library is built with
+** -Wswitch-enum: a kind left out of a switch, or a line here without its
+** box_NAME and hit_NAME, is a compile error rather than a wrong picture.
+**
+** Adding a kind NAME (say a bounded one, a box or a capsule):
+**   1. include/ray.h: ray_NAME (and its parameter struct), its
+**      ray_scene_add_NAME, and RAY_PRIM_NAME, just before RAY_PRIM_KINDS
+**      (which must stay <= RAY_PRIM_KINDS_MAX);
+**   2. src/NAME.c, including prim.h alone: ray_NAME, and what the scene
+**      needs of it (a validity test and a box, as ray__torus_box),
+**      declared here below the list;
+**   3. the line X(NAME, RAY_PRIM_NAME, BOUNDED) below, and a member of
+**      ray__surface (scene.h) if the scene keeps its parameters;
+**   4. src/kinds.c: box_NAME and hit_NAME, a few lines each, which the
+**      compiler asks for;
+**   5. src/surfaces.c: ray_scene_add_NAME, through add_surface;
+**   6. tests/check_NAME.c (registered in tests/check_main.c and
+**      tests/tests.h), man/man3/ray_NAME.3 (a Makefile MLINKS entry for
+**      each other function it documents), and README.md.
+*/
+#define RAY__PRIM_KINDS(X)                                 \
+    X(SPHERE,     RAY_PRIM_SPHERE,     BOUNDED)            \
+    X(PLANE,      RAY_PRIM_PLANE,      UNBOUNDED)          \
+    X(TRIANGLE,   RAY_PRIM_TRIANGLE,   TRIANGLES)          \
+    X(POLYGON,    RAY_PRIM_POLYGON,    BOUNDED)            \
+    X(MESH,       RAY_PRIM_TRIANGLE,   TRIANGLES)          \
+    X(TORUS,      RAY_PRIM_TORUS,      BOUNDED)            \
+    X(IMPLICIT,   RAY_PRIM_IMPLICIT,   BOUNDED)            \
+    X(PARAMETRIC, RAY_PRIM_PARAMETRIC, BOUNDED)            \
+    X(BEZIER,     RAY_PRIM_PARAMETRIC, BOUNDED)
+
+#define RAY__KIND_ENUM(name, counted_as, class) RAY__KIND_##name,
+typedef enum ray__kind { RAY__PRIM_KINDS(RAY__KIND_ENUM) } ray__kind;
+#undef RAY__KIND_ENUM
+
+#endif /* RAY_PRIM_H */

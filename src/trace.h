@@ -1,0 +1,52 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** trace.h -- tracing: the per-thread context (struct ray_ctx) and the
+** sampler's helpers.
+*/
+#ifndef RAY_TRACE_H
+#define RAY_TRACE_H
+
+#include "scene.h"
+
+struct ray_ctx {
+    const ray_scene *scene;
+    ray_stats stats;
+    unsigned long long rng;  /* splitmix64 state of the current sample */
+    int in_shade;            /* inside a material callback */
+    unsigned depth;          /* depth of the hit being shaded */
+    double weight;           /* path weight of the ray being shaded */
+    unsigned effects;        /* effects of the material being shaded */
+    unsigned fanout;         /* secondary rays spawned by that hit so far */
+};
+
+/* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed
+** generator whose state is a single counter, so a pixel's sequence can be
+** started anywhere from a hash of its coordinates. */
+static inline unsigned long long ray__mix64(unsigned long long z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* The sampler state of sample "s" of pixel (x, y) in a frame with "seed":
+** a hash of all four, independent of which thread renders the pixel. */
+static inline unsigned long long ray__pixel_seed(unsigned long long seed,
+                                                 unsigned x, unsigned y,
+                                                 unsigned s)
+{
+    unsigned long long h = ray__mix64(seed + 0x9e3779b97f4a7c15ull);
+    h = ray__mix64(h ^ (((unsigned long long)y << 32) | x));
+    return ray__mix64(h + s);
+}
+
+/* The least k with k * k >= n (n <= 65536): a square grid of strata. */
+unsigned ray__strata_side(unsigned n);
+
+/* (a, b) in [-1,1]^2 onto the unit disk, by the concentric map. */
+void ray__concentric_disk(double a, double b, double *x, double *y);
+
+/* Reset a context's per-sample state. */
+void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
+
+#endif /* RAY_TRACE_H */
