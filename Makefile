@@ -45,40 +45,12 @@ TEST_SRCS = $(filter-out tests/check_main.c,$(wildcard tests/check_*.c))
 TEST_BIN = $(BUILD)/tests/check_ray
 EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
 MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
-# Functions documented on another function's page, as page:alias.
-MLINKS = ray_version_number:ray_version_string ray_write_png:ray_image_to_srgb8 \
-    ray_scene_new:ray_scene_free ray_scene_new:ray_scene_commit \
-    ray_scene_new:ray_scene_set_background \
-    ray_scene_new:ray_scene_set_background_fn \
-    ray_scene_new:ray_scene_set_ambient ray_scene_new:ray_scene_set_limits \
-    ray_scene_new:ray_scene_light_count \
-    ray_scene_effects:ray_scene_set_pruning \
-    ray_scene_effects:ray_scene_set_watertight \
-    ray_triangle:ray_triangle_watertight \
-    ray_scene_add_sphere:ray_scene_add_plane \
-    ray_scene_add_sphere:ray_scene_add_triangle \
-    ray_scene_add_sphere:ray_scene_add_polygon \
-    ray_scene_add_sphere:ray_scene_add_material \
-    ray_scene_add_sphere:ray_scene_add_light ray_intersect:ray_occluded \
-    ray_trace:ray_ctx_new ray_trace:ray_ctx_free ray_trace:ray_ctx_stats \
-    ray_trace:ray_ctx_random ray_light_sample_at:ray_light_visible \
-    ray_light_sample_at:ray_light_samples ray_spawn:ray_spawn_to \
-    ray_reflect:ray_refract ray_reflect:ray_fresnel \
-    ray_material_phong:ray_material_mirror \
-    ray_material_phong:ray_material_glass \
-    ray_material_phong:ray_material_checker \
-    ray_render:ray_render_options_init \
-    ray_implicit:ray_implicit_blobs ray_torus:ray_implicit_torus \
-    ray_parametric:ray_bezier_surface \
-    ray_scene_add_implicit:ray_scene_add_torus \
-    ray_scene_add_implicit:ray_scene_add_parametric \
-    ray_scene_add_implicit:ray_scene_add_bezier \
-    ray_camera_init:ray_light_init ray_camera_init:ray_limits_init \
-    ray_camera_init:ray_mesh_init ray_camera_init:ray_phong_params_init \
-    ray_camera_init:ray_glass_params_init \
-    ray_image_load_png:ray_image_load_png_opt \
-    ray_image_load_png:ray_image_free ray_image_load_png:ray_image_size \
-    ray_image_load_png:ray_image_sample ray_image_load_png:ray_texture_image
+# Functions documented on another function's page, as page:alias: every
+# name of a page's NAME section after its own (.Nm lines), so a new page
+# needs no list here.
+MLINKS = $(shell for f in man/man3/*.3; do \
+    awk -v p="$$(basename $$f .3)" '/^\.Nm /{n=$$2; sub(/,$$/,"",n); \
+        if (n != p) print p ":" n}' "$$f"; done)
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test \
         man-lint license-test install uninstall clean deps-build deps-check bench

@@ -90,6 +90,22 @@ static void stored_box(const ray__prim *p, ray_vec3 *lo, ray_vec3 *hi)
     *hi = p->b;
 }
 
+/* A shape (RAY__SHAPES, prim.h): the box its check gave, and its
+** primitive on the parameters the scene keeps. */
+#define SHAPE_FUNCTIONS(X, NAME, name, type, counted_as)                   \
+    static void box_##NAME(const ray_scene *s, const ray__prim *p,          \
+                           ray_vec3 *lo, ray_vec3 *hi)                      \
+    {                                                                       \
+        (void)s;                                                            \
+        stored_box(p, lo, hi);                                              \
+    }                                                                       \
+    static int hit_##NAME(const ray_scene *s, const ray__prim *p,           \
+                          const ray_ray *r, ray_hit *hit)                   \
+    {                                                                       \
+        return ray_##name(r, &s->surfaces[p->surface].name, hit);          \
+    }
+RAY__SHAPES(SHAPE_FUNCTIONS, _)
+
 static void box_TORUS(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
                       ray_vec3 *hi)
 {

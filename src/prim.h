@@ -208,10 +208,40 @@ static inline int ray__bezier_quarter(unsigned q)
 /* ------------------------------------------------------ the kinds */
 
 /*
+** The shapes: bounded kinds whose scene record is their parameter block
+** alone (an oriented box, a capsule).  One line each,
+**     S(X, NAME, name, parameter type, counted as)
+** gives everything of a shape above its own source file: its line in the
+** kind list below, its member of the scene's ray__surface union (scene.h),
+** its box and its intersection in src/kinds.c (the box the check gave,
+** ray_name on the stored parameters), its ray_scene_add_name in
+** src/surfaces.c, and the declaration of its check:
+**     int ray__name_check(const type *p, ray_vec3 *lo, ray_vec3 *hi,
+**                         char *why, size_t why_size);
+** which answers 1 with a box containing every hit point ray_name can
+** compute (rounded outward) when ray_name accepts p, else 0 with a
+** message naming the field at fault in why (p may be NULL).  X is the
+** macro the line is expanded for; S the adapter that maps it.
+**
+** Adding a shape NAME:
+**   1. include/ray.h: its parameter struct, ray_name(r, params, hit),
+**      ray_scene_add_name(scene, params, material, geom_id), and
+**      RAY_PRIM_NAME just before RAY_PRIM_KINDS (<= RAY_PRIM_KINDS_MAX);
+**   2. src/name.c, including prim.h alone: ray_name and ray__name_check;
+**   3. its line below;
+**   4. tests/check_name.c (registered in tests/check_main.c and
+**      tests/tests.h), man/man3/ray_name.3 naming ray_scene_add_name in
+**      its NAME section too (the Makefile links every name it lists), and
+**      README.md.
+*/
+#define RAY__SHAPES(S, X)
+
+/*
 ** The kinds of primitive, one line each: X(NAME, counted as, class).
 ** Everything that depends on the kind is generated from this list: the
 ** enum ray__kind below, and in src/kinds.c the box, the class, the
 ** intersection and the statistics kind of a piece of geometry.
+** The shapes (above) come last, each as X(NAME, counted as, BOUNDED).
 **   NAME        the constant RAY__KIND_NAME, and the suffix of the kind's
 **               functions in src/kinds.c, box_NAME and hit_NAME;
 **   counted as  the RAY_PRIM_* of ray.h its tests count under in
@@ -226,7 +256,8 @@ static inline int ray__bezier_quarter(unsigned q)
 ** -Wswitch-enum: a kind left out of a switch, or a line here without its
 ** box_NAME and hit_NAME, is a compile error rather than a wrong picture.
 **
-** Adding a kind NAME (say a bounded one, a box or a capsule):
+** Adding a kind that is not a shape (its scene record needs more than a
+** parameter block: vertices, a mesh):
 **   1. include/ray.h: ray_NAME (and its parameter struct), its
 **      ray_scene_add_NAME, and RAY_PRIM_NAME, just before RAY_PRIM_KINDS
 **      (which must stay <= RAY_PRIM_KINDS_MAX);
@@ -251,7 +282,15 @@ static inline int ray__bezier_quarter(unsigned q)
     X(TORUS,      RAY_PRIM_TORUS,      BOUNDED)            \
     X(IMPLICIT,   RAY_PRIM_IMPLICIT,   BOUNDED)            \
     X(PARAMETRIC, RAY_PRIM_PARAMETRIC, BOUNDED)            \
-    X(BEZIER,     RAY_PRIM_PARAMETRIC, BOUNDED)
+    X(BEZIER,     RAY_PRIM_PARAMETRIC, BOUNDED)            \
+    RAY__SHAPES(RAY__SHAPE_KIND, X)
+
+#define RAY__SHAPE_KIND(X, NAME, name, type, counted_as)   \
+    X(NAME, counted_as, BOUNDED)
+#define RAY__SHAPE_CHECK(X, NAME, name, type, counted_as)  \
+    int ray__##name##_check(const type *p, ray_vec3 *lo, ray_vec3 *hi, \
+                            char *why, size_t why_size);
+RAY__SHAPES(RAY__SHAPE_CHECK, _)
 
 #define RAY__KIND_ENUM(name, counted_as, class) RAY__KIND_##name,
 typedef enum ray__kind { RAY__PRIM_KINDS(RAY__KIND_ENUM) } ray__kind;

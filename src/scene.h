@@ -32,6 +32,8 @@ typedef union ray__surface {
     ray_torus_params torus;
     ray_implicit_surface implicit;
     ray_parametric_surface parametric;
+#define RAY__SHAPE_MEMBER(X, NAME, name, type, counted_as) type name;
+    RAY__SHAPES(RAY__SHAPE_MEMBER, _)
 } ray__surface;
 
 /* One piece of geometry (what a geom_id names).  By kind: sphere: a =

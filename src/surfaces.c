@@ -239,3 +239,28 @@ int ray_scene_add_bezier(ray_scene *s, const ray_vec3 cp[16],
     s->n_verts += 16;
     return RAY_OK;
 }
+
+/*
+** ray_scene_add_NAME of every shape (RAY__SHAPES, prim.h): the shape's own
+** check decides what is valid (so a scene accepts exactly what ray_NAME
+** does), gives the box and names the field at fault.
+*/
+#define SHAPE_ADDER(X, NAME, name, type, counted_as)                       \
+    int ray_scene_add_##name(ray_scene *s, const type *params,              \
+                             unsigned material, unsigned *geom_id)          \
+    {                                                                       \
+        ray__surface surf;                                                  \
+        ray_vec3 lo, hi;                                                    \
+        char why[RAY__ERRMSG_SIZE];                                         \
+        int rc = ray__begin(s, "ray_scene_add_" #name);                     \
+                                                                            \
+        if (rc != RAY_OK)                                                   \
+            return rc;                                                      \
+        if (!ray__##name##_check(params, &lo, &hi, why, sizeof why))        \
+            return ray__fail(s, RAY_EINVAL, "%s", why);                     \
+        memset(&surf, 0, sizeof surf);                                      \
+        surf.name = *params;                                                \
+        return add_surface(s, RAY__KIND_##NAME, material, &surf, lo, hi,    \
+                           geom_id);                                        \
+    }
+RAY__SHAPES(SHAPE_ADDER, _)
