@@ -52,7 +52,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
     awk -v p="$$(basename $$f .3)" '/^\.Nm /{n=$$2; sub(/,$$/,"",n); \
         if (n != p) print p ":" n}' "$$f"; done)
 
-.PHONY: all lib check test demo sanitize tsan examples header-test symbols-test \
+.PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
         man-lint license-test install uninstall clean deps-build deps-check bench
 
 all: lib
@@ -167,7 +167,11 @@ man-lint:
 	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
 	fi
 
-check: deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) header-test symbols-test man-lint license-test
+# No source file includes a header above its layer (src/*.h).
+layers-test:
+	@scripts/check-layers.sh 2>/dev/null
+
+check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) header-test symbols-test man-lint license-test
 	$(TEST_BIN)
 	$(FAULTSIM)
 	@echo "check: running the examples (small sizes)"
