@@ -186,8 +186,8 @@ static void op_implicit(fuzz_input *in)
         s.step = fuzz_double(in);
     if (how & 8)
         s.tolerance = fuzz_double(in);
-    /* Mostly small budgets, sometimes the default (0). */
-    s.max_iterations = how & 16 ? 0 : 1 + fuzz_below(in, 4096);
+    /* Mostly small budgets, sometimes the default (0): 100,000. */
+    s.max_iterations = (how & 48) == 48 ? 0 : 1 + fuzz_below(in, 1024);
     r = fuzz_ray(in);
     fuzz_sentinel(&hit, sizeof hit);
     rc = ray_implicit(&r, &s, &hit);
@@ -378,7 +378,7 @@ static void op_bezier(fuzz_input *in)
     check_parametric(rc, &r, &s, &hit, "ray_parametric (Bezier)");
 }
 
-#define MAX_OPS 8
+#define MAX_OPS 4
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
