@@ -256,6 +256,14 @@ static void op_barycentric(fuzz_input *in)
                    "ray_barycentric: inside iff all three >= 0");
 }
 
+/* Whether a component is subnormal (not zero, below the smallest normal). */
+static int subnormal3(ray_vec3 v)
+{
+    return (v.x != 0 && fabs(v.x) < DBL_MIN) ||
+           (v.y != 0 && fabs(v.y) < DBL_MIN) ||
+           (v.z != 0 && fabs(v.z) < DBL_MIN);
+}
+
 /*
 ** The no-acne promise, where it is exact: a flat primitive cannot be hit
 ** again by a ray that leaves it (from either side), nor a sphere by one
@@ -282,6 +290,13 @@ static void check_no_rehit(const prim_state *st, const ray_ray *s, ray_vec3 dir)
         rc = ray_plane(s, st->a, st->b, &again);
     else if (st->kind == OP_SPHERE && dn > 0)
         rc = ray_sphere(s, st->a, st->b.x, &again);
+#ifdef FUZZ_KNOWN_DEFECT_UNDERFLOW
+    /* Relative error bounds (gamma(n) |x|) ignore underflow, whose error
+    ** is absolute (Higham, section 2.1): skip hits in the subnormal range
+    ** until p_err accounts for it. */
+    if (subnormal3(h->p) || subnormal3(h->n))
+        return;
+#endif
     FUZZ_CHECK(rc == 0, "ray_spawn: the spawned ray hits its own surface");
 }
 
