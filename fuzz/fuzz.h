@@ -39,9 +39,10 @@
 /* Found by these fuzzers, not in the issue: */
 #define FUZZ_KNOWN_DEFECT_FRESNEL /* ray_fresnel(1, 1e300) is NaN: eta^2
                                      overflows, Inf * 0 */
-#define FUZZ_KNOWN_DEFECT_UNDERFLOW /* p_err is 0 where p is computed in
-                                       subnormals: a ray spawned off a
-                                       triangle at z ~ 1e-312 re-hits it */
+#define FUZZ_KNOWN_DEFECT_UNDERFLOW /* p_err ignores underflow: a ray
+                                       spawned off a triangle with
+                                       coordinates 1e-312, or 1e-150 and
+                                       5e216, re-hits it */
 #endif
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -256,12 +256,37 @@ static void op_barycentric(fuzz_input *in)
                    "ray_barycentric: inside iff all three >= 0");
 }
 
-/* Whether a component is subnormal (not zero, below the smallest normal). */
-static int subnormal3(ray_vec3 v)
+/* The smallest and largest non-zero magnitudes among v's components. */
+static void magnitudes(ray_vec3 v, double *lo, double *hi)
 {
-    return (v.x != 0 && fabs(v.x) < DBL_MIN) ||
-           (v.y != 0 && fabs(v.y) < DBL_MIN) ||
-           (v.z != 0 && fabs(v.z) < DBL_MIN);
+    double c[3];
+    int k;
+    c[0] = fabs(v.x);
+    c[1] = fabs(v.y);
+    c[2] = fabs(v.z);
+    for (k = 0; k < 3; k++)
+        if (c[k] != 0) {
+            *lo = fmin(*lo, c[k]);
+            *hi = fmax(*hi, c[k]);
+        }
+}
+
+/*
+** Whether products of the inputs can underflow: the smallest magnitude
+** times a ratio of two (a barycentric, a direction's component) falls
+** below DBL_MIN.  Relative error bounds (gamma(n) |x|) ignore underflow,
+** whose error is absolute (Higham, section 2.1), so p_err can be 0 where
+** p has an error.
+*/
+static int may_underflow(const prim_state *st, ray_vec3 dir)
+{
+    double lo = HUGE_VAL, hi = 0;
+    magnitudes(st->a, &lo, &hi);
+    magnitudes(st->b, &lo, &hi);
+    magnitudes(st->c, &lo, &hi);
+    magnitudes(st->hit.p, &lo, &hi);
+    magnitudes(dir, &lo, &hi);
+    return hi > 0 && lo * (lo / hi) < DBL_MIN;
 }
 
 /*
@@ -291,10 +316,8 @@ static void check_no_rehit(const prim_state *st, const ray_ray *s, ray_vec3 dir)
     else if (st->kind == OP_SPHERE && dn > 0)
         rc = ray_sphere(s, st->a, st->b.x, &again);
 #ifdef FUZZ_KNOWN_DEFECT_UNDERFLOW
-    /* Relative error bounds (gamma(n) |x|) ignore underflow, whose error
-    ** is absolute (Higham, section 2.1): skip hits in the subnormal range
-    ** until p_err accounts for it. */
-    if (subnormal3(h->p) || subnormal3(h->n))
+    /* Until p_err accounts for underflow. */
+    if (may_underflow(st, dir))
         return;
 #endif
     FUZZ_CHECK(rc == 0, "ray_spawn: the spawned ray hits its own surface");
