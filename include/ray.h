@@ -431,7 +431,10 @@ RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
 ** Returns 1, 0 (miss), or -RAY_ELIMIT (*hit untouched) when no root was
 ** accepted and some Newton start at the deepest refinement neither
 ** converged nor left within max_iterations steps, or the refinement ran
-** out of boxes (non-convergence, reported rather than taken for a miss);
+** out of boxes (non-convergence, reported rather than taken for a miss),
+** or -- whether or not a root was found -- the descent to "subdivisions"
+** levels asked for more than 262,144 boxes (a ray lying in a flat patch
+** of a 12-level tree: its work per ray is bounded);
 ** -RAY_EINVAL for NULL r, s or hit, an invalid descriptor (NULL
 ** callbacks, an empty or non-finite domain, subdivisions > 12, a negative
 ** or non-finite tolerance), or non-finite values or a box with lo > hi

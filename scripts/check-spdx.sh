@@ -8,9 +8,12 @@
 # ignored), so a file is checked before its first commit.  Without git, or outside a git work tree (a
 # tarball), every file under the top directory except what .gitignore
 # leaves out of the repository (.git/, build/, data/, config.mak).
-# Exempt: LICENSE, which is the licence text itself, and binary files
-# (the PNG pictures), which have no comment syntax; a file counts as
-# binary when grep -I (GNU and BSD grep) finds no text line in it.
+# Exempt: LICENSE, which is the licence text itself, binary files (the
+# PNG pictures), which have no comment syntax -- a file counts as binary
+# when grep -I (GNU and BSD grep) finds no text line in it -- and the
+# fuzzers' inputs (fuzz/corpus/, fuzz/crashes/), which must stay the
+# exact bytes a target reads (fuzz/seeds.sh, which writes the seeds,
+# carries the line).
 set -eu
 cd "$(dirname "$0")/.."
 
@@ -27,6 +30,7 @@ list_files() {
 missing=$(list_files | while IFS= read -r f; do
     [ -f "$f" ] || continue               # deleted in the work tree
     [ "$f" = LICENSE ] && continue
+    case $f in fuzz/corpus/*|fuzz/crashes/*) continue;; esac
     grep -Iq . "$f" || continue           # binary (or empty)
     head -n 2 "$f" | grep -q 'SPDX-License-Identifier: MIT' || echo "$f"
 done)

@@ -57,6 +57,11 @@ double ray_fresnel(double cos_i, double eta)
     if (cos_i > 1)
         cos_i = 1;
     sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    /* NaN only from Inf * 0: eta^2 overflowed (eta > ~1e154) at normal
+    ** incidence, where sin^2 of the transmitted angle is exactly 0 (found
+    ** by fuzz/fuzz_primitives: ray_fresnel(1, 1e300) was NaN). */
+    if (sin2_t != sin2_t)
+        sin2_t = 0;
     if (sin2_t >= 1)
         return 1.0;
     cos_t = sqrt(1.0 - sin2_t);

@@ -63,6 +63,19 @@
 */
 #define REFINE_LEVELS 8u
 #define REFINE_BOX_BUDGET 4096u
+
+/*
+** The descent to "subdivisions" levels is bounded too: at most
+** DESCENT_BOX_BUDGET boxes per ray (4 per split), after which the ray
+** ends as non-convergence (-RAY_ELIMIT) rather than visiting every leaf of
+** a 12-level tree, 4^12 = 16.7 million of them, for a ray lying in a flat
+** patch (found by fuzz/fuzz_surfaces: 25 s for one ray).  A ray crossing
+** a 4096 x 4096 grid of leaves in a straight line meets ~2 x 4096 of them
+** and their ancestors, about 4 x 2 x 12 x 4096 / 12 boxes: the budget,
+** 2^18, leaves room for 8 times that, and bounds a ray's work to a few
+** tens of milliseconds.
+*/
+#define DESCENT_BOX_BUDGET 262144u
 #define MAX_LEVELS (MAX_SUBDIVISIONS + REFINE_LEVELS)
 
 /* Depth-first traversal: popping a node and pushing its 4 children adds
@@ -126,6 +139,8 @@ typedef struct job {
     double tol_t;            /* tol / |d|: the tolerance in units of t */
     unsigned levels, max_iter;
     unsigned refine_left;    /* boxes refinement may still ask for */
+    unsigned descent_left;   /* boxes the descent may still ask for */
+    int exhausted;           /* the descent ran out of its budget */
     ray_vec3 scale;          /* per axis, max |coordinate| of the box */
     int found;
     int undecided;           /* a start stuck, or refinement cut short */
@@ -753,6 +768,11 @@ static int search(job *j, const node *root)
         if (!(n.tnear < j->t))       /* a nearer root was found since */
             continue;
         if (n.level < j->levels) {
+            if (j->descent_left < 4) {
+                j->exhausted = 1;     /* a root found so far may not be */
+                return 1;             /* the nearest: -RAY_ELIMIT */
+            }
+            j->descent_left -= 4;
             if (!split(j, &n, stack, &top))
                 return 0;
         } else if (!visit_leaf(j, &n, stack, &top)) {
@@ -880,6 +900,8 @@ static int job_init(job *j, const ray_ray *r, const ray_parametric_surface *s,
     j->max_iter = s->max_iterations ? s->max_iterations
                                     : DEFAULT_MAX_ITERATIONS;
     j->refine_left = REFINE_BOX_BUDGET;
+    j->descent_left = DESCENT_BOX_BUDGET;
+    j->exhausted = 0;
     j->found = 0;
     j->undecided = 0;
     j->t = r->tmax;
@@ -924,6 +946,8 @@ int ray_parametric(const ray_ray *r, const ray_parametric_surface *s,
         j.cp = NULL;
     if (!(j.cp != NULL ? bezier_search(&j, &root) : search(&j, &root)))
         return -RAY_EINVAL;
+    if (j.exhausted)
+        return -RAY_ELIMIT;
     if (j.found)
         return fill_hit(&j, hit) ? 1 : -RAY_EINVAL;
     return j.undecided ? -RAY_ELIMIT : 0;
