@@ -17,15 +17,11 @@
 #include "fuzz.h"
 
 /*
-** Subdivision levels at most this deep while ray_parametric's cost is not
-** bounded (4^8 leaves take well under a second; 4^12, minutes).
+** Subdivision levels as decoded: ray_parametric bounds its work per ray
+** (its descent budget), so even 12 levels cost at most ~2^18 boxes.
 */
 static unsigned capped_levels(unsigned levels)
 {
-#ifdef FUZZ_KNOWN_DEFECT_PARAMETRIC_COST
-    if (levels > 8 && levels <= 12)
-        return 8;
-#endif
     return levels;
 }
 

@@ -24,10 +24,12 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
         return 0;
     p = v3_add(v3_add(v3_scale(va, alpha), v3_scale(vb, beta)),
                v3_scale(vc, gamma));
-    err = v3_scale(v3_add(v3_add(v3_abs(v3_scale(va, alpha)),
-                                 v3_abs(v3_scale(vb, beta))),
-                          v3_abs(v3_scale(vc, gamma))),
-                   ray__gamma(7));
+    /* Plus the three products' underflow, RAY__TINY each (vec.h). */
+    err = v3_add(v3_scale(v3_add(v3_add(v3_abs(v3_scale(va, alpha)),
+                                        v3_abs(v3_scale(vb, beta))),
+                                 v3_abs(v3_scale(vc, gamma))),
+                          ray__gamma(7)),
+                 v3(4 * RAY__TINY, 4 * RAY__TINY, 4 * RAY__TINY));
     if (!v3_isfinite(p) || !v3_isfinite(err))
         return 0;
     hit->t = t;
@@ -85,8 +87,9 @@ static double cramer_t_error(double a, double b, double c, double d,
                   ray__gamma(4) * fabs(n[k] * ae[k]);
         dm += n_err[k] * fabs(dir[k]) + ray__gamma(3) * fabs(n[k] * dir[k]);
     }
-    dt_num *= 1 + ray__gamma(2);
-    dm *= 1 + ray__gamma(2);
+    /* Underflow: the dozen products of each sum may lose RAY__TINY each. */
+    dt_num = dt_num * (1 + ray__gamma(2)) + 16 * RAY__TINY;
+    dm = dm * (1 + ray__gamma(2)) + 16 * RAY__TINY;
     return (dt_num + fabs(t) * dm) / fabs(m) + ray__gamma(2) * fabs(t);
 }
 

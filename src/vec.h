@@ -130,6 +130,19 @@ static inline void *ray__unconst(const void *p)
 ** Numerical Algorithms", 2nd ed., Lemma 3.1; pbrt-v4 util/float.h uses the
 ** same name).  Used to build the hit records' p_err bounds.
 */
+/*
+** Underflow: gamma(n) bounds relative errors, which hold only while no
+** result falls below DBL_MIN.  A product or quotient that underflows is
+** off by at most half the smallest subnormal, 2^-1075, in absolute terms
+** (sums and differences of subnormals are exact): IEEE 754's gradual
+** underflow, Higham 2nd ed., section 2.1.  The error bounds add
+** RAY__TINY (2^-1074, one whole subnormal) per product they cover, so
+** they stay bounds for geometry with coordinates near 1e-308 or whose
+** products underflow (found by fuzz/fuzz_primitives: a ray spawned off a
+** triangle at z = 2e-312 re-hit it).
+*/
+#define RAY__TINY 0x1p-1074
+
 static inline double ray__gamma(int n)
 {
     double nu = (double)n * (DBL_EPSILON * 0.5);

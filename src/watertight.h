@@ -127,12 +127,20 @@ static inline double ray__watertight_t_error(const ray__watertight *wt,
     double dx, dy, dzs, de, dt_num, at = fabs(t);
 
     max_zs *= fabs(wt->sz) * (1 + ray__gamma(1));
-    dx = ray__gamma(5) * (max_x + fabs(wt->f.sx) * max_z);
-    dy = ray__gamma(5) * (max_y + fabs(wt->f.sy) * max_z);
+    /* The shear s = d_k / d_z may underflow (a direction component 1e-150
+    ** beside 5e216): it is then off by up to RAY__TINY absolutely, and
+    ** s z by that times |z| (found by fuzz/fuzz_primitives). */
+    dx = ray__gamma(5) * (max_x + fabs(wt->f.sx) * max_z) +
+         2 * RAY__TINY * max_z;
+    dy = ray__gamma(5) * (max_y + fabs(wt->f.sy) * max_z) +
+         2 * RAY__TINY * max_z;
     dzs = ray__gamma(3) * max_zs;
     de = 2 * (ray__gamma(2) * max_x * max_y + dy * max_x + dx * max_y);
+    /* Underflow: each product of x, y, z and e, at most a dozen per
+    ** term, may lose RAY__TINY (vec.h). */
+    de += 8 * RAY__TINY;
     dt_num = 3 * (ray__gamma(3) * max_e * max_zs + de * max_zs +
-                  dzs * max_e);
+                  dzs * max_e) + 16 * RAY__TINY;
     return (dt_num + 3 * de * at) / fabs(det) + ray__gamma(4) * at;
 }
 
