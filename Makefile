@@ -175,6 +175,7 @@ man-lint:
 # the list the install rule uses is the one checked.
 docs-test:
 	@MLINKS="$(MLINKS)" scripts/check-docs.sh
+	@MLINKS="$(MLINKS)" scripts/test-check-docs.sh
 
 # No source file includes a header above its layer (src/*.h).
 layers-test:
