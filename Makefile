@@ -46,11 +46,13 @@ TEST_BIN = $(BUILD)/tests/check_ray
 EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
 MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # Functions documented on another function's page, as page:alias: every
-# name of a page's NAME section after its own (.Nm lines), so a new page
-# needs no list here.
+# name of a page's NAME section after its own (its .Nm lines, not those of
+# later sections), so a new page needs no list here; docs-test checks
+# that each is a function of ray.h shown in that page's SYNOPSIS.
 MLINKS = $(shell for f in man/man3/*.3; do \
-    awk -v p="$$(basename $$f .3)" '/^\.Nm /{n=$$2; sub(/,$$/,"",n); \
-        if (n != p) print p ":" n}' "$$f"; done)
+    awk -v p="$$(basename $$f .3)" '/^\.Sh /{name = ($$2 == "NAME")} \
+        name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
+        if (n != "" && n != p) print p ":" n}' "$$f"; done)
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench
