@@ -50,14 +50,16 @@ FUZZ_REPLAYS = $(FUZZ_TARGETS:%=$(BUILD)/fuzz-replay/%)
 EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
 MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # Functions documented on another function's page, as page:alias: every
-# name of a page's NAME section after its own (.Nm lines), so a new page
-# needs no list here.
+# name of a page's NAME section after its own (its .Nm lines, not those of
+# later sections), so a new page needs no list here; docs-test checks
+# that each is a function of ray.h shown in that page's SYNOPSIS.
 MLINKS = $(shell for f in man/man3/*.3; do \
-    awk -v p="$$(basename $$f .3)" '/^\.Nm /{n=$$2; sub(/,$$/,"",n); \
-        if (n != p) print p ":" n}' "$$f"; done)
+    awk -v p="$$(basename $$f .3)" '/^\.Sh /{name = ($$2 == "NAME")} \
+        name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
+        if (n != "" && n != p) print p ":" n}' "$$f"; done)
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
-        man-lint license-test install uninstall clean deps-build deps-check bench \
+        man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay
 
 all: lib
@@ -172,8 +174,23 @@ man-lint:
 	    for f in $(MANPAGES); do groff -mdoc -ww -z $$f || exit 1; done; \
 	fi
 
-check: deps-check lib $(TEST_BIN) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint license-test
+# The man pages state what include/ray.h states: every RAY_API prototype,
+# with the same return type and parameter types and names, in the
+# SYNOPSIS and NAME of one page, installed as that page or as one of the
+# MLINKS above; the types, constants and struct copies shown there too
+# (scripts/check-docs.sh says all it checks).  MLINKS is passed in so that
+# the list the install rule uses is the one checked.
+docs-test:
+	@MLINKS="$(MLINKS)" scripts/check-docs.sh
+	@MLINKS="$(MLINKS)" scripts/test-check-docs.sh
+
+# No source file includes a header above its layer (src/*.h).
+layers-test:
+	@scripts/check-layers.sh 2>/dev/null
+
+check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test
 	$(TEST_BIN)
+	$(FAULTSIM)
 	@$(MAKE) --no-print-directory fuzz-replay
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null

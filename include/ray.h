@@ -3,8 +3,13 @@
 ** ray.h -- the whole public interface of libray, a small C99 ray-tracing
 ** library.
 **
-** This header is the reference documentation; the man pages (ray(7) and
-** the ray_*(3) pages) are derived from it.
+** This header is the reference documentation.  The man pages (ray(7) and
+** the ray_*(3) pages) are written by hand from it, and "make check"
+** (docs-test, scripts/check-docs.sh) holds them to it: every RAY_API
+** prototype below, with the same return type and parameter types and
+** names, in the SYNOPSIS of one page; every public type and constant
+** named in some page; each copy of a struct here in a page declaring the
+** same members.  The prose of both is kept in step by hand.
 **
 ** Conventions that hold for every function below:
 **
