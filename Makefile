@@ -119,9 +119,12 @@ $(SHARED): $(OBJS) src/libray.map
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
+# The suites are built with the library's warning list: a float constant
+# (NAN, FLT_EPSILON) or a float pixel in a double expression is converted
+# explicitly, as in src/.
 $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(STATIC) | deps-check
 	@mkdir -p $(@D)
-	$(CC) -Wall -Wextra -Wpedantic -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
+	$(CC) $(WARN) -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 

@@ -34,7 +34,8 @@ static inline double rmse(const float *a, const float *b, size_t n)
     size_t i;
 
     for (i = 0; i < 3 * n; i++) {
-        double x = fmin(fmax(a[i], 0.0f), 1.0f), y = fmin(fmax(b[i], 0.0f), 1.0f);
+        double x = fmin(fmax((double)a[i], 0.0), 1.0),
+               y = fmin(fmax((double)b[i], 0.0), 1.0);
         sum += (x - y) * (x - y);
     }
     return sqrt(sum / (double)(3 * n));

@@ -68,7 +68,7 @@ START_TEST(barycentric_should_reject_bad_input_untouched)
     int inside = 7;
 
     ck_assert_int_eq(ray_barycentric(vec(0, 0, 0), a, b, c, NULL, &inside), RAY_EINVAL);
-    ck_assert_int_eq(ray_barycentric(vec(NAN, 0, 0), a, b, c, abg, &inside), RAY_EINVAL);
+    ck_assert_int_eq(ray_barycentric(vec((double)NAN, 0, 0), a, b, c, abg, &inside), RAY_EINVAL);
     ck_assert_int_eq(ray_barycentric(vec(0, 0, 0), vec(HUGE_VAL, 0, 0), b, c, abg, &inside), RAY_EINVAL);
     ck_assert_int_eq(ray_barycentric(vec(0, 0, 0), a, vec(0, -HUGE_VAL, 0), c, abg, &inside), RAY_EINVAL);
     /* Zero area: coincident and collinear vertices. */
@@ -98,7 +98,8 @@ START_TEST(barycentric_should_survive_needle_triangle)
     ray_vec3 a = vec(1000, 1000, 0), b = vec(1001, 1000, 0),
              c = vec(1000.3, 1000 + 1e-6, 0);
     ray_vec3 g = vscale(vadd(vadd(a, b), c), 1.0 / 3);
-    long double gamma_ref = ((long double)g.y - a.y) / ((long double)c.y - a.y);
+    long double gamma_ref = ((long double)g.y - (long double)a.y) /
+                            ((long double)c.y - (long double)a.y);
     double abg[3];
     int inside;
 

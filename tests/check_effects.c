@@ -437,7 +437,7 @@ static double rmse(const float *a, const float *b)
     double sum = 0;
     int i;
     for (i = 0; i < 3 * AW * AH; i++) {
-        double v = fmin(a[i], 1.0f) - fmin(b[i], 1.0f);
+        double v = fmin((double)a[i], 1.0) - fmin((double)b[i], 1.0);
         sum += v * v;
     }
     return sqrt(sum / (3 * AW * AH));
@@ -482,7 +482,7 @@ START_TEST(adaptive_should_reject_bad_options)
     ck_assert(o.adaptive_threshold == 0);
     o.adaptive_threshold = -1;
     ck_assert_int_eq(ray_render(t.s, &t.cam, &o, img, NULL), RAY_EINVAL);
-    o.adaptive_threshold = NAN;
+    o.adaptive_threshold = (double)NAN;
     ck_assert_int_eq(ray_render(t.s, &t.cam, &o, img, NULL), RAY_EINVAL);
     o.adaptive_threshold = 0.1;
     o.adaptive_depth = 0;

@@ -84,7 +84,7 @@ static void nan_bounds(void *ud, double u0, double u1, double v0,
     (void)ud;
     (void)u1;
     (void)v1;
-    *lo = vec(u0, v0, NAN);
+    *lo = vec(u0, v0, (double)NAN);
     *hi = vec(1, 1, 0);
 }
 
@@ -166,7 +166,7 @@ static int material_bad_effects(ray_scene *s)
 
 static int sphere_nan_center(ray_scene *s)
 {
-    return ray_scene_add_sphere(s, vec(0, NAN, 0), 1, 0, NULL);
+    return ray_scene_add_sphere(s, vec(0, (double)NAN, 0), 1, 0, NULL);
 }
 
 static int sphere_negative_radius(ray_scene *s)
@@ -196,7 +196,7 @@ static int plane_zero_normal(ray_scene *s)
 
 static int plane_nan_normal(ray_scene *s)
 {
-    return ray_scene_add_plane(s, vec(0, 0, 0), vec(NAN, 1, 0), 0, NULL);
+    return ray_scene_add_plane(s, vec(0, 0, 0), vec((double)NAN, 1, 0), 0, NULL);
 }
 
 static int plane_unknown_material(ray_scene *s)
@@ -206,7 +206,7 @@ static int plane_unknown_material(ray_scene *s)
 
 static int triangle_nan_vertex(ray_scene *s)
 {
-    return ray_scene_add_triangle(s, vec(0, 0, 0), vec(1, NAN, 0),
+    return ray_scene_add_triangle(s, vec(0, 0, 0), vec(1, (double)NAN, 0),
                                   vec(0, 1, 0), 0, NULL);
 }
 
@@ -312,7 +312,7 @@ static int mesh_nan_vertex(ray_scene *s)
 {
     mesh_data d;
     mesh_init(&d);
-    d.v[2].x = NAN;
+    d.v[2].x = (double)NAN;
     return ray_scene_add_mesh(s, &d.m, 0, NULL);
 }
 
@@ -328,7 +328,7 @@ static int mesh_nan_texcoord(ray_scene *s)
 {
     mesh_data d;
     mesh_init(&d);
-    d.tex[1] = NAN;
+    d.tex[1] = (double)NAN;
     return ray_scene_add_mesh(s, &d.m, 0, NULL);
 }
 
@@ -356,7 +356,7 @@ static int torus_null(ray_scene *s)
 static int torus_nan_center(ray_scene *s)
 {
     ray_torus_params t = torus_ok();
-    t.center.z = NAN;
+    t.center.z = (double)NAN;
     return ray_scene_add_torus(s, &t, 0, NULL);
 }
 
@@ -425,7 +425,7 @@ static int implicit_negative_lipschitz(ray_scene *s)
 static int implicit_nan_step(ray_scene *s)
 {
     ray_implicit_surface is = implicit_ok();
-    is.step = NAN;
+    is.step = (double)NAN;
     return ray_scene_add_implicit(s, &is, 0, NULL);
 }
 
@@ -506,7 +506,7 @@ static int bezier_nan_point(ray_scene *s)
 {
     ray_vec3 cp[16];
     bezier_ok(cp);
-    cp[5].z = NAN;
+    cp[5].z = (double)NAN;
     return ray_scene_add_bezier(s, cp, 0, NULL);
 }
 
@@ -538,7 +538,7 @@ static int light_unknown_kind(ray_scene *s)
 static int light_point_nan_position(ray_scene *s)
 {
     ray_light l = light_ok(RAY_LIGHT_POINT);
-    l.position.x = NAN;
+    l.position.x = (double)NAN;
     return ray_scene_add_light(s, &l, NULL);
 }
 
@@ -573,7 +573,7 @@ static int light_rect_parallel_edges(ray_scene *s)
 static int light_rect_nan_position(ray_scene *s)
 {
     ray_light l = light_ok(RAY_LIGHT_RECT);
-    l.position.z = NAN;
+    l.position.z = (double)NAN;
     return ray_scene_add_light(s, &l, NULL);
 }
 
@@ -591,7 +591,7 @@ static int background_negative(ray_scene *s)
 
 static int ambient_nan(ray_scene *s)
 {
-    return ray_scene_set_ambient(s, colour(NAN, 0, 0));
+    return ray_scene_set_ambient(s, colour((double)NAN, 0, 0));
 }
 
 static int limits_weight_above_one(ray_scene *s)

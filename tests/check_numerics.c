@@ -375,7 +375,7 @@ START_TEST(watertight_should_hit_the_shared_edge_vector)
     r.dir = v3(0, 0, 0);
     ck_assert_int_eq(ray_triangle_watertight(&r, v3(0, 0, 0), v3(1, 0, 0),
                                              v3(0, 1, 0), &h1), 0);
-    r.dir = v3(NAN, 0, -1);
+    r.dir = v3((double)NAN, 0, -1);
     ck_assert_int_eq(ray_triangle_watertight(&r, v3(0, 0, 0), v3(1, 0, 0),
                                              v3(0, 1, 0), &h1), 0);
 }
@@ -448,7 +448,7 @@ END_TEST
 */
 static double odd_value(hc_rng *g)
 {
-    static const double v[] = {NAN, HUGE_VAL, -HUGE_VAL, 0.0, -0.0,
+    static const double v[] = {(double)NAN, HUGE_VAL, -HUGE_VAL, 0.0, -0.0,
                                0x1p-1074, 1e-310, 1e300, -1e300, 1e-300,
                                1.0, -2.5, 0.5, 3.0};
     return v[(size_t)(hc_unit(g) * 14) % 14];

@@ -297,7 +297,7 @@ START_TEST(render_should_reject_bad_options)
     cam = t.cam;
     cam.vfov = 180;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
-    cam.vfov = NAN;
+    cam.vfov = (double)NAN;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_new(&open_scene, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_render(open_scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
@@ -406,7 +406,7 @@ START_TEST(render_pixels_should_always_be_finite)
 {
     enum { PW = 8, PH = 6 };
     static const double colours[4][3] = {
-        {1e40, -1e40, 0.25}, {NAN, 1.0, 1e300}, {0.5, 0.5, 0.5},
+        {1e40, -1e40, 0.25}, {(double)NAN, 1.0, 1e300}, {0.5, 0.5, 0.5},
         {HUGE_VAL, -HUGE_VAL, 3.0}};
     static const float want[4][3] = {
         {FLT_MAX, -FLT_MAX, 0.25f}, {0.0f, 1.0f, FLT_MAX},

@@ -264,7 +264,7 @@ static void render_wall(int axis, int as_plane)
                              u.y * px + vv.y * py - w.y,
                              u.z * px + vv.z * py - w.z), p, to;
             double t = -axis_of(cam.position, axis) / axis_of(d, axis);
-            double want = 0, dist, got = img[3 * (y * W + x)];
+            double want = 0, dist, got = (double)img[3 * (y * W + x)];
 
             p = vec(cam.position.x + t * d.x, cam.position.y + t * d.y,
                     cam.position.z + t * d.z);

@@ -89,7 +89,7 @@ START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
     ps = wave_surface();
     ps.subdivisions = 1000;                 /* beyond what ray_parametric takes */
     ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_EINVAL);
-    cp[5].y = NAN;
+    cp[5].y = (double)NAN;
     ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_bezier(s, NULL, 0, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 77);                      /* nothing added */

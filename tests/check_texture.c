@@ -217,7 +217,7 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     img = load_test_image();
     ck_assert_int_eq(ray_image_sample(NULL, 0, 0, &c), RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample(img, 0, 0, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, NAN, 0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, (double)NAN, 0, &c), RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample(img, 0, HUGE_VAL, &c), RAY_EINVAL);
     ck_assert_double_eq(c.r, 7);
     /* Huge coordinates keep their fraction's digits: 1e9 + 0.125 is
@@ -354,9 +354,9 @@ START_TEST(image_should_load_interlaced_files)
             ck_assert_double_eq(a.r, b.r);
             ck_assert_double_eq(a.g, b.g);
             ck_assert_double_eq(a.b, b.b);
-            ck_assert_double_eq_tol(a.r, v, CENTRE_TOL + FLT_EPSILON);
+            ck_assert_double_eq_tol(a.r, v, CENTRE_TOL + (double)FLT_EPSILON);
             ck_assert_double_eq_tol(a.b, v + 600.0 / 65535.0,
-                                    CENTRE_TOL + FLT_EPSILON);
+                                    CENTRE_TOL + (double)FLT_EPSILON);
         }
     ray_image_free(plain);
     ray_image_free(adam7);
@@ -381,7 +381,7 @@ START_TEST(image_should_expand_palettes_grey_and_alpha)
     static const unsigned char grey4[1] = {0x5f};     /* 5, 15 */
     static const unsigned char grey_alpha[2] = {200, 128};
     static const unsigned char grey16[2] = {0x80, 0x00};
-    const double tol = 2 * FLT_EPSILON;
+    const double tol = 2 * (double)FLT_EPSILON;
     double v;
     png_spec sp;
     ray_image *img;

@@ -285,7 +285,7 @@ START_TEST(shadow_rays_should_not_hit_their_own_surface)
         ck_assert_int_eq(ray_render(s, &cam, &opt, img, &st), RAY_OK);
         ck_assert_uint_eq(st.rays[RAY_KIND_SHADOW], 31 * 31);
         for (i = 0; i < 3 * 31 * 31; i++)
-            ck_assert_msg(fabs(img[i] - 0.5) < 1e-6, "offset %g: pixel %u = %g",
+            ck_assert_msg(fabs((double)img[i] - 0.5) < 1e-6, "offset %g: pixel %u = %g",
                           o, i / 3, (double)img[i]);
         ray_scene_free(s);
     }

@@ -82,13 +82,14 @@ static inline hc_sphere_result hc_sphere_far(double r, double D, int n,
         for (j = 0; j < n; j++) {
             double x = r * (-1.2 + 2.4 * (i + 0.5) / n);
             double y = r * (-1.2 + 2.4 * (j + 0.5) / n);
-            long double rho2 = (long double)x * x + (long double)y * y;
-            long double gap = (long double)r * r - rho2;
+            long double rho2 = (long double)x * (long double)x +
+                               (long double)y * (long double)y;
+            long double gap = (long double)r * (long double)r - rho2;
             ray_ray ray;
             ray_hit h;
             int expect, got;
 
-            if (fabsl(gap) < 1e-6L * r * r)
+            if (fabsl(gap) < 1e-6L * (long double)r * (long double)r)
                 continue;
             ray.org = v3(x, y, 0);
             ray.dir = v3(0, 0, -1);
@@ -133,9 +134,9 @@ static inline double hc_ground(double R, double h, int naive)
         ray.tmin = 0;
         ray.tmax = HUGE_VAL;
         /* f = org - c = (0, h + R, 0): a t^2 - 2 b t + cc = 0. */
-        a = 1.0L + (long double)slope * slope;
-        b = (long double)slope * ((long double)h + R);
-        cc = (long double)h * ((long double)h + 2.0L * R);
+        a = 1.0L + (long double)slope * (long double)slope;
+        b = (long double)slope * ((long double)h + (long double)R);
+        cc = (long double)h * ((long double)h + 2.0L * (long double)R);
         disc = b * b - a * cc;
         if (disc < 0)
             continue;
@@ -143,8 +144,8 @@ static inline double hc_ground(double R, double h, int naive)
         if (!(naive ? ray__sphere_naive(&ray, c, R, &hit)
                     : ray_sphere(&ray, c, R, &hit)))
             return HUGE_VAL;                /* a miss is the worst error */
-        if (fabsl(hit.t - t_ref) / t_ref > worst)
-            worst = (double)(fabsl(hit.t - t_ref) / t_ref);
+        if (fabsl((long double)hit.t - t_ref) / t_ref > (long double)worst)
+            worst = (double)(fabsl((long double)hit.t - t_ref) / t_ref);
     }
     return worst;
 }
@@ -616,14 +617,14 @@ static inline int hc_sliver_ref(const ray_ray *r, ray_vec3 A, ray_vec3 B,
                                 ray_vec3 C, double t, double beta,
                                 double gamma, hc_sliver_err *err)
 {
-    hc_quad e1[3] = {(hc_quad)B.x - A.x, (hc_quad)B.y - A.y,
-                     (hc_quad)B.z - A.z};
-    hc_quad e2[3] = {(hc_quad)C.x - A.x, (hc_quad)C.y - A.y,
-                     (hc_quad)C.z - A.z};
-    hc_quad s[3] = {(hc_quad)r->org.x - A.x, (hc_quad)r->org.y - A.y,
-                    (hc_quad)r->org.z - A.z};
-    hc_quad d[3] = {r->dir.x, r->dir.y, r->dir.z}, pv[3], qv[3], nq[3], det,
-            ts, bs, gs;
+    hc_quad e1[3] = {(hc_quad)B.x - (hc_quad)A.x, (hc_quad)B.y - (hc_quad)A.y,
+                     (hc_quad)B.z - (hc_quad)A.z};
+    hc_quad e2[3] = {(hc_quad)C.x - (hc_quad)A.x, (hc_quad)C.y - (hc_quad)A.y,
+                     (hc_quad)C.z - (hc_quad)A.z};
+    hc_quad s[3] = {(hc_quad)r->org.x - (hc_quad)A.x, (hc_quad)r->org.y - (hc_quad)A.y,
+                    (hc_quad)r->org.z - (hc_quad)A.z};
+    hc_quad d[3] = {(hc_quad)r->dir.x, (hc_quad)r->dir.y, (hc_quad)r->dir.z},
+            pv[3], qv[3], nq[3], det, ts, bs, gs;
     double nl, cosine, M, ulp, dl;
     const ray_vec3 *all[4] = {&r->org, &A, &B, &C};
     int i;
@@ -647,16 +648,16 @@ static inline int hc_sliver_ref(const ray_ray *r, ray_vec3 A, ray_vec3 B,
         return 0;
     nl = sqrt((double)(nq[0] * nq[0] + nq[1] * nq[1] + nq[2] * nq[2]));
     dl = sqrt(v3_dot(r->dir, r->dir));
-    cosine = fabs((double)(det / nl)) / dl;   /* det = -(e1 x e2) . d */
+    cosine = fabs((double)(det / (hc_quad)nl)) / dl;   /* det = -(e1 x e2) . d */
     M = 0;
     for (i = 0; i < 4; i++)
         M = fmax(M, fmax(fabs(all[i]->x), fmax(fabs(all[i]->y),
                                                fabs(all[i]->z))));
     ulp = nextafter(M, HUGE_VAL) - M;
-    err->t = fabs((double)(t - ts)) * dl * cosine / ulp;
-    err->u = fabs((double)(beta - bs)) * (nl / v3_length(v3_sub(C, A))) *
+    err->t = fabs((double)((hc_quad)t - ts)) * dl * cosine / ulp;
+    err->u = fabs((double)((hc_quad)beta - bs)) * (nl / v3_length(v3_sub(C, A))) *
              cosine / ulp;
-    err->v = fabs((double)(gamma - gs)) * (nl / v3_length(v3_sub(B, A))) *
+    err->v = fabs((double)((hc_quad)gamma - gs)) * (nl / v3_length(v3_sub(B, A))) *
              cosine / ulp;
     return 1;
 }
