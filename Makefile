@@ -129,7 +129,7 @@ $(SHARED): $(OBJS) src/libray.map
 # explicitly, as in src/.
 $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(STATIC) | deps-check
 	@mkdir -p $(@D)
-	$(CC) $(WARN) -Iinclude -Isrc -Iexamples -Ibench $(CFLAGS) $(STD_CFLAGS) \
+	$(CC) $(WARN) -Iinclude -Isrc -Iexamples -Ibench -Itests $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
@@ -139,9 +139,9 @@ FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
     png_image_write_to_stdio
-$(FAULTSIM): tests/faultsim.c include/ray.h $(STATIC)
+$(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/faultsim.c \
+	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
 $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)

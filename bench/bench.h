@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** bench.h -- what the benchmarks share: medians, image error, a counting
-** allocator, a material that shades nothing, a large grid mesh.
+** allocator, a large grid mesh; and, from tests/testkit.h, a generator
+** and a scene whose material shades nothing.
 ** Header-only; not part of the library.
 */
 #ifndef BENCH_BENCH_H
@@ -12,6 +13,7 @@
 #include <string.h>
 
 #include "ray.h"
+#include "testkit.h"
 
 static int bench_cmp_double(const void *a, const void *b)
 {
@@ -71,40 +73,6 @@ static inline void *counting_alloc(void *ud, void *ptr, size_t osize,
             c->peak = c->now;
     }
     return p;
-}
-
-/* A material that shades nothing, for scenes that are only intersected. */
-static inline void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                             ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
-/* A new scene (through "alloc", NULL for libc) whose material 0 shades
-** nothing.  RAY_OK, or the failing call's status (nothing kept). */
-static inline int nop_scene_new(ray_scene **out, ray_alloc_fn alloc,
-                                void *alloc_ud)
-{
-    ray_material m;
-    ray_scene *s;
-    int rc;
-
-    m.shade = nop_shade;
-    m.ud = NULL;
-    m.effects = 0;
-    rc = ray_scene_new(&s, alloc, alloc_ud);
-    if (rc != RAY_OK)
-        return rc;
-    rc = ray_scene_add_material(s, &m, NULL);
-    if (rc != RAY_OK) {
-        ray_scene_free(s);
-        return rc;
-    }
-    *out = s;
-    return RAY_OK;
 }
 
 /*

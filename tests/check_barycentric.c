@@ -188,7 +188,7 @@ END_TEST
 */
 START_TEST(barycentric_sum_should_hold_its_bound_far_away)
 {
-    hc_rng g = {42};
+    rng g = {42};
     ray_vec3 a = vec(0.1, 0.2, 0.3), b = vec(1.1, 0.25, 0.2),
              c = vec(0.3, 0.9, 0.7);
     double abg[3], sum, mag;
@@ -201,13 +201,13 @@ START_TEST(barycentric_sum_should_hold_its_bound_far_away)
     ck_assert(mag > 1e9);
     ck_assert(fabs(sum - 1) <= 3 * DBL_EPSILON * mag);
     for (i = 0; i < 100000; i++) {
-        double d = pow(10.0, 13 * hc_unit(&g) - 3);
-        ray_vec3 p = vec(d * (2 * hc_unit(&g) - 1),
-                         d * (2 * hc_unit(&g) - 1),
-                         d * (2 * hc_unit(&g) - 1));
-        a = vec(hc_unit(&g), hc_unit(&g), hc_unit(&g));
-        b = vec(hc_unit(&g), hc_unit(&g), hc_unit(&g));
-        c = vec(hc_unit(&g), hc_unit(&g), hc_unit(&g));
+        double d = pow(10.0, 13 * rng_unit(&g) - 3);
+        ray_vec3 p = vec(d * (2 * rng_unit(&g) - 1),
+                         d * (2 * rng_unit(&g) - 1),
+                         d * (2 * rng_unit(&g) - 1));
+        a = vec(rng_unit(&g), rng_unit(&g), rng_unit(&g));
+        b = vec(rng_unit(&g), rng_unit(&g), rng_unit(&g));
+        c = vec(rng_unit(&g), rng_unit(&g), rng_unit(&g));
         if (ray_barycentric(p, a, b, c, abg, NULL) != RAY_OK)
             continue;
         sum = abg[0] + abg[1] + abg[2];

@@ -63,7 +63,7 @@ START_TEST(diffuse_scene_should_cast_exact_counts)
             memset(&l, 0, sizeof l);
             l.kind = RAY_LIGHT_POINT;
             l.position = vec(k, 5, 0);
-            l.intensity = rgb_of(1, 1, 1);
+            l.intensity = rgb(1, 1, 1);
             ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
         }
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
@@ -321,9 +321,9 @@ static void aa_build(aa_scene *t)
     unsigned red, floor;
 
     memset(t, 0, sizeof *t);
-    t->red.diffuse = rgb_of(0.9, 0.1, 0.1);
-    t->white.diffuse = rgb_of(0.8, 0.8, 0.8);
-    t->grey.diffuse = rgb_of(0.1, 0.1, 0.1);
+    t->red.diffuse = rgb(0.9, 0.1, 0.1);
+    t->white.diffuse = rgb(0.8, 0.8, 0.8);
+    t->grey.diffuse = rgb(0.1, 0.1, 0.1);
     t->checker.even = ray_material_phong(&t->white);
     t->checker.odd = ray_material_phong(&t->grey);
     t->checker.scale = 1;
@@ -338,9 +338,9 @@ static void aa_build(aa_scene *t)
     memset(&l, 0, sizeof l);
     l.kind = RAY_LIGHT_POINT;
     l.position = vec(3, 6, 4);
-    l.intensity = rgb_of(40, 40, 40);
+    l.intensity = rgb(40, 40, 40);
     ck_assert_int_eq(ray_scene_add_light(t->s, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(t->s, rgb_of(0.3, 0.4, 0.6)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->s, rgb(0.3, 0.4, 0.6)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(t->s), RAY_OK);
     t->cam.position = vec(0, 2, 6);
     t->cam.look_at = vec(0, 0.8, 0);

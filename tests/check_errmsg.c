@@ -131,15 +131,6 @@ static ray_light light_ok(int kind)
     return l;
 }
 
-static ray_rgb colour(double r, double g, double b)
-{
-    ray_rgb c;
-    c.r = r;
-    c.g = g;
-    c.b = b;
-    return c;
-}
-
 /* ------------------------------------------------------------ the cases */
 
 /* Each case makes one failing call on a scene that has material 0 only. */
@@ -586,12 +577,12 @@ static int light_too_many_samples(ray_scene *s)
 
 static int background_negative(ray_scene *s)
 {
-    return ray_scene_set_background(s, colour(0.5, -0.25, 0));
+    return ray_scene_set_background(s, rgb(0.5, -0.25, 0));
 }
 
 static int ambient_nan(ray_scene *s)
 {
-    return ray_scene_set_ambient(s, colour((double)NAN, 0, 0));
+    return ray_scene_set_ambient(s, rgb((double)NAN, 0, 0));
 }
 
 static int limits_weight_above_one(ray_scene *s)
@@ -812,9 +803,9 @@ static int after_commit(ray_scene *s, int k)
     case 8: return ray_scene_add_parametric(s, &ps, 0, NULL);
     case 9: return ray_scene_add_bezier(s, cp, 0, NULL);
     case 10: return ray_scene_add_light(s, &l, NULL);
-    case 11: return ray_scene_set_background(s, colour(0, 0, 0));
+    case 11: return ray_scene_set_background(s, rgb(0, 0, 0));
     case 12: return ray_scene_set_background_fn(s, NULL, NULL);
-    case 13: return ray_scene_set_ambient(s, colour(0, 0, 0));
+    case 13: return ray_scene_set_ambient(s, rgb(0, 0, 0));
     case 14: return ray_scene_set_limits(s, NULL);
     case 15: return ray_scene_set_pruning(s, 0);
     case 16: return ray_scene_set_watertight(s, 0);
@@ -873,7 +864,7 @@ START_TEST(errmsg_should_follow_the_most_recent_call)
                      RAY_EINVAL);
     ck_assert_str_eq(ray_scene_errmsg(s), "ray_scene_add_sphere: material 0 "
                      "does not exist (the scene has 0)");
-    ck_assert_int_eq(ray_scene_set_ambient(s, colour(-1, 0, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(-1, 0, 0)), RAY_EINVAL);
     ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "ray_scene_set_ambient"));
     ck_assert_int_eq(ray_scene_set_pruning(s, 1), RAY_OK);
     ck_assert_str_eq(ray_scene_errmsg(s), "");

@@ -87,8 +87,8 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     ck_assert_uint_eq(id, 99);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
-    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(-1, 0, 0)), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0, (double)NAN, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(-1, 0, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, (double)NAN, 0)), RAY_EINVAL);
     {
         ray_limits lim = {3, 2.0, 1};
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
@@ -118,8 +118,8 @@ START_TEST(scene_should_be_read_only_after_commit)
     ck_assert_int_eq(ray_scene_add_triangle(s, tri[0], tri[1], tri[2], mat, NULL), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_add_polygon(s, tri, 3, mat, NULL), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(0, 0, 0)), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0, 0, 0)), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(0, 0, 0)), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0)), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_set_background_fn(s, NULL, NULL), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_ESTATE);
     ray_scene_free(s);
@@ -318,7 +318,7 @@ START_TEST(queries_from_several_threads_should_agree_with_one)
     l.kind = RAY_LIGHT_SPHERE;
     l.position = vec(10, 8, 5);
     l.radius = 1;
-    l.intensity = rgb_of(50, 50, 50);
+    l.intensity = rgb(50, 50, 50);
     l.samples = 4;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);

@@ -691,7 +691,7 @@ static void probe_texture(void *ud, const ray_shade_args *a, ray_rgb *out)
     p->u = a->u;
     p->v = a->v;
     p->calls++;
-    *out = rgb_of(1, 1, 1);
+    *out = rgb(1, 1, 1);
 }
 
 /* Trace one primary ray through a committed scene; the colour. */
@@ -726,7 +726,7 @@ START_TEST(texture_should_see_every_primitives_coordinates)
             cp[4 * i + j] = vec(j - 1.5, i - 1.5, 0.1 * (i % 2));
     ck_assert_int_eq(ray_implicit_torus(&torus, &is), RAY_OK);
     memset(&params, 0, sizeof params);
-    params.diffuse = rgb_of(1, 1, 1);
+    params.diffuse = rgb(1, 1, 1);
     params.texture.fn = probe_texture;
     params.texture.ud = &probe;
     for (kind = 0; kind < 5; kind++) {
@@ -738,7 +738,7 @@ START_TEST(texture_should_see_every_primitives_coordinates)
         ck_assert(m.effects & RAY_EFFECT_TEXTURE);
         ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(1, 1, 1)), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_ambient(s, rgb(1, 1, 1)), RAY_OK);
         switch (kind) {
         case 0:
             ray_scene_add_sphere(s, vec(0, 0, 0), 1.5, 0, NULL);
@@ -792,7 +792,7 @@ START_TEST(textured_phong_should_multiply_diffuse_by_the_image)
     int n;
 
     memset(&params, 0, sizeof params);
-    params.diffuse = rgb_of(0.5, 1, 2);
+    params.diffuse = rgb(0.5, 1, 2);
     params.texture = ray_texture_image(img);
     ck_assert(params.texture.fn != NULL);
     m = ray_material_phong(&params);
@@ -800,7 +800,7 @@ START_TEST(textured_phong_should_multiply_diffuse_by_the_image)
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), 0,
                                          NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(1, 1, 1)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(1, 1, 1)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     for (n = 0; n < 20; n++) {
         double x = 0.37 * n - 3, z = 0.21 * n - 1;

@@ -6,7 +6,8 @@
 ** reports errors against a higher-precision reference (long double), or
 ** counts of leaks, false hits, misclassifications and self-hits.
 ** Header-only; every function is static.  Uses the library's internal
-** naive variants (src/prim.h).
+** naive variants (src/prim.h); its random inputs come from testkit.h's
+** generator (rng, rng_unit, rng_dir).
 */
 #ifndef RAY_HARDCASES_H
 #define RAY_HARDCASES_H
@@ -17,36 +18,7 @@
 #include <string.h>
 
 #include "prim.h"
-
-/* splitmix64: a fixed-seed generator (the same inputs on every run). */
-typedef struct hc_rng {
-    unsigned long long s;
-} hc_rng;
-
-static inline double hc_unit(hc_rng *g)
-{
-    unsigned long long z = (g->s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static inline ray_vec3 hc_dir(hc_rng *g)
-{
-    for (;;) {
-        ray_vec3 v = v3(2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1,
-                        2 * hc_unit(g) - 1);
-        double l2 = v3_dot(v, v);
-        if (l2 > 1e-4 && l2 <= 1)
-            return v3_scale(v, 1.0 / sqrt(l2));
-    }
-}
-
-/* A point in [-1, 1]^3. */
-static inline ray_vec3 hc_cube_point(hc_rng *g)
-{
-    return v3(2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1);
-}
+#include "testkit.h"
 
 /* |a - b| in units of the spacing of doubles at b. */
 static inline double hc_ulps(double a, long double b)
@@ -334,18 +306,18 @@ static inline int hc_mesh_hit(const hc_mesh *m, const ray_ray *r, int algo)
 static inline long hc_leaks(const hc_mesh *m, ray_vec3 centre, long rays,
                             int on_edge, int algo, unsigned long long seed)
 {
-    hc_rng g = {seed};
+    rng g = {seed};
     long leaks = 0, k;
 
     for (k = 0; k < rays; k++) {
-        size_t ti = (size_t)(hc_unit(&g) * (double)m->nt) % m->nt;
-        unsigned e = (unsigned)(hc_unit(&g) * 3) % 3;
+        size_t ti = (size_t)(rng_unit(&g) * (double)m->nt) % m->nt;
+        unsigned e = (unsigned)(rng_unit(&g) * 3) % 3;
         ray_vec3 a = m->v[m->idx[3 * ti + e]],
                  b = m->v[m->idx[3 * ti + (e + 1) % 3]], target;
-        ray_vec3 org = v3_add(centre, v3_scale(hc_dir(&g), 0.9 * hc_unit(&g)));
+        ray_vec3 org = v3_add(centre, v3_scale(rng_dir(&g), 0.9 * rng_unit(&g)));
         ray_ray r;
         if (on_edge) {
-            double s = hc_unit(&g);
+            double s = rng_unit(&g);
             target = v3_add(v3_scale(a, 1 - s), v3_scale(b, s));
         } else
             target = a;
@@ -364,17 +336,17 @@ static inline long hc_leaks(const hc_mesh *m, ray_vec3 centre, long rays,
 */
 static inline long hc_false_hits(double gap, long rays, int algo)
 {
-    hc_rng g = {99};
+    rng g = {99};
     long hits = 0, k;
 
     for (k = 0; k < rays; k++) {
-        ray_vec3 a = v3(10 * hc_unit(&g), 10 * hc_unit(&g), 0);
-        ray_vec3 b = v3_add(a, v3(1 + hc_unit(&g), 0.3 * hc_unit(&g), 0));
-        ray_vec3 c = v3_add(a, v3(0.3 * hc_unit(&g), 1 + hc_unit(&g), 0));
-        double s = hc_unit(&g);
+        ray_vec3 a = v3(10 * rng_unit(&g), 10 * rng_unit(&g), 0);
+        ray_vec3 b = v3_add(a, v3(1 + rng_unit(&g), 0.3 * rng_unit(&g), 0));
+        ray_vec3 c = v3_add(a, v3(0.3 * rng_unit(&g), 1 + rng_unit(&g), 0));
+        double s = rng_unit(&g);
         ray_vec3 on = v3_add(v3_scale(a, 1 - s), v3_scale(b, s));
         ray_vec3 out = v3_sub(on, v3_scale(v3_sub(c, on), gap));
-        ray_vec3 org = v3_add(out, v3(hc_unit(&g) - 0.5, hc_unit(&g) - 0.5, 2));
+        ray_vec3 org = v3_add(out, v3(rng_unit(&g) - 0.5, rng_unit(&g) - 0.5, 2));
         hc_mesh one;
         unsigned idx[3] = {0, 1, 2};
         ray_vec3 vv[3];
@@ -424,12 +396,12 @@ static inline int hc_leave(const ray_hit *h, ray_vec3 dir, const ray_vec3 *to,
 */
 static inline long hc_sphere_acne(double X, long n, int method)
 {
-    hc_rng g = {7};
+    rng g = {7};
     ray_vec3 c = v3(X, 0, 0);
     long self = 0, k;
 
     for (k = 0; k < n; k++) {
-        ray_vec3 d = hc_dir(&g), w = hc_dir(&g);
+        ray_vec3 d = rng_dir(&g), w = rng_dir(&g);
         ray_ray prim, out;
         ray_hit h, h2;
         prim.org = v3_add(c, v3_scale(d, 5));
@@ -455,15 +427,15 @@ static inline long hc_sphere_acne(double X, long n, int method)
 static inline long hc_thin_sheet_leaks(double X, double gap, long n,
                                        int method)
 {
-    hc_rng g = {11};
+    rng g = {11};
     long leaks = 0, k;
 
     for (k = 0; k < n; k++) {
-        ray_vec3 light, at = v3(X + 10 * hc_unit(&g), gap / 2, X + 10 * hc_unit(&g));
+        ray_vec3 light, at = v3(X + 10 * rng_unit(&g), gap / 2, X + 10 * rng_unit(&g));
         ray_ray prim, out;
         ray_hit h, h2;
         prim.org = at;
-        prim.dir = v3(0.3 * hc_unit(&g) - 0.15, -1, 0.3 * hc_unit(&g) - 0.15);
+        prim.dir = v3(0.3 * rng_unit(&g) - 0.15, -1, 0.3 * rng_unit(&g) - 0.15);
         prim.tmin = 0;
         prim.tmax = HUGE_VAL;
         if (!ray_plane(&prim, v3(X, 0, X), v3(0, 1, 0), &h))
@@ -482,15 +454,15 @@ static inline long hc_thin_sheet_leaks(double X, double gap, long n,
 ** [-10, 10]^3 and random points inside them. */
 static inline double hc_bary_drift(long n, int naive)
 {
-    hc_rng g = {5};
+    rng g = {5};
     double worst = 0;
     long k;
 
     for (k = 0; k < n; k++) {
-        ray_vec3 a = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
-        ray_vec3 b = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
-        ray_vec3 c = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
-        double u = hc_unit(&g), v = hc_unit(&g), abg[3], e;
+        ray_vec3 a = v3(20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10);
+        ray_vec3 b = v3(20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10);
+        ray_vec3 c = v3(20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10);
+        double u = rng_unit(&g), v = rng_unit(&g), abg[3], e;
         ray_vec3 p;
         if (u + v > 1) {
             u = 1 - u;
@@ -540,35 +512,35 @@ enum { HC_NEEDLE, HC_CAP };
 ** (half of them, for X >= 20; the others from 0.5 X to 1.5 X away), in a
 ** random direction, aimed at a random interior point.
 */
-static inline void hc_sliver(hc_rng *g, int kind, double X, ray_vec3 v[3],
+static inline void hc_sliver(rng *g, int kind, double X, ray_vec3 v[3],
                              ray_ray *r, double *aspect)
 {
-    ray_vec3 e1 = hc_dir(g), e2, n = hc_dir(g), c, p[3], target;
-    double L = 0.5 + 4.5 * hc_unit(g), h, a, b;
-    int k = (int)(3 * hc_unit(g)) % 3, i;
+    ray_vec3 e1 = rng_dir(g), e2, n = rng_dir(g), c, p[3], target;
+    double L = 0.5 + 4.5 * rng_unit(g), h, a, b;
+    int k = (int)(3 * rng_unit(g)) % 3, i;
 
-    *aspect = pow(10, 2 + 5 * hc_unit(g));
+    *aspect = pow(10, 2 + 5 * rng_unit(g));
     h = L / *aspect;
     e2 = v3_cross(n, e1);                /* unit: redraw if nearly parallel */
     while (v3_dot(e2, e2) < 1e-2) {
-        n = hc_dir(g);
+        n = rng_dir(g);
         e2 = v3_cross(n, e1);
     }
     e2 = v3_scale(e2, 1 / sqrt(v3_dot(e2, e2)));
-    c = v3_add(hc_cube_point(g), v3_scale(hc_dir(g), X));
+    c = v3_add(rng_point(g, -1, 1), v3_scale(rng_dir(g), X));
     p[0] = c;
     if (kind == HC_NEEDLE) {
         p[1] = v3_add(c, v3_scale(e2, h));
-        p[2] = v3_add(c, v3_add(v3_scale(e1, L), v3_scale(e2, h * hc_unit(g))));
+        p[2] = v3_add(c, v3_add(v3_scale(e1, L), v3_scale(e2, h * rng_unit(g))));
     } else {
         p[1] = v3_add(c, v3_scale(e1, L));
-        p[2] = v3_add(c, v3_add(v3_scale(e1, L * (0.2 + 0.6 * hc_unit(g))),
+        p[2] = v3_add(c, v3_add(v3_scale(e1, L * (0.2 + 0.6 * rng_unit(g))),
                                 v3_scale(e2, h)));
     }
     for (i = 0; i < 3; i++)
         v[i] = p[(i + k) % 3];
-    a = hc_unit(g);
-    b = hc_unit(g);
+    a = rng_unit(g);
+    b = rng_unit(g);
     if (a + b > 1) {
         a = 1 - a;
         b = 1 - b;
@@ -577,9 +549,9 @@ static inline void hc_sliver(hc_rng *g, int kind, double X, ray_vec3 v[3],
                     v3_scale(v[2], b));
     /* Half from 1 to 20 units away, half from as far as the offset (a
     ** camera near the origin looking at a far triangle). */
-    r->org = v3_add(target, v3_scale(hc_dir(g), hc_unit(g) < 0.5 || X < 20
-                                                    ? 1 + 19 * hc_unit(g)
-                                                    : X * (0.5 + hc_unit(g))));
+    r->org = v3_add(target, v3_scale(rng_dir(g), rng_unit(g) < 0.5 || X < 20
+                                                    ? 1 + 19 * rng_unit(g)
+                                                    : X * (0.5 + rng_unit(g))));
     r->dir = v3_sub(target, r->org);
     r->tmin = 0;
     r->tmax = HUGE_VAL;
