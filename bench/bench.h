@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bench.h -- what the benchmarks share: medians, image error, a counting
-** allocator, a large grid mesh; and, from tests/testkit.h, a generator
-** and a scene whose material shades nothing.
+** bench.h -- what the benchmarks share: medians, PSNR, a counting
+** allocator, a large grid mesh; and, from tests/testkit.h, a generator,
+** image error (rmse) and a scene whose material shades nothing.
 ** Header-only; not part of the library.
 */
 #ifndef BENCH_BENCH_H
@@ -26,21 +26,6 @@ static inline double median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* Root-mean-square difference of two images of n RGB pixels, values
-** clamped to [0, 1] (what a display shows), over all channels. */
-static inline double rmse(const float *a, const float *b, size_t n)
-{
-    double sum = 0;
-    size_t i;
-
-    for (i = 0; i < 3 * n; i++) {
-        double x = fmin(fmax((double)a[i], 0.0), 1.0),
-               y = fmin(fmax((double)b[i], 0.0), 1.0);
-        sum += (x - y) * (x - y);
-    }
-    return sqrt(sum / (double)(3 * n));
 }
 
 /* PSNR in dB for a peak of 1 (99 for identical images). */

@@ -2,8 +2,8 @@
 /*
 ** testkit.h -- what the Check suites (tests/check_*.c), the fault sweep
 ** (tests/faultsim.c) and the benchmarks (bench/) share, without Check:
-** vector arithmetic, a fixed-seed random generator, a material that
-** shades nothing.  vec(), rgb() and now_seconds() are the examples' own,
+** vector arithmetic, a fixed-seed random generator, image error, a
+** material that shades nothing.  vec(), rgb() and now_seconds() are the examples' own,
 ** from examples/common.h (which users read, so it stays free of test
 ** code).  Header-only, every function static; not part of the library.
 */
@@ -101,6 +101,21 @@ static inline ray_vec3 rng_point(rng *g, double lo, double hi)
 {
     return vec(rng_range(g, lo, hi), rng_range(g, lo, hi),
                rng_range(g, lo, hi));
+}
+
+/* Root-mean-square difference of two images of n RGB pixels, values
+** clamped to [0, 1] (what a display shows), over all channels. */
+static inline double rmse(const float *a, const float *b, size_t n)
+{
+    double sum = 0;
+    size_t i;
+
+    for (i = 0; i < 3 * n; i++) {
+        double x = fmin(fmax((double)a[i], 0.0), 1.0),
+               y = fmin(fmax((double)b[i], 0.0), 1.0);
+        sum += (x - y) * (x - y);
+    }
+    return sqrt(sum / (double)(3 * n));
 }
 
 /* A material that shades nothing (black), declaring no effects: for
