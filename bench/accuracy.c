@@ -70,33 +70,33 @@ static void work_free(work *w)
     free(w->r);
 }
 
-static ray_ray aimed(hc_rng *g, ray_vec3 target)
+static ray_ray aimed(rng *g, ray_vec3 target)
 {
     ray_ray r;
-    r.org = v3_add(target, v3_scale(hc_dir(g), 1 + 19 * hc_unit(g)));
+    r.org = v3_add(target, v3_scale(rng_dir(g), 1 + 19 * rng_unit(g)));
     r.dir = v3_sub(target, r.org);
     r.tmin = 0;
     r.tmax = HUGE_VAL;
     return r;
 }
 
-static ray_vec3 rnd_point(hc_rng *g, double s)
+static ray_vec3 rnd_point(rng *g, double s)
 {
-    return v3(s * (2 * hc_unit(g) - 1), s * (2 * hc_unit(g) - 1),
-              s * (2 * hc_unit(g) - 1));
+    return v3(s * (2 * rng_unit(g) - 1), s * (2 * rng_unit(g) - 1),
+              s * (2 * rng_unit(g) - 1));
 }
 
 static work sphere_work(size_t n)
 {
-    hc_rng g = {1};
+    rng g = {1};
     work w;
     size_t i;
 
     work_alloc(&w, n);
     for (i = 0; i < n; i++) {
-        ray_vec3 nrm = hc_dir(&g);
+        ray_vec3 nrm = rng_dir(&g);
         w.a[i] = rnd_point(&g, 100);
-        w.r[i] = 0.1 + 5 * hc_unit(&g);
+        w.r[i] = 0.1 + 5 * rng_unit(&g);
         w.rays[i] = aimed(&g, v3_add(w.a[i],
                                      v3_scale(nrm, w.r[i] * (i & 1 ? 1.2 : 0.8))));
     }
@@ -105,16 +105,16 @@ static work sphere_work(size_t n)
 
 static work triangle_work(size_t n)
 {
-    hc_rng g = {2};
+    rng g = {2};
     work w;
     size_t i;
 
     work_alloc(&w, n);
     for (i = 0; i < n; i++) {
-        double u = hc_unit(&g), v = hc_unit(&g);
+        double u = rng_unit(&g), v = rng_unit(&g);
         w.a[i] = rnd_point(&g, 100);
-        w.b[i] = v3_add(w.a[i], v3_scale(hc_dir(&g), 0.5 + 3 * hc_unit(&g)));
-        w.c[i] = v3_add(w.a[i], v3_scale(hc_dir(&g), 0.5 + 3 * hc_unit(&g)));
+        w.b[i] = v3_add(w.a[i], v3_scale(rng_dir(&g), 0.5 + 3 * rng_unit(&g)));
+        w.c[i] = v3_add(w.a[i], v3_scale(rng_dir(&g), 0.5 + 3 * rng_unit(&g)));
         if (u + v > 1) {
             u = 1 - u;
             v = 1 - v;
@@ -130,18 +130,18 @@ static work triangle_work(size_t n)
 
 static work plane_work(size_t n)
 {
-    hc_rng g = {3};
+    rng g = {3};
     work w;
     size_t i;
 
     work_alloc(&w, n);
     for (i = 0; i < n; i++) {
-        ray_vec3 nrm = hc_dir(&g), t1, t2;
+        ray_vec3 nrm = rng_dir(&g), t1, t2;
         ray__tangent_frame(nrm, &t1, &t2);
         w.a[i] = rnd_point(&g, 100);
         w.b[i] = nrm;
-        w.rays[i] = aimed(&g, v3_add(w.a[i], v3_add(v3_scale(t1, 5 * hc_unit(&g)),
-                                                    v3_scale(t2, 5 * hc_unit(&g)))));
+        w.rays[i] = aimed(&g, v3_add(w.a[i], v3_add(v3_scale(t1, 5 * rng_unit(&g)),
+                                                    v3_scale(t2, 5 * rng_unit(&g)))));
         if (i & 1)                       /* pointing away: a miss */
             w.rays[i].dir = v3_scale(w.rays[i].dir, -1);
     }
@@ -391,7 +391,7 @@ static void primitives(void)
     primitive_row(V_PLANE_RAW, &pw, "-", &base);
     {
         double t0, nb, nn;
-        hc_rng g = {4};
+        rng g = {4};
         size_t i, m = quick ? 20000 : 200000;
         ray_vec3 *pts = malloc(4 * m * sizeof *pts);
         double abg[3], sink = 0;
@@ -422,7 +422,7 @@ static void primitives(void)
     {
         /* Polygons: one variant (the ray-frame crossing test); its cost
         ** per test on quads, and the shared-edge partition. */
-        hc_rng g = {6};
+        rng g = {6};
         size_t i, m = quick ? 20000 : 200000, both = 0, none = 0;
         double t0, ns;
         ray_vec3 q[4] = {{0.1, 0.2, 0}, {3.7, 0.3, 0}, {2.9, 4.1, 0},
@@ -433,7 +433,7 @@ static void primitives(void)
         left[0] = q[0], left[1] = q[1], left[2] = q[2];
         right[0] = q[0], right[1] = q[2], right[2] = q[3];
         for (i = 0; i < m; i++)
-            rays[i] = aimed(&g, v3(4 * hc_unit(&g), 4 * hc_unit(&g), 0));
+            rays[i] = aimed(&g, v3(4 * rng_unit(&g), 4 * rng_unit(&g), 0));
         t0 = now_seconds();
         for (i = 0; i < m; i++)
             if (ray_polygon(&rays[i], q, 4, &h))
@@ -443,7 +443,7 @@ static void primitives(void)
             printf(" ");
         free(rays);
         for (i = 0; i < (size_t)hard; i++) {
-            double s = 0.01 + 0.98 * hc_unit(&g);
+            double s = 0.01 + 0.98 * rng_unit(&g);
             ray_ray r = aimed(&g, v3_add(v3_scale(q[0], 1 - s), v3_scale(q[2], s)));
             int k = ray_polygon(&r, left, 3, &h) + ray_polygon(&r, right, 3, &h);
             both += k == 2;
@@ -551,7 +551,7 @@ static void sliver_row(const char *name, tri_test_fn fn, double X, size_t n)
     ray_ray *rays = malloc(2 * n * sizeof *rays);
     double *e[3], times[16], sink = 0, asp, ns;
     size_t i, m = 0, missed = 0, valid = 0;
-    hc_rng g = {77};
+    rng g = {77};
     /* Called through a volatile pointer: no variant is inlined into the
     ** timing loop, as the library's are not. */
     tri_test_fn volatile call = fn;

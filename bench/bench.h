@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bench.h -- what the benchmarks share: medians, image error, a counting
-** allocator, a material that shades nothing, a large grid mesh.
+** bench.h -- what the benchmarks share: medians, PSNR, a counting
+** allocator, a large grid mesh; and, from tests/testkit.h, a generator,
+** image error (rmse) and a scene whose material shades nothing.
 ** Header-only; not part of the library.
 */
 #ifndef BENCH_BENCH_H
@@ -12,6 +13,7 @@
 #include <string.h>
 
 #include "ray.h"
+#include "testkit.h"
 
 static int bench_cmp_double(const void *a, const void *b)
 {
@@ -24,20 +26,6 @@ static inline double median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* Root-mean-square difference of two images of n RGB pixels, values
-** clamped to [0, 1] (what a display shows), over all channels. */
-static inline double rmse(const float *a, const float *b, size_t n)
-{
-    double sum = 0;
-    size_t i;
-
-    for (i = 0; i < 3 * n; i++) {
-        double x = fmin(fmax(a[i], 0.0f), 1.0f), y = fmin(fmax(b[i], 0.0f), 1.0f);
-        sum += (x - y) * (x - y);
-    }
-    return sqrt(sum / (double)(3 * n));
 }
 
 /* PSNR in dB for a peak of 1 (99 for identical images). */
@@ -70,40 +58,6 @@ static inline void *counting_alloc(void *ud, void *ptr, size_t osize,
             c->peak = c->now;
     }
     return p;
-}
-
-/* A material that shades nothing, for scenes that are only intersected. */
-static inline void nop_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                             ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
-/* A new scene (through "alloc", NULL for libc) whose material 0 shades
-** nothing.  RAY_OK, or the failing call's status (nothing kept). */
-static inline int nop_scene_new(ray_scene **out, ray_alloc_fn alloc,
-                                void *alloc_ud)
-{
-    ray_material m;
-    ray_scene *s;
-    int rc;
-
-    m.shade = nop_shade;
-    m.ud = NULL;
-    m.effects = 0;
-    rc = ray_scene_new(&s, alloc, alloc_ud);
-    if (rc != RAY_OK)
-        return rc;
-    rc = ray_scene_add_material(s, &m, NULL);
-    if (rc != RAY_OK) {
-        ray_scene_free(s);
-        return rc;
-    }
-    *out = s;
-    return RAY_OK;
 }
 
 /*

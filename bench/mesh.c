@@ -18,7 +18,6 @@
 ** skipped.
 */
 #include <pthread.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "bench.h"
@@ -106,7 +105,7 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *prim,
 {
     ray_set s;
     size_t i;
-    unsigned long long state = 12345;
+    rng g = {12345};
 
     s.rays = malloc(prim->n * sizeof *s.rays);
     s.n = 0;
@@ -128,10 +127,8 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *prim,
         t1 = vec(t1.x / r, t1.y / r, t1.z / r);
         t2 = vec(n.y * t1.z - n.z * t1.y, n.z * t1.x - n.x * t1.z,
                  n.x * t1.y - n.y * t1.x);
-        state = state * 6364136223846793005ull + 1442695040888963407ull;
-        u1 = (double)(state >> 11) / 9007199254740992.0;
-        state = state * 6364136223846793005ull + 1442695040888963407ull;
-        u2 = (double)(state >> 11) / 9007199254740992.0;
+        u1 = rng_unit(&g);
+        u2 = rng_unit(&g);
         r = sqrt(u1);
         phi = 2 * 3.14159265358979323846 * u2;
         d = vec(t1.x * r * cos(phi) + t2.x * r * sin(phi) + n.x * sqrt(1 - u1),

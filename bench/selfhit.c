@@ -11,16 +11,8 @@
 **     selfhit            (prints Markdown; BENCH_QUICK=1 for fewer rays)
 */
 #include <stdio.h>
-#include <time.h>
 
 #include "selfhit.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int slow_kind(sh_kind k)
 {
@@ -62,7 +54,7 @@ int main(void)
                         fprintf(stderr, "selfhit: scene failed\n");
                         return 1;
                     }
-                    sh_run(&p, s, n, 1234 + (unsigned long long)o, &c);
+                    sh_run(&p, s, n, 1234 + (uint64_t)o, &c);
                     ray_scene_free(s);
                     sum.rays += c.rays, sum.shadow += c.shadow;
                     sum.reflect += c.reflect, sum.refract += c.refract;

@@ -7,7 +7,6 @@
 */
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "bench.h"
 #include "vec.h"
@@ -103,41 +102,16 @@ typedef struct row {
     double reach;            /* rays aim within this radius */
 } row;
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-/* A fixed random generator: every row sees the same rays. */
-static double unit_rand(unsigned long long *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*s >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static ray_vec3 rand_dir(unsigned long long *s)
-{
-    for (;;) {
-        ray_vec3 v = v3(2 * unit_rand(s) - 1, 2 * unit_rand(s) - 1,
-                        2 * unit_rand(s) - 1);
-        double l = v3_length(v);
-        if (l > 1e-3 && l <= 1)
-            return v3_scale(v, 1.0 / l);
-    }
-}
-
 /* Rays from a sphere of radius 4 toward points within "reach" of the
 ** origin (the Bezier patches sit around it too). */
 static void make_rays(ray_ray *rays, int n, double reach)
 {
-    unsigned long long s = 12345;
+    rng g = {12345};
     int i;
 
     for (i = 0; i < n; i++) {
-        ray_vec3 o = v3_scale(rand_dir(&s), 4.0);
-        ray_vec3 aim = v3_scale(rand_dir(&s), reach * cbrt(unit_rand(&s)));
+        ray_vec3 o = v3_scale(rng_dir(&g), 4.0);
+        ray_vec3 aim = v3_scale(rng_dir(&g), reach * cbrt(rng_unit(&g)));
         rays[i].org = o;
         rays[i].dir = v3_sub(aim, o);
         rays[i].tmin = 0;
@@ -232,12 +206,12 @@ int main(void)
         make_rays(rays, n, rw->reach);
         for (rd = 0; rd < rounds; rd++) {
             volatile long sink = 0;
-            double t0 = now();
+            double t0 = now_seconds();
             for (i = 0; i < n; i++) {
                 ray_hit h;
                 sink += rw->fn(&rays[i], o, &h);
             }
-            t[rd] = now() - t0;
+            t[rd] = now_seconds() - t0;
             (void)sink;
         }
         for (i = 0; i < n; i++) {

@@ -11,17 +11,10 @@
 
 #include <ray.h>
 
+#include "common.h"
+
 #define WIDTH 320
 #define HEIGHT 240
-
-static ray_vec3 vec(double x, double y, double z)
-{
-    ray_vec3 v;
-    v.x = x;
-    v.y = y;
-    v.z = z;
-    return v;
-}
 
 /* Diffuse shade of a hit for a light in direction (1, 1, 1)/sqrt 3,
 ** the normal turned toward the viewer first. */

@@ -488,16 +488,16 @@ START_TEST(queries_should_refuse_unusable_rays)
     ck_assert_double_eq(h.t, 4.0);
     for (i = 0; i < 9; i++)
         bad[i] = good;
-    bad[0].org.x = NAN;
-    bad[1].org.z = INFINITY;
-    bad[2].dir.y = NAN;
-    bad[3].dir.z = -INFINITY;
+    bad[0].org.x = (double)NAN;
+    bad[1].org.z = HUGE_VAL;
+    bad[2].dir.y = (double)NAN;
+    bad[3].dir.z = -HUGE_VAL;
     bad[4].dir = vec(0, 0, -0.0);
     bad[5].tmin = 7;
     bad[5].tmax = 6;
     bad[6].tmin = bad[6].tmax = 4;
-    bad[7].tmin = NAN;
-    bad[8].tmax = NAN;
+    bad[7].tmin = (double)NAN;
+    bad[8].tmax = (double)NAN;
     memset(&before, 0x5a, sizeof before);
     for (i = 0; i < 9; i++) {
         h = before;
@@ -531,9 +531,9 @@ START_TEST(floats_should_bracket_doubles)
     static const double edges[] = {
         0.0, -0.0, 0x1p-149, -0x1p-149, 0x1p-150, -0x1p-150, 0x1.8p-150,
         -0x1.8p-150, 1e-300, -1e-300, 0x1p-126, -0x1p-126, 1.0 / 3, -1.0 / 3,
-        1.0, -1.0, FLT_MAX, -FLT_MAX, (double)FLT_MAX * (1 + 0x1p-30),
+        1.0, -1.0, (double)FLT_MAX, -(double)FLT_MAX, (double)FLT_MAX * (1 + 0x1p-30),
         -(double)FLT_MAX * (1 + 0x1p-30), 1e300, -1e300, DBL_MAX, -DBL_MAX,
-        INFINITY, -INFINITY};
+        HUGE_VAL, -HUGE_VAL};
     rng g = {77};
     size_t i;
 
@@ -550,7 +550,7 @@ START_TEST(floats_should_bracket_doubles)
         double x = ldexp(rng_range(&g, -1, 1), (int)(rng_next(&g) % 600) - 300);
         check_float_bracket(x);
     }
-    ck_assert(isnan(ray__float_down(NAN)) && isnan(ray__float_up(NAN)));
+    ck_assert(isnan(ray__float_down((double)NAN)) && isnan(ray__float_up((double)NAN)));
 }
 END_TEST
 
@@ -559,7 +559,7 @@ START_TEST(mesh_should_reject_bad_input)
 {
     ray_vec3 v[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     unsigned idx[3] = {0, 1, 2}, bad_idx[3] = {0, 1, 3}, mat, id = 99;
-    ray_vec3 nan_v[3] = {{0, 0, 0}, {1, NAN, 0}, {0, 1, 0}};
+    ray_vec3 nan_v[3] = {{0, 0, 0}, {1, (double)NAN, 0}, {0, 1, 0}};
     double tex[6] = {0, 0, 1, 0, 0, HUGE_VAL};
     ray_scene *s = new_scene(&mat);
     ray_mesh m;

@@ -84,7 +84,7 @@ static void nan_bounds(void *ud, double u0, double u1, double v0,
     (void)ud;
     (void)u1;
     (void)v1;
-    *lo = vec(u0, v0, NAN);
+    *lo = vec(u0, v0, (double)NAN);
     *hi = vec(1, 1, 0);
 }
 
@@ -131,15 +131,6 @@ static ray_light light_ok(int kind)
     return l;
 }
 
-static ray_rgb colour(double r, double g, double b)
-{
-    ray_rgb c;
-    c.r = r;
-    c.g = g;
-    c.b = b;
-    return c;
-}
-
 /* ------------------------------------------------------------ the cases */
 
 /* Each case makes one failing call on a scene that has material 0 only. */
@@ -166,7 +157,7 @@ static int material_bad_effects(ray_scene *s)
 
 static int sphere_nan_center(ray_scene *s)
 {
-    return ray_scene_add_sphere(s, vec(0, NAN, 0), 1, 0, NULL);
+    return ray_scene_add_sphere(s, vec(0, (double)NAN, 0), 1, 0, NULL);
 }
 
 static int sphere_negative_radius(ray_scene *s)
@@ -196,7 +187,7 @@ static int plane_zero_normal(ray_scene *s)
 
 static int plane_nan_normal(ray_scene *s)
 {
-    return ray_scene_add_plane(s, vec(0, 0, 0), vec(NAN, 1, 0), 0, NULL);
+    return ray_scene_add_plane(s, vec(0, 0, 0), vec((double)NAN, 1, 0), 0, NULL);
 }
 
 static int plane_unknown_material(ray_scene *s)
@@ -206,7 +197,7 @@ static int plane_unknown_material(ray_scene *s)
 
 static int triangle_nan_vertex(ray_scene *s)
 {
-    return ray_scene_add_triangle(s, vec(0, 0, 0), vec(1, NAN, 0),
+    return ray_scene_add_triangle(s, vec(0, 0, 0), vec(1, (double)NAN, 0),
                                   vec(0, 1, 0), 0, NULL);
 }
 
@@ -312,7 +303,7 @@ static int mesh_nan_vertex(ray_scene *s)
 {
     mesh_data d;
     mesh_init(&d);
-    d.v[2].x = NAN;
+    d.v[2].x = (double)NAN;
     return ray_scene_add_mesh(s, &d.m, 0, NULL);
 }
 
@@ -328,7 +319,7 @@ static int mesh_nan_texcoord(ray_scene *s)
 {
     mesh_data d;
     mesh_init(&d);
-    d.tex[1] = NAN;
+    d.tex[1] = (double)NAN;
     return ray_scene_add_mesh(s, &d.m, 0, NULL);
 }
 
@@ -356,7 +347,7 @@ static int torus_null(ray_scene *s)
 static int torus_nan_center(ray_scene *s)
 {
     ray_torus_params t = torus_ok();
-    t.center.z = NAN;
+    t.center.z = (double)NAN;
     return ray_scene_add_torus(s, &t, 0, NULL);
 }
 
@@ -425,7 +416,7 @@ static int implicit_negative_lipschitz(ray_scene *s)
 static int implicit_nan_step(ray_scene *s)
 {
     ray_implicit_surface is = implicit_ok();
-    is.step = NAN;
+    is.step = (double)NAN;
     return ray_scene_add_implicit(s, &is, 0, NULL);
 }
 
@@ -506,7 +497,7 @@ static int bezier_nan_point(ray_scene *s)
 {
     ray_vec3 cp[16];
     bezier_ok(cp);
-    cp[5].z = NAN;
+    cp[5].z = (double)NAN;
     return ray_scene_add_bezier(s, cp, 0, NULL);
 }
 
@@ -538,7 +529,7 @@ static int light_unknown_kind(ray_scene *s)
 static int light_point_nan_position(ray_scene *s)
 {
     ray_light l = light_ok(RAY_LIGHT_POINT);
-    l.position.x = NAN;
+    l.position.x = (double)NAN;
     return ray_scene_add_light(s, &l, NULL);
 }
 
@@ -573,7 +564,7 @@ static int light_rect_parallel_edges(ray_scene *s)
 static int light_rect_nan_position(ray_scene *s)
 {
     ray_light l = light_ok(RAY_LIGHT_RECT);
-    l.position.z = NAN;
+    l.position.z = (double)NAN;
     return ray_scene_add_light(s, &l, NULL);
 }
 
@@ -586,12 +577,12 @@ static int light_too_many_samples(ray_scene *s)
 
 static int background_negative(ray_scene *s)
 {
-    return ray_scene_set_background(s, colour(0.5, -0.25, 0));
+    return ray_scene_set_background(s, rgb(0.5, -0.25, 0));
 }
 
 static int ambient_nan(ray_scene *s)
 {
-    return ray_scene_set_ambient(s, colour(NAN, 0, 0));
+    return ray_scene_set_ambient(s, rgb((double)NAN, 0, 0));
 }
 
 static int limits_weight_above_one(ray_scene *s)
@@ -812,9 +803,9 @@ static int after_commit(ray_scene *s, int k)
     case 8: return ray_scene_add_parametric(s, &ps, 0, NULL);
     case 9: return ray_scene_add_bezier(s, cp, 0, NULL);
     case 10: return ray_scene_add_light(s, &l, NULL);
-    case 11: return ray_scene_set_background(s, colour(0, 0, 0));
+    case 11: return ray_scene_set_background(s, rgb(0, 0, 0));
     case 12: return ray_scene_set_background_fn(s, NULL, NULL);
-    case 13: return ray_scene_set_ambient(s, colour(0, 0, 0));
+    case 13: return ray_scene_set_ambient(s, rgb(0, 0, 0));
     case 14: return ray_scene_set_limits(s, NULL);
     case 15: return ray_scene_set_pruning(s, 0);
     case 16: return ray_scene_set_watertight(s, 0);
@@ -873,7 +864,7 @@ START_TEST(errmsg_should_follow_the_most_recent_call)
                      RAY_EINVAL);
     ck_assert_str_eq(ray_scene_errmsg(s), "ray_scene_add_sphere: material 0 "
                      "does not exist (the scene has 0)");
-    ck_assert_int_eq(ray_scene_set_ambient(s, colour(-1, 0, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(-1, 0, 0)), RAY_EINVAL);
     ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "ray_scene_set_ambient"));
     ck_assert_int_eq(ray_scene_set_pruning(s, 1), RAY_OK);
     ck_assert_str_eq(ray_scene_errmsg(s), "");

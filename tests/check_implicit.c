@@ -49,9 +49,11 @@ static double default_tol(const ray_implicit_surface *s)
 ** significand), so the reference's own rounding is 2^11 below double's. */
 static double sphere_distance(ray_vec3 p, ray_vec3 c, double radius)
 {
-    long double dx = (long double)p.x - c.x, dy = (long double)p.y - c.y,
-                dz = (long double)p.z - c.z;
-    return (double)fabsl(sqrtl(dx * dx + dy * dy + dz * dz) - radius);
+    long double dx = (long double)p.x - (long double)c.x,
+                dy = (long double)p.y - (long double)c.y,
+                dz = (long double)p.z - (long double)c.z;
+    return (double)fabsl(sqrtl(dx * dx + dy * dy + dz * dz) -
+                         (long double)radius);
 }
 
 /* -------------------------------------------------- implicit sphere */
@@ -188,7 +190,7 @@ END_TEST
 static double nan_field(void *ud, ray_vec3 p)
 {
     (void)ud;
-    return p.x > 0 ? NAN : 1.0;
+    return p.x > 0 ? (double)NAN : 1.0;
 }
 
 START_TEST(implicit_should_report_failures)
@@ -240,12 +242,12 @@ START_TEST(implicit_should_reject_bad_input)
     bad.lipschitz = -1;
     ck_assert_int_eq(ray_implicit(&r, &bad, &h), -RAY_EINVAL);
     bad = s;
-    bad.tolerance = NAN;
+    bad.tolerance = (double)NAN;
     ck_assert_int_eq(ray_implicit(&r, &bad, &h), -RAY_EINVAL);
     /* Invalid rays are misses. */
     r.dir = vec(0, 0, 0);
     ck_assert_int_eq(ray_implicit(&r, &s, &h), 0);
-    r.dir = vec(NAN, 1, 0);
+    r.dir = vec((double)NAN, 1, 0);
     ck_assert_int_eq(ray_implicit(&r, &s, &h), 0);
     r = ray_from(vec(-3, 0, 0), vec(1, 0, 0));
     r.tmin = 5;
@@ -321,15 +323,16 @@ static ray_torus_params unit_torus(double offset)
 /* The exact distance from p to the torus (long double). */
 static double torus_distance(ray_vec3 p, const ray_torus_params *t)
 {
-    long double ax = t->axis.x, ay = t->axis.y, az = t->axis.z;
+    long double ax = (long double)t->axis.x, ay = (long double)t->axis.y,
+                az = (long double)t->axis.z;
     long double al = sqrtl(ax * ax + ay * ay + az * az);
-    long double qx = (long double)p.x - t->center.x,
-                qy = (long double)p.y - t->center.y,
-                qz = (long double)p.z - t->center.z;
+    long double qx = (long double)p.x - (long double)t->center.x,
+                qy = (long double)p.y - (long double)t->center.y,
+                qz = (long double)p.z - (long double)t->center.z;
+    long double major = (long double)t->major, minor = (long double)t->minor;
     long double z = (qx * ax + qy * ay + qz * az) / al;
     long double rho = sqrtl(fmaxl(qx * qx + qy * qy + qz * qz - z * z, 0));
-    return (double)fabsl(sqrtl((rho - t->major) * (rho - t->major) + z * z) -
-                         t->minor);
+    return (double)fabsl(sqrtl((rho - major) * (rho - major) + z * z) - minor);
 }
 
 /*
@@ -523,7 +526,7 @@ START_TEST(torus_should_miss_on_bad_input)
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
     ck_assert_int_eq(ray_implicit_torus(&t, &s), RAY_EINVAL);
     t.minor = 0.25;
-    t.major = NAN;
+    t.major = (double)NAN;
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
     t.major = 1;
     r.dir = vec(0, 0, 0);
@@ -722,7 +725,7 @@ START_TEST(blobs_should_reject_bad_input)
     b.radius = -1;
     ck_assert_int_eq(ray_implicit_blobs(&p, &s), RAY_EINVAL);
     b.radius = 1;
-    b.center.x = NAN;
+    b.center.x = (double)NAN;
     ck_assert_int_eq(ray_implicit_blobs(&p, &s), RAY_EINVAL);
 }
 END_TEST

@@ -100,7 +100,7 @@ START_TEST(watertight_scene_should_never_leak)
     hc_mesh m = hc_icosphere(c, 3);
     ray_mesh mesh;
     ray_scene *s;
-    hc_rng g = {3};
+    rng g = {3};
     unsigned id;
     long k, leaks = 0;
 
@@ -118,13 +118,13 @@ START_TEST(watertight_scene_should_never_leak)
     ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, id, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     for (k = 0; k < 200000; k++) {
-        size_t ti = (size_t)(hc_unit(&g) * (double)m.nt) % m.nt;
+        size_t ti = (size_t)(rng_unit(&g) * (double)m.nt) % m.nt;
         ray_vec3 a = m.v[m.idx[3 * ti]], b = m.v[m.idx[3 * ti + 1]], target;
         ray_ray r;
         ray_hit h;
-        double sfrac = (k & 1) ? hc_unit(&g) : 0.0;
+        double sfrac = (k & 1) ? rng_unit(&g) : 0.0;
         target = v3_add(v3_scale(a, 1 - sfrac), v3_scale(b, sfrac));
-        r.org = v3_add(c, v3_scale(hc_dir(&g), 0.9 * hc_unit(&g)));
+        r.org = v3_add(c, v3_scale(rng_dir(&g), 0.9 * rng_unit(&g)));
         r.dir = v3_sub(target, r.org);
         r.tmin = 0;
         r.tmax = HUGE_VAL;
@@ -162,7 +162,7 @@ START_TEST(slivers_should_keep_t_and_barycentrics_accurate)
 
     for (k = 0; k < 3; k++)
         for (mode = 0; mode < 2; mode++) {
-            hc_rng g = {(unsigned long long)(100 + k)};
+            rng g = {(uint64_t)(100 + k)};
             double worst[3] = {0, 0, 0};
             long hits = 0, refs = 0;
             for (i = 0; i < 2 * n; i++) {
@@ -218,7 +218,7 @@ START_TEST(slivers_should_be_the_same_through_a_scene)
     size_t n = 600, i, j;
     ray_vec3 *v = malloc(3 * n * sizeof *v);
     ray_ray *rays = malloc(n * sizeof *rays);
-    hc_rng g = {5};
+    rng g = {5};
     ray_scene *s;
     ray_material any = ray_material_mirror(NULL);
     unsigned mat;
@@ -277,7 +277,7 @@ START_TEST(needle_meshes_should_never_leak)
             ray_scene *s;
             ray_material any = ray_material_mirror(NULL);
             unsigned mat;
-            hc_rng g = {(unsigned long long)(k * 2 + m)};
+            rng g = {(uint64_t)(k * 2 + m)};
             long i, leaks = 0;
 
             for (e = 0; e < 2; e++) {
@@ -296,15 +296,15 @@ START_TEST(needle_meshes_should_never_leak)
             ck_assert_int_eq(ray_scene_add_mesh(s, &rm, mat, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
             for (i = 0; i < 50000; i++) {
-                size_t ti = (size_t)(hc_unit(&g) * (double)mesh.nt) % mesh.nt;
+                size_t ti = (size_t)(rng_unit(&g) * (double)mesh.nt) % mesh.nt;
                 ray_vec3 a = mesh.v[mesh.idx[3 * ti]],
                          b = mesh.v[mesh.idx[3 * ti + 1]], target;
-                double f = (i & 1) ? hc_unit(&g) : 0.0;
+                double f = (i & 1) ? rng_unit(&g) : 0.0;
                 ray_ray r;
                 ray_hit h;
                 target = v3_add(v3_scale(a, 1 - f), v3_scale(b, f));
                 r.org = v3_add(centres[k],
-                               v3_scale(hc_dir(&g), 0.9 * hc_unit(&g)));
+                               v3_scale(rng_dir(&g), 0.9 * rng_unit(&g)));
                 r.dir = v3_sub(target, r.org);
                 r.tmin = 0;
                 r.tmax = HUGE_VAL;
@@ -375,7 +375,7 @@ START_TEST(watertight_should_hit_the_shared_edge_vector)
     r.dir = v3(0, 0, 0);
     ck_assert_int_eq(ray_triangle_watertight(&r, v3(0, 0, 0), v3(1, 0, 0),
                                              v3(0, 1, 0), &h1), 0);
-    r.dir = v3(NAN, 0, -1);
+    r.dir = v3((double)NAN, 0, -1);
     ck_assert_int_eq(ray_triangle_watertight(&r, v3(0, 0, 0), v3(1, 0, 0),
                                              v3(0, 1, 0), &h1), 0);
 }
@@ -446,22 +446,22 @@ END_TEST
 ** ordinary values.  No crash, no sanitizer report; a hit always has t in
 ** (tmin, tmax) and a finite record; a miss leaves the record untouched.
 */
-static double odd_value(hc_rng *g)
+static double odd_value(rng *g)
 {
-    static const double v[] = {NAN, HUGE_VAL, -HUGE_VAL, 0.0, -0.0,
+    static const double v[] = {(double)NAN, HUGE_VAL, -HUGE_VAL, 0.0, -0.0,
                                0x1p-1074, 1e-310, 1e300, -1e300, 1e-300,
                                1.0, -2.5, 0.5, 3.0};
-    return v[(size_t)(hc_unit(g) * 14) % 14];
+    return v[(size_t)(rng_unit(g) * 14) % 14];
 }
 
-static ray_vec3 odd_vec(hc_rng *g)
+static ray_vec3 odd_vec(rng *g)
 {
     return v3(odd_value(g), odd_value(g), odd_value(g));
 }
 
 START_TEST(primitives_should_survive_odd_input)
 {
-    hc_rng g = {424242};
+    rng g = {424242};
     int k;
 
     /* 300,000 calls: a cross product of 1e300-sized vertices holding

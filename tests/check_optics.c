@@ -17,9 +17,9 @@ START_TEST(fresnel_should_match_reference_values)
     /* Index ratio 1: no interface, no reflection. */
     ck_assert_double_eq_tol(ray_fresnel(0.3, 1.0), 0.0, 1e-15);
     /* Bad input is total reflection, never NaN. */
-    ck_assert_double_eq(ray_fresnel(NAN, 1.5), 1.0);
+    ck_assert_double_eq(ray_fresnel((double)NAN, 1.5), 1.0);
     ck_assert_double_eq(ray_fresnel(0.5, -1.0), 1.0);
-    ck_assert_double_eq(ray_fresnel(0.5, NAN), 1.0);
+    ck_assert_double_eq(ray_fresnel(0.5, (double)NAN), 1.0);
 }
 END_TEST
 
@@ -64,8 +64,8 @@ START_TEST(refract_should_obey_snell)
     }
     ck_assert_int_eq(ray_refract(vec(0, 0, 0), n, 1.5, &t), 0);
     ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, 0.0, &t), 0);
-    ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, NAN, &t), 0);
-    ck_assert_int_eq(ray_refract(vec(NAN, -1, 0), n, 1.5, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, (double)NAN, &t), 0);
+    ck_assert_int_eq(ray_refract(vec((double)NAN, -1, 0), n, 1.5, &t), 0);
     ck_assert_int_eq(ray_refract(vec(0, -1, 0), n, 1.5, NULL), 0);
 }
 END_TEST
@@ -137,7 +137,7 @@ START_TEST(spawn_to_should_end_before_the_target)
     /* Bad input: nothing written. */
     s.tmax = 42;
     ck_assert_int_eq(ray_spawn_to(&h, h.p, &s), RAY_EINVAL);
-    ck_assert_int_eq(ray_spawn_to(&h, vec(NAN, 0, 0), &s), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&h, vec((double)NAN, 0, 0), &s), RAY_EINVAL);
     ck_assert_int_eq(ray_spawn(&h, vec(0, 0, 0), &s), RAY_EINVAL);
     ck_assert_int_eq(ray_spawn(&h, vec(0, HUGE_VAL, 0), &s), RAY_EINVAL);
     ck_assert_int_eq(ray_spawn(NULL, vec(0, 1, 0), &s), RAY_EINVAL);

@@ -616,7 +616,7 @@ static void nan_eval(void *ud, double u, double v, ray_vec3 *s,
                      ray_vec3 *s_u, ray_vec3 *s_v)
 {
     plane_eval(ud, u, v, s, s_u, s_v);
-    s->z = NAN;
+    s->z = (double)NAN;
 }
 
 static void inf_bounds(void *ud, double u0, double u1, double v0, double v1,
@@ -674,7 +674,7 @@ START_TEST(parametric_should_reject_invalid_descriptors)
     s.u1 = 1;                            /* v0 = v1 = 0 alone */
     expect_untouched(&r, &s, -RAY_EINVAL);
     s = ok;
-    s.u0 = NAN;
+    s.u0 = (double)NAN;
     s.u1 = s.v1 = 1;
     expect_untouched(&r, &s, -RAY_EINVAL);
     s = ok;
@@ -687,7 +687,7 @@ START_TEST(parametric_should_reject_invalid_descriptors)
     s = ok;
     s.tolerance = -1e-9;
     expect_untouched(&r, &s, -RAY_EINVAL);
-    s.tolerance = NAN;
+    s.tolerance = (double)NAN;
     expect_untouched(&r, &s, -RAY_EINVAL);
     s.tolerance = HUGE_VAL;
     expect_untouched(&r, &s, -RAY_EINVAL);
@@ -703,7 +703,7 @@ START_TEST(parametric_should_miss_invalid_rays)
     ray_ray r = ray_from(vec(0.5, 0.5, 1), vec(0, 0, -1)), b;
 
     b = r;
-    b.org.x = NAN;
+    b.org.x = (double)NAN;
     expect_untouched(&b, &s, 0);
     b = r;
     b.dir.z = -HUGE_VAL;
@@ -719,10 +719,10 @@ START_TEST(parametric_should_miss_invalid_rays)
     b.tmax = 0.5;
     expect_untouched(&b, &s, 0);
     b = r;
-    b.tmin = NAN;
+    b.tmin = (double)NAN;
     expect_untouched(&b, &s, 0);
     b = r;
-    b.tmax = NAN;
+    b.tmax = (double)NAN;
     expect_untouched(&b, &s, 0);
 }
 END_TEST
@@ -756,7 +756,7 @@ START_TEST(bezier_surface_should_validate_control_points)
     ck_assert_int_eq(ray_bezier_surface(cp, NULL), RAY_EINVAL);
     for (k = 0; k < 3; k++) {
         ray_vec3 keep = cp[5];
-        cp[5].y = k == 0 ? NAN : (k == 1 ? HUGE_VAL : -HUGE_VAL);
+        cp[5].y = k == 0 ? (double)NAN : (k == 1 ? HUGE_VAL : -HUGE_VAL);
         ck_assert_int_eq(ray_bezier_surface(cp, &s), RAY_EINVAL);
         cp[5] = keep;
     }

@@ -94,7 +94,7 @@ END_TEST
 
 START_TEST(plane_should_miss_on_bad_input)
 {
-    double nan = NAN, inf = HUGE_VAL;
+    double nan = (double)NAN, inf = HUGE_VAL;
     ray_ray good = ray_from(vec(0, 2, 0), vec(0, -1, 0)), r;
     ray_vec3 pt = vec(0, 0, 0), n = vec(0, 1, 0);
     ray_hit h;

@@ -220,7 +220,7 @@ END_TEST
 START_TEST(polygon_should_miss_on_bad_input)
 {
     static const double sq[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    double nan = NAN, inf = HUGE_VAL;
+    double nan = (double)NAN, inf = HUGE_VAL;
     ray_vec3 v[4];
     ray_ray good = ray_from(vec(0.5, 0.5, 1), vec(0, 0, -1)), r;
     ray_hit h;

@@ -31,13 +31,13 @@ static void build(test_scene *t)
     unsigned red, glass, floor;
 
     memset(t, 0, sizeof *t);
-    t->red.diffuse = rgb_of(0.9, 0.05, 0.05);
-    t->red.specular = rgb_of(0.3, 0.3, 0.3);
+    t->red.diffuse = rgb(0.9, 0.05, 0.05);
+    t->red.specular = rgb(0.3, 0.3, 0.3);
     t->red.shininess = 20;
-    t->white.diffuse = rgb_of(0.8, 0.8, 0.8);
-    t->grey.diffuse = rgb_of(0.2, 0.2, 0.2);
+    t->white.diffuse = rgb(0.8, 0.8, 0.8);
+    t->grey.diffuse = rgb(0.2, 0.2, 0.2);
     t->glass.ior = 1.5;
-    t->glass.absorption = rgb_of(1.0, 0.6, 0.0);
+    t->glass.absorption = rgb(1.0, 0.6, 0.0);
     t->checker.even = ray_material_phong(&t->white);
     t->checker.odd = ray_material_phong(&t->grey);
     t->checker.scale = 2;
@@ -56,10 +56,10 @@ static void build(test_scene *t)
     l.position = vec(-1, 5, -1);
     l.edge1 = vec(2, 0, 0);
     l.edge2 = vec(0, 0, 2);       /* (2,0,0) x (0,0,2) = (0,-4,0): down */
-    l.intensity = rgb_of(30, 30, 30);
+    l.intensity = rgb(30, 30, 30);
     l.samples = 4;
     ck_assert_int_eq(ray_scene_add_light(t->scene, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb_of(0.1, 0.2, 0.9)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb(0.1, 0.2, 0.9)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(t->scene), RAY_OK);
     t->cam.position = vec(0, 1.5, 6);
     t->cam.look_at = vec(0, 1, 0);
@@ -297,7 +297,7 @@ START_TEST(render_should_reject_bad_options)
     cam = t.cam;
     cam.vfov = 180;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
-    cam.vfov = NAN;
+    cam.vfov = (double)NAN;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_new(&open_scene, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_render(open_scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
@@ -406,7 +406,7 @@ START_TEST(render_pixels_should_always_be_finite)
 {
     enum { PW = 8, PH = 6 };
     static const double colours[4][3] = {
-        {1e40, -1e40, 0.25}, {NAN, 1.0, 1e300}, {0.5, 0.5, 0.5},
+        {1e40, -1e40, 0.25}, {(double)NAN, 1.0, 1e300}, {0.5, 0.5, 0.5},
         {HUGE_VAL, -HUGE_VAL, 3.0}};
     static const float want[4][3] = {
         {FLT_MAX, -FLT_MAX, 0.25f}, {0.0f, 1.0f, FLT_MAX},

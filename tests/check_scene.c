@@ -45,7 +45,7 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     ray_scene *s;
     ray_material m = plain(), bad = plain();
     ray_vec3 line[3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
-    ray_vec3 nanpoly[3] = {{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}};
+    ray_vec3 nanpoly[3] = {{0, 0, 0}, {1, 0, 0}, {0, (double)NAN, 0}};
     ray_light l;
     unsigned id = 99, mat;
 
@@ -57,14 +57,14 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     bad.effects = 64;
     ck_assert_int_eq(ray_scene_add_material(s, &bad, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_material(s, NULL, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_add_sphere(s, vec(NAN, 0, 0), 1, mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec((double)NAN, 0, 0), 1, mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 0, mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), HUGE_VAL, mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat + 1, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 0), mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, HUGE_VAL, 0), vec(0, 1, 0), mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_triangle(s, line[0], line[1], line[2], mat, &id), RAY_EDEGENERATE);
-    ck_assert_int_eq(ray_scene_add_triangle(s, line[0], line[1], vec(0, 0, NAN), mat, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_triangle(s, line[0], line[1], vec(0, 0, (double)NAN), mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_polygon(s, line, 3, mat, &id), RAY_EDEGENERATE);
     ck_assert_int_eq(ray_scene_add_polygon(s, nanpoly, 3, mat, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_polygon(s, line, 2, mat, &id), RAY_EINVAL);
@@ -81,18 +81,18 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     l.kind = RAY_LIGHT_POINT;
     l.intensity.g = -1;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
-    l.intensity.g = NAN;
+    l.intensity.g = (double)NAN;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
     ck_assert_uint_eq(ray_scene_light_count(s), 0);
     ck_assert_uint_eq(id, 99);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
-    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(-1, 0, 0)), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0, NAN, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(-1, 0, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, (double)NAN, 0)), RAY_EINVAL);
     {
         ray_limits lim = {3, 2.0, 1};
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
-        lim.min_weight = NAN;
+        lim.min_weight = (double)NAN;
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
     }
     ray_scene_free(s);
@@ -118,8 +118,8 @@ START_TEST(scene_should_be_read_only_after_commit)
     ck_assert_int_eq(ray_scene_add_triangle(s, tri[0], tri[1], tri[2], mat, NULL), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_add_polygon(s, tri, 3, mat, NULL), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(0, 0, 0)), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0, 0, 0)), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(0, 0, 0)), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0)), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_set_background_fn(s, NULL, NULL), RAY_ESTATE);
     ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_ESTATE);
     ray_scene_free(s);
@@ -248,7 +248,7 @@ START_TEST(intersect_should_find_nearest_and_any)
     r.dir = vec(0, 0, 0);
     ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
     ck_assert_int_eq(ray_occluded(s, &r), 0);
-    r.dir = vec(NAN, 0, -1);
+    r.dir = vec((double)NAN, 0, -1);
     ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
     ck_assert_int_eq(ray_occluded(s, &r), 0);
     ck_assert(hit_is_poisoned(&h));
@@ -318,7 +318,7 @@ START_TEST(queries_from_several_threads_should_agree_with_one)
     l.kind = RAY_LIGHT_SPHERE;
     l.position = vec(10, 8, 5);
     l.radius = 1;
-    l.intensity = rgb_of(50, 50, 50);
+    l.intensity = rgb(50, 50, 50);
     l.samples = 4;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);

@@ -42,7 +42,7 @@ START_TEST(selfhit_should_be_zero_for_every_kind)
                     s = sh_scene(&p);
                     ck_assert_ptr_nonnull(s);
                 }
-                sh_run(&p, s, n, 99 + (unsigned long long)(o + 4 * rot), &c);
+                sh_run(&p, s, n, 99 + (uint64_t)(o + 4 * rot), &c);
                 ray_scene_free(s);
                 ck_assert_msg(c.rays >= n / 4, "%s: only %ld hits",
                               sh_kind_name[k], c.rays);
@@ -71,7 +71,7 @@ START_TEST(floor_rays_from_the_hit_point_should_not_rehit)
     for (k = 0; k < SH_KINDS; k++) {
         sh_prim p;
         ray_scene *s;
-        unsigned long long seed = 5;
+        rng g = {5};
         long hits = 0;
 
         if (!sh_flat((sh_kind)k))
@@ -80,10 +80,10 @@ START_TEST(floor_rays_from_the_hit_point_should_not_rehit)
         s = sh_scene(&p);
         ck_assert_ptr_nonnull(s);
         for (i = 0; i < 3000; i++) {
-            double x = 180 * sh_unit(&seed) - 90, z = 180 * sh_unit(&seed) - 90;
+            double x = 180 * rng_unit(&g) - 90, z = 180 * rng_unit(&g) - 90;
             ray_ray r, out;
             ray_hit h, h2;
-            r.org = vec(x + 3, 0.01 + 5 * sh_unit(&seed), z - 4);
+            r.org = vec(x + 3, 0.01 + 5 * rng_unit(&g), z - 4);
             r.dir = vec(x - r.org.x, -r.org.y, z - r.org.z);
             r.tmin = 0, r.tmax = HUGE_VAL;
             if (!sh_bare(&p, &r, &h))
@@ -121,19 +121,19 @@ END_TEST
 */
 START_TEST(sphere_should_not_depend_on_direction_length)
 {
-    unsigned long long seed = 3;
+    rng g = {3};
     int i, hits = 0;
 
     for (i = 0; i < 4000; i++) {
-        ray_vec3 c = vec(1e5 * (sh_unit(&seed) - 0.5), 2, 3);
+        ray_vec3 c = vec(1e5 * (rng_unit(&g) - 0.5), 2, 3);
         ray_ray r, rs;
         ray_hit h, hs;
         double len[4] = {0x1p-600, 0x1p600, 1e-200, 1e200};
         int k, hit;
 
-        r.org = vec(c.x + 4, c.y + 5 * sh_unit(&seed), c.z - 6);
-        r.dir = vec(c.x + 2 * sh_unit(&seed) - 1 - r.org.x,
-                    c.y + 2 * sh_unit(&seed) - 1 - r.org.y, c.z - r.org.z);
+        r.org = vec(c.x + 4, c.y + 5 * rng_unit(&g), c.z - 6);
+        r.dir = vec(c.x + 2 * rng_unit(&g) - 1 - r.org.x,
+                    c.y + 2 * rng_unit(&g) - 1 - r.org.y, c.z - r.org.z);
         r.tmin = 0, r.tmax = HUGE_VAL;
         hit = ray_sphere(&r, c, 1.0, &h);
         hits += hit;
@@ -264,7 +264,7 @@ static void render_wall(int axis, int as_plane)
                              u.y * px + vv.y * py - w.y,
                              u.z * px + vv.z * py - w.z), p, to;
             double t = -axis_of(cam.position, axis) / axis_of(d, axis);
-            double want = 0, dist, got = img[3 * (y * W + x)];
+            double want = 0, dist, got = (double)img[3 * (y * W + x)];
 
             p = vec(cam.position.x + t * d.x, cam.position.y + t * d.y,
                     cam.position.z + t * d.z);

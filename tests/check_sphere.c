@@ -142,7 +142,7 @@ END_TEST
 START_TEST(sphere_should_miss_on_bad_input)
 {
     ray_vec3 c = vec(0, 0, 0), org = vec(0, 0, -5), dir = vec(0, 0, 1);
-    double nan = NAN, inf = HUGE_VAL;
+    double nan = (double)NAN, inf = HUGE_VAL;
     ray_ray rays[8];
     ray_hit h;
     int i;

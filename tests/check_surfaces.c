@@ -89,7 +89,7 @@ START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
     ps = wave_surface();
     ps.subdivisions = 1000;                 /* beyond what ray_parametric takes */
     ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_EINVAL);
-    cp[5].y = NAN;
+    cp[5].y = (double)NAN;
     ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_bezier(s, NULL, 0, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 77);                      /* nothing added */
@@ -209,7 +209,7 @@ START_TEST(scene_should_count_root_failures_as_misses)
     ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
     is.max_iterations = 2;
     ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0.25, 0, 0)),
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0)),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);

@@ -217,7 +217,7 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     img = load_test_image();
     ck_assert_int_eq(ray_image_sample(NULL, 0, 0, &c), RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample(img, 0, 0, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, NAN, 0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, (double)NAN, 0, &c), RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample(img, 0, HUGE_VAL, &c), RAY_EINVAL);
     ck_assert_double_eq(c.r, 7);
     /* Huge coordinates keep their fraction's digits: 1e9 + 0.125 is
@@ -354,9 +354,9 @@ START_TEST(image_should_load_interlaced_files)
             ck_assert_double_eq(a.r, b.r);
             ck_assert_double_eq(a.g, b.g);
             ck_assert_double_eq(a.b, b.b);
-            ck_assert_double_eq_tol(a.r, v, CENTRE_TOL + FLT_EPSILON);
+            ck_assert_double_eq_tol(a.r, v, CENTRE_TOL + (double)FLT_EPSILON);
             ck_assert_double_eq_tol(a.b, v + 600.0 / 65535.0,
-                                    CENTRE_TOL + FLT_EPSILON);
+                                    CENTRE_TOL + (double)FLT_EPSILON);
         }
     ray_image_free(plain);
     ray_image_free(adam7);
@@ -381,7 +381,7 @@ START_TEST(image_should_expand_palettes_grey_and_alpha)
     static const unsigned char grey4[1] = {0x5f};     /* 5, 15 */
     static const unsigned char grey_alpha[2] = {200, 128};
     static const unsigned char grey16[2] = {0x80, 0x00};
-    const double tol = 2 * FLT_EPSILON;
+    const double tol = 2 * (double)FLT_EPSILON;
     double v;
     png_spec sp;
     ray_image *img;
@@ -691,7 +691,7 @@ static void probe_texture(void *ud, const ray_shade_args *a, ray_rgb *out)
     p->u = a->u;
     p->v = a->v;
     p->calls++;
-    *out = rgb_of(1, 1, 1);
+    *out = rgb(1, 1, 1);
 }
 
 /* Trace one primary ray through a committed scene; the colour. */
@@ -726,7 +726,7 @@ START_TEST(texture_should_see_every_primitives_coordinates)
             cp[4 * i + j] = vec(j - 1.5, i - 1.5, 0.1 * (i % 2));
     ck_assert_int_eq(ray_implicit_torus(&torus, &is), RAY_OK);
     memset(&params, 0, sizeof params);
-    params.diffuse = rgb_of(1, 1, 1);
+    params.diffuse = rgb(1, 1, 1);
     params.texture.fn = probe_texture;
     params.texture.ud = &probe;
     for (kind = 0; kind < 5; kind++) {
@@ -738,7 +738,7 @@ START_TEST(texture_should_see_every_primitives_coordinates)
         ck_assert(m.effects & RAY_EFFECT_TEXTURE);
         ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(1, 1, 1)), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_ambient(s, rgb(1, 1, 1)), RAY_OK);
         switch (kind) {
         case 0:
             ray_scene_add_sphere(s, vec(0, 0, 0), 1.5, 0, NULL);
@@ -792,7 +792,7 @@ START_TEST(textured_phong_should_multiply_diffuse_by_the_image)
     int n;
 
     memset(&params, 0, sizeof params);
-    params.diffuse = rgb_of(0.5, 1, 2);
+    params.diffuse = rgb(0.5, 1, 2);
     params.texture = ray_texture_image(img);
     ck_assert(params.texture.fn != NULL);
     m = ray_material_phong(&params);
@@ -800,7 +800,7 @@ START_TEST(textured_phong_should_multiply_diffuse_by_the_image)
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), 0,
                                          NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_ambient(s, rgb_of(1, 1, 1)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(1, 1, 1)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     for (n = 0; n < 20; n++) {
         double x = 0.37 * n - 3, z = 0.21 * n - 1;

@@ -9,7 +9,7 @@
 ** "k") and the given limits; a context traces one vertical ray. */
 static ray_stats bounce_between_mirrors(double k, const ray_limits *lim)
 {
-    ray_rgb refl = rgb_of(k, k, k), c;
+    ray_rgb refl = rgb(k, k, k), c;
     ray_material m = ray_material_mirror(&refl);
     ray_scene *s;
     ray_ctx *ctx;
@@ -163,7 +163,7 @@ static ray_stats trace_unit_sphere(ray_material m, const ray_limits *lim,
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_limits(s, lim), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(1, 1, 1)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(1, 1, 1)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, c), RAY_OK);
@@ -269,7 +269,7 @@ START_TEST(shadow_rays_should_not_hit_their_own_surface)
         memset(&l, 0, sizeof l);
         l.kind = RAY_LIGHT_POINT;
         l.position = vec(o, o, o);
-        l.intensity = rgb_of(1, 1, 1);
+        l.intensity = rgb(1, 1, 1);
         memset(&cam, 0, sizeof cam);
         cam.position = vec(o + 0.3, o - 0.2, o + 0.1);
         cam.look_at = vec(o + 1, o, o);
@@ -285,7 +285,7 @@ START_TEST(shadow_rays_should_not_hit_their_own_surface)
         ck_assert_int_eq(ray_render(s, &cam, &opt, img, &st), RAY_OK);
         ck_assert_uint_eq(st.rays[RAY_KIND_SHADOW], 31 * 31);
         for (i = 0; i < 3 * 31 * 31; i++)
-            ck_assert_msg(fabs(img[i] - 0.5) < 1e-6, "offset %g: pixel %u = %g",
+            ck_assert_msg(fabs((double)img[i] - 0.5) < 1e-6, "offset %g: pixel %u = %g",
                           o, i / 3, (double)img[i]);
         ray_scene_free(s);
     }
@@ -364,7 +364,7 @@ START_TEST(background_should_come_from_colour_or_callback)
     int calls = 0;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb_of(0.1, 0.2, 0.3)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0.2, 0.3)), RAY_OK);
     ck_assert_int_eq(ray_scene_set_background_fn(s, gradient, &calls), RAY_OK);
     ck_assert_int_eq(ray_scene_set_background_fn(s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
@@ -488,16 +488,16 @@ START_TEST(lights_should_sample_as_documented)
     memset(&l, 0, sizeof l);
     l.kind = RAY_LIGHT_POINT;
     l.position = vec(0, 0, 1e-160);
-    l.intensity = rgb_of(1, 0, 0);
+    l.intensity = rgb(1, 0, 0);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     l.kind = RAY_LIGHT_DIRECTIONAL;
     l.direction = vec(0, 0, -4);
-    l.intensity = rgb_of(2, 2, 2);
+    l.intensity = rgb(2, 2, 2);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     l.kind = RAY_LIGHT_SPHERE;
     l.position = vec(0, 0, 10);
     l.radius = 1;
-    l.intensity = rgb_of(1, 1, 1);
+    l.intensity = rgb(1, 1, 1);
     l.samples = 5;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     l.samples = 0;

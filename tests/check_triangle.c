@@ -196,7 +196,7 @@ END_TEST
 
 START_TEST(triangle_should_miss_on_bad_input)
 {
-    double nan = NAN, inf = HUGE_VAL;
+    double nan = (double)NAN, inf = HUGE_VAL;
     ray_vec3 a, b, c;
     ray_ray good = down_onto(0, 0.25, 0.25), r;
     ray_hit h;

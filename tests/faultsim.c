@@ -46,6 +46,7 @@
 #include <png.h>
 
 #include "ray.h"
+#include "testkit.h"
 
 /* ------------------------------------------------------------ the wraps */
 
@@ -350,24 +351,6 @@ static void digest_bytes(env *e, const void *p, size_t n)
     }
 }
 
-static ray_vec3 vec(double x, double y, double z)
-{
-    ray_vec3 v;
-    v.x = x;
-    v.y = y;
-    v.z = z;
-    return v;
-}
-
-static ray_rgb rgb_of(double r, double g, double b)
-{
-    ray_rgb c;
-    c.r = r;
-    c.g = g;
-    c.b = b;
-    return c;
-}
-
 /* What a workload's scene holds: bits. */
 enum {
     HAS_PRIMS = 1,            /* spheres, plane, triangle, polygon */
@@ -494,7 +477,7 @@ static int add_lights(env *e, ray_scene *s, int area)
         l.position = vec(-1, 5, -1);
         l.edge1 = vec(2, 0, 0);
         l.edge2 = vec(0, 0, 2);   /* edge1 x edge2 = (0, -4, 0): down */
-        l.intensity = rgb_of(20, 20, 20);
+        l.intensity = rgb(20, 20, 20);
         l.samples = 4;
         CALL(e, ray_scene_add_light(s, &l, NULL));
         l.kind = RAY_LIGHT_SPHERE;
@@ -504,11 +487,11 @@ static int add_lights(env *e, ray_scene *s, int area)
     } else {
         l.kind = RAY_LIGHT_POINT;
         l.position = vec(2, 5, 4);
-        l.intensity = rgb_of(30, 30, 30);
+        l.intensity = rgb(30, 30, 30);
         CALL(e, ray_scene_add_light(s, &l, NULL));
         l.kind = RAY_LIGHT_DIRECTIONAL;
         l.direction = vec(-1, -2, -1);
-        l.intensity = rgb_of(0.3, 0.3, 0.3);
+        l.intensity = rgb(0.3, 0.3, 0.3);
         CALL(e, ray_scene_add_light(s, &l, NULL));
     }
 out:
@@ -525,7 +508,7 @@ static int add_many(env *e, ray_scene *s, const ray_material *m)
 
     memset(&l, 0, sizeof l);
     l.kind = RAY_LIGHT_POINT;
-    l.intensity = rgb_of(2, 2, 2);
+    l.intensity = rgb(2, 2, 2);
     for (i = 0; i < 9; i++) {
         CALL(e, ray_scene_add_material(s, m, &mat));
         CALL(e, ray_scene_add_sphere(s, vec(-4 + i, 3, -3), 0.3, mat, NULL));
@@ -548,15 +531,15 @@ static int build_scene(env *e, int parts, scene_parts *sp, ray_scene **out)
     unsigned red, white, glass, tex;
     int rc;
 
-    sp->red.diffuse = rgb_of(0.9, 0.1, 0.1);
-    sp->red.specular = rgb_of(0.3, 0.3, 0.3);
+    sp->red.diffuse = rgb(0.9, 0.1, 0.1);
+    sp->red.specular = rgb(0.3, 0.3, 0.3);
     sp->red.shininess = 20;
-    sp->white.diffuse = rgb_of(0.8, 0.8, 0.8);
-    sp->white.reflect = rgb_of(0.2, 0.2, 0.2);
-    sp->mirror = rgb_of(0.9, 0.9, 0.9);
+    sp->white.diffuse = rgb(0.8, 0.8, 0.8);
+    sp->white.reflect = rgb(0.2, 0.2, 0.2);
+    sp->mirror = rgb(0.9, 0.9, 0.9);
     sp->glass.ior = 1.5;
-    sp->glass.absorption = rgb_of(0.5, 0.2, 0.0);
-    sp->textured.diffuse = rgb_of(1, 1, 1);
+    sp->glass.absorption = rgb(0.5, 0.2, 0.0);
+    sp->textured.diffuse = rgb(1, 1, 1);
     sp->textured.texture = ray_texture_image(sp->image);
     CALL(e, ray_scene_new(&s, e->alloc, NULL));
     m = ray_material_phong(&sp->red);
@@ -584,7 +567,7 @@ static int build_scene(env *e, int parts, scene_parts *sp, ray_scene **out)
         CALL(e, add_many(e, s, &m));
     }
     CALL(e, add_lights(e, s, (parts & HAS_AREA) != 0));
-    CALL(e, ray_scene_set_background(s, rgb_of(0.1, 0.2, 0.6)));
+    CALL(e, ray_scene_set_background(s, rgb(0.1, 0.2, 0.6)));
     CALL(e, ray_scene_commit(s));
     *out = s;
     return RAY_OK;

@@ -6,7 +6,8 @@
 ** reports errors against a higher-precision reference (long double), or
 ** counts of leaks, false hits, misclassifications and self-hits.
 ** Header-only; every function is static.  Uses the library's internal
-** naive variants (src/prim.h).
+** naive variants (src/prim.h); its random inputs come from testkit.h's
+** generator (rng, rng_unit, rng_dir).
 */
 #ifndef RAY_HARDCASES_H
 #define RAY_HARDCASES_H
@@ -17,36 +18,7 @@
 #include <string.h>
 
 #include "prim.h"
-
-/* splitmix64: a fixed-seed generator (the same inputs on every run). */
-typedef struct hc_rng {
-    unsigned long long s;
-} hc_rng;
-
-static inline double hc_unit(hc_rng *g)
-{
-    unsigned long long z = (g->s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return (double)((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static inline ray_vec3 hc_dir(hc_rng *g)
-{
-    for (;;) {
-        ray_vec3 v = v3(2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1,
-                        2 * hc_unit(g) - 1);
-        double l2 = v3_dot(v, v);
-        if (l2 > 1e-4 && l2 <= 1)
-            return v3_scale(v, 1.0 / sqrt(l2));
-    }
-}
-
-/* A point in [-1, 1]^3. */
-static inline ray_vec3 hc_cube_point(hc_rng *g)
-{
-    return v3(2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1, 2 * hc_unit(g) - 1);
-}
+#include "testkit.h"
 
 /* |a - b| in units of the spacing of doubles at b. */
 static inline double hc_ulps(double a, long double b)
@@ -82,13 +54,14 @@ static inline hc_sphere_result hc_sphere_far(double r, double D, int n,
         for (j = 0; j < n; j++) {
             double x = r * (-1.2 + 2.4 * (i + 0.5) / n);
             double y = r * (-1.2 + 2.4 * (j + 0.5) / n);
-            long double rho2 = (long double)x * x + (long double)y * y;
-            long double gap = (long double)r * r - rho2;
+            long double rho2 = (long double)x * (long double)x +
+                               (long double)y * (long double)y;
+            long double gap = (long double)r * (long double)r - rho2;
             ray_ray ray;
             ray_hit h;
             int expect, got;
 
-            if (fabsl(gap) < 1e-6L * r * r)
+            if (fabsl(gap) < 1e-6L * (long double)r * (long double)r)
                 continue;
             ray.org = v3(x, y, 0);
             ray.dir = v3(0, 0, -1);
@@ -133,9 +106,9 @@ static inline double hc_ground(double R, double h, int naive)
         ray.tmin = 0;
         ray.tmax = HUGE_VAL;
         /* f = org - c = (0, h + R, 0): a t^2 - 2 b t + cc = 0. */
-        a = 1.0L + (long double)slope * slope;
-        b = (long double)slope * ((long double)h + R);
-        cc = (long double)h * ((long double)h + 2.0L * R);
+        a = 1.0L + (long double)slope * (long double)slope;
+        b = (long double)slope * ((long double)h + (long double)R);
+        cc = (long double)h * ((long double)h + 2.0L * (long double)R);
         disc = b * b - a * cc;
         if (disc < 0)
             continue;
@@ -143,8 +116,8 @@ static inline double hc_ground(double R, double h, int naive)
         if (!(naive ? ray__sphere_naive(&ray, c, R, &hit)
                     : ray_sphere(&ray, c, R, &hit)))
             return HUGE_VAL;                /* a miss is the worst error */
-        if (fabsl(hit.t - t_ref) / t_ref > worst)
-            worst = (double)(fabsl(hit.t - t_ref) / t_ref);
+        if (fabsl((long double)hit.t - t_ref) / t_ref > (long double)worst)
+            worst = (double)(fabsl((long double)hit.t - t_ref) / t_ref);
     }
     return worst;
 }
@@ -333,18 +306,18 @@ static inline int hc_mesh_hit(const hc_mesh *m, const ray_ray *r, int algo)
 static inline long hc_leaks(const hc_mesh *m, ray_vec3 centre, long rays,
                             int on_edge, int algo, unsigned long long seed)
 {
-    hc_rng g = {seed};
+    rng g = {seed};
     long leaks = 0, k;
 
     for (k = 0; k < rays; k++) {
-        size_t ti = (size_t)(hc_unit(&g) * (double)m->nt) % m->nt;
-        unsigned e = (unsigned)(hc_unit(&g) * 3) % 3;
+        size_t ti = (size_t)(rng_unit(&g) * (double)m->nt) % m->nt;
+        unsigned e = (unsigned)(rng_unit(&g) * 3) % 3;
         ray_vec3 a = m->v[m->idx[3 * ti + e]],
                  b = m->v[m->idx[3 * ti + (e + 1) % 3]], target;
-        ray_vec3 org = v3_add(centre, v3_scale(hc_dir(&g), 0.9 * hc_unit(&g)));
+        ray_vec3 org = v3_add(centre, v3_scale(rng_dir(&g), 0.9 * rng_unit(&g)));
         ray_ray r;
         if (on_edge) {
-            double s = hc_unit(&g);
+            double s = rng_unit(&g);
             target = v3_add(v3_scale(a, 1 - s), v3_scale(b, s));
         } else
             target = a;
@@ -363,17 +336,17 @@ static inline long hc_leaks(const hc_mesh *m, ray_vec3 centre, long rays,
 */
 static inline long hc_false_hits(double gap, long rays, int algo)
 {
-    hc_rng g = {99};
+    rng g = {99};
     long hits = 0, k;
 
     for (k = 0; k < rays; k++) {
-        ray_vec3 a = v3(10 * hc_unit(&g), 10 * hc_unit(&g), 0);
-        ray_vec3 b = v3_add(a, v3(1 + hc_unit(&g), 0.3 * hc_unit(&g), 0));
-        ray_vec3 c = v3_add(a, v3(0.3 * hc_unit(&g), 1 + hc_unit(&g), 0));
-        double s = hc_unit(&g);
+        ray_vec3 a = v3(10 * rng_unit(&g), 10 * rng_unit(&g), 0);
+        ray_vec3 b = v3_add(a, v3(1 + rng_unit(&g), 0.3 * rng_unit(&g), 0));
+        ray_vec3 c = v3_add(a, v3(0.3 * rng_unit(&g), 1 + rng_unit(&g), 0));
+        double s = rng_unit(&g);
         ray_vec3 on = v3_add(v3_scale(a, 1 - s), v3_scale(b, s));
         ray_vec3 out = v3_sub(on, v3_scale(v3_sub(c, on), gap));
-        ray_vec3 org = v3_add(out, v3(hc_unit(&g) - 0.5, hc_unit(&g) - 0.5, 2));
+        ray_vec3 org = v3_add(out, v3(rng_unit(&g) - 0.5, rng_unit(&g) - 0.5, 2));
         hc_mesh one;
         unsigned idx[3] = {0, 1, 2};
         ray_vec3 vv[3];
@@ -423,12 +396,12 @@ static inline int hc_leave(const ray_hit *h, ray_vec3 dir, const ray_vec3 *to,
 */
 static inline long hc_sphere_acne(double X, long n, int method)
 {
-    hc_rng g = {7};
+    rng g = {7};
     ray_vec3 c = v3(X, 0, 0);
     long self = 0, k;
 
     for (k = 0; k < n; k++) {
-        ray_vec3 d = hc_dir(&g), w = hc_dir(&g);
+        ray_vec3 d = rng_dir(&g), w = rng_dir(&g);
         ray_ray prim, out;
         ray_hit h, h2;
         prim.org = v3_add(c, v3_scale(d, 5));
@@ -454,15 +427,15 @@ static inline long hc_sphere_acne(double X, long n, int method)
 static inline long hc_thin_sheet_leaks(double X, double gap, long n,
                                        int method)
 {
-    hc_rng g = {11};
+    rng g = {11};
     long leaks = 0, k;
 
     for (k = 0; k < n; k++) {
-        ray_vec3 light, at = v3(X + 10 * hc_unit(&g), gap / 2, X + 10 * hc_unit(&g));
+        ray_vec3 light, at = v3(X + 10 * rng_unit(&g), gap / 2, X + 10 * rng_unit(&g));
         ray_ray prim, out;
         ray_hit h, h2;
         prim.org = at;
-        prim.dir = v3(0.3 * hc_unit(&g) - 0.15, -1, 0.3 * hc_unit(&g) - 0.15);
+        prim.dir = v3(0.3 * rng_unit(&g) - 0.15, -1, 0.3 * rng_unit(&g) - 0.15);
         prim.tmin = 0;
         prim.tmax = HUGE_VAL;
         if (!ray_plane(&prim, v3(X, 0, X), v3(0, 1, 0), &h))
@@ -481,15 +454,15 @@ static inline long hc_thin_sheet_leaks(double X, double gap, long n,
 ** [-10, 10]^3 and random points inside them. */
 static inline double hc_bary_drift(long n, int naive)
 {
-    hc_rng g = {5};
+    rng g = {5};
     double worst = 0;
     long k;
 
     for (k = 0; k < n; k++) {
-        ray_vec3 a = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
-        ray_vec3 b = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
-        ray_vec3 c = v3(20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10, 20 * hc_unit(&g) - 10);
-        double u = hc_unit(&g), v = hc_unit(&g), abg[3], e;
+        ray_vec3 a = v3(20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10);
+        ray_vec3 b = v3(20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10);
+        ray_vec3 c = v3(20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10, 20 * rng_unit(&g) - 10);
+        double u = rng_unit(&g), v = rng_unit(&g), abg[3], e;
         ray_vec3 p;
         if (u + v > 1) {
             u = 1 - u;
@@ -539,35 +512,35 @@ enum { HC_NEEDLE, HC_CAP };
 ** (half of them, for X >= 20; the others from 0.5 X to 1.5 X away), in a
 ** random direction, aimed at a random interior point.
 */
-static inline void hc_sliver(hc_rng *g, int kind, double X, ray_vec3 v[3],
+static inline void hc_sliver(rng *g, int kind, double X, ray_vec3 v[3],
                              ray_ray *r, double *aspect)
 {
-    ray_vec3 e1 = hc_dir(g), e2, n = hc_dir(g), c, p[3], target;
-    double L = 0.5 + 4.5 * hc_unit(g), h, a, b;
-    int k = (int)(3 * hc_unit(g)) % 3, i;
+    ray_vec3 e1 = rng_dir(g), e2, n = rng_dir(g), c, p[3], target;
+    double L = 0.5 + 4.5 * rng_unit(g), h, a, b;
+    int k = (int)(3 * rng_unit(g)) % 3, i;
 
-    *aspect = pow(10, 2 + 5 * hc_unit(g));
+    *aspect = pow(10, 2 + 5 * rng_unit(g));
     h = L / *aspect;
     e2 = v3_cross(n, e1);                /* unit: redraw if nearly parallel */
     while (v3_dot(e2, e2) < 1e-2) {
-        n = hc_dir(g);
+        n = rng_dir(g);
         e2 = v3_cross(n, e1);
     }
     e2 = v3_scale(e2, 1 / sqrt(v3_dot(e2, e2)));
-    c = v3_add(hc_cube_point(g), v3_scale(hc_dir(g), X));
+    c = v3_add(rng_point(g, -1, 1), v3_scale(rng_dir(g), X));
     p[0] = c;
     if (kind == HC_NEEDLE) {
         p[1] = v3_add(c, v3_scale(e2, h));
-        p[2] = v3_add(c, v3_add(v3_scale(e1, L), v3_scale(e2, h * hc_unit(g))));
+        p[2] = v3_add(c, v3_add(v3_scale(e1, L), v3_scale(e2, h * rng_unit(g))));
     } else {
         p[1] = v3_add(c, v3_scale(e1, L));
-        p[2] = v3_add(c, v3_add(v3_scale(e1, L * (0.2 + 0.6 * hc_unit(g))),
+        p[2] = v3_add(c, v3_add(v3_scale(e1, L * (0.2 + 0.6 * rng_unit(g))),
                                 v3_scale(e2, h)));
     }
     for (i = 0; i < 3; i++)
         v[i] = p[(i + k) % 3];
-    a = hc_unit(g);
-    b = hc_unit(g);
+    a = rng_unit(g);
+    b = rng_unit(g);
     if (a + b > 1) {
         a = 1 - a;
         b = 1 - b;
@@ -576,9 +549,9 @@ static inline void hc_sliver(hc_rng *g, int kind, double X, ray_vec3 v[3],
                     v3_scale(v[2], b));
     /* Half from 1 to 20 units away, half from as far as the offset (a
     ** camera near the origin looking at a far triangle). */
-    r->org = v3_add(target, v3_scale(hc_dir(g), hc_unit(g) < 0.5 || X < 20
-                                                    ? 1 + 19 * hc_unit(g)
-                                                    : X * (0.5 + hc_unit(g))));
+    r->org = v3_add(target, v3_scale(rng_dir(g), rng_unit(g) < 0.5 || X < 20
+                                                    ? 1 + 19 * rng_unit(g)
+                                                    : X * (0.5 + rng_unit(g))));
     r->dir = v3_sub(target, r->org);
     r->tmin = 0;
     r->tmax = HUGE_VAL;
@@ -616,14 +589,14 @@ static inline int hc_sliver_ref(const ray_ray *r, ray_vec3 A, ray_vec3 B,
                                 ray_vec3 C, double t, double beta,
                                 double gamma, hc_sliver_err *err)
 {
-    hc_quad e1[3] = {(hc_quad)B.x - A.x, (hc_quad)B.y - A.y,
-                     (hc_quad)B.z - A.z};
-    hc_quad e2[3] = {(hc_quad)C.x - A.x, (hc_quad)C.y - A.y,
-                     (hc_quad)C.z - A.z};
-    hc_quad s[3] = {(hc_quad)r->org.x - A.x, (hc_quad)r->org.y - A.y,
-                    (hc_quad)r->org.z - A.z};
-    hc_quad d[3] = {r->dir.x, r->dir.y, r->dir.z}, pv[3], qv[3], nq[3], det,
-            ts, bs, gs;
+    hc_quad e1[3] = {(hc_quad)B.x - (hc_quad)A.x, (hc_quad)B.y - (hc_quad)A.y,
+                     (hc_quad)B.z - (hc_quad)A.z};
+    hc_quad e2[3] = {(hc_quad)C.x - (hc_quad)A.x, (hc_quad)C.y - (hc_quad)A.y,
+                     (hc_quad)C.z - (hc_quad)A.z};
+    hc_quad s[3] = {(hc_quad)r->org.x - (hc_quad)A.x, (hc_quad)r->org.y - (hc_quad)A.y,
+                    (hc_quad)r->org.z - (hc_quad)A.z};
+    hc_quad d[3] = {(hc_quad)r->dir.x, (hc_quad)r->dir.y, (hc_quad)r->dir.z},
+            pv[3], qv[3], nq[3], det, ts, bs, gs;
     double nl, cosine, M, ulp, dl;
     const ray_vec3 *all[4] = {&r->org, &A, &B, &C};
     int i;
@@ -647,16 +620,16 @@ static inline int hc_sliver_ref(const ray_ray *r, ray_vec3 A, ray_vec3 B,
         return 0;
     nl = sqrt((double)(nq[0] * nq[0] + nq[1] * nq[1] + nq[2] * nq[2]));
     dl = sqrt(v3_dot(r->dir, r->dir));
-    cosine = fabs((double)(det / nl)) / dl;   /* det = -(e1 x e2) . d */
+    cosine = fabs((double)(det / (hc_quad)nl)) / dl;   /* det = -(e1 x e2) . d */
     M = 0;
     for (i = 0; i < 4; i++)
         M = fmax(M, fmax(fabs(all[i]->x), fmax(fabs(all[i]->y),
                                                fabs(all[i]->z))));
     ulp = nextafter(M, HUGE_VAL) - M;
-    err->t = fabs((double)(t - ts)) * dl * cosine / ulp;
-    err->u = fabs((double)(beta - bs)) * (nl / v3_length(v3_sub(C, A))) *
+    err->t = fabs((double)((hc_quad)t - ts)) * dl * cosine / ulp;
+    err->u = fabs((double)((hc_quad)beta - bs)) * (nl / v3_length(v3_sub(C, A))) *
              cosine / ulp;
-    err->v = fabs((double)(gamma - gs)) * (nl / v3_length(v3_sub(B, A))) *
+    err->v = fabs((double)((hc_quad)gamma - gs)) * (nl / v3_length(v3_sub(B, A))) *
              cosine / ulp;
     return 1;
 }

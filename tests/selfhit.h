@@ -29,7 +29,8 @@
 ** legitimate chord the test's angles produce (the grazing camera rays
 ** leave at 0.05 degrees or more: 2 * 0.35 * sin(0.05 deg) = 6e-4).
 **
-** Header-only, deterministic (fixed seeds); not part of the library.
+** Header-only, deterministic (fixed seeds of testkit.h's generator); not
+** part of the library.
 */
 #ifndef TESTS_SELFHIT_H
 #define TESTS_SELFHIT_H
@@ -40,6 +41,7 @@
 #include <string.h>
 
 #include "ray.h"
+#include "testkit.h"
 
 typedef enum sh_kind {
     SH_SPHERE,
@@ -83,29 +85,12 @@ typedef struct sh_prim {
     ray_parametric_surface bezier;
 } sh_prim;
 
-static inline ray_vec3 sh_v3(double x, double y, double z)
-{
-    ray_vec3 v;
-    v.x = x, v.y = y, v.z = z;
-    return v;
-}
-
 static inline ray_vec3 sh_world(const sh_prim *p, double x, double y,
                                 double z)
 {
-    return sh_v3(p->c.x + x * p->ex.x + y * p->ey.x + z * p->ez.x,
+    return vec(p->c.x + x * p->ex.x + y * p->ey.x + z * p->ez.x,
                  p->c.y + x * p->ex.y + y * p->ey.y + z * p->ez.y,
                  p->c.z + x * p->ex.z + y * p->ey.z + z * p->ez.z);
-}
-
-/* A tiny deterministic generator (SplitMix64), so no libc state. */
-static inline double sh_unit(unsigned long long *s)
-{
-    unsigned long long z = (*s += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    z ^= z >> 31;
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
 }
 
 /*
@@ -122,7 +107,7 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
 
     memset(p, 0, sizeof *p);
     p->kind = kind;
-    p->c = sh_v3(offset, offset, offset);
+    p->c = vec(offset, offset, offset);
     c = cos(th), s = sin(th);
     for (i = 0; i < 3; i++)
         k[i] /= len;
@@ -136,9 +121,9 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
         for (i = 0; i < 3; i++)
             for (j = 0; j < 3; j++)
                 R[i][j] = i == j;
-    p->ex = sh_v3(R[0][0], R[1][0], R[2][0]);
-    p->ey = sh_v3(R[0][1], R[1][1], R[2][1]);
-    p->ez = sh_v3(R[0][2], R[1][2], R[2][2]);
+    p->ex = vec(R[0][0], R[1][0], R[2][0]);
+    p->ey = vec(R[0][1], R[1][1], R[2][1]);
+    p->ez = vec(R[0][2], R[1][2], R[2][2]);
     p->size = (kind == SH_SPHERE || kind == SH_TORUS || kind == SH_IMPLICIT)
                   ? 1.35 : 100;
     /* Flat kinds lie in the local plane y = 0: a floor 200 wide, so
@@ -210,22 +195,15 @@ static inline int sh_bare(const sh_prim *p, const ray_ray *r, ray_hit *h)
     return 0;
 }
 
-static inline void sh_nop_shade(void *ud, ray_ctx *ctx,
-                                const ray_shade_args *a, ray_rgb *out)
-{
-    (void)ud, (void)ctx, (void)a, (void)out;
-}
-
 /* A committed scene holding only p; NULL if a call failed. */
 static inline ray_scene *sh_scene(const sh_prim *p)
 {
     static const unsigned quad[6] = {0, 1, 2, 0, 2, 3};
-    ray_material m;
+    ray_material m = plain();
     ray_mesh mesh;
     ray_scene *s;
     int rc = RAY_OK;
 
-    m.shade = sh_nop_shade, m.ud = NULL, m.effects = 0;
     if (ray_scene_new(&s, NULL, NULL) != RAY_OK)
         return NULL;
     rc = ray_scene_add_material(s, &m, NULL);
@@ -302,21 +280,22 @@ static inline int sh_self(const sh_prim *p, const ray_scene *scene,
 ** when not NULL, else the bare function.
 */
 static inline void sh_run(const sh_prim *p, const ray_scene *scene, int n,
-                          unsigned long long seed, sh_counts *out)
+                          uint64_t seed, sh_counts *out)
 {
     const double deg = 3.14159265358979323846 / 180;
     ray_vec3 light = sh_world(p, 3, 6, 4);
+    rng g = {seed};
     int i;
 
     memset(out, 0, sizeof *out);
     for (i = 0; i < n; i++) {
-        double el = i % 2 ? (20 + 60 * sh_unit(&seed)) * deg
-                          : (0.05 + 2.95 * sh_unit(&seed)) * deg;
-        double az = 6.283185307179586 * sh_unit(&seed);
+        double el = i % 2 ? (20 + 60 * rng_unit(&g)) * deg
+                          : (0.05 + 2.95 * rng_unit(&g)) * deg;
+        double az = 6.283185307179586 * rng_unit(&g);
         double reach = sh_flat(p->kind) ? (i % 4 < 2 ? 4 : 90) : 1.2;
-        double tx = (2 * sh_unit(&seed) - 1) * reach;
-        double tz = (2 * sh_unit(&seed) - 1) * reach;
-        double ty = sh_flat(p->kind) ? 0 : (2 * sh_unit(&seed) - 1) * 0.4;
+        double tx = (2 * rng_unit(&g) - 1) * reach;
+        double tz = (2 * rng_unit(&g) - 1) * reach;
+        double ty = sh_flat(p->kind) ? 0 : (2 * rng_unit(&g) - 1) * 0.4;
         double dist = sh_flat(p->kind) ? 24 : 8;
         ray_vec3 target = sh_world(p, tx, ty, tz), eye, d, t;
         ray_ray r, s;
@@ -325,7 +304,7 @@ static inline void sh_run(const sh_prim *p, const ray_scene *scene, int n,
 
         eye = sh_world(p, tx + dist * cos(el) * cos(az), ty + dist * sin(el),
                        tz + dist * cos(el) * sin(az));
-        d = sh_v3(target.x - eye.x, target.y - eye.y, target.z - eye.z);
+        d = vec(target.x - eye.x, target.y - eye.y, target.z - eye.z);
         r.org = eye, r.dir = d, r.tmin = 0, r.tmax = HUGE_VAL;
         hit = scene != NULL ? ray_intersect(scene, &r, &h) == 1
                             : sh_bare(p, &r, &h);

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** tests.h -- helpers shared by the Check suites in tests/.
+** tests.h -- what the Check suites in tests/ share: the suites, tolerances,
+** assertions on vectors and hit records; the rest, shared with faultsim.c
+** and the benchmarks, is testkit.h's.
 */
 #ifndef RAY_TESTS_H
 #define RAY_TESTS_H
@@ -8,10 +10,10 @@
 #include <check.h>
 #include <float.h>
 #include <math.h>
-#include <stdint.h>
 #include <string.h>
 
 #include "ray.h"
+#include "testkit.h"
 
 Suite *version_suite(void);
 Suite *sphere_suite(void);
@@ -58,60 +60,6 @@ static inline double test_offset(int i)
 static inline double tol_at(double offset)
 {
     return 64 * DBL_EPSILON * (fabs(offset) + 10.0);
-}
-
-static inline ray_vec3 vec(double x, double y, double z)
-{
-    ray_vec3 v;
-    v.x = x;
-    v.y = y;
-    v.z = z;
-    return v;
-}
-
-static inline ray_vec3 vadd(ray_vec3 a, ray_vec3 b)
-{
-    return vec(a.x + b.x, a.y + b.y, a.z + b.z);
-}
-
-static inline ray_vec3 vsub(ray_vec3 a, ray_vec3 b)
-{
-    return vec(a.x - b.x, a.y - b.y, a.z - b.z);
-}
-
-static inline ray_vec3 vscale(ray_vec3 a, double s)
-{
-    return vec(a.x * s, a.y * s, a.z * s);
-}
-
-static inline double vdot(ray_vec3 a, ray_vec3 b)
-{
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
-static inline double vlen(ray_vec3 a)
-{
-    return sqrt(vdot(a, a));
-}
-
-static inline double vdist(ray_vec3 a, ray_vec3 b)
-{
-    return vlen(vsub(a, b));
-}
-
-static inline ray_vec3 vcross(ray_vec3 a, ray_vec3 b)
-{
-    return vec(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
-               a.x * b.y - a.y * b.x);
-}
-
-static inline ray_rgb rgb_of(double r, double g, double b)
-{
-    ray_rgb c;
-    c.r = r;
-    c.g = g;
-    c.b = b;
-    return c;
 }
 
 static inline ray_ray make_ray(ray_vec3 org, ray_vec3 dir, double tmin,
@@ -171,31 +119,6 @@ static inline int hit_is_finite(const ray_hit *h)
         ck_assert_double_eq_tol((a).z, (b).z, (tol));                     \
     } while (0)
 
-/* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a fixed-seed generator so
-** every property test sees the same inputs on every run and machine. */
-typedef struct rng {
-    uint64_t s;
-} rng;
-
-static inline uint64_t rng_next(rng *g)
-{
-    uint64_t z = (g->s += 0x9e3779b97f4a7c15u);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
-    return z ^ (z >> 31);
-}
-
-/* Uniform in [0, 1), 53 random bits. */
-static inline double rng_unit(rng *g)
-{
-    return (double)(rng_next(g) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static inline double rng_range(rng *g, double lo, double hi)
-{
-    return lo + (hi - lo) * rng_unit(g);
-}
-
 /* One to four random edits of buf[0 .. *n): a byte replaced by one of
 ** "alphabet" (alen characters), a byte deleted, or the rest cut off: the
 ** file readers' fuzz tests (check_obj.c, check_bpt.c). */
@@ -219,44 +142,6 @@ static inline void mutate(rng *g, char *buf, size_t *n, const char *alphabet,
             break;
         }
     }
-}
-
-/* Uniform direction on the unit sphere (Marsaglia-style rejection). */
-static inline ray_vec3 rng_dir(rng *g)
-{
-    for (;;) {
-        ray_vec3 v = vec(rng_range(g, -1, 1), rng_range(g, -1, 1),
-                         rng_range(g, -1, 1));
-        double l2 = vdot(v, v);
-        if (l2 > 1e-4 && l2 <= 1)
-            return vscale(v, 1.0 / sqrt(l2));
-    }
-}
-
-static inline ray_vec3 rng_point(rng *g, double lo, double hi)
-{
-    return vec(rng_range(g, lo, hi), rng_range(g, lo, hi),
-               rng_range(g, lo, hi));
-}
-
-/* A material that shades nothing (black), declaring no effects: for
-** scenes built only to be validated or queried. */
-static inline void black(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                         ray_rgb *out)
-{
-    (void)ud;
-    (void)ctx;
-    (void)a;
-    (void)out;
-}
-
-static inline ray_material plain(void)
-{
-    ray_material m;
-    m.shade = black;
-    m.ud = NULL;
-    m.effects = 0;
-    return m;
 }
 
 /* A const pointer as the plain void * of a material's ud (which is only
