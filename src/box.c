@@ -394,7 +394,8 @@ int ray_box(const ray_ray *r, const ray_box_params *b, ray_hit *hit)
 
     if (r == NULL || hit == NULL || !ray__ray_usable(r) ||
         box_setup(b, &f, &lo, &hi) != BOX_VALID ||
-        !local_ray(r, b, &f, &L, &e) || !slab_intervals(&L, entry, leave, live))
+        !local_ray(r, b, &f, &L, &e) ||
+        !slab_intervals(&L, entry, leave, live))
         return 0;
     last_entry_first_exit(entry, leave, &near, &near_axis, &far, &far_axis);
     if (!(near <= far))
@@ -410,8 +411,8 @@ int ray_box(const ray_ray *r, const ray_box_params *b, ray_hit *hit)
         t_s = far, axis = far_axis, side = -entry_side(&L, far_axis);
     } else
         return 0;
-    /* Back to the direction's units; the product may round past tmin or
-    ** tmax (or overflow). */
+    /* Back to the direction's units: exact, but where t overflows or
+    ** underflows, which may put it past tmin or tmax. */
     if (!(ldexp(t_s, -e) > r->tmin && ldexp(t_s, -e) < r->tmax))
         return 0;
     return box_fill(b, &f, &L, axis, side, t_s, ldexp(t_s, -e), hit);
