@@ -18,7 +18,8 @@
 **     "dir" need not be normalised, so t is measured in units of |dir|.
 **     Results exactly at tmin or tmax are not hits.
 **   * The intersection functions (ray_sphere, ray_triangle,
-**     ray_triangle_watertight, ray_plane, ray_polygon, ray_torus) return 1
+**     ray_triangle_watertight, ray_plane, ray_polygon, ray_torus,
+**     ray_box) return 1
 **     for a hit and 0 for a miss.  They never fail:
 **     NaN or infinite input, a zero-length direction, tmin > tmax and
 **     degenerate geometry are all misses; tmax = +Inf (HUGE_VAL) is
@@ -364,6 +365,52 @@ RAY_API int ray_torus(const ray_ray *r, const ray_torus_params *t,
                       ray_hit *hit);
 RAY_API int ray_implicit_torus(const ray_torus_params *t,
                                ray_implicit_surface *out);
+
+/*
+** ray_box -- ray against the oriented box of half-extents h =
+** half_extents (each > 0 and finite) about "center", whose local x axis
+** is axis_x and whose local y axis is axis_y, both in world space, of any
+** length and not parallel: the frame is ex = axis_x / |axis_x|, ey =
+** axis_y made orthogonal to ex (Gram-Schmidt) and normalised, ez = ex x
+** ey (right-handed), computed by the same operations on every call.  An
+** axis-aligned box: axis_x = (1, 0, 0), axis_y = (0, 1, 0).  The axes
+** are refused as parallel when axis_y's part orthogonal to axis_x is
+** within the rounding error of computing it (an angle under ~2e-15
+** rad); keep them at a clear angle: the frame's error is about 1e-15 /
+** sin(angle), a few ulps for orthogonal axes.
+**
+** The slab method in the box's frame, the ray's origin taken relative to
+** the centre (so a box far from the origin keeps its digits) and its
+** direction scaled by a power of two (any length gives the same hit).
+** The box is closed: a ray through an edge or a corner hits, and so does
+** a ray lying in a face's plane within the face (at the edge where it
+** enters).  A ray starting inside hits the face it leaves through.
+**
+** On a hit: n = the face's OUTWARD unit normal, +-ex, +-ey or +-ez (also
+** from inside); t passes the conservative tmin test of every primitive;
+** (u, v) in [0, 1]^2 on the face: for the face +-e_k, u runs along
+** e_(k+1) (cyclically: x -> y -> z -> x), reversed on the negative face,
+** and v along e_(k+2), from the face's edge at -h to the one at +h, so
+** that (dp/du, dp/dv, n) is right-handed on every face: a texture reads
+** unmirrored from outside.  At an edge or a corner, where two faces'
+** slabs tie, the face of the lower axis (x, then y, then z) is reported.
+** Returns 1 or 0 (*hit untouched); invalid params (NULL, NaN, Inf, a
+** half-extent not > 0, a zero or parallel axis, a box reaching beyond
+** the largest double) are a miss.
+**
+** ray_scene_add_box -- copies the params; hits as ray_box, prim_id 0.
+** RAY_EINVAL (with a message naming the field) for params ray_box
+** refuses, or an unknown material; RAY_ENOMEM; RAY_ESTATE after commit.
+*/
+typedef struct ray_box_params {
+    ray_vec3 center;
+    ray_vec3 half_extents;       /* along the local x, y, z; each > 0 */
+    ray_vec3 axis_x;             /* the local x axis, any length */
+    ray_vec3 axis_y;             /* the local y axis, not parallel to x */
+} ray_box_params;
+
+RAY_API int ray_box(const ray_ray *r, const ray_box_params *b,
+                    ray_hit *hit);
 
 /*
 ** ray_implicit_blobs -- metaballs (Blinn's "blobby molecules", with
@@ -785,6 +832,8 @@ RAY_API int ray_scene_add_parametric(ray_scene *scene,
                                      unsigned material, unsigned *geom_id);
 RAY_API int ray_scene_add_bezier(ray_scene *scene, const ray_vec3 cp[16],
                                  unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_box(ray_scene *scene, const ray_box_params *b,
+                              unsigned material, unsigned *geom_id);
 
 /*
 ** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
@@ -872,6 +921,7 @@ enum {
     RAY_PRIM_TORUS,
     RAY_PRIM_IMPLICIT,
     RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
+    RAY_PRIM_BOX,
     RAY_PRIM_KINDS
 };
 #define RAY_PRIM_KINDS_MAX 16
@@ -978,8 +1028,8 @@ RAY_API double ray_ctx_random(ray_ctx *ctx);
 ** sphere: longitude and latitude (ray_sphere); plane and polygon: the
 ** projected tangent axes (ray_plane); triangle: the barycentrics; mesh:
 ** its per-vertex (s, t) interpolated by the barycentrics; torus: its two
-** angles; Bezier and parametric: (u, v); implicit: the surface's uv
-** callback.
+** angles; box: the position on the face (ray_box); Bezier and
+** parametric: (u, v); implicit: the surface's uv callback.
 **
 ** A texture is a function of the shading point, called CONCURRENTLY from
 ** the render threads: write the colour at args (usually at args->u, v)

@@ -43,10 +43,10 @@ expect "a parameter dropped from a page" "ray_refract: 4 parameters" \
     man/man3/ray_reflect.3 '/^\.Fa "double eta"$/d'
 expect "a return type changed in the header" "ray_fresnel: return type differs" \
     ray.h 's/^RAY_API double ray_fresnel(/RAY_API float ray_fresnel(/'
-expect "a new function without a page" "ray_box is in no man page SYNOPSIS" \
+expect "a new function without a page" "ray_cone is in no man page SYNOPSIS" \
     ray.h '/^RAY_API double ray_fresnel(/a\
-RAY_API int ray_box(const ray_ray *r, ray_vec3 lo,\
-                    ray_vec3 hi, ray_hit *hit);'
+RAY_API int ray_cone(const ray_ray *r, ray_vec3 apex,\
+                     ray_vec3 base, ray_hit *hit);'
 expect "a page showing a function ray.h lacks" "the SYNOPSIS shows ray_refraction" \
     man/man3/ray_reflect.3 's/^\.Fo ray_refract$/.Fo ray_refraction/'
 expect "a function missing from its page's NAME" \

@@ -54,13 +54,15 @@ typedef enum sh_kind {
     SH_TORUS,
     SH_IMPLICIT,             /* the torus through ray_implicit */
     SH_BEZIER,               /* a flat bicubic patch, ray_parametric */
+    SH_BOX,                  /* ray_box, axes of other lengths, skewed */
     SH_KINDS
 } sh_kind;
 
 static const char *const sh_kind_name[SH_KINDS] = {
     "sphere", "plane", "triangle (Cramer)", "triangle (watertight)",
     "mesh quad (watertight)", "mesh quad (Cramer)", "polygon", "torus",
-    "implicit torus", "Bezier patch (flat)"
+    "implicit torus", "Bezier patch (flat)",
+    "box"
 };
 
 /* Offsets of the placements from the origin (each coordinate). */
@@ -83,6 +85,7 @@ typedef struct sh_prim {
     ray_torus_params torus;
     ray_implicit_surface implicit;
     ray_parametric_surface bezier;
+    ray_box_params box;
 } sh_prim;
 
 static inline ray_vec3 sh_world(const sh_prim *p, double x, double y,
@@ -124,8 +127,8 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->ex = vec(R[0][0], R[1][0], R[2][0]);
     p->ey = vec(R[0][1], R[1][1], R[2][1]);
     p->ez = vec(R[0][2], R[1][2], R[2][2]);
-    p->size = (kind == SH_SPHERE || kind == SH_TORUS || kind == SH_IMPLICIT)
-                  ? 1.35 : 100;
+    p->size = (kind == SH_SPHERE || kind == SH_TORUS ||
+               kind == SH_IMPLICIT || kind == SH_BOX) ? 1.35 : 100;
     /* Flat kinds lie in the local plane y = 0: a floor 200 wide, so
     ** camera rays reach it both near its centre and far out. */
     p->tri[0] = sh_world(p, -100, 0, -100);
@@ -145,11 +148,22 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->torus.minor = 0.35;
     ray_implicit_torus(&p->torus, &p->implicit);
     ray_bezier_surface(p->cp, &p->bezier);
+    /* The box's axes as a user may give them: x of length 2, y skewed
+    ** toward x (Gram-Schmidt makes it ey again). */
+    p->box.center = p->c;
+    p->box.half_extents = vec(1.0, 0.4, 0.8);
+    p->box.axis_x = vec(2 * p->ex.x, 2 * p->ex.y, 2 * p->ex.z);
+    p->box.axis_y = vec(0.5 * p->ey.x + 0.25 * p->ex.x,
+                          0.5 * p->ey.y + 0.25 * p->ex.y,
+                          0.5 * p->ey.z + 0.25 * p->ex.z);
 }
 
 static inline int sh_flat(sh_kind k)
 {
-    return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT;
+    /* The box is flat by pieces, but a ray entering it meets the other
+    ** faces at a chord's distance: counted as curved. */
+    return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT &&
+           k != SH_BOX;
 }
 
 /* The closest hit of the bare primitive function(s); 1 on a hit. */
@@ -189,6 +203,8 @@ static inline int sh_bare(const sh_prim *p, const ray_ray *r, ray_hit *h)
         return ray_implicit(r, &p->implicit, h) == 1;
     case SH_BEZIER:
         return ray_parametric(r, &p->bezier, h) == 1;
+    case SH_BOX:
+        return ray_box(r, &p->box, h) == 1;
     case SH_KINDS:
         break;
     }
@@ -226,6 +242,7 @@ static inline ray_scene *sh_scene(const sh_prim *p)
         rc |= ray_scene_add_implicit(s, &p->implicit, 0, NULL);
         break;
     case SH_BEZIER: rc |= ray_scene_add_bezier(s, p->cp, 0, NULL); break;
+    case SH_BOX: rc |= ray_scene_add_box(s, &p->box, 0, NULL); break;
     case SH_KINDS: rc = RAY_EINVAL; break;
     }
     rc |= ray_scene_set_watertight(s, p->kind != SH_TRIANGLE &&
