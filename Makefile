@@ -159,10 +159,13 @@ header-test: include/ray.h tests/header_c99.c
 	else echo "header-test: no C++ compiler ($(CXX)), C++ check skipped"; fi
 
 # Only ray_* symbols may leave the shared library, each in version node
-# LIBRAY_0 (objdump -T prints the node before the name).
+# LIBRAY_0 (objdump -T prints the node before the name); ray.h's static
+# inline helpers (ray_vec3_*, ray_rgb_*) none.
 symbols-test: $(SHARED)
 	@bad=$$(nm -D --defined-only $(SHARED) | awk '$$2 != "A" {print $$3}' | grep -v '^ray_' || true); \
 	if [ -n "$$bad" ]; then echo "symbols-test: unexpected exports: $$bad"; exit 1; fi; \
+	inline=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -E '^ray_(vec3|rgb)_' || true); \
+	if [ -n "$$inline" ]; then echo "symbols-test: ray.h's static inline helpers exported: $$inline"; exit 1; fi; \
 	unversioned=$$(objdump -T $(SHARED) | awk '$$NF ~ /^ray_/ && $$(NF-1) != "LIBRAY_0" {print $$NF}'); \
 	if [ -n "$$unversioned" ]; then echo "symbols-test: not in LIBRAY_0: $$unversioned"; exit 1; fi; \
 	echo "symbols-test: exports: $$(nm -D --defined-only $(SHARED) | awk '$$2 != "A" {print $$3}' | tr '\n' ' ')"

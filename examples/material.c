@@ -2,9 +2,10 @@
 /*
 ** material.c -- a complete user material: a "glazed" surface, a diffuse
 ** colour under a glossy coat that reflects a fixed fraction.  It shows
-** everything a material callback does: loop over the lights and their
-** samples, ask for a shadow ray only when the light would contribute,
-** spawn and trace a reflection, declare the effects it uses.
+** everything a material callback does: weigh the direct light by a BRDF
+** (ray_shade_direct loops over the lights and asks for a shadow ray only
+** where the light would contribute), spawn and trace a reflection,
+** declare the effects it uses.
 */
 #include "common.h"
 
@@ -13,43 +14,30 @@ typedef struct glazed {
     double coat;       /* fraction reflected by the coat, 0..1 */
 } glazed;
 
+/* Lambert under the coat: what multiplies each light sample's radiance
+** (the BRDF times the cosine, which ray_shade_direct computes). */
+static ray_rgb glazed_brdf(void *ud, const ray_brdf_args *b)
+{
+    const glazed *g = ud;
+    return ray_rgb_scale(g->color, (1 - g->coat) * b->cos_light);
+}
+
+/* Ambient and direct light on the diffuse base, plus the coat: a mirror
+** reflection weighted by g->coat.  The ray starts just off the surface
+** (ray_spawn); the tracer may refuse it when the tree is too deep or the
+** path too faint, and then it adds nothing. */
 static void glazed_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                          ray_rgb *out)
 {
     const glazed *g = ud;
-    double base = 1.0 - g->coat;
-    unsigned li, si;
     ray_ray refl;
     ray_rgb c;
 
-    out->r = a->ambient.r * g->color.r * base;
-    out->g = a->ambient.g * g->color.g * base;
-    out->b = a->ambient.b * g->color.b * base;
-    for (li = 0; li < ray_scene_light_count(a->scene); li++) {
-        for (si = 0; si < ray_light_samples(a->scene, li); si++) {
-            ray_light_sample ls;
-            double cosine;
-
-            if (ray_light_sample_at(ctx, a, li, si, &ls) != RAY_OK)
-                continue;
-            cosine = a->normal.x * ls.dir.x + a->normal.y * ls.dir.y +
-                     a->normal.z * ls.dir.z;
-            if (cosine <= 0 || !ray_light_visible(ctx, a, &ls))
-                continue;                  /* no shadow ray when facing away */
-            out->r += base * g->color.r * cosine * ls.radiance.r;
-            out->g += base * g->color.g * cosine * ls.radiance.g;
-            out->b += base * g->color.b * cosine * ls.radiance.b;
-        }
-    }
-    /* The coat: a mirror reflection weighted by g->coat.  The ray starts
-    ** just off the surface (ray_spawn) and the tracer may refuse it when
-    ** the tree is too deep or the path too faint (then it adds nothing). */
+    *out = ray_rgb_scale(ray_rgb_mul(a->ambient, g->color), 1 - g->coat);
+    ray_shade_direct(ctx, a, glazed_brdf, ud, out);
     if (ray_spawn(a->hit, ray_reflect(a->ray->dir, a->normal), &refl) == RAY_OK &&
-        ray_trace(ctx, &refl, RAY_KIND_REFLECTION, g->coat, &c) == RAY_OK) {
-        out->r += g->coat * c.r;
-        out->g += g->coat * c.g;
-        out->b += g->coat * c.b;
-    }
+        ray_trace(ctx, &refl, RAY_KIND_REFLECTION, g->coat, &c) == RAY_OK)
+        *out = ray_rgb_add(*out, ray_rgb_scale(c, g->coat));
 }
 
 int main(void)

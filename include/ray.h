@@ -575,6 +575,80 @@ typedef struct ray_rgb {
 } ray_rgb;
 
 /*
+** Vector and colour helpers, static inline: no symbol in the library, so
+** they cost no ABI and work in C99 and C++ alike.  Plain component-wise
+** arithmetic in the order written (a.x*b.x + a.y*b.y + a.z*b.z for the
+** dot product), nothing else: no normalisation (the directions a material
+** gets are unit already), no clamping.  ray_rgb_mul is the component-wise
+** product (a reflectance times the light it reflects); ray_rgb_madd
+** returns acc + a*b, the accumulation every shading sum does.
+*/
+static inline ray_vec3 ray_vec3_make(double x, double y, double z)
+{
+    ray_vec3 v;
+    v.x = x;
+    v.y = y;
+    v.z = z;
+    return v;
+}
+
+static inline ray_vec3 ray_vec3_add(ray_vec3 a, ray_vec3 b)
+{
+    return ray_vec3_make(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+
+static inline ray_vec3 ray_vec3_sub(ray_vec3 a, ray_vec3 b)
+{
+    return ray_vec3_make(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+
+static inline ray_vec3 ray_vec3_scale(ray_vec3 a, double s)
+{
+    return ray_vec3_make(a.x * s, a.y * s, a.z * s);
+}
+
+static inline double ray_vec3_dot(ray_vec3 a, ray_vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+static inline ray_vec3 ray_vec3_cross(ray_vec3 a, ray_vec3 b)
+{
+    return ray_vec3_make(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
+                         a.x * b.y - a.y * b.x);
+}
+
+static inline ray_rgb ray_rgb_make(double r, double g, double b)
+{
+    ray_rgb c;
+    c.r = r;
+    c.g = g;
+    c.b = b;
+    return c;
+}
+
+static inline ray_rgb ray_rgb_add(ray_rgb a, ray_rgb b)
+{
+    return ray_rgb_make(a.r + b.r, a.g + b.g, a.b + b.b);
+}
+
+static inline ray_rgb ray_rgb_mul(ray_rgb a, ray_rgb b)
+{
+    return ray_rgb_make(a.r * b.r, a.g * b.g, a.b * b.b);
+}
+
+static inline ray_rgb ray_rgb_scale(ray_rgb c, double s)
+{
+    return ray_rgb_make(c.r * s, c.g * s, c.b * s);
+}
+
+static inline ray_rgb ray_rgb_madd(ray_rgb acc, ray_rgb a, ray_rgb b)
+{
+    return ray_rgb_make(acc.r + a.r * b.r, acc.g + a.g * b.g,
+                        acc.b + a.b * b.b);
+}
+
+/*
 ** An allocator, realloc-style (Lua's lua_Alloc): free when nsize == 0
 ** (return NULL), else (re)allocate ptr of osize bytes (ptr NULL, osize 0
 ** for a new block) to nsize bytes, returning NULL on failure with ptr
@@ -1016,6 +1090,50 @@ RAY_API int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
                                 ray_light_sample *out);
 RAY_API int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
                               const ray_light_sample *sample);
+
+/*
+** Direct light without the loop: ray_shade_direct adds to *out the light
+** that reaches the hit straight from every sample of every light, each
+** weighted by the material's "brdf":
+**
+**     *out += sum over lights and samples of  f * radiance * visible
+**
+** in the order light 0 sample 0, 0 1, ..., 1 0, ... (the order of a
+** hand-written loop, so a material moved onto it renders the same bits).
+** "brdf" is called with "ud" and one ray_brdf_args per sample and returns
+** f, the factor that multiplies the sample's radiance: the BRDF TIMES the
+** cosine cos_light (so Lambert is color * cos_light, and models that are
+** not a BRDF, like Phong's lobe, fit too).  It is called only for samples
+** in front of the shading normal (cos_light > 0).  A sample behind it, or
+** one whose f has no positive channel, adds nothing, and casts no shadow
+** ray when args->prune is set (the default; the naive mode, prune 0,
+** still casts it, to measure what pruning saves).  Visibility is
+** ray_light_visible's, so the effect analysis still decides: without
+** RAY_EFFECT_SHADOW declared by the calling material no shadow ray is
+** cast and every sample counts as lit.  Samples ray_light_sample_at refuses (a shading point too close to
+** a light) are skipped.  Called from a material callback with its "ctx"
+** and "args"; "brdf" runs on the same thread, before ray_shade_direct
+** returns, so "ud" may point to the callback's locals.
+**
+** Returns RAY_OK, or RAY_EINVAL (ctx, args, args->ray, args->hit, brdf or
+** out NULL) with *out untouched.
+*/
+typedef struct ray_brdf_args {
+    const ray_shade_args *shade;      /* the hit being shaded */
+    const ray_light_sample *sample;   /* the light sample */
+    unsigned light;                   /* its light, 0 .. light count - 1 */
+    ray_vec3 to_light;                /* unit, toward the sample
+                                         (sample->dir) */
+    ray_vec3 to_eye;                  /* unit, back along the incoming
+                                         ray: -dir / |dir| */
+    double cos_light;                 /* shade->shading_normal . to_light,
+                                         > 0 */
+} ray_brdf_args;
+
+typedef ray_rgb (*ray_brdf_fn)(void *ud, const ray_brdf_args *args);
+
+RAY_API int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
+                             ray_brdf_fn brdf, void *ud, ray_rgb *out);
 
 /* A uniform random number in [0, 1) from the context's per-pixel
 ** sequence: deterministic for a given pixel, sample and frame seed. */

@@ -175,15 +175,27 @@ FILENAME == header {
         in_directive = ($0 ~ /\\$/)
         next
     }
+    # The body of a static inline helper: skipped to its closing brace.
+    if (in_body) {
+        if (substr(s, 1, 1) == "}") in_body = 0
+        next
+    }
     if (!collecting && s ~ /(^|[^A-Za-z0-9_])RAY_API[ \t]/) {
-        collecting = 1; decl = ""; decl_line = FNR
+        collecting = 1; decl = ""; decl_line = FNR; decl_end = ";"
         sub(/^.*RAY_API[ \t]+/, "", s)
+    }
+    # A static inline ray_* helper is API too (no symbol, but documented):
+    # the head of its definition, up to the brace, is its prototype.
+    if (!collecting && s ~ /^static inline [^(]*ray_[A-Za-z0-9_]*\(/) {
+        collecting = 1; decl = ""; decl_line = FNR; decl_end = "{"
+        # (the return type keeps "static inline", as the page shows it)
     }
     if (collecting) {
         decl = decl " " s
-        if (index(decl, ";")) {
-            header_decl(substr(decl, 1, index(decl, ";") - 1), decl_line)
+        if (index(decl, decl_end)) {
+            header_decl(substr(decl, 1, index(decl, decl_end) - 1), decl_line)
             collecting = 0
+            if (decl_end == "{") in_body = (s !~ /[}][ \t]*$/)
         }
         next
     }
@@ -412,6 +424,6 @@ END {
         print "docs-test: " problems " problem(s); include/ray.h is the reference: correct the man page (or the header, if the header is what is wrong)"
         exit 1
     }
-    print "docs-test: " h_count " RAY_API functions of " rel(header) ", each with the same prototype in one SYNOPSIS of " page_count " pages in man/man3 and in its NAME section" (links_given ? ", " link_count " of them installed as links to the page" : "") "; " type_count " public types and " const_count " constants, each named in some page; " shown_count " ray.h types and enums copied into pages, each declaring the same members"
+    print "docs-test: " h_count " functions (RAY_API and static inline ray_*) of " rel(header) ", each with the same prototype in one SYNOPSIS of " page_count " pages in man/man3 and in its NAME section" (links_given ? ", " link_count " of them installed as links to the page" : "") "; " type_count " public types and " const_count " constants, each named in some page; " shown_count " ray.h types and enums copied into pages, each declaring the same members"
 }
 ' "$header" $pages3 $pages7

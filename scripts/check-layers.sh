@@ -30,7 +30,7 @@ level() {
     bvh.c) echo 30 ;;
     scene.c|mesh.c|surfaces.c|kinds.c|error.c) echo 40 ;;
     intersect.c|intersect_avx2.c) echo 45 ;;
-    trace.c|light.c|sampling.c) echo 50 ;;
+    trace.c|light.c|sampling.c|direct.c) echo 50 ;;
     camera.c|render.c) echo 60 ;;
     *.c) echo 25 ;;                   # a primitive (or optics, spawn)
     *) echo 99 ;;                     # an unknown header: refused

@@ -110,48 +110,40 @@ static ray_rgb diffuse_at(const ray_phong_params *p, const ray_shade_args *a)
     return rgb(p->diffuse.r * t.r, p->diffuse.g * t.g, p->diffuse.b * t.b);
 }
 
+/* What phong_brdf needs beside the light sample: the parameters and the
+** diffuse colour at this hit (the texture is read once per hit). */
+typedef struct phong_hit {
+    const ray_phong_params *p;
+    ray_rgb diffuse;
+} phong_hit;
+
+/* diffuse * n.l + specular * lobe: the factor of one light sample's
+** radiance (ray_shade_direct calls it only when n.l > 0). */
+static ray_rgb phong_brdf(void *ud, const ray_brdf_args *b)
+{
+    const phong_hit *h = ud;
+    double ndotl = b->cos_light;
+    double spec = specular_term(h->p, b->shade->shading_normal, b->to_light,
+                                b->to_eye);
+
+    return rgb(h->diffuse.r * ndotl + h->p->specular.r * spec,
+               h->diffuse.g * ndotl + h->p->specular.g * spec,
+               h->diffuse.b * ndotl + h->p->specular.b * spec);
+}
+
 static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                         ray_rgb *out)
 {
-    const ray_phong_params *p = ud;
-    ray_vec3 n = a->shading_normal, v = unit(a->ray->dir);
-    ray_rgb diffuse;
-    unsigned li, si;
+    phong_hit h;
 
-    if (p == NULL)
+    if (ud == NULL)
         return;
-    diffuse = diffuse_at(p, a);
-    v.x = -v.x;
-    v.y = -v.y;
-    v.z = -v.z;
-    add_product(out, a->ambient, diffuse);
-    for (li = 0; li < ray_scene_light_count(a->scene); li++) {
-        unsigned ns = ray_light_samples(a->scene, li);
-        for (si = 0; si < ns; si++) {
-            ray_light_sample ls;
-            double ndotl, spec;
-            ray_rgb f;
-
-            if (ray_light_sample_at(ctx, a, li, si, &ls) != RAY_OK)
-                continue;
-            ndotl = dot(n, ls.dir);
-            /* A light behind the surface, or a zero contribution, needs no
-            ** shadow ray -- unless the scene is in its naive mode. */
-            if (ndotl <= 0 && a->prune)
-                continue;
-            spec = ndotl > 0 ? specular_term(p, n, ls.dir, v) : 0;
-            if (ndotl < 0)
-                ndotl = 0;
-            f = rgb(diffuse.r * ndotl + p->specular.r * spec,
-                    diffuse.g * ndotl + p->specular.g * spec,
-                    diffuse.b * ndotl + p->specular.b * spec);
-            if ((max3(f) <= 0 && a->prune) || !ray_light_visible(ctx, a, &ls))
-                continue;
-            add_product(out, f, ls.radiance);
-        }
-    }
-    if (max3(p->reflect) > 0)
-        add_reflection(ctx, a, p->reflect, out);
+    h.p = ud;
+    h.diffuse = diffuse_at(h.p, a);
+    add_product(out, a->ambient, h.diffuse);
+    (void)ray_shade_direct(ctx, a, phong_brdf, &h, out);  /* cannot fail here */
+    if (max3(h.p->reflect) > 0)
+        add_reflection(ctx, a, h.p->reflect, out);
 }
 
 ray_material ray_material_phong(const ray_phong_params *p)
