@@ -188,7 +188,7 @@ static void lnormalize(long double a[3])
 
 static void lfrom(ray_vec3 v, long double a[3])
 {
-    a[0] = v.x, a[1] = v.y, a[2] = v.z;
+    a[0] = (long double)v.x, a[1] = (long double)v.y, a[2] = (long double)v.z;
 }
 
 /* The exact frame (to long double's 2^-64) of b's axes. */
@@ -247,9 +247,9 @@ static int ref_box(const ray_ray *r, const ray_box_params *b, ref_hit *out)
     }
     if (!(near <= far))
         return 0;
-    if (near > r->tmin && near < r->tmax)
+    if (near > (long double)r->tmin && near < (long double)r->tmax)
         t = near, axis = na, side = dl[na] > 0 ? -1 : 1;
-    else if (far > r->tmin && far < r->tmax)
+    else if (far > (long double)r->tmin && far < (long double)r->tmax)
         t = far, axis = fa, side = dl[fa] > 0 ? 1 : -1;
     else
         return 0;
@@ -316,8 +316,9 @@ static void compare(const ray_ray *r, const ray_box_params *b,
 {
     double dl = vlen(r->dir), t = h->t;
     double F = vdist(r->org, b->center) + t * dl;
-    double dn = fabs((double)(r->dir.x * ref->n[0] + r->dir.y * ref->n[1] +
-                              r->dir.z * ref->n[2]));
+    double dn = fabs((double)((long double)r->dir.x * ref->n[0] +
+                              (long double)r->dir.y * ref->n[1] +
+                              (long double)r->dir.z * ref->n[2]));
     double cmax = fmax(fabs(b->center.x),
                        fmax(fabs(b->center.y), fabs(b->center.z)));
     double hsum = b->half_extents.x + b->half_extents.y + b->half_extents.z;
@@ -326,30 +327,30 @@ static void compare(const ray_ray *r, const ray_box_params *b,
     double hmin = fmin(b->half_extents.x,
                        fmin(b->half_extents.y, b->half_extents.z));
     double tol_uv = tol_p / (2 * hmin);
-    double off = fabs((double)((h->p.x - ref->p[0]) * ref->n[0] +
-                               (h->p.y - ref->p[1]) * ref->n[1] +
-                               (h->p.z - ref->p[2]) * ref->n[2]));
+    double off = fabs((double)(((long double)h->p.x - ref->p[0]) * ref->n[0] +
+                               ((long double)h->p.y - ref->p[1]) * ref->n[1] +
+                               ((long double)h->p.z - ref->p[2]) * ref->n[2]));
     double tol_off = 2 * vdot(vec(fabs(h->n.x), fabs(h->n.y), fabs(h->n.z)),
                               h->p_err) +
                      64 * U64 * hsum;
-    double ep = fmax(fabs((double)(h->p.x - ref->p[0])),
-                     fmax(fabs((double)(h->p.y - ref->p[1])),
-                          fabs((double)(h->p.z - ref->p[2]))));
-    double en = fmax(fabs((double)(h->n.x - ref->n[0])),
-                     fmax(fabs((double)(h->n.y - ref->n[1])),
-                          fabs((double)(h->n.z - ref->n[2]))));
-    double euv = fmax(fabs((double)(h->u - ref->u)),
-                      fabs((double)(h->v - ref->v)));
+    double ep = fmax(fabs((double)((long double)h->p.x - ref->p[0])),
+                     fmax(fabs((double)((long double)h->p.y - ref->p[1])),
+                          fabs((double)((long double)h->p.z - ref->p[2]))));
+    double en = fmax(fabs((double)((long double)h->n.x - ref->n[0])),
+                     fmax(fabs((double)((long double)h->n.y - ref->n[1])),
+                          fabs((double)((long double)h->n.z - ref->n[2]))));
+    double euv = fmax(fabs((double)((long double)h->u - ref->u)),
+                      fabs((double)((long double)h->v - ref->v)));
 
     ck_assert(hit_is_finite(h));
     ck_assert(h->u >= 0 && h->u <= 1 && h->v >= 0 && h->v <= 1);
-    ck_assert_msg(fabs((double)(t - ref->t)) <= tol_t,
+    ck_assert_msg(fabs((double)((long double)t - ref->t)) <= tol_t,
                   "t %.17g ref %.17Lg tol %g", t, ref->t, tol_t);
     ck_assert_msg(ep <= tol_p, "p off by %g, tol %g", ep, tol_p);
     ck_assert_msg(en <= 32 * U64, "n off by %g", en);
     ck_assert_msg(euv <= tol_uv, "uv off by %g, tol %g", euv, tol_uv);
     ck_assert_msg(off <= tol_off, "p %g off the face, tol %g", off, tol_off);
-    w->t = fmax(w->t, fabs((double)(t - ref->t)) / tol_t);
+    w->t = fmax(w->t, fabs((double)((long double)t - ref->t)) / tol_t);
     w->p = fmax(w->p, ep / tol_p);
     w->n = fmax(w->n, en / (32 * U64));
     w->uv = fmax(w->uv, euv / tol_uv);
@@ -652,7 +653,7 @@ START_TEST(bad_input_should_miss)
 {
     ray_box_params good = aligned(0), b;
     ray_ray r = ray_from(vec(-5, 0.5, 0.5), vec(1, 0, 0));
-    const double nan = NAN, inf = HUGE_VAL;
+    const double nan = (double)NAN, inf = HUGE_VAL;
     ray_hit h;
     int i;
 
@@ -792,7 +793,7 @@ START_TEST(scene_should_refuse_bad_boxes_by_name)
         unsigned id = 77;
 
         switch (i) {
-        case 1: b.center.z = NAN; break;
+        case 1: b.center.z = (double)NAN; break;
         case 2: b.half_extents.y = 0; break;
         case 3: b.axis_x = vec(0, 0, 0); break;
         case 4: b.axis_y = vec(0, HUGE_VAL, 0); break;
