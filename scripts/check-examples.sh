@@ -11,6 +11,7 @@
 #     exist; a directory) fails before the render, exit 1, with the file's
 #     name and errno's text, printing no progress or statistics and
 #     leaving no file behind;
+#   * an input file that does not exist exits 1 naming it and errno's text;
 #   * a small render with stderr in a file exits 0, writes the PNG, puts
 #     no '\r' in that file (plain progress lines, not a redrawn bar), and
 #     prints the scene's effects beside its ray statistics.
@@ -138,6 +139,14 @@ for exe in "$build"/examples/*; do
     fi
     expect_left "output a directory" dir
     rmdir "$tmp/work/dir"
+
+    if [ -n "$input" ]; then
+        real_input=$input input=$tmp/work/none.in
+        run "$out"
+        expect 1 "a missing input" "$input" "No such file or directory"
+        input=$real_input
+        expect_left "a missing input"
+    fi
 
     # shellcheck disable=SC2086  # $sizes: several arguments or none
     run "$out" $sizes
