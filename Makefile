@@ -214,6 +214,7 @@ check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(
 	    echo "$(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2"; \
 	    $(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2 >/dev/null 2>&1; \
 	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
+	scripts/check-examples.sh $(BUILD)
 
 test: check
 

@@ -2,11 +2,16 @@
 /*
 ** hello.c -- the smallest program that renders something: one red sphere,
 ** one light, one PNG.
+**
+**     hello [out.png]
 */
 #include "common.h"
 
-int main(void)
+int main(int argc, char **argv)
 {
+    static const example_cli cli = {
+        .name = "hello", .output_default = "hello.png", .width = 160,
+        .height = 120, .what = "Renders one red sphere under one light."};
     /* Designated initializers: the fields not named are 0, their default,
     ** also those a later version adds (ray(7), "Versions and ABI"). */
     static const ray_phong_params red = {.diffuse = {0.8, 0.1, 0.1},
@@ -20,7 +25,12 @@ int main(void)
     ray_render_options opt;
     ray_scene *scene;
     ray_stats stats;
+    example_args args;
     unsigned mat;
+    int rc = example_start(&cli, argc, argv, &args);
+
+    if (rc != 0)
+        return rc;
 
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
     check(ray_scene_add_material(scene, &m, &mat), "add_material");
@@ -29,8 +39,9 @@ int main(void)
     check(ray_scene_commit(scene), "commit");
     ray_render_options_init(&opt, 160, 120);
     check(ray_render(scene, &cam, &opt, image, &stats), "render");
-    check(ray_write_png("hello.png", image, 160, 120, 8), "hello.png");
-    print_stats("hello", &stats, 0);
+    rc = example_write_png(&args, image);      /* args.output, 160 x 120 */
+    if (rc == 0)
+        print_stats("hello", scene, &stats, 0);
     ray_scene_free(scene);
-    return 0;
+    return rc;
 }

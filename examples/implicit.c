@@ -9,6 +9,8 @@
 ** light.
 **
 **     implicit [out.png [width height [samples [threads]]]]
+**
+** Defaults: implicit.png, 480 x 300, 4 samples per pixel, all CPUs.
 */
 #include "common.h"
 
@@ -77,10 +79,18 @@ int main(int argc, char **argv)
                      .samples = 16};
     ray_camera cam = {.position = {0, 1.7, 4.9}, .look_at = {0, 0.7, -0.3},
                       .up = {0, 1, 0}, .vfov = 40};
+    static const example_cli cli = {
+        .name = "implicit", .output_default = "implicit.png", .sized = 1,
+        .width = 480, .height = 300, .samples = 4,
+        .what = "Renders implicit surfaces: an exact torus, metaballs and a "
+                "rounded cube."};
+    example_args args;
     ray_scene *scene;
     unsigned floor_mat;
-    int rc;
+    int rc = example_start(&cli, argc, argv, &args);
 
+    if (rc != 0)
+        return rc;
     gold = phong_params(rgb(0.8, 0.55, 0.15), rgb(0.6, 0.55, 0.4), 80,
                  rgb(0.25, 0.2, 0.1));
     blue = phong_params(rgb(0.15, 0.3, 0.8), rgb(0.5, 0.5, 0.5), 120,
@@ -131,7 +141,7 @@ int main(int argc, char **argv)
           "background");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
     check(ray_scene_commit(scene), "ray_scene_commit");
-    rc = render_to_png("implicit", scene, &cam, argc, argv, 480, 300);
+    rc = render_to_png(&args, scene, &cam);
     ray_scene_free(scene);
     return rc;
 }

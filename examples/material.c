@@ -6,6 +6,8 @@
 ** (ray_shade_direct loops over the lights and asks for a shadow ray only
 ** where the light would contribute), spawn and trace a reflection,
 ** declare the effects it uses.
+**
+**     material [out.png]
 */
 #include "common.h"
 
@@ -40,8 +42,12 @@ static void glazed_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
         *out = ray_rgb_add(*out, ray_rgb_scale(c, g->coat));
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    static const example_cli cli = {
+        .name = "material", .output_default = "material.png", .width = 320,
+        .height = 240, .what = "Renders a user material, a glazed sphere, "
+                               "on a floor under a soft light."};
     static glazed teal = {{0.1, 0.6, 0.6}, 0.25};
     static const ray_phong_params grey = {.diffuse = {0.7, 0.7, 0.7},
                                           .shininess = 1};
@@ -58,7 +64,12 @@ int main(void)
     ray_render_options opt;
     ray_scene *scene;
     ray_stats stats;
+    example_args args;
     unsigned m_glaze, m_floor;
+    int rc = example_start(&cli, argc, argv, &args);
+
+    if (rc != 0)
+        return rc;
 
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
     check(ray_scene_add_material(scene, &glaze, &m_glaze), "glaze");
@@ -72,8 +83,9 @@ int main(void)
     ray_render_options_init(&opt, 320, 240);
     opt.samples = 4;
     check(ray_render(scene, &cam, &opt, image, &stats), "ray_render");
-    check(ray_write_png("material.png", image, 320, 240, 8), "material.png");
-    print_stats("material", &stats, 0);
+    rc = example_write_png(&args, image);
+    if (rc == 0)
+        print_stats("material", scene, &stats, 0);
     ray_scene_free(scene);
-    return 0;
+    return rc;
 }

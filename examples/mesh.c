@@ -12,21 +12,25 @@
 
 int main(int argc, char **argv)
 {
+    static const example_cli cli = {
+        .name = "mesh", .input = "model.obj",
+        .input_what = "the Wavefront OBJ model", .output_default = "mesh.png",
+        .sized = 1, .width = 480, .height = 360, .samples = 4,
+        .what = "Renders a Wavefront OBJ model in clay on a floor under a "
+                "soft light."};
+    example_args args;
     ray_camera cam;
     ray_scene *scene;
     size_t triangles;
-    int rc;
+    int rc = example_start(&cli, argc, argv, &args);
 
-    if (argc < 2) {
-        fprintf(stderr, "usage: mesh model.obj [out.png [width height "
-                        "[samples [threads]]]]\n");
-        return 2;
-    }
-    scene = mesh_scene(argv[1], &cam, 1, NULL, &triangles);
+    if (rc != 0)
+        return rc;
+    scene = mesh_scene(args.input, &cam, 1, NULL, &triangles);
     if (scene == NULL)
         return 1;
-    printf("mesh: %s: %zu triangles\n", argv[1], triangles);
-    rc = render_to_png("mesh", scene, &cam, argc - 1, argv + 1, 480, 360);
+    printf("mesh: %s: %zu triangles\n", args.input, triangles);
+    rc = render_to_png(&args, scene, &cam);
     ray_scene_free(scene);
     return rc;
 }

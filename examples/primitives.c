@@ -5,11 +5,7 @@
 **
 **     primitives [out.png]
 */
-#include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
-
-#include <ray.h>
+#include "common.h"         /* vec(), and the command line */
 
 #include "common.h"
 
@@ -32,12 +28,22 @@ static double shade(const ray_ray *r, const ray_hit *h)
 
 int main(int argc, char **argv)
 {
-    const char *path = argc > 1 ? argv[1] : "primitives.png";
-    float *rgb = malloc(sizeof(float) * 3 * WIDTH * HEIGHT);
-    int x, y, rc;
+    static const example_cli cli = {
+        .name = "primitives", .output_default = "primitives.png",
+        .width = WIDTH, .height = HEIGHT,
+        .what = "Renders a sphere and a triangle with the primitive "
+                "intersection calls alone."};
+    example_args args;
+    float *rgb;
+    int x, y, rc = example_start(&cli, argc, argv, &args);
 
-    if (rgb == NULL)
+    if (rc != 0)
+        return rc;
+    rgb = malloc(sizeof(float) * 3 * WIDTH * HEIGHT);
+    if (rgb == NULL) {
+        fprintf(stderr, "primitives: out of memory\n");
         return 1;
+    }
     for (y = 0; y < HEIGHT; y++) {
         for (x = 0; x < WIDTH; x++) {
             /* Camera at (0, 0, 4) looking down -z, 60 degree vertical fov. */
@@ -71,12 +77,10 @@ int main(int argc, char **argv)
             }
         }
     }
-    rc = ray_write_png(path, rgb, WIDTH, HEIGHT, 8);
+    rc = example_write_png(&args, rgb);
     free(rgb);
-    if (rc != RAY_OK) {
-        fprintf(stderr, "primitives: %s: %s\n", path, ray_strerror(rc));
-        return 1;
-    }
-    printf("primitives: wrote %s (%dx%d)\n", path, WIDTH, HEIGHT);
+    if (rc != 0)
+        return rc;
+    printf("primitives: wrote %s (%dx%d)\n", args.output, WIDTH, HEIGHT);
     return 0;
 }

@@ -183,13 +183,24 @@ static int file_exists(const char *path)
 
 int main(int argc, char **argv)
 {
-    const char *path = argc > 1 ? argv[1] : "data/teapot.bpt";
+    static const example_cli cli = {
+        .name = "teapot", .input = "model.bpt",
+        .input_what = "the Newell patch file",
+        .input_default = "data/teapot.bpt", .output_default = "teapot.png",
+        .sized = 1, .width = 480, .height = 360, .samples = 4,
+        .what = "Renders the Utah teapot as Bezier patches on a checkerboard "
+                "floor."};
+    example_args args;
     bpt_patches model;
     ray_camera cam;
     ray_scene *scene;
     char err[600];
-    int rc;
+    const char *path;
+    int rc = example_start(&cli, argc, argv, &args);
 
+    if (rc != 0)
+        return rc;
+    path = args.input;
     if (!file_exists(path)) {
         perror(path);
         fprintf(stderr, "teapot: the teapot is not in the repository; "
@@ -204,10 +215,7 @@ int main(int argc, char **argv)
            model.count, model.vertex_count);
     scene = teapot_scene(&model, &cam);
     bpt_free(&model);                /* the scene copied the patches */
-    /* render_to_png reads [out.png [width height [samples [threads]]]]
-    ** from argv[1] on: shift past the model's path. */
-    rc = render_to_png("teapot", scene, &cam, argc > 1 ? argc - 1 : 1,
-                       argc > 1 ? argv + 1 : argv, 480, 360);
+    rc = render_to_png(&args, scene, &cam);
     ray_scene_free(scene);
     return rc;
 }

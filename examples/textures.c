@@ -94,7 +94,14 @@ int main(int argc, char **argv)
     /* The sky: pale grey-blue, brighter overhead. */
     static sky_colors pale_sky = {{0.5, 0.55, 0.65}, {0.2, 0.25, 0.3}};
     static ray_phong_params image_mat, torus_mat, floor_mat;
-    const char *image_path = argc > 1 ? argv[1] : "doc/cornell.png";
+    static const example_cli cli = {
+        .name = "textures", .input = "image.png",
+        .input_what = "the image texture", .input_default = "doc/cornell.png",
+        .output_default = "textures.png", .sized = 1, .width = 480,
+        .height = 300, .samples = 4,
+        .what = "Renders texture coordinates of every kind of primitive, with "
+                "an image texture\nand procedural ones."};
+    example_args args;
     ray_torus_params torus = {.center = {2.3, 0.5, 0.6},
                               .axis = {0.2, 1, 0.5}, .major = 0.6,
                               .minor = 0.25};
@@ -107,15 +114,18 @@ int main(int argc, char **argv)
     ray_scene *scene;
     ray_vec3 cp[16];
     unsigned w, h;
-    int rc;
+    int rc = example_start(&cli, argc, argv, &args);
 
-    rc = ray_image_load_png(image_path, &image);
+    if (rc != 0)
+        return rc;
+    rc = ray_image_load_png(args.input, &image);
     if (rc != RAY_OK) {
-        fprintf(stderr, "textures: %s: %s\n", image_path, ray_strerror(rc));
+        fprintf(stderr, "textures: %s: %s\n", args.input,
+                rc == RAY_EIO ? strerror(errno) : ray_strerror(rc));
         return 1;
     }
     ray_image_size(image, &w, &h);
-    printf("textures: %s: %u x %u texels\n", image_path, w, h);
+    printf("textures: %s: %u x %u texels\n", args.input, w, h);
     image_mat = textured(ray_texture_image(image), 0.3);
     torus_mat = textured(stripes, 0.5);
     floor_mat = textured(rings, 0);
@@ -139,7 +149,7 @@ int main(int argc, char **argv)
           "background");
     check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
     check(ray_scene_commit(scene), "ray_scene_commit");
-    rc = render_to_png("textures", scene, &cam, argc - 1, argv + 1, 480, 300);
+    rc = render_to_png(&args, scene, &cam);
     ray_scene_free(scene);
     ray_image_free(image);
     return rc;
