@@ -35,6 +35,7 @@ int main(void)
     srunner_add_suite(sr, null_suite());
     srunner_add_suite(sr, defaults_suite());
     srunner_add_suite(sr, errmsg_suite());
+    srunner_add_suite(sr, capsule_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

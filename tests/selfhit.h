@@ -52,13 +52,15 @@ typedef enum sh_kind {
     SH_TORUS,
     SH_IMPLICIT,             /* the torus through ray_implicit */
     SH_BEZIER,               /* a flat bicubic patch, ray_parametric */
+    SH_CAPSULE,              /* ray_capsule, along the local x axis */
     SH_KINDS
 } sh_kind;
 
 static const char *const sh_kind_name[SH_KINDS] = {
     "sphere", "plane", "triangle (Cramer)", "triangle (watertight)",
     "mesh quad (watertight)", "mesh quad (Cramer)", "polygon", "torus",
-    "implicit torus", "Bezier patch (flat)"
+    "implicit torus", "Bezier patch (flat)",
+    "capsule"
 };
 
 /* Offsets of the placements from the origin (each coordinate). */
@@ -81,6 +83,7 @@ typedef struct sh_prim {
     ray_torus_params torus;
     ray_implicit_surface implicit;
     ray_parametric_surface bezier;
+    ray_capsule_params capsule;
 } sh_prim;
 
 static inline ray_vec3 sh_v3(double x, double y, double z)
@@ -106,6 +109,12 @@ static inline double sh_unit(unsigned long long *s)
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
     z ^= z >> 31;
     return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static inline int sh_flat(sh_kind k)
+{
+    return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT &&
+           k != SH_CAPSULE;
 }
 
 /*
@@ -139,8 +148,7 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->ex = sh_v3(R[0][0], R[1][0], R[2][0]);
     p->ey = sh_v3(R[0][1], R[1][1], R[2][1]);
     p->ez = sh_v3(R[0][2], R[1][2], R[2][2]);
-    p->size = (kind == SH_SPHERE || kind == SH_TORUS || kind == SH_IMPLICIT)
-                  ? 1.35 : 100;
+    p->size = !sh_flat(kind) ? 1.35 : 100;
     /* Flat kinds lie in the local plane y = 0: a floor 200 wide, so
     ** camera rays reach it both near its centre and far out. */
     p->tri[0] = sh_world(p, -100, 0, -100);
@@ -160,11 +168,11 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->torus.minor = 0.35;
     ray_implicit_torus(&p->torus, &p->implicit);
     ray_bezier_surface(p->cp, &p->bezier);
-}
-
-static inline int sh_flat(sh_kind k)
-{
-    return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT;
+    /* The capsule: ends at local x = -+0.6, radius 0.6 (1.2 x 2.4 seen
+    ** from above: half the camera rays' targets). */
+    p->capsule.a = sh_world(p, -0.6, 0, 0);
+    p->capsule.b = sh_world(p, 0.6, 0, 0);
+    p->capsule.radius = 0.6;
 }
 
 /* The closest hit of the bare primitive function(s); 1 on a hit. */
@@ -204,6 +212,8 @@ static inline int sh_bare(const sh_prim *p, const ray_ray *r, ray_hit *h)
         return ray_implicit(r, &p->implicit, h) == 1;
     case SH_BEZIER:
         return ray_parametric(r, &p->bezier, h) == 1;
+    case SH_CAPSULE:
+        return ray_capsule(r, &p->capsule, h) == 1;
     case SH_KINDS:
         break;
     }
@@ -248,6 +258,9 @@ static inline ray_scene *sh_scene(const sh_prim *p)
         rc |= ray_scene_add_implicit(s, &p->implicit, 0, NULL);
         break;
     case SH_BEZIER: rc |= ray_scene_add_bezier(s, p->cp, 0, NULL); break;
+    case SH_CAPSULE:
+        rc |= ray_scene_add_capsule(s, &p->capsule, 0, NULL);
+        break;
     case SH_KINDS: rc = RAY_EINVAL; break;
     }
     rc |= ray_scene_set_watertight(s, p->kind != SH_TRIANGLE &&
