@@ -183,7 +183,9 @@ typedef struct quadratic {
 **                 about f moves its closest point by at most
 **                 2 |f| that angle, in each of 2 ways), so
 **                 ddisc = dl (R + l + |R - l|) + dl^2 + gamma(3) |disc|.
-** 0 when the line misses (disc < 0) or a result is not a number.
+** 1 when set up; 0 when the line misses (disc < 0) or a result is not a
+** number; -1 when a = 0: the line's direction is 0 (for the cylinder: it
+** runs along the axis), and the quadratic degenerates.
 */
 static int quadratic_setup(quadratic *k, const double *f, const double *d,
                            int n, double R, double ef, double ed)
@@ -200,6 +202,8 @@ static int quadratic_setup(quadratic *k, const double *f, const double *d,
         fa += fabs(f[i]);
         da += fabs(d[i]);
     }
+    if (k->a == 0)
+        return -1;
     if (!(k->a > 0))
         return 0;
     for (i = 0; i < n; i++) {
@@ -290,9 +294,9 @@ static int cap_crossing(const capsule_frame *k, const capsule_ray *cr,
     f[1] = cr->F[1];
     f[2] = cr->F[2] - part * k->half;
     /* f[2] rounds once more, and the centre is known to eh. */
-    if (!quadratic_setup(&q, f, cr->D, 3, k->radius,
+    if (quadratic_setup(&q, f, cr->D, 3, k->radius,
                          cr->ef + cr->eh + ray__gamma(1) * fabs(f[2]),
-                         cr->ed))
+                         cr->ed) != 1)
         return 0;
     quadratic_roots(&q, &t0, &t1);
     out->t = which == 0 ? t0 : t1;
@@ -315,12 +319,15 @@ static int cap_crossing(const capsule_frame *k, const capsule_ray *cr,
 ** cylinder's z leaves no crack at a seam: there the two roots agree.
 ** A ray outside the cylinder misses the capsule.
 **
-** The ray parallel to the axis (D_x = D_y = 0 exactly, so a = 0: the
+** The ray parallel to the axis (a = D_x^2 + D_y^2 = 0 exactly: the
 ** quadratic degenerates to a constant) is inside the cylinder for all t
 ** or never: it enters it at z = -Inf D_z and leaves it at +Inf D_z,
 ** i.e. enters by a's cap and leaves by b's when D_z > 0.  No epsilon:
 ** a direction merely close to the axis has a > 0 and the far roots that
-** the cylinder really has.
+** the cylinder really has.  (a is also 0 when D_x, D_y are below 2^-538
+** or so, |D| being about 1, and their squares underflow: such a ray
+** drifts off the axis' direction by less than 1e-162 per unit of t, and
+** is taken as parallel.)
 */
 static int capsule_crossings(const capsule_frame *k, const capsule_ray *cr,
                              crossing out[2])
@@ -331,14 +338,16 @@ static int capsule_crossings(const capsule_frame *k, const capsule_ray *cr,
 
     have_q = quadratic_setup(&q, cr->F, cr->D, 2, k->radius, cr->ef,
                              cr->ed);
-    if (have_q) {
+    if (have_q == 0)
+        return 0;               /* outside the cylinder, or not a number */
+    if (have_q == 1) {
         quadratic_roots(&q, &t[0], &t[1]);
         z[0] = cr->F[2] + t[0] * cr->D[2];
         z[1] = cr->F[2] + t[1] * cr->D[2];
     } else {
         double fl = sqrt(cr->F[0] * cr->F[0] + cr->F[1] * cr->F[1]);
 
-        if (cr->D[0] != 0 || cr->D[1] != 0 || !(fl <= k->radius))
+        if (!(fl <= k->radius))
             return 0;           /* outside the cylinder, or not a number */
         z[0] = cr->D[2] > 0 ? -HUGE_VAL : HUGE_VAL;
         z[1] = -z[0];
@@ -351,7 +360,7 @@ static int capsule_crossings(const capsule_frame *k, const capsule_ray *cr,
         if (part != 0) {
             if (cap_crossing(k, cr, part, i, &out[n]))
                 n++;
-        } else if (have_q) {
+        } else if (have_q == 1) {
             out[n].t = t[i];
             out[n].err = quadratic_t_error(&q, t[i]);
             out[n].part = 0;

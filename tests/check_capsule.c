@@ -504,7 +504,7 @@ END_TEST
 ** Rays along a rotated axis (b - a as the direction: across-axis
 ** components are rounding residues, not 0, so the cylinder's quadratic
 ** is barely non-degenerate) and exactly along an axis-aligned one (they
-** are 0): both reach a's pole; the rotated one within 1e-12 of the
+** are 0, and for 1e-170 their squares are): all reach a's pole; the rotated one within 1e-12 of the
 ** distance |b - a| / 2 + R ahead of the midpoint (the residues tilt the
 ** ray by ~1e-16 rad).
 */
@@ -530,6 +530,12 @@ START_TEST(capsule_should_hit_caps_of_rays_along_the_axis)
     ck_assert_int_eq(ray_capsule(&y, &cy, &h), 1);
     ck_assert_double_eq_tol(h.t, (7 - 1.25) / 3, tol);
     ck_assert_vec_eq_tol(h.n, vec(0, -1, 0), 4 * DBL_EPSILON);
+    /* Across the axis by 1e-170: its square underflows (the cylinder's
+    ** leading coefficient is 0), and the ray is taken as parallel: a's
+    ** pole at t = 5.25 / 3 all the same (it drifts by 1e-170). */
+    y.dir = vec(1e-170, 3, 0);
+    ck_assert_int_eq(ray_capsule(&y, &cy, &h), 1);
+    ck_assert_double_eq_tol(h.t, (7 - 1.25) / 3, tol);
 }
 END_TEST
 
