@@ -19,7 +19,7 @@
 **     Results exactly at tmin or tmax are not hits.
 **   * The intersection functions (ray_sphere, ray_triangle,
 **     ray_triangle_watertight, ray_plane, ray_polygon, ray_torus,
-**     ray_box) return 1
+**     ray_box, ray_capsule) return 1
 **     for a hit and 0 for a miss.  They never fail:
 **     NaN or infinite input, a zero-length direction, tmin > tmax and
 **     degenerate geometry are all misses; tmax = +Inf (HUGE_VAL) is
@@ -411,6 +411,38 @@ typedef struct ray_box_params {
 
 RAY_API int ray_box(const ray_ray *r, const ray_box_params *b,
                     ray_hit *hit);
+
+/*
+** ray_capsule -- ray against the capsule of radius "radius" around the
+** segment [a, b]: every point at distance radius from the segment, a
+** cylinder around it closed by two hemispheres (the shape games use for
+** characters' collision and picking).  a == b is allowed: a sphere.
+**
+** Exact, to rounding: the cylinder's quadratic and the caps' are solved
+** as ray_sphere's (closest-approach discriminant, q = b + sign(b) sqrt,
+** roots c/q and q/a) relative to the segment's midpoint, so far-away
+** capsules keep their digits; a ray parallel to the axis meets the caps
+** (no epsilon).  The nearest crossing in (tmin, tmax) whose error bound
+** also lies past tmin is the hit (ray-numerics(7)).
+**
+** On a hit: n = outward unit normal; p on the surface, within p_err.
+** With w the unit axis from a to b and (t1, t2) ray_plane's tangents for
+** the normal w (a == b: w = +y):
+**   u = atan2(n.t1, -n.t2) / 2pi + 1/2 in [0, 1], the angle around the
+**       axis (1/2 toward -t2, 3/4 toward t1; for w = +y, ray_sphere's u);
+**   v = the arc length along the meridian from a's pole (v = 0) through
+**       the cylinder to b's pole (v = 1) over its length pi radius +
+**       |b - a|: continuous across the seams (a == b: ray_sphere's v).
+** Returns 1 or 0 (*hit untouched); invalid input (NULL, NaN or Inf, a
+** radius not > 0 and finite, a capsule whose box overflows) is a miss.
+*/
+typedef struct ray_capsule_params {
+    ray_vec3 a, b;               /* the segment's ends (a == b: a sphere) */
+    double radius;               /* > 0 */
+} ray_capsule_params;
+
+RAY_API int ray_capsule(const ray_ray *r, const ray_capsule_params *c,
+                        ray_hit *hit);
 
 /*
 ** ray_implicit_blobs -- metaballs (Blinn's "blobby molecules", with
@@ -910,6 +942,16 @@ RAY_API int ray_scene_add_box(ray_scene *scene, const ray_box_params *b,
                               unsigned material, unsigned *geom_id);
 
 /*
+** ray_scene_add_capsule: copies the params; hits as ray_capsule, through
+** the BVH (the box: the segment's grown by radius).  RAY_EINVAL (with a
+** message naming the field: ray_scene_errmsg) for what ray_capsule
+** refuses, RAY_ENOMEM, RAY_ESTATE after commit; nothing added.
+*/
+RAY_API int ray_scene_add_capsule(ray_scene *scene,
+                                  const ray_capsule_params *c,
+                                  unsigned material, unsigned *geom_id);
+
+/*
 ** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
 ** negative intensity, a zero direction (directional), a radius not > 0
 ** (sphere), parallel edges (rect) or samples > RAY_MAX_LIGHT_SAMPLES.
@@ -996,6 +1038,7 @@ enum {
     RAY_PRIM_IMPLICIT,
     RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
     RAY_PRIM_BOX,
+    RAY_PRIM_CAPSULE,
     RAY_PRIM_KINDS
 };
 #define RAY_PRIM_KINDS_MAX 16
@@ -1146,7 +1189,8 @@ RAY_API double ray_ctx_random(ray_ctx *ctx);
 ** sphere: longitude and latitude (ray_sphere); plane and polygon: the
 ** projected tangent axes (ray_plane); triangle: the barycentrics; mesh:
 ** its per-vertex (s, t) interpolated by the barycentrics; torus: its two
-** angles; box: the position on the face (ray_box); Bezier and
+** angles; box: the position on the face (ray_box); capsule: the angle
+** around its axis and the meridian's arc (ray_capsule); Bezier and
 ** parametric: (u, v); implicit: the surface's uv callback.
 **
 ** A texture is a function of the shading point, called CONCURRENTLY from

@@ -234,8 +234,9 @@ static inline int ray__bezier_quarter(unsigned q)
 **      its NAME section too (the Makefile links every name it lists), and
 **      README.md.
 */
-#define RAY__SHAPES(S, X)                                   \
-    S(X, BOX, box, ray_box_params, RAY_PRIM_BOX)
+#define RAY__SHAPES(S, X)                                          \
+    S(X, BOX, box, ray_box_params, RAY_PRIM_BOX)                     \
+    S(X, CAPSULE, capsule, ray_capsule_params, RAY_PRIM_CAPSULE)
 
 /*
 ** The kinds of primitive, one line each: X(NAME, counted as, class).

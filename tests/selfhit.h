@@ -55,6 +55,7 @@ typedef enum sh_kind {
     SH_IMPLICIT,             /* the torus through ray_implicit */
     SH_BEZIER,               /* a flat bicubic patch, ray_parametric */
     SH_BOX,                  /* ray_box, axes of other lengths, skewed */
+    SH_CAPSULE,              /* ray_capsule, along the local x axis */
     SH_KINDS
 } sh_kind;
 
@@ -62,7 +63,7 @@ static const char *const sh_kind_name[SH_KINDS] = {
     "sphere", "plane", "triangle (Cramer)", "triangle (watertight)",
     "mesh quad (watertight)", "mesh quad (Cramer)", "polygon", "torus",
     "implicit torus", "Bezier patch (flat)",
-    "box"
+    "box", "capsule"
 };
 
 /* Offsets of the placements from the origin (each coordinate). */
@@ -86,6 +87,7 @@ typedef struct sh_prim {
     ray_implicit_surface implicit;
     ray_parametric_surface bezier;
     ray_box_params box;
+    ray_capsule_params capsule;
 } sh_prim;
 
 static inline ray_vec3 sh_world(const sh_prim *p, double x, double y,
@@ -94,6 +96,14 @@ static inline ray_vec3 sh_world(const sh_prim *p, double x, double y,
     return vec(p->c.x + x * p->ex.x + y * p->ey.x + z * p->ez.x,
                  p->c.y + x * p->ex.y + y * p->ey.y + z * p->ez.y,
                  p->c.z + x * p->ex.z + y * p->ey.z + z * p->ez.z);
+}
+
+static inline int sh_flat(sh_kind k)
+{
+    /* The box is flat by pieces, but a ray entering it meets the other
+    ** faces at a chord's distance: counted as curved, as the capsule. */
+    return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT &&
+           k != SH_BOX && k != SH_CAPSULE;
 }
 
 /*
@@ -127,8 +137,7 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->ex = vec(R[0][0], R[1][0], R[2][0]);
     p->ey = vec(R[0][1], R[1][1], R[2][1]);
     p->ez = vec(R[0][2], R[1][2], R[2][2]);
-    p->size = (kind == SH_SPHERE || kind == SH_TORUS ||
-               kind == SH_IMPLICIT || kind == SH_BOX) ? 1.35 : 100;
+    p->size = !sh_flat(kind) ? 1.35 : 100;
     /* Flat kinds lie in the local plane y = 0: a floor 200 wide, so
     ** camera rays reach it both near its centre and far out. */
     p->tri[0] = sh_world(p, -100, 0, -100);
@@ -156,14 +165,11 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->box.axis_y = vec(0.5 * p->ey.x + 0.25 * p->ex.x,
                           0.5 * p->ey.y + 0.25 * p->ex.y,
                           0.5 * p->ey.z + 0.25 * p->ex.z);
-}
-
-static inline int sh_flat(sh_kind k)
-{
-    /* The box is flat by pieces, but a ray entering it meets the other
-    ** faces at a chord's distance: counted as curved. */
-    return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT &&
-           k != SH_BOX;
+    /* The capsule: ends at local x = -+0.6, radius 0.6 (1.2 x 2.4 seen
+    ** from above: half the camera rays' targets). */
+    p->capsule.a = sh_world(p, -0.6, 0, 0);
+    p->capsule.b = sh_world(p, 0.6, 0, 0);
+    p->capsule.radius = 0.6;
 }
 
 /* The closest hit of the bare primitive function(s); 1 on a hit. */
@@ -205,6 +211,8 @@ static inline int sh_bare(const sh_prim *p, const ray_ray *r, ray_hit *h)
         return ray_parametric(r, &p->bezier, h) == 1;
     case SH_BOX:
         return ray_box(r, &p->box, h) == 1;
+    case SH_CAPSULE:
+        return ray_capsule(r, &p->capsule, h) == 1;
     case SH_KINDS:
         break;
     }
@@ -243,6 +251,9 @@ static inline ray_scene *sh_scene(const sh_prim *p)
         break;
     case SH_BEZIER: rc |= ray_scene_add_bezier(s, p->cp, 0, NULL); break;
     case SH_BOX: rc |= ray_scene_add_box(s, &p->box, 0, NULL); break;
+    case SH_CAPSULE:
+        rc |= ray_scene_add_capsule(s, &p->capsule, 0, NULL);
+        break;
     case SH_KINDS: rc = RAY_EINVAL; break;
     }
     rc |= ray_scene_set_watertight(s, p->kind != SH_TRIANGLE &&
