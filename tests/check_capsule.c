@@ -184,9 +184,16 @@ END_TEST
 static int ref_capsule(ray_vec3 org, ray_vec3 dir, ray_capsule_params c,
                        long double *t_best, long double n_best[3])
 {
-    long double a[3] = {c.a.x, c.a.y, c.a.z}, b[3] = {c.b.x, c.b.y, c.b.z};
-    long double O[3] = {org.x, org.y, org.z}, D[3] = {dir.x, dir.y, dir.z};
-    long double m[3], w[3], f[3], L = 0, R = c.radius, fw = 0, dw = 0;
+    long double a[3] = {(long double)c.a.x, (long double)c.a.y,
+                        (long double)c.a.z};
+    long double b[3] = {(long double)c.b.x, (long double)c.b.y,
+                        (long double)c.b.z};
+    long double O[3] = {(long double)org.x, (long double)org.y,
+                        (long double)org.z};
+    long double D[3] = {(long double)dir.x, (long double)dir.y,
+                        (long double)dir.z};
+    long double m[3], w[3], f[3], L = 0, R = (long double)c.radius, fw = 0;
+    long double dw = 0;
     long double fp[3], dp[3], best = -1;
     int i, side, found = 0;
 
@@ -321,12 +328,16 @@ START_TEST(capsule_should_match_long_double_reference)
         /* p within its own bound (plus the tolerance) of the line's point
         ** at the reference's t, which lies on the exact surface. */
         {
-            long double q[3] = {(long double)r.org.x + t_ref * r.dir.x,
-                                (long double)r.org.y + t_ref * r.dir.y,
-                                (long double)r.org.z + t_ref * r.dir.z};
-            ck_assert(fabsl(h.p.x - q[0]) <= h.p_err.x + tol);
-            ck_assert(fabsl(h.p.y - q[1]) <= h.p_err.y + tol);
-            ck_assert(fabsl(h.p.z - q[2]) <= h.p_err.z + tol);
+            long double q[3] = {
+                (long double)r.org.x + t_ref * (long double)r.dir.x,
+                (long double)r.org.y + t_ref * (long double)r.dir.y,
+                (long double)r.org.z + t_ref * (long double)r.dir.z};
+            ck_assert(fabsl((long double)h.p.x - q[0]) <=
+                      (long double)(h.p_err.x + tol));
+            ck_assert(fabsl((long double)h.p.y - q[1]) <=
+                      (long double)(h.p_err.y + tol));
+            ck_assert(fabsl((long double)h.p.z - q[2]) <=
+                      (long double)(h.p_err.z + tol));
         }
     }
 }
@@ -438,7 +449,7 @@ START_TEST(capsule_should_miss_on_bad_input)
 {
     ray_capsule_params c = unit_x(0), bad;
     ray_vec3 org = vec(0, 0, -5), dir = vec(0, 0, 1);
-    double nan = NAN, inf = HUGE_VAL;
+    double nan = (double)NAN, inf = HUGE_VAL;
     double radii[] = {0.0, -0.0, -1.0, nan, inf, -inf};
     ray_ray rays[8], ok = ray_from(org, dir);
     ray_hit h;
@@ -753,7 +764,7 @@ START_TEST(scene_capsule_should_refuse_bad_params)
     ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s),
                                  "ray_scene_add_capsule: radius -1"));
     bad = c;
-    bad.a.y = NAN;
+    bad.a.y = (double)NAN;
     ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat, &id), RAY_EINVAL);
     ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "end a"));
     bad = c;
