@@ -1,19 +1,28 @@
 # SPDX-License-Identifier: MIT
 # libray -- plain Makefile.  Override any variable on the command line or
-# in config.mak (e.g. CC=clang, CFLAGS=-O3, PREFIX=/usr).
+# in config.mak (e.g. CC=clang, CFLAGS=-O3, PREFIX=/usr, PNG=0).
+#
+# PNG=0 builds the library without libpng: src/png_none.c instead of
+# src/png.c, whose PNG calls return RAY_ENOTSUP; build/nopng by default.
+PNG        ?= 1
 PREFIX     ?= /usr/local
 LIBDIR     ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 MANDIR     ?= $(PREFIX)/share/man
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 DOCDIR     ?= $(PREFIX)/share/doc/libray
+CMAKEDIR   ?= $(LIBDIR)/cmake/libray
 DESTDIR    ?=
 CC         ?= cc
 CXX        ?= c++
 CFLAGS     ?= -O2 -g
 LDFLAGS    ?=
-BUILD      ?= build
+BUILD      ?= $(if $(filter 0,$(PNG)),build/nopng,build)
 -include config.mak
+
+ifeq ($(filter 0 1,$(PNG)),)
+$(error PNG must be 1 (with libpng, the default) or 0 (without), not '$(PNG)')
+endif
 
 VERSION = 0.1.0
 SOMAJOR = 0
@@ -30,8 +39,15 @@ WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
+ifeq ($(PNG),1)
 PNG_CFLAGS  = $(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null)
 PNG_LIBS    = $(shell $(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
+PNG_SRC_UNUSED = src/png_none.c
+else
+PNG_CFLAGS  =
+PNG_LIBS    =
+PNG_SRC_UNUSED = src/png.c
+endif
 # Check's header directory as a system one (-isystem), wherever it is
 # installed: expanded in the tests, its ck_assert_*_tol macros compute in
 # long double (-Wdouble-promotion) and use GNU's ", ## __VA_ARGS__"
@@ -41,7 +57,7 @@ CHECK_CFLAGS = $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags check 2>
 CHECK_LIBS   = $(shell $(PKG_CONFIG) --libs check 2>/dev/null)
 LIBS = $(PNG_LIBS) -lm -lpthread
 
-SRCS = $(wildcard src/*.c)
+SRCS = $(filter-out $(PNG_SRC_UNUSED),$(wildcard src/*.c))
 OBJS = $(SRCS:src/%.c=$(BUILD)/obj/%.o)
 STATIC = $(BUILD)/libray.a
 SHARED = $(BUILD)/libray.so.$(VERSION)
@@ -65,16 +81,24 @@ MLINKS = $(shell for f in man/man3/*.3; do \
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
-        fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay
+        fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
+        png-free-test install-test libray.pc cmake-config FORCE
 
 all: lib
 
 lib: deps-build $(STATIC) $(SHARED)
 
+# Only the showcase targets install missing Debian packages (apt-get, as
+# root or with password-less sudo); plain make and make install only check
+# and print the apt-get command to run.  deps-check waits for deps-build,
+# so two apt-get never run at once.
+SHOWCASE_GOALS = check test demo bench sanitize tsan examples
+DEPS_MODE = $(if $(filter $(SHOWCASE_GOALS),$(MAKECMDGOALS)),--install,--check)
+DEPS_BUILD = pkg-config $(if $(filter 1,$(PNG)),libpng)
 deps-build:
-	@scripts/deps.sh pkg-config libpng
-deps-check:
-	@scripts/deps.sh pkg-config libpng check mandoc
+	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD)
+deps-check: deps-build
+	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD) check mandoc
 
 # src/intersect_avx2.c is the BVH queries again, built with -mavx2 where
 # the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
@@ -90,13 +114,20 @@ $(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h | deps-build
 	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) \
 	    $(if $(filter src/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
 
-$(STATIC): $(OBJS)
+# The PNG setting the objects were built with: rewritten only when it
+# changes (as Linux's filechk), so that switching PNG in one BUILD
+# re-links the libraries without png.o or png_none.o.
+$(BUILD)/png.config: FORCE
+	@mkdir -p $(@D)
+	@echo "PNG=$(PNG)" | cmp -s - $@ || echo "PNG=$(PNG)" > $@
+
+$(STATIC): $(OBJS) $(BUILD)/png.config
 	rm -f $@
 	$(AR) rcs $@ $(OBJS)
 
 # Exports through a version script (src/libray.map): ray_* in node
 # LIBRAY_0, everything else local, whatever -fvisibility says.
-$(SHARED): $(OBJS) src/libray.map
+$(SHARED): $(OBJS) src/libray.map $(BUILD)/png.config
 	$(CC) $(CFLAGS) $(LDFLAGS) -shared -Wl,-soname,libray.so.$(SOMAJOR) \
 	    -Wl,--version-script=src/libray.map -o $@ $(OBJS) $(LIBS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so.$(SOMAJOR)
@@ -109,7 +140,7 @@ $(SHARED): $(OBJS) src/libray.map
 $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(STATIC) | deps-check
 	@mkdir -p $(@D)
 	$(CC) $(WARN) -Iinclude -Isrc -Iexamples -Ibench -Itests $(CFLAGS) $(STD_CFLAGS) \
-	    $(CHECK_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
+	    $(CHECK_CFLAGS) $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/check_main.c $(TEST_SRCS) \
 	    $(STATIC) $(CHECK_LIBS) $(LIBS)
 
 # The allocation-failure sweep (tests/faultsim.c): the library's calls to
@@ -117,10 +148,10 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard ex
 FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
-    png_image_write_to_stdio
+    $(if $(filter 1,$(PNG)),png_image_write_to_stdio)
 $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) $(LDFLAGS) -o $@ tests/faultsim.c \
+	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
 $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
@@ -199,10 +230,22 @@ docs-test:
 layers-test:
 	@scripts/check-layers.sh 2>/dev/null
 
-check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test
+# Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
+EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh
+check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test \
+       install-test $(if $(filter 0,$(PNG)),png-free-test)
 	$(TEST_BIN)
 	$(FAULTSIM)
 	@$(MAKE) --no-print-directory fuzz-replay
+ifeq ($(PNG),0)
+	@echo "check: running the examples (PNG=0: each must fail on its PNG with RAY_ENOTSUP's message)"
+	cd $(BUILD) && $(EXPECT_ENOTSUP) examples/hello && $(EXPECT_ENOTSUP) examples/material
+	$(EXPECT_ENOTSUP) $(BUILD)/examples/primitives $(BUILD)/primitives.png
+	$(EXPECT_ENOTSUP) $(BUILD)/examples/whitted $(BUILD)/whitted.png 16 12 1 2
+	$(EXPECT_ENOTSUP) $(BUILD)/examples/cornell $(BUILD)/cornell.png 16 16 1 2
+	$(EXPECT_ENOTSUP) $(BUILD)/examples/implicit $(BUILD)/implicit.png 16 10 1 2
+	$(EXPECT_ENOTSUP) $(BUILD)/examples/textures doc/cornell.png $(BUILD)/textures.png 16 10 1 2
+else
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
@@ -215,6 +258,7 @@ check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(
 	    $(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2 >/dev/null 2>&1; \
 	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
 	scripts/check-examples.sh $(BUILD)
+endif
 
 test: check
 
@@ -316,21 +360,59 @@ demo: deps-build lib $(BUILD)/examples/whitted
 	$(BUILD)/examples/whitted whitted.png
 
 # ---------------------------------------------------------------- install
-libray.pc: libray.pc.in Makefile
-	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
-	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' \
+# libray.pc and the CMake package name their paths relative to where they
+# are installed (pkg-config's ${prefix}, CMake's CMAKE_CURRENT_LIST_DIR),
+# so a moved install tree still works (make install-test moves one).
+# A directory outside PREFIX stays absolute.
+rel_to_prefix = $(if $(filter $(PREFIX)/%,$(1)),$(2)/$(patsubst $(PREFIX)/%,%,$(1)),$(1))
+# From CMAKEDIR up to PREFIX: one ".." per component of CMAKEDIR below it
+# (lib/cmake/libray: ../../..).
+space := $() $()
+CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%,%,$(CMAKEDIR)))))
+# The pointer size the library was built for, which a CMake project must share.
+SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
+CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
+
+libray.pc:
+	@mkdir -p $(BUILD)
+	sed -e 's|@PREFIX@|$(PREFIX)|' \
+	    -e 's|@LIBDIR@|$(call rel_to_prefix,$(LIBDIR),$${prefix})|' \
+	    -e 's|@INCLUDEDIR@|$(call rel_to_prefix,$(INCLUDEDIR),$${prefix})|' \
+	    -e 's|@VERSION@|$(VERSION)|' \
+	    $(if $(filter 1,$(PNG)),-e 's|@PNG_REQUIRES@|libpng|',-e '/@PNG_REQUIRES@/d') \
 	    libray.pc.in > $(BUILD)/libray.pc
 
-install: lib libray.pc
-	install -d $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
-	    $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(MANDIR)/man3 $(DESTDIR)$(MANDIR)/man7 \
-	    $(DESTDIR)$(DOCDIR)
+# Written here, not by CMake: installing needs no CMake.
+cmake-config:
+	@mkdir -p $(BUILD)/cmake
+	sed -e 's|@PREFIX@|$(CMAKE_PREFIX)|' \
+	    -e 's|@LIBDIR@|$(call rel_to_prefix,$(LIBDIR),$${_libray_prefix})|' \
+	    -e 's|@INCLUDEDIR@|$(call rel_to_prefix,$(INCLUDEDIR),$${_libray_prefix})|' \
+	    -e 's|@VERSION@|$(VERSION)|' -e 's|@SOMAJOR@|$(SOMAJOR)|' \
+	    -e 's|@PNG@|$(PNG)|' \
+	    cmake/librayConfig.cmake.in > $(BUILD)/cmake/librayConfig.cmake
+	sed -e 's|@VERSION@|$(VERSION)|' -e 's|@MAJOR@|$(word 1,$(subst ., ,$(VERSION)))|' \
+	    -e 's|@SIZEOF_VOID_P@|$(SIZEOF_VOID_P)|' \
+	    cmake/librayConfigVersion.cmake.in > $(BUILD)/cmake/librayConfigVersion.cmake
+
+# The directories install makes that did not exist are listed in
+# DOCDIR/installed-dirs, so that uninstall removes them (when empty) and
+# no other (scripts/install-dirs.sh); DOCDIR and CMAKEDIR are ours anyway.
+INSTALL_DIRS = $(LIBDIR) $(INCLUDEDIR) $(PKGCONFIGDIR) $(CMAKEDIR) \
+    $(MANDIR)/man3 $(MANDIR)/man7 $(DOCDIR)
+DIRS_LIST = $(DOCDIR)/installed-dirs
+
+install: lib libray.pc cmake-config
+	@scripts/install-dirs.sh create "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
+	    $(INSTALL_DIRS)
 	install -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/libray.a
 	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/libray.so.$(VERSION)
 	ln -sf libray.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libray.so.$(SOMAJOR)
 	ln -sf libray.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libray.so
 	install -m 644 include/ray.h $(DESTDIR)$(INCLUDEDIR)/ray.h
 	install -m 644 $(BUILD)/libray.pc $(DESTDIR)$(PKGCONFIGDIR)/libray.pc
+	install -m 644 $(BUILD)/cmake/librayConfig.cmake \
+	    $(BUILD)/cmake/librayConfigVersion.cmake $(DESTDIR)$(CMAKEDIR)/
 	install -m 644 man/man3/*.3 $(DESTDIR)$(MANDIR)/man3/
 	install -m 644 man/man7/*.7 $(DESTDIR)$(MANDIR)/man7/
 	install -m 644 LICENSE $(DESTDIR)$(DOCDIR)/LICENSE
@@ -341,12 +423,32 @@ uninstall:
 	rm -f $(DESTDIR)$(LIBDIR)/libray.a $(DESTDIR)$(LIBDIR)/libray.so \
 	    $(DESTDIR)$(LIBDIR)/libray.so.$(SOMAJOR) \
 	    $(DESTDIR)$(LIBDIR)/libray.so.$(VERSION) \
-	    $(DESTDIR)$(INCLUDEDIR)/ray.h $(DESTDIR)$(PKGCONFIGDIR)/libray.pc
+	    $(DESTDIR)$(INCLUDEDIR)/ray.h $(DESTDIR)$(PKGCONFIGDIR)/libray.pc \
+	    $(DESTDIR)$(CMAKEDIR)/librayConfig.cmake \
+	    $(DESTDIR)$(CMAKEDIR)/librayConfigVersion.cmake
 	for f in $(notdir $(wildcard man/man3/*.3)); do rm -f $(DESTDIR)$(MANDIR)/man3/$$f; done
 	for l in $(MLINKS); do rm -f $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
 	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
 	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
-	rmdir $(DESTDIR)$(DOCDIR) 2>/dev/null || true
+	@scripts/install-dirs.sh remove "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
+	    $(DOCDIR) $(CMAKEDIR)
+
+# A staged install moved elsewhere still builds a program through
+# pkg-config --define-prefix and through CMake (when cmake is installed);
+# uninstall leaves an empty prefix and keeps directories it did not make.
+install-test: $(STATIC) $(SHARED)
+	@CC="$(CC)" CFLAGS="$(CFLAGS)" LDFLAGS="$(LDFLAGS)" \
+	    scripts/check-install.sh "$(MAKE)" "$(BUILD)" "$(PNG)"
+
+# make PNG=0: neither library needs libpng (no NEEDED entry, no png_*
+# reference left undefined).
+png-free-test: $(STATIC) $(SHARED)
+	@if objdump -p $(SHARED) | grep NEEDED | grep -i png; then \
+	    echo "png-free-test: $(SHARED) needs libpng"; exit 1; fi
+	@if nm -u $(STATIC) | grep ' U png_'; then \
+	    echo "png-free-test: $(STATIC) refers to libpng"; exit 1; fi
+	@echo "png-free-test: $(SHARED) NEEDED:" \
+	    $$(objdump -p $(SHARED) | awk '$$1 == "NEEDED" {print $$2}')
 
 clean:
 	rm -rf $(BUILD) whitted.png hello.png cornell.png primitives.png material.png

@@ -92,7 +92,9 @@ enum {
     RAY_ECANCELED,       /* the caller's progress callback cancelled */
     RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
                             weight, fan-out), iterations, image load */
-    RAY_EEFFECT          /* a material asked for an undeclared effect */
+    RAY_EEFFECT,         /* a material asked for an undeclared effect */
+    RAY_ENOTSUP          /* not supported by this build (PNG I/O in a
+                            library built with make PNG=0) */
 };
 
 /*
@@ -1217,7 +1219,9 @@ typedef struct ray_texture {
 ** RAY_OK; RAY_EINVAL (NULLs); RAY_EIO (the file cannot be opened or read:
 ** errno); RAY_EPNG (not a PNG, corrupt or truncated); RAY_ENOMEM;
 ** RAY_ELIMIT (over a load limit, refused from the headers before the
-** image or the chunk is allocated).  *out is untouched on failure.
+** image or the chunk is allocated); RAY_ENOTSUP in a library built
+** without libpng (make PNG=0), after the RAY_EINVAL checks.  *out is
+** untouched on failure.
 **
 ** ray_image_load_png_opt -- the same with limits for files from untrusted
 ** sources (opt NULL, or a field 0: the default).  Memory grows with the
@@ -1417,7 +1421,9 @@ RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
 **
 ** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
 ** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
-** created or written (errno tells why); RAY_EPNG if libpng fails.
+** created or written (errno tells why); RAY_EPNG if libpng fails;
+** RAY_ENOTSUP in a library built without libpng (make PNG=0), after the
+** RAY_EINVAL checks, with no file created.
 ** Thread-safe; the image is only read.
 */
 RAY_API int ray_write_png(const char *path, const float *rgb,

@@ -2,12 +2,21 @@
 # SPDX-License-Identifier: MIT
 # deps.sh -- make sure the Debian packages a make target needs are present.
 #
-# Usage: scripts/deps.sh NEED...   where NEED is one of
+# Usage: scripts/deps.sh [--check | --install] NEED...   where NEED is one of
 #   pkg-config  libpng  check  mandoc
-# Each present dependency costs one quick probe.  Missing ones are installed
+# Each present dependency costs one quick probe.  With --check (the
+# default; plain make and make install), missing ones are reported with
+# the exact apt-get command and the script fails.  With --install (only
+# the showcase targets: make check, demo, bench...), they are installed
 # with apt-get when we are root (or have password-less sudo), announced in
-# one line; otherwise the script prints the exact command and fails.
+# one line; otherwise the script prints the command and fails.
 set -u
+
+mode=check
+case "${1:-}" in
+--check) mode=check; shift ;;
+--install) mode=install; shift ;;
+esac
 
 missing=""
 for need in "$@"; do
@@ -26,6 +35,11 @@ done
 case "$missing" in *pkg-config*) ;; *) command -v pkg-config >/dev/null 2>&1 || missing="pkg-config$missing" ;; esac
 missing=$(echo $missing)
 
+if [ "$mode" = check ]; then
+    echo "libray: missing Debian packages: $missing; install them with: sudo apt-get install -y $missing" >&2
+    echo "libray: (make check, make demo and make bench install them themselves when run as root)" >&2
+    exit 1
+fi
 if [ "$(id -u)" = 0 ]; then
     sudo=""
 elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then

@@ -14,7 +14,7 @@
 ** Only known codes are negated back: -INT_MIN would overflow. */
 const char *ray_strerror(int code)
 {
-    if (code < 0 && code >= -RAY_EEFFECT)
+    if (code < 0 && code >= -RAY_ENOTSUP)
         code = -code;
     switch (code) {
     case RAY_OK:          return "success";
@@ -29,6 +29,7 @@ const char *ray_strerror(int code)
     case RAY_ELIMIT:
         return "a limit was reached (ray tree, iterations, image load)";
     case RAY_EEFFECT:     return "effect not declared by the material";
+    case RAY_ENOTSUP:     return "not supported by this build";
     default:              return "unknown error";
     }
 }

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** image.h -- images (image.c) as png.c's loader makes them.  Beside the
+** image.h -- images (image.c) as png.c's loader makes them, and the
+** clamp both pixel encodings share.  Beside the
 ** layers: images need no scene, only vectors.
 */
 #ifndef RAY_IMAGE_H
@@ -12,5 +13,14 @@
 ** texel, rows top to bottom), for png.c's loader; NULL when out of memory,
 ** rgb then still the caller's. */
 ray_image *ray__image_new(unsigned width, unsigned height, float *rgb);
+
+/* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN).  For
+** the 8-bit sRGB (image.c) and 16-bit linear (png.c) encodings. */
+static inline double ray__unit_clamp(float x)
+{
+    if (!(x > 0.0f))
+        return 0.0;
+    return x < 1.0f ? (double)x : 1.0;
+}
 
 #endif /* RAY_IMAGE_H */

@@ -28,39 +28,12 @@
 
 #include "image.h"
 
-/* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN). */
-static double unit_clamp(float x)
-{
-    if (!(x > 0.0f))
-        return 0.0;
-    return x < 1.0f ? (double)x : 1.0;
-}
-
-/* The sRGB transfer function, IEC 61966-2-1:1999 section 5.2. */
-static double srgb_encode(double linear)
-{
-    if (linear <= 0.0031308)
-        return 12.92 * linear;
-    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
-}
-
-int ray_image_to_srgb8(const float *rgb, size_t count, unsigned char *out)
-{
-    size_t i;
-
-    if (rgb == NULL || out == NULL)
-        return RAY_EINVAL;
-    for (i = 0; i < 3 * count; i++)
-        out[i] = (unsigned char)(srgb_encode(unit_clamp(rgb[i])) * 255.0 + 0.5);
-    return RAY_OK;
-}
-
 static void to_linear16(const float *rgb, size_t count, png_uint_16 *out)
 {
     size_t i;
 
     for (i = 0; i < 3 * count; i++)
-        out[i] = (png_uint_16)(unit_clamp(rgb[i]) * 65535.0 + 0.5);
+        out[i] = (png_uint_16)(ray__unit_clamp(rgb[i]) * 65535.0 + 0.5);
 }
 
 /*

@@ -24,7 +24,7 @@ START_TEST(strerror_should_name_every_code)
 {
     int codes[] = {RAY_OK, RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE,
                    RAY_ENOMEM, RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED,
-                   RAY_ELIMIT, RAY_EEFFECT};
+                   RAY_ELIMIT, RAY_EEFFECT, RAY_ENOTSUP};
     size_t n = sizeof codes / sizeof codes[0], i, j;
 
     for (i = 0; i < n; i++) {
@@ -44,7 +44,7 @@ START_TEST(strerror_should_accept_negated_codes)
 {
     int codes[] = {RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE, RAY_ENOMEM,
                    RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED, RAY_ELIMIT,
-                   RAY_EEFFECT};
+                   RAY_EEFFECT, RAY_ENOTSUP};
     size_t i;
 
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++)
@@ -56,10 +56,24 @@ START_TEST(strerror_should_accept_negated_codes)
 }
 END_TEST
 
+/* Statuses are ABI: a new one goes at the end, the others keep their
+** numbers (README, "Versions and ABI"). */
+START_TEST(status_codes_should_keep_their_numbers)
+{
+    ck_assert_int_eq(RAY_OK, 0);
+    ck_assert_int_eq(RAY_EINVAL, 1);
+    ck_assert_int_eq(RAY_EPNG, 6);
+    ck_assert_int_eq(RAY_EEFFECT, 10);
+    ck_assert_int_eq(RAY_ENOTSUP, 11);
+    ck_assert_str_eq(ray_strerror(RAY_ENOTSUP), "not supported by this build");
+    ck_assert_str_eq(ray_strerror(-RAY_ENOTSUP), "not supported by this build");
+}
+END_TEST
+
 START_TEST(strerror_should_survive_unknown_codes)
 {
-    ck_assert_str_eq(ray_strerror(RAY_EEFFECT + 1), "unknown error");
-    ck_assert_str_eq(ray_strerror(-RAY_EEFFECT - 1), "unknown error");
+    ck_assert_str_eq(ray_strerror(RAY_ENOTSUP + 1), "unknown error");
+    ck_assert_str_eq(ray_strerror(-RAY_ENOTSUP - 1), "unknown error");
     ck_assert_str_eq(ray_strerror(12345), "unknown error");
     ck_assert_str_eq(ray_strerror(-12345), "unknown error");
     /* INT_MIN has no negation in int: it must not be negated. */
@@ -77,6 +91,7 @@ Suite *version_suite(void)
     tcase_add_test(tc, strerror_should_name_every_code);
     tcase_add_test(tc, strerror_should_accept_negated_codes);
     tcase_add_test(tc, strerror_should_survive_unknown_codes);
+    tcase_add_test(tc, status_codes_should_keep_their_numbers);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -1,0 +1,90 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# check-install.sh MAKE BUILD PNG -- make install-test (part of make check):
+#
+#  1. make install into a staging directory (PREFIX=/opt/libray), the tree
+#     then moved elsewhere: a program still compiles, links and runs
+#     against the moved copy through pkg-config --define-prefix (libray.pc
+#     names its paths relative to ${prefix}), and, when cmake is
+#     installed, through find_package(libray) (tests/cmake-consumer: the
+#     shared and the static target; librayConfig.cmake finds its paths from
+#     its own location).  The programs check PNG output against PNG.
+#  2. make install then make uninstall into an empty prefix leave it
+#     empty; into a prefix that already has directories (some empty, one
+#     with another package's file), those stay as they were.
+#
+# CC, CFLAGS and LDFLAGS come from the environment (the Makefile's).
+set -eu
+make=$1 build=$2 png=$3
+: "${CC:=cc}" "${CFLAGS:=}" "${LDFLAGS:=}"
+top=$(pwd)
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/libray-install-test.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "install-test: $*" >&2; exit 1; }
+mk() { $make --no-print-directory -s BUILD="$build" PNG="$png" "$@" >/dev/null; }
+
+# 1. A moved install.
+mk install DESTDIR="$tmp/stage" PREFIX=/opt/libray
+mv "$tmp/stage/opt/libray" "$tmp/moved"
+rm -rf "$tmp/stage"
+moved=$tmp/moved
+flags=$(PKG_CONFIG_PATH="$moved/lib/pkgconfig" pkg-config --define-prefix \
+        --cflags --libs libray)
+case "$flags" in
+*"-I$moved/include"*"-L$moved/lib"*) ;;
+*) fail "pkg-config --define-prefix gave '$flags', not the moved tree $moved" ;;
+esac
+static=$(PKG_CONFIG_PATH="$moved/lib/pkgconfig" pkg-config --define-prefix \
+         --static --libs libray)
+case "$png:$static" in
+1:*-lpng*|0:*) ;;
+*) fail "pkg-config --static --libs libray gave '$static': no libpng" ;;
+esac
+case "$png:$static" in
+0:*png*) fail "PNG=0, yet pkg-config --static --libs libray gave '$static'" ;;
+esac
+# shellcheck disable=SC2086 # the flags are lists
+$CC $CFLAGS -DEXPECT_PNG="$png" "$top/tests/cmake-consumer/main.c" \
+    -o "$tmp/pc-consumer" $flags -Wl,-rpath,"$moved/lib" $LDFLAGS
+ldd "$tmp/pc-consumer" | grep -q "$moved/lib/libray.so" ||
+    fail "the pkg-config consumer does not load $moved/lib/libray.so"
+"$tmp/pc-consumer" "$tmp/pc.png"
+echo "install-test: pkg-config --define-prefix: built and ran against a moved install"
+
+if command -v cmake >/dev/null 2>&1; then
+    # Not the outer make's jobserver: cmake runs its own make.
+    env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL \
+        cmake -S "$top/tests/cmake-consumer" -B "$tmp/cmake" \
+        -DCMAKE_PREFIX_PATH="$moved" -DCMAKE_C_COMPILER="$CC" \
+        -DCMAKE_C_FLAGS="$CFLAGS" -DCMAKE_EXE_LINKER_FLAGS="$LDFLAGS" \
+        -DEXPECT_PNG="$png" > "$tmp/cmake.log" 2>&1 ||
+        { cat "$tmp/cmake.log" >&2; fail "cmake could not configure the consumer"; }
+    env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL \
+        cmake --build "$tmp/cmake" > "$tmp/cmake.log" 2>&1 ||
+        { cat "$tmp/cmake.log" >&2; fail "cmake could not build the consumer"; }
+    ldd "$tmp/cmake/consumer" | grep -q "$moved/lib/libray.so" ||
+        fail "the CMake consumer does not load $moved/lib/libray.so"
+    "$tmp/cmake/consumer" "$tmp/cmake.png"
+    "$tmp/cmake/consumer_static" "$tmp/cmake-static.png"
+    echo "install-test: cmake find_package(libray): libray::libray and libray::libray_static built and ran against a moved install"
+else
+    echo "install-test: no cmake here: the CMake consumer is skipped (.ci/run installs cmake)"
+fi
+
+# 2. Uninstall into an empty prefix, and into one with directories.
+mk install DESTDIR="$tmp/empty" PREFIX=/usr/local
+mk uninstall DESTDIR="$tmp/empty" PREFIX=/usr/local
+left=$(cd "$tmp/empty/usr/local" && find . -mindepth 1 | sort)
+[ -z "$left" ] || fail "uninstall left in an empty prefix: $left"
+
+kept=$tmp/kept/usr/local
+mkdir -p "$kept/include" "$kept/lib/pkgconfig" "$kept/share/man/man3"
+touch "$kept/lib/pkgconfig/other.pc"
+before=$(cd "$kept" && find . | sort)
+mk install DESTDIR="$tmp/kept" PREFIX=/usr/local
+mk uninstall DESTDIR="$tmp/kept" PREFIX=/usr/local
+after=$(cd "$kept" && find . | sort)
+[ "$before" = "$after" ] ||
+    fail "uninstall changed a prefix's own directories: before: $before; after: $after"
+echo "install-test: uninstall leaves an empty prefix empty and another prefix's directories as they were"
