@@ -202,6 +202,7 @@ check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(
 	@$(MAKE) --no-print-directory fuzz-replay
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
+	$(BUILD)/examples/picking >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
