@@ -65,6 +65,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
+        deps-bench numerics links-test \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay
 
 all: lib
@@ -192,11 +193,15 @@ docs-test:
 	@MLINKS="$(MLINKS)" scripts/check-docs.sh
 	@MLINKS="$(MLINKS)" scripts/test-check-docs.sh
 
+# Every relative link of README.md and doc/*.md resolves, anchors too.
+links-test:
+	@scripts/check-links.sh
+
 # No source file includes a header above its layer (src/*.h).
 layers-test:
 	@scripts/check-layers.sh 2>/dev/null
 
-check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test
+check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test
 	$(TEST_BIN)
 	$(FAULTSIM)
 	@$(MAKE) --no-print-directory fuzz-replay
