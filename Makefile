@@ -76,6 +76,8 @@ deps-build:
 	@scripts/deps.sh pkg-config libpng
 deps-check:
 	@scripts/deps.sh pkg-config libpng check mandoc
+deps-bench:
+	@scripts/deps.sh pkg-config libpng gnuplot
 
 # src/intersect_avx2.c is the BVH queries again, built with -mavx2 where
 # the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
@@ -144,9 +146,20 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
-# they assert nothing.  BENCH_QUICK=1 for a short run.
-bench: deps-build lib $(BENCHES)
+# they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
+# tables into doc/BENCHMARKS.md and draws bench/accuracy.png with gnuplot
+# (installed here like the other targets' packages).  BENCH_QUICK=1 for a
+# short run, written to bench/RESULTS-quick.md and accuracy-quick.png
+# (untracked) so that it never replaces the documented figures.
+bench: deps-bench lib $(BENCHES)
 	bench/run.sh $(BUILD)
+
+# The stability suite alone (doc/NUMERICS.md): the table of hard cases,
+# naive against robust (bench/numerics.c), then the Check suite's numerics
+# tests by themselves (CK_RUN_SUITE, Check's own variable).
+numerics: deps-check lib $(BUILD)/bench/numerics $(TEST_BIN)
+	$(BUILD)/bench/numerics
+	CK_RUN_SUITE=numerics $(TEST_BIN)
 
 # The header alone must compile as strict C99 and as C++.
 header-test: include/ray.h tests/header_c99.c

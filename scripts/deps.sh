@@ -3,7 +3,7 @@
 # deps.sh -- make sure the Debian packages a make target needs are present.
 #
 # Usage: scripts/deps.sh NEED...   where NEED is one of
-#   pkg-config  libpng  check  mandoc
+#   pkg-config  libpng  check  mandoc  gnuplot (make bench's plot)
 # Each present dependency costs one quick probe.  Missing ones are installed
 # with apt-get when we are root (or have password-less sudo), announced in
 # one line; otherwise the script prints the exact command and fails.
@@ -18,6 +18,7 @@ for need in "$@"; do
     check)      { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists check; } \
                     || missing="$missing check" ;;
     mandoc)     command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc" ;;
+    gnuplot)    command -v gnuplot >/dev/null 2>&1 || missing="$missing gnuplot-nox" ;;
     *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;
     esac
 done
