@@ -238,7 +238,7 @@ test: check
 # "make check" replays every committed input (fuzz/corpus/<target>, the
 # seeds, and fuzz/crashes/<target>, the reproducers) through fuzz/replay.c
 # with the suite's compiler and flags; "make fuzz" fuzzes each target for
-# FUZZ_SECONDS with clang's libFuzzer, ASan and UBSan (README, "Fuzzing").
+# FUZZ_SECONDS with clang's libFuzzer, ASan and UBSan (doc/TESTING.md, "Fuzzing").
 FUZZ_SECONDS ?= 30
 FUZZ_CC      ?= clang
 FUZZ_BUILD   ?= build/fuzz
