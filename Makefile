@@ -81,6 +81,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
+        deps-bench numerics links-test \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
         png-free-test install-test libray.pc cmake-config FORCE
 
@@ -92,13 +93,15 @@ lib: deps-build $(STATIC) $(SHARED)
 # root or with password-less sudo); plain make and make install only check
 # and print the apt-get command to run.  deps-check waits for deps-build,
 # so two apt-get never run at once.
-SHOWCASE_GOALS = check test demo bench sanitize tsan examples
+SHOWCASE_GOALS = check test demo bench numerics sanitize tsan examples
 DEPS_MODE = $(if $(filter $(SHOWCASE_GOALS),$(MAKECMDGOALS)),--install,--check)
 DEPS_BUILD = pkg-config $(if $(filter 1,$(PNG)),libpng)
 deps-build:
 	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD)
 deps-check: deps-build
 	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD) check mandoc
+deps-bench: deps-build
+	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD) gnuplot
 
 # src/intersect_avx2.c is the BVH queries again, built with -mavx2 where
 # the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
@@ -174,9 +177,20 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
-# they assert nothing.  BENCH_QUICK=1 for a short run.
-bench: deps-build lib $(BENCHES)
+# they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
+# tables into doc/BENCHMARKS.md and draws bench/accuracy.png with gnuplot
+# (installed here like the other targets' packages).  BENCH_QUICK=1 for a
+# short run, written to bench/RESULTS-quick.md and accuracy-quick.png
+# (untracked) so that it never replaces the documented figures.
+bench: deps-bench lib $(BENCHES)
 	bench/run.sh $(BUILD)
+
+# The stability suite alone (doc/NUMERICS.md): the table of hard cases,
+# naive against robust (bench/numerics.c), then the Check suite's numerics
+# tests by themselves (CK_RUN_SUITE, Check's own variable).
+numerics: deps-check lib $(BUILD)/bench/numerics $(TEST_BIN)
+	$(BUILD)/bench/numerics
+	CK_RUN_SUITE=numerics $(TEST_BIN)
 
 # The header alone must compile as strict C99 and as C++.
 header-test: include/ray.h tests/header_c99.c
@@ -226,13 +240,17 @@ docs-test:
 	@MLINKS="$(MLINKS)" scripts/check-docs.sh
 	@MLINKS="$(MLINKS)" scripts/test-check-docs.sh
 
+# Every relative link of README.md and doc/*.md resolves, anchors too.
+links-test:
+	@scripts/check-links.sh
+
 # No source file includes a header above its layer (src/*.h).
 layers-test:
 	@scripts/check-layers.sh 2>/dev/null
 
 # Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
 EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh
-check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test \
+check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        install-test $(if $(filter 0,$(PNG)),png-free-test)
 	$(TEST_BIN)
 	$(FAULTSIM)
@@ -248,6 +266,7 @@ ifeq ($(PNG),0)
 else
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
+	$(BUILD)/examples/picking >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
@@ -267,7 +286,7 @@ test: check
 # "make check" replays every committed input (fuzz/corpus/<target>, the
 # seeds, and fuzz/crashes/<target>, the reproducers) through fuzz/replay.c
 # with the suite's compiler and flags; "make fuzz" fuzzes each target for
-# FUZZ_SECONDS with clang's libFuzzer, ASan and UBSan (README, "Fuzzing").
+# FUZZ_SECONDS with clang's libFuzzer, ASan and UBSan (doc/TESTING.md, "Fuzzing").
 FUZZ_SECONDS ?= 30
 FUZZ_CC      ?= clang
 FUZZ_BUILD   ?= build/fuzz

@@ -1,15 +1,26 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# run.sh BUILD_DIR -- run every benchmark, write bench/RESULTS.md, put the
-# headline table of "What accuracy costs" into README.md (between the
-# <!-- accuracy:begin --> and <!-- accuracy:end --> markers) and, when
-# gnuplot is installed, draw bench/accuracy.png.  BENCH_QUICK=1 for a short
-# run (under a minute).  Prints the results as it goes.
+# run.sh BUILD_DIR -- run every benchmark, write bench/RESULTS.md, copy
+# its tables into doc/BENCHMARKS.md (between the <!-- NAME:begin --> and
+# <!-- NAME:end --> markers) and draw bench/accuracy.png with gnuplot
+# (make bench installs it).  Prints the results as it goes.
+#
+# BENCH_QUICK=1: a short run (under a minute) whose figures are not those
+# of the documentation: it writes bench/RESULTS-quick.md and
+# bench/accuracy-quick.png (both ignored by git) and copies nothing into
+# doc/, so the last full run's figures stay where they are.
 set -eu
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-out=bench/RESULTS.md
+doc=doc/BENCHMARKS.md
+if [ -n "${BENCH_QUICK:-}" ]; then
+    out=bench/RESULTS-quick.md
+    plot=bench/accuracy-quick.png
+else
+    out=bench/RESULTS.md
+    plot=bench/accuracy.png
+fi
 plots=$(mktemp -d)
 trap 'rm -rf "$plots"' EXIT
 
@@ -32,31 +43,39 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
 } | tee "$out.tmp"
 mv "$out.tmp" "$out"
 
-# Tables copied into the README between <!-- NAME:begin --> and
+# Tables copied into doc/BENCHMARKS.md between <!-- NAME:begin --> and
 # <!-- NAME:end -->: the primitives (headline), the curved surfaces, the
-# effects, the thread speed-up and the meshes.
+# effects, the thread speed-up and the meshes.  A marker missing from the
+# page is an error, not a table silently dropped.
 splice() {
+    grep -qx "<!-- $1:begin -->" "$doc" && grep -qx "<!-- $1:end -->" "$doc" || {
+        echo "bench: no <!-- $1:begin/end --> markers in $doc" >&2; exit 1; }
     awk -v f="$2" -v b="<!-- $1:begin -->" -v e="<!-- $1:end -->" '
         $0 == b { print; while ((getline l < f) > 0) print l; skip=1; next }
         $0 == e { skip=0 }
-        !skip' README.md > "$plots/README.md" && cp "$plots/README.md" README.md
+        !skip' "$doc" > "$plots/doc.md" && cp "$plots/doc.md" "$doc"
 }
-awk '/^### Primitives/{on=1} on&&/^### Images/{exit} on' "$out" > "$plots/headline.md"
-splice accuracy "$plots/headline.md"
-awk '/^\| surface \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/surfaces.md"
-splice surfaces "$plots/surfaces.md"
-awk '/^Pruned \(effect analysis/{on=1} /^## Whitted scene/{exit} on' "$out" |
-    sed -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/effects.md"
-splice effects "$plots/effects.md"
-awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
-splice threads "$plots/threads.md"
-awk '/^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
-splice mesh "$plots/mesh.md"
+if [ -z "${BENCH_QUICK:-}" ]; then
+    awk '/^### Primitives/{on=1} on&&/^### Images/{exit} on' "$out" > "$plots/headline.md"
+    splice accuracy "$plots/headline.md"
+    awk '/^\| surface \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/surfaces.md"
+    splice surfaces "$plots/surfaces.md"
+    awk '/^Pruned \(effect analysis/{on=1} /^## Whitted scene/{exit} on' "$out" |
+        sed -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/effects.md"
+    splice effects "$plots/effects.md"
+    awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
+    splice threads "$plots/threads.md"
+    awk '/^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
+    splice mesh "$plots/mesh.md"
+    echo "bench: copied the tables into $doc" >&2
+else
+    echo "bench: quick run: $doc and bench/RESULTS.md left as they were" >&2
+fi
 
 if command -v gnuplot >/dev/null 2>&1; then
     gnuplot <<GP
 set terminal pngcairo size 800,500 noenhanced
-set output "bench/accuracy.png"
+set output "$plot"
 set title "Render time against image error (RMSE from a converged reference)"
 set xlabel "render time (s), 2 threads"
 set ylabel "RMSE"
@@ -70,8 +89,10 @@ plot "$plots/whitted-uniform.dat" with linespoints title "Whitted, uniform 1-64 
      "$plots/bunny-uniform.dat" with linespoints title "bunny, uniform", \
      "$plots/bunny-adaptive.dat" with linespoints title "bunny, adaptive"
 GP
-    echo "bench: wrote bench/accuracy.png" >&2
+    echo "bench: wrote $plot" >&2
 else
+    # make bench installs it (scripts/deps.sh gnuplot); run.sh run alone
+    # may find none.
     echo "bench: gnuplot not installed: no plot (apt-get install gnuplot-nox)" >&2
 fi
 echo "bench: wrote $out" >&2

@@ -9,7 +9,7 @@
 # byte, then a value); the names say what they hold.  Run from anywhere:
 #     fuzz/seeds.sh
 # Inputs that libFuzzer finds are not added here: a campaign's corpus
-# stays in build/ (README, "Fuzzing"); reproducers go to fuzz/crashes/.
+# stays in build/ (doc/TESTING.md, "Fuzzing"); reproducers go to fuzz/crashes/.
 set -eu
 cd "$(dirname "$0")/corpus"
 

@@ -106,6 +106,16 @@ for exe in "$build"/examples/*; do
     run --bogus
     expect 2 "--bogus" "unknown option '--bogus'" "usage: $name"
 
+    # An example that writes no file (picking: queries only) takes no
+    # arguments: one is refused, none runs.
+    if grep -q "(no arguments)" "$tmp/err"; then
+        run "$out"
+        expect 2 "an argument" "usage: $name"
+        run
+        expect 0 "a run"
+        expect_left "a run"
+        continue
+    fi
     # The usage (on stderr after --bogus) tells whether it takes sizes.
     if grep -q "width height" "$tmp/err"; then
         run "$out" -5 10

@@ -3,7 +3,7 @@
 # deps.sh -- make sure the Debian packages a make target needs are present.
 #
 # Usage: scripts/deps.sh [--check | --install] NEED...   where NEED is one of
-#   pkg-config  libpng  check  mandoc
+#   pkg-config  libpng  check  mandoc  gnuplot (make bench's plot)
 # Each present dependency costs one quick probe.  With --check (the
 # default; plain make and make install), missing ones are reported with
 # the exact apt-get command and the script fails.  With --install (only
@@ -27,6 +27,7 @@ for need in "$@"; do
     check)      { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists check; } \
                     || missing="$missing check" ;;
     mandoc)     command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc" ;;
+    gnuplot)    command -v gnuplot >/dev/null 2>&1 || missing="$missing gnuplot-nox" ;;
     *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;
     esac
 done

@@ -232,7 +232,7 @@ static inline int ray__bezier_quarter(unsigned q)
 **   4. tests/check_name.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_name.3 naming ray_scene_add_name in
 **      its NAME section too (the Makefile links every name it lists), and
-**      README.md.
+**      doc/API.md (its table of functions).
 */
 #define RAY__SHAPES(S, X)                                          \
     S(X, BOX, box, ray_box_params, RAY_PRIM_BOX)                     \
@@ -273,7 +273,7 @@ static inline int ray__bezier_quarter(unsigned q)
 **   5. src/surfaces.c: ray_scene_add_NAME, through add_surface;
 **   6. tests/check_NAME.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_NAME.3 (a Makefile MLINKS entry for
-**      each other function it documents), and README.md.
+**      each other function it documents), and doc/API.md.
 */
 #define RAY__PRIM_KINDS(X)                                 \
     X(SPHERE,     RAY_PRIM_SPHERE,     BOUNDED)            \
