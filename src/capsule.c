@@ -134,23 +134,6 @@ static ray_vec3 from_frame(const capsule_frame *k, ray_vec3 v)
                   v3_scale(k->w, v.z));
 }
 
-/* Scaling of the direction by a power of two, exact: as ray_sphere's
-** scaled_dir (sphere.c), so a direction of length 1e-200 or 1e200 gives
-** the hit of the unit one: its largest component lies in [0.5, 1). */
-static int scaled_dir(ray_vec3 dir, ray_vec3 *d, double *scale)
-{
-    double m = max_abs(dir);
-    int e;
-
-    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
-        dir.z != dir.z)
-        return 0;
-    frexp(m, &e);
-    *scale = ldexp(1.0, -e);
-    *d = v3_scale(dir, *scale);
-    return 1;
-}
-
 /*
 ** a t^2 - 2 b t + c = 0 for a circle (n = 2: the cylinder's cross
 ** section) or a sphere (n = 3: a cap) of radius R about the origin, for
@@ -451,11 +434,11 @@ int ray_capsule(const ray_ray *r, const ray_capsule_params *c,
     capsule_ray cr;
     crossing x[2];
     ray_vec3 f, d, F, D;
-    double scale, tmin, tmax, t;
-    int i, n;
+    double tmin, tmax, t;
+    int i, n, e;
 
     if (r == NULL || hit == NULL || !capsule_setup(c, &k, NULL, NULL) ||
-        !scaled_dir(r->dir, &d, &scale))
+        !ray__scaled_dir(r->dir, &d, &e))
         return 0;
     f = v3_sub(r->org, k.m);
     F = to_frame(&k, f);
@@ -466,14 +449,14 @@ int ray_capsule(const ray_ray *r, const ray_capsule_params *c,
     cr.ed = ray__gamma(16) * v3_length(d);
     cr.eh = ray__gamma(8) * k.half;
     n = capsule_crossings(&k, &cr, x);
-    /* tmin, tmax in the scaled direction's units: t_scaled = t / scale.
+    /* tmin, tmax in the scaled direction's units (ray__scaled_dir).
     ** The nearer crossing whose whole error interval lies past tmin. */
-    tmin = r->tmin / scale;
-    tmax = r->tmax / scale;
+    tmin = ray__scale_t(r->tmin, e);
+    tmax = ray__scale_t(r->tmax, e);
     for (i = 0; i < n; i++) {
         if (!(x[i].t > tmin && x[i].t < tmax && x[i].t - x[i].err > tmin))
             continue;
-        t = x[i].t * scale;
+        t = ray__unscale_t(x[i].t, e);
         if (!(t > r->tmin && t < r->tmax))  /* the product rounded past */
             return 0;
         return fill_hit(&k, &cr, &x[i], t, hit);

@@ -205,6 +205,38 @@ static inline int ray__bezier_quarter(unsigned q)
     return RAY__BEZIER_GRID * ((q & 2u) ? 3 : 0) + ((q & 1u) ? 3 : 0);
 }
 
+/*
+** The direction scaled by a power of two, 2^-e, so that its largest
+** component lies in [0.5, 1): exact, componentwise by ldexp (barring
+** components ~2^-1000 times smaller than the largest, noise beside it),
+** so a direction of length 1e-200, 1e200 or a subnormal one gives the
+** same hit as the unit one and d.d can neither overflow nor underflow.
+** The parameter along the scaled direction is t 2^e: ray__unscale_t
+** converts back, ray__scale_t there (saturating, never 0 * Inf).  0 for a
+** zero, infinite or NaN direction.  ray_sphere and ray_capsule use it.
+*/
+static inline int ray__scaled_dir(ray_vec3 dir, ray_vec3 *d, int *e)
+{
+    double m = fmax(fabs(dir.x), fmax(fabs(dir.y), fabs(dir.z)));
+
+    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
+        dir.z != dir.z)
+        return 0;
+    frexp(m, e);
+    *d = v3(ldexp(dir.x, -*e), ldexp(dir.y, -*e), ldexp(dir.z, -*e));
+    return 1;
+}
+
+static inline double ray__scale_t(double t, int e)
+{
+    return ldexp(t, e);
+}
+
+static inline double ray__unscale_t(double t, int e)
+{
+    return ldexp(t, -e);
+}
+
 /* ------------------------------------------------------ the kinds */
 
 /*

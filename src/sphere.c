@@ -57,28 +57,6 @@ static int nearest_root(const ray_ray *r, double t0, double t1, double *t)
 }
 
 /*
-** The direction scaled by a power of two so that its largest component
-** lies in [0.5, 1): exact (a power of two only moves the exponent, barring
-** underflow of components ~2^-1000 times smaller than the largest, which
-** are noise beside it), so a direction of length 1e-200 or 1e200 gives
-** the same hit as the unit one: d.d can neither overflow nor underflow.
-** t for the scaled direction is t for dir times 2^-exponent, exactly.
-*/
-static int scaled_dir(ray_vec3 dir, ray_vec3 *d, double *scale)
-{
-    double m = fmax(fabs(dir.x), fmax(fabs(dir.y), fabs(dir.z)));
-    int e;
-
-    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
-        dir.z != dir.z)
-        return 0;
-    frexp(m, &e);
-    *scale = ldexp(1.0, -e);
-    *d = v3_scale(dir, *scale);
-    return 1;
-}
-
-/*
 ** A bound on the rounding error of a root t of a t^2 - 2 b' t + c (the
 ** quadratic below, in the scaled direction), by running error analysis
 ** (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed.,
@@ -165,19 +143,21 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 ** Numerical Recipes, 5.6): both roots come from an addition of like signs,
 ** so the near root of a huge sphere does not cancel.
 **
-** The direction is first scaled by a power of two (scaled_dir), and t,
-** tmin and tmax with it.
+** The direction is first scaled by a power of two (ray__scaled_dir), and
+** t, tmin and tmax with it.
 */
 int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
                ray_hit *hit)
 {
     ray_vec3 f, d;
     sphere_quadratic k;
-    double scale, q, t;
+    double q, t;
+    int e;
 
     /* Exact tests, no epsilon: a radius that is not a positive finite
     ** number, or a zero (or NaN) direction, misses; so do NULLs. */
-    if (r == NULL || hit == NULL || !(radius > 0 && radius < HUGE_VAL) || !scaled_dir(r->dir, &d, &scale))
+    if (r == NULL || hit == NULL || !(radius > 0 && radius < HUGE_VAL) ||
+        !ray__scaled_dir(r->dir, &d, &e))
         return 0;
     f = v3_sub(r->org, center);
     k.a = v3_dot(d, d);
@@ -192,11 +172,12 @@ int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
     k.radius = radius;
     k.d_len = v3_length(d);
     q = k.b + copysign(sqrt(k.a * k.disc), k.b);
-    /* tmin, tmax in the scaled direction's units: t_scaled = t / scale. */
-    if (!nearest_root_bounded(&k, r->tmin / scale, r->tmax / scale,
-                              k.c / q, q / k.a, &t))
+    /* tmin, tmax in the scaled direction's units (ray__scaled_dir). */
+    if (!nearest_root_bounded(&k, ray__scale_t(r->tmin, e),
+                              ray__scale_t(r->tmax, e), k.c / q, q / k.a,
+                              &t))
         return 0;
-    t *= scale;
+    t = ray__unscale_t(t, e);
     if (!(t > r->tmin && t < r->tmax))  /* the product rounded past one */
         return 0;
     return sphere_fill(r, center, radius, t, hit);

@@ -162,6 +162,22 @@ START_TEST(sphere_should_not_depend_on_direction_length)
         }
     }
     ck_assert_int_gt(hits, 1000);
+    /* A subnormal direction (2^-1060): its scale 2^1060 overflows a
+    ** double, so the scaling is by exponent (ldexp), not by a factor;
+    ** the hit is the unit direction's, t times 2^1060 exactly (tiny
+    ** geometry keeps that t finite). */
+    {
+        ray_ray u, s;
+        ray_hit hu, hs;
+        u.org = vec(0, 0, 5e-20), u.dir = vec(0, 0, -1);
+        u.tmin = 0, u.tmax = HUGE_VAL;
+        s = u;
+        s.dir = vec(0, 0, -0x1p-1060);
+        ck_assert_int_eq(ray_sphere(&u, vec(0, 0, 0), 1e-20, &hu), 1);
+        ck_assert_int_eq(ray_sphere(&s, vec(0, 0, 0), 1e-20, &hs), 1);
+        ck_assert(hs.t == ldexp(hu.t, 1060));
+        ck_assert(hs.p.z == hu.p.z);
+    }
 }
 END_TEST
 
