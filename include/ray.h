@@ -122,6 +122,16 @@ typedef struct ray_ray {
 #define RAY_INVALID_ID 0xffffffffu
 
 /*
+** The material of geometry that is only queried (ray_intersect,
+** ray_occluded): any ray_scene_add_* geometry call accepts it, and the
+** scene needs no material at all.  Rendering (ray_trace, ray_render) such
+** geometry shades it black: it emits and reflects nothing and traces no
+** ray of its own, but it is still geometry, so it hides what lies behind
+** it and blocks shadow rays.  It adds nothing to ray_scene_effects.
+*/
+#define RAY_NO_MATERIAL RAY_INVALID_ID
+
+/*
 ** What an intersection reports.  Everything a robust secondary ray needs is
 ** here: the geometric normal (never a shading normal) and a bound on the
 ** rounding error of the hit point -- the box p +- p_err (per component)
@@ -858,7 +868,8 @@ RAY_API int ray_scene_add_material(ray_scene *scene, const ray_material *m,
 ** if not NULL, receives the id that hits report in ray_hit.geom_id
 ** (counted from 0 over all geometry).  Errors, with nothing added:
 ** RAY_EINVAL for NaN/Inf coordinates, a radius not > 0, a zero normal, an
-** unknown material or fewer than 3 polygon vertices; RAY_EDEGENERATE for
+** unknown material (RAY_NO_MATERIAL is always known) or fewer than 3
+** polygon vertices; RAY_EDEGENERATE for
 ** a zero-area triangle or polygon; RAY_ENOMEM; RAY_ESTATE after commit.
 */
 RAY_API int ray_scene_add_sphere(ray_scene *scene, ray_vec3 center,
@@ -1082,7 +1093,8 @@ RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 
 /*
 ** ray_trace -- trace ray "r" and write the radiance it brings back into
-** *out: the shade of the material it hits, or the background.
+** *out: the shade of the material it hits, or the background; geometry
+** added with RAY_NO_MATERIAL shades exactly black (0, 0, 0).
 **
 ** "kind" is RAY_KIND_PRIMARY outside a material callback; inside one it is
 ** RAY_KIND_REFLECTION or RAY_KIND_REFRACTION, and "attenuation" is the

@@ -112,7 +112,7 @@ void ray_scene_free(ray_scene *s)
 
 int ray__material_known(ray_scene *s, unsigned material)
 {
-    if (material < s->n_materials)
+    if (material < s->n_materials || material == RAY_NO_MATERIAL)
         return RAY_OK;
     return ray__fail(s, RAY_EINVAL, "material %u does not exist (the scene "
                      "has %zu)", material, s->n_materials);
@@ -776,8 +776,8 @@ unsigned ray_scene_effects(const ray_scene *s)
 
 /*
 ** What the scene can ever need: the effects of the materials its geometry
-** uses (a material no geometry uses is never shaded), and shadow rays only
-** if there is a light to cast them toward.
+** uses (a material no geometry uses is never shaded; RAY_NO_MATERIAL is
+** none), and shadow rays only if there is a light to cast them toward.
 */
 static unsigned scene_effects(const ray_scene *s)
 {
@@ -785,7 +785,8 @@ static unsigned scene_effects(const ray_scene *s)
     size_t i;
 
     for (i = 0; i < s->n_prims; i++)
-        e |= s->materials[s->prims[i].material].effects;
+        if (s->prims[i].material != RAY_NO_MATERIAL)
+            e |= s->materials[s->prims[i].material].effects;
     if (s->n_lights == 0)
         e &= ~RAY_EFFECT_SHADOW;
     return e;

@@ -217,6 +217,8 @@ int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
         ctx->stats.max_depth = depth;
     if (!ray__intersect(ctx->scene, r, &hit, &ctx->stats))
         background(ctx->scene, r, out);
+    else if (ctx->scene->prims[hit.geom_id].material == RAY_NO_MATERIAL)
+        out->r = out->g = out->b = 0.0;   /* no material: black (ray.h) */
     else
         shade(ctx, r, &hit, depth, weight, out);
     return RAY_OK;
