@@ -614,11 +614,30 @@ static void op_trace(prog *p)
 /* ------------------------------------------------------------- render */
 
 /* Whether u is exactly parallel to v (cross product exactly zero). */
+/* v scaled by a power of two so its largest component is in [0.5, 1):
+** exact, and it keeps the products below from underflowing (0.5 times
+** the smallest subnormal rounds to 0, so (0, -0.5, 0) and (0, 0, -2^-1074)
+** looked parallel: a reproducer in fuzz/crashes/fuzz_scene/). */
+static ray_vec3 unit_scale(ray_vec3 v)
+{
+    double m = fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+    int e;
+
+    if (!(m > 0))
+        return v;
+    frexp(m, &e);
+    v.x = ldexp(v.x, -e), v.y = ldexp(v.y, -e), v.z = ldexp(v.z, -e);
+    return v;
+}
+
 static int exactly_parallel(ray_vec3 u, ray_vec3 v)
 {
     /* Products of doubles are exact in long double only with a 106-bit
     ** mantissa; compare a*b with c*d through fma's exact residual. */
     double p1, p2;
+
+    u = unit_scale(u);
+    v = unit_scale(v);
 #define SAME_PRODUCT(a, b, c, d) \
     (p1 = (a) * (b), p2 = (c) * (d), \
      p1 == p2 && fma(a, b, -p1) == fma(c, d, -p2))
