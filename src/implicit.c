@@ -311,7 +311,11 @@ static int march(implicit_job *j, double t0, double t1, double *t,
         gb = job_eval(j, tb);
         if (j->bad)
             break;
-        if (gb == 0 && tb < j->r->tmax) {
+        /* An exact zero counts as a root past tmin only as any root does
+        ** (past_tmin): a step from a start at tmin can land on tmin
+        ** itself when the box starts behind the ray (found by
+        ** fuzz/fuzz_surfaces: a hit at t = tmin = 0). */
+        if (gb == 0 && past_tmin(j, tb) && tb < j->r->tmax) {
             *t = tb;
             *err = 0;
             return 1;
