@@ -23,22 +23,16 @@
 
 #include "parse.h"
 
+/* Short names for ray.h's constructors, as the examples (and the tests,
+** which include this header) write them. */
 static inline ray_vec3 vec(double x, double y, double z)
 {
-    ray_vec3 v;
-    v.x = x;
-    v.y = y;
-    v.z = z;
-    return v;
+    return ray_vec3_make(x, y, z);
 }
 
 static inline ray_rgb rgb(double r, double g, double b)
 {
-    ray_rgb c;
-    c.r = r;
-    c.g = g;
-    c.b = b;
-    return c;
+    return ray_rgb_make(r, g, b);
 }
 
 /* A progress bar on stderr, redrawn with '\r' when the percentage

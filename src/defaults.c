@@ -9,20 +9,9 @@
 
 #include "ray.h"
 
-static ray_vec3 vec3(double x, double y, double z)
-{
-    ray_vec3 v;
-    v.x = x;
-    v.y = y;
-    v.z = z;
-    return v;
-}
-
 static ray_rgb grey(double level)
 {
-    ray_rgb c;
-    c.r = c.g = c.b = level;
-    return c;
+    return ray_rgb_make(level, level, level);
 }
 
 void ray_camera_init(ray_camera *c)
@@ -30,8 +19,8 @@ void ray_camera_init(ray_camera *c)
     if (c == NULL)
         return;
     memset(c, 0, sizeof *c);
-    c->look_at = vec3(0, 0, -1);
-    c->up = vec3(0, 1, 0);
+    c->look_at = ray_vec3_make(0, 0, -1);
+    c->up = ray_vec3_make(0, 1, 0);
     c->vfov = 60;
 }
 
@@ -41,9 +30,9 @@ void ray_light_init(ray_light *l, int kind)
         return;
     memset(l, 0, sizeof *l);
     l->kind = kind;
-    l->direction = vec3(0, -1, 0);
-    l->edge1 = vec3(1, 0, 0);
-    l->edge2 = vec3(0, 0, 1);
+    l->direction = ray_vec3_make(0, -1, 0);
+    l->edge1 = ray_vec3_make(1, 0, 0);
+    l->edge2 = ray_vec3_make(0, 0, 1);
     l->radius = 1;
     l->intensity = grey(1);
     l->samples = 16;

@@ -7,19 +7,9 @@
 
 #include "ray.h"
 
-static ray_rgb rgb(double r, double g, double b)
-{
-    ray_rgb c;
-    c.r = r;
-    c.g = g;
-    c.b = b;
-    return c;
-}
-
-static double dot(ray_vec3 a, ray_vec3 b)
-{
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
+/* ray.h's helpers, under the short names this file uses. */
+#define rgb ray_rgb_make
+#define dot ray_vec3_dot
 
 static ray_vec3 unit(ray_vec3 a)
 {

@@ -21,29 +21,12 @@
 
 /* ------------------------------------------------------- vector helpers */
 
-static inline ray_vec3 v3(double x, double y, double z)
-{
-    ray_vec3 r;
-    r.x = x;
-    r.y = y;
-    r.z = z;
-    return r;
-}
-
-static inline ray_vec3 v3_add(ray_vec3 a, ray_vec3 b)
-{
-    return v3(a.x + b.x, a.y + b.y, a.z + b.z);
-}
-
-static inline ray_vec3 v3_sub(ray_vec3 a, ray_vec3 b)
-{
-    return v3(a.x - b.x, a.y - b.y, a.z - b.z);
-}
-
-static inline ray_vec3 v3_scale(ray_vec3 a, double s)
-{
-    return v3(a.x * s, a.y * s, a.z * s);
-}
+/* The public helpers of ray.h (ray_vec3_make ...) under the short names
+** the library's code uses: one definition of the arithmetic, not two. */
+#define v3 ray_vec3_make
+#define v3_add ray_vec3_add
+#define v3_sub ray_vec3_sub
+#define v3_scale ray_vec3_scale
 
 /* a + s*b, in two roundings per component (no FMA: see the Makefile). */
 static inline ray_vec3 v3_madd(ray_vec3 a, double s, ray_vec3 b)
@@ -51,16 +34,8 @@ static inline ray_vec3 v3_madd(ray_vec3 a, double s, ray_vec3 b)
     return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z);
 }
 
-static inline double v3_dot(ray_vec3 a, ray_vec3 b)
-{
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
-static inline ray_vec3 v3_cross(ray_vec3 a, ray_vec3 b)
-{
-    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
-              a.x * b.y - a.y * b.x);
-}
+#define v3_dot ray_vec3_dot
+#define v3_cross ray_vec3_cross
 
 static inline ray_vec3 v3_abs(ray_vec3 a)
 {
