@@ -148,6 +148,8 @@ typedef struct ray_hit {
     ray_vec3 p_err;    /* the exact surface passes within p +- p_err */
     unsigned geom_id;  /* which geometry; RAY_INVALID_ID from primitives */
     unsigned prim_id;  /* which primitive inside it; likewise */
+    unsigned inst_id;  /* the instance it was hit through (its geom_id in
+                          the scene queried), RAY_INVALID_ID if none */
 } ray_hit;
 
 /* --------------------------------------------- the lecture's primitives */
@@ -1033,6 +1035,158 @@ RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);
 RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
 
+/* ------------------------------------------- games and tools: the scene
+** as a live, queried world (instances, updates, masks, filters) */
+
+/*
+** An affine transform, 3 rows of 4: p' = m[.][0..2] . p + m[.][3], i.e.
+** a 3x3 linear part L (rotation, scale, shear) and a translation c.
+** ray_transform_identity sets *t to the identity.
+*/
+typedef struct ray_transform {
+    double m[3][4];
+} ray_transform;
+
+RAY_API void ray_transform_identity(ray_transform *t);
+
+/*
+** ray_scene_add_instance -- place the committed scene "child" in "scene"
+** with transform "xfm" (a two-level hierarchy: Embree's instances).
+** The child's geometry is stored once however often it is placed; an
+** instance costs a few hundred bytes (bench/game measures it).  Hits
+** through it report the child's geom_id and prim_id and, in
+** ray_hit.inst_id, the instance's own geom_id in "scene"; t is the
+** world ray's; p and n are in world space (n transformed by the inverse
+** transpose of L, renormalised), p_err grows by the transform's rounding
+** both ways, so ray_spawn stays free of self-hits (ray-numerics(7)).  An
+** identity transform gives bit-identical t, p, n, u and v to the child's
+** own answer.  Rendering shades with the child's materials; the child's
+** lights, background and settings are not used.
+**
+** The child is BORROWED: it must outlive "scene".  It may be changed and
+** re-committed later (an animated mesh): "scene" must then be committed
+** again before its next query, which otherwise fails with -RAY_ESTATE when
+** it meets the instance.  Errors, with nothing added: RAY_EINVAL for
+** NULLs, child == scene, a non-finite transform, a singular L (|det L|
+** below 8 ulps of the product of its row lengths: not invertible to
+** working precision), a child that has instances itself (two levels
+** only) or unbounded planes; RAY_ESTATE for a child not committed;
+** RAY_ENOMEM.
+*/
+RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
+                                   const ray_transform *xfm,
+                                   unsigned *geom_id);
+
+/*
+** Changing a committed scene (ray(7), "Dynamic scenes").  After a commit
+** every building call is allowed again: a change is STAGED and takes
+** effect at the next ray_scene_commit, which refits or rebuilds only what
+** changed: moved instances and added, removed, enabled or disabled
+** geometry rebuild the BVH of their class (the top level of instances;
+** the triangles; the other bounded kinds) and keep the others; updated
+** mesh vertices refit the triangle BVH in place (no rebuild).  Between
+** the change and that commit the scene answers no query (-RAY_ESTATE,
+** and ray_trace RAY_ESTATE): one writer at a time, and never while a
+** query runs on another thread (that race cannot be detected).  A failed
+** call changes nothing, and a committed scene stays committed.
+**
+** ray_scene_set_transform -- a new transform for instance "geom_id".
+** ray_scene_update_mesh -- new positions for mesh "geom_id": "mesh" gives
+**   the same triangle_count (vertices or positions, indices or
+**   index_data, optional normals and texture coordinates as
+**   ray_scene_add_mesh reads them; the triangles may index other
+**   vertices than before).
+** ray_scene_set_enabled -- 0 hides geometry "geom_id" from every query
+**   (and from shading and effects) until it is enabled again; 1 shows it.
+** ray_scene_remove -- removes it for good; its id is not reused.
+** Errors: RAY_EINVAL for NULLs, an id that names no geometry (or removed
+** geometry), the wrong kind (set_transform on anything but an instance,
+** update_mesh on anything but a mesh), another triangle count, or
+** invalid data as the add functions check it; RAY_ENOMEM.
+*/
+RAY_API int ray_scene_set_transform(ray_scene *scene, unsigned geom_id,
+                                    const ray_transform *xfm);
+RAY_API int ray_scene_update_mesh(ray_scene *scene, unsigned geom_id,
+                                  const ray_mesh *mesh);
+RAY_API int ray_scene_set_enabled(ray_scene *scene, unsigned geom_id,
+                                  int enabled);
+RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
+
+/*
+** Masks and filters.  Every geometry has a 32-bit visibility mask (all
+** bits by default); a query's ray_query.mask (all bits for ray_intersect
+** and ray_occluded) sees only geometry whose mask shares a bit with it:
+** layers ("the player's own geometry", "shadow casters only").  For an
+** instance both its own mask and the child geometry's must share a bit
+** with the ray's.
+**
+** A filter is called for every CANDIDATE hit of its geometry, in world
+** space, before the query accepts it, and answers 1 (keep) or 0 (reject:
+** the query goes on as if that surface were not there): alpha cut-outs,
+** ignoring the shooter, transparent shadows.  "queries" says which
+** queries call it: RAY_FILTER_INTERSECT (nearest hit: ray_intersect,
+** ray_intersect_opt, ray_trace's rays), RAY_FILTER_OCCLUDED (any hit:
+** ray_occluded, ray_occluded_opt, shadow rays), or both; ray_intersect_all
+** calls both kinds.  "query_ud" is the ray_query's user pointer (NULL
+** from the plain queries and the renderer).  A filter runs CONCURRENTLY
+** from query threads; it must be a pure function of its arguments (and
+** of data nobody changes meanwhile), or answers stop being reproducible.
+** Candidates are offered in traversal order, not in order of t, and a
+** candidate farther than an accepted hit may never be offered.  A curved
+** surface whose hit is rejected is asked again past it (its far side):
+** at most 16 times per surface and ray.  Each call counts in
+** ray_stats.filter_calls; geometry without a filter costs no call, and a
+** scene without masks or filters takes the same path as before.
+** ray_scene_set_filter with fn NULL removes it.  Filters on instances
+** are refused (RAY_EINVAL): set them on the child's geometry.
+** Errors: RAY_EINVAL (NULL scene, unknown or removed geometry, queries
+** with unknown bits or 0 with a filter); RAY_ENOMEM never.
+*/
+#define RAY_FILTER_INTERSECT 1u
+#define RAY_FILTER_OCCLUDED  2u
+
+typedef int (*ray_filter_fn)(void *ud, const ray_ray *r,
+                             const ray_hit *candidate, void *query_ud);
+
+RAY_API int ray_scene_set_mask(ray_scene *scene, unsigned geom_id,
+                               unsigned mask);
+RAY_API int ray_scene_set_filter(ray_scene *scene, unsigned geom_id,
+                                 ray_filter_fn fn, void *ud,
+                                 unsigned queries);
+
+/*
+** A query's options: ray_query_init sets mask to all bits and query_ud to
+** NULL (the plain queries' behaviour).
+*/
+typedef struct ray_query {
+    unsigned mask;           /* geometry sharing no bit with it is unseen */
+    void *query_ud;          /* handed to every filter this query calls */
+} ray_query;
+
+RAY_API void ray_query_init(ray_query *q);
+
+/*
+** ray_intersect_opt, ray_occluded_opt -- ray_intersect and ray_occluded
+** with options (q NULL: the defaults); same answers and statuses.
+**
+** ray_intersect_all -- every hit along the ray in (tmin, tmax), nearest
+** first (ties in t by geom_id, then prim_id, then inst_id), through masks
+** and filters: line of sight through glass, counting layers.  Writes the
+** first "cap" of them into hits[] and their total into *count (may be
+** more than cap: call again with more room); returns the total (>= 0)
+** or a negated status as the other queries (-RAY_EINVAL for NULL r or
+** count, or hits NULL with cap > 0).  A curved surface reports each of its
+** hits (both sides of a sphere: at most 16 per surface and ray); a hit
+** exactly on a shared edge of a mesh may be reported by both triangles.
+*/
+RAY_API int ray_intersect_opt(const ray_scene *scene, const ray_ray *r,
+                              const ray_query *q, ray_hit *hit);
+RAY_API int ray_occluded_opt(const ray_scene *scene, const ray_ray *r,
+                             const ray_query *q);
+RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
+                              const ray_query *q, ray_hit *hits, size_t cap,
+                              size_t *count);
+
 /* ---------------------------------------------------------------- tracing */
 
 /*
@@ -1052,6 +1206,8 @@ enum {
     RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
     RAY_PRIM_BOX,
     RAY_PRIM_CAPSULE,
+    RAY_PRIM_INSTANCE,           /* instances entered (ray_scene_add_instance);
+                                    their geometry's tests count by kind */
     RAY_PRIM_KINDS
 };
 #define RAY_PRIM_KINDS_MAX 16
@@ -1076,6 +1232,8 @@ typedef struct ray_stats {
                                           failed (iteration limit, or a
                                           callback giving NaN or Inf) and
                                           were taken as misses */
+    unsigned long long filter_calls;   /* filter callbacks called
+                                          (ray_scene_set_filter) */
 } ray_stats;
 
 /*

@@ -354,6 +354,7 @@ static int box_fill(const ray_box_params *b, const box_frame *f,
     hit->p_err = mag;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

@@ -665,3 +665,47 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     }
     return RAY_OK;
 }
+
+/*
+** Wide nodes are numbered so that every child comes after its parent
+** (collapse numbers them as it goes), so one pass from the last node to
+** the first sees every child refitted before its parent.
+*/
+void ray__bvh_refit(ray__bvh *bvh, ray__box_fn box_of, const void *ud)
+{
+    size_t w = bvh->n_wide;
+
+    while (w-- > 0) {
+        ray__wnode *q = &bvh->wide[w];
+        int k, a;
+        for (k = 0; k < RAY__WIDTH; k++) {
+            box b;
+            box_empty(&b);
+            if (q->count[k] == 0) {               /* an inner node */
+                const ray__wnode *c = &bvh->wide[q->child[k]];
+                int j;
+                for (j = 0; j < RAY__WIDTH; j++) {
+                    float lo[3], hi[3];
+                    for (a = 0; a < 3; a++) {
+                        lo[a] = c->lo[a][j];
+                        hi[a] = c->hi[a][j];
+                    }
+                    box_grow(&b, lo, hi);
+                }
+            } else {
+                unsigned i, n = q->count[k] & ~RAY__LEAF;
+                for (i = 0; i < n; i++) {
+                    float lo[3], hi[3];
+                    box_of(ud, q->child[k] + i, lo, hi);
+                    box_grow(&b, lo, hi);
+                }
+                if (n == 0)
+                    continue;                     /* an unused slot */
+            }
+            for (a = 0; a < 3; a++) {
+                q->lo[a][k] = b.lo[a];
+                q->hi[a][k] = b.hi[a];
+            }
+        }
+    }
+}

@@ -95,4 +95,13 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
                    ray__bvh *out);
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
+/*
+** Refit: the same tree, every box fitted again to its items' boxes as
+** box(ud, i, ...) now gives them (i the item's leaf position: an index
+** into items[] when the BVH keeps them, else what the leaves index),
+** bottom up.  For geometry that moved but kept its items: O(items +
+** nodes), no allocation; the tree may fit worse than a rebuild would.
+*/
+void ray__bvh_refit(ray__bvh *bvh, ray__box_fn box, const void *ud);
+
 #endif /* RAY_BVH_H */

@@ -416,6 +416,7 @@ static int fill_hit(const capsule_frame *k, const capsule_ray *cr,
     hit->p_err = err;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

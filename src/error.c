@@ -48,9 +48,6 @@ int ray__begin(ray_scene *s, const char *op)
         return RAY_EINVAL;
     s->op = op;
     s->errmsg[0] = '\0';
-    if (s->committed)
-        return ray__fail(s, RAY_ESTATE, "the scene is committed: it is "
-                         "read-only (build it before ray_scene_commit)");
     return RAY_OK;
 }
 

@@ -391,6 +391,7 @@ static int implicit_fill(implicit_job *j, double t, double err,
     hit->p_err = perr;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

@@ -23,11 +23,57 @@ int ray__occluded_base(const ray_scene *s, const ray_ray *r, ray_stats *st)
     return query_any(s, r, st);
 }
 
+int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, ray_hit *hit,
+                              ray_stats *st)
+{
+    return query_nearest_gated(s, r, g, hit, st);
+}
+
+int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st)
+{
+    return query_any_gated(s, r, g, st);
+}
+
+int ray__child_query_base(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                          ray__counts *qc)
+{
+    return query_child(child, r, hit, qc);
+}
+
+/* The AVX2 copy where the CPU has it (see above). */
+#if RAY__AVX2_COPY
+#define HAS_AVX2() __builtin_cpu_supports("avx2")
+#else
+#define HAS_AVX2() 0
+#endif
+
+/* The gate of the plain queries in a scene with masks or filters: every
+** mask bit, no query_ud, the filters of that kind of query. */
+static const ray__gate *plain_gate(const ray_scene *s, unsigned query,
+                                   ray__gate *g)
+{
+    if (!s->gated)
+        return NULL;
+    g->mask = ~0u;
+    g->query_ud = NULL;
+    g->query = query;
+    g->all = NULL;
+    return g;
+}
+
 int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                    ray_stats *st)
 {
+    ray__gate g;
+
+    if (s->gated)
+        return ray__intersect_gated(s, r,
+                                    plain_gate(s, RAY_FILTER_INTERSECT, &g),
+                                    hit, st);
 #if RAY__AVX2_COPY
-    if (__builtin_cpu_supports("avx2"))
+    if (HAS_AVX2())
         return ray__intersect_avx2(s, r, hit, st);
 #endif
     return query_nearest(s, r, hit, st);
@@ -35,11 +81,46 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
 {
+    ray__gate g;
+
+    if (s->gated)
+        return ray__occluded_gated(s, r,
+                                   plain_gate(s, RAY_FILTER_OCCLUDED, &g), st);
 #if RAY__AVX2_COPY
-    if (__builtin_cpu_supports("avx2"))
+    if (HAS_AVX2())
         return ray__occluded_avx2(s, r, st);
 #endif
     return query_any(s, r, st);
+}
+
+int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
+                         const ray__gate *g, ray_hit *hit, ray_stats *st)
+{
+#if RAY__AVX2_COPY
+    if (HAS_AVX2())
+        return ray__intersect_gated_avx2(s, r, g, hit, st);
+#endif
+    return query_nearest_gated(s, r, g, hit, st);
+}
+
+int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
+                        const ray__gate *g, ray_stats *st)
+{
+#if RAY__AVX2_COPY
+    if (HAS_AVX2())
+        return ray__occluded_gated_avx2(s, r, g, st);
+#endif
+    return query_any_gated(s, r, g, st);
+}
+
+int ray__child_query(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                     ray__counts *qc)
+{
+#if RAY__AVX2_COPY
+    if (HAS_AVX2())
+        return ray__child_query_avx2(child, r, hit, qc);
+#endif
+    return query_child(child, r, hit, qc);
 }
 
 /* Misuse is a negated status, not 0, so that it cannot pass for a miss
@@ -51,22 +132,110 @@ static int query_misuse(const ray_scene *s, const ray_ray *r)
     return s->committed ? RAY_OK : -RAY_ESTATE;
 }
 
-int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)
+void ray_query_init(ray_query *q)
+{
+    if (q == NULL)
+        return;
+    q->mask = ~0u;
+    q->query_ud = NULL;
+}
+
+/*
+** The gate of a query with options q for filters of kind "query": NULL
+** (the ungated path, the plain queries' code) when nothing can gate it:
+** no mask or filter in the scene and q asks for nothing.  The scene's
+** "gated" covers its instances' children too (set at commit).
+*/
+static const ray__gate *gate_of(const ray_scene *s, const ray_query *q,
+                                unsigned query, ray__gate *g)
+{
+    g->mask = q != NULL ? q->mask : ~0u;
+    g->query_ud = q != NULL ? q->query_ud : NULL;
+    g->query = query;
+    g->all = NULL;
+    if (!s->gated && g->mask == ~0u)
+        return NULL;
+    return g;
+}
+
+int ray_intersect_opt(const ray_scene *s, const ray_ray *r,
+                      const ray_query *q, ray_hit *hit)
 {
     int rc = query_misuse(s, r);
+    ray__gate g;
 
     if (rc != RAY_OK)
         return rc;
     if (hit == NULL)
         return -RAY_EINVAL;
-    return ray__intersect(s, r, hit, NULL);
+    return ray__intersect_gated(s, r, gate_of(s, q, RAY_FILTER_INTERSECT, &g),
+                                hit, NULL);
+}
+
+int ray_occluded_opt(const ray_scene *s, const ray_ray *r,
+                     const ray_query *q)
+{
+    int rc = query_misuse(s, r);
+    ray__gate g;
+
+    if (rc != RAY_OK)
+        return rc;
+    return ray__occluded_gated(s, r, gate_of(s, q, RAY_FILTER_OCCLUDED, &g),
+                               NULL);
+}
+
+int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)
+{
+    return ray_intersect_opt(s, r, NULL, hit);
 }
 
 int ray_occluded(const ray_scene *s, const ray_ray *r)
 {
+    return ray_occluded_opt(s, r, NULL);
+}
+
+/* Sort the collected hits nearest first (insertion sort: a ray crosses
+** few surfaces, and it is stable). */
+static void sort_hits(ray_hit *h, size_t n)
+{
+    size_t i, j;
+
+    for (i = 1; i < n; i++) {
+        ray_hit x = h[i];
+        for (j = i; j > 0 && collect_before(&x, &h[j - 1]); j--)
+            h[j] = h[j - 1];
+        h[j] = x;
+    }
+}
+
+/*
+** Every hit: an any-hit traversal whose gate records each candidate that
+** passes masks and filters and then rejects it, so nothing stops the
+** traversal and no interval shrinks.  Both kinds of filter apply.
+*/
+int ray_intersect_all(const ray_scene *s, const ray_ray *r,
+                      const ray_query *q, ray_hit *hits, size_t cap,
+                      size_t *count)
+{
     int rc = query_misuse(s, r);
+    ray__collect c;
+    ray__gate g;
+    size_t kept;
 
     if (rc != RAY_OK)
         return rc;
-    return ray__occluded(s, r, NULL);
+    if (count == NULL || (hits == NULL && cap > 0))
+        return -RAY_EINVAL;
+    c.hits = hits;
+    c.cap = cap;
+    c.count = 0;
+    gate_of(s, q, RAY_FILTER_INTERSECT | RAY_FILTER_OCCLUDED, &g);
+    g.all = &c;
+    rc = ray__occluded_gated(s, r, &g, NULL);
+    if (rc < 0)
+        return rc;
+    kept = c.count < cap ? c.count : cap;
+    sort_hits(hits, kept);
+    *count = c.count;
+    return c.count > (size_t)0x7fffffff ? 0x7fffffff : (int)c.count;
 }

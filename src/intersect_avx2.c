@@ -21,6 +21,25 @@ int ray__occluded_avx2(const ray_scene *s, const ray_ray *r, ray_stats *st)
 {
     return query_any(s, r, st);
 }
+
+int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, ray_hit *hit,
+                              ray_stats *st)
+{
+    return query_nearest_gated(s, r, g, hit, st);
+}
+
+int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st)
+{
+    return query_any_gated(s, r, g, st);
+}
+
+int ray__child_query_avx2(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                          ray__counts *qc)
+{
+    return query_child(child, r, hit, qc);
+}
 #else
 typedef int ray__no_avx2_copy;  /* ISO C wants a declaration in a file */
 #endif

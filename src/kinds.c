@@ -100,8 +100,9 @@ static void stored_box(const ray__prim *p, ray_vec3 *lo, ray_vec3 *hi)
         stored_box(p, lo, hi);                                              \
     }                                                                       \
     static int hit_##NAME(const ray_scene *s, const ray__prim *p,           \
-                          const ray_ray *r, ray_hit *hit)                   \
+                          const ray_ray *r, ray_hit *hit, ray__counts *qc)  \
     {                                                                       \
+        (void)qc;                                                           \
         return ray_##name(r, &s->surfaces[p->surface].name, hit);          \
     }
 RAY__SHAPES(SHAPE_FUNCTIONS, _)
@@ -134,18 +135,28 @@ static void box_BEZIER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
     stored_box(p, lo, hi);
 }
 
+/* An instance: its world box, taken at commit from its child's. */
+static void box_INSTANCE(const ray_scene *s, const ray__prim *p,
+                         ray_vec3 *lo, ray_vec3 *hi)
+{
+    *lo = s->instances[p->surface].lo;
+    *hi = s->instances[p->surface].hi;
+}
+
 /* ----------------------------------------------------- the intersections */
 
 static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
-                      const ray_ray *r, ray_hit *hit)
+                      const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     (void)s;
     return ray_sphere(r, p->a, p->radius, hit);
 }
 
 static int hit_PLANE(const ray_scene *s, const ray__prim *p,
-                     const ray_ray *r, ray_hit *hit)
+                     const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     (void)s;
     return ray_plane(r, p->a, p->b, hit);
 }
@@ -159,52 +170,67 @@ static int in_triangle_bvh(void)
 }
 
 static int hit_TRIANGLE(const ray_scene *s, const ray__prim *p,
-                        const ray_ray *r, ray_hit *hit)
+                        const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     (void)s, (void)p, (void)r, (void)hit;
     return in_triangle_bvh();
 }
 
 static int hit_MESH(const ray_scene *s, const ray__prim *p,
-                    const ray_ray *r, ray_hit *hit)
+                    const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     (void)s, (void)p, (void)r, (void)hit;
     return in_triangle_bvh();
 }
 
 static int hit_POLYGON(const ray_scene *s, const ray__prim *p,
-                       const ray_ray *r, ray_hit *hit)
+                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     return ray_polygon(r, s->verts + p->first, p->count, hit);
 }
 
 static int hit_TORUS(const ray_scene *s, const ray__prim *p,
-                     const ray_ray *r, ray_hit *hit)
+                     const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     return ray_torus(r, &s->surfaces[p->surface].torus, hit);
 }
 
 static int hit_IMPLICIT(const ray_scene *s, const ray__prim *p,
-                        const ray_ray *r, ray_hit *hit)
+                        const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     return ray_implicit(r, &s->surfaces[p->surface].implicit, hit);
 }
 
 static int hit_PARAMETRIC(const ray_scene *s, const ray__prim *p,
-                          const ray_ray *r, ray_hit *hit)
+                          const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     return ray_parametric(r, &s->surfaces[p->surface].parametric, hit);
 }
 
 /* A Bezier patch from its control points in the scene. */
 static int hit_BEZIER(const ray_scene *s, const ray__prim *p,
-                      const ray_ray *r, ray_hit *hit)
+                      const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
+    (void)qc;
     ray_parametric_surface ps;
 
     if (ray_bezier_surface(s->verts + p->first, &ps) != RAY_OK)
         return 0;          /* cannot happen: checked when added */
     return ray_parametric(r, &ps, hit);
+}
+
+/* An instance: its child scene, queried with the ray in object space
+** (instance.c). */
+static int hit_INSTANCE(const ray_scene *s, const ray__prim *p,
+                        const ray_ray *r, ray_hit *hit, ray__counts *qc)
+{
+    return ray__instance_intersect(s, p, r, hit, qc);
 }
 
 /* ---------------------------------------------------------- the dispatch */
@@ -262,7 +288,7 @@ int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
     switch (p->kind) {
 #define HIT_OF(name, counted_as, class)                                    \
     case RAY__KIND_##name:                                                 \
-        ok = hit_##name(s, p, r, hit);                                     \
+        ok = hit_##name(s, p, r, hit, qc);                                     \
         break;
         RAY__PRIM_KINDS(HIT_OF)
 #undef HIT_OF
@@ -271,7 +297,9 @@ int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
         qc->failures++;
         return 0;
     }
-    if (ok) {
+    if (ok && p->kind == RAY__KIND_INSTANCE)
+        hit->inst_id = i;        /* geom_id, prim_id: the child's */
+    else if (ok) {
         hit->geom_id = i;
         hit->prim_id = 0;
     }

@@ -132,5 +132,7 @@ int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
     if (rc != RAY_OK)
         return 0;
     ctx->stats.rays[RAY_KIND_SHADOW]++;
-    return !ray__occluded(ctx->scene, &shadow, &ctx->stats);
+    /* A negative answer (an instance's child changed since the commit)
+    ** is no light: a stale scene must not pass for unoccluded. */
+    return ray__occluded(ctx->scene, &shadow, &ctx->stats) == 0;
 }

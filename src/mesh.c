@@ -158,3 +158,49 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
         *geom_id = id;
     return RAY_OK;
 }
+
+/*
+** New positions for a mesh: every slot of its triangles (wherever the
+** last commit put them: tri_ids name them) rewritten from "m", its
+** shading data replaced, and the triangle BVH refitted at the next
+** commit.  The triangle count stays: that is what makes a refit enough.
+*/
+int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
+{
+    ray__mesh shading;
+    ray__prim *p;
+    size_t i;
+    int rc = ray__begin(s, "ray_scene_update_mesh");
+
+    if (rc != RAY_OK)
+        return rc;
+    if (m == NULL)
+        return ray__fail(s, RAY_EINVAL, "mesh is NULL");
+    if (geom_id >= s->n_prims || s->prims[geom_id].removed)
+        return ray__fail(s, RAY_EINVAL, "no geometry %u", geom_id);
+    p = &s->prims[geom_id];
+    if (p->kind != RAY__KIND_MESH)
+        return ray__fail(s, RAY_EINVAL, "geometry %u is not a mesh",
+                         geom_id);
+    if (m->triangle_count != p->count)
+        return ray__fail(s, RAY_EINVAL, "triangle_count %zu: the mesh has "
+                         "%zu (an update keeps the count: remove it and add "
+                         "another)", m->triangle_count, p->count);
+    if ((rc = mesh_check(s, m)) != RAY_OK)
+        return rc;
+    if (mesh_shading_copy(s, m, &shading) != RAY_OK)
+        return ray__fail(s, RAY_ENOMEM, "out of memory (copying the "
+                         "normals or texture coordinates of %zu vertices)",
+                         m->vertex_count);
+    ray__mesh_release(s, &s->meshes[p->mesh]);
+    s->meshes[p->mesh] = shading;
+    for (i = 0; i < s->n_tris; i++)
+        if (s->tri_ids[i].geom_id == geom_id) {
+            const unsigned *t = m->indices + 3 * (size_t)s->tri_ids[i].prim_id;
+            s->tris[i].a = m->vertices[t[0]];
+            s->tris[i].b = m->vertices[t[1]];
+            s->tris[i].c = m->vertices[t[2]];
+        }
+    ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
+    return RAY_OK;
+}

@@ -882,6 +882,7 @@ static int fill_hit(const job *j, ray_hit *hit)
                     j->tol + ray__gamma(EVAL_ROUNDINGS) * j->scale.z);
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

@@ -46,6 +46,7 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
     hit->p_err = v3(bound, bound, bound);
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

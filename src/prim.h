@@ -317,6 +317,7 @@ static inline double ray__unscale_t(double t, int e)
     X(IMPLICIT,   RAY_PRIM_IMPLICIT,   BOUNDED)            \
     X(PARAMETRIC, RAY_PRIM_PARAMETRIC, BOUNDED)            \
     X(BEZIER,     RAY_PRIM_PARAMETRIC, BOUNDED)            \
+    X(INSTANCE,   RAY_PRIM_INSTANCE,   BOUNDED)            \
     RAY__SHAPES(RAY__SHAPE_KIND, X)
 
 #define RAY__SHAPE_KIND(X, NAME, name, type, counted_as)   \

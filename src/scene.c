@@ -77,15 +77,19 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
     s->prune = 1;
     s->watertight = 1;
+    s->dirty = RAY__DIRTY_ALL;
     *out = s;
     return RAY_OK;
 }
 
-static void mesh_free(const ray_scene *s, ray__mesh *m)
+void ray__mesh_release(const ray_scene *s, ray__mesh *m)
 {
     ray__free(s, m->indices, 3 * m->n_tris * sizeof *m->indices);
     ray__free(s, m->normals, m->n_vertices * sizeof *m->normals);
     ray__free(s, m->texcoords, 2 * m->n_vertices * sizeof *m->texcoords);
+    m->indices = NULL;
+    m->normals = NULL;
+    m->texcoords = NULL;
 }
 
 void ray_scene_free(ray_scene *s)
@@ -95,9 +99,10 @@ void ray_scene_free(ray_scene *s)
     if (s == NULL)
         return;
     for (i = 0; i < s->n_meshes; i++)
-        mesh_free(s, &s->meshes[i]);
+        ray__mesh_release(s, &s->meshes[i]);
     ray__free(s, s->meshes, s->cap_meshes * sizeof *s->meshes);
     ray__free(s, s->surfaces, s->cap_surfaces * sizeof *s->surfaces);
+    ray__free(s, s->instances, s->cap_instances * sizeof *s->instances);
     ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
@@ -148,6 +153,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
     if (id != NULL)
         *id = (unsigned)s->n_materials;
     s->n_materials++;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -168,9 +174,13 @@ int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
                          s->n_prims);
     s->prims = p;
     s->prims[s->n_prims] = *prim;
+    s->prims[s->n_prims].mask = ~0u;
+    s->prims[s->n_prims].enabled = 1;
     if (geom_id != NULL)
         *geom_id = (unsigned)s->n_prims;
     s->n_prims++;
+    ray__touch(s, ray__kind_class(prim->kind) == RAY__CLASS_TRIANGLES
+                      ? RAY__DIRTY_TRIS : RAY__DIRTY_PRIMS);
     return RAY_OK;
 }
 
@@ -466,6 +476,7 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
     if (id != NULL)
         *id = (unsigned)s->n_lights;
     s->n_lights++;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -488,6 +499,7 @@ int ray_scene_set_background(ray_scene *s, ray_rgb color)
     if (rc != RAY_OK)
         return rc;
     s->background = color;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -500,6 +512,7 @@ int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
         return rc;
     s->background_fn = fn;
     s->background_ud = ud;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -513,6 +526,7 @@ int ray_scene_set_ambient(ray_scene *s, ray_rgb ambient)
     if (rc != RAY_OK)
         return rc;
     s->ambient = ambient;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -526,6 +540,7 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
         s->limits.max_depth = RAY_DEFAULT_MAX_DEPTH;
         s->limits.min_weight = RAY_DEFAULT_MIN_WEIGHT;
         s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
+        ray__touch(s, 0);
         return RAY_OK;
     }
     if (!(limits->min_weight >= 0 && limits->min_weight <= 1))
@@ -536,6 +551,7 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
                          "RAY_MAX_DEPTH (%u)", limits->max_depth,
                          RAY_MAX_DEPTH);
     s->limits = *limits;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -647,36 +663,91 @@ static void permute_tris(ray_scene *s, unsigned *items, size_t n)
     }
 }
 
+/* Is triangle slot i of geometry that queries may see? */
+static int tri_live(const ray_scene *s, size_t i)
+{
+    const ray__prim *p = &s->prims[s->tri_ids[i].geom_id];
+    return p->enabled && !p->removed;
+}
+
 /*
-** The triangle BVH.  Unusable (zero-area) triangles are dropped (the
-** arrays are compacted in place), the rest rewritten in leaf order, so
-** every leaf is a contiguous run of tris and traversal needs no index
-** indirection.  On failure the triangles are only compacted: the same
-** set, so the scene answers the same.
+** A triangle that has no normal becomes the point at its first vertex:
+** it keeps its slot (a mesh update may give it an area again), and every
+** triangle test misses a point (no edge function is non-zero, so det is
+** 0) while its box stays finite.
 */
-static int commit_triangles(ray_scene *s)
+static void tris_collapse_unusable(ray_scene *s, size_t first, size_t end)
+{
+    size_t i;
+
+    for (i = first; i < end; i++)
+        if (!tri_usable(&s->tris[i]))
+            s->tris[i].b = s->tris[i].c = s->tris[i].a;
+}
+
+/* Swap triangle slots i and j (and their ids). */
+static void tri_swap(ray_scene *s, size_t i, size_t j)
+{
+    ray__tri t = s->tris[i];
+    ray__tri_id id = s->tri_ids[i];
+
+    s->tris[i] = s->tris[j];
+    s->tri_ids[i] = s->tri_ids[j];
+    s->tris[j] = t;
+    s->tri_ids[j] = id;
+}
+
+/*
+** The triangle BVH, rebuilt: the triangles of enabled geometry are moved
+** to the front (the others wait behind, outside the BVH, until enabled
+** again), then rewritten in leaf order, so every leaf is a contiguous
+** run of tris and traversal needs no index indirection.  On failure the
+** old BVH is kept (the slots are only reordered: the same triangles).
+*/
+static int rebuild_triangles(ray_scene *s)
 {
     size_t n = 0, i;
+    ray__bvh fresh;
     int rc;
 
+    /* Removed geometry's triangles go for good, then the live ones (of
+    ** enabled geometry) to the front. */
     for (i = 0; i < s->n_tris; i++)
-        if (tri_usable(&s->tris[i])) {
-            s->tris[n] = s->tris[i];
-            s->tri_ids[n++] = s->tri_ids[i];
-        }
+        if (!s->prims[s->tri_ids[i].geom_id].removed)
+            tri_swap(s, n++, i);
     s->n_tris = n;
-    if (n == 0)
-        return RAY_OK;
-    rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs, &s->tri_bvh);
+    n = 0;
+    for (i = 0; i < s->n_tris; i++)
+        if (tri_live(s, i))
+            tri_swap(s, n++, i);
+    tris_collapse_unusable(s, 0, n);
+    rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs, &fresh);
     if (rc != RAY_OK)
         return rc;
-    permute_tris(s, s->tri_bvh.items, n);
-    /* Leaves now index tris directly: the permutation is not kept. */
-    ray__free(s, s->tri_bvh.items, s->tri_bvh.n_items * sizeof(unsigned));
-    s->tri_bvh.items = NULL;
-    s->tri_bvh.n_items = 0;
+    if (n > 0) {
+        permute_tris(s, fresh.items, n);
+        /* Leaves now index tris directly: the permutation is not kept. */
+        ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
+        fresh.items = NULL;
+        fresh.n_items = 0;
+    }
+    ray__bvh_free(&s->alloc, &s->tri_bvh);
+    s->tri_bvh = fresh;
+    s->n_live_tris = n;
     trim_tris(s);
     return RAY_OK;
+}
+
+/* The triangle BVH's boxes fitted again to moved vertices, same tree. */
+static void tri_leaf_box(const void *ud, size_t i, float lo[3], float hi[3])
+{
+    tri_box(ud, i, lo, hi);
+}
+
+static void refit_triangles(ray_scene *s)
+{
+    tris_collapse_unusable(s, 0, s->n_live_tris);
+    ray__bvh_refit(&s->tri_bvh, tri_leaf_box, s);
 }
 
 /* The bounded primitives' ids, for the box callback. */
@@ -702,22 +773,31 @@ static void prim_box(const void *ud, size_t item, float *blo, float *bhi)
     bhi[2] = nextafterf(ray__float_up(hi.z), HUGE_VALF);
 }
 
+/* Is geometry i seen by queries, and of class c? */
+static int prim_live(const ray_scene *s, size_t i, ray__class c)
+{
+    const ray__prim *p = &s->prims[i];
+    return p->enabled && !p->removed && ray__kind_class(p->kind) == c;
+}
+
 /*
-** The BVH over the bounded primitives but triangles: spheres, polygons
-** and the curved surfaces (items are prim indices), and the list
-** of planes, which have no bounds and are tested on every ray.
+** The BVH over the bounded primitives but triangles: spheres, polygons,
+** the curved surfaces, the shapes and the instances (items are prim
+** indices), and the list of planes, which have no bounds and are tested
+** on every ray; of enabled geometry only.  Built aside and swapped in, so
+** a failure keeps the old ones.
 */
-static int commit_prims(ray_scene *s)
+static int rebuild_prims(ray_scene *s)
 {
     size_t n_bounded = 0, n_planes = 0, nb = 0, np = 0, i, k;
     unsigned *ids = NULL, *planes = NULL;
+    ray__bvh fresh;
     prim_list pl;
     int rc = RAY_OK;
 
     for (i = 0; i < s->n_prims; i++) {
-        ray__class c = ray__kind_class(s->prims[i].kind);
-        n_planes += c == RAY__CLASS_UNBOUNDED;
-        n_bounded += c == RAY__CLASS_BOUNDED;
+        n_planes += (size_t)prim_live(s, i, RAY__CLASS_UNBOUNDED);
+        n_bounded += (size_t)prim_live(s, i, RAY__CLASS_BOUNDED);
     }
     if (n_planes > 0 &&
         (planes = ray__alloc(s, n_planes * sizeof *planes)) == NULL)
@@ -726,21 +806,23 @@ static int commit_prims(ray_scene *s)
         rc = RAY_ENOMEM;
     if (rc == RAY_OK) {
         for (i = 0; i < s->n_prims; i++) {
-            ray__class c = ray__kind_class(s->prims[i].kind);
-            if (c == RAY__CLASS_UNBOUNDED)
+            if (prim_live(s, i, RAY__CLASS_UNBOUNDED))
                 planes[np++] = (unsigned)i;
-            else if (c == RAY__CLASS_BOUNDED)
+            else if (prim_live(s, i, RAY__CLASS_BOUNDED))
                 ids[nb++] = (unsigned)i;
         }
         pl.s = s;
         pl.ids = ids;
         rc = ray__bvh_build(&s->alloc, prim_box, &pl, n_bounded, &prim_costs,
-                            &s->prim_bvh);
+                            &fresh);
     }
     if (rc == RAY_OK) {
         /* Items become prim indices. */
-        for (k = 0; k < s->prim_bvh.n_items; k++)
-            s->prim_bvh.items[k] = ids[s->prim_bvh.items[k]];
+        for (k = 0; k < fresh.n_items; k++)
+            fresh.items[k] = ids[fresh.items[k]];
+        ray__bvh_free(&s->alloc, &s->prim_bvh);
+        s->prim_bvh = fresh;
+        ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
         s->planes = planes;
         s->n_planes = n_planes;
     } else
@@ -756,6 +838,7 @@ int ray_scene_set_pruning(ray_scene *s, int enabled)
     if (rc != RAY_OK)
         return rc;
     s->prune = enabled != 0;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -766,6 +849,7 @@ int ray_scene_set_watertight(ray_scene *s, int enabled)
     if (rc != RAY_OK)
         return rc;
     s->watertight = enabled != 0;
+    ray__touch(s, 0);
     return RAY_OK;
 }
 
@@ -775,27 +859,106 @@ unsigned ray_scene_effects(const ray_scene *s)
 }
 
 /*
-** What the scene can ever need: the effects of the materials its geometry
-** uses (a material no geometry uses is never shaded; RAY_NO_MATERIAL is
-** none), and shadow rays only if there is a light to cast them toward.
+** What the scene can ever need: the effects of the materials its enabled
+** geometry uses (a material no geometry uses is never shaded;
+** RAY_NO_MATERIAL is none), its instances' children's included, and
+** shadow rays only if there is a light to cast them toward.  Also whether
+** any geometry (a child's included) has a mask or a filter: else queries
+** take the ungated path.
 */
-static unsigned scene_effects(const ray_scene *s)
+static void scene_summary(ray_scene *s)
 {
     unsigned e = 0;
+    int gated = 0, instances = 0;
     size_t i;
 
-    for (i = 0; i < s->n_prims; i++)
-        if (s->prims[i].material != RAY_NO_MATERIAL)
-            e |= s->materials[s->prims[i].material].effects;
-    if (s->n_lights == 0)
-        e &= ~RAY_EFFECT_SHADOW;
-    return e;
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!p->enabled || p->removed)
+            continue;
+        if (p->kind == RAY__KIND_INSTANCE) {
+            const ray_scene *c = s->instances[p->surface].child;
+            e |= c->material_effects;
+            gated |= c->gated;
+            instances = 1;
+        } else if (p->material != RAY_NO_MATERIAL)
+            e |= s->materials[p->material].effects;
+        gated |= p->mask != ~0u || p->filter != NULL;
+    }
+    s->material_effects = e;
+    s->effects = s->n_lights == 0 ? e & ~RAY_EFFECT_SHADOW : e;
+    s->gated = gated;
+    s->has_instances = instances;
+}
+
+/* The box of everything queries may hit but planes: the union of the
+** roots of both BVHs (float, rounded outward from the geometry). */
+static void scene_box(ray_scene *s)
+{
+    const ray__bvh *b[2];
+    int i, k;
+
+    b[0] = &s->tri_bvh;
+    b[1] = &s->prim_bvh;
+    s->lo = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+    s->hi = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+    for (i = 0; i < 2; i++) {
+        const ray__wnode *q;
+        if (b[i]->n_wide == 0)
+            continue;
+        q = &b[i]->wide[0];
+        for (k = 0; k < RAY__WIDTH; k++) {
+            s->lo = v3(fmin(s->lo.x, (double)q->lo[0][k]),
+                       fmin(s->lo.y, (double)q->lo[1][k]),
+                       fmin(s->lo.z, (double)q->lo[2][k]));
+            s->hi = v3(fmax(s->hi.x, (double)q->hi[0][k]),
+                       fmax(s->hi.y, (double)q->hi[1][k]),
+                       fmax(s->hi.z, (double)q->hi[2][k]));
+        }
+    }
 }
 
 /*
-** Build the acceleration structures; the scene is then read-only.  A
-** failure (out of memory) leaves the scene uncommitted and unchanged, so
-** commit can be retried.
+** Instances whose child was committed again since: its box is taken
+** again (the top level is rebuilt).  A child now uncommitted, or grown
+** planes or instances, is an error.
+*/
+static int refresh_instances(ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        ray__instance *in;
+        if (p->kind != RAY__KIND_INSTANCE || p->removed)
+            continue;
+        in = &s->instances[p->surface];
+        if (in->generation == in->child->generation && in->child->committed)
+            continue;
+        if (!in->child->committed)
+            return ray__fail(s, RAY_ESTATE, "instance %zu: its scene was "
+                             "changed and not committed again", i);
+        if (in->child->n_planes > 0 || in->child->has_instances)
+            return ray__fail(s, RAY_EINVAL, "instance %zu: its scene now "
+                             "has planes or instances", i);
+        ray__instance_box(in);
+        in->generation = in->child->generation;
+        s->dirty |= RAY__DIRTY_PRIMS;
+    }
+    return RAY_OK;
+}
+
+void ray__touch(ray_scene *s, unsigned dirty)
+{
+    s->dirty |= dirty;
+    s->committed = 0;
+}
+
+/*
+** Build what changed (all of it the first time); the scene is then
+** read-only until the next change.  A failure (out of memory) leaves the
+** scene uncommitted with its changes still staged, so commit can be
+** retried.  A commit with nothing to do is a no-op.
 */
 int ray_scene_commit(ray_scene *s)
 {
@@ -803,21 +966,26 @@ int ray_scene_commit(ray_scene *s)
 
     if (rc != RAY_OK)
         return rc;
-    rc = commit_prims(s);
-    if (rc != RAY_OK)
+    if ((rc = refresh_instances(s)) != RAY_OK)
+        return rc;
+    if (s->committed && s->dirty == 0)
+        return RAY_OK;
+    if ((s->dirty & RAY__DIRTY_PRIMS) && (rc = rebuild_prims(s)) != RAY_OK)
         return ray__fail(s, rc, "out of memory building the BVH over the "
-                         "spheres, polygons and surfaces (not committed: "
-                         "retry)");
-    rc = commit_triangles(s);
-    if (rc != RAY_OK) {
-        ray__bvh_free(&s->alloc, &s->prim_bvh);
-        ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
-        s->planes = NULL;
-        s->n_planes = 0;
-        return ray__fail(s, rc, "out of memory building the BVH over %zu "
-                         "triangles (not committed: retry)", s->n_tris);
-    }
-    s->effects = scene_effects(s);
+                         "spheres, polygons, surfaces and instances (not "
+                         "committed: retry)");
+    s->dirty &= ~RAY__DIRTY_PRIMS;
+    if (s->dirty & RAY__DIRTY_TRIS) {
+        if ((rc = rebuild_triangles(s)) != RAY_OK)
+            return ray__fail(s, rc, "out of memory building the BVH over "
+                             "%zu triangles (not committed: retry)",
+                             s->n_tris);
+    } else if (s->dirty & RAY__DIRTY_REFIT)
+        refit_triangles(s);
+    s->dirty = 0;
+    scene_summary(s);
+    scene_box(s);
+    s->generation++;
     s->committed = 1;
     return RAY_OK;
 }

@@ -49,8 +49,28 @@ typedef struct ray__prim {
     double radius;
     size_t first, count;
     unsigned mesh;
-    unsigned surface;
+    unsigned surface;        /* also an instance's index in instances */
+    unsigned mask;           /* ray_scene_set_mask; all bits by default */
+    unsigned filter_queries; /* RAY_FILTER_* bits its filter applies to */
+    ray_filter_fn filter;    /* NULL: none */
+    void *filter_ud;
+    int enabled;             /* ray_scene_set_enabled; 1 by default */
+    int removed;             /* ray_scene_remove: never seen again */
 } ray__prim;
+
+/*
+** An instance (ray_scene_add_instance): the child scene, the transform
+** and its inverse (L^-1, applied to p - c), the child's commit generation
+** its box was taken at, and its box in world space.
+*/
+typedef struct ray__instance {
+    const ray_scene *child;
+    ray_transform xfm;       /* object -> world */
+    double inv[3][3];        /* L^-1: world -> object, after - c */
+    int linear_identity;     /* L == I exactly: normals need no transform */
+    unsigned long long generation;
+    ray_vec3 lo, hi;         /* world box, rounded outward */
+} ray__instance;
 
 /* Triangles are stored flat, three vertices each, whatever they came
 ** from; at commit they are reordered into BVH leaf order, so a leaf is a
@@ -88,10 +108,14 @@ struct ray_scene {
     ray__tri *tris;
     ray__tri_id *tri_ids;
     size_t n_tris, cap_tris, cap_tri_ids;
+    size_t n_live_tris;      /* tris[0 .. n_live_tris - 1] are in tri_bvh
+                                (enabled geometry), the rest wait */
     ray__mesh *meshes;
     size_t n_meshes, cap_meshes;
     ray__surface *surfaces;
     size_t n_surfaces, cap_surfaces;
+    ray__instance *instances;
+    size_t n_instances, cap_instances;
     ray__bvh tri_bvh;        /* over tris, reordered to leaf order */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
@@ -109,13 +133,38 @@ struct ray_scene {
     int prune;               /* ray_scene_set_pruning; 1 by default */
     int watertight;          /* ray_scene_set_watertight; 1 by default */
     unsigned effects;        /* what the scene can need, set by commit */
+    unsigned material_effects; /* the effects of the materials its
+                                  enabled geometry uses (what an instance
+                                  of it adds to its parent's) */
     int committed;
+    /* Dynamic scenes (ray(7)): what the next commit must redo
+    ** (RAY__DIRTY_*), the commits made so far (instances of this scene
+    ** compare it with theirs), whether any geometry has a mask or a
+    ** filter (else queries take the ungated path), and the box of the
+    ** enabled bounded geometry (for instances of it). */
+    unsigned dirty;
+    unsigned long long generation;
+    int gated;
+    int has_instances;
+    ray_vec3 lo, hi;
     /* ray_scene_errmsg: the building call now running (a function name,
     ** static) and the message of its failure, "" while none.  A fixed
     ** buffer, so that out of memory can be reported too. */
     const char *op;
     char errmsg[RAY__ERRMSG_SIZE];
 };
+
+/* What a commit must redo: the triangle BVH (rebuild, or refit after
+** vertex updates only), the BVH of the other bounded kinds and the plane
+** list (PRIMS), instances' boxes. */
+#define RAY__DIRTY_TRIS   1u
+#define RAY__DIRTY_REFIT  2u
+#define RAY__DIRTY_PRIMS  4u
+#define RAY__DIRTY_ALL    (RAY__DIRTY_TRIS | RAY__DIRTY_PRIMS)
+
+/* Mark what a successful building call changed (and that the scene needs
+** a commit before its next query). */
+void ray__touch(ray_scene *s, unsigned dirty);
 
 /* Allocation through the scene's allocator (libc when it has none). */
 void *ray__alloc(const ray_scene *s, size_t size);
@@ -129,8 +178,9 @@ int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id);
 /*
 ** ray__begin -- the start of every building call ("op", its name, heads
 ** its messages): clears the last message (a success leaves none) and
-** returns RAY_OK if the scene may still be changed, RAY_EINVAL for NULL,
-** RAY_ESTATE (with its message) after commit.
+** returns RAY_OK, or RAY_EINVAL for NULL.  A committed scene may be
+** changed too: the call's success marks it (ray__touch), a failure
+** leaves it committed.
 ** ray__fail -- record the failure of the running call: "op: " and the
 ** printf-formatted message, cut to the buffer; returns "code".
 */
@@ -153,6 +203,9 @@ void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
 /* The geometry record of a mesh over tris[first .. first+count-1]. */
 int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
                        size_t count, const ray__mesh *shading, unsigned *id);
+
+/* Free a mesh's shading data (its arrays NULL after). */
+void ray__mesh_release(const ray_scene *s, ray__mesh *m);
 
 /* Room for "more" triangles in the scene's tris/tri_ids arrays. */
 int ray__reserve_tris(ray_scene *s, size_t more);
@@ -179,11 +232,44 @@ typedef enum ray__class {
     RAY__CLASS_UNBOUNDED     /* in planes: tested on every ray */
 } ray__class;
 
-/* What one query counts: tests by kind, and the curved-surface tests
-** that failed (iteration limit) and were taken as misses. */
+/*
+** A gated query's rules (ray_query, filters, ray_intersect_all): the
+** ray's mask, the filters' query_ud, which filters apply
+** (RAY_FILTER_INTERSECT or _OCCLUDED), and for ray_intersect_all the
+** collector that every accepted candidate goes to (then rejected, so the
+** traversal goes on).
+*/
+typedef struct ray__collect {
+    ray_hit *hits;
+    size_t cap, count;
+} ray__collect;
+
+typedef struct ray__gate {
+    unsigned mask;
+    void *query_ud;
+    unsigned query;
+    ray__collect *all;
+} ray__gate;
+
+/*
+** What one query counts and carries: tests by kind, the curved-surface
+** tests that failed (iteration limit) and were taken as misses, filter
+** calls; its gate (NULL: ungated, the fast path), whether it wants any
+** hit (occluded) or the nearest, and while inside an instance the
+** instance (its geom_id and record) through which candidates are seen;
+** "stale" is set when an instance meets a child changed since the
+** parent's commit.
+*/
 typedef struct ray__counts {
     unsigned long long tests[RAY_PRIM_KINDS];
     unsigned long long failures;
+    unsigned long long filter_calls;
+    const ray__gate *gate;
+    int any;
+    int stale;
+    unsigned inst_id;
+    const ray__instance *inst;
+    const ray_ray *world_ray;
 } ray__counts;
 
 ray__class ray__kind_class(ray__kind kind);
@@ -192,6 +278,31 @@ void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
                    ray_vec3 *hi);
 int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc);
+
+/* ------------------------------------------------------------ instances */
+
+/*
+** ray__instance_intersect -- instance geometry p of s against world ray r:
+** the child queried (ray__child_query) with r in object space, its hit
+** brought back to world space; 0 (and qc->stale set) when the child
+** changed since s was committed.
+** ray__instance_to_world -- a hit of the child in object space as the
+** world sees it: p and n transformed, p_err grown by the rounding of both
+** transforms (instance.c explains the bound).
+** ray__instance_normal -- a child's normal (a shading normal) in world
+** space, unit.
+*/
+int ray__instance_intersect(const ray_scene *s, const ray__prim *p,
+                            const ray_ray *r, ray_hit *hit, ray__counts *qc);
+void ray__instance_box(ray__instance *in);
+void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
+                            ray_hit *world);
+ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n);
+
+/* The instance of s a hit came through, or NULL; and the scene that owns
+** the geometry it names (s itself, or the instance's child). */
+const ray__instance *ray__hit_instance(const ray_scene *s, const ray_hit *h);
+const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h);
 
 /* ------------------------------------------------------------ the queries */
 
@@ -220,5 +331,33 @@ int ray__occluded_base(const ray_scene *s, const ray_ray *r, ray_stats *st);
 int ray__intersect_avx2(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                         ray_stats *st);
 int ray__occluded_avx2(const ray_scene *s, const ray_ray *r, ray_stats *st);
+
+/*
+** The gated queries (masks, filters, all hits: ray__gate) and the query of
+** an instance's child inside a parent's query (qc carries the parent's
+** state: counts, gate, any or nearest), each in both copies.  Like the
+** others they return 1 (hit), 0, or -RAY_ESTATE when an instance met a
+** child changed since the commit.
+*/
+int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
+                         const ray__gate *g, ray_hit *hit, ray_stats *st);
+int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
+                        const ray__gate *g, ray_stats *st);
+int ray__child_query(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                     ray__counts *qc);
+int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, ray_hit *hit,
+                              ray_stats *st);
+int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st);
+int ray__child_query_base(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                          ray__counts *qc);
+int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, ray_hit *hit,
+                              ray_stats *st);
+int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st);
+int ray__child_query_avx2(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                          ray__counts *qc);
 
 #endif /* RAY_SCENE_H */

@@ -35,6 +35,7 @@ static int sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
     hit->p_err = err;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

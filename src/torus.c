@@ -134,6 +134,7 @@ static int torus_fill(const torus_frame *f, ray_vec3 q, double scale,
     hit->p_err = err;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

@@ -116,9 +116,11 @@ static void background(const ray_scene *s, const ray_ray *r, ray_rgb *out)
 ** side of the facing geometric normal; if the interpolation cancels (or
 ** the mesh has no normals) it is the geometric one.
 */
-static void mesh_shading(const ray_scene *s, const ray_hit *hit,
+static void mesh_shading(const ray_scene *top, const ray_hit *hit,
                          ray_shade_args *args)
 {
+    const ray__instance *in = ray__hit_instance(top, hit);
+    const ray_scene *s = in != NULL ? in->child : top;
     const ray__prim *p = &s->prims[hit->geom_id];
     const ray__mesh *m;
     const unsigned *t;
@@ -134,11 +136,13 @@ static void mesh_shading(const ray_scene *s, const ray_hit *hit,
         ray_vec3 n = v3_add(v3_add(v3_scale(m->normals[t[0]], w0),
                                    v3_scale(m->normals[t[1]], w1)),
                             v3_scale(m->normals[t[2]], w2));
+        if (in != NULL)
+            n = ray__instance_normal(in, n);
         if (v3_normalize(n, &n))
             args->shading_normal = v3_dot(n, args->normal) < 0
                                        ? v3_scale(n, -1.0) : n;
     }
-    if (m->texcoords != NULL && (s->effects & RAY_EFFECT_TEXTURE)) {
+    if (m->texcoords != NULL && (top->effects & RAY_EFFECT_TEXTURE)) {
         const double *st = m->texcoords;
         args->u = w0 * st[2 * t[0]] + w1 * st[2 * t[1]] + w2 * st[2 * t[2]];
         args->v = w0 * st[2 * t[0] + 1] + w1 * st[2 * t[1] + 1] +
@@ -156,8 +160,9 @@ static void mesh_shading(const ray_scene *s, const ray_hit *hit,
 static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
                   unsigned depth, double weight, ray_rgb *out)
 {
-    const ray_scene *s = ctx->scene;
-    const ray_material *m = &s->materials[s->prims[hit->geom_id].material];
+    const ray_scene *s = ctx->scene, *owner = ray__hit_owner(s, hit);
+    const ray_material *m =
+        &owner->materials[owner->prims[hit->geom_id].material];
     int recursive = (m->effects &
                      (RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION)) != 0;
     int in_shade = ctx->in_shade;
@@ -207,6 +212,8 @@ int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
 
     if (ctx == NULL || r == NULL || out == NULL || kind >= RAY_KIND_COUNT)
         return RAY_EINVAL;
+    if (!ctx->scene->committed)
+        return RAY_ESTATE;     /* changed since ray_ctx_new: commit it */
     rc = admit(ctx, kind, attenuation, &depth, &weight);
     if (rc != RAY_OK)
         return rc;
@@ -215,9 +222,13 @@ int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
     ctx->stats.rays[kind]++;
     if (depth > ctx->stats.max_depth)
         ctx->stats.max_depth = depth;
-    if (!ray__intersect(ctx->scene, r, &hit, &ctx->stats))
+    rc = ray__intersect(ctx->scene, r, &hit, &ctx->stats);
+    if (rc < 0)
+        return RAY_ESTATE;     /* an instance's child changed: recommit */
+    if (rc == 0)
         background(ctx->scene, r, out);
-    else if (ctx->scene->prims[hit.geom_id].material == RAY_NO_MATERIAL)
+    else if (ray__hit_owner(ctx->scene, &hit)->prims[hit.geom_id].material ==
+             RAY_NO_MATERIAL)
         out->r = out->g = out->b = 0.0;   /* no material: black (ray.h) */
     else
         shade(ctx, r, &hit, depth, weight, out);

@@ -373,10 +373,12 @@ static void add_counts(ray_stats *st, const ray__counts *qc)
         st->tests += qc->tests[k];
     }
     st->root_failures += qc->failures;
+    st->filter_calls += qc->filter_calls;
 }
 
 static int tri_leaf(const ray_scene *s, trav *tr, unsigned first,
-                    unsigned end, ray_ray *r, void *best, int any);
+                    unsigned end, ray_ray *r, void *best, int any,
+                    ray__counts *qc);
 static int prim_test(const ray_scene *s, unsigned i, ray_ray *r, void *best,
                      ray__counts *qc);
 
@@ -474,7 +476,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
         if (leaf == LEAF_TRIANGLES) {               /* a leaf */
             unsigned n = count & ~RAY__LEAF;
             qc->tests[RAY_PRIM_TRIANGLE] += n;
-            if (tri_leaf(s, tr, child, child + n, r, best, any)) {
+            if (tri_leaf(s, tr, child, child + n, r, best, any, qc)) {
                 found = 1;
                 if (any)
                     return found;
@@ -524,6 +526,141 @@ static inline void tri_hit(unsigned i, double t, double beta, double gamma,
 }
 
 /*
+** Gates (ray__gate: masks, filters, all hits), on the gated path only: a
+** query without a gate never reaches them.
+**
+** gate_wants -- does candidate of geometry p need a hit record: a filter
+** that applies to this query, or a collector?
+** gate_offer -- offer candidate h of geometry p (in the space of the
+** query's current scene: object space inside an instance) to its filter
+** and the collector, in world space: 1 accepted, 0 rejected.  Collected
+** hits are rejected after being recorded, so the traversal goes on and
+** finds them all.
+*/
+static int gate_wants(const ray__prim *p, const ray__gate *g)
+{
+    return g->all != NULL ||
+           (p->filter != NULL && (p->filter_queries & g->query) != 0);
+}
+
+/* Keep the cap nearest hits: a new one takes the place of the farthest
+** kept when there is no room (hits order by t, then ids: collect_before). */
+static int collect_before(const ray_hit *a, const ray_hit *b)
+{
+    if (a->t != b->t)
+        return a->t < b->t;
+    if (a->geom_id != b->geom_id)
+        return a->geom_id < b->geom_id;
+    if (a->prim_id != b->prim_id)
+        return a->prim_id < b->prim_id;
+    return a->inst_id < b->inst_id;
+}
+
+static void collect(ray__collect *c, const ray_hit *h)
+{
+    size_t i, worst = 0;
+
+    if (c->count < c->cap) {
+        c->hits[c->count] = *h;
+    } else if (c->cap > 0) {
+        for (i = 1; i < c->cap; i++)
+            if (collect_before(&c->hits[worst], &c->hits[i]))
+                worst = i;
+        if (collect_before(h, &c->hits[worst]))
+            c->hits[worst] = *h;
+    }
+    c->count++;
+}
+
+static int gate_offer(const ray__prim *p, const ray_ray *r, const ray_hit *h,
+                      ray__counts *qc)
+{
+    const ray__gate *g = qc->gate;
+    const ray_ray *wr = qc->inst != NULL ? qc->world_ray : r;
+    ray_hit w = *h;
+
+    if (qc->inst != NULL) {
+        ray__instance_to_world(qc->inst, h, &w);
+        w.inst_id = qc->inst_id;
+    }
+    if (p->filter != NULL && (p->filter_queries & g->query) != 0) {
+        qc->filter_calls++;
+        if (!p->filter(p->filter_ud, wr, &w, g->query_ud))
+            return 0;
+    }
+    if (g->all != NULL) {
+        collect(g->all, &w);
+        return 0;
+    }
+    return 1;
+}
+
+/* Triangle i's candidate hit (t, beta, gamma) through the gate. */
+static int tri_gate(const ray_scene *s, unsigned i, double t, double beta,
+                    double gamma, const ray_ray *r, ray__counts *qc)
+{
+    const ray__tri_id *id = &s->tri_ids[i];
+    const ray__prim *p = &s->prims[id->geom_id];
+    const ray__tri *tri = &s->tris[i];
+    ray_hit h;
+
+    if ((p->mask & qc->gate->mask) == 0)
+        return 0;
+    if (!gate_wants(p, qc->gate))
+        return 1;
+    /* A usable triangle (checked at commit) always fills. */
+    if (!ray__triangle_fill(tri->a, tri->b, tri->c, t, beta, gamma, &h))
+        return 0;
+    h.geom_id = id->geom_id;
+    h.prim_id = id->prim_id;
+    h.inst_id = RAY_INVALID_ID;
+    return gate_offer(p, r, &h, qc);
+}
+
+/* A surface may be asked again past a rejected hit this many times per
+** ray (ray.h: both sides of a sphere need 2; a torus 4; 16 leaves room
+** for implicit surfaces with several layers, and bounds the work a filter
+** that rejects everything can cause). */
+#define GATE_RETRIES 16
+
+/*
+** Geometry "idx" (not a triangle) against r through the gate: hidden by
+** its mask; else its hits, nearest first, offered until one is accepted
+** (each next one asked for past the last: tmin = its t).  An instance
+** passes its own mask here and gates its child's geometry inside.
+*/
+static int prim_gated(const ray_scene *s, unsigned idx, const ray_ray *r,
+                      ray_hit *h, ray__counts *qc)
+{
+    const ray__prim *p = &s->prims[idx];
+    ray_ray rr = *r;
+    int k;
+
+    if ((p->mask & qc->gate->mask) == 0)
+        return 0;
+    if (p->kind == RAY__KIND_INSTANCE || !gate_wants(p, qc->gate))
+        return ray__prim_intersect(s, idx, r, h, qc);
+    for (k = 0; k < GATE_RETRIES; k++) {
+        if (!ray__prim_intersect(s, idx, &rr, h, qc))
+            return 0;
+        if (gate_offer(p, r, h, qc))
+            return 1;
+        rr.tmin = h->t;
+    }
+    return 0;
+}
+
+/* Geometry "idx" (not a triangle) against r, gated or not. */
+static inline int prim_candidate(const ray_scene *s, unsigned idx,
+                                 const ray_ray *r, ray_hit *h,
+                                 ray__counts *qc)
+{
+    if (qc->gate == NULL)
+        return ray__prim_intersect(s, idx, r, h, qc);
+    return prim_gated(s, idx, r, h, qc);
+}
+
+/*
 ** The triangles first .. end - 1 of a leaf, in order, each hit shrinking
 ** r->tmax; "any": stop at the first hit.  Where SSE2 is there the
 ** watertight test takes them in pairs (an odd one pairs with itself, its
@@ -533,7 +670,7 @@ static inline void tri_hit(unsigned i, double t, double beta, double gamma,
 */
 static inline int tri_leaf(const ray_scene *s, trav *tr,
                            unsigned first, unsigned end, ray_ray *r,
-                           void *best, int any)
+                           void *best, int any, ray__counts *qc)
 {
     int found = 0;
     unsigned i;
@@ -563,7 +700,9 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
                           ray__triangle_watertight_pre(
                               &tr->wt, r->tmin, r->tmax, &t->a, &t->b,
                               &t->c, &th, &beta, &gamma);
-                if (hit) {
+                if (hit && (qc->gate == NULL ||
+                            tri_gate(s, pair[lane], th, beta, gamma, r,
+                                     qc))) {
                     tri_hit(pair[lane], th, beta, gamma, r, best);
                     found = 1;
                     if (any)
@@ -584,7 +723,8 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
                                                      &gamma)
                       : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
                                            &gamma);
-        if (hit) {
+        if (hit && (qc->gate == NULL ||
+                    tri_gate(s, i, th, beta, gamma, r, qc))) {
             tri_hit(i, th, beta, gamma, r, best);
             found = 1;
             if (any)
@@ -599,7 +739,7 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
 {
     ray_hit h;
 
-    if (!ray__prim_intersect(s, s->prim_bvh.items[item], r, &h, qc))
+    if (!prim_candidate(s, s->prim_bvh.items[item], r, &h, qc))
         return 0;
     r->tmax = h.t;
     if (best != NULL)
@@ -607,65 +747,125 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
     return 1;
 }
 
-static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                         ray_stats *st)
+/* A fresh query's state: no counts, gate g (NULL: ungated). */
+static void counts_start(ray__counts *qc, const ray__gate *g, int any)
 {
-    ray__counts qc;
-    ray_ray rr = *r;
+    memset(qc, 0, sizeof *qc);
+    qc->gate = g;
+    qc->any = any;
+    qc->inst_id = RAY_INVALID_ID;
+}
+
+/*
+** The nearest hit of s along rr (usable), rr->tmax shrunk to it, into
+** *hit; counted and gated by qc.  Planes first, then the bounded kinds,
+** then the triangles, each shrinking the interval for the next.
+*/
+static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
+                        ray__counts *qc)
+{
     ray_hit best;
     tri_best tb;
     trav tr;
     int found = 0;
     size_t i;
 
-    if (!ray__ray_usable(r))
-        return 0;
-    trav_init(&tr, r);
-    memset(&qc, 0, sizeof qc);
+    trav_init(&tr, rr);
     for (i = 0; i < s->n_planes; i++)
-        if (ray__prim_intersect(s, s->planes[i], &rr, &best, &qc)) {
-            rr.tmax = best.t;
+        if (prim_candidate(s, s->planes[i], rr, &best, qc)) {
+            rr->tmax = best.t;
             found = 1;
         }
-    if (traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, &best, 0, &qc))
+    if (traverse(s, &s->prim_bvh, &tr, rr, LEAF_PRIMS, &best, 0, qc))
         found = 1;
-    if (traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc)) {
+    if (traverse(s, &s->tri_bvh, &tr, rr, LEAF_TRIANGLES, &tb, 0, qc)) {
         const ray__tri *t = &s->tris[tb.index];
         /* A usable triangle (checked at commit) always fills. */
-        if (ray__triangle_fill(t->a, t->b, t->c, rr.tmax, tb.beta, tb.gamma,
-                               &best)) {
+        if (ray__triangle_fill(t->a, t->b, t->c, rr->tmax, tb.beta,
+                               tb.gamma, &best)) {
             best.geom_id = s->tri_ids[tb.index].geom_id;
             best.prim_id = s->tri_ids[tb.index].prim_id;
+            best.inst_id = RAY_INVALID_ID;
             found = 1;
         }
     }
-    add_counts(st, &qc);
     if (found)
         *hit = best;
     return found;
 }
 
-static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
+/* Is anything of s along rr (usable)?  Counted and gated by qc. */
+static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
 {
-    ray__counts qc;
-    ray_ray rr = *r;
     ray_hit h;
     trav tr;
     size_t i;
-    int hit = 0;
+
+    trav_init(&tr, rr);
+    for (i = 0; i < s->n_planes; i++)
+        if (prim_candidate(s, s->planes[i], rr, &h, qc))
+            return 1;
+    return traverse(s, &s->prim_bvh, &tr, rr, LEAF_PRIMS, NULL, 1, qc) ||
+           traverse(s, &s->tri_bvh, &tr, rr, LEAF_TRIANGLES, NULL, 1, qc);
+}
+
+static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
+                               const ray__gate *g, ray_hit *hit,
+                               ray_stats *st)
+{
+    ray__counts qc;
+    ray_ray rr = *r;
+    ray_hit best;
+    int found;
 
     if (!ray__ray_usable(r))
         return 0;
-    trav_init(&tr, r);
-    memset(&qc, 0, sizeof qc);
-    for (i = 0; i < s->n_planes && !hit; i++)
-        hit = ray__prim_intersect(s, s->planes[i], &rr, &h, &qc);
-    if (!hit)
-        hit = traverse(s, &s->prim_bvh, &tr, &rr, LEAF_PRIMS, NULL, 1, &qc) ||
-              traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1,
-                       &qc);
+    counts_start(&qc, g, 0);
+    found = nearest_core(s, &rr, &best, &qc);
     add_counts(st, &qc);
-    return hit;
+    if (qc.stale)
+        return -RAY_ESTATE;
+    if (found)
+        *hit = best;
+    return found;
+}
+
+static int query_any_gated(const ray_scene *s, const ray_ray *r,
+                           const ray__gate *g, ray_stats *st)
+{
+    ray__counts qc;
+    ray_ray rr = *r;
+    int hit;
+
+    if (!ray__ray_usable(r))
+        return 0;
+    counts_start(&qc, g, 1);
+    hit = any_core(s, &rr, &qc);
+    add_counts(st, &qc);
+    return qc.stale ? -RAY_ESTATE : hit;
+}
+
+static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                         ray_stats *st)
+{
+    return query_nearest_gated(s, r, NULL, hit, st);
+}
+
+static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
+{
+    return query_any_gated(s, r, NULL, st);
+}
+
+/* An instance's child inside a parent's query: nearest or any as the
+** parent's query is, with its counts and gate. */
+static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                       ray__counts *qc)
+{
+    if (!ray__ray_usable(r))
+        return 0;
+    if (qc->any)
+        return any_core(child, r, qc);
+    return nearest_core(child, r, hit, qc);
 }
 
 #endif

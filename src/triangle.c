@@ -40,6 +40,7 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
     hit->p_err = err;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
+    hit->inst_id = RAY_INVALID_ID;
     return 1;
 }
 

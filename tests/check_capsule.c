@@ -781,7 +781,10 @@ START_TEST(scene_capsule_should_refuse_bad_params)
     ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_capsule(s, &c, mat, NULL), RAY_ESTATE);
+    /* Refused after commit too, and the scene stays committed. */
+    ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat + 1, &id), RAY_EINVAL);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_int_ge(ray_occluded(s, &(ray_ray){{0, 0, 0}, {0, 1, 0}, 0, 1}), 0);
     ray_scene_free(s);
 }
 END_TEST

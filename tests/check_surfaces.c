@@ -106,10 +106,12 @@ START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
     ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_OK);
     ck_assert_uint_eq(id, 3);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, &id), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, &id), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, 0, &id), RAY_ESTATE);
-    ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_ESTATE);
+    /* After commit they are staged for the next one, numbered on. */
+    ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 4);
+    ck_assert_int_eq(ray_scene_add_bezier(s, cp, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 5);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ray_scene_free(s);
 }
 END_TEST

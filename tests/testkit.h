@@ -11,6 +11,7 @@
 #define RAY_TESTKIT_H
 
 #include <math.h>
+#include <string.h>
 #include <stdint.h>
 #include <stddef.h>
 
@@ -101,6 +102,20 @@ static inline ray_vec3 rng_point(rng *g, double lo, double hi)
 {
     return vec(rng_range(g, lo, hi), rng_range(g, lo, hi),
                rng_range(g, lo, hi));
+}
+
+/* Two hits the same bit for bit, field by field (ray_hit ends in
+** padding after its three ids, which a struct copy need not keep). */
+static inline int hit_same(const ray_hit *a, const ray_hit *b)
+{
+    return memcmp(&a->t, &b->t, sizeof a->t) == 0 &&
+           memcmp(&a->p, &b->p, sizeof a->p) == 0 &&
+           memcmp(&a->n, &b->n, sizeof a->n) == 0 &&
+           memcmp(&a->u, &b->u, sizeof a->u) == 0 &&
+           memcmp(&a->v, &b->v, sizeof a->v) == 0 &&
+           memcmp(&a->p_err, &b->p_err, sizeof a->p_err) == 0 &&
+           a->geom_id == b->geom_id && a->prim_id == b->prim_id &&
+           a->inst_id == b->inst_id;
 }
 
 /* Root-mean-square difference of two images of n RGB pixels, values

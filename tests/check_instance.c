@@ -1,0 +1,572 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_instance.c -- instances (ray_scene_add_instance): the same answers
+** as the geometry flattened into world space, bit for bit through an
+** identity transform; normals by the inverse transpose; no leaks and no
+** self-hits through rotations, scales and offsets of 1e5; the child's
+** materials and effects; moving an instance; a child changed under its
+** parent; bad input refused with nothing added.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+#include "hardcases.h"
+
+static ray_mesh mesh_of(const hc_mesh *h)
+{
+    ray_mesh m;
+
+    ray_mesh_init(&m);
+    m.vertices = h->v;
+    m.vertex_count = h->nv;
+    m.indices = h->idx;
+    m.triangle_count = h->nt;
+    return m;
+}
+
+/* Rotation by angle a about the unit axis u, scaled by s, then moved by
+** c (Rodrigues' formula). */
+static ray_transform xfm_make(ray_vec3 u, double a, double s, ray_vec3 c)
+{
+    double co = cos(a), si = sin(a), k = 1 - co;
+    ray_transform t;
+
+    t.m[0][0] = s * (co + u.x * u.x * k);
+    t.m[0][1] = s * (u.x * u.y * k - u.z * si);
+    t.m[0][2] = s * (u.x * u.z * k + u.y * si);
+    t.m[1][0] = s * (u.y * u.x * k + u.z * si);
+    t.m[1][1] = s * (co + u.y * u.y * k);
+    t.m[1][2] = s * (u.y * u.z * k - u.x * si);
+    t.m[2][0] = s * (u.z * u.x * k - u.y * si);
+    t.m[2][1] = s * (u.z * u.y * k + u.x * si);
+    t.m[2][2] = s * (co + u.z * u.z * k);
+    t.m[0][3] = c.x;
+    t.m[1][3] = c.y;
+    t.m[2][3] = c.z;
+    return t;
+}
+
+static ray_vec3 vnorm(ray_vec3 v)
+{
+    return vscale(v, 1 / vlen(v));
+}
+
+static ray_vec3 xfm_point(const ray_transform *t, ray_vec3 p)
+{
+    return vec(t->m[0][0] * p.x + t->m[0][1] * p.y + t->m[0][2] * p.z +
+                   t->m[0][3],
+               t->m[1][0] * p.x + t->m[1][1] * p.y + t->m[1][2] * p.z +
+                   t->m[1][3],
+               t->m[2][0] * p.x + t->m[2][1] * p.y + t->m[2][2] * p.z +
+                   t->m[2][3]);
+}
+
+/* A committed child: the level-2 icosphere of radius 2 at the origin
+** (geometry 0), a sphere of radius 0.5 at (4, 0, 0) (1) and a box at
+** (-4, 0, 0) (2), all RAY_NO_MATERIAL. */
+static ray_scene *child_scene(hc_mesh *ball)
+{
+    ray_box_params b;
+    ray_mesh m;
+    ray_scene *s;
+
+    *ball = hc_icosphere(vec(0, 0, 0), 2);
+    m = mesh_of(ball);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(4, 0, 0), 0.5, RAY_NO_MATERIAL, NULL), RAY_OK);
+    memset(&b, 0, sizeof b);
+    b.center = vec(-4, 0, 0);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    b.half_extents = vec(0.5, 0.7, 0.9);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+/* A random ray through the child's region from 20 away. */
+static ray_ray child_ray(rng *g, ray_vec3 c)
+{
+    ray_vec3 target = vadd(c, vec(rng_range(g, -5, 5), rng_range(g, -2.5, 2.5),
+                                  rng_range(g, -2.5, 2.5)));
+    ray_vec3 from = vadd(target, vscale(rng_dir(g), 20));
+    return ray_from(from, vsub(target, from));
+}
+
+/*
+** Through an identity transform every answer is the child's own, bit for
+** bit (t, p, n, u, v, ids), but for inst_id and a p_err that only grows
+** (ray.h): the ray is moved by exact operations (x - 0, 1 x + 0 y + 0 z).
+*/
+START_TEST(identity_instance_should_answer_as_the_child)
+{
+    hc_mesh ball;
+    ray_scene *child = child_scene(&ball), *top;
+    ray_transform id;
+    rng g = {11};
+    unsigned inst;
+    int i, hits = 0;
+
+    ray_transform_identity(&id);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &id, &inst), RAY_OK);
+    ck_assert_uint_eq(inst, 0);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (i = 0; i < 4000; i++) {
+        ray_ray r = child_ray(&g, vec(0, 0, 0));
+        ray_hit a, b;
+        int ha = ray_intersect(child, &r, &a), hb = ray_intersect(top, &r, &b);
+        ck_assert_int_eq(ha, hb);
+        ck_assert_int_eq(ray_occluded(child, &r), ray_occluded(top, &r));
+        if (ha != 1)
+            continue;
+        hits++;
+        ck_assert(memcmp(&a.t, &b.t, sizeof a.t) == 0);
+        ck_assert(memcmp(&a.p, &b.p, sizeof a.p) == 0);
+        ck_assert(memcmp(&a.n, &b.n, sizeof a.n) == 0);
+        ck_assert(a.u == b.u && a.v == b.v);
+        ck_assert_uint_eq(a.geom_id, b.geom_id);
+        ck_assert_uint_eq(a.prim_id, b.prim_id);
+        ck_assert_uint_eq(a.inst_id, RAY_INVALID_ID);
+        ck_assert_uint_eq(b.inst_id, inst);
+        ck_assert(b.p_err.x >= a.p_err.x && b.p_err.y >= a.p_err.y &&
+                  b.p_err.z >= a.p_err.z);
+    }
+    ck_assert_int_gt(hits, 1000);
+    ray_scene_free(top);
+    ray_scene_free(child);
+    hc_mesh_free(&ball);
+}
+END_TEST
+
+/*
+** An instance rotated, scaled by 1.5 and moved (to 0 or 1e5) against the
+** same geometry flattened: the icosphere's vertices and the sphere's
+** centre put through the transform, radius scaled.  Rays aimed at points
+** well inside triangles (barycentrics >= 0.1) and at the sphere's middle
+** hit the same primitive in both; t agrees within 2^12 ulps of the
+** coordinates' magnitude over the direction's length: the two compute
+** from differently rounded inputs (transformed vertices vs a transformed
+** ray), each some dozens of roundings, amplified near grazing angles.
+*/
+START_TEST(instance_should_match_flattened_geometry)
+{
+    double off = test_offset(_i);
+    ray_transform xf = xfm_make(vnorm(vec(1, 2, 3)), 0.7, 1.5,
+                                vec(off, off * 0.5, -off));
+    hc_mesh ball;
+    ray_scene *child = child_scene(&ball), *top, *flat;
+    ray_vec3 *wv = malloc(ball.nv * sizeof *wv);
+    ray_vec3 centre = xfm_point(&xf, vec(4, 0, 0));
+    ray_mesh m = mesh_of(&ball);
+    ray_box_params box;
+    rng g = {12};
+    size_t k;
+    int i;
+
+    for (k = 0; k < ball.nv; k++)
+        wv[k] = xfm_point(&xf, ball.v[k]);
+    m.vertices = wv;
+    ck_assert_int_eq(ray_scene_new(&flat, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(flat, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(flat, centre, 0.75, RAY_NO_MATERIAL, NULL), RAY_OK);
+    memset(&box, 0, sizeof box);
+    box.center = xfm_point(&xf, vec(-4, 0, 0));
+    box.axis_x = vsub(xfm_point(&xf, vec(1, 0, 0)), xfm_point(&xf, vec(0, 0, 0)));
+    box.axis_y = vsub(xfm_point(&xf, vec(0, 1, 0)), xfm_point(&xf, vec(0, 0, 0)));
+    box.half_extents = vec(0.75, 1.05, 1.35);   /* 1.5 x the child's */
+    ck_assert_int_eq(ray_scene_add_box(flat, &box, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(flat), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (i = 0; i < 3000; i++) {
+        double b1 = rng_range(&g, 0.1, 0.8), b2 = rng_range(&g, 0.1, 0.9 - b1);
+        size_t tri = (size_t)(rng_unit(&g) * (double)ball.nt);
+        const unsigned *t = ball.idx + 3 * tri;
+        ray_vec3 target = i % 4 == 0
+            ? centre
+            : vadd(vadd(vscale(wv[t[0]], 1 - b1 - b2), vscale(wv[t[1]], b1)),
+                   vscale(wv[t[2]], b2));
+        ray_vec3 from = vadd(target, vscale(rng_dir(&g), 30));
+        ray_ray r = ray_from(from, vsub(target, from));
+        ray_hit a, b;
+        double tol = 4096 * DBL_EPSILON * (fabs(off) + 40) / vlen(r.dir);
+        ck_assert_int_eq(ray_intersect(flat, &r, &a), 1);
+        ck_assert_int_eq(ray_intersect(top, &r, &b), 1);
+        /* Child geometry 0 is the mesh, 1 the sphere, 2 the box, as in
+        ** flat. */
+        ck_assert_uint_eq(a.geom_id, b.geom_id);
+        ck_assert_uint_eq(a.prim_id, b.prim_id);
+        ck_assert_double_eq_tol(a.t, b.t, tol);
+        ck_assert_vec_eq_tol(a.p, b.p, tol * vlen(r.dir) + 1e-300);
+        /* Normals: the same plane or sphere, unit, to 1e-12 (a few
+        ** roundings of unit vectors, plus the inverse transpose) plus
+        ** what rounding the flattened vertices to doubles near "off"
+        ** turns the face normal by: 64 ulps of off over the shortest
+        ** edge (0.5 at this size). */
+        ck_assert_vec_eq_tol(a.n, b.n, 1e-12 + 64 * DBL_EPSILON * fabs(off) / 0.5);
+    }
+    ray_scene_free(top);
+    ray_scene_free(flat);
+    ray_scene_free(child);
+    hc_mesh_free(&ball);
+    free(wv);
+}
+END_TEST
+
+/*
+** Normals go by the inverse transpose: a unit sphere scaled by (2, 1, 1)
+** is the ellipsoid x^2/4 + y^2 + z^2 = 1, whose normal at p is along
+** (x/4, y, z).  To 1e-12: unit vectors after a few dozen roundings.
+*/
+START_TEST(normals_should_follow_the_inverse_transpose)
+{
+    ray_scene *child, *top;
+    ray_transform xf;
+    rng g = {13};
+    int i;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 2;
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (i = 0; i < 1000; i++) {
+        ray_vec3 from = vscale(rng_dir(&g), 10), want;
+        ray_ray r = ray_from(from, vsub(vec(rng_range(&g, -1, 1), rng_range(&g, -0.5, 0.5), 0), from));
+        ray_hit h;
+        if (ray_intersect(top, &r, &h) != 1)
+            continue;
+        want = vnorm(vec(h.p.x / 4, h.p.y, h.p.z));
+        ck_assert_vec_eq_tol(h.n, want, 1e-12);
+        /* On the ellipsoid, to the error bound's scale. */
+        ck_assert_double_eq_tol(h.p.x * h.p.x / 4 + h.p.y * h.p.y + h.p.z * h.p.z, 1.0, 1e-12);
+    }
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Zero leaks through instances: rays from inside the closed icosphere,
+** instanced rotated and scaled at 0 and 1e5, aimed exactly at the world
+** images of its vertices and edge midpoints, all hit it (the watertight
+** test in the child's space sees one consistent ray).
+*/
+START_TEST(closed_mesh_should_not_leak_through_an_instance)
+{
+    double off = test_offset(_i);
+    ray_transform xf = xfm_make(vnorm(vec(-2, 1, 0.5)), 2.1, 0.75,
+                                vec(off, -off, off * 0.25));
+    hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
+    ray_mesh m = mesh_of(&ball);
+    ray_scene *child, *top;
+    ray_vec3 inside = xfm_point(&xf, vec(0.1, -0.2, 0.05));
+    size_t k, lost = 0, rays = 0;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (k = 0; k < 3 * ball.nt; k++) {
+        const unsigned *t = ball.idx + 3 * (k / 3);
+        ray_vec3 a = ball.v[t[k % 3]], b = ball.v[t[(k + 1) % 3]];
+        ray_vec3 targets[2];
+        int j;
+        targets[0] = xfm_point(&xf, a);
+        targets[1] = xfm_point(&xf, vscale(vadd(a, b), 0.5));
+        for (j = 0; j < 2; j++) {
+            ray_ray r = ray_from(inside, vsub(targets[j], inside));
+            ray_hit h;
+            rays++;
+            lost += ray_intersect(top, &r, &h) != 1;
+            lost += ray_occluded(top, &r) != 1;
+        }
+    }
+    ck_assert_uint_eq(lost, 0);
+    ck_assert_uint_gt(rays, 1000);
+    ray_scene_free(top);
+    ray_scene_free(child);
+    hc_mesh_free(&ball);
+}
+END_TEST
+
+/*
+** No acne through instances: a floor quad (two triangles, y = 0, 200
+** wide) in the child, instanced rotated and moved to 0 and 1e5; camera
+** rays at 0.05 to 80 degrees hit it, and the shadow and reflection rays
+** ray_spawn sends from those world hits never meet it again (a flat
+** surface: any hit is a self-hit).  Through the rotation and translation
+** the hit point's world error bound must cover both transforms' rounding
+** (instance.c), or these rays start inside the floor's rounding.
+*/
+START_TEST(spawned_rays_should_not_self_hit_through_an_instance)
+{
+    static const ray_vec3 quad[4] = {{-100, 0, -100}, {100, 0, -100},
+                                     {100, 0, 100}, {-100, 0, 100}};
+    static const unsigned idx[6] = {0, 2, 1, 0, 3, 2};
+    double off = test_offset(_i);
+    ray_transform xf = xfm_make(vnorm(vec(0.3, 1, -0.2)), 0.4, 1.0,
+                                vec(off, 0.5 * off, off));
+    ray_mesh m;
+    ray_scene *child, *top;
+    ray_vec3 up = vnorm(vsub(xfm_point(&xf, vec(0, 1, 0)), xfm_point(&xf, vec(0, 0, 0))));
+    ray_vec3 light = xfm_point(&xf, vec(3, 6, 4));
+    rng g = {14};
+    int i, hits = 0, self = 0;
+
+    ray_mesh_init(&m);
+    m.vertices = quad;
+    m.vertex_count = 4;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (i = 0; i < 4000; i++) {
+        const double deg = 3.14159265358979323846 / 180;
+        double el = (i % 2 ? 20 + 60 * rng_unit(&g) : 0.05 + 2.95 * rng_unit(&g)) * deg;
+        double az = 6.283185307179586 * rng_unit(&g);
+        double reach = i % 4 < 2 ? 4 : 90;
+        ray_vec3 local = vec((2 * rng_unit(&g) - 1) * reach, 0,
+                             (2 * rng_unit(&g) - 1) * reach);
+        ray_vec3 target = xfm_point(&xf, local);
+        ray_vec3 eye = xfm_point(&xf, vadd(local, vec(24 * cos(el) * cos(az), 24 * sin(el),
+                                                     24 * cos(el) * sin(az))));
+        ray_ray r = ray_from(eye, vsub(target, eye)), s;
+        ray_hit h;
+        if (ray_intersect(top, &r, &h) != 1)
+            continue;
+        hits++;
+        ck_assert_double_gt(vdot(h.n, up) * vdot(h.n, up), 1 - 1e-12);
+        if (ray_spawn_to(&h, light, &s) == RAY_OK)
+            self += ray_occluded(top, &s) == 1;
+        if (ray_spawn(&h, ray_reflect(r.dir, h.n), &s) == RAY_OK)
+            self += ray_intersect(top, &s, &h) == 1;
+    }
+    ck_assert_int_gt(hits, 3000);
+    ck_assert_int_eq(self, 0);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+/* A material that shades its ud's colour. */
+static void flat_colour(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                        ray_rgb *out)
+{
+    (void)ctx;
+    (void)a;
+    *out = *(const ray_rgb *)ud;
+}
+
+/*
+** Rendering through instances: each hit shades with the child's material
+** (two children, two colours); the parent's effects include the
+** children's materials' (a reflective child makes the parent's
+** REFLECTION bit); a disabled instance is not seen.
+*/
+START_TEST(instances_should_shade_with_their_child_materials)
+{
+    static ray_rgb red = {1, 0, 0}, blue = {0, 0, 1};
+    ray_material mr = {flat_colour, &red, RAY_EFFECT_REFLECTION};
+    ray_material mb = {flat_colour, &blue, 0};
+    ray_scene *c1, *c2, *top;
+    ray_transform a, b;
+    ray_ctx *ctx;
+    ray_ray r1 = ray_from(vec(-3, 0, 10), vec(0, 0, -1));
+    ray_ray r2 = ray_from(vec(3, 0, 10), vec(0, 0, -1));
+    ray_rgb c;
+    unsigned m, i1, i2;
+
+    ck_assert_int_eq(ray_scene_new(&c1, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(c1, &mr, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(c1, vec(0, 0, 0), 1, m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(c1), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&c2, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(c2, &mb, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(c2, &mb, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(c2, vec(0, 0, 0), 1, m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(c2), RAY_OK);
+    ray_transform_identity(&a);
+    ray_transform_identity(&b);
+    a.m[0][3] = -3;
+    b.m[0][3] = 3;
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, c1, &a, &i1), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, c2, &b, &i2), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(top), RAY_EFFECT_REFLECTION);
+    ck_assert_int_eq(ray_ctx_new(top, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r1, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
+    ck_assert(c.r == 1 && c.g == 0 && c.b == 0);
+    ck_assert_int_eq(ray_trace(ctx, &r2, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
+    ck_assert(c.r == 0 && c.g == 0 && c.b == 1);
+    /* The reflective child hidden: no REFLECTION left, red not seen. */
+    ck_assert_int_eq(ray_scene_set_enabled(top, i1, 0), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r1, RAY_KIND_PRIMARY, 1, &c), RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(top), 0);
+    ck_assert_int_eq(ray_trace(ctx, &r1, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
+    ck_assert(c.r == 0 && c.g == 0 && c.b == 0);
+    ray_ctx_free(ctx);
+    ray_scene_free(top);
+    ray_scene_free(c1);
+    ray_scene_free(c2);
+}
+END_TEST
+
+/*
+** Moving an instance (ray_scene_set_transform) stages it: no query until
+** the commit, then it answers at the new place and not at the old.  A
+** child changed and committed again under its parent: the parent's
+** query that meets it says -RAY_ESTATE until the parent is committed
+** again, which takes the child's new box.
+*/
+START_TEST(instances_should_move_and_follow_their_child)
+{
+    ray_scene *child, *top;
+    ray_transform xf;
+    ray_ray at0 = ray_from(vec(0, 0, 10), vec(0, 0, -1));
+    ray_ray at5 = ray_from(vec(5, 0, 10), vec(0, 0, -1));
+    ray_ray far = ray_from(vec(20, 0, 10), vec(0, 0, -1));
+    ray_hit h;
+    unsigned inst;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ray_transform_identity(&xf);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, &inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &at0, &h), 1);
+    ck_assert_double_eq(h.t, 9.0);     /* exact: 10 - 1 on the axis */
+    xf.m[0][3] = 5;
+    ck_assert_int_eq(ray_scene_set_transform(top, inst, &xf), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &at0, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &at0, &h), 0);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h), 1);
+    ck_assert_double_eq(h.t, 9.0);
+    ck_assert_double_eq(h.p.x, 5.0);
+    /* The child grows a second sphere at x = 15 (world 20). */
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(15, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &far, &h), 1);
+    ck_assert_uint_eq(h.geom_id, 1);
+    ck_assert_uint_eq(h.inst_id, inst);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Bad input: an error with a message, nothing added (the id untouched,
+** the next instance still gets id 0) and a committed scene stays so.
+*/
+START_TEST(instances_should_refuse_bad_input)
+{
+    ray_scene *child, *top, *loose, *nested, *planar;
+    ray_transform xf, bad;
+    unsigned id = 77;
+    ray_ray r = ray_from(vec(0, 0, 10), vec(0, 0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&loose, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&planar, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(planar, vec(0, 0, 0), vec(0, 1, 0), RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(planar), RAY_OK);
+    ray_transform_identity(&xf);
+    ck_assert_int_eq(ray_scene_new(&nested, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(nested, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(nested), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+
+    ck_assert_int_eq(ray_scene_add_instance(NULL, child, &xf, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, NULL, &xf, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, NULL, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, top, &xf, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, loose, &xf, &id), RAY_ESTATE);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "not committed"));
+    ck_assert_int_eq(ray_scene_add_instance(top, nested, &xf, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "two levels"));
+    ck_assert_int_eq(ray_scene_add_instance(top, planar, &xf, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "planes"));
+    bad = xf;
+    bad.m[1][3] = (double)NAN;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &bad, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "m[1][3]"));
+    bad = xf;
+    bad.m[2][2] = HUGE_VAL;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &bad, &id), RAY_EINVAL);
+    bad = xf;                                   /* rows 0 and 1 equal */
+    bad.m[1][0] = 1;
+    bad.m[1][1] = 0;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &bad, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "singular"));
+    bad = xf;                                   /* nearly so: 1e-17 */
+    bad.m[1][0] = 1;
+    bad.m[1][1] = 1e-17;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &bad, &id), RAY_EINVAL);
+    bad = xf;                                   /* zero scale */
+    bad.m[0][0] = 0;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &bad, &id), RAY_EINVAL);
+    ck_assert_uint_eq(id, 77);
+    ck_assert_int_eq(ray_intersect(top, &r, &h), 0);   /* still committed */
+    /* Updates of what is not there, or not an instance. */
+    ck_assert_int_eq(ray_scene_set_transform(top, 0, &xf), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ck_assert_int_eq(ray_scene_add_sphere(top, vec(9, 9, 9), 1, RAY_NO_MATERIAL, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_transform(top, 1, &xf), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "not an instance"));
+    bad = xf;
+    bad.m[0][0] = 0;
+    ck_assert_int_eq(ray_scene_set_transform(top, 0, &bad), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_filter(top, 0, NULL, NULL, 0), RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);   /* still committed */
+    ck_assert_double_eq(h.t, 9.0);
+    ray_scene_free(top);
+    ray_scene_free(nested);
+    ray_scene_free(planar);
+    ray_scene_free(loose);
+    ray_scene_free(child);
+}
+END_TEST
+
+Suite *instance_suite(void)
+{
+    Suite *s = suite_create("instance");
+    TCase *tc = tcase_create("core");
+
+    tcase_add_test(tc, identity_instance_should_answer_as_the_child);
+    tcase_add_loop_test(tc, instance_should_match_flattened_geometry, 0, N_OFFSETS);
+    tcase_add_test(tc, normals_should_follow_the_inverse_transpose);
+    tcase_add_loop_test(tc, closed_mesh_should_not_leak_through_an_instance, 0, N_OFFSETS);
+    tcase_add_loop_test(tc, spawned_rays_should_not_self_hit_through_an_instance, 0, N_OFFSETS);
+    tcase_add_test(tc, instances_should_shade_with_their_child_materials);
+    tcase_add_test(tc, instances_should_move_and_follow_their_child);
+    tcase_add_test(tc, instances_should_refuse_bad_input);
+    suite_add_tcase(s, tc);
+    return s;
+}
