@@ -611,6 +611,8 @@ static void trim_tris(ray_scene *s)
 {
     void *p;
 
+    if (s->n_tris == 0)
+        return;          /* a zero-size realloc frees: keep the blocks */
     if (s->cap_tris > s->n_tris) {
         p = ray__realloc(s, s->tris, s->cap_tris * sizeof *s->tris,
                          s->n_tris * sizeof *s->tris);

@@ -690,7 +690,9 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
                                      &t1->b, &t0->c, &t1->c);
             if (m == 0)
                 continue;
-            for (lane = 0; lane < 2; lane++) {
+            /* The twin lane of an odd last triangle is that triangle
+            ** again: never offered twice (a gate would see it twice). */
+            for (lane = 0; lane < 1 + (pair[1] != pair[0]); lane++) {
                 const ray__tri *t = lane ? t1 : t0;
                 double th, beta, gamma;
                 /* A lane the pair test keeps is a hit candidate: the

@@ -44,6 +44,7 @@ Suite *direct_suite(void);
 Suite *capsule_suite(void);
 Suite *games_suite(void);
 Suite *instance_suite(void);
+Suite *dynamic_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
