@@ -173,8 +173,8 @@ EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c,$<),$(EMBREE_FLAGS)) \
-	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c,$<),$(EMBREE_LIBS)) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c,$<),$(EMBREE_FLAGS)) \
+	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c bench/game.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
@@ -267,6 +267,7 @@ else
 	@echo "check: running the examples (small sizes)"
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/picking >/dev/null
+	RAY_GAME_FRAMES=10 $(BUILD)/examples/game >/dev/null
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
