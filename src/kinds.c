@@ -302,6 +302,7 @@ int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
     else if (ok) {
         hit->geom_id = i;
         hit->prim_id = 0;
+        hit->inst_id = RAY_INVALID_ID;
     }
     return ok;
 }
