@@ -134,6 +134,15 @@ static void box_BEZIER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
     stored_box(p, lo, hi);
 }
 
+/* User geometry: the box its bounds callback gave when it was added
+** (ray__user_box, which a scene that refits would call here instead). */
+static void box_USER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                     ray_vec3 *hi)
+{
+    (void)s;
+    stored_box(p, lo, hi);
+}
+
 /* ----------------------------------------------------- the intersections */
 
 static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
@@ -205,6 +214,14 @@ static int hit_BEZIER(const ray_scene *s, const ray__prim *p,
     if (ray_bezier_surface(s->verts + p->first, &ps) != RAY_OK)
         return 0;          /* cannot happen: checked when added */
     return ray_parametric(r, &ps, hit);
+}
+
+/* The callback's answer, checked (user.c): a hit that breaks the
+** contract is -1, a failure ray__prim_intersect counts. */
+static int hit_USER(const ray_scene *s, const ray__prim *p,
+                    const ray_ray *r, ray_hit *hit)
+{
+    return ray__user_hit(&s->surfaces[p->surface].user, r, hit);
 }
 
 /* ---------------------------------------------------------- the dispatch */
