@@ -967,6 +967,50 @@ RAY_API int ray_scene_add_capsule(ray_scene *scene,
                                   unsigned material, unsigned *geom_id);
 
 /*
+** ray_scene_add_user -- the caller's own geometry (a character's capsule
+** set, a voxel chunk, a signed distance field) in the scene's BVH like
+** the built-in kinds: a box and an intersection callback.  The
+** descriptor is copied; its ud is BORROWED and must outlive the scene.
+**
+** User geometry: the scene calls these, never concurrently with a
+** building call, but CONCURRENTLY from query threads (intersect).
+** "bounds" is called once, by ray_scene_add_user, and the box kept: it
+** must hold every hit the intersection reports (a hit outside it may be
+** missed).  "intersect" gets the ray in the scene's (world) space, its
+** tmax already shrunk to the nearest hit found so far; it must be
+** reentrant.  It answers 1 with *hit filled (t, p, n, u, v, p_err) for
+** the nearest hit in (r->tmin, r->tmax), 0 for a miss, or a negative
+** status for a failure (ray_implicit's, passed on).  Like the built-in
+** tests it must report a hit only when t minus its rounding error still
+** exceeds tmin (no acne, ray-numerics(7)), and fill p_err (0 leaves
+** ray_spawn nothing to offset by).  The library checks the answer: t
+** outside (tmin, tmax) or NaN, a non-finite p, u or v, a p_err not
+** finite and >= 0, a normal not finite and non-zero, or an answer other
+** than 0 and 1, is a miss counted in ray_stats.root_failures; n is
+** normalised when it is not unit; geom_id and prim_id (0) are the
+** library's, whatever the callback wrote.  Tests count under
+** RAY_PRIM_USER.
+**
+** Errors, with nothing added: RAY_EINVAL (scene, g, bounds or intersect
+** NULL; a box not finite or with lo > hi, the axis named by
+** ray_scene_errmsg; an unknown material), RAY_ENOMEM.  In an instanced
+** scene the callback gets the ray in that scene's own space.
+*/
+typedef void (*ray_user_bounds_fn)(void *ud, ray_vec3 *lo, ray_vec3 *hi);
+typedef int (*ray_user_intersect_fn)(void *ud, const ray_ray *r,
+                                     ray_hit *hit);
+typedef struct ray_user_geometry {
+    ray_user_bounds_fn bounds;       /* the box holding the geometry */
+    ray_user_intersect_fn intersect; /* 1 and *hit filled (t, p, n, u, v,
+                                        p_err) for the nearest hit in
+                                        (r->tmin, r->tmax), else 0 */
+    void *ud;                        /* borrowed: must outlive the scene */
+} ray_user_geometry;
+RAY_API int ray_scene_add_user(ray_scene *scene,
+                               const ray_user_geometry *g,
+                               unsigned material, unsigned *geom_id);
+
+/*
 ** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
 ** negative intensity, a zero direction (directional), a radius not > 0
 ** (sphere), parallel edges (rect) or samples > RAY_MAX_LIGHT_SAMPLES.
@@ -1208,6 +1252,7 @@ enum {
     RAY_PRIM_CAPSULE,
     RAY_PRIM_INSTANCE,           /* instances entered (ray_scene_add_instance);
                                     their geometry's tests count by kind */
+    RAY_PRIM_USER,               /* ray_scene_add_user geometry */
     RAY_PRIM_KINDS
 };
 #define RAY_PRIM_KINDS_MAX 16
@@ -1228,10 +1273,11 @@ typedef struct ray_stats {
     unsigned max_depth;             /* deepest level reached */
     unsigned long long pixels;      /* pixels rendered (ray_render) */
     unsigned long long samples_hist[RAY_HIST_BINS];
-    unsigned long long root_failures;  /* implicit or parametric tests that
-                                          failed (iteration limit, or a
-                                          callback giving NaN or Inf) and
-                                          were taken as misses */
+    unsigned long long root_failures;  /* implicit, parametric or user
+                                          tests that failed (iteration
+                                          limit, or a callback giving NaN,
+                                          Inf or an invalid hit) and were
+                                          taken as misses */
     unsigned long long filter_calls;   /* filter callbacks called
                                           (ray_scene_set_filter) */
 } ray_stats;

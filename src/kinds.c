@@ -143,6 +143,15 @@ static void box_INSTANCE(const ray_scene *s, const ray__prim *p,
     *hi = s->instances[p->surface].hi;
 }
 
+/* User geometry: the box its bounds callback gave when it was added
+** (ray__user_box, which a scene that refits would call here instead). */
+static void box_USER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                     ray_vec3 *hi)
+{
+    (void)s;
+    stored_box(p, lo, hi);
+}
+
 /* ----------------------------------------------------- the intersections */
 
 static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
@@ -231,6 +240,15 @@ static int hit_INSTANCE(const ray_scene *s, const ray__prim *p,
                         const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
     return ray__instance_intersect(s, p, r, hit, qc);
+}
+
+/* The callback's answer, checked (user.c): a hit that breaks the
+** contract is -1, a failure ray__prim_intersect counts. */
+static int hit_USER(const ray_scene *s, const ray__prim *p,
+                    const ray_ray *r, ray_hit *hit, ray__counts *qc)
+{
+    (void)qc;
+    return ray__user_hit(&s->surfaces[p->surface].user, r, hit);
 }
 
 /* ---------------------------------------------------------- the dispatch */

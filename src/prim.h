@@ -159,6 +159,23 @@ int ray__parametric_domain(const ray_parametric_surface *s, double d[4]);
 ** the default); hits lie within it of the surface's box. */
 double ray__implicit_tolerance(const ray_implicit_surface *s);
 
+/*
+** User geometry (user.c), the scene's checks of the caller's callbacks.
+** ray__user_box: the box of g from its bounds callback, 1 if it is
+** usable (finite, lo <= hi on every axis), else 0 with a message naming
+** the axis at fault in why (*lo, *hi written either way).  The scene
+** calls it when the geometry is added, and keeps the box.
+** ray__user_hit: g's intersect callback on r, its answer checked: 1 with
+** *hit filled (n unit, geom_id and prim_id RAY_INVALID_ID, for the
+** scene to set) for a hit that keeps the contract of ray_hit; 0 for a
+** miss; -1 (*hit untouched) for an answer that breaks it, a failure the
+** scene counts in root_failures.
+*/
+int ray__user_box(const ray_user_geometry *g, ray_vec3 *lo, ray_vec3 *hi,
+                  char *why, size_t why_size);
+int ray__user_hit(const ray_user_geometry *g, const ray_ray *r,
+                  ray_hit *hit);
+
 /* The box of a torus, rounded outward (0 for invalid params). */
 int ray__torus_box(const ray_torus_params *t, ray_vec3 *lo, ray_vec3 *hi);
 
@@ -318,6 +335,7 @@ static inline double ray__unscale_t(double t, int e)
     X(PARAMETRIC, RAY_PRIM_PARAMETRIC, BOUNDED)            \
     X(BEZIER,     RAY_PRIM_PARAMETRIC, BOUNDED)            \
     X(INSTANCE,   RAY_PRIM_INSTANCE,   BOUNDED)            \
+    X(USER,       RAY_PRIM_USER,       BOUNDED)            \
     RAY__SHAPES(RAY__SHAPE_KIND, X)
 
 #define RAY__SHAPE_KIND(X, NAME, name, type, counted_as)   \

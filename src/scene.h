@@ -27,11 +27,13 @@
 #define RAY__V3ARGS(v) (v).x, (v).y, (v).z
 
 /* A curved surface's descriptor as added: the member of its geometry's
-** kind (RAY__KIND_TORUS, _IMPLICIT, _PARAMETRIC) is the live one. */
+** kind (RAY__KIND_TORUS, _IMPLICIT, _PARAMETRIC, _USER, a shape's) is
+** the live one. */
 typedef union ray__surface {
     ray_torus_params torus;
     ray_implicit_surface implicit;
     ray_parametric_surface parametric;
+    ray_user_geometry user;
 #define RAY__SHAPE_MEMBER(X, NAME, name, type, counted_as) type name;
     RAY__SHAPES(RAY__SHAPE_MEMBER, _)
 } ray__surface;
@@ -40,8 +42,9 @@ typedef union ray__surface {
 ** centre; plane: a = point, b = unit normal; triangle and mesh: tris[first
 ** .. first+count-1] of the scene (until commit reorders them), and for a
 ** mesh meshes[mesh]; polygon: verts[first .. first+count-1]; torus,
-** implicit and parametric: surfaces[surface], and Bezier: its 16 control
-** points at verts[first ..]; all four keep their box in a (lo), b (hi). */
+** implicit, parametric, user geometry and the shapes: surfaces[surface],
+** and Bezier: its 16 control points at verts[first ..]; all of these keep
+** their box in a (lo), b (hi). */
 typedef struct ray__prim {
     ray__kind kind;
     unsigned material;
@@ -223,8 +226,9 @@ int ray__reserve_tris(ray_scene *s, size_t more);
 ** is rounded outward from it); for the bounded kinds.
 ** ray__prim_intersect -- geometry i (of class BOUNDED or UNBOUNDED)
 ** against r, counted in qc->tests; fills *hit, with geom_id i and
-** prim_id 0, on a hit.  A curved surface whose iteration failed (a
-** negative answer) is a miss, counted in qc->failures.
+** prim_id 0, on a hit.  A curved surface whose iteration failed, or
+** user geometry whose callback broke its contract (a negative answer),
+** is a miss, counted in qc->failures.
 */
 typedef enum ray__class {
     RAY__CLASS_TRIANGLES,    /* in tri_bvh: traverse.h tests them inline */
@@ -260,6 +264,9 @@ typedef struct ray__gate {
 ** "stale" is set when an instance meets a child changed since the
 ** parent's commit.
 */
+/* What one query counts: tests by kind, and the curved-surface and user
+** tests that failed (iteration limit, a callback's invalid answer) and
+** were taken as misses. */
 typedef struct ray__counts {
     unsigned long long tests[RAY_PRIM_KINDS];
     unsigned long long failures;

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** surfaces.c -- adding the curved surfaces to a scene: torus, implicit,
-** parametric and Bezier.  Each is kept with its box, through which the
-** scene's BVH reaches it (intersect.c calls ray_torus, ray_implicit and
-** ray_parametric).
+** parametric and Bezier, the shapes, and the caller's own geometry.  Each
+** is kept with its box, through which the scene's BVH reaches it
+** (kinds.c calls ray_torus, ray_implicit, ray_parametric, the shapes'
+** functions and the user's callback).
 */
 #include <string.h>
 
@@ -190,6 +191,35 @@ int ray_scene_add_parametric(ray_scene *s, const ray_parametric_surface *ps,
     grow = v3(tol, tol, tol);
     return add_surface(s, RAY__KIND_PARAMETRIC, material, &surf,
                        v3_sub(lo, grow), v3_add(hi, grow), geom_id);
+}
+
+/*
+** User geometry keeps its descriptor as a surface record, and the box its
+** bounds callback gave now (ray__user_box, user.c).  The box is not grown:
+** the callback promises it holds every hit, and the BVH's float boxes are
+** rounded outward from it.
+*/
+int ray_scene_add_user(ray_scene *s, const ray_user_geometry *g,
+                       unsigned material, unsigned *geom_id)
+{
+    ray__surface surf;
+    ray_vec3 lo, hi;
+    char why[RAY__ERRMSG_SIZE];
+    int rc = ray__begin(s, "ray_scene_add_user");
+
+    if (rc != RAY_OK)
+        return rc;
+    if (g == NULL)
+        return ray__fail(s, RAY_EINVAL, "user geometry is NULL");
+    if (g->bounds == NULL)
+        return ray__fail(s, RAY_EINVAL, "bounds is NULL");
+    if (g->intersect == NULL)
+        return ray__fail(s, RAY_EINVAL, "intersect is NULL");
+    if (!ray__user_box(g, &lo, &hi, why, sizeof why))
+        return ray__fail(s, RAY_EINVAL, "%s", why);
+    memset(&surf, 0, sizeof surf);
+    surf.user = *g;
+    return add_surface(s, RAY__KIND_USER, material, &surf, lo, hi, geom_id);
 }
 
 /* A Bezier patch keeps its 16 control points in the scene's vertex array

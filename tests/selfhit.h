@@ -56,6 +56,7 @@ typedef enum sh_kind {
     SH_BEZIER,               /* a flat bicubic patch, ray_parametric */
     SH_BOX,                  /* ray_box, axes of other lengths, skewed */
     SH_CAPSULE,              /* ray_capsule, along the local x axis */
+    SH_USER,                 /* user geometry: ray_sphere in a callback */
     SH_KINDS
 } sh_kind;
 
@@ -63,7 +64,7 @@ static const char *const sh_kind_name[SH_KINDS] = {
     "sphere", "plane", "triangle (Cramer)", "triangle (watertight)",
     "mesh quad (watertight)", "mesh quad (Cramer)", "polygon", "torus",
     "implicit torus", "Bezier patch (flat)",
-    "box", "capsule"
+    "box", "capsule", "user sphere"
 };
 
 /* Offsets of the placements from the origin (each coordinate). */
@@ -88,6 +89,7 @@ typedef struct sh_prim {
     ray_parametric_surface bezier;
     ray_box_params box;
     ray_capsule_params capsule;
+    ray_vec3 user_center;    /* the user sphere's: c, radius 1 */
 } sh_prim;
 
 static inline ray_vec3 sh_world(const sh_prim *p, double x, double y,
@@ -103,7 +105,7 @@ static inline int sh_flat(sh_kind k)
     /* The box is flat by pieces, but a ray entering it meets the other
     ** faces at a chord's distance: counted as curved, as the capsule. */
     return k != SH_SPHERE && k != SH_TORUS && k != SH_IMPLICIT &&
-           k != SH_BOX && k != SH_CAPSULE;
+           k != SH_BOX && k != SH_CAPSULE && k != SH_USER;
 }
 
 /*
@@ -170,6 +172,26 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->capsule.a = sh_world(p, -0.6, 0, 0);
     p->capsule.b = sh_world(p, 0.6, 0, 0);
     p->capsule.radius = 0.6;
+    p->user_center = p->c;
+}
+
+/*
+** The user sphere: the sphere of SH_SPHERE as user geometry, its
+** callback calling ray_sphere, which fills p_err (what ray_spawn offsets
+** by): so the scene's checks of the callback's answer, and its BVH, are
+** shown to keep the sphere free of acne.  ud: the centre (radius 1).
+*/
+static inline void sh_user_bounds(void *ud, ray_vec3 *lo, ray_vec3 *hi)
+{
+    const ray_vec3 *c = (const ray_vec3 *)ud;
+
+    *lo = vec(c->x - 1, c->y - 1, c->z - 1);
+    *hi = vec(c->x + 1, c->y + 1, c->z + 1);
+}
+
+static inline int sh_user_intersect(void *ud, const ray_ray *r, ray_hit *h)
+{
+    return ray_sphere(r, *(const ray_vec3 *)ud, 1.0, h);
 }
 
 /* The closest hit of the bare primitive function(s); 1 on a hit. */
@@ -213,6 +235,9 @@ static inline int sh_bare(const sh_prim *p, const ray_ray *r, ray_hit *h)
         return ray_box(r, &p->box, h) == 1;
     case SH_CAPSULE:
         return ray_capsule(r, &p->capsule, h) == 1;
+    case SH_USER:
+        return sh_user_intersect(ray__test_unconst(&p->user_center), r,
+                                 h) == 1;
     case SH_KINDS:
         break;
     }
@@ -225,6 +250,7 @@ static inline ray_scene *sh_scene(const sh_prim *p)
     static const unsigned quad[6] = {0, 1, 2, 0, 2, 3};
     ray_material m = plain();
     ray_mesh mesh;
+    ray_user_geometry user;
     ray_scene *s;
     int rc = RAY_OK;
 
@@ -253,6 +279,12 @@ static inline ray_scene *sh_scene(const sh_prim *p)
     case SH_BOX: rc |= ray_scene_add_box(s, &p->box, 0, NULL); break;
     case SH_CAPSULE:
         rc |= ray_scene_add_capsule(s, &p->capsule, 0, NULL);
+        break;
+    case SH_USER:
+        user.bounds = sh_user_bounds;
+        user.intersect = sh_user_intersect;
+        user.ud = ray__test_unconst(&p->user_center);
+        rc |= ray_scene_add_user(s, &user, 0, NULL);
         break;
     case SH_KINDS: rc = RAY_EINVAL; break;
     }

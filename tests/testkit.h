@@ -133,6 +133,18 @@ static inline double rmse(const float *a, const float *b, size_t n)
     return sqrt(sum / (double)(3 * n));
 }
 
+/* A const pointer as the plain void * of a callback's ud (a material's,
+** user geometry's: only read), without a cast that drops the qualifier. */
+static inline void *ray__test_unconst(const void *p)
+{
+    union {
+        const void *c;
+        void *m;
+    } u;
+    u.c = p;
+    return u.m;
+}
+
 /* A material that shades nothing (black), declaring no effects: for
 ** scenes built only to be validated or queried. */
 static inline void black(void *ud, ray_ctx *ctx, const ray_shade_args *a,

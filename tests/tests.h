@@ -45,6 +45,7 @@ Suite *capsule_suite(void);
 Suite *games_suite(void);
 Suite *instance_suite(void);
 Suite *dynamic_suite(void);
+Suite *user_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
@@ -148,18 +149,6 @@ static inline void mutate(rng *g, char *buf, size_t *n, const char *alphabet,
             break;
         }
     }
-}
-
-/* A const pointer as the plain void * of a material's ud (which is only
-** read), without a cast that drops the qualifier. */
-static inline void *ray__test_unconst(const void *p)
-{
-    union {
-        const void *c;
-        void *m;
-    } u;
-    u.c = p;
-    return u.m;
 }
 
 #endif
