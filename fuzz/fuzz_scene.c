@@ -6,8 +6,11 @@
 ** and a 4 x 4 render at 1 sample on 1 thread, every value arbitrary
 ** (NaN, +-Inf, subnormals, 1e300, degenerate geometry).  Checked:
 **
-**   * every status is a documented code; building calls after commit are
-**     RAY_ESTATE; ray_scene_errmsg is "" exactly after a success;
+**   * every status is a documented code; a building call that succeeds
+**     after commit stages a change (queries answer -RAY_ESTATE until the
+**     next commit); ray_scene_errmsg is "" exactly after a success;
+**   * disabled and removed geometry is never hit, and masks hide what
+**     shares no bit with the query's;
 **   * outputs are untouched on failure (ids, hits, pixels, statistics);
 **     ids count from 0 on success;
 **   * hits are in (tmin, tmax), finite, with a unit normal and ids that
@@ -48,6 +51,10 @@ typedef struct prog {
     int committed;
     unsigned n_materials, n_geoms, n_lights;
     size_t geom_tris[MAX_SLOTS];      /* triangles of a mesh, else 0 */
+    unsigned char hidden[MAX_SLOTS];  /* disabled, removed or masked out
+                                         (mask 0): never hit */
+    unsigned char removed[MAX_SLOTS], disabled[MAX_SLOTS], masked[MAX_SLOTS];
+    int mask_zero;                    /* the last op_dynamic mask was 0 */
     int curved;                       /* implicit or parametric added */
     /* Parameter blocks and callback data, one slot per operation. */
     ray_phong_params phong[MAX_SLOTS];
@@ -177,9 +184,9 @@ static unsigned decode_material(prog *p)
 }
 
 /*
-** The checks common to every building call: a documented status,
-** RAY_ESTATE after commit, the message rule, and the id untouched on
-** failure or equal to "expect" on success.
+** The checks common to every building call: a documented status (never
+** RAY_ESTATE: after commit a change is staged), the message rule, and
+** the id untouched on failure or equal to "expect" on success.
 */
 static int check_build(prog *p, int rc, const unsigned *id, unsigned expect,
                        const char *what)
@@ -188,9 +195,9 @@ static int check_build(prog *p, int rc, const unsigned *id, unsigned expect,
 
     FUZZ_CHECK(fuzz_status_valid(rc), what);
     FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL || rc == RAY_EDEGENERATE ||
-                   rc == RAY_ENOMEM || rc == RAY_ESTATE, what);
-    if (p->committed)
-        FUZZ_CHECK(rc == RAY_ESTATE, what);
+                   rc == RAY_ENOMEM, what);
+    if (rc == RAY_OK)
+        p->committed = 0;             /* a change staged for the commit */
     FUZZ_CHECK(msg != NULL && (rc == RAY_OK) == (msg[0] == '\0'), what);
     if (id != NULL) {
         if (rc == RAY_OK)
@@ -529,10 +536,9 @@ static void op_commit(prog *p)
 {
     int rc = ray_scene_commit(p->scene);
 
-    FUZZ_CHECK(rc == RAY_OK || rc == RAY_ENOMEM || rc == RAY_ESTATE,
-               "ray_scene_commit: status");
-    FUZZ_CHECK((rc == RAY_ESTATE) == p->committed,
-               "ray_scene_commit: RAY_ESTATE iff committed");
+    FUZZ_CHECK(rc == RAY_OK || rc == RAY_ENOMEM, "ray_scene_commit: status");
+    FUZZ_CHECK(rc == RAY_OK || !p->committed,
+               "ray_scene_commit: nothing staged, nothing to fail");
     if (rc == RAY_OK) {
         p->committed = 1;
         FUZZ_CHECK(ray_scene_light_count(p->scene) == p->n_lights,
@@ -565,6 +571,9 @@ static void op_query(prog *p)
     } else {
         fuzz_check_hit(&r, &hit, 1, "ray_intersect");
         FUZZ_CHECK(hit.geom_id < p->n_geoms, "ray_intersect: geom_id");
+        FUZZ_CHECK(!p->hidden[hit.geom_id],
+                   "ray_intersect: disabled, removed or masked geometry");
+        FUZZ_CHECK(hit.inst_id == RAY_INVALID_ID, "ray_intersect: inst_id");
         FUZZ_CHECK(p->geom_tris[hit.geom_id] ? hit.prim_id <
                                                    p->geom_tris[hit.geom_id]
                                              : hit.prim_id == 0,
@@ -742,10 +751,54 @@ static void op_render(prog *p)
 enum {
     OP_MATERIAL, OP_SPHERE, OP_PLANE, OP_TRIANGLE, OP_POLYGON, OP_MESH,
     OP_TORUS, OP_IMPLICIT, OP_PARAMETRIC, OP_BEZIER, OP_LIGHT, OP_SETTING,
-    OP_COMMIT, OP_QUERY, OP_TRACE, OP_RENDER, OP_NULL_SCENE, OP_COUNT
+    OP_COMMIT, OP_QUERY, OP_TRACE, OP_RENDER, OP_NULL_SCENE, OP_DYNAMIC,
+    OP_COUNT
 };
 
 /* Building calls on a NULL scene: RAY_EINVAL, nothing written. */
+/*
+** Changes after adding: enable, disable, remove (twice is an error), a
+** mask of all bits or none.  Geometry ids may be out of range (an error
+** that changes nothing).
+*/
+static void op_dynamic(prog *p)
+{
+    unsigned what = fuzz_u8(&p->in) % 4, g = fuzz_u8(&p->in);
+    int rc, valid = g < p->n_geoms && !p->removed[g];
+
+    switch (what) {
+    case 0:
+        rc = ray_scene_set_enabled(p->scene, g, 0);
+        break;
+    case 1:
+        rc = ray_scene_set_enabled(p->scene, g, 1);
+        break;
+    case 2:
+        rc = ray_scene_remove(p->scene, g);
+        break;
+    default:
+        p->mask_zero = fuzz_u8(&p->in) & 1;
+        rc = ray_scene_set_mask(p->scene, g, p->mask_zero ? 0u : ~0u);
+        break;
+    }
+    FUZZ_CHECK(rc == (valid ? RAY_OK : RAY_EINVAL), "dynamic: status");
+    FUZZ_CHECK((rc == RAY_OK) == (ray_scene_errmsg(p->scene)[0] == '\0'),
+               "dynamic: message");
+    if (rc != RAY_OK)
+        return;
+    /* Setting the enabled flag it has stages nothing; every other
+    ** success is a change staged for the next commit. */
+    if (what > 1 || p->disabled[g] != (what == 0))
+        p->committed = 0;
+    if (what == 2)
+        p->removed[g] = 1;
+    else if (what < 2)
+        p->disabled[g] = what == 0;
+    else
+        p->masked[g] = rc == RAY_OK && p->mask_zero;
+    p->hidden[g] = p->removed[g] || p->disabled[g] || p->masked[g];
+}
+
 static void op_null_scene(prog *p)
 {
     unsigned id;
@@ -778,6 +831,7 @@ static void run_op(prog *p, unsigned op)
     case OP_QUERY: op_query(p); break;
     case OP_TRACE: op_trace(p); break;
     case OP_RENDER: op_render(p); break;
+    case OP_DYNAMIC: op_dynamic(p); break;
     default: op_null_scene(p); break;
     }
 }
