@@ -321,11 +321,19 @@ static void op_polygon(prog *p)
     added_geometry(p, rc, &id, 0, "ray_scene_add_polygon");
 }
 
+/* The game layout of op_mesh: a float position among other floats
+** (stride 20, not a multiple of 8: unaligned for doubles' sake too). */
+typedef struct fuzz_vertex {
+    float pos[3], other[2];
+} fuzz_vertex;
+
 static void op_mesh(prog *p)
 {
     ray_vec3 v[MAX_MESH_VERTS], nrm[MAX_MESH_VERTS];
     double st[2 * MAX_MESH_VERTS];
     unsigned idx[3 * MAX_MESH_TRIS], id, mat, flags = fuzz_u8(&p->in);
+    fuzz_vertex fv[MAX_MESH_VERTS];
+    uint16_t idx16[3 * MAX_MESH_TRIS];
     ray_mesh m;
     size_t nv = 1 + fuzz_below(&p->in, MAX_MESH_VERTS);
     size_t nt = fuzz_below(&p->in, MAX_MESH_TRIS + 1), i;
@@ -339,10 +347,32 @@ static void op_mesh(prog *p)
     }
     for (i = 0; i < 3 * nt; i++)   /* nv + 1: sometimes out of range */
         idx[i] = fuzz_below(&p->in, (unsigned)nv + (flags & 8 ? 1 : 0));
+    ray_mesh_init(&m);
     m.vertices = flags & 16 ? NULL : v;
     m.vertex_count = nv;
     m.indices = idx;
     m.triangle_count = nt;
+    /* Without vertices, sometimes the positions as floats (a double
+    ** beyond float's range becomes infinite: refused) and 16-bit
+    ** indices, both as a game keeps them. */
+    if (flags & 64) {
+        for (i = 0; i < nv; i++) {
+            fv[i].pos[0] = (float)v[i].x;
+            fv[i].pos[1] = (float)v[i].y;
+            fv[i].pos[2] = (float)v[i].z;
+            fv[i].other[0] = fv[i].other[1] = 0;
+        }
+        m.positions = fv;
+        m.position_stride = sizeof fv[0];
+        m.position_type = RAY_FLOAT32;
+    }
+    if (flags & 128) {
+        for (i = 0; i < 3 * nt; i++)
+            idx16[i] = (uint16_t)idx[i];
+        m.indices = NULL;
+        m.index_data = idx16;
+        m.index_type = RAY_UINT16;
+    }
     m.normals = flags & 2 ? nrm : NULL;
     m.texcoords = flags & 4 ? st : NULL;
     mat = decode_material(p);

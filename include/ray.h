@@ -895,14 +895,25 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** ray_shade_args.shading_normal) and per-vertex texture coordinates (s, t)
 ** (two doubles per vertex, interpolated into ray_shade_args.u, v).
 ** Everything is COPIED: the arrays may be freed when the call returns.
+** Positions and indices may instead come as games keep them: float or
+** double positions with a byte stride (an interleaved vertex buffer, no
+** alignment needed) in positions, 16- or 32-bit indices in index_data,
+** each used when vertices (indices) is NULL, in the host's byte order.
+** Floats convert exactly to double (every float is a double), so a
+** float-sourced mesh is the mesh of the doubles of its floats: the same
+** hits, bit for bit, and the same guarantees (no leaks, no acne).
 ** Hits report the mesh's geom_id and prim_id = i.  Triangles that have no
 ** normal (zero area, or a cross product that overflows) are kept in the
 ** count but can never be hit.
 **
-** Errors, with nothing added: RAY_EINVAL for NULL pointers, no triangles,
-** an index >= vertex_count, a NaN/Inf vertex, normal or texture coordinate,
-** or an unknown material; RAY_ENOMEM (also for more than 2^31 - 1
-** triangles in the scene); RAY_ESTATE after commit.
+** Errors, with nothing added: RAY_EINVAL for NULL pointers (vertices and
+** positions both NULL, or indices and index_data), no vertices or
+** triangles, an index >= vertex_count, a NaN/Inf vertex (position),
+** normal or texture coordinate, an unknown material, an unknown
+** position_type or index_type (when read), or a position_stride other
+** than 0 smaller than a position (12 bytes of floats, 24 of doubles);
+** RAY_ENOMEM (also for more than 2^31 - 1 triangles in the scene);
+** RAY_ESTATE after commit.
 **
 ** Memory: each triangle costs 80 bytes (its three vertices, flattened for
 ** traversal, and its ids) plus 23 to 31 bytes of BVH after commit (111 in
@@ -911,6 +922,15 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** when normals or texture coordinates are given.  ray_scene_commit
 ** briefly needs about 180 bytes per triangle (189 on the bunny).
 */
+/* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data
+** (RAY_UINT*); 0 is none of them. */
+enum {
+    RAY_FLOAT32 = 1,             /* float */
+    RAY_FLOAT64,                 /* double */
+    RAY_UINT16,                  /* uint16_t */
+    RAY_UINT32                   /* uint32_t */
+};
+
 typedef struct ray_mesh {
     const ray_vec3 *vertices;
     size_t vertex_count;
@@ -918,9 +938,33 @@ typedef struct ray_mesh {
     size_t triangle_count;
     const ray_vec3 *normals;     /* NULL, or vertex_count normals */
     const double *texcoords;     /* NULL, or 2 * vertex_count values */
+    /* Vertex input as games keep it, read when vertices (indices) is
+    ** NULL: position i is 3 values of position_type starting
+    ** i * position_stride bytes into positions (stride 0: packed). */
+    const void *positions;
+    size_t position_stride;
+    int position_type;           /* RAY_FLOAT32 or RAY_FLOAT64 */
+    const void *index_data;      /* 3 per triangle */
+    int index_type;              /* RAY_UINT16 or RAY_UINT32 */
+    unsigned flags;              /* RAY_MESH_BORROW, or 0: copied */
 } ray_mesh;
 
-/* ray_mesh_init -- *m empty: every pointer NULL, every count 0. */
+/*
+** RAY_MESH_BORROW: the scene keeps the caller's arrays instead of copying
+** its shading data (indices, normals, texture coordinates: 12 bytes a
+** triangle and up to 40 a vertex saved), and ray_scene_update_mesh(scene,
+** id, NULL) reads the positions again from them after the caller changed
+** them in place (Embree's shared buffers).  The traversal keeps its own
+** flattened copy of the triangles either way.  Lifetime: every array the
+** mesh names must stay valid and unchanged while the scene may shade or
+** update the mesh, until the mesh is removed or updated from other arrays
+** or the scene is freed; changing positions in place is seen only at
+** ray_scene_update_mesh and the commit after it.
+*/
+#define RAY_MESH_BORROW 1u
+
+/* ray_mesh_init -- *m empty: every pointer NULL, every count, stride and
+** type 0. */
 RAY_API void ray_mesh_init(ray_mesh *m);
 
 RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
@@ -1139,7 +1183,8 @@ RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
 **   the same triangle_count (vertices or positions, indices or
 **   index_data, optional normals and texture coordinates as
 **   ray_scene_add_mesh reads them; the triangles may index other
-**   vertices than before).
+**   vertices than before); NULL reads a borrowed mesh's arrays
+**   (RAY_MESH_BORROW) again, after the caller changed them in place.
 ** ray_scene_set_enabled -- 0 hides geometry "geom_id" from every query
 **   (and from shading and effects) until it is enabled again; 1 shows it.
 ** ray_scene_remove -- removes it for good; its id is not reused.

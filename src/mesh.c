@@ -1,33 +1,149 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** mesh.c -- indexed triangle meshes: validated, then copied into the
-** scene's flat triangle array (for traversal) and, when the mesh has
-** normals or texture coordinates, kept indexed for shading.
+** mesh.c -- indexed triangle meshes (double vertices and unsigned
+** indices, or strided float or double positions and 16- or 32-bit
+** indices, as games keep them): validated, then copied into the scene's
+** flat triangle array (for traversal) and, when the mesh has normals or
+** texture coordinates, kept indexed for shading.
 */
+#include <stdint.h>
 #include <string.h>
 
 #include "scene.h"
 
+/* The bytes of one position of positions: 3 values of position_type. */
+static size_t position_size(const ray_mesh *m)
+{
+    return m->position_type == RAY_FLOAT32 ? 3 * sizeof(float)
+                                           : 3 * sizeof(double);
+}
+
+/*
+** Vertex i, from vertices or from the strided positions (validated by
+** mesh_positions_check).  memcpy: a stride need not keep the values
+** aligned.  A float converts to double exactly (C99 6.3.1.5: every float
+** value is a double value, signed zeros and subnormals included), so a
+** float-sourced mesh is the mesh of the doubles of its floats, bit for
+** bit.
+*/
+static ray_vec3 mesh_vertex(const ray_mesh *m, size_t i)
+{
+    const unsigned char *p;
+    size_t stride;
+    ray_vec3 v;
+
+    if (m->vertices != NULL)
+        return m->vertices[i];
+    stride = m->position_stride != 0 ? m->position_stride
+                                     : position_size(m);
+    p = (const unsigned char *)m->positions + i * stride;
+    if (m->position_type == RAY_FLOAT32) {
+        float f[3];
+        memcpy(f, p, sizeof f);
+        v.x = (double)f[0];
+        v.y = (double)f[1];
+        v.z = (double)f[2];
+    } else {
+        double d[3];
+        memcpy(d, p, sizeof d);
+        v.x = d[0];
+        v.y = d[1];
+        v.z = d[2];
+    }
+    return v;
+}
+
+/* Index i (of 3 * triangle_count), from indices or from index_data. */
+static unsigned mesh_index(const ray_mesh *m, size_t i)
+{
+    if (m->indices != NULL)
+        return m->indices[i];
+    if (m->index_type == RAY_UINT16) {
+        uint16_t k;
+        memcpy(&k, (const unsigned char *)m->index_data + i * sizeof k,
+               sizeof k);
+        return k;
+    } else {
+        uint32_t k;
+        memcpy(&k, (const unsigned char *)m->index_data + i * sizeof k,
+               sizeof k);
+        return (unsigned)k;
+    }
+}
+
+/* The strided positions, if used, are described consistently: a known
+** type, a stride of at least one position, and every byte read,
+** (vertex_count - 1) * stride + one position, addressable. */
+static int mesh_positions_check(ray_scene *s, const ray_mesh *m)
+{
+    size_t size, stride;
+
+    if (m->vertices != NULL)
+        return RAY_OK;               /* positions is not read */
+    if (m->positions == NULL)
+        return ray__fail(s, RAY_EINVAL, "vertices and positions are both "
+                         "NULL");
+    if (m->position_type != RAY_FLOAT32 && m->position_type != RAY_FLOAT64)
+        return ray__fail(s, RAY_EINVAL, "position_type %d is not "
+                         "RAY_FLOAT32 or RAY_FLOAT64", m->position_type);
+    size = position_size(m);
+    if (m->position_stride != 0 && m->position_stride < size)
+        return ray__fail(s, RAY_EINVAL, "position_stride %zu is smaller "
+                         "than a position (%zu bytes)", m->position_stride,
+                         size);
+    stride = m->position_stride != 0 ? m->position_stride : size;
+    if (m->vertex_count > 1 &&
+        m->vertex_count - 1 > ((size_t)-1 - size) / stride)
+        return ray__fail(s, RAY_EINVAL, "position_stride %zu: %zu "
+                         "positions overflow size_t", m->position_stride,
+                         m->vertex_count);
+    return RAY_OK;
+}
+
+/* The indices come from indices or, when it is NULL, from index_data of
+** a known type.  Their count, 3 * triangle_count, times 4 bytes is
+** checked against size_t by the caller (triangle_count's limit). */
+static int mesh_indices_check(ray_scene *s, const ray_mesh *m)
+{
+    if (m->indices != NULL)
+        return RAY_OK;               /* index_data is not read */
+    if (m->index_data == NULL)
+        return ray__fail(s, RAY_EINVAL, "indices and index_data are both "
+                         "NULL");
+    if (m->index_type != RAY_UINT16 && m->index_type != RAY_UINT32)
+        return ray__fail(s, RAY_EINVAL, "index_type %d is not RAY_UINT16 "
+                         "or RAY_UINT32", m->index_type);
+    return RAY_OK;
+}
+
 /* The arrays are there and not empty: RAY_OK, or the failure. */
 static int mesh_arrays_check(ray_scene *s, const ray_mesh *m)
 {
-    if (m->vertices == NULL)
-        return ray__fail(s, RAY_EINVAL, "vertices is NULL");
-    if (m->indices == NULL)
-        return ray__fail(s, RAY_EINVAL, "indices is NULL");
+    int rc = mesh_positions_check(s, m);
+
+    if (rc == RAY_OK)
+        rc = mesh_indices_check(s, m);
+    if (rc != RAY_OK)
+        return rc;
     if (m->vertex_count == 0)
         return ray__fail(s, RAY_EINVAL, "no vertices (vertex_count 0)");
     if (m->triangle_count == 0)
         return ray__fail(s, RAY_EINVAL, "no triangles (triangle_count 0)");
+    if ((m->flags & ~RAY_MESH_BORROW) != 0)
+        return ray__fail(s, RAY_EINVAL, "unknown flags 0x%x (known: "
+                         "RAY_MESH_BORROW)", m->flags & ~RAY_MESH_BORROW);
     return RAY_OK;
 }
 
 /* Vertex i and its attributes are finite: RAY_OK, or the failure. */
 static int mesh_vertex_check(ray_scene *s, const ray_mesh *m, size_t i)
 {
-    if (!v3_isfinite(m->vertices[i]))
-        return ray__fail(s, RAY_EINVAL, "vertex %zu " RAY__V3FMT " is not "
-                         "finite", i, RAY__V3ARGS(m->vertices[i]));
+    ray_vec3 v = mesh_vertex(m, i);
+
+    if (!v3_isfinite(v))
+        return ray__fail(s, RAY_EINVAL, "%s %zu " RAY__V3FMT " is not "
+                         "finite", m->vertices != NULL ? "vertex" :
+                         "position", i, RAY__V3ARGS(v));
     if (m->normals != NULL && !v3_isfinite(m->normals[i]))
         return ray__fail(s, RAY_EINVAL, "normal %zu " RAY__V3FMT " is not "
                          "finite", i, RAY__V3ARGS(m->normals[i]));
@@ -49,9 +165,10 @@ static int mesh_check(ray_scene *s, const ray_mesh *m)
     if (rc != RAY_OK)
         return rc;
     for (i = 0; i < 3 * m->triangle_count; i++)
-        if (m->indices[i] >= m->vertex_count)
-            return ray__fail(s, RAY_EINVAL, "triangle %zu index %u out of "
-                             "range (%zu vertices)", i / 3, m->indices[i],
+        if (mesh_index(m, i) >= m->vertex_count)
+            return ray__fail(s, RAY_EINVAL, "%striangle %zu index %u out "
+                             "of range (%zu vertices)", m->indices != NULL ?
+                             "" : "index_data: ", i / 3, mesh_index(m, i),
                              m->vertex_count);
     for (i = 0; i < m->vertex_count; i++) {
         rc = mesh_vertex_check(s, m, i);
@@ -77,17 +194,50 @@ static int copy_array(const ray_scene *s, const void *src, size_t count,
     return RAY_OK;
 }
 
-/* The shading data of a mesh with normals or texture coordinates. */
+/* The 3 * triangle_count indices as unsigned, whatever their input type
+** (the shading data keeps them in one form). */
+static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
+{
+    size_t n = 3 * m->triangle_count, i;
+    unsigned *idx;
+
+    if (m->indices != NULL)
+        return copy_array(s, m->indices, n, sizeof(unsigned), dst);
+    *dst = NULL;
+    idx = ray__alloc(s, n * sizeof(unsigned));
+    if (idx == NULL)
+        return RAY_ENOMEM;
+    for (i = 0; i < n; i++)
+        idx[i] = mesh_index(m, i);
+    *dst = idx;
+    return RAY_OK;
+}
+
+/*
+** The shading data of a mesh: copies of its indices, normals and texture
+** coordinates when it has either of the latter, or for a borrowed mesh
+** the caller's arrays themselves (and its descriptor, to read its indices
+** and, on update, its positions again).
+*/
 static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
                              ray__mesh *out)
 {
     void *idx, *nrm, *tex;
 
     memset(out, 0, sizeof *out);
+    if (m->flags & RAY_MESH_BORROW) {
+        out->borrowed = 1;
+        out->src = *m;
+        out->indices = m->indices;
+        out->normals = m->normals;
+        out->texcoords = m->texcoords;
+        out->n_vertices = m->vertex_count;
+        out->n_tris = m->triangle_count;
+        return RAY_OK;
+    }
     if (m->normals == NULL && m->texcoords == NULL)
         return RAY_OK;
-    if (copy_array(s, m->indices, 3 * m->triangle_count, sizeof(unsigned),
-                   &idx) != RAY_OK)
+    if (copy_indices(s, m, &idx) != RAY_OK)
         return RAY_ENOMEM;
     if (copy_array(s, m->normals, m->vertex_count, sizeof(ray_vec3), &nrm) !=
         RAY_OK) {
@@ -106,6 +256,19 @@ static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
     out->n_vertices = m->vertex_count;
     out->n_tris = m->triangle_count;
     return RAY_OK;
+}
+
+/* Triangle i of mesh m, its three corners' positions. */
+static void mesh_triangle(const ray_mesh *m, size_t i, ray__tri *t)
+{
+    t->a = mesh_vertex(m, mesh_index(m, 3 * i));
+    t->b = mesh_vertex(m, mesh_index(m, 3 * i + 1));
+    t->c = mesh_vertex(m, mesh_index(m, 3 * i + 2));
+}
+
+unsigned ray__mesh_corner(const ray__mesh *m, size_t k)
+{
+    return m->indices != NULL ? m->indices[k] : mesh_index(&m->src, k);
 }
 
 int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
@@ -138,18 +301,11 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
     rc = ray__add_mesh_prim(s, material, s->n_tris, m->triangle_count,
                             &shading, &id);
     if (rc != RAY_OK) {
-        ray__free(s, shading.indices, 3 * shading.n_tris * sizeof(unsigned));
-        ray__free(s, shading.normals, shading.n_vertices * sizeof(ray_vec3));
-        ray__free(s, shading.texcoords,
-                  2 * shading.n_vertices * sizeof(double));
+        ray__mesh_release(s, &shading);
         return rc;
     }
     for (i = 0; i < m->triangle_count; i++) {
-        const unsigned *t = m->indices + 3 * i;
-        ray__tri *tri = &s->tris[s->n_tris + i];
-        tri->a = m->vertices[t[0]];
-        tri->b = m->vertices[t[1]];
-        tri->c = m->vertices[t[2]];
+        mesh_triangle(m, i, &s->tris[s->n_tris + i]);
         s->tri_ids[s->n_tris + i].geom_id = id;
         s->tri_ids[s->n_tris + i].prim_id = (unsigned)i;
     }
@@ -161,27 +317,34 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
 
 /*
 ** New positions for a mesh: every slot of its triangles (wherever the
-** last commit put them: tri_ids name them) rewritten from "m", its
-** shading data replaced, and the triangle BVH refitted at the next
-** commit.  The triangle count stays: that is what makes a refit enough.
+** last commit put them: tri_ids name them) rewritten from "m" (NULL: the
+** borrowed arrays again, changed in place by the caller), its shading
+** data replaced, and the triangle BVH refitted at the next commit.  The
+** triangle count stays: that is what makes a refit enough.
 */
 int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
 {
     ray__mesh shading;
+    ray_mesh again;
     ray__prim *p;
     size_t i;
     int rc = ray__begin(s, "ray_scene_update_mesh");
 
     if (rc != RAY_OK)
         return rc;
-    if (m == NULL)
-        return ray__fail(s, RAY_EINVAL, "mesh is NULL");
     if (geom_id >= s->n_prims || s->prims[geom_id].removed)
         return ray__fail(s, RAY_EINVAL, "no geometry %u", geom_id);
     p = &s->prims[geom_id];
     if (p->kind != RAY__KIND_MESH)
         return ray__fail(s, RAY_EINVAL, "geometry %u is not a mesh",
                          geom_id);
+    if (m == NULL) {
+        if (!s->meshes[p->mesh].borrowed)
+            return ray__fail(s, RAY_EINVAL, "mesh is NULL and geometry %u "
+                             "was not borrowed (RAY_MESH_BORROW)", geom_id);
+        again = s->meshes[p->mesh].src;
+        m = &again;
+    }
     if (m->triangle_count != p->count)
         return ray__fail(s, RAY_EINVAL, "triangle_count %zu: the mesh has "
                          "%zu (an update keeps the count: remove it and add "
@@ -195,12 +358,8 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
     ray__mesh_release(s, &s->meshes[p->mesh]);
     s->meshes[p->mesh] = shading;
     for (i = 0; i < s->n_tris; i++)
-        if (s->tri_ids[i].geom_id == geom_id) {
-            const unsigned *t = m->indices + 3 * (size_t)s->tri_ids[i].prim_id;
-            s->tris[i].a = m->vertices[t[0]];
-            s->tris[i].b = m->vertices[t[1]];
-            s->tris[i].c = m->vertices[t[2]];
-        }
+        if (s->tri_ids[i].geom_id == geom_id)
+            mesh_triangle(m, s->tri_ids[i].prim_id, &s->tris[i]);
     ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
     return RAY_OK;
 }

@@ -84,9 +84,16 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
 
 void ray__mesh_release(const ray_scene *s, ray__mesh *m)
 {
-    ray__free(s, m->indices, 3 * m->n_tris * sizeof *m->indices);
-    ray__free(s, m->normals, m->n_vertices * sizeof *m->normals);
-    ray__free(s, m->texcoords, 2 * m->n_vertices * sizeof *m->texcoords);
+    /* The scene's own copies: freed through a cast, as allocated. */
+    if (!m->borrowed) {
+        ray__free(s, ray__unconst(m->indices),
+                  3 * m->n_tris * sizeof *m->indices);
+        ray__free(s, ray__unconst(m->normals),
+                  m->n_vertices * sizeof *m->normals);
+        ray__free(s, ray__unconst(m->texcoords),
+                  2 * m->n_vertices * sizeof *m->texcoords);
+    }
+    m->borrowed = 0;
     m->indices = NULL;
     m->normals = NULL;
     m->texcoords = NULL;

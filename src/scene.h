@@ -86,14 +86,24 @@ typedef struct ray__tri_id {
     unsigned geom_id, prim_id;
 } ray__tri_id;
 
-/* What a mesh keeps for shading: its index triples, and its per-vertex
-** normals and texture coordinates when it has them (else NULL). */
+/*
+** What a mesh keeps for shading: its index triples, and its per-vertex
+** normals and texture coordinates when it has them (else NULL); copies
+** the scene owns, or for a borrowed mesh (RAY_MESH_BORROW) the caller's
+** own arrays, its indices read through "src" (the caller's descriptor,
+** also what ray_scene_update_mesh(.., NULL) reads again).
+*/
 typedef struct ray__mesh {
-    unsigned *indices;
-    ray_vec3 *normals;
-    double *texcoords;
+    const unsigned *indices;     /* copied (or the caller's unsigned) */
+    const ray_vec3 *normals;
+    const double *texcoords;
     size_t n_vertices, n_tris;
+    int borrowed;                /* the arrays are the caller's */
+    ray_mesh src;                /* borrowed: the caller's descriptor */
 } ray__mesh;
+
+/* Corner k (0 .. 3 n_tris - 1) of mesh m's triangles, for shading. */
+unsigned ray__mesh_corner(const ray__mesh *m, size_t k);
 
 /* A light as added, with the unit vector every sample of it needs
 ** computed once when it is added: the direction toward a directional

@@ -123,15 +123,19 @@ static void mesh_shading(const ray_scene *top, const ray_hit *hit,
     const ray_scene *s = in != NULL ? in->child : top;
     const ray__prim *p = &s->prims[hit->geom_id];
     const ray__mesh *m;
-    const unsigned *t;
+    unsigned t[3];
+    size_t k;
     double w0 = 1.0 - hit->u - hit->v, w1 = hit->u, w2 = hit->v;
 
     if (p->kind != RAY__KIND_MESH)
         return;
     m = &s->meshes[p->mesh];
-    if (m->indices == NULL)
+    if (m->normals == NULL && m->texcoords == NULL)
         return;
-    t = m->indices + 3 * (size_t)hit->prim_id;
+    k = 3 * (size_t)hit->prim_id;
+    t[0] = ray__mesh_corner(m, k);
+    t[1] = ray__mesh_corner(m, k + 1);
+    t[2] = ray__mesh_corner(m, k + 2);
     if (m->normals != NULL) {
         ray_vec3 n = v3_add(v3_add(v3_scale(m->normals[t[0]], w0),
                                    v3_scale(m->normals[t[1]], w1)),

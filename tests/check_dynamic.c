@@ -6,6 +6,7 @@
 ** a sphere) and every hit along a ray, each against a brute-force or a
 ** freshly built answer.
 */
+#include <stdint.h>
 #include <stdlib.h>
 
 #include "tests.h"
@@ -112,6 +113,119 @@ START_TEST(refit_should_answer_as_a_rebuild)
     hc_mesh_free(&ball);
     hc_mesh_free(&cube);
     free(v);
+}
+END_TEST
+
+/* A game's vertex: position and normal as floats, 24 bytes. */
+typedef struct game_vertex {
+    float pos[3];
+    float normal[3];
+} game_vertex;
+
+/* A material that reports the shading normal it was given as a colour. */
+static void normal_colour(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                          ray_rgb *out)
+{
+    (void)ud;
+    (void)ctx;
+    out->r = a->shading_normal.x;
+    out->g = a->shading_normal.y;
+    out->b = a->shading_normal.z;
+}
+
+/*
+** A borrowed mesh (RAY_MESH_BORROW): interleaved float positions, 16-bit
+** indices, double normals, none of them copied.  The caller moves the
+** positions in place; ray_scene_update_mesh(.., NULL) reads them again,
+** and after the commit the scene answers as one built afresh from the
+** moved positions, bit for bit.  Shading reads the borrowed normals.  A
+** copied mesh cannot be updated from NULL; unknown flags are refused.
+*/
+START_TEST(borrowed_mesh_should_be_read_again_in_place)
+{
+    hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
+    game_vertex *gv = malloc(ball.nv * sizeof *gv);
+    uint16_t *idx16 = malloc(3 * ball.nt * sizeof *idx16);
+    ray_vec3 *nrm = malloc(ball.nv * sizeof *nrm), *moved = malloc(ball.nv * sizeof *moved);
+    ray_material mat = {normal_colour, NULL, 0};
+    ray_mesh m, copied;
+    ray_scene *s, *fresh;
+    ray_ctx *ctx;
+    rng g = {24};
+    unsigned id, mid, cid;
+    size_t i;
+    int k, hits = 0;
+
+    for (i = 0; i < ball.nv; i++) {
+        gv[i].pos[0] = (float)ball.v[i].x;
+        gv[i].pos[1] = (float)ball.v[i].y;
+        gv[i].pos[2] = (float)ball.v[i].z;
+        nrm[i] = vec(0, 0, 1);                 /* a flat lie: seen in shading */
+    }
+    for (i = 0; i < 3 * ball.nt; i++)
+        idx16[i] = (uint16_t)ball.idx[i];
+    ray_mesh_init(&m);
+    m.positions = gv;
+    m.position_stride = sizeof *gv;
+    m.position_type = RAY_FLOAT32;
+    m.vertex_count = ball.nv;
+    m.index_data = idx16;
+    m.index_type = RAY_UINT16;
+    m.triangle_count = ball.nt;
+    m.normals = nrm;
+    m.flags = RAY_MESH_BORROW;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mat, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mid, &id), RAY_OK);
+    copied = m;
+    copied.flags = 0;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &copied, mid, &cid), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_enabled(s, cid, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* Moved in place: the scene sees it at the update and commit. */
+    for (i = 0; i < ball.nv; i++) {
+        gv[i].pos[0] = (float)(gv[i].pos[0] * 1.5f + 0.25f);
+        moved[i] = vec(gv[i].pos[0], gv[i].pos[1], gv[i].pos[2]);
+    }
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
+    copied = m;
+    copied.flags = 0;
+    copied.positions = NULL;
+    copied.vertices = moved;
+    ck_assert_int_eq(ray_scene_add_mesh(fresh, &copied, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(fresh), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    for (k = 0; k < 2000; k++) {
+        ray_ray r = random_ray(&g);
+        ray_hit a, b;
+        ray_rgb c;
+        int ha = ray_intersect(s, &r, &a);
+        ck_assert_int_eq(ha, ray_intersect(fresh, &r, &b));
+        if (ha != 1)
+            continue;
+        hits++;
+        ck_assert(a.t == b.t && a.prim_id == b.prim_id && a.geom_id == id);
+        /* Shading: the borrowed normals (0, 0, 1), turned to the ray. */
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
+        ck_assert(c.r == 0 && c.g == 0 && fabs(c.b) == 1);
+    }
+    ck_assert_int_gt(hits, 500);
+    ck_assert_int_eq(ray_scene_update_mesh(s, cid, NULL), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "RAY_MESH_BORROW"));
+    copied.flags = 4;
+    ck_assert_int_eq(ray_scene_update_mesh(s, cid, &copied), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &copied, mid, NULL), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "flags"));
+    ray_ctx_free(ctx);
+    ray_scene_free(fresh);
+    ray_scene_free(s);
+    hc_mesh_free(&ball);
+    free(gv);
+    free(idx16);
+    free(nrm);
+    free(moved);
 }
 END_TEST
 
@@ -526,6 +640,7 @@ Suite *dynamic_suite(void)
     TCase *tc = tcase_create("core");
 
     tcase_add_test(tc, refit_should_answer_as_a_rebuild);
+    tcase_add_test(tc, borrowed_mesh_should_be_read_again_in_place);
     tcase_add_test(tc, geometry_should_come_and_go_after_commit);
     tcase_add_test(tc, updates_should_refuse_bad_input);
     tcase_add_test(tc, masks_should_pick_geometry_by_shared_bits);

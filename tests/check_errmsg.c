@@ -26,6 +26,7 @@ static void mesh_init(mesh_data *d)
 {
     int i;
 
+    ray_mesh_init(&d->m);
     d->v[0] = vec(0, 0, 0);
     d->v[1] = vec(1, 0, 0);
     d->v[2] = vec(0, 1, 0);
@@ -262,6 +263,137 @@ static int mesh_null_indices(ray_scene *s)
     mesh_data d;
     mesh_init(&d);
     d.m.indices = NULL;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+/* One triangle as a game keeps it: float positions, each followed by a
+** fourth float (stride 16), and 16-bit indices. */
+typedef struct game_mesh_data {
+    float v[3][4];
+    uint16_t idx[3];
+    ray_mesh m;
+} game_mesh_data;
+
+static void game_mesh_init(game_mesh_data *d)
+{
+    static const float v[3][4] = {{0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}};
+    int i;
+
+    memcpy(d->v, v, sizeof v);
+    for (i = 0; i < 3; i++)
+        d->idx[i] = (uint16_t)i;
+    ray_mesh_init(&d->m);
+    d->m.positions = d->v;
+    d->m.position_stride = sizeof d->v[0];
+    d->m.position_type = RAY_FLOAT32;
+    d->m.vertex_count = 3;
+    d->m.index_data = d->idx;
+    d->m.index_type = RAY_UINT16;
+    d->m.triangle_count = 1;
+}
+
+static int game_mesh_short_stride(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.position_stride = 8;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_null_positions(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.positions = NULL;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_no_position_type(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.position_type = 0;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_bad_index_type(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.index_type = RAY_FLOAT32;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_null_index_data(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.index_data = NULL;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_index_5_of_3(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.idx[2] = 5;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_inf_position(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.v[1][1] = (float)INFINITY;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_nan_position(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.v[2][0] = NAN;             /* C99 7.12: NAN is a float constant */
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_position_type_uint16(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.position_type = RAY_UINT16;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+static int game_mesh_no_index_type(ray_scene *s)
+{
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.index_type = 0;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+/* Doubles need 24 bytes a position: a float-sized stride of 16 is short. */
+static int game_mesh_double_short_stride(ray_scene *s)
+{
+    double v[3][2];
+    game_mesh_data d;
+    game_mesh_init(&d);
+    memset(v, 0, sizeof v);
+    d.m.positions = v;
+    d.m.position_type = RAY_FLOAT64;
+    d.m.position_stride = 16;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
+/* 32-bit indices: index 3 of 3 vertices, the first out of range. */
+static int game_mesh_uint32_index_3_of_3(ray_scene *s)
+{
+    static const uint32_t idx[6] = {0, 1, 2, 2, 1, 3};
+    game_mesh_data d;
+    game_mesh_init(&d);
+    d.m.index_data = idx;
+    d.m.index_type = RAY_UINT32;
+    d.m.triangle_count = 2;
     return ray_scene_add_mesh(s, &d.m, 0, NULL);
 }
 
@@ -641,8 +773,34 @@ static const errcase cases[] = {
     {polygon_unknown_material, RAY_EINVAL,
      "ray_scene_add_polygon: material 3 does not exist (the scene has 1)"},
     {mesh_null, RAY_EINVAL, "ray_scene_add_mesh: mesh is NULL"},
-    {mesh_null_vertices, RAY_EINVAL, "ray_scene_add_mesh: vertices is NULL"},
-    {mesh_null_indices, RAY_EINVAL, "ray_scene_add_mesh: indices is NULL"},
+    {mesh_null_vertices, RAY_EINVAL,
+     "ray_scene_add_mesh: vertices and positions are both NULL"},
+    {mesh_null_indices, RAY_EINVAL,
+     "ray_scene_add_mesh: indices and index_data are both NULL"},
+    {game_mesh_short_stride, RAY_EINVAL, "ray_scene_add_mesh: "
+     "position_stride 8 is smaller than a position (12 bytes)"},
+    {game_mesh_double_short_stride, RAY_EINVAL, "ray_scene_add_mesh: "
+     "position_stride 16 is smaller than a position (24 bytes)"},
+    {game_mesh_null_positions, RAY_EINVAL,
+     "ray_scene_add_mesh: vertices and positions are both NULL"},
+    {game_mesh_no_position_type, RAY_EINVAL, "ray_scene_add_mesh: "
+     "position_type 0 is not RAY_FLOAT32 or RAY_FLOAT64"},
+    {game_mesh_position_type_uint16, RAY_EINVAL, "ray_scene_add_mesh: "
+     "position_type 3 is not RAY_FLOAT32 or RAY_FLOAT64"},
+    {game_mesh_bad_index_type, RAY_EINVAL, "ray_scene_add_mesh: "
+     "index_type 1 is not RAY_UINT16 or RAY_UINT32"},
+    {game_mesh_no_index_type, RAY_EINVAL, "ray_scene_add_mesh: "
+     "index_type 0 is not RAY_UINT16 or RAY_UINT32"},
+    {game_mesh_null_index_data, RAY_EINVAL,
+     "ray_scene_add_mesh: indices and index_data are both NULL"},
+    {game_mesh_index_5_of_3, RAY_EINVAL, "ray_scene_add_mesh: "
+     "index_data: triangle 0 index 5 out of range (3 vertices)"},
+    {game_mesh_uint32_index_3_of_3, RAY_EINVAL, "ray_scene_add_mesh: "
+     "index_data: triangle 1 index 3 out of range (3 vertices)"},
+    {game_mesh_inf_position, RAY_EINVAL,
+     "ray_scene_add_mesh: position 1 (1, inf, 0) is not finite"},
+    {game_mesh_nan_position, RAY_EINVAL,
+     "ray_scene_add_mesh: position 2 (nan, 1, 0) is not finite"},
     {mesh_no_vertices, RAY_EINVAL,
      "ray_scene_add_mesh: no vertices (vertex_count 0)"},
     {mesh_no_triangles, RAY_EINVAL,

@@ -447,9 +447,13 @@ out:
     return rc;
 }
 
-/* A pyramid twice: with normals and texture coordinates, and bare. */
+/* A pyramid three times: with normals and texture coordinates, bare,
+** and as a game gives it (float positions, 16-bit indices, whose copy
+** for shading is one more allocation) with normals. */
 static int add_meshes(env *e, ray_scene *s, unsigned mat)
 {
+    static const uint16_t idx16[12] = {0, 4, 1, 1, 4, 2, 2, 4, 3, 3, 4, 0};
+    float fpos[5][3];
     static const ray_vec3 v[5] = {
         {0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, {0.5, 1, 0.5}};
     static const ray_vec3 n[5] = {
@@ -474,6 +478,19 @@ static int add_meshes(env *e, ray_scene *s, unsigned mat)
         moved[i] = vec(v[i].x + 1.5, v[i].y, v[i].z + 1);
     m.normals = NULL;
     m.texcoords = NULL;
+    CALL(e, ray_scene_add_mesh(s, &m, mat, NULL));
+    for (i = 0; i < 5; i++) {
+        fpos[i][0] = (float)v[i].x - 0.5f;
+        fpos[i][1] = (float)v[i].y;
+        fpos[i][2] = (float)v[i].z - 2.0f;
+    }
+    m.vertices = NULL;
+    m.indices = NULL;
+    m.positions = fpos;
+    m.position_type = RAY_FLOAT32;
+    m.index_data = idx16;
+    m.index_type = RAY_UINT16;
+    m.normals = n;
     CALL(e, ray_scene_add_mesh(s, &m, mat, NULL));
 out:
     return rc;
