@@ -21,9 +21,7 @@
 #include "obj.h"
 #include "common.h"
 
-#ifdef HAVE_EMBREE
-#include <embree3/rtcore.h>
-#endif
+#include "embree.h"
 
 #define REPS 7
 
@@ -80,26 +78,15 @@ static void refit_row(const char *name, const obj_mesh *m)
 #ifdef HAVE_EMBREE
     RTCDevice dev = rtcNewDevice(NULL);
     RTCScene es = rtcNewScene(dev);
-    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *ev = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                        m->vertex_count);
-    unsigned *ei = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
-                                           RTC_FORMAT_UINT3,
-                                           3 * sizeof(unsigned),
-                                           m->triangle_count);
-    memcpy(ei, m->indices, 3 * m->triangle_count * sizeof *ei);
+    float *ev;
+    RTCGeometry g = embree_triangles(dev, v, m->vertex_count, m->indices,
+                                     m->triangle_count, &ev);
     /* Embree uses a geometry's build quality (REFIT here) only in a scene
     ** of build quality LOW, its two-level mode (rtcSetGeometryBuildQuality
     ** (3)). */
     rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_REFIT);
     rtcSetSceneBuildQuality(es, RTC_BUILD_QUALITY_LOW);
     rtcSetSceneFlags(es, RTC_SCENE_FLAG_DYNAMIC);
-    for (size_t i = 0; i < m->vertex_count; i++) {
-        ev[3 * i] = (float)v[i].x;
-        ev[3 * i + 1] = (float)v[i].y;
-        ev[3 * i + 2] = (float)v[i].z;
-    }
     rtcCommitGeometry(g);
     rtcAttachGeometry(es, g);
     rtcCommitScene(es);
@@ -117,11 +104,7 @@ static void refit_row(const char *name, const obj_mesh *m)
         rebuild[k] = now_seconds() - t;
 #ifdef HAVE_EMBREE
         t = now_seconds();
-        for (size_t i = 0; i < m->vertex_count; i++) {
-            ev[3 * i] = (float)v[i].x;
-            ev[3 * i + 1] = (float)v[i].y;
-            ev[3 * i + 2] = (float)v[i].z;
-        }
+        embree_positions(ev, v, m->vertex_count);
         rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0);
         rtcCommitGeometry(g);
         rtcCommitScene(es);
@@ -213,21 +196,9 @@ static void instances_row(const obj_mesh *m)
 #ifdef HAVE_EMBREE
     RTCDevice dev = rtcNewDevice(NULL);
     RTCScene ec = rtcNewScene(dev), et = rtcNewScene(dev);
-    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry g = embree_triangles(dev, m->vertices, m->vertex_count,
+                                     m->indices, m->triangle_count, NULL);
     RTCGeometry *inst = malloc((size_t)n * sizeof *inst);
-    float *ev = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                        m->vertex_count);
-    unsigned *ei = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
-                                           RTC_FORMAT_UINT3,
-                                           3 * sizeof(unsigned),
-                                           m->triangle_count);
-    for (size_t j = 0; j < m->vertex_count; j++) {
-        ev[3 * j] = (float)m->vertices[j].x;
-        ev[3 * j + 1] = (float)m->vertices[j].y;
-        ev[3 * j + 2] = (float)m->vertices[j].z;
-    }
-    memcpy(ei, m->indices, 3 * m->triangle_count * sizeof *ei);
     rtcCommitGeometry(g);
     rtcAttachGeometry(ec, g);
     rtcCommitScene(ec);

@@ -237,6 +237,29 @@ typedef struct example_cli {
     unsigned samples;           /* default samples per pixel (if sized) */
 } example_cli;
 
+/*
+** The command line of an example that takes no arguments (it writes no
+** file): 0 when there are none; -h or --help prints "usage: NAME (no
+** arguments)" and "what" on stdout, anything else is refused on stderr
+** with the usage; both return 2, the status to exit with.
+*/
+static inline int example_no_arguments(int argc, char **argv,
+                                       const char *name, const char *what)
+{
+    int help;
+
+    if (argc <= 1)
+        return 0;
+    help = strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0;
+    if (!help)
+        fprintf(stderr, "%s: %s '%s'\n", name,
+                argv[1][0] == '-' ? "unknown option" : "unexpected argument",
+                argv[1]);
+    fprintf(help ? stdout : stderr, "usage: %s (no arguments)\n%s\n", name,
+            what);
+    return 2;
+}
+
 /* What a command line asked for. */
 typedef struct example_args {
     const char *name;           /* the program's name */

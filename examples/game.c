@@ -180,21 +180,12 @@ int main(int argc, char **argv)
     unsigned long long picks = 0, sights = 0, blocked = 0, wrong = 0;
     ray_transform xf;
 
-    if (argc > 1) {
-        int help = strcmp(argv[1], "-h") == 0 ||
-                   strcmp(argv[1], "--help") == 0;
-        if (!help)
-            fprintf(stderr, "game: %s '%s'\n",
-                    argv[1][0] == '-' ? "unknown option"
-                                      : "unexpected argument", argv[1]);
-        fprintf(help ? stdout : stderr,
-                "usage: game (no arguments)\n"
-                "A headless game loop: %d moving instances over a terrain, "
-                "committed every frame, queried from %d threads.\n"
-                "Environment: RAY_GAME_FRAMES (default 60).\n",
-                OBJECTS, THREADS);
+    if (example_no_arguments(argc, argv, "game",
+                             "A headless game loop: 200 moving instances "
+                             "over a terrain, committed every frame, queried "
+                             "from 2 threads.\nEnvironment: RAY_GAME_FRAMES "
+                             "(default 60).") != 0)
         return 2;
-    }
     if (frames == 0 || frames > 100000)
         frames = 60;
     commit_s = malloc(frames * sizeof *commit_s);

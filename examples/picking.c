@@ -154,20 +154,11 @@ int main(int argc, char **argv)
 
     /* The examples' conventions (examples/common.h): -h and --help print
     ** the usage on stdout, anything else is refused; both exit 2. */
-    if (argc > 1) {
-        int help = strcmp(argv[1], "-h") == 0 ||
-                   strcmp(argv[1], "--help") == 0;
-        if (!help)
-            fprintf(stderr, "picking: %s '%s'\n",
-                    argv[1][0] == '-' ? "unknown option"
-                                      : "unexpected argument", argv[1]);
-        fprintf(help ? stdout : stderr,
-                "usage: picking (no arguments)\n"
-                "Picks with mouse rays and checks lines of sight on a small "
-                "scene, from %d threads; exits 1 if an answer is wrong.\n",
-                THREADS);
+    if (example_no_arguments(argc, argv, "picking",
+                             "Picks with mouse rays and checks lines of "
+                             "sight on a small scene, from 4 threads; exits "
+                             "1 if an answer is wrong.") != 0)
         return 2;
-    }
     ray_phong_params_init(&grey);
     m = ray_material_phong(&grey);
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");

@@ -358,8 +358,10 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
     ray__mesh_release(s, &s->meshes[p->mesh]);
     s->meshes[p->mesh] = shading;
     for (i = 0; i < s->n_tris; i++)
-        if (s->tri_ids[i].geom_id == geom_id)
+        if (s->tri_ids[i].geom_id == geom_id) {
             mesh_triangle(m, s->tri_ids[i].prim_id, &s->tris[i]);
+            ray__tri_collapse_unusable(&s->tris[i]);
+        }
     ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
     return RAY_OK;
 }

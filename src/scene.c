@@ -685,13 +685,18 @@ static int tri_live(const ray_scene *s, size_t i)
 ** triangle test misses a point (no edge function is non-zero, so det is
 ** 0) while its box stays finite.
 */
+void ray__tri_collapse_unusable(ray__tri *t)
+{
+    if (!tri_usable(t))
+        t->b = t->c = t->a;
+}
+
 static void tris_collapse_unusable(ray_scene *s, size_t first, size_t end)
 {
     size_t i;
 
     for (i = first; i < end; i++)
-        if (!tri_usable(&s->tris[i]))
-            s->tris[i].b = s->tris[i].c = s->tris[i].a;
+        ray__tri_collapse_unusable(&s->tris[i]);
 }
 
 /* Swap triangle slots i and j (and their ids). */
@@ -755,7 +760,7 @@ static void tri_leaf_box(const void *ud, size_t i, float lo[3], float hi[3])
 
 static void refit_triangles(ray_scene *s)
 {
-    tris_collapse_unusable(s, 0, s->n_live_tris);
+    /* ray_scene_update_mesh collapsed the unusable ones it wrote. */
     ray__bvh_refit(&s->tri_bvh, tri_leaf_box, s);
 }
 

@@ -220,6 +220,11 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
 /* Free a mesh's shading data (its arrays NULL after). */
 void ray__mesh_release(const ray_scene *s, ray__mesh *m);
 
+/* A triangle that has no normal (zero area, or a cross product that
+** overflows) made the point at its first vertex, which no test hits
+** (scene.c explains). */
+void ray__tri_collapse_unusable(ray__tri *t);
+
 /* Room for "more" triangles in the scene's tris/tri_ids arrays. */
 int ray__reserve_tris(ray_scene *s, size_t more);
 

@@ -12,18 +12,6 @@
 #include "tests.h"
 #include "hardcases.h"
 
-static ray_mesh mesh_of(const hc_mesh *h)
-{
-    ray_mesh m;
-
-    ray_mesh_init(&m);
-    m.vertices = h->v;
-    m.vertex_count = h->nv;
-    m.indices = h->idx;
-    m.triangle_count = h->nt;
-    return m;
-}
-
 /* Every vertex of m moved by up to "amount" in each coordinate. */
 static void wobble(ray_vec3 *v, size_t n, rng *g, double amount)
 {
@@ -54,7 +42,7 @@ START_TEST(refit_should_answer_as_a_rebuild)
 {
     hc_mesh ball = hc_icosphere(vec(-3, 0, 0), 3), cube = hc_cube(vec(4, 0, 0));
     ray_vec3 *v = malloc(ball.nv * sizeof *v);
-    ray_mesh mb = mesh_of(&ball), mc = mesh_of(&cube);
+    ray_mesh mb = hc_ray_mesh(&ball), mc = hc_ray_mesh(&cube);
     ray_scene *live;
     rng g = {21};
     unsigned idb, idc;
@@ -71,7 +59,7 @@ START_TEST(refit_should_answer_as_a_rebuild)
     for (round = 0; round < 3; round++) {
         ray_scene *fresh;
         hc_mesh cube2 = hc_cube(vec(4 + round, 0, 0));
-        ray_mesh mc2 = mesh_of(&cube2);
+        ray_mesh mc2 = hc_ray_mesh(&cube2);
         int hits = 0;
         wobble(v, ball.nv, &g, 0.3);
         ck_assert_int_eq(ray_scene_update_mesh(live, idb, &mb), RAY_OK);
@@ -245,7 +233,7 @@ static int first_is(const ray_scene *s, double x, unsigned id)
 START_TEST(geometry_should_come_and_go_after_commit)
 {
     hc_mesh cube = hc_cube(vec(0, 0, 0));
-    ray_mesh m = mesh_of(&cube);
+    ray_mesh m = hc_ray_mesh(&cube);
     ray_scene *s;
     unsigned sph, msh, late;
 
@@ -284,7 +272,7 @@ END_TEST
 START_TEST(updates_should_refuse_bad_input)
 {
     hc_mesh cube = hc_cube(vec(0, 0, 0)), ball = hc_icosphere(vec(0, 0, 0), 1);
-    ray_mesh m = mesh_of(&cube), other = mesh_of(&ball), bad;
+    ray_mesh m = hc_ray_mesh(&cube), other = hc_ray_mesh(&ball), bad;
     ray_vec3 nan_v[8];
     ray_scene *s;
     unsigned msh, sph;
@@ -592,7 +580,7 @@ static int cmp_double(const void *a, const void *b)
 START_TEST(all_hits_should_match_brute_force)
 {
     hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
-    ray_mesh m = mesh_of(&ball);
+    ray_mesh m = hc_ray_mesh(&ball);
     ray_vec3 centres[30];
     ray_scene *s;
     rng g = {23};

@@ -12,18 +12,6 @@
 #include "tests.h"
 #include "hardcases.h"
 
-static ray_mesh mesh_of(const hc_mesh *h)
-{
-    ray_mesh m;
-
-    ray_mesh_init(&m);
-    m.vertices = h->v;
-    m.vertex_count = h->nv;
-    m.indices = h->idx;
-    m.triangle_count = h->nt;
-    return m;
-}
-
 /* A scene with no material at all: the cube [-1, 1]^3 (geometry 0) and a
 ** 320-triangle icosphere of radius 2 around (10, 0, 0) (geometry 1), both
 ** RAY_NO_MATERIAL, committed; *nt_sphere its triangle count. */
@@ -36,10 +24,10 @@ static ray_scene *unshaded_scene(size_t *nt_sphere)
     unsigned id;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    m = mesh_of(&cube);
+    m = hc_ray_mesh(&cube);
     ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
-    m = mesh_of(&ball);
+    m = hc_ray_mesh(&ball);
     ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id), RAY_OK);
     ck_assert_uint_eq(id, 1);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
@@ -111,7 +99,7 @@ START_TEST(meshes_without_material_should_render_black)
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     {
         hc_mesh cube = hc_cube(vec(0, 0, 0));
-        ray_mesh m = mesh_of(&cube);
+        ray_mesh m = hc_ray_mesh(&cube);
         ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL),
                          RAY_OK);
         hc_mesh_free(&cube);

@@ -12,18 +12,6 @@
 #include "tests.h"
 #include "hardcases.h"
 
-static ray_mesh mesh_of(const hc_mesh *h)
-{
-    ray_mesh m;
-
-    ray_mesh_init(&m);
-    m.vertices = h->v;
-    m.vertex_count = h->nv;
-    m.indices = h->idx;
-    m.triangle_count = h->nt;
-    return m;
-}
-
 /* Rotation by angle a about the unit axis u, scaled by s, then moved by
 ** c (Rodrigues' formula). */
 static ray_transform xfm_make(ray_vec3 u, double a, double s, ray_vec3 c)
@@ -71,7 +59,7 @@ static ray_scene *child_scene(hc_mesh *ball)
     ray_scene *s;
 
     *ball = hc_icosphere(vec(0, 0, 0), 2);
-    m = mesh_of(ball);
+    m = hc_ray_mesh(ball);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(4, 0, 0), 0.5, RAY_NO_MATERIAL, NULL), RAY_OK);
@@ -159,7 +147,7 @@ START_TEST(instance_should_match_flattened_geometry)
     ray_scene *child = child_scene(&ball), *top, *flat;
     ray_vec3 *wv = malloc(ball.nv * sizeof *wv);
     ray_vec3 centre = xfm_point(&xf, vec(4, 0, 0));
-    ray_mesh m = mesh_of(&ball);
+    ray_mesh m = hc_ray_mesh(&ball);
     ray_box_params box;
     rng g = {12};
     size_t k;
@@ -264,7 +252,7 @@ START_TEST(closed_mesh_should_not_leak_through_an_instance)
     ray_transform xf = xfm_make(vnorm(vec(-2, 1, 0.5)), 2.1, 0.75,
                                 vec(off, -off, off * 0.25));
     hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
-    ray_mesh m = mesh_of(&ball);
+    ray_mesh m = hc_ray_mesh(&ball);
     ray_scene *child, *top;
     ray_vec3 inside = xfm_point(&xf, vec(0.1, -0.2, 0.05));
     size_t k, lost = 0, rays = 0;

@@ -136,6 +136,19 @@ static inline void hc_mesh_free(hc_mesh *m)
     free(m->idx);
 }
 
+/* The mesh as ray_scene_add_mesh takes it (its arrays, borrowed). */
+static inline ray_mesh hc_ray_mesh(const hc_mesh *h)
+{
+    ray_mesh m;
+
+    ray_mesh_init(&m);
+    m.vertices = h->v;
+    m.vertex_count = h->nv;
+    m.indices = h->idx;
+    m.triangle_count = h->nt;
+    return m;
+}
+
 /* The closed cube [-1,1]^3 + centre, 12 triangles, outward winding. */
 static inline hc_mesh hc_cube(ray_vec3 centre)
 {

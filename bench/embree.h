@@ -1,0 +1,54 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** embree.h -- what the benchmarks that compare with Embree share: a
+** triangle geometry of a mesh in Embree's format (float vertices).  Only
+** with HAVE_EMBREE (the Makefile defines it where Embree's header is).
+** Header-only; not part of the library.
+*/
+#ifndef BENCH_EMBREE_H
+#define BENCH_EMBREE_H
+
+#ifdef HAVE_EMBREE
+#include <string.h>
+#include <embree3/rtcore.h>
+
+#include "ray.h"
+
+/* n positions into Embree's vertex buffer: floats, rounded to nearest. */
+static inline void embree_positions(float *dst, const ray_vec3 *v, size_t n)
+{
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        dst[3 * i] = (float)v[i].x;
+        dst[3 * i + 1] = (float)v[i].y;
+        dst[3 * i + 2] = (float)v[i].z;
+    }
+}
+
+/*
+** A triangle geometry of nv vertices v and nt index triples idx, not yet
+** committed; *vertices (if not NULL) receives its vertex buffer, for
+** updates in place (rtcUpdateGeometryBuffer).
+*/
+static inline RTCGeometry embree_triangles(RTCDevice dev, const ray_vec3 *v,
+                                           size_t nv, const unsigned *idx,
+                                           size_t nt, float **vertices)
+{
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *ev = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                        nv);
+    unsigned *ei = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
+                                           RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), nt);
+
+    embree_positions(ev, v, nv);
+    memcpy(ei, idx, 3 * nt * sizeof *ei);
+    if (vertices != NULL)
+        *vertices = ev;
+    return g;
+}
+#endif
+
+#endif
