@@ -1156,7 +1156,9 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 ** shares a bit with it: layers ("the player's own geometry", "shadow
 ** casters only"); mask 0 hides geometry from every query.  For an
 ** instance both its own mask and the child geometry's must share a bit
-** with the ray's.  Masks are checked per candidate, not in the BVH.
+** with the ray's.  Masks are checked per primitive as the traversal
+** meets it (a triangle after its test, other geometry before), not in
+** the BVH's boxes: hidden geometry still costs its traversal.
 **
 ** A filter is called for every CANDIDATE hit of its geometry, in world
 ** space, before the query accepts it, and answers non-zero (keep) or 0
