@@ -34,17 +34,20 @@
 **     where an object is required is never a crash and never a write: a
 **     status is RAY_EINVAL, an intersection is a miss (0, or -RAY_EINVAL
 **     where the function can report misuse: ray_implicit, ray_parametric,
-**     ray_intersect, ray_occluded), a void function does nothing, and a
-**     query answers its neutral value (0, no texture, a fixed string).
+**     ray_intersect, ray_occluded and their _opt and _all forms), a void
+**     function does nothing, and a query answers its neutral value (0, no
+**     texture, a fixed string).
 **     Outputs documented as optional ("may be NULL") are skipped.
 **   * No function keeps global or static state.  Threads: a scene is
-**     built by one thread at a time (its ray_scene_add_*, ray_scene_set_*,
+**     built and changed by one thread at a time (its ray_scene_add_*,
+**     ray_scene_set_*, ray_scene_update_mesh, ray_scene_remove,
 **     ray_scene_commit, ray_scene_errmsg and ray_scene_free calls must not
-**     overlap); once committed it is read-only and any number of threads
-**     may query and render it at once; a ray_ctx belongs to one thread at
-**     a time; the functions that take no object (the primitives, optics,
-**     ray_strerror) are reentrant.  ray(7), "Threads", states the rule in
-**     full.
+**     overlap one another, nor any query or render of that scene or of a
+**     scene that instances it); once committed, and until its next
+**     change, any number of threads may query and render it at once; a
+**     ray_ctx belongs to one thread at a time; the functions that take no
+**     object (the primitives, optics, ray_strerror) are reentrant.
+**     ray(7), "Threads" and "Dynamic scenes", states the rule in full.
 */
 #ifndef RAY_H
 #define RAY_H
@@ -414,7 +417,7 @@ RAY_API int ray_implicit_torus(const ray_torus_params *t,
 **
 ** ray_scene_add_box -- copies the params; hits as ray_box, prim_id 0.
 ** RAY_EINVAL (with a message naming the field) for params ray_box
-** refuses, or an unknown material; RAY_ENOMEM; RAY_ESTATE after commit.
+** refuses, or an unknown material; RAY_ENOMEM.
 */
 typedef struct ray_box_params {
     ray_vec3 center;
@@ -835,9 +838,16 @@ RAY_API void ray_limits_init(ray_limits *l);
 ** ray_scene_free -- release it; NULL is a no-op.  Free every context made
 ** on a scene (ray_ctx_free) before the scene itself.
 **
-** A scene is built single-threaded, then ray_scene_commit makes it
-** read-only: after that any number of threads may trace it at once, and
-** every ray_scene_add_* / _set_* returns RAY_ESTATE.
+** A scene is built by one thread at a time, then ray_scene_commit makes
+** it queryable: any number of threads may then trace it at once, until
+** it is changed.  Every ray_scene_add_* / _set_* (and
+** ray_scene_update_mesh, ray_scene_remove) is allowed after a commit
+** too: the change is STAGED, and the scene answers no query until it is
+** committed again (ray_intersect and the other queries -RAY_ESTATE,
+** ray_trace RAY_ESTATE, ray_ctx_new and ray_render RAY_EINVAL, its
+** effects 0).  A change must never overlap a query or a render of the
+** scene on another thread: nothing can detect that race ("Changing a
+** committed scene" below; ray(7), "Dynamic scenes").
 */
 RAY_API int ray_scene_new(ray_scene **out, ray_alloc_fn alloc,
                           void *alloc_ud);
@@ -845,7 +855,8 @@ RAY_API void ray_scene_free(ray_scene *scene);
 
 /*
 ** ray_scene_errmsg -- what went wrong in the scene's most recent building
-** call (ray_scene_add_*, ray_scene_set_*, ray_scene_commit), as
+** call (ray_scene_add_*, ray_scene_set_*, ray_scene_update_mesh,
+** ray_scene_remove, ray_scene_commit), as
 ** sqlite3_errmsg: the function's name, then which argument, index or value
 ** failed, e.g. "ray_scene_add_mesh: triangle 0 index 7 out of range (3
 ** vertices)".  The empty string "" when that call succeeded, or before
@@ -860,7 +871,7 @@ RAY_API const char *ray_scene_errmsg(const ray_scene *scene);
 ** Materials are copied into the scene (the ud they point to is borrowed).
 ** *id, if not NULL, receives the material's id, counted from 0.
 ** RAY_EINVAL for a NULL scene, material or shade function, or unknown
-** effect bits; RAY_ENOMEM; RAY_ESTATE after commit.
+** effect bits; RAY_ENOMEM.
 */
 RAY_API int ray_scene_add_material(ray_scene *scene, const ray_material *m,
                                    unsigned *id);
@@ -868,11 +879,12 @@ RAY_API int ray_scene_add_material(ray_scene *scene, const ray_material *m,
 /*
 ** Geometry, each with a material id.  Copied into the scene.  *geom_id,
 ** if not NULL, receives the id that hits report in ray_hit.geom_id
-** (counted from 0 over all geometry).  Errors, with nothing added:
-** RAY_EINVAL for NaN/Inf coordinates, a radius not > 0, a zero normal, an
-** unknown material (RAY_NO_MATERIAL is always known) or fewer than 3
-** polygon vertices; RAY_EDEGENERATE for
-** a zero-area triangle or polygon; RAY_ENOMEM; RAY_ESTATE after commit.
+** (counted from 0 over all geometry, never reused).  Added after a
+** commit, geometry is staged for the next one (ray_scene_new).  Errors,
+** with nothing added: RAY_EINVAL for NaN/Inf coordinates, a radius not
+** > 0, a zero normal, an unknown material (RAY_NO_MATERIAL is always
+** known) or fewer than 3 polygon vertices; RAY_EDEGENERATE for a
+** zero-area triangle or polygon; RAY_ENOMEM.
 */
 RAY_API int ray_scene_add_sphere(ray_scene *scene, ray_vec3 center,
                                  double radius, unsigned material,
@@ -910,10 +922,10 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** positions both NULL, or indices and index_data), no vertices or
 ** triangles, an index >= vertex_count, a NaN/Inf vertex (position),
 ** normal or texture coordinate, an unknown material, an unknown
-** position_type or index_type (when read), or a position_stride other
-** than 0 smaller than a position (12 bytes of floats, 24 of doubles);
-** RAY_ENOMEM (also for more than 2^31 - 1 triangles in the scene);
-** RAY_ESTATE after commit.
+** position_type or index_type (when read), a position_stride other
+** than 0 smaller than a position (12 bytes of floats, 24 of doubles), or
+** flags other than RAY_MESH_BORROW; RAY_ENOMEM (also for more than
+** 2^31 - 1 triangles in the scene).
 **
 ** Memory: each triangle costs 80 bytes (its three vertices, flattened for
 ** traversal, and its ids) plus 23 to 31 bytes of BVH after commit (111 in
@@ -984,8 +996,7 @@ RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
 ** miss of that surface and adds 1 to ray_stats.root_failures.
 **
 ** Errors, with nothing added: RAY_EINVAL (NULLs, an invalid descriptor or
-** torus, a non-finite control point, an unknown material), RAY_ENOMEM,
-** RAY_ESTATE after commit.
+** torus, a non-finite control point, an unknown material), RAY_ENOMEM.
 */
 RAY_API int ray_scene_add_implicit(ray_scene *scene,
                                    const ray_implicit_surface *s,
@@ -1004,7 +1015,7 @@ RAY_API int ray_scene_add_box(ray_scene *scene, const ray_box_params *b,
 ** ray_scene_add_capsule: copies the params; hits as ray_capsule, through
 ** the BVH (the box: the segment's grown by radius).  RAY_EINVAL (with a
 ** message naming the field: ray_scene_errmsg) for what ray_capsule
-** refuses, RAY_ENOMEM, RAY_ESTATE after commit; nothing added.
+** refuses, RAY_ENOMEM; nothing added.
 */
 RAY_API int ray_scene_add_capsule(ray_scene *scene,
                                   const ray_capsule_params *c,
@@ -1080,11 +1091,13 @@ RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 ** path weight falls below min_weight, and materials are told (args->prune)
 ** to spawn nothing that cannot contribute.  0: a naive mode that traces
 ** every declared effect up to max_depth, for measuring what pruning saves
-** (the bench does).  RAY_EINVAL (NULL), RAY_ESTATE after commit.
+** (the bench does).  RAY_EINVAL (NULL).
 **
 ** ray_scene_effects -- after commit, the RAY_EFFECT_* bits the scene can
-** ever need: the union of the effects of the materials its geometry uses,
-** without RAY_EFFECT_SHADOW when it has no lights.  0 before commit.
+** ever need: the union of the effects of the materials its enabled
+** geometry uses (its instances' children's included), without
+** RAY_EFFECT_SHADOW when it has no lights.  0 while not committed
+** (before the first commit, or with a change staged).
 */
 RAY_API int ray_scene_set_pruning(ray_scene *scene, int enabled);
 RAY_API unsigned ray_scene_effects(const ray_scene *scene);
@@ -1096,28 +1109,37 @@ RAY_API unsigned ray_scene_effects(const ray_scene *scene);
 ** double lets 0.1 to 10% of the rays aimed exactly at shared vertices and
 ** edges through, see ray-numerics(7)).  0: with ray_triangle, the
 ** lecture's Cramer's rule, the fast path (bench/RESULTS.md gives both
-** speeds on the bunny).
-** RAY_EINVAL (NULL), RAY_ESTATE after commit.
+** speeds on the bunny).  The setting of an instanced scene applies to its
+** own triangles.  RAY_EINVAL (NULL).
 */
 RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 
 /*
-** ray_scene_commit -- finish building: the scene becomes read-only and
-** safe to share between threads.  Returns RAY_OK, RAY_EINVAL (NULL),
-** RAY_ENOMEM (acceleration structures), or RAY_ESTATE if already
-** committed.
+** ray_scene_commit -- make what was built or changed take effect: the
+** first commit builds the acceleration structures, a later one refits or
+** rebuilds only what changed since ("Changing a committed scene" below)
+** and takes the new boxes of instanced scenes committed again since.
+** The scene then answers queries, from any number of threads, until its
+** next change.  A commit with nothing staged (and no instanced scene
+** committed again) does nothing and returns RAY_OK.  Returns RAY_OK,
+** RAY_EINVAL (NULL, or an instanced scene that now has planes or
+** instances), RAY_ESTATE (an instanced scene changed and not committed
+** again: commit it first) or RAY_ENOMEM (acceleration structures); on
+** failure the changes stay staged and the commit may be retried.
 */
 RAY_API int ray_scene_commit(ray_scene *scene);
 
 /*
-** Queries on a committed scene, from any thread.  ray_intersect: the
-** nearest hit in (tmin, tmax), with geom_id set and prim_id the
-** triangle's index for a mesh, 0 otherwise (1), or a miss (0, *hit
-** untouched).  ray_occluded: 1 if anything lies in (tmin, tmax) (any-hit,
-** stops at the first), else 0.  Misuse is a NEGATED status, never taken
-** for a miss: -RAY_EINVAL for a NULL pointer, -RAY_ESTATE for a scene not
-** yet committed (*hit untouched).  So test "> 0" for a hit: a negative
-** value is true in C.
+** Queries on a committed scene, from any thread (while no thread changes
+** it).  ray_intersect: the nearest hit in (tmin, tmax), with geom_id set
+** and prim_id the triangle's index for a mesh, 0 otherwise (1), or a
+** miss (0, *hit untouched).  ray_occluded: 1 if anything lies in (tmin,
+** tmax) (any-hit, stops at the first), else 0.  Misuse is a NEGATED
+** status, never taken for a miss: -RAY_EINVAL for a NULL pointer,
+** -RAY_ESTATE for a scene not committed (never, or changed since its
+** last commit) or when the ray meets an instance whose scene was changed
+** since this scene's commit (*hit untouched).  So test "> 0" for a hit:
+** a negative value is true in C.
 */
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);
@@ -1141,20 +1163,27 @@ RAY_API void ray_transform_identity(ray_transform *t);
 ** ray_scene_add_instance -- place the committed scene "child" in "scene"
 ** with transform "xfm" (a two-level hierarchy: Embree's instances).
 ** The child's geometry is stored once however often it is placed; an
-** instance costs a few hundred bytes (bench/game measures it).  Hits
+** instance costs about 450 to 600 bytes on x86-64 (its record, its share
+** of the BVH and the arrays' room to grow: measured with a counting
+** allocator over 1,000 and 100,000 instances).  Hits
 ** through it report the child's geom_id and prim_id and, in
 ** ray_hit.inst_id, the instance's own geom_id in "scene"; t is the
 ** world ray's; p and n are in world space (n transformed by the inverse
 ** transpose of L, renormalised), p_err grows by the transform's rounding
 ** both ways, so ray_spawn stays free of self-hits (ray-numerics(7)).  An
 ** identity transform gives bit-identical t, p, n, u and v to the child's
-** own answer.  Rendering shades with the child's materials; the child's
-** lights, background and settings are not used.
+** own answer.  Rendering shades with the child's materials (and its
+** meshes' normals and texture coordinates) and tests its triangles as
+** its ray_scene_set_watertight says; the child's lights, background,
+** ambient light, limits and pruning are not used: the scene's are.
 **
-** The child is BORROWED: it must outlive "scene".  It may be changed and
-** re-committed later (an animated mesh): "scene" must then be committed
-** again before its next query, which otherwise fails with -RAY_ESTATE when
-** it meets the instance.  Errors, with nothing added: RAY_EINVAL for
+** The child is BORROWED: it must outlive "scene" (or the instance's
+** removal).  It may be changed and re-committed later (an animated mesh):
+** "scene" must then be committed again before its next query, which
+** otherwise fails with -RAY_ESTATE when it meets the instance (ray_trace:
+** RAY_ESTATE; ray_render shades such rays black).  A change to the child
+** counts as a change to every scene that instances it: never while one
+** of them is queried.  Errors, with nothing added: RAY_EINVAL for
 ** NULLs, child == scene, a non-finite transform, a singular L (|det L|
 ** below 8 ulps of the product of its row lengths: not invertible to
 ** working precision), a child that has instances itself (two levels
@@ -1169,25 +1198,34 @@ RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
 ** Changing a committed scene (ray(7), "Dynamic scenes").  After a commit
 ** every building call is allowed again: a change is STAGED and takes
 ** effect at the next ray_scene_commit, which refits or rebuilds only what
-** changed: moved instances and added, removed, enabled or disabled
-** geometry rebuild the BVH of their class (the top level of instances;
-** the triangles; the other bounded kinds) and keep the others; updated
-** mesh vertices refit the triangle BVH in place (no rebuild).  Between
-** the change and that commit the scene answers no query (-RAY_ESTATE,
-** and ray_trace RAY_ESTATE): one writer at a time, and never while a
-** query runs on another thread (that race cannot be detected).  A failed
-** call changes nothing, and a committed scene stays committed.
+** changed.  A scene has two BVHs: one over its triangles (triangles and
+** meshes) and one over the rest of its bounded geometry (spheres,
+** polygons, curved surfaces, boxes, capsules and instances, with the
+** list of planes beside it).  Added, removed, enabled or disabled
+** geometry rebuilds the one that holds its kind, and so does a moved
+** instance (or an instanced scene committed again: the second one); the
+** other is kept.  Updated mesh vertices refit the triangle BVH in place
+** (new boxes, same tree: no rebuild).  Materials, lights, settings,
+** masks and filters rebuild nothing, but still need the commit.  Between
+** the change and that commit the scene answers no query (-RAY_ESTATE;
+** ray_trace RAY_ESTATE; ray_ctx_new and ray_render RAY_EINVAL): one
+** writer at a time, and never while a query or render runs on another
+** thread (that race cannot be detected).  A failed call changes nothing,
+** and a committed scene stays committed.
 **
 ** ray_scene_set_transform -- a new transform for instance "geom_id".
-** ray_scene_update_mesh -- new positions for mesh "geom_id": "mesh" gives
-**   the same triangle_count (vertices or positions, indices or
-**   index_data, optional normals and texture coordinates as
-**   ray_scene_add_mesh reads them; the triangles may index other
-**   vertices than before); NULL reads a borrowed mesh's arrays
-**   (RAY_MESH_BORROW) again, after the caller changed them in place.
+** ray_scene_update_mesh -- new positions for mesh "geom_id": "mesh" is
+**   read (and copied, or borrowed) as ray_scene_add_mesh reads it, with
+**   the same triangle_count (the vertex count may differ, the triangles
+**   may index other vertices than before, and the normals and texture
+**   coordinates are replaced: a mesh without them drops them); a NULL
+**   "mesh" reads a borrowed mesh's own arrays (RAY_MESH_BORROW) again,
+**   after the caller changed its positions in place.
 ** ray_scene_set_enabled -- 0 hides geometry "geom_id" from every query
 **   (and from shading and effects) until it is enabled again; 1 shows it.
-** ray_scene_remove -- removes it for good; its id is not reused.
+**   Setting the state it already has stages nothing.
+** ray_scene_remove -- removes it for good; its id is not reused, its
+**   triangles are freed at the next commit.
 ** Errors: RAY_EINVAL for NULLs, an id that names no geometry (or removed
 ** geometry), the wrong kind (set_transform on anything but an instance,
 ** update_mesh on anything but a mesh), another triangle count, or
@@ -1203,31 +1241,37 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 
 /*
 ** Masks and filters.  Every geometry has a 32-bit visibility mask (all
-** bits by default); a query's ray_query.mask (all bits for ray_intersect
-** and ray_occluded) sees only geometry whose mask shares a bit with it:
-** layers ("the player's own geometry", "shadow casters only").  For an
+** bits by default); a query's ray_query.mask (all bits for ray_intersect,
+** ray_occluded and the renderer's rays) sees only geometry whose mask
+** shares a bit with it: layers ("the player's own geometry", "shadow
+** casters only"); mask 0 hides geometry from every query.  For an
 ** instance both its own mask and the child geometry's must share a bit
-** with the ray's.
+** with the ray's.  Masks are checked per primitive as the traversal
+** meets it (a triangle after its test, other geometry before), not in
+** the BVH's boxes: hidden geometry still costs its traversal.
 **
 ** A filter is called for every CANDIDATE hit of its geometry, in world
-** space, before the query accepts it, and answers 1 (keep) or 0 (reject:
-** the query goes on as if that surface were not there): alpha cut-outs,
-** ignoring the shooter, transparent shadows.  "queries" says which
-** queries call it: RAY_FILTER_INTERSECT (nearest hit: ray_intersect,
-** ray_intersect_opt, ray_trace's rays), RAY_FILTER_OCCLUDED (any hit:
-** ray_occluded, ray_occluded_opt, shadow rays), or both; ray_intersect_all
-** calls both kinds.  "query_ud" is the ray_query's user pointer (NULL
-** from the plain queries and the renderer).  A filter runs CONCURRENTLY
-** from query threads; it must be a pure function of its arguments (and
-** of data nobody changes meanwhile), or answers stop being reproducible.
-** Candidates are offered in traversal order, not in order of t, and a
-** candidate farther than an accepted hit may never be offered.  A curved
-** surface whose hit is rejected is asked again past it (its far side):
-** at most 16 times per surface and ray.  Each call counts in
-** ray_stats.filter_calls; geometry without a filter costs no call, and a
-** scene without masks or filters takes the same path as before.
-** ray_scene_set_filter with fn NULL removes it.  Filters on instances
-** are refused (RAY_EINVAL): set them on the child's geometry.
+** space, before the query accepts it, and answers non-zero (keep) or 0
+** (reject: the query goes on as if that surface were not there): alpha
+** cut-outs, ignoring the shooter, transparent shadows.  "queries" says
+** which queries call it: RAY_FILTER_INTERSECT (nearest hit:
+** ray_intersect, ray_intersect_opt, ray_trace's and ray_render's rays),
+** RAY_FILTER_OCCLUDED (any hit: ray_occluded, ray_occluded_opt, shadow
+** rays), or both; ray_intersect_all calls both kinds.  "query_ud" is the
+** ray_query's user pointer (NULL from the plain queries and the
+** renderer).  A filter runs CONCURRENTLY from query threads; it must be a
+** pure function of its arguments (and of data nobody changes meanwhile),
+** or answers stop being reproducible.  Candidates are offered in
+** traversal order, not in order of t; a kept candidate need not be the
+** answer (a nearer one may come later), and a candidate farther than a
+** kept hit may never be offered.  A curved surface whose hit is rejected
+** is asked again past it (its far side): at most 16 times per surface and
+** ray.  Each call counts in ray_stats.filter_calls; geometry without a
+** filter costs no call, and a scene without masks or filters takes the
+** ungated path, at no cost.  ray_scene_set_filter with fn NULL removes
+** it.  Filters on instances are refused (RAY_EINVAL): set them on the
+** child's geometry.  Masks and filters are changes like the others:
+** staged until the next commit, which rebuilds nothing for them.
 ** Errors: RAY_EINVAL (NULL scene, unknown or removed geometry, queries
 ** with unknown bits or 0 with a filter); RAY_ENOMEM never.
 */
@@ -1261,12 +1305,15 @@ RAY_API void ray_query_init(ray_query *q);
 ** ray_intersect_all -- every hit along the ray in (tmin, tmax), nearest
 ** first (ties in t by geom_id, then prim_id, then inst_id), through masks
 ** and filters: line of sight through glass, counting layers.  Writes the
-** first "cap" of them into hits[] and their total into *count (may be
-** more than cap: call again with more room); returns the total (>= 0)
-** or a negated status as the other queries (-RAY_EINVAL for NULL r or
-** count, or hits NULL with cap > 0).  A curved surface reports each of its
-** hits (both sides of a sphere: at most 16 per surface and ray); a hit
-** exactly on a shared edge of a mesh may be reported by both triangles.
+** "cap" nearest of them into hits[] and their total into *count (may be
+** more than cap: call again with more room; cap 0 only counts); returns
+** the total (>= 0, at most INT_MAX: *count is exact) or a negated status
+** as the other queries (-RAY_EINVAL for NULL r or count, or hits NULL
+** with cap > 0; after -RAY_ESTATE from an instance met, hits[] may have
+** been written, *count is untouched).  A curved surface reports each of
+** its hits (both sides of a sphere: at most 16 per surface and ray); a
+** hit exactly on a shared edge of a mesh may be reported by both
+** triangles.
 */
 RAY_API int ray_intersect_opt(const ray_scene *scene, const ray_ray *r,
                               const ray_query *q, ray_hit *hit);
@@ -1331,9 +1378,10 @@ typedef struct ray_stats {
 ** ray_ctx_new -- a trace context for tracing outside ray_render (which
 ** makes its own, one per thread).  One context per thread; it holds the
 ** recursion state, the random sequence and the counters.  "seed" seeds
-** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL, or scene not committed)
-** or RAY_ENOMEM.  ray_ctx_free(NULL) is a no-op.  ray_ctx_stats copies
-** the counters accumulated so far.
+** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL, or scene not committed:
+** never, or changed since) or RAY_ENOMEM.  A context outlives the
+** scene's changes and commits (ray_trace).  ray_ctx_free(NULL) is a
+** no-op.  ray_ctx_stats copies the counters accumulated so far.
 */
 RAY_API int ray_ctx_new(const ray_scene *scene, unsigned long long seed,
                         ray_ctx **out);
@@ -1354,8 +1402,11 @@ RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 **
 ** Returns RAY_OK; RAY_ELIMIT when a limit stopped it; RAY_EEFFECT when
 ** the calling material did not declare that kind in its effects;
-** RAY_EINVAL for NULL pointers or a bad kind.  On anything but RAY_OK,
-** *out is untouched.
+** RAY_EINVAL for NULL pointers or a bad kind; RAY_ESTATE when the scene
+** was changed (since the context was made, or since its last commit) and
+** not committed again, or when the ray met an instance whose scene was
+** changed since this scene's commit (the context stays usable: commit
+** and trace again).  On anything but RAY_OK, *out is untouched.
 */
 RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
                       double attenuation, ray_rgb *out);
@@ -1645,12 +1696,16 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** The progress callback is called from the render threads, one call at a
 ** time, and never again after it asked to cancel.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
-** unspecified); RAY_EINVAL for NULLs, an uncommitted scene, zero sizes,
-** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that
-** is NaN or negative or an adaptive depth outside 1 .. 8, y0 >= y1 or
-** y1 > height, or a degenerate camera (eye at look_at, up within
-** 3.6e-15 rad of the view axis, vfov not in (0, 180)); RAY_ENOMEM.  If fewer threads than asked can be started,
-** the render goes on with those it has: the image is the same.
+** unspecified); RAY_EINVAL for NULLs, an uncommitted scene (never
+** committed, or changed since), zero sizes, samples outside 1 ..
+** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
+** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
+** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
+** axis, vfov not in (0, 180)); RAY_ENOMEM.  If fewer threads than asked
+** can be started, the render goes on with those it has: the image is the
+** same.  A sample whose ray meets an instance whose scene was changed
+** since this scene's commit is black (ray_trace's RAY_ESTATE): commit the
+** scene after its instanced scenes.
 */
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
                        const ray_render_options *options, float *rgb,
