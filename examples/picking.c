@@ -4,7 +4,8 @@
 ** ground, a wall and three units as triangle meshes in one committed
 ** scene; then mouse picks (ray_intersect: what is under the cursor, and
 ** where) and line-of-sight checks (ray_occluded) answered by four threads
-** at once, with no lock: a committed scene is read-only.  Prints each
+** at once, with no lock: nothing changes a committed scene while it is
+** queried (ray(7), "Dynamic scenes").  Prints each
 ** answer in a fixed order, so the output is the same bytes on every run,
 ** and exits 1 if an answer is not the one the geometry implies.
 */
@@ -141,8 +142,8 @@ int main(int argc, char **argv)
                                        {10, 0, 10}, {10, 0, -10}};
     static const ray_vec3 wall[4] = {{2, 0, -4}, {2, 3, -4}, {2, 3, 4},
                                      {2, 0, 4}};
-    static ray_phong_params grey;    /* queries never shade, but geometry
-                                        needs a material */
+    static ray_phong_params grey;    /* queries never shade: a material
+                                        for rendering the same scene */
     const char *names[GEOMETRIES] = {0};     /* by geom_id */
     static const char *unit_names[UNITS] = {"unit 0", "unit 1", "unit 2"};
     query q[8];
@@ -171,7 +172,7 @@ int main(int argc, char **argv)
         check(add_unit(scene, unit_base[i], mat, &id), unit_names[i]);
         names[id] = unit_names[i];
     }
-    check(ray_scene_commit(scene), "commit");        /* read-only from here */
+    check(ray_scene_commit(scene), "commit");  /* unchanged while queried */
 
     q[n++] = pick("cursor on unit 0", vec(-4, 1, 0), "unit 0");
     q[n++] = pick("cursor on unit 1", vec(0.75, 1, 3), "unit 1");

@@ -1181,7 +1181,8 @@ RAY_API void ray_transform_identity(ray_transform *t);
 ** removal).  It may be changed and re-committed later (an animated mesh):
 ** "scene" must then be committed again before its next query, which
 ** otherwise fails with -RAY_ESTATE when it meets the instance (ray_trace:
-** RAY_ESTATE; ray_render shades such rays black).  A change to the child
+** RAY_ESTATE; ray_render and ray_intersect_all check every instance
+** first and refuse with RAY_ESTATE, -RAY_ESTATE).  A change to the child
 ** counts as a change to every scene that instances it: never while one
 ** of them is queried.  Errors, with nothing added: RAY_EINVAL for
 ** NULLs, child == scene, a non-finite transform, a singular L (|det L|
@@ -1309,8 +1310,9 @@ RAY_API void ray_query_init(ray_query *q);
 ** more than cap: call again with more room; cap 0 only counts); returns
 ** the total (>= 0, at most INT_MAX: *count is exact) or a negated status
 ** as the other queries (-RAY_EINVAL for NULL r or count, or hits NULL
-** with cap > 0; after -RAY_ESTATE from an instance met, hits[] may have
-** been written, *count is untouched).  A curved surface reports each of
+** with cap > 0; -RAY_ESTATE also when any instance's scene changed
+** since the commit, checked first: on failure nothing is written).  A
+** curved surface reports each of
 ** its hits (both sides of a sphere: at most 16 per surface and ray); a
 ** hit exactly on a shared edge of a mesh may be reported by both
 ** triangles.

@@ -60,6 +60,8 @@ int ray_scene_remove(ray_scene *s, unsigned geom_id)
         return RAY_EINVAL;
     if (p->kind == RAY__KIND_MESH)
         ray__mesh_release(s, &s->meshes[p->mesh]);
+    if (p->kind == RAY__KIND_INSTANCE)
+        s->instances[p->surface].removed = 1;   /* its child may go now */
     p->removed = 1;
     p->enabled = 0;
     ray__touch(s, dirty_of(p));

@@ -370,3 +370,16 @@ const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h)
 
     return in != NULL ? in->child : s;
 }
+
+int ray__scene_stale(const ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_instances; i++) {
+        const ray__instance *in = &s->instances[i];
+        if (!in->removed && (!in->child->committed ||
+                             in->child->generation != in->generation))
+            return 1;
+    }
+    return 0;
+}

@@ -201,10 +201,11 @@ static void sort_hits(ray_hit *h, size_t n)
     size_t i, j;
 
     for (i = 1; i < n; i++) {
-        ray_hit x = h[i];
+        ray_hit x;
+        ray__hit_store(&x, &h[i]);
         for (j = i; j > 0 && collect_before(&x, &h[j - 1]); j--)
-            h[j] = h[j - 1];
-        h[j] = x;
+            ray__hit_store(&h[j], &h[j - 1]);
+        ray__hit_store(&h[j], &x);
     }
 }
 
@@ -226,6 +227,10 @@ int ray_intersect_all(const ray_scene *s, const ray_ray *r,
         return rc;
     if (count == NULL || (hits == NULL && cap > 0))
         return -RAY_EINVAL;
+    /* Checked before the traversal, so that a stale instance cannot
+    ** leave hits[] half written. */
+    if (ray__scene_stale(s))
+        return -RAY_ESTATE;
     c.hits = hits;
     c.cap = cap;
     c.count = 0;

@@ -257,6 +257,25 @@ static inline double ray__unscale_t(double t, int e)
 /* ------------------------------------------------------ the kinds */
 
 /*
+** *dst = *src field by field: a struct assignment may copy the padding
+** after ray_hit's three ids from a local whose padding is indeterminate,
+** and a caller that compares or hashes its hit records as bytes (after
+** clearing them) should see only what the library wrote.
+*/
+static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
+{
+    dst->t = src->t;
+    dst->p = src->p;
+    dst->n = src->n;
+    dst->u = src->u;
+    dst->v = src->v;
+    dst->p_err = src->p_err;
+    dst->geom_id = src->geom_id;
+    dst->prim_id = src->prim_id;
+    dst->inst_id = src->inst_id;
+}
+
+/*
 ** The shapes: bounded kinds whose scene record is their parameter block
 ** alone (an oriented box, a capsule).  One line each,
 **     S(X, NAME, name, parameter type, counted as)

@@ -509,6 +509,8 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     if (scene == NULL || camera == NULL || opt == NULL || rgb == NULL ||
         !scene->committed || !options_valid(opt, &job.y1))
         return RAY_EINVAL;
+    if (ray__scene_stale(scene))
+        return RAY_ESTATE;   /* an instanced scene changed: commit this one */
     job.scene = scene;
     job.opt = opt;
     job.y0 = opt->y0;

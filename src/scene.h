@@ -73,6 +73,7 @@ typedef struct ray__instance {
     int linear_identity;     /* L == I exactly: normals need no transform */
     unsigned long long generation;
     ray_vec3 lo, hi;         /* world box, rounded outward */
+    int removed;             /* ray_scene_remove: its child may be gone */
 } ray__instance;
 
 /* Triangles are stored flat, three vertices each, whatever they came
@@ -320,6 +321,14 @@ void ray__instance_box(ray__instance *in);
 void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
                             ray_hit *world);
 ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n);
+
+/* Has a scene that s instances changed since s was committed (so that
+** its queries would answer -RAY_ESTATE where they meet it)?  O(number of
+** instances): for the calls that check once before a long run (a
+** render, every hit along a ray) rather than per ray.  Disabled
+** instances count too (their child must stay committed: the next commit
+** checks it); removed ones do not (their child may be freed). */
+int ray__scene_stale(const ray_scene *s);
 
 /* The instance of s a hit came through, or NULL; and the scene that owns
 ** the geometry it names (s itself, or the instance's child). */

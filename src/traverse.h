@@ -561,13 +561,13 @@ static void collect(ray__collect *c, const ray_hit *h)
     size_t i, worst = 0;
 
     if (c->count < c->cap) {
-        c->hits[c->count] = *h;
+        ray__hit_store(&c->hits[c->count], h);
     } else if (c->cap > 0) {
         for (i = 1; i < c->cap; i++)
             if (collect_before(&c->hits[worst], &c->hits[i]))
                 worst = i;
         if (collect_before(h, &c->hits[worst]))
-            c->hits[worst] = *h;
+            ray__hit_store(&c->hits[worst], h);
     }
     c->count++;
 }
@@ -828,7 +828,7 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
     if (qc.stale)
         return -RAY_ESTATE;
     if (found)
-        *hit = best;
+        ray__hit_store(hit, &best);
     return found;
 }
 

@@ -327,10 +327,10 @@ static int first_masked(const ray_scene *s, double x, unsigned mask)
 
 /*
 ** Masks: a sphere, a triangle mesh and an instance of a sphere stacked
-** along z under each ray, with masks 1, 2 and 4 (the instance's child
-** sphere with mask 8, so the instance needs 4 and 8 both... no: the ray
-** must share a bit with each, so ray masks with 4 or 8 alone fail it).
-** Every mask picks exactly the nearest geometry it shares a bit with.
+** along z under each ray, with masks 1, 2 and 4, the instance's child
+** sphere with mask 8: a ray reaches the child only with a bit of each
+** (12), not with 4 or 8 alone.  Every mask picks exactly the nearest
+** geometry it shares a bit with.
 */
 START_TEST(masks_should_pick_geometry_by_shared_bits)
 {

@@ -453,13 +453,40 @@ START_TEST(instances_should_move_and_follow_their_child)
     ck_assert_int_eq(ray_intersect(top, &at5, &h), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
     ck_assert_int_eq(ray_intersect(top, &at5, &h), -RAY_ESTATE);
+    /* The calls that check every instance first refuse it whatever the
+    ** ray, and write nothing. */
+    {
+        ray_ray miss = ray_from(vec(100, 100, 100), vec(0, 1, 0));
+        ray_hit all[4];
+        size_t count = 77;
+        ray_camera cam;
+        ray_render_options opt;
+        float px[3 * 4];
+        hit_poison(&all[0]);
+        ck_assert_int_eq(ray_intersect_all(top, &miss, NULL, all, 4, &count), -RAY_ESTATE);
+        ck_assert_uint_eq(count, 77);
+        ck_assert(hit_is_poisoned(&all[0]));
+        ray_camera_init(&cam);
+        ray_render_options_init(&opt, 2, 2);
+        ck_assert_int_eq(ray_render(top, &cam, &opt, px, NULL), RAY_ESTATE);
+    }
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
     ck_assert_int_eq(ray_intersect(top, &at5, &h), 1);
     ck_assert_int_eq(ray_intersect(top, &far, &h), 1);
     ck_assert_uint_eq(h.geom_id, 1);
     ck_assert_uint_eq(h.inst_id, inst);
-    ray_scene_free(top);
+    /* Removed, its child may go: nothing of the parent reads it again. */
+    ck_assert_int_eq(ray_scene_remove(top, inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
     ray_scene_free(child);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h), 0);
+    {
+        size_t count = 77;
+        ck_assert_int_eq(ray_intersect_all(top, &at5, NULL, NULL, 0, &count), 0);
+        ck_assert_uint_eq(count, 0);
+    }
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ray_scene_free(top);
 }
 END_TEST
 

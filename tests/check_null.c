@@ -193,6 +193,59 @@ START_TEST(scene_calls_should_refuse_null)
 }
 END_TEST
 
+/*
+** The games-and-tools calls: instances, updates, masks, filters, user
+** geometry, queries with options (a NULL ray_query is documented as the
+** defaults, so it is a valid call, not refused).
+*/
+START_TEST(live_scene_calls_should_refuse_null)
+{
+    ray_scene *s = a_scene(), *top;
+    ray_transform xf;
+    ray_ray r = a_ray();
+    ray_hit h;
+    size_t count = 77;
+    unsigned id = 77;
+
+    ray_transform_identity(NULL);                  /* a no-op */
+    ray_query_init(NULL);
+    ray_transform_identity(&xf);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(NULL, s, &xf, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, NULL, &xf, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_instance(top, s, NULL, &id), RAY_EINVAL);
+    ck_assert_uint_eq(id, 77);
+    ck_assert_int_eq(ray_scene_add_instance(top, s, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_transform(NULL, 0, &xf), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_transform(top, 0, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_update_mesh(NULL, 0, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_enabled(NULL, 0, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_remove(NULL, 0), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_mask(NULL, 0, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_filter(NULL, 0, NULL, NULL, 0), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_user(NULL, NULL, 0, &id), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_add_user(top, NULL, 0, &id), RAY_EINVAL);
+    ck_assert_uint_eq(id, 77);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect_opt(NULL, &r, NULL, &h), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_opt(top, NULL, NULL, &h), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_opt(top, &r, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded_opt(NULL, &r, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded_opt(top, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_all(NULL, &r, NULL, &h, 1, &count), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_all(top, NULL, NULL, &h, 1, &count), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_all(top, &r, NULL, &h, 1, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_all(top, &r, NULL, NULL, 1, &count), -RAY_EINVAL);
+    ck_assert_uint_eq(count, 77);
+    /* NULL options: the defaults, the plain query's answer. */
+    ck_assert_int_eq(ray_intersect_opt(top, &r, NULL, &h), 1);
+    ck_assert_int_eq(ray_occluded_opt(top, &r, NULL), 1);
+    ck_assert_int_eq(ray_intersect_all(top, &r, NULL, &h, 1, &count), 2);
+    ray_scene_free(top);
+    ray_scene_free(s);
+}
+END_TEST
+
 /* A material that calls the in-callback functions with NULLs and records
 ** whether each refused as documented. */
 typedef struct null_probe {
@@ -328,6 +381,7 @@ Suite *null_suite(void)
     tcase_add_test(tc, primitives_should_miss_on_null);
     tcase_add_test(tc, spawn_and_optics_should_refuse_null);
     tcase_add_test(tc, scene_calls_should_refuse_null);
+    tcase_add_test(tc, live_scene_calls_should_refuse_null);
     tcase_add_test(tc, context_and_render_calls_should_refuse_null);
     tcase_add_test(tc, image_calls_should_refuse_null);
     suite_add_tcase(s, tc);
