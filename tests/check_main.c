@@ -39,6 +39,7 @@ int main(void)
     srunner_add_suite(sr, direct_suite());
     srunner_add_suite(sr, capsule_suite());
     srunner_add_suite(sr, games_suite());
+    srunner_add_suite(sr, closest_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

@@ -43,6 +43,7 @@ Suite *box_suite(void);
 Suite *direct_suite(void);
 Suite *capsule_suite(void);
 Suite *games_suite(void);
+Suite *closest_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
