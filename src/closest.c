@@ -33,12 +33,21 @@ static int exponent_of(double x)
     return e < -1022 ? -1022 : e;
 }
 
+/* The larger of a and b by a comparison, not libm's fmax, which is a
+** function call where the compiler must keep its NaN rule (the hot
+** loops below call it millions of times a second); for operands that
+** cannot be NaN. */
+static inline double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 /* ------------------------------------------------------------ triangles */
 
-/* t clamped to [0, 1]; a NaN t (which fmax ignores) gives 0. */
-static double unit_clamp(double t)
+/* t clamped to [0, 1]; a NaN t (0/0) gives 0. */
+static inline double unit_clamp(double t)
 {
-    return fmin(fmax(t, 0.0), 1.0);
+    return t > 0 ? (t < 1 ? t : 1.0) : 0.0;
 }
 
 /* The nearest of the three edges' nearest points: the face's fallback
@@ -98,9 +107,11 @@ static ray_vec3 tri_closest(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q)
     ray_vec3 bp, cp;
     double m, s, d1, d2, d3, d4, d5, d6, va, vb, vc, sum, v, w;
 
-    m = fmax(fmax(fmax(fabs(ab.x), fabs(ab.y)), fmax(fabs(ab.z), fabs(ac.x))),
-             fmax(fmax(fabs(ac.y), fabs(ac.z)),
-                  fmax(fmax(fabs(ap.x), fabs(ap.y)), fabs(ap.z))));
+    /* Differences of finite doubles: +-Inf where they overflow, never
+    ** NaN, so the comparisons of max2 see every one. */
+    m = max2(max2(max2(fabs(ab.x), fabs(ab.y)), max2(fabs(ab.z), fabs(ac.x))),
+             max2(max2(fabs(ac.y), fabs(ac.z)),
+                  max2(max2(fabs(ap.x), fabs(ap.y)), fabs(ap.z))));
     if (!(m > 0 && m < HUGE_VAL))
         return a;   /* q == a on a point (not a usable triangle), or overflow */
     s = pow2(-exponent_of(m));
@@ -378,12 +389,14 @@ static void boxes_d2(const ray__wnode *w, const query *qs,
     const double shrink = 1 - ray__gamma(8);
     int k;
 
+    /* q is finite and a bound is finite or infinite, so no offset is
+    ** NaN: max2 will do. */
     for (k = 0; k < RAY__WIDTH; k++) {
-        double dx = fmax(fmax((double)w->lo[0][k] - qs->q.x,
+        double dx = max2(max2((double)w->lo[0][k] - qs->q.x,
                               qs->q.x - (double)w->hi[0][k]), 0.0);
-        double dy = fmax(fmax((double)w->lo[1][k] - qs->q.y,
+        double dy = max2(max2((double)w->lo[1][k] - qs->q.y,
                               qs->q.y - (double)w->hi[1][k]), 0.0);
-        double dz = fmax(fmax((double)w->lo[2][k] - qs->q.z,
+        double dz = max2(max2((double)w->lo[2][k] - qs->q.z,
                               qs->q.z - (double)w->hi[2][k]), 0.0);
         dx *= qs->scale;
         dy *= qs->scale;

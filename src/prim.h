@@ -251,12 +251,18 @@ static inline double ray__unscale_t(double t, int e)
 static inline double ray__distance(ray_vec3 a, ray_vec3 b)
 {
     ray_vec3 d = v3_sub(a, b);
-    double m = fmax(fabs(d.x), fmax(fabs(d.y), fabs(d.z)));
+    double ax = fabs(d.x), ay = fabs(d.y), az = fabs(d.z);
+    /* Comparisons, not fmax (a libm call in a hot loop): a NaN component
+    ** may be dropped here, but then reaches the sum below. */
+    double m = ax > ay ? ax : ay;
 
+    m = m > az ? m : az;
     if (m > 0x1p-500 && m < 0x1p500)
         return v3_length(d);
+    if (d.x != d.x || d.y != d.y || d.z != d.z)
+        return (double)NAN;
     if (!(m > 0) || !(m < HUGE_VAL))
-        return d.x != d.x || d.y != d.y || d.z != d.z ? (double)NAN : m;
+        return m;
     return m * v3_length(v3(d.x / m, d.y / m, d.z / m));
 }
 
@@ -274,9 +280,10 @@ static inline ray_vec3 ray__segment_closest(ray_vec3 q, ray_vec3 a,
     double t = den > 0 && den < HUGE_VAL ? v3_dot(v3_sub(q, a), ab) / den
                                          : 0.0;
 
-    /* fmax ignores a NaN operand: a NaN t (q - a overflowed) gives a. */
-    t = fmin(fmax(t, 0.0), 1.0);
-    if (t == 1.0)
+    /* A NaN t (q - a overflowed) fails both tests: a. */
+    if (!(t > 0))
+        return a;
+    if (!(t < 1))
         return b;
     return v3_madd(a, t, ab);
 }
