@@ -16,6 +16,10 @@
 **   * hits are in (tmin, tmax), finite, with a unit normal and ids that
 **     name an added geometry; ray_occluded agrees with ray_intersect on
 **     scenes of exact primitives;
+**   * ray_closest_point from the ray's origin within tmax: -RAY_EINVAL
+**     for a q or radius it refuses, else -RAY_ESTATE before commit, else
+**     a finite point within the radius with a unit normal and ids that
+**     name an added geometry, or 0 with *out untouched;
 **   * light samples and material calls keep their contracts;
 **   * pixels are finite (defect 5);
 **   * a camera whose up is exactly parallel to its view is refused
@@ -578,6 +582,8 @@ static void op_commit(prog *p)
 
 /* ------------------------------------------------------------ queries */
 
+static void op_closest(prog *p, const ray_ray *r);
+
 static void op_query(prog *p)
 {
     ray_ray r = fuzz_ray(&p->in);
@@ -587,6 +593,7 @@ static void op_query(prog *p)
     fuzz_sentinel(&hit, sizeof hit);
     rc = ray_intersect(p->scene, &r, &hit);
     occ = ray_occluded(p->scene, &r);
+    op_closest(p, &r);
     if (!p->committed) {
         FUZZ_CHECK(rc == -RAY_ESTATE && occ == -RAY_ESTATE,
                    "ray_intersect: -RAY_ESTATE before commit");
@@ -616,6 +623,42 @@ static void op_query(prog *p)
                    ray_intersect(p->scene, &r, NULL) == -RAY_EINVAL &&
                    ray_occluded(NULL, &r) == -RAY_EINVAL,
                "ray_intersect: -RAY_EINVAL for NULL");
+}
+
+/* The closest point to the ray's origin within tmax (any value, so the
+** refused ones too); reads no input of its own. */
+static void op_closest(prog *p, const ray_ray *r)
+{
+    ray_closest c;
+    int valid = isfinite(r->org.x) && isfinite(r->org.y) &&
+                isfinite(r->org.z) && r->tmax >= 0;
+    int rc;
+    double n2;
+
+    fuzz_sentinel(&c, sizeof c);
+    rc = ray_closest_point(p->scene, r->org, r->tmax, &c);
+    if (!valid || !p->committed) {
+        FUZZ_CHECK(rc == (valid ? -RAY_ESTATE : -RAY_EINVAL),
+                   "ray_closest_point: -RAY_EINVAL, then -RAY_ESTATE");
+        FUZZ_CHECK(fuzz_untouched(&c, sizeof c), "ray_closest_point: refused");
+        return;
+    }
+    FUZZ_CHECK(rc == 0 || rc == 1, "ray_closest_point: 1 or 0");
+    if (rc == 0) {
+        FUZZ_CHECK(fuzz_untouched(&c, sizeof c),
+                   "ray_closest_point: nothing near leaves *out untouched");
+        return;
+    }
+    n2 = c.n.x * c.n.x + c.n.y * c.n.y + c.n.z * c.n.z;
+    FUZZ_CHECK(isfinite(c.p.x) && isfinite(c.p.y) && isfinite(c.p.z) &&
+                   isfinite(c.distance) && c.distance >= 0 &&
+                   c.distance <= r->tmax,
+               "ray_closest_point: a finite point within the radius");
+    FUZZ_CHECK(fabs(n2 - 1) < 1e-12, "ray_closest_point: unit normal");
+    FUZZ_CHECK(c.geom_id < p->n_geoms, "ray_closest_point: geom_id");
+    FUZZ_CHECK(p->geom_tris[c.geom_id] ? c.prim_id < p->geom_tris[c.geom_id]
+                                       : c.prim_id == 0,
+               "ray_closest_point: prim_id");
 }
 
 static void check_rgb_finite(const ray_rgb *c, const char *what)

@@ -34,8 +34,9 @@
 **     where an object is required is never a crash and never a write: a
 **     status is RAY_EINVAL, an intersection is a miss (0, or -RAY_EINVAL
 **     where the function can report misuse: ray_implicit, ray_parametric,
-**     ray_intersect, ray_occluded and their _opt and _all forms), a void
-**     function does nothing, and a query answers its neutral value (0, no
+**     ray_intersect, ray_occluded, their _opt and _all forms and
+**     ray_closest_point), a void function does nothing, and a query
+**     answers its neutral value (0, no
 **     texture, a fixed string).
 **     Outputs documented as optional ("may be NULL") are skipped.
 **   * No function keeps global or static state.  Threads: a scene is
@@ -1144,6 +1145,61 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);
 RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
+
+/*
+** ray_closest_point -- the nearest point of a committed scene's surfaces
+** to the point q, within distance "radius" (a closest-point query, as
+** Embree's rtcPointQuery): for snapping a point to the world, and for
+** collision (how deep a point is, and which way to push it out).
+**
+** Returns 1 and fills *out when some surface point lies within distance
+** <= radius of q (compared on the computed distance); radius = +Inf
+** (HUGE_VAL) asks for the nearest point of the whole scene.  Returns 0,
+** *out untouched, when no surface point is that near, or the scene has
+** none.  Misuse is a NEGATED status, as for ray_intersect, with *out
+** untouched: -RAY_EINVAL for a NULL scene or out, a q that is not finite,
+** or a radius that is NaN or negative; -RAY_ESTATE for a scene not
+** committed (or changed since), or one whose search met an instance of a
+** scene changed since.
+**
+** It is the nearest point of the SURFACE: a q inside a sphere, box,
+** capsule or closed mesh gets the nearest point of its boundary, not
+** distance 0.  Triangles and meshes, spheres, planes, polygons (the
+** region inside their outline, even-odd as ray_polygon), boxes and
+** capsules are searched; tori, implicit and parametric surfaces, Bezier
+** patches and user geometry have no closest-point routine and are
+** skipped.  Of points at the same distance, which is reported is
+** unspecified.  Instances are searched through their transform (inst_id
+** names the instance, geom_id and prim_id the child's geometry): exactly
+** for a rotation with a uniform scale (and a translation); through other
+** transforms (a non-uniform scale, a shear) the point is the child's
+** nearest in its own space, a surface point within the radius but not
+** always the world's nearest.  Masks and filters do not apply.
+**
+** geom_id names the geometry as for ray_intersect; prim_id is the
+** triangle's index within a mesh, 0 for every other kind.  n is the
+** geometric unit normal at p, never a shading normal: a triangle's or a
+** polygon's face normal (as ray_triangle and ray_polygon orient it) even
+** where p is on an edge or a vertex; a sphere's and a capsule's outward
+** normal; a plane's normal as given; a box's outward face normal, at an
+** edge or corner the face whose plane q lies farthest outside of.
+** Accuracy (ray_closest_point(3)): p lies on the primitive to within a
+** few ulps of the coordinates involved, and distance is |p - q| to
+** within a few ulps of |q|, the primitive's size and the distance.
+** Any number of threads may query a committed scene at once (while
+** nothing changes it); the call allocates nothing.
+*/
+typedef struct ray_closest {
+    ray_vec3 p;                  /* the nearest surface point found */
+    double distance;             /* |p - q| */
+    ray_vec3 n;                  /* the geometric unit normal at p */
+    unsigned geom_id, prim_id;   /* as ray_intersect's */
+    unsigned inst_id;            /* the instance it was found through,
+                                    RAY_INVALID_ID if none */
+} ray_closest;
+
+RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
+                              double radius, ray_closest *out);
 
 /* ------------------------------------------- games and tools: the scene
 ** as a live, queried world (instances, updates, masks, filters) */

@@ -28,7 +28,7 @@ level() {
     # The layer each source file belongs to (its highest allowed include).
     image.c|png.c|png_none.c) echo 15 ;;
     bvh.c) echo 30 ;;
-    scene.c|mesh.c|surfaces.c|kinds.c|error.c|instance.c|dynamic.c) echo 40 ;;
+    scene.c|mesh.c|surfaces.c|kinds.c|error.c|instance.c|dynamic.c|closest.c) echo 40 ;;
     intersect.c|intersect_avx2.c) echo 45 ;;
     trace.c|light.c|sampling.c|direct.c) echo 50 ;;
     camera.c|render.c) echo 60 ;;

@@ -419,6 +419,58 @@ int ray_box(const ray_ray *r, const ray_box_params *b, ray_hit *hit)
     return box_fill(b, &f, &L, axis, side, t_s, ldexp(t_s, -e), hit);
 }
 
+/* ------------------------------------------------------- closest point */
+
+/*
+** The point of the box's surface nearest q (ray_closest_point), in the
+** box's frame: q's local coordinates o_k = (q - c).e_k; the axis of the
+** largest excess |o_k| - h_k (ties to the lower axis) is the face of
+** the normal.  Outside (that excess > 0) the nearest point is o clamped
+** to the box, componentwise (the box is the product of three
+** intervals), which puts it on that face; inside or on the surface
+** (every excess <= 0, the clamp changes nothing) it is o moved onto
+** that face, the nearest one.  The local point l has l_axis = +-h
+** exactly and the others within [-h_k, h_k], so p = c + sum_k l_k e_k
+** lies on the box spanned by the frame within gamma(5) (|c_i| + sum_k
+** |l_k e_k,i|), as box_fill's hit point; the o_k themselves are off by
+** origin_error's gamma(4) |q - c| and the frame's delta, which moves p
+** along the surface, not off it.
+*/
+int ray__box_closest(const ray_box_params *b, ray_vec3 q, ray_vec3 *p,
+                     ray_vec3 *n)
+{
+    box_frame f;
+    ray_vec3 lo, hi, rel, s, pt;
+    double o[3], h[3], l[3], excess = -HUGE_VAL, side;
+    int k, axis = 0;
+
+    if (box_setup(b, &f, &lo, &hi) != BOX_VALID)
+        return 0;
+    rel = v3_sub(q, b->center);
+    if (!v3_isfinite(rel))
+        return 0;
+    to_array(b->half_extents, h);
+    for (k = 0; k < 3; k++) {
+        o[k] = v3_dot(rel, f.e[k]);
+        if (fabs(o[k]) - h[k] > excess) {
+            excess = fabs(o[k]) - h[k];
+            axis = k;
+        }
+    }
+    side = o[axis] < 0 ? -1.0 : 1.0;
+    for (k = 0; k < 3; k++)
+        l[k] = fmin(fmax(o[k], -h[k]), h[k]);
+    l[axis] = side * h[axis];
+    s = v3_add(v3_add(v3_scale(f.e[0], l[0]), v3_scale(f.e[1], l[1])),
+               v3_scale(f.e[2], l[2]));
+    pt = v3_add(b->center, s);
+    if (!v3_isfinite(pt))
+        return 0;
+    *p = pt;
+    *n = v3_scale(f.e[axis], side);
+    return 1;
+}
+
 /* ------------------------------------------------------ the scene's check */
 
 int ray__box_check(const ray_box_params *p, ray_vec3 *lo, ray_vec3 *hi,

@@ -135,6 +135,43 @@ static ray_vec3 from_frame(const capsule_frame *k, ray_vec3 v)
 }
 
 /*
+** The point of the capsule's surface nearest q (ray_closest_point): the
+** point of the segment nearest q, s (q's height along the axis in the
+** frame, f_z, clamped to [-half, half]), moved by radius away from the
+** segment along q - s.  The same whether q is outside or inside: the
+** capsule is the set of points within radius of the segment.  q on the
+** segment (q - s = 0 exactly): every point at radius around it is as
+** near; t1's direction is taken.  p is formed as fill_hit forms a hit
+** point, from a unit vector in the frame, so it lies within point_error
+** of the surface; the error of f (4 roundings of |q - m| and the
+** frame's) moves it along the surface.  0 if q - m overflows.
+*/
+int ray__capsule_closest(const ray_capsule_params *c, ray_vec3 q,
+                         ray_vec3 *p, ray_vec3 *n)
+{
+    capsule_frame k;
+    ray_vec3 rel, f, nl, pt, nw;
+    double zc;
+
+    if (!capsule_setup(c, &k, NULL, NULL))
+        return 0;
+    rel = v3_sub(q, k.m);
+    if (!v3_isfinite(rel))
+        return 0;
+    f = to_frame(&k, rel);
+    zc = fmin(fmax(f.z, -k.half), k.half);
+    if (!v3_normalize(v3(f.x, f.y, f.z - zc), &nl))
+        nl = v3(1, 0, 0);
+    pt = v3_add(k.m, from_frame(&k, v3(k.radius * nl.x, k.radius * nl.y,
+                                       zc + k.radius * nl.z)));
+    if (!v3_isfinite(pt) || !v3_normalize(from_frame(&k, nl), &nw))
+        return 0;
+    *p = pt;
+    *n = nw;
+    return 1;
+}
+
+/*
 ** a t^2 - 2 b t + c = 0 for a circle (n = 2: the cylinder's cross
 ** section) or a sphere (n = 3: a cap) of radius R about the origin, for
 ** the line f + t d: a = d.d, b = -f.d, c = (|f| - R)(|f| + R), and

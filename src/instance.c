@@ -68,6 +68,36 @@ static int invert(const ray_transform *t, double inv[3][3])
     return 1;
 }
 
+/*
+** Whether L is a rotation times a uniform scale s (L^T L = s^2 I): then
+** distances scale by s exactly (to rounding) and a closest-point query
+** through the instance is exact.  Within 64 ulps of s^2, entry by entry:
+** an L assembled from a rotation matrix and a scale in double is that
+** close.  Also |L^-1|_F, which bounds how much any distance grows on the
+** way into the child's space.
+*/
+static void similarity(ray__instance *in)
+{
+    const double (*m)[4] = (const double (*)[4])in->xfm.m;
+    double g[3][3], s2, f = 0;
+    int i, j, k, ok = 1;
+
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            g[i][j] = 0;
+            for (k = 0; k < 3; k++)
+                g[i][j] += m[k][i] * m[k][j];
+            f += in->inv[i][j] * in->inv[i][j];
+        }
+    s2 = (g[0][0] + g[1][1] + g[2][2]) / 3;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            ok &= fabs(g[i][j] - (i == j ? s2 : 0.0)) <=
+                  64 * DBL_EPSILON * s2;
+    in->similarity = ok ? sqrt(s2) : 0.0;
+    in->inv_norm = sqrt(f);
+}
+
 /* RAY_OK and the instance's transform data, or RAY_EINVAL (message). */
 static int transform_set(ray_scene *s, ray__instance *in,
                          const ray_transform *t)
@@ -85,6 +115,7 @@ static int transform_set(ray_scene *s, ray__instance *in,
         return ray__fail(s, RAY_EINVAL, "xfm is singular: its linear part "
                          "cannot be inverted to working precision");
     in->xfm = *t;
+    similarity(in);
     in->linear_identity = 1;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)

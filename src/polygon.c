@@ -108,3 +108,68 @@ int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
         return 0;
     return ray__plane_fill(r, c, n, v[0], t, hit);
 }
+
+/*
+** The point of the polygon nearest q (ray_closest_point): the polygon is
+** the region inside its outline (even-odd, as ray_polygon) on its plane
+** (through the vertex centroid c with the Newell normal, as
+** ray_polygon's).  q's foot on the plane has the coordinates (x, y) =
+** ((q - c).t1, (q - c).t2) along the plane's tangents; if it is inside,
+** it is the nearest point, formed as c + x t1 + y t2, which lies on the
+** plane within a few ulps of |c| + |x| + |y| whatever q's distance from
+** the plane.  Else the nearest point is on the outline: the nearest of
+** the edges' nearest points (a vertex exactly, or a + t (b - a)).  The
+** inside test is Haines' crossings test of polygon.c's edge_crosses in
+** the plane's coordinates, each vertex taken relative to the foot on its
+** own; a foot within rounding of the outline may go either way, where
+** both answers are within rounding of each other.
+*/
+int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
+                         ray_vec3 *p, ray_vec3 *n)
+{
+    ray_vec3 c, normal, nn, t1, t2, rel, best, pt;
+    double x, y, x0, y0, best_d = HUGE_VAL;
+    int inside = 0;
+    size_t i;
+
+    if (v == NULL || count < 3 || !polygon_plane(v, count, &c, &normal) ||
+        !v3_normalize(normal, &nn))
+        return 0;
+    rel = v3_sub(q, c);
+    if (!v3_isfinite(rel))
+        return 0;
+    ray__tangent_frame(nn, &t1, &t2);
+    x = v3_dot(rel, t1);
+    y = v3_dot(rel, t2);
+    rel = v3_sub(v[count - 1], c);
+    x0 = v3_dot(rel, t1) - x;
+    y0 = v3_dot(rel, t2) - y;
+    for (i = 0; i < count; i++) {
+        double x1, y1;
+        rel = v3_sub(v[i], c);
+        x1 = v3_dot(rel, t1) - x;
+        y1 = v3_dot(rel, t2) - y;
+        inside ^= edge_crosses(x0, y0, x1, y1);
+        x0 = x1;
+        y0 = y1;
+    }
+    if (inside)
+        pt = v3_add(c, v3_add(v3_scale(t1, x), v3_scale(t2, y)));
+    else {
+        best = v[0];
+        for (i = 0; i < count; i++) {
+            ray_vec3 e = ray__segment_closest(q, v[i], v[(i + 1) % count]);
+            double d = ray__distance(e, q);
+            if (d < best_d) {
+                best_d = d;
+                best = e;
+            }
+        }
+        pt = best;
+    }
+    if (!v3_isfinite(pt))
+        return 0;
+    *p = pt;
+    *n = nn;
+    return 1;
+}

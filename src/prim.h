@@ -254,6 +254,74 @@ static inline double ray__unscale_t(double t, int e)
     return ldexp(t, -e);
 }
 
+/* ------------------------------------------------------ closest points */
+
+/*
+** |a - b| without overflow or underflow of the squares: the difference
+** is divided by its largest |component| when that lies outside [2^-500,
+** 2^500] (where the sum of three squares could leave the doubles), as
+** v3_normalize does.  Within sqrt(3)/2 + 3/2 ulps of the length of the
+** rounded difference (the sum's three roundings, halved by the root,
+** and the root's own), plus one more for the scaling.  +Inf when the
+** difference overflows; NaN for a NaN input.
+*/
+static inline double ray__distance(ray_vec3 a, ray_vec3 b)
+{
+    ray_vec3 d = v3_sub(a, b);
+    double ax = fabs(d.x), ay = fabs(d.y), az = fabs(d.z);
+    /* Comparisons, not fmax (a libm call in a hot loop): a NaN component
+    ** may be dropped here, but then reaches the sum below. */
+    double m = ax > ay ? ax : ay;
+
+    m = m > az ? m : az;
+    if (m > 0x1p-500 && m < 0x1p500)
+        return v3_length(d);
+    if (d.x != d.x || d.y != d.y || d.z != d.z)
+        return (double)NAN;
+    if (!(m > 0) || !(m < HUGE_VAL))
+        return m;
+    return m * v3_length(v3(d.x / m, d.y / m, d.z / m));
+}
+
+/*
+** The point of segment [a, b] nearest q: a + t (b - a), t = (q - a).(b -
+** a) / |b - a|^2 clamped to [0, 1] (Ericson, "Real-Time Collision
+** Detection", 2005, 5.1.2), so an end is returned exactly.  A segment
+** whose |b - a|^2 is 0 or not finite gives t = 0: a.
+*/
+static inline ray_vec3 ray__segment_closest(ray_vec3 q, ray_vec3 a,
+                                            ray_vec3 b)
+{
+    ray_vec3 ab = v3_sub(b, a);
+    double den = v3_dot(ab, ab);
+    double t = den > 0 && den < HUGE_VAL ? v3_dot(v3_sub(q, a), ab) / den
+                                         : 0.0;
+
+    /* A NaN t (q - a overflowed) fails both tests: a. */
+    if (!(t > 0))
+        return a;
+    if (!(t < 1))
+        return b;
+    return v3_madd(a, t, ab);
+}
+
+/*
+** The nearest point *p of a primitive's SURFACE to q, for
+** ray_closest_point (closest.c), and the unit normal *n there: a box's
+** outward face normal (at an edge or a corner, the face whose plane q
+** lies farthest outside of; inside, the nearest face's); a capsule's
+** outward normal; a polygon's unit Newell normal.  For parameters the
+** scene checked; 0, with nothing written, for parameters ray_box,
+** ray_capsule or ray_polygon refuse or a result that is not finite.
+** Each states its accuracy where it is defined.
+*/
+int ray__box_closest(const ray_box_params *b, ray_vec3 q, ray_vec3 *p,
+                     ray_vec3 *n);
+int ray__capsule_closest(const ray_capsule_params *c, ray_vec3 q,
+                         ray_vec3 *p, ray_vec3 *n);
+int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
+                         ray_vec3 *p, ray_vec3 *n);
+
 /* ------------------------------------------------------ the kinds */
 
 /*

@@ -71,6 +71,10 @@ typedef struct ray__instance {
     ray_transform xfm;       /* object -> world */
     double inv[3][3];        /* L^-1: world -> object, after - c */
     int linear_identity;     /* L == I exactly: normals need no transform */
+    double similarity;       /* L = s R (R a rotation) to 64 ulps: s, the
+                                scale distances take; 0 for other L */
+    double inv_norm;         /* |L^-1| (Frobenius): no object distance is
+                                more than this times the world one */
     unsigned long long generation;
     ray_vec3 lo, hi;         /* world box, rounded outward */
     int removed;             /* ray_scene_remove: its child may be gone */

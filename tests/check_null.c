@@ -173,6 +173,12 @@ START_TEST(scene_calls_should_refuse_null)
     ck_assert_str_eq(ray_scene_errmsg(NULL), "no scene (NULL)");
     ck_assert_int_eq(ray_intersect(NULL, &r, &h), -RAY_EINVAL);
     ck_assert_int_eq(ray_occluded(NULL, &r), -RAY_EINVAL);
+    {
+        ray_closest c;
+        memset(&c, 0xA5, sizeof c);
+        ck_assert_int_eq(ray_closest_point(NULL, r.org, 1, &c), -RAY_EINVAL);
+        ck_assert_uint_eq(c.geom_id, 0xA5A5A5A5u);
+    }
 
     /* NULL inner arguments on a real scene. */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
@@ -189,6 +195,7 @@ START_TEST(scene_calls_should_refuse_null)
     ck_assert_int_eq(ray_intersect(s, NULL, &h), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect(s, &r, NULL), -RAY_EINVAL);
     ck_assert_int_eq(ray_occluded(s, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, r.org, HUGE_VAL, NULL), -RAY_EINVAL);
     ray_scene_free(s);
 }
 END_TEST

@@ -1,0 +1,897 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_closest.c -- ray_closest_point: the nearest surface point of a
+** committed scene, against brute force over every primitive computed in
+** long double by the test's own routines (not the library's), for
+** thousands of random query points near and far, with the scene at the
+** origin and moved to 1e5; radius pruning, radius +Inf, points on the
+** surface, at vertices, on edges, inside closed meshes and far beyond;
+** the skipped kinds; empty scenes and misuse.
+*/
+#include <pthread.h>
+#include <stdlib.h>
+
+#include "tests.h"
+#include "hardcases.h"
+
+/* ------------------------------------------------- long double reference */
+
+typedef long double ld;
+typedef struct lvec {
+    ld x, y, z;
+} lvec;
+
+static lvec lv(ray_vec3 a)
+{
+    lvec r;
+    r.x = (ld)a.x;
+    r.y = (ld)a.y;
+    r.z = (ld)a.z;
+    return r;
+}
+
+static lvec lv3(ld x, ld y, ld z)
+{
+    lvec r;
+    r.x = x;
+    r.y = y;
+    r.z = z;
+    return r;
+}
+
+static lvec lsub(lvec a, lvec b)
+{
+    return lv3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+
+static lvec ladd(lvec a, lvec b)
+{
+    return lv3(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+
+static lvec lscale(lvec a, ld s)
+{
+    return lv3(a.x * s, a.y * s, a.z * s);
+}
+
+static ld ldot(lvec a, lvec b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+static lvec lcross(lvec a, lvec b)
+{
+    return lv3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
+               a.x * b.y - a.y * b.x);
+}
+
+static ld llen(lvec a)
+{
+    return sqrtl(ldot(a, a));
+}
+
+static lvec lunit(lvec a)
+{
+    return lscale(a, 1 / llen(a));
+}
+
+static ld ldist(lvec a, lvec b)
+{
+    return llen(lsub(a, b));
+}
+
+/* The nearest point of segment [a, b] to q. */
+static lvec ref_segment(lvec q, lvec a, lvec b)
+{
+    lvec ab = lsub(b, a);
+    ld t = ldot(lsub(q, a), ab) / ldot(ab, ab);
+
+    t = t < 0 ? 0 : (t > 1 ? 1 : t);
+    return ladd(a, lscale(ab, t));
+}
+
+/* The nearest point of triangle (a, b, c) to q: q's foot on the plane
+** if the three edge tests put it inside, else the nearest edge point
+** (not Ericson's region walk, which the library uses). */
+static lvec ref_triangle(lvec q, lvec a, lvec b, lvec c)
+{
+    lvec n = lcross(lsub(b, a), lsub(c, a));
+    lvec f = lsub(q, lscale(n, ldot(lsub(q, a), n) / ldot(n, n)));
+    lvec e[3];
+    int k, best = 0;
+
+    if (ldot(lcross(lsub(b, a), lsub(f, a)), n) >= 0 &&
+        ldot(lcross(lsub(c, b), lsub(f, b)), n) >= 0 &&
+        ldot(lcross(lsub(a, c), lsub(f, c)), n) >= 0)
+        return f;
+    e[0] = ref_segment(q, a, b);
+    e[1] = ref_segment(q, b, c);
+    e[2] = ref_segment(q, c, a);
+    for (k = 1; k < 3; k++)
+        if (ldist(e[k], q) < ldist(e[best], q))
+            best = k;
+    return e[best];
+}
+
+/* --------------------------------------------------------------- scene */
+
+/*
+** The mixed scene, moved by "o": every kind ray_closest_point searches,
+** and one it skips.  Its coordinates lie within 10 of o.
+**   0  an icosphere mesh of radius 2 (320 triangles) at o
+**   1  a sphere of radius 1 at o + (5, 0, 0)
+**   2  a sphere of radius 0.5 at o + (-4, 3, 1)
+**   3  the plane through o + (0, -3, 0) with normal (0.1, 1, 0.2)
+**   4  an oriented box at o + (0, 4, -3), half-extents (1, 0.5, 0.75),
+**      axes (1, 1, 0) and (-1, 1, 1) (made orthogonal by the library)
+**   5  a capsule from o + (-3, -1, -2) to o + (-1, 1, -4), radius 0.6
+**   6  an L-shaped (concave) hexagon in the plane x - z = 5 + o.x - o.z
+**   7  a torus at o + (0, 0, 7): skipped
+**   8  the cube mesh [-1, 1]^3 + o + (6, 5, 4) (12 triangles)
+**   9  .. 11  three lone triangles (ray_scene_add_triangle): an obtuse
+**      one, a thin one (10 degrees at a vertex) and a plain one.  A
+**      closed mesh's edge belongs to two triangles, the nearer answer
+**      wins, so a triangle's own edge and vertex regions are tested here.
+** Every feature (edge, radius) is longer than 0.1.
+*/
+enum { N_GEOMS = 12 };
+
+static const double lone[3][3][3] = {
+    {{2, -2, 3}, {5, -1.5, 3.5}, {3, -1.9, 2.5}},
+    {{-6, -1, 4}, {-2, -0.5, 4.2}, {-6, -0.3, 4.1}},
+    {{1, 6, 1}, {3, 7, 3}, {0, 8, 2}}};
+
+/* The L's outline in its plane's (u, v), and its four triangles. */
+static const double l_uv[6][2] = {{0, 0}, {2, 0}, {2, 1},
+                                  {1, 1}, {1, 2}, {0, 2}};
+static const int l_tris[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+
+typedef struct mixed {
+    ray_scene *s;
+    ray_vec3 o;
+    hc_mesh ball, cube;
+    ray_vec3 sc[2];
+    double sr[2];
+    ray_vec3 plane_p, plane_n;
+    ray_box_params box;
+    ray_capsule_params cap;
+    ray_vec3 poly[6];
+    ray_vec3 tri[3][3];
+} mixed;
+
+static ray_mesh mesh_of(const hc_mesh *h)
+{
+    ray_mesh m;
+
+    ray_mesh_init(&m);
+    m.vertices = h->v;
+    m.vertex_count = h->nv;
+    m.indices = h->idx;
+    m.triangle_count = h->nt;
+    return m;
+}
+
+static ray_vec3 at(ray_vec3 o, double x, double y, double z)
+{
+    return vec(o.x + x, o.y + y, o.z + z);
+}
+
+static void mixed_build(mixed *m, ray_vec3 o)
+{
+    ray_torus_params tor;
+    ray_mesh mesh;
+    unsigned id;
+    int i;
+
+    m->o = o;
+    m->ball = hc_icosphere(o, 2);
+    m->cube = hc_cube(at(o, 6, 5, 4));
+    m->sc[0] = at(o, 5, 0, 0);
+    m->sr[0] = 1;
+    m->sc[1] = at(o, -4, 3, 1);
+    m->sr[1] = 0.5;
+    m->plane_p = at(o, 0, -3, 0);
+    m->plane_n = vec(0.1, 1, 0.2);
+    m->box.center = at(o, 0, 4, -3);
+    m->box.half_extents = vec(1, 0.5, 0.75);
+    m->box.axis_x = vec(1, 1, 0);
+    m->box.axis_y = vec(-1, 1, 1);
+    m->cap.a = at(o, -3, -1, -2);
+    m->cap.b = at(o, -1, 1, -4);
+    m->cap.radius = 0.6;
+    for (i = 0; i < 6; i++)
+        m->poly[i] = at(o, 3 + l_uv[i][0], 2 + l_uv[i][1], -2 + l_uv[i][0]);
+    for (i = 0; i < 9; i++)
+        m->tri[i / 3][i % 3] = at(o, lone[i / 3][i % 3][0],
+                                  lone[i / 3][i % 3][1],
+                                  lone[i / 3][i % 3][2]);
+    tor.center = at(o, 0, 0, 7);
+    tor.axis = vec(0, 0, 1);
+    tor.major = 1;
+    tor.minor = 0.3;
+
+    ck_assert_int_eq(ray_scene_new(&m->s, NULL, NULL), RAY_OK);
+    mesh = mesh_of(&m->ball);
+    ck_assert_int_eq(ray_scene_add_mesh(m->s, &mesh, RAY_NO_MATERIAL, &id),
+                     RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    for (i = 0; i < 2; i++)
+        ck_assert_int_eq(ray_scene_add_sphere(m->s, m->sc[i], m->sr[i],
+                                              RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(m->s, m->plane_p, m->plane_n,
+                                         RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(m->s, &m->box, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_capsule(m->s, &m->cap, RAY_NO_MATERIAL,
+                                           NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_polygon(m->s, m->poly, 6, RAY_NO_MATERIAL,
+                                           NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(m->s, &tor, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    mesh = mesh_of(&m->cube);
+    ck_assert_int_eq(ray_scene_add_mesh(m->s, &mesh, RAY_NO_MATERIAL, &id),
+                     RAY_OK);
+    ck_assert_uint_eq(id, 8);
+    for (i = 0; i < 3; i++) {
+        ck_assert_int_eq(ray_scene_add_triangle(m->s, m->tri[i][0],
+                                                m->tri[i][1], m->tri[i][2],
+                                                RAY_NO_MATERIAL, &id), RAY_OK);
+        ck_assert_uint_eq(id, 9 + (unsigned)i);
+    }
+    ck_assert_int_eq(ray_scene_commit(m->s), RAY_OK);
+}
+
+static void mixed_free(mixed *m)
+{
+    ray_scene_free(m->s);
+    hc_mesh_free(&m->ball);
+    hc_mesh_free(&m->cube);
+}
+
+/* The box's frame as ray_box(3) defines it, in long double. */
+static void ref_box_frame(const ray_box_params *b, lvec e[3])
+{
+    lvec x = lunit(lv(b->axis_x)), y = lv(b->axis_y);
+
+    e[0] = x;
+    e[1] = lunit(lsub(y, lscale(x, ldot(y, x))));
+    e[2] = lcross(e[0], e[1]);
+}
+
+/* The nearest point of the box's surface: outside, q clamped to it;
+** inside, q moved onto the nearest face.  *face: the face's axis. */
+static lvec ref_box(const ray_box_params *b, lvec q, int *face)
+{
+    lvec e[3], rel = lsub(q, lv(b->center)), p = lv(b->center);
+    ld o[3], h[3], l[3], excess = -HUGE_VALL;
+    int k, axis = 0;
+
+    ref_box_frame(b, e);
+    h[0] = (ld)b->half_extents.x;
+    h[1] = (ld)b->half_extents.y;
+    h[2] = (ld)b->half_extents.z;
+    for (k = 0; k < 3; k++) {
+        o[k] = ldot(rel, e[k]);
+        if (fabsl(o[k]) - h[k] > excess) {
+            excess = fabsl(o[k]) - h[k];
+            axis = k;
+        }
+    }
+    for (k = 0; k < 3; k++)
+        l[k] = excess > 0 ? fminl(fmaxl(o[k], -h[k]), h[k]) : o[k];
+    l[axis] = o[axis] < 0 ? -h[axis] : h[axis];
+    for (k = 0; k < 3; k++)
+        p = ladd(p, lscale(e[k], l[k]));
+    if (face != NULL)
+        *face = axis;
+    return p;
+}
+
+/* The nearest point of the capsule's surface: radius away from the
+** segment's nearest point (q on the segment: any such point). */
+static lvec ref_capsule(const ray_capsule_params *c, lvec q)
+{
+    lvec s = ref_segment(q, lv(c->a), lv(c->b)), d = lsub(q, s);
+
+    if (llen(d) == 0)
+        d = lcross(lsub(lv(c->b), lv(c->a)), lv3(1, 0, 0));
+    return ladd(s, lscale(lunit(d), (ld)c->radius));
+}
+
+/* Geometry g's (triangle i's, for a mesh) nearest point to q; *n its
+** unit normal there (a box: its face's, as the library chooses it). */
+static lvec ref_prim(const mixed *m, unsigned g, unsigned i, lvec q, lvec *n)
+{
+    lvec p, e[3];
+    int k;
+
+    switch (g) {
+    case 0:
+    case 8: {
+        const hc_mesh *h = g == 0 ? &m->ball : &m->cube;
+        lvec a = lv(h->v[h->idx[3 * i]]), b = lv(h->v[h->idx[3 * i + 1]]),
+             c = lv(h->v[h->idx[3 * i + 2]]);
+        *n = lunit(lcross(lsub(b, a), lsub(c, a)));
+        return ref_triangle(q, a, b, c);
+    }
+    case 1:
+    case 2: {
+        lvec c = lv(m->sc[g - 1]);
+        *n = lunit(lsub(q, c));
+        return ladd(c, lscale(*n, (ld)m->sr[g - 1]));
+    }
+    case 3:
+        *n = lunit(lv(m->plane_n));
+        return lsub(q, lscale(*n, ldot(lsub(q, lv(m->plane_p)), *n)));
+    case 4:
+        ref_box_frame(&m->box, e);
+        p = ref_box(&m->box, q, &k);
+        *n = ldot(lsub(q, lv(m->box.center)), e[k]) < 0 ? lscale(e[k], -1)
+                                                         : e[k];
+        return p;
+    case 5:
+        p = ref_capsule(&m->cap, q);
+        *n = lunit(lsub(p, ref_segment(p, lv(m->cap.a), lv(m->cap.b))));
+        return p;
+    case 6: {
+        lvec best = lv(m->poly[0]);
+        /* (u, v) -> (u, v, u): e_u x e_v = (-1, 0, 1), counter-clockwise. */
+        *n = lunit(lv3(-1, 0, 1));
+        for (k = 0; k < 4; k++) {
+            lvec t = ref_triangle(q, lv(m->poly[l_tris[k][0]]),
+                                  lv(m->poly[l_tris[k][1]]),
+                                  lv(m->poly[l_tris[k][2]]));
+            if (k == 0 || ldist(t, q) < ldist(best, q))
+                best = t;
+        }
+        return best;
+    }
+    case 9:
+    case 10:
+    case 11: {
+        lvec a = lv(m->tri[g - 9][0]), b = lv(m->tri[g - 9][1]),
+             c = lv(m->tri[g - 9][2]);
+        *n = lunit(lcross(lsub(b, a), lsub(c, a)));
+        return ref_triangle(q, a, b, c);
+    }
+    default:
+        ck_abort_msg("no geometry %u", g);
+    }
+    return q;
+}
+
+/* How many primitives geometry g has (the torus, 7, none: skipped). */
+static size_t prims_of(const mixed *m, unsigned g)
+{
+    return g == 0 ? m->ball.nt : g == 8 ? m->cube.nt : g == 7 ? 0 : 1;
+}
+
+/* The brute-force answer: the nearest of every primitive's nearest
+** points; *tie set when another primitive's point lies within "margin"
+** of as near but farther than "margin" from it (two answers). */
+typedef struct answer {
+    lvec p;
+    ld d;
+    unsigned g, i;
+    int tie;
+} answer;
+
+static answer brute_force(const mixed *m, lvec q, ld margin)
+{
+    answer a;
+    unsigned g;
+    size_t i;
+    lvec n;
+
+    a.d = HUGE_VALL;
+    a.tie = 0;
+    a.g = a.i = 0;
+    a.p = q;
+    for (g = 0; g < N_GEOMS; g++)
+        for (i = 0; i < prims_of(m, g); i++) {
+            lvec p = ref_prim(m, g, (unsigned)i, q, &n);
+            ld d = ldist(p, q);
+            if (d < a.d) {
+                a.d = d;
+                a.p = p;
+                a.g = g;
+                a.i = (unsigned)i;
+            }
+        }
+    for (g = 0; g < N_GEOMS; g++)
+        for (i = 0; i < prims_of(m, g); i++) {
+            lvec p = ref_prim(m, g, (unsigned)i, q, &n);
+            if (ldist(p, q) <= a.d + margin && ldist(p, a.p) > margin)
+                a.tie = 1;
+        }
+    return a;
+}
+
+/*
+** The tolerance of a distance or a position, for a query q whose answer
+** is at distance d, with the scene's coordinates within 10 of o:
+** 64 DBL_EPSILON (M + d), M = max(|q|, |o| + 10) the largest coordinate
+** involved.  From the library's bounds (ray_closest_point(3),
+** "Accuracy"): p lies on its primitive within a few ulps of M (the plane's
+** foot: of |q| and |q - point| <= 2 M), its place along the surface is
+** off by about 10 u |q - a| / sin^2 of the angle at the triangle's first
+** vertex a, which conditions Ericson's determinants (36 degrees or more
+** in this scene: a factor 3), and |p - q| rounds within 3 ulps of d:
+** some 40 ulps of M + d at worst, under the 128 allowed.
+** CLOSEST_TEST_FIGURES=1 prints the largest error measured (under 2
+** ulps).
+*/
+static ld tolerance(const mixed *m, ray_vec3 q, ld d)
+{
+    ld big = fmaxl(fmaxl(fabsl((ld)q.x), fabsl((ld)q.y)), fabsl((ld)q.z));
+    ld mo = fmaxl(fmaxl(fabsl((ld)m->o.x), fabsl((ld)m->o.y)),
+                  fabsl((ld)m->o.z)) + 10;
+
+    return 64 * (ld)DBL_EPSILON * (fmaxl(big, mo) + d);
+}
+
+/* The normals: from coordinates of magnitude M over features of at least
+** L = 0.1 (an edge, a radius), the library's and the reference's unit
+** normals differ by a few ulps of M / L: 64 DBL_EPSILON M / L allowed,
+** plus the direction's own 1/d sensitivity for a sphere's or a capsule's
+** normal (the error of p over the distance from the centre). */
+static ld normal_tolerance(const mixed *m, ray_vec3 q, ld d)
+{
+    return tolerance(m, q, d) / (ld)0.1;
+}
+
+/*
+** One query checked against brute force: found (radius +Inf); the same
+** distance within the tolerance; p on the primitive the ids name, and at
+** the distance reported from q; the normal that primitive has there;
+** and, unless two primitives tie, the brute-force point itself.
+** Returns the error of the distance in units of M + d, for the report.
+*/
+static double check_query(const mixed *m, ray_vec3 q)
+{
+    ray_closest c;
+    lvec lq = lv(q), rp, rn;
+    answer a;
+    ld tol;
+
+    ck_assert_int_eq(ray_closest_point(m->s, q, HUGE_VAL, &c), 1);
+    a = brute_force(m, lq, 0);
+    tol = tolerance(m, q, a.d);
+    a = brute_force(m, lq, 4 * tol);
+    ck_assert_msg(fabsl((ld)c.distance - a.d) <= tol,
+                  "q (%.17g, %.17g, %.17g): distance %.17g, brute force "
+                  "%.17Lg (geometry %u, %u; got %u, %u)", q.x, q.y, q.z,
+                  c.distance, a.d, a.g, a.i, c.geom_id, c.prim_id);
+    ck_assert_uint_lt(c.geom_id, N_GEOMS);
+    ck_assert_uint_lt(c.prim_id, prims_of(m, c.geom_id));
+    rp = ref_prim(m, c.geom_id, c.prim_id, lv(c.p), &rn);
+    ck_assert_msg(ldist(rp, lv(c.p)) <= tol, "p off geometry %u by %Lg",
+                  c.geom_id, ldist(rp, lv(c.p)));
+    ck_assert(fabsl(ldist(lv(c.p), lq) - (ld)c.distance) <= tol);
+    /* The normal at p: the reference's at q's answer on that primitive
+    ** (for a sphere and a capsule, along p from the centre or axis). */
+    ref_prim(m, c.geom_id, c.prim_id, lq, &rn);
+    if (c.geom_id == 1 || c.geom_id == 2)
+        rn = lunit(lsub(lv(c.p), lv(m->sc[c.geom_id - 1])));
+    if (c.geom_id == 5)
+        rn = lunit(lsub(lv(c.p), ref_segment(lv(c.p), lv(m->cap.a),
+                                            lv(m->cap.b))));
+    ck_assert_msg(ldist(lv(c.n), rn) <= normal_tolerance(m, q, a.d),
+                  "geometry %u: normal (%g, %g, %g)", c.geom_id, c.n.x,
+                  c.n.y, c.n.z);
+    if (!a.tie)
+        ck_assert_msg(ldist(lv(c.p), a.p) <= tol,
+                      "q (%.17g, %.17g, %.17g): p %Lg from brute force's",
+                      q.x, q.y, q.z, ldist(lv(c.p), a.p));
+    return (double)(fabsl((ld)c.distance - a.d) /
+                    (tol / 64));
+}
+
+/*
+** Brute force, at the origin and at 1e5: 3000 random points in the
+** scene's box grown by 2 (inside and outside every solid, above and
+** below the plane), 200 at distance 1e3 and 100 at 1e6 in random
+** directions.
+*/
+START_TEST(should_match_brute_force)
+{
+    mixed m;
+    rng g = {0xc105e57u + (uint64_t)_i};
+    double o = test_offset(_i), worst = 0;
+    int k;
+
+    mixed_build(&m, vec(o, o, o));
+    for (k = 0; k < 3300; k++) {
+        ray_vec3 q;
+        if (k < 3000)
+            q = vadd(m.o, rng_point(&g, -12, 12));
+        else
+            q = vadd(m.o, vscale(rng_dir(&g), k < 3200 ? 1e3 : 1e6));
+        worst = fmax(worst, check_query(&m, q));
+    }
+    if (getenv("CLOSEST_TEST_FIGURES") != NULL)
+        fprintf(stderr, "closest, offset %g: largest distance error %.3g "
+                "DBL_EPSILON of M + d\n", o, worst);
+    mixed_free(&m);
+}
+END_TEST
+
+/*
+** The radius: a query whose nearest point lies at brute-force distance
+** d answers 1 for radius d (1 + 4 tol / d) -- just beyond its rounding
+** -- and 0, with out untouched, for d (1 - 4 tol / d): the BVH's pruning
+** keeps a box within the radius and drops one beyond it.  Exact cases:
+** the unit sphere seen from (3, 0, 0), p = (1, 0, 0) and distance 2
+** exactly (exact inputs: (q - c)/|q - c| = (1, 0, 0)); radius 2 is
+** inclusive, the next double below is not.
+*/
+START_TEST(radius_should_bound_the_search)
+{
+    mixed m;
+    rng g = {77};
+    ray_scene *s;
+    ray_closest c, keep;
+    int k;
+
+    mixed_build(&m, vec(0, 0, 0));
+    for (k = 0; k < 500; k++) {
+        ray_vec3 q = rng_point(&g, -12, 12);
+        answer a = brute_force(&m, lv(q), 0);
+        ld tol = tolerance(&m, q, a.d);
+        double above = (double)(a.d + 4 * tol), below = (double)(a.d - 4 * tol);
+        ck_assert_int_eq(ray_closest_point(m.s, q, above, &c), 1);
+        ck_assert(fabsl((ld)c.distance - a.d) <= tol);
+        if (below >= 0) {
+            memset(&c, 0xA5, sizeof c);
+            keep = c;
+            ck_assert_int_eq(ray_closest_point(m.s, q, below, &c), 0);
+            ck_assert(memcmp(&c, &keep, sizeof c) == 0);
+        }
+    }
+    mixed_free(&m);
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, vec(3, 0, 0), 2.0, &c), 1);
+    ck_assert(c.distance == 2.0);
+    ck_assert_vec_eq(c.p, vec(1, 0, 0));
+    ck_assert_vec_eq(c.n, vec(1, 0, 0));
+    ck_assert_uint_eq(c.geom_id, 0);
+    ck_assert_uint_eq(c.prim_id, 0);
+    memset(&c, 0xA5, sizeof c);
+    keep = c;
+    ck_assert_int_eq(ray_closest_point(s, vec(3, 0, 0), nextafter(2.0, 0),
+                                       &c), 0);
+    ck_assert(memcmp(&c, &keep, sizeof c) == 0);
+    ck_assert_int_eq(ray_closest_point(s, vec(3, 0, 0), HUGE_VAL, &c), 1);
+    ck_assert(c.distance == 2.0);
+    /* Radius 0 finds a point exactly on the surface, and only that. */
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, -1), 0.0, &c), 1);
+    ck_assert(c.distance == 0.0);
+    ck_assert_vec_eq(c.p, vec(0, 0, -1));
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, -1.5), 0.0, &c), 0);
+    /* Inside the sphere: the nearest point of its surface, not 0. */
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0.25, 0), HUGE_VAL, &c), 1);
+    ck_assert(c.distance == 0.75);
+    ck_assert_vec_eq(c.p, vec(0, 1, 0));
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Points on the surface, exactly: on the plane z = 0 (its foot is q
+** itself, distance 0), on a face of an axis-aligned box (local
+** coordinates exact: p = q), on a sphere's pole; and every vertex of the
+** icosphere (Ericson's vertex regions return the vertex itself: p the
+** vertex bit for bit, distance 0).  On every edge's midpoint (a+b)/2 as
+** rounded, within an ulp of |o| + 2 per component of the exact edge,
+** and found within a few ulps more: distance within tol_at(2 o), 64
+** ulps of 2 |o| + 10, the other suites' bound for a few dozen roundings.
+*/
+START_TEST(should_find_points_on_the_surface)
+{
+    ray_scene *s;
+    ray_box_params b;
+    ray_closest c;
+    double o = test_offset(_i);
+    hc_mesh ball = hc_icosphere(vec(o, o, o), 2);
+    ray_mesh mesh = mesh_of(&ball);
+    size_t i;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(o, o, o - 20), vec(0, 0, 1),
+                                         RAY_NO_MATERIAL, NULL), RAY_OK);
+    b.center = vec(o + 10, o, o);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(o - 10, o, o), 1,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+
+    ck_assert_int_eq(ray_closest_point(s, vec(o + 0.3, o + 0.7, o - 20),
+                                       HUGE_VAL, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 0);
+    ck_assert(c.distance == 0.0);
+    ck_assert_vec_eq(c.p, vec(o + 0.3, o + 0.7, o - 20));
+    ck_assert_vec_eq(c.n, vec(0, 0, 1));
+    ck_assert_int_eq(ray_closest_point(s, vec(o + 11, o + 0.25, o - 0.5),
+                                       HUGE_VAL, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 1);
+    ck_assert(c.distance == 0.0);
+    ck_assert_vec_eq(c.p, vec(o + 11, o + 0.25, o - 0.5));
+    ck_assert_vec_eq(c.n, vec(1, 0, 0));
+    ck_assert_int_eq(ray_closest_point(s, vec(o - 10, o, o + 1), HUGE_VAL,
+                                       &c), 1);
+    ck_assert_uint_eq(c.geom_id, 2);
+    ck_assert(c.distance == 0.0);
+    ck_assert_vec_eq(c.n, vec(0, 0, 1));
+    for (i = 0; i < ball.nv; i++) {
+        ck_assert_int_eq(ray_closest_point(s, ball.v[i], HUGE_VAL, &c), 1);
+        ck_assert_uint_eq(c.geom_id, 3);
+        ck_assert(c.distance == 0.0);
+        ck_assert_vec_eq(c.p, ball.v[i]);
+        ck_assert_uint_lt(c.prim_id, ball.nt);
+        ck_assert(ball.idx[3 * c.prim_id] == i ||
+                  ball.idx[3 * c.prim_id + 1] == i ||
+                  ball.idx[3 * c.prim_id + 2] == i);
+    }
+    for (i = 0; i < 3 * ball.nt; i++) {
+        ray_vec3 a = ball.v[ball.idx[i]];
+        ray_vec3 e = ball.v[ball.idx[i % 3 == 2 ? i - 2 : i + 1]];
+        ray_vec3 mid = vscale(vadd(a, e), 0.5);
+        ck_assert_int_eq(ray_closest_point(s, mid, HUGE_VAL, &c), 1);
+        ck_assert_uint_eq(c.geom_id, 3);
+        ck_assert_msg(c.distance <= tol_at(2 * o), "edge %zu: %g", i,
+                      c.distance);
+    }
+    ray_scene_free(s);
+    hc_mesh_free(&ball);
+}
+END_TEST
+
+/*
+** Inside a closed mesh: from the icosphere's centre every face is at its
+** inradius, about 1.9 (the brute force says which); a point off centre
+** gets the nearest face, not 0.  Far beyond, 1e200 to 1.7e308 from the
+** scene, where the box distances are scaled to keep their squares
+** finite: the answer is still brute force's, to 1e-15 relative (the
+** distance, about |q|, is the difference of coordinates 1e200 and 1
+** apart: only its last rounding shows).  Which primitive is nearest is
+** below the doubles' resolution there (and long double's), so only the
+** distance is checked.  The mixed scene's plane is nearest from almost
+** every far direction, so a second scene without one (the icosphere and
+** a sphere) has the scaled box distances order the BVHs' boxes.
+*/
+START_TEST(should_answer_inside_and_far_beyond)
+{
+    mixed m;
+    ray_closest c;
+    ray_vec3 far[4];
+    int k;
+
+    mixed_build(&m, vec(0, 0, 0));
+    check_query(&m, vec(0, 0, 0));
+    check_query(&m, vec(0.3, -0.2, 0.1));
+    ck_assert_int_eq(ray_closest_point(m.s, vec(0, 0, 0), HUGE_VAL, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 0);
+    ck_assert(c.distance > 1.8 && c.distance < 2.0);
+    far[0] = vec(1e200, 3, -2);
+    far[1] = vec(-1.7e308, 0, 0);
+    far[2] = vec(0, -1e300, 1e300);
+    far[3] = vec(5e153, 5e153, 5e153);
+    for (k = 0; k < 4; k++) {
+        answer a = brute_force(&m, lv(far[k]), 0);
+        ck_assert_int_eq(ray_closest_point(m.s, far[k], HUGE_VAL, &c), 1);
+        ck_assert_msg(fabsl((ld)c.distance - a.d) <= 1e-15L * a.d,
+                      "far %d: %.17g against %.17Lg", k, c.distance, a.d);
+        ck_assert(isfinite(c.p.x) && isfinite(c.p.y) && isfinite(c.p.z));
+    }
+    {
+        hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
+        ray_mesh mesh = mesh_of(&ball);
+        ray_scene *s;
+        size_t i;
+
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(5, 0, 0), 1,
+                                              RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (k = 0; k < 4; k++) {
+            lvec q = lv(far[k]);
+            ld best = ldist(q, lv3(5, 0, 0)) - 1;
+            for (i = 0; i < ball.nt; i++)
+                best = fminl(best, ldist(q, ref_triangle(
+                                                q, lv(ball.v[ball.idx[3 * i]]),
+                                                lv(ball.v[ball.idx[3 * i + 1]]),
+                                                lv(ball.v[ball.idx[3 * i + 2]]))));
+            ck_assert_int_eq(ray_closest_point(s, far[k], HUGE_VAL, &c), 1);
+            ck_assert_uint_lt(c.geom_id, 2);
+            ck_assert_msg(fabsl((ld)c.distance - best) <= 1e-15L * best,
+                          "far %d: %.17g against %.17Lg", k, c.distance,
+                          best);
+        }
+        ray_scene_free(s);
+        hc_mesh_free(&ball);
+    }
+    mixed_free(&m);
+}
+END_TEST
+
+/* Nothing to find: an empty scene, and one whose only geometry is of a
+** kind without a closest-point routine (a torus), answer 0, out
+** untouched, whatever the radius. */
+START_TEST(empty_scenes_should_find_nothing)
+{
+    ray_scene *s;
+    ray_torus_params t;
+    ray_closest c, keep;
+    int k;
+
+    memset(&c, 0xA5, sizeof c);
+    keep = c;
+    t.center = vec(0, 0, 0);
+    t.axis = vec(0, 1, 0);
+    t.major = 2;
+    t.minor = 0.5;
+    for (k = 0; k < 2; k++) {
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        if (k == 1)
+            ck_assert_int_eq(ray_scene_add_torus(s, &t, RAY_NO_MATERIAL,
+                                                 NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), HUGE_VAL, &c), 0);
+        ck_assert_int_eq(ray_closest_point(s, vec(2, 0, 0), 1.0, &c), 0);
+        ck_assert(memcmp(&c, &keep, sizeof c) == 0);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/* Misuse is a negated status with out untouched: NULL scene or out, a q
+** not finite, a negative or NaN radius (-RAY_EINVAL); a scene not yet
+** committed (-RAY_ESTATE). */
+START_TEST(misuse_should_be_refused)
+{
+    ray_scene *s;
+    ray_closest c, keep;
+    ray_vec3 q = vec(3, 0, 0);
+
+    memset(&c, 0xA5, sizeof c);
+    keep = c;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, q, 10, &c), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(NULL, q, 10, &c), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, q, 10, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, vec((double)NAN, 0, 0), 10, &c),
+                     -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, HUGE_VAL, 0), 10, &c),
+                     -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, -HUGE_VAL), 10, &c),
+                     -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, q, -1, &c), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, q, -HUGE_VAL, &c), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, q, (double)NAN, &c), -RAY_EINVAL);
+    ck_assert(memcmp(&c, &keep, sizeof c) == 0);
+    ck_assert_int_eq(ray_closest_point(s, q, 10, &c), 1);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Threads and memory: one committed scene queried from four threads at
+** once, each getting the answers a lone thread got, bit for bit (under
+** make tsan, the race check of the query path); and the scene's
+** allocator is not called by any query (the calls allocate nothing).
+*/
+#define CLOSEST_THREADS 4
+#define CLOSEST_POINTS 400
+
+typedef struct closest_job {
+    const ray_scene *s;
+    const ray_vec3 *q;
+    ray_closest out[CLOSEST_POINTS];
+    int rc[CLOSEST_POINTS];
+} closest_job;
+
+static void *closest_thread(void *arg)
+{
+    closest_job *j = arg;
+    int i;
+
+    memset(j->out, 0, sizeof j->out);
+    for (i = 0; i < CLOSEST_POINTS; i++)
+        j->rc[i] = ray_closest_point(j->s, j->q[i], i % 2 ? HUGE_VAL : 1.0,
+                                     &j->out[i]);
+    return NULL;
+}
+
+/* libc's allocator, counting its calls. */
+static void *counted(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    (void)osize;
+    ++*(long *)ud;
+    if (nsize == 0) {
+        free(ptr);
+        return NULL;
+    }
+    return realloc(ptr, nsize);
+}
+
+START_TEST(queries_should_share_the_scene_and_allocate_nothing)
+{
+    static closest_job ref, got[CLOSEST_THREADS];
+    static ray_vec3 q[CLOSEST_POINTS];
+    hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
+    ray_mesh mesh = mesh_of(&ball);
+    pthread_t threads[CLOSEST_THREADS];
+    ray_capsule_params cap = {{3, -1, 0}, {3, 1, 0}, 0.5};
+    ray_scene *s;
+    rng g = {4242};
+    long calls = 0, after_commit;
+    int i, k, found = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, counted, &calls), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(-4, 0, 0), 1,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_capsule(s, &cap, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    after_commit = calls;
+    for (i = 0; i < CLOSEST_POINTS; i++)
+        q[i] = rng_point(&g, -6, 6);
+    ref.s = s;
+    ref.q = q;
+    closest_thread(&ref);
+    for (k = 0; k < CLOSEST_THREADS; k++) {
+        got[k].s = s;
+        got[k].q = q;
+        ck_assert_int_eq(pthread_create(&threads[k], NULL, closest_thread,
+                                        &got[k]), 0);
+    }
+    for (k = 0; k < CLOSEST_THREADS; k++)
+        ck_assert_int_eq(pthread_join(threads[k], NULL), 0);
+    for (k = 0; k < CLOSEST_THREADS; k++) {
+        ck_assert(memcmp(got[k].rc, ref.rc, sizeof ref.rc) == 0);
+        ck_assert(memcmp(got[k].out, ref.out, sizeof ref.out) == 0);
+    }
+    for (i = 0; i < CLOSEST_POINTS; i++)
+        found += ref.rc[i] == 1;
+    /* Radius +Inf on every other point finds something; radius 1 on the
+    ** others only near the geometry: both answers occur. */
+    ck_assert_int_gt(found, CLOSEST_POINTS / 2);
+    ck_assert_int_lt(found, CLOSEST_POINTS);
+    ck_assert_int_eq(calls, after_commit);
+    ray_scene_free(s);
+    hc_mesh_free(&ball);
+}
+END_TEST
+
+Suite *closest_suite(void)
+{
+    Suite *s = suite_create("closest");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 120);
+    tcase_add_loop_test(tc, should_match_brute_force, 0, N_OFFSETS);
+    tcase_add_test(tc, radius_should_bound_the_search);
+    tcase_add_loop_test(tc, should_find_points_on_the_surface, 0, N_OFFSETS);
+    tcase_add_test(tc, should_answer_inside_and_far_beyond);
+    tcase_add_test(tc, empty_scenes_should_find_nothing);
+    tcase_add_test(tc, misuse_should_be_refused);
+    tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
+    suite_add_tcase(s, tc);
+    return s;
+}
