@@ -666,45 +666,92 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     return RAY_OK;
 }
 
+/* Slot k of node q fitted to box b. */
+static void slot_fit(ray__wnode *q, int k, const box *b)
+{
+    int a;
+
+    for (a = 0; a < 3; a++) {
+        q->lo[a][k] = b->lo[a];
+        q->hi[a][k] = b->hi[a];
+    }
+}
+
+/*
+** The leaves first, in the order of their items: the leaves of a wide
+** node sit wherever the collapse numbered them, so visiting them node by
+** node reads the items (the triangles, 72 bytes each) in a scattered
+** order that misses the cache at every leaf; "at[first item]" names the
+** leaf slot starting there (node * RAY__WIDTH + slot), so one forward
+** pass reads them as they lie.  0 if the array cannot be had.
+*/
+static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
+                                 ray__range_box_fn range_box, const void *ud,
+                                 size_t n_items)
+{
+    unsigned *at;
+    size_t w, i;
+    int k;
+
+    if (n_items == 0 || bvh->n_wide > 0xffffffffu / RAY__WIDTH)
+        return 0;
+    at = ray__allocate(a, n_items * sizeof *at);
+    if (at == NULL)
+        return 0;
+    for (i = 0; i < n_items; i++)
+        at[i] = 0xffffffffu;
+    for (w = 0; w < bvh->n_wide; w++)
+        for (k = 0; k < RAY__WIDTH; k++) {
+            const ray__wnode *q = &bvh->wide[w];
+            if (q->count[k] != 0 && (q->count[k] & ~RAY__LEAF) != 0 &&
+                q->child[k] < n_items)
+                at[q->child[k]] = (unsigned)(w * RAY__WIDTH + (size_t)k);
+        }
+    for (i = 0; i < n_items; i++)
+        if (at[i] != 0xffffffffu) {
+            ray__wnode *q = &bvh->wide[at[i] / RAY__WIDTH];
+            int slot = (int)(at[i] % RAY__WIDTH);
+            box b;
+            range_box(ud, i, q->count[slot] & ~RAY__LEAF, b.lo, b.hi);
+            slot_fit(q, slot, &b);
+        }
+    ray__release(a, at, n_items * sizeof *at);
+    return 1;
+}
+
 /*
 ** Wide nodes are numbered so that every child comes after its parent
 ** (collapse numbers them as it goes), so one pass from the last node to
 ** the first sees every child refitted before its parent.
 */
-void ray__bvh_refit(ray__bvh *bvh, ray__box_fn box_of, const void *ud)
+void ray__bvh_refit(const ray__allocator *a, ray__bvh *bvh,
+                    ray__range_box_fn range_box, const void *ud,
+                    size_t n_items)
 {
+    int leaves_done = refit_leaves_in_order(a, bvh, range_box, ud, n_items);
     size_t w = bvh->n_wide;
 
     while (w-- > 0) {
         ray__wnode *q = &bvh->wide[w];
-        int k, a;
+        int k, j, ax;
         for (k = 0; k < RAY__WIDTH; k++) {
             box b;
-            box_empty(&b);
             if (q->count[k] == 0) {               /* an inner node */
                 const ray__wnode *c = &bvh->wide[q->child[k]];
-                int j;
+                box_empty(&b);
                 for (j = 0; j < RAY__WIDTH; j++) {
                     float lo[3], hi[3];
-                    for (a = 0; a < 3; a++) {
-                        lo[a] = c->lo[a][j];
-                        hi[a] = c->hi[a][j];
+                    for (ax = 0; ax < 3; ax++) {
+                        lo[ax] = c->lo[ax][j];
+                        hi[ax] = c->hi[ax][j];
                     }
                     box_grow(&b, lo, hi);
                 }
-            } else {
-                unsigned i, n = q->count[k] & ~RAY__LEAF;
-                for (i = 0; i < n; i++) {
-                    float lo[3], hi[3];
-                    box_of(ud, q->child[k] + i, lo, hi);
-                    box_grow(&b, lo, hi);
-                }
-                if (n == 0)
-                    continue;                     /* an unused slot */
-            }
-            for (a = 0; a < 3; a++) {
-                q->lo[a][k] = b.lo[a];
-                q->hi[a][k] = b.hi[a];
+                slot_fit(q, k, &b);
+            } else if (!leaves_done && (q->count[k] & ~RAY__LEAF) != 0) {
+                range_box(ud, q->child[k], q->count[k] & ~RAY__LEAF, b.lo,
+                          b.hi);
+                slot_fit(q, k, &b);
             }
         }
     }

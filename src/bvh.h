@@ -96,12 +96,19 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
 /*
-** Refit: the same tree, every box fitted again to its items' boxes as
-** box(ud, i, ...) now gives them (i the item's leaf position: an index
-** into items[] when the BVH keeps them, else what the leaves index),
-** bottom up.  For geometry that moved but kept its items: O(items +
-** nodes), no allocation; the tree may fit worse than a rebuild would.
+** Refit: the same tree, every box fitted again bottom up, a leaf's to its
+** items as range_box(ud, first, n, ...) now bounds items first .. first
+** + n - 1 (leaf positions: indices into items[] when the BVH keeps them,
+** else what the leaves index), rounded outward once for the run.  For
+** geometry that moved but kept its items (n_items of them): O(items +
+** nodes), with a temporary array of n_items through "a" (without it,
+** when that allocation fails, the same boxes, slower); the tree may fit
+** worse than a rebuild would.
 */
-void ray__bvh_refit(ray__bvh *bvh, ray__box_fn box, const void *ud);
+typedef void (*ray__range_box_fn)(const void *ud, size_t first, size_t n,
+                                  float lo[3], float hi[3]);
+void ray__bvh_refit(const ray__allocator *a, ray__bvh *bvh,
+                    ray__range_box_fn range_box, const void *ud,
+                    size_t n_items);
 
 #endif /* RAY_BVH_H */

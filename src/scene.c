@@ -603,15 +603,6 @@ static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
     hi[2] = ray__float_up(max3(t->a.z, t->b.z, t->c.z));
 }
 
-/* A triangle that can be hit: its normal exists, i.e. its cross product
-** has a non-zero finite component (what v3_normalize in triangle.c needs). */
-static int tri_usable(const ray__tri *t)
-{
-    ray_vec3 n = v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a));
-    double m = fmax(fabs(n.x), fmax(fabs(n.y), fabs(n.z)));
-    return m > 0 && m < HUGE_VAL;
-}
-
 /* Give back the spare capacity that doubling left in the triangle arrays
 ** (a failed shrink keeps the larger block: harmless). */
 static void trim_tris(ray_scene *s)
@@ -679,18 +670,6 @@ static int tri_live(const ray_scene *s, size_t i)
     return p->enabled && !p->removed;
 }
 
-/*
-** A triangle that has no normal becomes the point at its first vertex:
-** it keeps its slot (a mesh update may give it an area again), and every
-** triangle test misses a point (no edge function is non-zero, so det is
-** 0) while its box stays finite.
-*/
-void ray__tri_collapse_unusable(ray__tri *t)
-{
-    if (!tri_usable(t))
-        t->b = t->c = t->a;
-}
-
 static void tris_collapse_unusable(ray_scene *s, size_t first, size_t end)
 {
     size_t i;
@@ -752,16 +731,39 @@ static int rebuild_triangles(ray_scene *s)
     return RAY_OK;
 }
 
-/* The triangle BVH's boxes fitted again to moved vertices, same tree. */
-static void tri_leaf_box(const void *ud, size_t i, float lo[3], float hi[3])
+/*
+** The float box of triangles first .. first + n - 1 (a leaf's), rounded
+** outward once from their double bounds: the same box as the union of
+** their own rounded boxes (rounding outward is monotonic), at a quarter
+** of the roundings for the refit's four-triangle leaves.
+*/
+static void tris_box(const void *ud, size_t first, size_t n, float lo[3],
+                     float hi[3])
 {
-    tri_box(ud, i, lo, hi);
+    const ray__tri *t = &((const ray_scene *)ud)->tris[first];
+    ray_vec3 a = t->a, b = t->a;
+    size_t i;
+
+    for (i = 0; i < n; i++, t++) {
+        a.x = min3(a.x, min3(t->a.x, t->b.x, t->c.x), t->a.x);
+        a.y = min3(a.y, min3(t->a.y, t->b.y, t->c.y), t->a.y);
+        a.z = min3(a.z, min3(t->a.z, t->b.z, t->c.z), t->a.z);
+        b.x = max3(b.x, max3(t->a.x, t->b.x, t->c.x), t->a.x);
+        b.y = max3(b.y, max3(t->a.y, t->b.y, t->c.y), t->a.y);
+        b.z = max3(b.z, max3(t->a.z, t->b.z, t->c.z), t->a.z);
+    }
+    lo[0] = ray__float_down(a.x);
+    lo[1] = ray__float_down(a.y);
+    lo[2] = ray__float_down(a.z);
+    hi[0] = ray__float_up(b.x);
+    hi[1] = ray__float_up(b.y);
+    hi[2] = ray__float_up(b.z);
 }
 
 static void refit_triangles(ray_scene *s)
 {
     /* ray_scene_update_mesh collapsed the unusable ones it wrote. */
-    ray__bvh_refit(&s->tri_bvh, tri_leaf_box, s);
+    ray__bvh_refit(&s->alloc, &s->tri_bvh, tris_box, s, s->n_live_tris);
 }
 
 /* The bounded primitives' ids, for the box callback. */

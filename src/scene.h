@@ -225,10 +225,29 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
 /* Free a mesh's shading data (its arrays NULL after). */
 void ray__mesh_release(const ray_scene *s, ray__mesh *m);
 
-/* A triangle that has no normal (zero area, or a cross product that
-** overflows) made the point at its first vertex, which no test hits
-** (scene.c explains). */
-void ray__tri_collapse_unusable(ray__tri *t);
+/* A triangle that can be hit: its normal exists, i.e. its cross product
+** has a non-zero finite component (what v3_normalize in triangle.c
+** needs).  Comparisons, not fmax (a libm call under -std=c99): a NaN
+** component (inf - inf) fails both tests, as it should. */
+static inline int ray__tri_usable(const ray__tri *t)
+{
+    ray_vec3 n = v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a));
+    double x = fabs(n.x), y = fabs(n.y), z = fabs(n.z);
+    return (x > 0 || y > 0 || z > 0) && x < HUGE_VAL && y < HUGE_VAL &&
+           z < HUGE_VAL;
+}
+
+/*
+** A triangle that has no normal becomes the point at its first vertex:
+** it keeps its slot (a mesh update may give it an area again), and every
+** triangle test misses a point (no edge function is non-zero, so det is
+** 0) while its box stays finite.
+*/
+static inline void ray__tri_collapse_unusable(ray__tri *t)
+{
+    if (!ray__tri_usable(t))
+        t->b = t->c = t->a;
+}
 
 /* Room for "more" triangles in the scene's tris/tri_ids arrays. */
 int ray__reserve_tris(ray_scene *s, size_t more);
