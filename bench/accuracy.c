@@ -458,7 +458,7 @@ static void primitives(void)
            "the time, and its t is off by ~1e9 ulps of double: libray does "
            "not export float variants (a game keeps float vertices and "
            "converts them when adding a mesh; the scene stores doubles).  "
-           "The watertight test costs about 1.5 Cramer tests in isolation; "
+           "The watertight test costs 1.3 to 1.5 Cramer tests in isolation; "
            "inside a whole traversal the difference is 0 to 10%% (see the "
            "mesh benchmark's \"Triangle test inside the traversal\").\n\n");
     work_free(&sw);
