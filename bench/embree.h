@@ -9,6 +9,7 @@
 #define BENCH_EMBREE_H
 
 #ifdef HAVE_EMBREE
+#include <math.h>
 #include <string.h>
 #include <embree3/rtcore.h>
 
@@ -48,6 +49,35 @@ static inline RTCGeometry embree_triangles(RTCDevice dev, const ray_vec3 *v,
     if (vertices != NULL)
         *vertices = ev;
     return g;
+}
+
+/* Embree's nearest hit of r (in float, as Embree works): 1 and *t, *prim
+** (either may be NULL), or 0. */
+static inline int embree_hit(RTCScene scene, const ray_ray *r, float *t,
+                             unsigned *prim)
+{
+    struct RTCIntersectContext ctx;
+    struct RTCRayHit rh;
+
+    rtcInitIntersectContext(&ctx);
+    rh.ray.org_x = (float)r->org.x;
+    rh.ray.org_y = (float)r->org.y;
+    rh.ray.org_z = (float)r->org.z;
+    rh.ray.dir_x = (float)r->dir.x;
+    rh.ray.dir_y = (float)r->dir.y;
+    rh.ray.dir_z = (float)r->dir.z;
+    rh.ray.tnear = (float)r->tmin;
+    rh.ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ctx, &rh);
+    if (t != NULL)
+        *t = rh.ray.tfar;
+    if (prim != NULL)
+        *prim = rh.hit.primID;
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 #endif
 

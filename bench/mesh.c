@@ -24,9 +24,7 @@
 #include "obj.h"
 #include "common.h"
 
-#ifdef HAVE_EMBREE
-#include <embree3/rtcore.h>
-#endif
+#include "embree.h"
 
 static int reps = 5;
 
@@ -177,23 +175,10 @@ static void embree_trace(RTCScene scene, const ray_ray *r, int occlusion,
         rtcOccluded1(scene, &ctx, &ray);
         out->hit[i] = ray.tfar < 0;
     } else {
-        struct RTCRayHit rh;
-        rh.ray.org_x = (float)r->org.x;
-        rh.ray.org_y = (float)r->org.y;
-        rh.ray.org_z = (float)r->org.z;
-        rh.ray.dir_x = (float)r->dir.x;
-        rh.ray.dir_y = (float)r->dir.y;
-        rh.ray.dir_z = (float)r->dir.z;
-        rh.ray.tnear = (float)r->tmin;
-        rh.ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
-        rh.ray.mask = 0xffffffffu;
-        rh.ray.flags = 0;
-        rh.ray.time = 0;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &ctx, &rh);
-        out->hit[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-        out->t[i] = rh.ray.tfar;
-        out->prim[i] = rh.hit.primID;
+        float t;
+        out->hit[i] = (unsigned char)embree_hit(scene, r, &t,
+                                                &out->prim[i]);
+        out->t[i] = t;
     }
 }
 #endif

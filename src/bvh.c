@@ -452,6 +452,7 @@ void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh)
     ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
     ray__release(a, bvh->wide, bvh->n_wide * sizeof *bvh->wide);
     ray__release(a, bvh->items, bvh->n_items * sizeof *bvh->items);
+    ray__release(a, bvh->leaves, bvh->n_leaves * sizeof *bvh->leaves);
     memset(bvh, 0, sizeof *bvh);
 }
 
@@ -678,21 +679,23 @@ static void slot_fit(ray__wnode *q, int k, const box *b)
 }
 
 /*
-** The leaves first, in the order of their items: the leaves of a wide
-** node sit wherever the collapse numbered them, so visiting them node by
-** node reads the items (the triangles, 72 bytes each) in a scattered
-** order that misses the cache at every leaf; "at[first item]" names the
-** leaf slot starting there (node * RAY__WIDTH + slot), so one forward
-** pass reads them as they lie.  0 if the array cannot be had.
+** The leaf slots listed by their first item (node * RAY__WIDTH + slot),
+** kept in bvh->leaves: the leaves of a wide node sit wherever the
+** collapse numbered them, so visiting them node by node reads the items
+** (the triangles, 72 bytes each) in a scattered order that misses the
+** cache at every leaf, where this list reads them as they lie.  Made
+** once, through a temporary array of n_items (the slot starting at each
+** item); 0 if memory is short (the caller then goes node by node).
 */
-static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
-                                 ray__range_box_fn range_box, const void *ud,
-                                 size_t n_items)
+static int leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
+                           size_t n_items)
 {
-    unsigned *at;
-    size_t w, i;
+    unsigned *at, *list;
+    size_t w, i, n = 0;
     int k;
 
+    if (bvh->leaves != NULL)
+        return 1;
     if (n_items == 0 || bvh->n_wide > 0xffffffffu / RAY__WIDTH)
         return 0;
     at = ray__allocate(a, n_items * sizeof *at);
@@ -704,18 +707,41 @@ static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
         for (k = 0; k < RAY__WIDTH; k++) {
             const ray__wnode *q = &bvh->wide[w];
             if (q->count[k] != 0 && (q->count[k] & ~RAY__LEAF) != 0 &&
-                q->child[k] < n_items)
+                q->child[k] < n_items) {
                 at[q->child[k]] = (unsigned)(w * RAY__WIDTH + (size_t)k);
+                n++;
+            }
         }
-    for (i = 0; i < n_items; i++)
-        if (at[i] != 0xffffffffu) {
-            ray__wnode *q = &bvh->wide[at[i] / RAY__WIDTH];
-            int slot = (int)(at[i] % RAY__WIDTH);
-            box b;
-            range_box(ud, i, q->count[slot] & ~RAY__LEAF, b.lo, b.hi);
-            slot_fit(q, slot, &b);
-        }
+    list = ray__allocate(a, n * sizeof *list);
+    if (list != NULL) {
+        size_t j = 0;
+        for (i = 0; i < n_items; i++)
+            if (at[i] != 0xffffffffu)
+                list[j++] = at[i];
+        bvh->leaves = list;
+        bvh->n_leaves = n;
+    }
     ray__release(a, at, n_items * sizeof *at);
+    return list != NULL;
+}
+
+/* The leaf slots refitted in the order of their items. */
+static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
+                                 ray__range_box_fn range_box, const void *ud,
+                                 size_t n_items)
+{
+    size_t i;
+
+    if (!leaves_in_order(a, bvh, n_items))
+        return 0;
+    for (i = 0; i < bvh->n_leaves; i++) {
+        ray__wnode *q = &bvh->wide[bvh->leaves[i] / RAY__WIDTH];
+        int slot = (int)(bvh->leaves[i] % RAY__WIDTH);
+        box b;
+        range_box(ud, q->child[slot], q->count[slot] & ~RAY__LEAF, b.lo,
+                  b.hi);
+        slot_fit(q, slot, &b);
+    }
     return 1;
 }
 

@@ -47,6 +47,10 @@ typedef struct ray__bvh {
     size_t n_wide;
     unsigned *items;     /* leaf order -> item index */
     size_t n_items;
+    unsigned *leaves;    /* refit's: the leaf slots (node * RAY__WIDTH +
+                            slot) by their first item; made by the first
+                            refit, kept until the BVH is freed */
+    size_t n_leaves;
 } ray__bvh;
 
 /*
