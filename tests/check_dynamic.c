@@ -180,7 +180,8 @@ START_TEST(borrowed_mesh_should_be_read_again_in_place)
     /* Moved in place: the scene sees it at the update and commit. */
     for (i = 0; i < ball.nv; i++) {
         gv[i].pos[0] = (float)(gv[i].pos[0] * 1.5f + 0.25f);
-        moved[i] = vec(gv[i].pos[0], gv[i].pos[1], gv[i].pos[2]);
+        moved[i] = vec((double)gv[i].pos[0], (double)gv[i].pos[1],
+                       (double)gv[i].pos[2]);
     }
     ck_assert_int_eq(ray_scene_update_mesh(s, id, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
