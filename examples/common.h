@@ -238,6 +238,34 @@ typedef struct example_cli {
 } example_cli;
 
 /*
+** The axis-aligned box lo .. hi as a closed mesh of 12 triangles, wound
+** outward, added to "scene" (vertex i takes x, y, z from hi where its bits
+** 0, 1, 2 are set, else from lo; the vertices are copied).
+*/
+static inline int example_add_box_mesh(ray_scene *scene, ray_vec3 lo,
+                                       ray_vec3 hi, unsigned material,
+                                       unsigned *id)
+{
+    static const unsigned indices[36] = {
+        0, 4, 6, 0, 6, 2,   1, 3, 7, 1, 7, 5,     /* x- and x+ faces */
+        0, 1, 5, 0, 5, 4,   2, 6, 7, 2, 7, 3,     /* y- and y+ */
+        0, 2, 3, 0, 3, 1,   4, 5, 7, 4, 7, 6};    /* z- and z+ */
+    ray_vec3 v[8];
+    ray_mesh m;
+    unsigned i;
+
+    for (i = 0; i < 8; i++)
+        v[i] = vec(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y,
+                   i & 4 ? hi.z : lo.z);
+    ray_mesh_init(&m);
+    m.vertices = v;
+    m.vertex_count = 8;
+    m.indices = indices;
+    m.triangle_count = 12;
+    return ray_scene_add_mesh(scene, &m, material, id);
+}
+
+/*
 ** The command line of an example that takes no arguments (it writes no
 ** file): 0 when there are none; -h or --help prints "usage: NAME (no
 ** arguments)" and "what" on stdout, anything else is refused on stderr

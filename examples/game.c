@@ -59,22 +59,8 @@ static int add_terrain(ray_scene *s)
 /* A crate: the box [-0.4, 0.4] x [0, 0.8] x [-0.4, 0.4], 12 triangles. */
 static int add_crate(ray_scene *s, unsigned *id)
 {
-    static const unsigned idx[36] = {
-        0, 4, 6, 0, 6, 2,   1, 3, 7, 1, 7, 5,     /* x- and x+ faces */
-        0, 1, 5, 0, 5, 4,   2, 6, 7, 2, 7, 3,     /* y- and y+ */
-        0, 2, 3, 0, 3, 1,   4, 5, 7, 4, 7, 6};    /* z- and z+ */
-    ray_vec3 v[8];
-    ray_mesh m;
-    unsigned i;
-
-    for (i = 0; i < 8; i++)
-        v[i] = vec(i & 1 ? 0.4 : -0.4, i & 2 ? 0.8 : 0.0, i & 4 ? 0.4 : -0.4);
-    ray_mesh_init(&m);
-    m.vertices = v;
-    m.vertex_count = 8;
-    m.indices = idx;
-    m.triangle_count = 12;
-    return ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, id);
+    return example_add_box_mesh(s, vec(-0.4, 0, -0.4), vec(0.4, 0.8, 0.4),
+                                RAY_NO_MATERIAL, id);
 }
 
 /* Ignore the shooter: query_ud points at the instance id to skip. */

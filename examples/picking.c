@@ -62,27 +62,13 @@ static int add_quad(ray_scene *scene, const ray_vec3 corner[4],
     return ray_scene_add_mesh(scene, &m, material, id);
 }
 
-/* A unit: a box of 12 triangles; vertex i has x, y, z from its bits 0-2. */
+/* A unit: a 1 x 2 x 1 box of 12 triangles standing on "base". */
 static int add_unit(ray_scene *scene, ray_vec3 base, unsigned material,
                     unsigned *id)
 {
-    static const unsigned indices[36] = {
-        0, 4, 6, 0, 6, 2,   1, 3, 7, 1, 7, 5,     /* x- and x+ faces */
-        0, 1, 5, 0, 5, 4,   2, 6, 7, 2, 7, 3,     /* y- and y+ */
-        0, 2, 3, 0, 3, 1,   4, 5, 7, 4, 7, 6};    /* z- and z+ */
-    ray_vec3 v[8];
-    ray_mesh m;
-    unsigned i;
-
-    for (i = 0; i < 8; i++)
-        v[i] = vec(base.x + (i & 1 ? 0.5 : -0.5), base.y + (i & 2 ? 2.0 : 0.0),
-                   base.z + (i & 4 ? 0.5 : -0.5));
-    ray_mesh_init(&m);
-    m.vertices = v;
-    m.vertex_count = 8;
-    m.indices = indices;
-    m.triangle_count = 12;
-    return ray_scene_add_mesh(scene, &m, material, id);   /* v is copied */
+    return example_add_box_mesh(scene, vec(base.x - 0.5, base.y, base.z - 0.5),
+                                vec(base.x + 0.5, base.y + 2, base.z + 0.5),
+                                material, id);
 }
 
 static void *answer_batch(void *arg)

@@ -159,18 +159,6 @@ typedef struct mixed {
     ray_vec3 tri[3][3];
 } mixed;
 
-static ray_mesh mesh_of(const hc_mesh *h)
-{
-    ray_mesh m;
-
-    ray_mesh_init(&m);
-    m.vertices = h->v;
-    m.vertex_count = h->nv;
-    m.indices = h->idx;
-    m.triangle_count = h->nt;
-    return m;
-}
-
 static ray_vec3 at(ray_vec3 o, double x, double y, double z)
 {
     return vec(o.x + x, o.y + y, o.z + z);
@@ -211,7 +199,7 @@ static void mixed_build(mixed *m, ray_vec3 o)
     tor.minor = 0.3;
 
     ck_assert_int_eq(ray_scene_new(&m->s, NULL, NULL), RAY_OK);
-    mesh = mesh_of(&m->ball);
+    mesh = hc_ray_mesh(&m->ball);
     ck_assert_int_eq(ray_scene_add_mesh(m->s, &mesh, RAY_NO_MATERIAL, &id),
                      RAY_OK);
     ck_assert_uint_eq(id, 0);
@@ -228,7 +216,7 @@ static void mixed_build(mixed *m, ray_vec3 o)
                                            NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_torus(m->s, &tor, RAY_NO_MATERIAL, NULL),
                      RAY_OK);
-    mesh = mesh_of(&m->cube);
+    mesh = hc_ray_mesh(&m->cube);
     ck_assert_int_eq(ray_scene_add_mesh(m->s, &mesh, RAY_NO_MATERIAL, &id),
                      RAY_OK);
     ck_assert_uint_eq(id, 8);
@@ -597,7 +585,7 @@ START_TEST(should_find_points_on_the_surface)
     ray_closest c;
     double o = test_offset(_i);
     hc_mesh ball = hc_icosphere(vec(o, o, o), 2);
-    ray_mesh mesh = mesh_of(&ball);
+    ray_mesh mesh = hc_ray_mesh(&ball);
     size_t i;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
@@ -694,7 +682,7 @@ START_TEST(should_answer_inside_and_far_beyond)
     }
     {
         hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
-        ray_mesh mesh = mesh_of(&ball);
+        ray_mesh mesh = hc_ray_mesh(&ball);
         ray_scene *s;
         size_t i;
 
@@ -833,7 +821,7 @@ START_TEST(queries_should_share_the_scene_and_allocate_nothing)
     static closest_job ref, got[CLOSEST_THREADS];
     static ray_vec3 q[CLOSEST_POINTS];
     hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
-    ray_mesh mesh = mesh_of(&ball);
+    ray_mesh mesh = hc_ray_mesh(&ball);
     pthread_t threads[CLOSEST_THREADS];
     ray_capsule_params cap = {{3, -1, 0}, {3, 1, 0}, 0.5};
     ray_scene *s;
