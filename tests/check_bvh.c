@@ -387,6 +387,7 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
 }
 END_TEST
 
+#if RAY__AVX2_COPY
 /* A filter that keeps hits whose p.x is not in (0, 1): deterministic. */
 static int drop_slab(void *ud, const ray_ray *r, const ray_hit *c, void *q)
 {
@@ -395,6 +396,7 @@ static int drop_slab(void *ud, const ray_ray *r, const ray_hit *c, void *q)
     (void)q;
     return !(c->p.x > 0 && c->p.x < 1);
 }
+#endif
 
 /*
 ** The gated queries and instances, base against AVX2, bit for bit (the
