@@ -932,8 +932,11 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** traversal, and its ids) plus 23 to 31 bytes of BVH after commit (111 in
 ** all on a million-triangle grid, 103 to 106 on the Stanford bunny:
 ** bench/mesh), plus 12 bytes of indices and the per-vertex attributes
-** when normals or texture coordinates are given.  ray_scene_commit
-** briefly needs about 180 bytes per triangle (189 on the bunny).
+** when normals or texture coordinates are given (none when borrowed,
+** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
+** triangle BVH keeps 4 bytes a leaf more, about 1 a triangle.
+** ray_scene_commit briefly needs about 180 bytes per triangle (189 on
+** the bunny).
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data
 ** (RAY_UINT*); 0 is none of them. */
