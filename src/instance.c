@@ -37,13 +37,27 @@ static double inv_dot(const double inv[3][3], int k, ray_vec3 v)
 ** lengths (Hadamard's inequality bounds |det| by that product, reached by
 ** orthogonal rows; a ratio that small means the rows are parallel to
 ** within the rounding of the cofactors, and the inverse would be noise).
+** Each row is first scaled by a power of two (exact) to bring its
+** largest entry into [1, 2), so that neither the cofactors, the
+** determinant nor the row lengths overflow or underflow whatever the
+** transform's scale: L = D S with D = diag(2^e_i), so L^-1 = S^-1 D^-1,
+** column j of S^-1 times 2^-e_j (exact again).  A zero row is singular.
 */
 static int invert(const ray_transform *t, double inv[3][3])
 {
-    const double (*m)[4] = t->m;
-    double c[3][3], det, rows = 1.0;
-    int i, j;
+    double m[3][3], c[3][3], det, rows = 1.0;
+    int e[3], i, j;
 
+    for (i = 0; i < 3; i++) {
+        double big = fmax(fabs(t->m[i][0]),
+                          fmax(fabs(t->m[i][1]), fabs(t->m[i][2])));
+        if (!(big > 0))
+            return 0;
+        (void)frexp(big, &e[i]);            /* big in [2^(e-1), 2^e) */
+        e[i] -= 1;
+        for (j = 0; j < 3; j++)
+            m[i][j] = ldexp(t->m[i][j], -e[i]);
+    }
     c[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
     c[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
     c[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
@@ -61,7 +75,7 @@ static int invert(const ray_transform *t, double inv[3][3])
         return 0;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) {
-            inv[i][j] = c[i][j] / det;
+            inv[i][j] = ldexp(c[i][j] / det, -e[j]);
             if (!isfinite(inv[i][j]))
                 return 0;
         }

@@ -934,22 +934,36 @@ static void scene_box(ray_scene *s)
     }
 }
 
+/* Instance geometry i, live, whose child was committed again since
+** (or is uncommitted now): its box must be taken again. */
+static ray__instance *instance_behind(ray_scene *s, size_t i)
+{
+    const ray__prim *p = &s->prims[i];
+    ray__instance *in;
+
+    if (p->kind != RAY__KIND_INSTANCE || p->removed)
+        return NULL;
+    in = &s->instances[p->surface];
+    if (in->generation == in->child->generation && in->child->committed)
+        return NULL;
+    return in;
+}
+
 /*
-** Instances whose child was committed again since: its box is taken
-** again (the top level is rebuilt).  A child now uncommitted, or grown
-** planes or instances, is an error.
+** Instances whose child was committed again since: their box is taken
+** again and the top level rebuilt.  Every such instance is checked
+** first (a child uncommitted now, or grown planes or instances, is an
+** error that changes nothing); then the scene is marked changed
+** (ray__touch), so that if the rebuild fails the scene answers
+** -RAY_ESTATE until a commit succeeds, rather than through old boxes.
 */
 static int refresh_instances(ray_scene *s)
 {
+    ray__instance *in;
     size_t i;
 
     for (i = 0; i < s->n_prims; i++) {
-        const ray__prim *p = &s->prims[i];
-        ray__instance *in;
-        if (p->kind != RAY__KIND_INSTANCE || p->removed)
-            continue;
-        in = &s->instances[p->surface];
-        if (in->generation == in->child->generation && in->child->committed)
+        if ((in = instance_behind(s, i)) == NULL)
             continue;
         if (!in->child->committed)
             return ray__fail(s, RAY_ESTATE, "instance %zu: its scene was "
@@ -957,9 +971,13 @@ static int refresh_instances(ray_scene *s)
         if (in->child->n_planes > 0 || in->child->has_instances)
             return ray__fail(s, RAY_EINVAL, "instance %zu: its scene now "
                              "has planes or instances", i);
+    }
+    for (i = 0; i < s->n_prims; i++) {
+        if ((in = instance_behind(s, i)) == NULL)
+            continue;
         ray__instance_box(in);
         in->generation = in->child->generation;
-        s->dirty |= RAY__DIRTY_PRIMS;
+        ray__touch(s, RAY__DIRTY_PRIMS);
     }
     return RAY_OK;
 }

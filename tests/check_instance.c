@@ -562,6 +562,85 @@ START_TEST(instances_should_move_and_follow_their_child)
 END_TEST
 
 /*
+** A commit that fails on one instance changes no other: child A grew and
+** was committed, child B changed and was not; the parent's commit
+** refuses B and leaves A's instance stale too, so the parent still
+** answers -RAY_ESTATE (not A's new sphere through A's old box); once B is
+** committed, the parent's commit takes both.
+*/
+START_TEST(failed_commit_should_leave_every_instance_stale)
+{
+    ray_scene *a, *b, *p;
+    ray_transform xf;
+    ray_ray r = ray_from(vec(-10, 0, 0), vec(1, 0, 0));
+    ray_ray high = ray_from(vec(-10, 2.5, 0), vec(1, 0, 0));
+    ray_hit h;
+    unsigned sa;
+
+    ck_assert_int_eq(ray_scene_new(&a, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&b, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&p, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(a, vec(0, 0, 0), 1, RAY_NO_MATERIAL, &sa), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(a), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(b, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(b), RAY_OK);
+    ray_transform_identity(&xf);
+    ck_assert_int_eq(ray_scene_add_instance(p, a, &xf, NULL), RAY_OK);
+    xf.m[0][3] = 10;
+    ck_assert_int_eq(ray_scene_add_instance(p, b, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(p), RAY_OK);
+    ck_assert_int_eq(ray_scene_remove(a, sa), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(a, vec(0, 0, 0), 3, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(a), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(b, vec(0, 2, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(p), RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(p, &r, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(b), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(p), RAY_OK);
+    ck_assert_int_eq(ray_intersect(p, &r, &h), 1);
+    ck_assert_double_eq(h.t, 7.0);          /* exact: -10 to -3 */
+    ck_assert_int_eq(ray_intersect(p, &high, &h), 1);   /* the new box */
+    ray_scene_free(p);
+    ray_scene_free(a);
+    ray_scene_free(b);
+}
+END_TEST
+
+/*
+** Transforms of any scale: a uniform scale of 1e-110, 1e-106 or 1e103
+** (well conditioned, however small or large) is accepted, and a ray
+** down the axis hits the unit sphere scaled by it at 4 s within 8 ulps
+** (the inverse is computed on rows scaled by powers of two, so neither
+** the determinant nor the row lengths underflow or overflow).
+*/
+START_TEST(instances_should_take_any_scale)
+{
+    static const double scale[3] = {1e-110, 1e-106, 1e103};
+    ray_scene *child, *top;
+    int k;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    for (k = 0; k < 3; k++) {
+        double sc = scale[k];
+        ray_transform xf;
+        ray_ray r = ray_from(vec(0, 0, 5 * sc), vec(0, 0, -1));
+        ray_hit h;
+        ray_transform_identity(&xf);
+        xf.m[0][0] = xf.m[1][1] = xf.m[2][2] = sc;
+        ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+        ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+        ck_assert_double_eq_tol(h.t, 4 * sc, 8 * DBL_EPSILON * 4 * sc);
+        ray_scene_free(top);
+    }
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
 ** Bad input: an error with a message, nothing added (the id untouched,
 ** the next instance still gets id 0) and a committed scene stays so.
 */
@@ -653,6 +732,8 @@ Suite *instance_suite(void)
     tcase_add_loop_test(tc, spawned_rays_should_not_self_hit_through_an_instance, 0, N_OFFSETS);
     tcase_add_test(tc, instances_should_shade_with_their_child_materials);
     tcase_add_test(tc, instances_should_move_and_follow_their_child);
+    tcase_add_test(tc, failed_commit_should_leave_every_instance_stale);
+    tcase_add_test(tc, instances_should_take_any_scale);
     tcase_add_test(tc, instances_should_refuse_bad_input);
     suite_add_tcase(s, tc);
     return s;
