@@ -1466,8 +1466,10 @@ RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 ** RAY_EINVAL for NULL pointers or a bad kind; RAY_ESTATE when the scene
 ** was changed (since the context was made, or since its last commit) and
 ** not committed again, or when the ray met an instance whose scene was
-** changed since this scene's commit (the context stays usable: commit
-** and trace again).  On anything but RAY_OK, *out is untouched.
+** changed since this scene's commit; the outermost call (outside any
+** material callback) also when any ray of its tree (a material's shadow
+** or reflection ray) met one (the context stays usable: commit and trace
+** again).  On anything but RAY_OK, *out is untouched.
 */
 RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
                       double attenuation, ray_rgb *out);
@@ -1764,8 +1766,8 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
 ** axis, vfov not in (0, 180)); RAY_ENOMEM.  If fewer threads than asked
 ** can be started, the render goes on with those it has: the image is the
-** same.  A sample whose ray meets an instance whose scene was changed
-** since this scene's commit is black (ray_trace's RAY_ESTATE): commit the
+** same.  A scene that instances a scene changed since its own commit
+** is refused with RAY_ESTATE before anything is rendered: commit the
 ** scene after its instanced scenes.
 */
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,

@@ -133,6 +133,10 @@ int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
         return 0;
     ctx->stats.rays[RAY_KIND_SHADOW]++;
     /* A negative answer (an instance's child changed since the commit)
-    ** is no light: a stale scene must not pass for unoccluded. */
-    return ray__occluded(ctx->scene, &shadow, &ctx->stats) == 0;
+    ** is no light: a stale scene must not pass for unoccluded; the
+    ** outermost ray_trace then reports it. */
+    rc = ray__occluded(ctx->scene, &shadow, &ctx->stats);
+    if (rc < 0)
+        ctx->stale = 1;
+    return rc == 0;
 }

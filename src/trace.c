@@ -206,8 +206,8 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     }
 }
 
-int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
-              double attenuation, ray_rgb *out)
+static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
+                     double attenuation, ray_rgb *out)
 {
     unsigned depth;
     double weight;
@@ -227,8 +227,10 @@ int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
     if (depth > ctx->stats.max_depth)
         ctx->stats.max_depth = depth;
     rc = ray__intersect(ctx->scene, r, &hit, &ctx->stats);
-    if (rc < 0)
-        return RAY_ESTATE;     /* an instance's child changed: recommit */
+    if (rc < 0) {
+        ctx->stale = 1;        /* an instance's child changed: recommit */
+        return RAY_ESTATE;
+    }
     if (rc == 0)
         background(ctx->scene, r, out);
     else if (ray__hit_owner(ctx->scene, &hit)->prims[hit.geom_id].material ==
@@ -237,4 +239,30 @@ int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
     else
         shade(ctx, r, &hit, depth, weight, out);
     return RAY_OK;
+}
+
+/*
+** The outermost call (outside any material callback) answers RAY_ESTATE,
+** *out untouched, when any ray of its tree met an instance of a scene
+** changed since the commit, even one a material's shadow or reflection
+** ray met and the material went on without.
+*/
+int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
+              double attenuation, ray_rgb *out)
+{
+    ray_rgb got;
+    int rc;
+
+    if (ctx == NULL || ctx->in_shade)
+        return trace_ray(ctx, r, kind, attenuation, out);
+    if (out == NULL)
+        return RAY_EINVAL;
+    ctx->stale = 0;
+    rc = trace_ray(ctx, r, kind, attenuation, &got);
+    if (rc == RAY_OK && ctx->stale)
+        rc = RAY_ESTATE;
+    ctx->stale = 0;
+    if (rc == RAY_OK)
+        *out = got;
+    return rc;
 }

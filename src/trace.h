@@ -17,6 +17,9 @@ struct ray_ctx {
     double weight;           /* path weight of the ray being shaded */
     unsigned effects;        /* effects of the material being shaded */
     unsigned fanout;         /* secondary rays spawned by that hit so far */
+    int stale;               /* a ray of the current tree met an instance
+                                of a scene changed since the commit: the
+                                outermost ray_trace answers RAY_ESTATE */
 };
 
 /* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed

@@ -607,6 +607,55 @@ START_TEST(failed_commit_should_leave_every_instance_stale)
 END_TEST
 
 /*
+** A user-driven ray_trace whose primary ray misses a stale instance but
+** whose shadow ray meets it: the outermost call answers RAY_ESTATE, its
+** colour untouched (the material's light test saw "no light" and went
+** on); after the parent's commit the same trace is RAY_OK.
+*/
+START_TEST(trace_should_report_a_stale_instance_met_by_a_shadow_ray)
+{
+    ray_phong_params grey;
+    ray_material m;
+    ray_light l;
+    ray_scene *child, *top;
+    ray_transform xf;
+    ray_ctx *ctx;
+    ray_ray r = ray_from(vec(0, 5, 5), vec(0, -5, -5));   /* floor at 0 */
+    ray_rgb c = {7, 7, 7};
+    unsigned mat;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 0.5, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ray_phong_params_init(&grey);
+    m = ray_material_phong(&grey);
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(0, 10, 0);
+    ray_transform_identity(&xf);
+    xf.m[1][3] = 5;                                /* between floor and light */
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(top, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(top, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(top, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(top, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
+    /* The child changes and is committed; the parent is not. */
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0.2, 0), 0.5, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    c.r = c.g = c.b = 7;
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1, &c), RAY_ESTATE);
+    ck_assert(c.r == 7 && c.g == 7 && c.b == 7);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
+    ray_ctx_free(ctx);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
 ** Transforms of any scale: a uniform scale of 1e-110, 1e-106 or 1e103
 ** (well conditioned, however small or large) is accepted, and a ray
 ** down the axis hits the unit sphere scaled by it at 4 s within 8 ulps
@@ -734,6 +783,7 @@ Suite *instance_suite(void)
     tcase_add_test(tc, instances_should_move_and_follow_their_child);
     tcase_add_test(tc, failed_commit_should_leave_every_instance_stale);
     tcase_add_test(tc, instances_should_take_any_scale);
+    tcase_add_test(tc, trace_should_report_a_stale_instance_met_by_a_shadow_ray);
     tcase_add_test(tc, instances_should_refuse_bad_input);
     suite_add_tcase(s, tc);
     return s;
