@@ -671,27 +671,6 @@ START_TEST(mesh_should_reject_bad_input)
 }
 END_TEST
 
-/* What the material sees on a mesh with normals and texture coordinates. */
-typedef struct seen {
-    ray_vec3 shading_normal, normal;
-    double u, v;
-    unsigned geom_id, prim_id;
-} seen;
-
-static void record(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                   ray_rgb *out)
-{
-    seen *s = ud;
-    (void)ctx;
-    (void)out;
-    s->shading_normal = a->shading_normal;
-    s->normal = a->normal;
-    s->u = a->u;
-    s->v = a->v;
-    s->geom_id = a->hit->geom_id;
-    s->prim_id = a->hit->prim_id;
-}
-
 /*
 ** A quad of two triangles in z = 0 whose vertex normals lean outward and
 ** whose (s, t) run 0..1: the shading normal and texture coordinates at a
@@ -704,7 +683,7 @@ START_TEST(mesh_should_interpolate_normals_and_texcoords)
     ray_vec3 n[4] = {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
     double st[8] = {0, 0, 1, 0, 1, 1, 0, 1};
     unsigned idx[6] = {0, 1, 2, 0, 2, 3}, mat, id;
-    seen got;
+    shade_seen got;
     ray_material m;
     ray_scene *s;
     ray_ctx *ctx;
@@ -713,7 +692,7 @@ START_TEST(mesh_should_interpolate_normals_and_texcoords)
     ray_rgb c;
     ray_vec3 expect;
 
-    m.shade = record;
+    m.shade = shade_record;
     m.ud = &got;
     m.effects = RAY_EFFECT_TEXTURE;   /* else (s, t) is not interpolated */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);

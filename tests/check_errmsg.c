@@ -1047,21 +1047,6 @@ START_TEST(errmsg_should_follow_the_most_recent_call)
 }
 END_TEST
 
-/* An allocator that fails once *ud allocations have been made. */
-static void *failing_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
-{
-    long *left = ud;
-
-    (void)osize;
-    if (nsize == 0) {
-        free(ptr);
-        return NULL;
-    }
-    if (--*left < 0)
-        return NULL;
-    return realloc(ptr, nsize);
-}
-
 /* Out of memory in each building call that allocates: RAY_ENOMEM and a
 ** message saying so, from the fixed buffer (no allocation needed). */
 START_TEST(errmsg_should_report_out_of_memory)

@@ -635,30 +635,10 @@ START_TEST(game_layout_limits_should_hold)
 }
 END_TEST
 
-/* What the material sees: recorded by a material that shades nothing. */
-typedef struct seen {
-    ray_vec3 shading_normal, normal;
-    double u, v;
-    unsigned prim_id;
-} seen;
-
-static void record(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                   ray_rgb *out)
+/* Trace r in a scene of the one mesh m, shaded by shade_record: what it saw. */
+static shade_seen shade_mesh(const ray_mesh *m, const ray_ray *r)
 {
-    seen *s = ud;
-    (void)ctx;
-    (void)out;
-    s->shading_normal = a->shading_normal;
-    s->normal = a->normal;
-    s->u = a->u;
-    s->v = a->v;
-    s->prim_id = a->hit->prim_id;
-}
-
-/* Trace r in a scene of the one mesh m, shaded by record: what it saw. */
-static seen shade_mesh(const ray_mesh *m, const ray_ray *r)
-{
-    seen got;
+    shade_seen got;
     ray_material mat;
     ray_scene *s;
     ray_ctx *ctx;
@@ -666,7 +646,7 @@ static seen shade_mesh(const ray_mesh *m, const ray_ray *r)
     unsigned id;
 
     memset(&got, 0, sizeof got);
-    mat.shade = record;
+    mat.shade = shade_record;
     mat.ud = &got;
     mat.effects = RAY_EFFECT_TEXTURE;   /* else (s, t) is not interpolated */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
@@ -721,7 +701,7 @@ START_TEST(game_mesh_should_shade_as_vertices)
         for (k = 0; k < 2; k++) {
             ray_ray r = ray_from(k ? vec(0.5, 1.5, 3) : vec(1.5, 0.5, 3),
                                  vec(0, 0, -1));
-            seen a = shade_mesh(&gm, &r), b = shade_mesh(&ref, &r);
+            shade_seen a = shade_mesh(&gm, &r), b = shade_mesh(&ref, &r);
             ck_assert_uint_eq(a.prim_id, (unsigned)k);
             ck_assert_uint_eq(b.prim_id, (unsigned)k);
             ck_assert(same_bits(&a.shading_normal, &b.shading_normal,

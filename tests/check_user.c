@@ -686,21 +686,6 @@ START_TEST(bad_user_geometry_should_be_refused_by_name)
 }
 END_TEST
 
-/* An allocator that fails once *ud allocations have been made. */
-static void *failing_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
-{
-    long *left = ud;
-
-    (void)osize;
-    if (nsize == 0) {
-        free(ptr);
-        return NULL;
-    }
-    if (--*left < 0)
-        return NULL;
-    return realloc(ptr, nsize);
-}
-
 /* Out of memory for the descriptor's record (left 0) or for the geometry
 ** record after it (left 1): RAY_ENOMEM, nothing added, and the call
 ** succeeds once memory is back. */

@@ -13,6 +13,7 @@
 #include <math.h>
 #include <string.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <stddef.h>
 
 #include "ray.h"
@@ -116,6 +117,23 @@ static inline int hit_same(const ray_hit *a, const ray_hit *b)
            memcmp(&a->p_err, &b->p_err, sizeof a->p_err) == 0 &&
            a->geom_id == b->geom_id && a->prim_id == b->prim_id &&
            a->inst_id == b->inst_id;
+}
+
+/* An allocator (ray_alloc_fn) that fails once *(long *)ud allocations
+** have been made: out-of-memory paths, one allocation at a time. */
+static inline void *failing_alloc(void *ud, void *ptr, size_t osize,
+                                  size_t nsize)
+{
+    long *left = ud;
+
+    (void)osize;
+    if (nsize == 0) {
+        free(ptr);
+        return NULL;
+    }
+    if (--*left < 0)
+        return NULL;
+    return realloc(ptr, nsize);
 }
 
 /* Root-mean-square difference of two images of n RGB pixels, values

@@ -111,6 +111,29 @@ static inline int hit_is_finite(const ray_hit *h)
            isfinite(h->p_err.z);
 }
 
+/* What a material sees of a hit (shade_record, a material that shades
+** nothing, keeps it): for tests of shading normals, texture
+** coordinates and ids. */
+typedef struct shade_seen {
+    ray_vec3 shading_normal, normal;
+    double u, v;
+    unsigned geom_id, prim_id;
+} shade_seen;
+
+static inline void shade_record(void *ud, ray_ctx *ctx,
+                                const ray_shade_args *a, ray_rgb *out)
+{
+    shade_seen *s = ud;
+    (void)ctx;
+    (void)out;
+    s->shading_normal = a->shading_normal;
+    s->normal = a->normal;
+    s->u = a->u;
+    s->v = a->v;
+    s->geom_id = a->hit->geom_id;
+    s->prim_id = a->hit->prim_id;
+}
+
 /* Exact equality, component by component. */
 #define ck_assert_vec_eq(a, b)                                            \
     do {                                                                  \
