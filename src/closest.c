@@ -379,14 +379,7 @@ static int search(const ray_scene *s, ray_vec3 q, double radius,
 static void visit_instance(const ray_scene *s, unsigned i, query *qs)
 {
     const ray__instance *in = &s->instances[s->prims[i].surface];
-    const double (*m)[4] = (const double (*)[4])in->xfm.m;
-    ray_vec3 o = v3(qs->q.x - m[0][3], qs->q.y - m[1][3], qs->q.z - m[2][3]);
-    ray_vec3 qo = v3(in->inv[0][0] * o.x + in->inv[0][1] * o.y +
-                         in->inv[0][2] * o.z,
-                     in->inv[1][0] * o.x + in->inv[1][1] * o.y +
-                         in->inv[1][2] * o.z,
-                     in->inv[2][0] * o.x + in->inv[2][1] * o.y +
-                         in->inv[2][2] * o.z);
+    ray_vec3 qo = ray__instance_point_to_object(in, qs->q);
     double r = in->similarity > 0 ? qs->best / in->similarity
                                   : qs->best * in->inv_norm;
     ray_vec3 p, n;
@@ -402,12 +395,7 @@ static void visit_instance(const ray_scene *s, unsigned i, query *qs)
     r += r * 0x1p-40;
     if (!v3_isfinite(qo) || !search(in->child, qo, r, &child))
         return;
-    p = v3(m[0][0] * child.out.p.x + m[0][1] * child.out.p.y +
-               m[0][2] * child.out.p.z + m[0][3],
-           m[1][0] * child.out.p.x + m[1][1] * child.out.p.y +
-               m[1][2] * child.out.p.z + m[1][3],
-           m[2][0] * child.out.p.x + m[2][1] * child.out.p.y +
-               m[2][2] * child.out.p.z + m[2][3]);
+    p = ray__instance_point_to_world(in, child.out.p);
     n = ray__instance_normal(in, child.out.n);
     d = ray__distance(p, qs->q);
     if (nearer(qs, d)) {

@@ -7,9 +7,7 @@
 */
 #include "scene.h"
 
-/* Geometry geom_id if it exists and was not removed, else NULL with the
-** error recorded. */
-static ray__prim *live_prim(ray_scene *s, unsigned geom_id)
+ray__prim *ray__live_prim(ray_scene *s, unsigned geom_id)
 {
     if (geom_id >= s->n_prims || s->prims[geom_id].removed) {
         ray__fail(s, RAY_EINVAL, "no geometry %u (the scene has %zu%s)",
@@ -20,8 +18,7 @@ static ray__prim *live_prim(ray_scene *s, unsigned geom_id)
     return &s->prims[geom_id];
 }
 
-/* What a change of geometry p's presence makes the commit rebuild. */
-static unsigned dirty_of(const ray__prim *p)
+unsigned ray__dirty_of(const ray__prim *p)
 {
     return ray__kind_class(p->kind) == RAY__CLASS_TRIANGLES
                ? RAY__DIRTY_TRIS : RAY__DIRTY_PRIMS;
@@ -34,12 +31,12 @@ int ray_scene_set_enabled(ray_scene *s, unsigned geom_id, int enabled)
 
     if (rc != RAY_OK)
         return rc;
-    if ((p = live_prim(s, geom_id)) == NULL)
+    if ((p = ray__live_prim(s, geom_id)) == NULL)
         return RAY_EINVAL;
     if (p->enabled == (enabled != 0))
         return RAY_OK;                  /* nothing changes: no commit due */
     p->enabled = enabled != 0;
-    ray__touch(s, dirty_of(p));
+    ray__touch(s, ray__dirty_of(p));
     return RAY_OK;
 }
 
@@ -56,7 +53,7 @@ int ray_scene_remove(ray_scene *s, unsigned geom_id)
 
     if (rc != RAY_OK)
         return rc;
-    if ((p = live_prim(s, geom_id)) == NULL)
+    if ((p = ray__live_prim(s, geom_id)) == NULL)
         return RAY_EINVAL;
     if (p->kind == RAY__KIND_MESH)
         ray__mesh_release(s, &s->meshes[p->mesh]);
@@ -64,7 +61,7 @@ int ray_scene_remove(ray_scene *s, unsigned geom_id)
         s->instances[p->surface].removed = 1;   /* its child may go now */
     p->removed = 1;
     p->enabled = 0;
-    ray__touch(s, dirty_of(p));
+    ray__touch(s, ray__dirty_of(p));
     return RAY_OK;
 }
 
@@ -75,7 +72,7 @@ int ray_scene_set_mask(ray_scene *s, unsigned geom_id, unsigned mask)
 
     if (rc != RAY_OK)
         return rc;
-    if ((p = live_prim(s, geom_id)) == NULL)
+    if ((p = ray__live_prim(s, geom_id)) == NULL)
         return RAY_EINVAL;
     p->mask = mask;
     ray__touch(s, 0);                   /* the commit sees the gate */
@@ -91,7 +88,7 @@ int ray_scene_set_filter(ray_scene *s, unsigned geom_id, ray_filter_fn fn,
 
     if (rc != RAY_OK)
         return rc;
-    if ((p = live_prim(s, geom_id)) == NULL)
+    if ((p = ray__live_prim(s, geom_id)) == NULL)
         return RAY_EINVAL;
     if (p->kind == RAY__KIND_INSTANCE)
         return ray__fail(s, RAY_EINVAL, "geometry %u is an instance: set "

@@ -31,6 +31,23 @@ static double inv_dot(const double inv[3][3], int k, ray_vec3 v)
     return inv[k][0] * v.x + inv[k][1] * v.y + inv[k][2] * v.z;
 }
 
+ray_vec3 ray__instance_point_to_world(const ray__instance *in, ray_vec3 p)
+{
+    const double (*m)[4] = in->xfm.m;
+
+    return v3(row_dot(m, 0, p) + m[0][3], row_dot(m, 1, p) + m[1][3],
+              row_dot(m, 2, p) + m[2][3]);
+}
+
+ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q)
+{
+    const double (*m)[4] = in->xfm.m;
+    ray_vec3 o = v3(q.x - m[0][3], q.y - m[1][3], q.z - m[2][3]);
+
+    return v3(inv_dot(in->inv, 0, o), inv_dot(in->inv, 1, o),
+              inv_dot(in->inv, 2, o));
+}
+
 /*
 ** The inverse of the linear part by its adjugate, or 0 if L is singular
 ** to working precision: |det L| at most 8 ulps of the product of its row
@@ -181,8 +198,7 @@ void ray__instance_box(ray__instance *in)
         ray_vec3 p = v3(corner & 1 ? c->hi.x : c->lo.x,
                         corner & 2 ? c->hi.y : c->lo.y,
                         corner & 4 ? c->hi.z : c->lo.z);
-        ray_vec3 w = v3(row_dot(m, 0, p) + m[0][3], row_dot(m, 1, p) + m[1][3],
-                        row_dot(m, 2, p) + m[2][3]);
+        ray_vec3 w = ray__instance_point_to_world(in, p);
         lo = v3(fmin(lo.x, w.x), fmin(lo.y, w.y), fmin(lo.z, w.z));
         hi = v3(fmax(hi.x, w.x), fmax(hi.y, w.y), fmax(hi.z, w.z));
     }
@@ -256,13 +272,10 @@ int ray_scene_add_instance(ray_scene *s, const ray_scene *child,
 /* The live instance named by geom_id, or NULL with the error recorded. */
 static ray__instance *instance_of(ray_scene *s, unsigned geom_id)
 {
-    const ray__prim *p;
+    const ray__prim *p = ray__live_prim(s, geom_id);
 
-    if (geom_id >= s->n_prims || s->prims[geom_id].removed) {
-        ray__fail(s, RAY_EINVAL, "no geometry %u", geom_id);
+    if (p == NULL)
         return NULL;
-    }
-    p = &s->prims[geom_id];
     if (p->kind != RAY__KIND_INSTANCE) {
         ray__fail(s, RAY_EINVAL, "geometry %u is not an instance", geom_id);
         return NULL;
@@ -296,12 +309,7 @@ int ray_scene_set_transform(ray_scene *s, unsigned geom_id,
 static void ray_to_object(const ray__instance *in, const ray_ray *r,
                           ray_ray *out)
 {
-    const double (*m)[4] = in->xfm.m;
-    ray_vec3 o = v3(r->org.x - m[0][3], r->org.y - m[1][3],
-                    r->org.z - m[2][3]);
-
-    out->org = v3(inv_dot(in->inv, 0, o), inv_dot(in->inv, 1, o),
-                  inv_dot(in->inv, 2, o));
+    out->org = ray__instance_point_to_object(in, r->org);
     out->dir = v3(inv_dot(in->inv, 0, r->dir), inv_dot(in->inv, 1, r->dir),
                   inv_dot(in->inv, 2, r->dir));
     out->tmin = r->tmin;
@@ -343,8 +351,7 @@ void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
     int j, k;
 
     *world = *obj;
-    w = v3(row_dot(m, 0, p) + m[0][3], row_dot(m, 1, p) + m[1][3],
-           row_dot(m, 2, p) + m[2][3]);
+    w = ray__instance_point_to_world(in, p);
     for (j = 0; j < 3; j++)
         back[j] = g5 * (fabs(in->inv[j][0]) * (fabs(w.x) + fabs(m[0][3])) +
                         fabs(in->inv[j][1]) * (fabs(w.y) + fabs(m[1][3])) +

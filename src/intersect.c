@@ -11,18 +11,8 @@
 /* The queries of traverse.h for the baseline instruction set, and the
 ** choice of the AVX2 copy (intersect_avx2.c) where the CPU has it:
 ** __builtin_cpu_supports reads what libgcc found at start-up (a load and
-** a test), and also checks that the OS saves the AVX registers. */
-int ray__intersect_base(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                        ray_stats *st)
-{
-    return query_nearest(s, r, hit, st);
-}
-
-int ray__occluded_base(const ray_scene *s, const ray_ray *r, ray_stats *st)
-{
-    return query_any(s, r, st);
-}
-
+** a test), and also checks that the OS saves the AVX registers.  A NULL
+** gate is the plain queries' path (traverse.h never reaches a gate). */
 int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
                               const ray__gate *g, ray_hit *hit,
                               ray_stats *st)
@@ -49,17 +39,22 @@ int ray__child_query_base(const ray_scene *child, ray_ray *r, ray_hit *hit,
 #define HAS_AVX2() 0
 #endif
 
-/* The gate of the plain queries in a scene with masks or filters: every
-** mask bit, no query_ud, the filters of that kind of query. */
-static const ray__gate *plain_gate(const ray_scene *s, unsigned query,
-                                   ray__gate *g)
+/*
+** The gate of a query with options q (NULL: the plain queries' every
+** mask bit and no query_ud) for filters of kind "query": NULL (the
+** ungated path) when nothing can gate it: no mask or filter in the scene
+** and q asks for nothing.  The scene's "gated" covers its instances'
+** children too (set at commit).
+*/
+static const ray__gate *gate_of(const ray_scene *s, const ray_query *q,
+                                unsigned query, ray__gate *g)
 {
-    if (!s->gated)
-        return NULL;
-    g->mask = ~0u;
-    g->query_ud = NULL;
+    g->mask = q != NULL ? q->mask : ~0u;
+    g->query_ud = q != NULL ? q->query_ud : NULL;
     g->query = query;
     g->all = NULL;
+    if (!s->gated && g->mask == ~0u)
+        return NULL;
     return g;
 }
 
@@ -68,29 +63,16 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 {
     ray__gate g;
 
-    if (s->gated)
-        return ray__intersect_gated(s, r,
-                                    plain_gate(s, RAY_FILTER_INTERSECT, &g),
-                                    hit, st);
-#if RAY__AVX2_COPY
-    if (HAS_AVX2())
-        return ray__intersect_avx2(s, r, hit, st);
-#endif
-    return query_nearest(s, r, hit, st);
+    return ray__intersect_gated(s, r, gate_of(s, NULL, RAY_FILTER_INTERSECT,
+                                              &g), hit, st);
 }
 
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
 {
     ray__gate g;
 
-    if (s->gated)
-        return ray__occluded_gated(s, r,
-                                   plain_gate(s, RAY_FILTER_OCCLUDED, &g), st);
-#if RAY__AVX2_COPY
-    if (HAS_AVX2())
-        return ray__occluded_avx2(s, r, st);
-#endif
-    return query_any(s, r, st);
+    return ray__occluded_gated(s, r, gate_of(s, NULL, RAY_FILTER_OCCLUDED, &g),
+                               st);
 }
 
 int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
@@ -138,24 +120,6 @@ void ray_query_init(ray_query *q)
         return;
     q->mask = ~0u;
     q->query_ud = NULL;
-}
-
-/*
-** The gate of a query with options q for filters of kind "query": NULL
-** (the ungated path, the plain queries' code) when nothing can gate it:
-** no mask or filter in the scene and q asks for nothing.  The scene's
-** "gated" covers its instances' children too (set at commit).
-*/
-static const ray__gate *gate_of(const ray_scene *s, const ray_query *q,
-                                unsigned query, ray__gate *g)
-{
-    g->mask = q != NULL ? q->mask : ~0u;
-    g->query_ud = q != NULL ? q->query_ud : NULL;
-    g->query = query;
-    g->all = NULL;
-    if (!s->gated && g->mask == ~0u)
-        return NULL;
-    return g;
 }
 
 int ray_intersect_opt(const ray_scene *s, const ray_ray *r,

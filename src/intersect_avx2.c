@@ -11,17 +11,6 @@
 #if RAY__AVX2_COPY
 #include "traverse.h"
 
-int ray__intersect_avx2(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                        ray_stats *st)
-{
-    return query_nearest(s, r, hit, st);
-}
-
-int ray__occluded_avx2(const ray_scene *s, const ray_ray *r, ray_stats *st)
-{
-    return query_any(s, r, st);
-}
-
 int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
                               const ray__gate *g, ray_hit *hit,
                               ray_stats *st)

@@ -332,9 +332,8 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
 
     if (rc != RAY_OK)
         return rc;
-    if (geom_id >= s->n_prims || s->prims[geom_id].removed)
-        return ray__fail(s, RAY_EINVAL, "no geometry %u", geom_id);
-    p = &s->prims[geom_id];
+    if ((p = ray__live_prim(s, geom_id)) == NULL)
+        return RAY_EINVAL;
     if (p->kind != RAY__KIND_MESH)
         return ray__fail(s, RAY_EINVAL, "geometry %u is not a mesh",
                          geom_id);

@@ -186,8 +186,7 @@ int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
     if (geom_id != NULL)
         *geom_id = (unsigned)s->n_prims;
     s->n_prims++;
-    ray__touch(s, ray__kind_class(prim->kind) == RAY__CLASS_TRIANGLES
-                      ? RAY__DIRTY_TRIS : RAY__DIRTY_PRIMS);
+    ray__touch(s, ray__dirty_of(prim));
     return RAY_OK;
 }
 
@@ -562,18 +561,26 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
     return RAY_OK;
 }
 
-/* The smallest and largest of three finite numbers (no libm call: the
-** NaN rules of fmin are not needed here, vertices are finite). */
+/* The smaller and larger of two, of three finite numbers (no libm call:
+** the NaN rules of fmin are not needed here, vertices are finite). */
+static double min2(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 static double min3(double a, double b, double c)
 {
-    double m = a < b ? a : b;
-    return m < c ? m : c;
+    return min2(min2(a, b), c);
 }
 
 static double max3(double a, double b, double c)
 {
-    double m = a > b ? a : b;
-    return m > c ? m : c;
+    return max2(max2(a, b), c);
 }
 
 /*
@@ -590,17 +597,40 @@ static double max3(double a, double b, double c)
 static const ray__bvh_costs tri_costs = {1.5f, 4};
 static const ray__bvh_costs prim_costs = {1.0f, 1};
 
-/* The float box of triangle i of the scene, rounded outward. */
+/*
+** The float box of triangles first .. first + n - 1 (a leaf's), rounded
+** outward once from their double bounds: the same box as the union of
+** their own rounded boxes (rounding outward is monotonic), at a quarter
+** of the roundings for the refit's four-triangle leaves.
+*/
+static void tris_box(const void *ud, size_t first, size_t n, float lo[3],
+                     float hi[3])
+{
+    const ray__tri *t = &((const ray_scene *)ud)->tris[first];
+    ray_vec3 a = t->a, b = t->a;
+    size_t i;
+
+    for (i = 0; i < n; i++, t++) {
+        a.x = min2(a.x, min3(t->a.x, t->b.x, t->c.x));
+        a.y = min2(a.y, min3(t->a.y, t->b.y, t->c.y));
+        a.z = min2(a.z, min3(t->a.z, t->b.z, t->c.z));
+        b.x = max2(b.x, max3(t->a.x, t->b.x, t->c.x));
+        b.y = max2(b.y, max3(t->a.y, t->b.y, t->c.y));
+        b.z = max2(b.z, max3(t->a.z, t->b.z, t->c.z));
+    }
+    lo[0] = ray__float_down(a.x);
+    lo[1] = ray__float_down(a.y);
+    lo[2] = ray__float_down(a.z);
+    hi[0] = ray__float_up(b.x);
+    hi[1] = ray__float_up(b.y);
+    hi[2] = ray__float_up(b.z);
+}
+
+/* The float box of triangle i of the scene, rounded outward (the build's
+** box callback). */
 static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
 {
-    const ray__tri *t = &((const ray_scene *)ud)->tris[i];
-
-    lo[0] = ray__float_down(min3(t->a.x, t->b.x, t->c.x));
-    lo[1] = ray__float_down(min3(t->a.y, t->b.y, t->c.y));
-    lo[2] = ray__float_down(min3(t->a.z, t->b.z, t->c.z));
-    hi[0] = ray__float_up(max3(t->a.x, t->b.x, t->c.x));
-    hi[1] = ray__float_up(max3(t->a.y, t->b.y, t->c.y));
-    hi[2] = ray__float_up(max3(t->a.z, t->b.z, t->c.z));
+    tris_box(ud, i, 1, lo, hi);
 }
 
 /* Give back the spare capacity that doubling left in the triangle arrays
@@ -729,35 +759,6 @@ static int rebuild_triangles(ray_scene *s)
     s->n_live_tris = n;
     trim_tris(s);
     return RAY_OK;
-}
-
-/*
-** The float box of triangles first .. first + n - 1 (a leaf's), rounded
-** outward once from their double bounds: the same box as the union of
-** their own rounded boxes (rounding outward is monotonic), at a quarter
-** of the roundings for the refit's four-triangle leaves.
-*/
-static void tris_box(const void *ud, size_t first, size_t n, float lo[3],
-                     float hi[3])
-{
-    const ray__tri *t = &((const ray_scene *)ud)->tris[first];
-    ray_vec3 a = t->a, b = t->a;
-    size_t i;
-
-    for (i = 0; i < n; i++, t++) {
-        a.x = min3(a.x, min3(t->a.x, t->b.x, t->c.x), t->a.x);
-        a.y = min3(a.y, min3(t->a.y, t->b.y, t->c.y), t->a.y);
-        a.z = min3(a.z, min3(t->a.z, t->b.z, t->c.z), t->a.z);
-        b.x = max3(b.x, max3(t->a.x, t->b.x, t->c.x), t->a.x);
-        b.y = max3(b.y, max3(t->a.y, t->b.y, t->c.y), t->a.y);
-        b.z = max3(b.z, max3(t->a.z, t->b.z, t->c.z), t->a.z);
-    }
-    lo[0] = ray__float_down(a.x);
-    lo[1] = ray__float_down(a.y);
-    lo[2] = ray__float_down(a.z);
-    hi[0] = ray__float_up(b.x);
-    hi[1] = ray__float_up(b.y);
-    hi[2] = ray__float_up(b.z);
 }
 
 static void refit_triangles(ray_scene *s)

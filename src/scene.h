@@ -222,6 +222,15 @@ void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
 int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
                        size_t count, const ray__mesh *shading, unsigned *id);
 
+/* Geometry geom_id of s if it exists and was not removed, else NULL with
+** the error recorded (dynamic.c): what every call on an added geometry
+** checks first. */
+ray__prim *ray__live_prim(ray_scene *s, unsigned geom_id);
+
+/* What adding, removing, enabling or disabling geometry p makes the next
+** commit rebuild: the triangle BVH or the other one (RAY__DIRTY_*). */
+unsigned ray__dirty_of(const ray__prim *p);
+
 /* Free a mesh's shading data (its arrays NULL after). */
 void ray__mesh_release(const ray_scene *s, ray__mesh *m);
 
@@ -345,6 +354,11 @@ void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
                             ray_hit *world);
 ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n);
 
+/* A point of the child's space in the world's (L p + c), and back
+** (L^-1 (q - c)). */
+ray_vec3 ray__instance_point_to_world(const ray__instance *in, ray_vec3 p);
+ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q);
+
 /* Has a scene that s instances changed since s was committed (so that
 ** its queries would answer -RAY_ESTATE where they meet it)?  O(number of
 ** instances): for the calls that check once before a long run (a
@@ -362,36 +376,32 @@ const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h);
 
 /*
 ** Nearest hit / any hit over the scene, counting intersection tests, in
-** all and by kind of primitive, into *st (may be NULL).  The public
-** ray_intersect/ray_occluded wrap these.
+** all and by kind of primitive, into *st (may be NULL), with the
+** scene's filters of that kind of query: ray_trace's and the shadow
+** rays' queries.
 */
 int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                    ray_stats *st);
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
-/* The same queries for the baseline instruction set and for AVX2 (x86
-** with GCC or Clang only, intersect_avx2.c: RAY__AVX2_COPY), which
-** ray__intersect and ray__occluded choose between; the tests compare the
-** two. */
+/* The queries come in two copies, for the baseline instruction set and
+** for AVX2 (x86 with GCC or Clang only, intersect_avx2.c:
+** RAY__AVX2_COPY), which ray__intersect and ray__occluded choose between
+** (below); the tests compare the two. */
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
     !defined(RAY_NO_SIMD) && !defined(RAY_NO_AVX2)
 #define RAY__AVX2_COPY 1
 #else
 #define RAY__AVX2_COPY 0
 #endif
-int ray__intersect_base(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                        ray_stats *st);
-int ray__occluded_base(const ray_scene *s, const ray_ray *r, ray_stats *st);
-int ray__intersect_avx2(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                        ray_stats *st);
-int ray__occluded_avx2(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
 /*
-** The gated queries (masks, filters, all hits: ray__gate) and the query of
-** an instance's child inside a parent's query (qc carries the parent's
-** state: counts, gate, any or nearest), each in both copies.  Like the
-** others they return 1 (hit), 0, or -RAY_ESTATE when an instance met a
-** child changed since the commit.
+** The queries with a gate (masks, filters, all hits: ray__gate; NULL for
+** none, what ray__intersect and ray__occluded pass a scene without masks
+** or filters) and the query of an instance's child inside a parent's
+** query (qc carries the parent's state: counts, gate, any or nearest),
+** each in both copies.  They return 1 (hit), 0, or -RAY_ESTATE when an
+** instance met a child changed since the commit.
 */
 int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
                          const ray__gate *g, ray_hit *hit, ray_stats *st);

@@ -847,17 +847,6 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
     return qc.stale ? -RAY_ESTATE : hit;
 }
 
-static int query_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                         ray_stats *st)
-{
-    return query_nearest_gated(s, r, NULL, hit, st);
-}
-
-static int query_any(const ray_scene *s, const ray_ray *r, ray_stats *st)
-{
-    return query_any_gated(s, r, NULL, st);
-}
-
 /* An instance's child inside a parent's query: nearest or any as the
 ** parent's query is, with its counts and gate. */
 static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,

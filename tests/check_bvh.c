@@ -372,12 +372,12 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
             int ha, hb;
             memset(&a, 0, sizeof a);
             memset(&b, 0, sizeof b);
-            ha = ray__intersect_base(s, &r, &a, NULL);
-            hb = ray__intersect_avx2(s, &r, &b, NULL);
+            ha = ray__intersect_gated_base(s, &r, NULL, &a, NULL);
+            hb = ray__intersect_gated_avx2(s, &r, NULL, &b, NULL);
             ck_assert_int_eq(ha, hb);
             ck_assert_msg(hit_same(&a, &b), "ray %zu", j);
-            ck_assert_int_eq(ray__occluded_base(s, &r, NULL),
-                             ray__occluded_avx2(s, &r, NULL));
+            ck_assert_int_eq(ray__occluded_gated_base(s, &r, NULL, NULL),
+                             ray__occluded_gated_avx2(s, &r, NULL, NULL));
         }
         ray_scene_free(s);
         free(v);
