@@ -164,7 +164,8 @@ $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
 examples: $(EXAMPLES)
 
 BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
-# Embree is optional: used by the mesh benchmark when its header is there.
+# Embree is optional: used by the mesh, game and packets benchmarks when
+# its header is there.
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
@@ -173,8 +174,8 @@ EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c,$<),$(EMBREE_FLAGS)) \
-	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c bench/game.c,$<),$(EMBREE_LIBS)) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_FLAGS)) \
+	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its

@@ -40,6 +40,7 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/threads"
     "$build/bench/surfaces"
     "$build/bench/mesh" data
+    "$build/bench/packets" data
     "$build/bench/game" data
 } | tee "$out.tmp"
 mv "$out.tmp" "$out"
@@ -66,8 +67,10 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     splice effects "$plots/effects.md"
     awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
     splice threads "$plots/threads.md"
-    awk '/^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
+    awk '/^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
     splice mesh "$plots/mesh.md"
+    awk '/^## Games and tools/{exit} /^## Packets:/{on=1; next} on' "$out" > "$plots/packets.md"
+    splice packets "$plots/packets.md"
     awk '/^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice game "$plots/game.md"
     echo "bench: copied the tables into $doc" >&2

@@ -1143,7 +1143,9 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 ** -RAY_ESTATE for a scene not committed (never, or changed since its
 ** last commit) or when the ray meets an instance whose scene was changed
 ** since this scene's commit (*hit untouched).  So test "> 0" for a hit:
-** a negative value is true in C.
+** a negative value is true in C.  Of two triangles of a scene hit at the
+** same t (a ray through a shared edge or vertex), the one with the lower
+** (geom_id, prim_id) is the nearest, whatever order the search met them in.
 */
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);
@@ -1383,6 +1385,29 @@ RAY_API int ray_occluded_opt(const ray_scene *scene, const ray_ray *r,
 RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
                               const ray_query *q, ray_hit *hits, size_t cap,
                               size_t *count);
+
+/*
+** ray_intersect_n, ray_occluded_n -- many rays at once, for bulk queries
+** (a game's line-of-sight and AI rays, a tool's picking or baking, a
+** renderer's camera rays): results[i] receives what ray_intersect_opt
+** (scene, &rays[i], q, &hits[i]) or ray_occluded_opt(scene, &rays[i], q)
+** returns (1, 0, or -RAY_ESTATE for a ray that meets a stale instance),
+** and hits[i] what it writes, bit for bit, whatever n and the order of
+** the rays.  Where the CPU has AVX2 and the scene holds triangles alone
+** (no planes, other kinds or instances) without masks or filters in the
+** query, the rays are traced eight at a time (rays[0..7], rays[8..15],
+** ...) through the BVH together: much faster when those eight are close
+** in origin and direction (a 4x2 block of pixels, shadow rays from nearby
+** points to one light), no faster when they scatter; other scenes trace
+** them one by one.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
+** results or, for ray_intersect_n, hits NULL with n > 0) or RAY_ESTATE
+** (not committed), writing nothing.
+*/
+RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
+                            size_t n, const ray_query *q, ray_hit *hits,
+                            int *results);
+RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
+                           size_t n, const ray_query *q, int *results);
 
 /* ---------------------------------------------------------------- tracing */
 

@@ -5,7 +5,8 @@
 # The library's private headers are layers, each including only the one
 # below it:  vec.h < prim.h < bvh.h < scene.h < trace.h < camera.h, with
 # image.h beside prim.h on vec.h, watertight.h on prim.h and traverse.h
-# (the queries, a source file built twice) on scene.h.  A file may
+# (the queries, a source file built twice) on scene.h, packet.h (their
+# eight-ray form, in the AVX2 copy) on traverse.h.  A file may
 # include headers of its own layer or below, never above; the primitives
 # (every .c file that is not listed as a higher layer below) stand on
 # prim.h, so they cannot see the BVH, the scene or the trace context.
@@ -23,13 +24,15 @@ level() {
     bvh.h) echo 30 ;;
     scene.h) echo 40 ;;
     traverse.h) echo 45 ;;
+    packet.h) echo 46 ;;
     trace.h) echo 50 ;;
     camera.h) echo 60 ;;
     # The layer each source file belongs to (its highest allowed include).
     image.c|png.c|png_none.c) echo 15 ;;
     bvh.c) echo 30 ;;
     scene.c|mesh.c|surfaces.c|kinds.c|error.c|instance.c|dynamic.c|closest.c) echo 40 ;;
-    intersect.c|intersect_avx2.c) echo 45 ;;
+    intersect.c) echo 45 ;;
+    intersect_avx2.c) echo 46 ;;
     trace.c|light.c|sampling.c|direct.c) echo 50 ;;
     camera.c|render.c) echo 60 ;;
     *.c) echo 25 ;;                   # a primitive (or optics, spawn)

@@ -158,6 +158,60 @@ int ray_occluded(const ray_scene *s, const ray_ray *r)
     return ray_occluded_opt(s, r, NULL);
 }
 
+/* Can ray__packets_avx2 take this scene and gate?  Triangles alone (the
+** packets settle ties between triangles only: packet.h) and no gate. */
+static int packable(const ray_scene *s, const ray__gate *g)
+{
+    return g == NULL && s->n_planes == 0 && s->prim_bvh.n_wide == 0;
+}
+
+/* ray_intersect_n and ray_occluded_n ("any"), their arguments checked. */
+static void queries_n(const ray_scene *s, const ray_ray *rays, size_t n,
+                      const ray_query *q, ray_hit *hits, int *results,
+                      int any)
+{
+    ray__gate gs;
+    const ray__gate *g = gate_of(s, q, any ? RAY_FILTER_OCCLUDED
+                                           : RAY_FILTER_INTERSECT, &gs);
+    size_t i;
+
+#if RAY__AVX2_COPY
+    if (packable(s, g) && HAS_AVX2()) {
+        ray__packets_avx2(s, rays, n, hits, results, any);
+        return;
+    }
+#else
+    (void)packable;
+#endif
+    for (i = 0; i < n; i++)
+        results[i] = any ? ray__occluded_gated(s, &rays[i], g, NULL)
+                         : ray__intersect_gated(s, &rays[i], g, &hits[i],
+                                                NULL);
+}
+
+int ray_intersect_n(const ray_scene *s, const ray_ray *rays, size_t n,
+                    const ray_query *q, ray_hit *hits, int *results)
+{
+    if (s == NULL ||
+        (n > 0 && (rays == NULL || hits == NULL || results == NULL)))
+        return RAY_EINVAL;
+    if (!s->committed)
+        return RAY_ESTATE;
+    queries_n(s, rays, n, q, hits, results, 0);
+    return RAY_OK;
+}
+
+int ray_occluded_n(const ray_scene *s, const ray_ray *rays, size_t n,
+                   const ray_query *q, int *results)
+{
+    if (s == NULL || (n > 0 && (rays == NULL || results == NULL)))
+        return RAY_EINVAL;
+    if (!s->committed)
+        return RAY_ESTATE;
+    queries_n(s, rays, n, q, NULL, results, 1);
+    return RAY_OK;
+}
+
 /* Sort the collected hits nearest first (insertion sort: a ray crosses
 ** few surfaces, and it is stable). */
 static void sort_hits(ray_hit *h, size_t n)

@@ -9,7 +9,7 @@
 #include "scene.h"
 
 #if RAY__AVX2_COPY
-#include "traverse.h"
+#include "packet.h"
 
 int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
                               const ray__gate *g, ray_hit *hit,
@@ -28,6 +28,21 @@ int ray__child_query_avx2(const ray_scene *child, ray_ray *r, ray_hit *hit,
                           ray__counts *qc)
 {
     return query_child(child, r, hit, qc);
+}
+
+void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
+                       ray_hit *hits, int *results, int any)
+{
+#if RAY__PACKETS
+    packet_queries(s, rays, n, hits, results, any);
+#else
+    /* Built without AVX (see the top of this file): ray by ray. */
+    size_t i;
+    for (i = 0; i < n; i++)
+        results[i] = any ? query_any_gated(s, &rays[i], NULL, NULL)
+                         : query_nearest_gated(s, &rays[i], NULL, &hits[i],
+                                               NULL);
+#endif
 }
 #else
 typedef int ray__no_avx2_copy;  /* ISO C wants a declaration in a file */

@@ -424,4 +424,13 @@ int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
 int ray__child_query_avx2(const ray_scene *child, ray_ray *r, ray_hit *hit,
                           ray__counts *qc);
 
+/*
+** ray_intersect_n and ray_occluded_n's packets (packet.h): n rays of a
+** scene that ray__packable accepts, eight at a time; results[i] (and
+** hits[i] unless "any") as the single-ray queries give them.  AVX2 copy
+** only.
+*/
+void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
+                       ray_hit *hits, int *results, int any);
+
 #endif /* RAY_SCENE_H */

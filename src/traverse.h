@@ -506,11 +506,54 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
     }
 }
 
-/* The nearest triangle so far. */
+/*
+** The nearest triangle so far (index TRI_NONE: none yet), and the
+** interval's end a new candidate is tested against: r->tmax before the
+** first triangle hit (the interval is open), the next double above it
+** after one, so that a tie is seen and settled by tri_beats.
+*/
+#define TRI_NONE 0xffffffffu
 typedef struct tri_best {
     unsigned index;
     double beta, gamma;
+    double limit;
 } tri_best;
+
+static inline void tri_best_start(tri_best *b)
+{
+    b->index = TRI_NONE;
+}
+
+/* What a candidate's t must lie below for a ray r whose nearest triangle
+** so far is *best (NULL: any hit, no ties to settle). */
+static inline double tri_limit(const ray_ray *r, const void *best)
+{
+    const tri_best *b = best;
+
+    return b != NULL && b->index != TRI_NONE ? b->limit : r->tmax;
+}
+
+/*
+** Does triangle i, hit at t (below the limit), beat the nearest so far?
+** Nearer wins; of two hit at the same t (a ray through a shared edge or
+** vertex hits both, often at equal t), the lower (geom_id, prim_id) wins,
+** whichever the traversal met first: the answer then depends on the
+** geometry alone, not on the order a traversal visits it in, so packets
+** (ray_intersect_n), refit and rebuilt trees and single rays agree.
+*/
+static inline int tri_beats(const ray_scene *s, unsigned i, double t,
+                            const ray_ray *r, const void *best)
+{
+    const tri_best *b = best;
+    const ray__tri_id *x, *y;
+
+    if (t < r->tmax || b == NULL || b->index == TRI_NONE)
+        return 1;
+    x = &s->tri_ids[i];
+    y = &s->tri_ids[b->index];
+    return x->geom_id != y->geom_id ? x->geom_id < y->geom_id
+                                    : x->prim_id < y->prim_id;
+}
 
 /* Record hit t on triangle i (beta, gamma) as the nearest so far. */
 static inline void tri_hit(unsigned i, double t, double beta, double gamma,
@@ -522,6 +565,7 @@ static inline void tri_hit(unsigned i, double t, double beta, double gamma,
         b->index = i;
         b->beta = beta;
         b->gamma = gamma;
+        b->limit = nextafter(t, HUGE_VAL);
     }
 }
 
@@ -674,6 +718,7 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
 {
     int found = 0;
     unsigned i;
+    ray_ray rl;    /* r with the limit of tri_limit as its tmax */
 
     if (s->watertight && !trav_frame(tr, r))
         return 0;
@@ -700,8 +745,9 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
                 ** functions it computes for candidates (fma, scalar). */
                 int hit = (m < 0 || (m >> lane & 1)) &&
                           ray__triangle_watertight_pre(
-                              &tr->wt, r->tmin, r->tmax, &t->a, &t->b,
-                              &t->c, &th, &beta, &gamma);
+                              &tr->wt, r->tmin, tri_limit(r, best), &t->a,
+                              &t->b, &t->c, &th, &beta, &gamma) &&
+                          tri_beats(s, pair[lane], th, r, best);
                 if (hit && (qc->gate == NULL ||
                             tri_gate(s, pair[lane], th, beta, gamma, r,
                                      qc))) {
@@ -715,16 +761,19 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
         return found;
     }
 #endif
+    rl = *r;
     for (i = first; i < end; i++) {
         const ray__tri *t = &s->tris[i];
         double th, beta, gamma;
-        int hit = s->watertight
-                      ? ray__triangle_watertight_pre(&tr->wt, r->tmin,
-                                                     r->tmax, &t->a, &t->b,
-                                                     &t->c, &th, &beta,
-                                                     &gamma)
-                      : ray__triangle_test(r, t->a, t->b, t->c, &th, &beta,
-                                           &gamma);
+        int hit;
+        rl.tmax = tri_limit(r, best);
+        hit = (s->watertight
+                   ? ray__triangle_watertight_pre(&tr->wt, rl.tmin, rl.tmax,
+                                                  &t->a, &t->b, &t->c, &th,
+                                                  &beta, &gamma)
+                   : ray__triangle_test(&rl, t->a, t->b, t->c, &th, &beta,
+                                        &gamma)) &&
+              tri_beats(s, i, th, r, best);
         if (hit && (qc->gate == NULL ||
                     tri_gate(s, i, th, beta, gamma, r, qc))) {
             tri_hit(i, th, beta, gamma, r, best);
@@ -773,6 +822,7 @@ static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
     size_t i;
 
     trav_init(&tr, rr);
+    tri_best_start(&tb);
     for (i = 0; i < s->n_planes; i++)
         if (prim_candidate(s, s->planes[i], rr, &best, qc)) {
             rr->tmax = best.t;

@@ -1,0 +1,304 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_batch.c -- ray_intersect_n and ray_occluded_n: the same answers
+** as ray_intersect and ray_occluded ray by ray, bit for bit (API notes
+** 11: answers do not depend on the path taken), on closed meshes at the
+** origin and moved to 1e5 -- coherent camera blocks (the packets' fast
+** case), scattered rays (packets of rays going everywhere), rays aimed
+** exactly at shared vertices and edges (where two triangles tie in t and
+** the packet's visiting order differs from the ray's own), short
+** intervals, unusable rays mixed in, batch sizes that are not multiples
+** of eight; the ray-by-ray path of scenes and queries the packets do not
+** take; ties settled by (geom_id, prim_id) whatever the order; misuse.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+#include "hardcases.h"
+
+/* A committed scene of the meshes m[0 .. n - 1]. */
+static ray_scene *mesh_scene(const hc_mesh *m, int n)
+{
+    ray_scene *s;
+    int k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    for (k = 0; k < n; k++) {
+        ray_mesh rm = hc_ray_mesh(&m[k]);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &rm, RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+/*
+** n rays of four kinds, in runs: blocks of 4 x 2 camera rays from "eye"
+** towards "centre" (coherent), rays from random points near the centre
+** in random directions (scattered), rays aimed exactly at random vertices
+** and edge points of m (ties), and every 97th ray unusable (zero or NaN
+** direction) or with an interval shorter than the way to the mesh.
+*/
+static ray_ray *batch_rays(const hc_mesh *m, ray_vec3 centre, size_t n,
+                           unsigned long long seed)
+{
+    ray_ray *r = malloc(n * sizeof *r);
+    rng g = {seed};
+    ray_vec3 eye = v3_add(centre, v3(0.3, 0.7, 9));
+    size_t i;
+
+    ck_assert_ptr_nonnull(r);
+    for (i = 0; i < n; i++) {
+        size_t kind = i / 64 % 3, px = i % 8;
+        r[i].tmin = 0;
+        r[i].tmax = HUGE_VAL;
+        if (kind == 0) {                  /* a 4 x 2 block of pixels */
+            double bx = (double)(i / 8 % 16) / 8 - 1, by = (double)(i / 128 % 16) / 8 - 1;
+            r[i].org = eye;
+            r[i].dir = v3_sub(v3_add(centre, v3(3 * bx + 0.02 * (double)(px % 4),
+                                                3 * by + 0.02 * (double)(px / 4), 0)),
+                              eye);
+        } else if (kind == 1) {           /* scattered */
+            r[i].org = v3_add(centre, v3_scale(rng_dir(&g), 5 * rng_unit(&g)));
+            r[i].dir = rng_dir(&g);
+        } else {                          /* at a vertex or an edge */
+            size_t t = (size_t)(rng_unit(&g) * (double)m->nt) % m->nt;
+            unsigned e = (unsigned)(rng_unit(&g) * 3) % 3;
+            ray_vec3 a = m->v[m->idx[3 * t + e]];
+            ray_vec3 b = m->v[m->idx[3 * t + (e + 1) % 3]];
+            double s = px < 4 ? 0 : rng_unit(&g);
+            r[i].org = v3_add(centre, v3_scale(rng_dir(&g), 6));
+            r[i].dir = v3_sub(v3_add(v3_scale(a, 1 - s), v3_scale(b, s)),
+                              r[i].org);
+        }
+        if (i % 97 == 5)
+            r[i].dir = v3(0, 0, 0);
+        else if (i % 97 == 17)
+            r[i].dir.y = NAN;
+        else if (i % 97 == 29)
+            r[i].tmax = 0.5;
+        else if (i % 97 == 41)
+            r[i].tmin = 4;
+    }
+    return r;
+}
+
+/* ray_intersect_n and ray_occluded_n against the single-ray queries on
+** rays[0 .. n - 1]; returns the hits found. */
+static size_t check_against_single(const ray_scene *s, const ray_ray *rays,
+                                   size_t n, const ray_query *q)
+{
+    ray_hit *hits = calloc(n ? n : 1, sizeof *hits);
+    int *res = malloc((n ? n : 1) * sizeof *res);
+    size_t i, found = 0;
+
+    ck_assert_ptr_nonnull(hits);
+    ck_assert_ptr_nonnull(res);
+    ck_assert_int_eq(ray_intersect_n(s, rays, n, q, hits, res), RAY_OK);
+    for (i = 0; i < n; i++) {
+        ray_hit one;
+        int rc = ray_intersect_opt(s, &rays[i], q, &one);
+        ck_assert_msg(res[i] == rc, "ray %zu: batch %d, single %d", i, res[i],
+                      rc);
+        if (rc > 0) {
+            ck_assert_msg(hit_same(&hits[i], &one),
+                          "ray %zu: t %.17g prim %u vs t %.17g prim %u", i,
+                          hits[i].t, hits[i].prim_id, one.t, one.prim_id);
+            found++;
+        }
+    }
+    ck_assert_int_eq(ray_occluded_n(s, rays, n, q, res), RAY_OK);
+    for (i = 0; i < n; i++)
+        ck_assert_msg(res[i] == ray_occluded_opt(s, &rays[i], q),
+                      "ray %zu: occluded batch %d", i, res[i]);
+    free(hits);
+    free(res);
+    return found;
+}
+
+/* Icospheres (2,562 and 642 vertices, closed) side by side: thousands of
+** rays of every kind, at the origin and at 1e5, and batch sizes 1 to 9
+** and not multiples of eight. */
+START_TEST(batch_should_match_single_rays_bit_for_bit)
+{
+    double off = test_offset(_i);
+    ray_vec3 c = v3(off, off * 0.5, -off);
+    hc_mesh m[2];
+    ray_scene *s;
+    ray_ray *rays;
+    size_t n = 6001, hits, k;
+
+    m[0] = hc_icosphere(c, 4);
+    m[1] = hc_icosphere(v3_add(c, v3(3.5, 0.5, -1)), 3);
+    s = mesh_scene(m, 2);
+    rays = batch_rays(&m[0], c, n, 12345 + (unsigned long long)_i);
+    hits = check_against_single(s, rays, n, NULL);
+    /* Most rays are aimed at the meshes: a batch that found nothing
+    ** would pass the comparison vacuously. */
+    ck_assert_uint_gt(hits, n / 2);
+    for (k = 1; k <= 9; k++)
+        check_against_single(s, rays + 100 * k, k, NULL);
+    free(rays);
+    ray_scene_free(s);
+    hc_mesh_free(&m[0]);
+    hc_mesh_free(&m[1]);
+}
+END_TEST
+
+/* Scenes and queries that go ray by ray -- a sphere and a plane beside
+** the mesh, a query mask, a filter -- give the single-ray answers too. */
+static int keep_even(void *ud, const ray_ray *r, const ray_hit *h,
+                     void *query_ud)
+{
+    (void)ud;
+    (void)r;
+    (void)query_ud;
+    return h->prim_id % 2 == 0;
+}
+
+START_TEST(batch_should_match_single_rays_where_it_goes_ray_by_ray)
+{
+    ray_vec3 c = v3(0, 0, 0);
+    hc_mesh m = hc_icosphere(c, 3);
+    ray_ray *rays = batch_rays(&m, c, 1500, 777);
+    ray_scene *s = mesh_scene(&m, 1);
+    ray_query q;
+    unsigned id;
+
+    ck_assert_int_eq(ray_scene_set_mask(s, 0, 1), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_query_init(&q);
+    q.mask = 2;                              /* hides the mesh (mask 1) */
+    ck_assert_uint_eq(check_against_single(s, rays, 1500, &q), 0);
+    q.mask = 3;                              /* sees it */
+    ck_assert_uint_gt(check_against_single(s, rays, 1500, &q), 750);
+    ck_assert_int_eq(ray_scene_set_filter(s, 0, keep_even, NULL,
+                                          RAY_FILTER_INTERSECT |
+                                              RAY_FILTER_OCCLUDED),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_gt(check_against_single(s, rays, 1500, NULL), 300);
+    ray_scene_free(s);
+
+    s = mesh_scene(&m, 1);
+    ck_assert_int_eq(ray_scene_add_sphere(s, v3(1, 1, 1), 1.5,
+                                          RAY_NO_MATERIAL, &id),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, v3(0, -1.5, 0), v3(0, 1, 0),
+                                         RAY_NO_MATERIAL, &id),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_gt(check_against_single(s, rays, 1500, NULL), 750);
+    ray_scene_free(s);
+    free(rays);
+    hc_mesh_free(&m);
+}
+END_TEST
+
+/*
+** Two triangles that share an edge, in both orders: a ray straight down
+** through the edge hits both at t = 1 exactly (the plane y = 0, a ray
+** from y = 1, every quantity exact), and the nearest hit is the lower
+** prim_id -- the first triangle of the index array -- whichever the
+** geometry, through both queries and both batch paths.
+*/
+START_TEST(ties_should_go_to_the_lower_prim_id)
+{
+    static const unsigned ab[6] = {0, 1, 2, 0, 2, 3};
+    static const unsigned ba[6] = {0, 2, 3, 0, 1, 2};
+    ray_vec3 v[4];
+    ray_mesh mesh;
+    ray_ray r[8];
+    ray_hit h[8];
+    int res[8], order, k;
+
+    v[0] = v3(-1, 0, -1);
+    v[1] = v3(-1, 0, 1);
+    v[2] = v3(1, 0, 1);
+    v[3] = v3(1, 0, -1);
+    for (k = 0; k < 8; k++) {
+        /* Points of the diagonal from (-1, 0, -1) to (1, 0, 1). */
+        double s = -0.75 + 0.25 * k;
+        r[k] = make_ray(v3(s, 1, s), v3(0, -1, 0), 0, HUGE_VAL);
+    }
+    for (order = 0; order < 2; order++) {
+        ray_scene *s;
+        ray_mesh_init(&mesh);
+        mesh.vertices = v;
+        mesh.vertex_count = 4;
+        mesh.indices = order ? ba : ab;
+        mesh.triangle_count = 2;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL,
+                                            NULL),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_intersect_n(s, r, 8, NULL, h, res), RAY_OK);
+        for (k = 0; k < 8; k++) {
+            ray_hit one;
+            ck_assert_int_eq(res[k], 1);
+            ck_assert_int_eq(ray_intersect(s, &r[k], &one), 1);
+            ck_assert(hit_same(&h[k], &one));
+            ck_assert(h[k].t == 1.0);
+            ck_assert_uint_eq(h[k].prim_id, 0);
+        }
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+START_TEST(batch_should_refuse_misuse)
+{
+    hc_mesh m = hc_icosphere(v3(0, 0, 0), 1);
+    ray_scene *s = mesh_scene(&m, 1), *fresh;
+    ray_ray r = make_ray(v3(0, 0, 9), v3(0, 0, -1), 0, HUGE_VAL);
+    ray_hit h, before;
+    int res = 7;
+
+    memset(&before, 0x5a, sizeof before);
+    h = before;
+    ck_assert_int_eq(ray_intersect_n(NULL, &r, 1, NULL, &h, &res),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_n(s, NULL, 1, NULL, &h, &res),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, NULL, &res),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, &h, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded_n(NULL, &r, 1, NULL, &res), RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded_n(s, NULL, 1, NULL, &res), RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded_n(s, &r, 1, NULL, NULL), RAY_EINVAL);
+    /* n = 0: nothing to read or write, NULL arrays allowed. */
+    ck_assert_int_eq(ray_intersect_n(s, NULL, 0, NULL, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_occluded_n(s, NULL, 0, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(res, 7);
+    ck_assert(memcmp(&h, &before, sizeof h) == 0);
+    /* Not committed: RAY_ESTATE, nothing written. */
+    ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_intersect_n(fresh, &r, 1, NULL, &h, &res),
+                     RAY_ESTATE);
+    ck_assert_int_eq(ray_occluded_n(fresh, &r, 1, NULL, &res), RAY_ESTATE);
+    ck_assert_int_eq(res, 7);
+    ck_assert(memcmp(&h, &before, sizeof h) == 0);
+    /* And the one ray, for the record. */
+    ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, &h, &res), RAY_OK);
+    ck_assert_int_eq(res, 1);
+    ray_scene_free(fresh);
+    ray_scene_free(s);
+    hc_mesh_free(&m);
+}
+END_TEST
+
+Suite *batch_suite(void)
+{
+    Suite *s = suite_create("batch");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 120);
+    tcase_add_loop_test(tc, batch_should_match_single_rays_bit_for_bit, 0,
+                        N_OFFSETS);
+    tcase_add_test(tc, batch_should_match_single_rays_where_it_goes_ray_by_ray);
+    tcase_add_test(tc, ties_should_go_to_the_lower_prim_id);
+    tcase_add_test(tc, batch_should_refuse_misuse);
+    suite_add_tcase(s, tc);
+    return s;
+}
