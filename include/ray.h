@@ -1750,8 +1750,9 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
 ** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
 ** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
-** from a user material is stored as 0).  Rows are
-** handed to the threads one at a time from a shared counter; every pixel's
+** from a user material is stored as 0).  Rows are handed to the threads
+** in contiguous bands from a shared counter (guided: each band a quarter
+** of the remaining rows' share per thread, at least one); every pixel's
 ** samples are seeded from (seed, x, y, sample), so the bytes are the same
 ** whatever the thread count or region split.  "stats", if not NULL,
 ** receives the counters summed over the threads.

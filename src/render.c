@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** render.c -- the image: rows handed to pthreads one at a time from a
-** shared counter (dynamic scheduling: rows of a Whitted scene differ in
+** render.c -- the image: rows handed to pthreads in contiguous bands from
+** a shared counter (dynamic scheduling: rows of a Whitted scene differ in
 ** cost by orders of magnitude), supersampled, deterministic.
 */
 #include <pthread.h>
@@ -45,6 +45,7 @@ typedef struct render_job {
     unsigned lattice;        /* n-rooks lattice generator (side == 0) */
     float *rgb;
     pthread_mutex_t lock, progress_lock;
+    unsigned threads;        /* workers, for next_row's band size */
     unsigned next_row, rows_done;
     int cancelled, stopped;
 } render_job;
@@ -55,6 +56,9 @@ typedef struct render_worker {
     pthread_t thread;
     int started;
     ray_rgb *top, *bottom;   /* adaptive: the row's corner samples */
+    int have_bottom;         /* "bottom" holds the bottom edge of ... */
+    unsigned bottom_row;     /* ... this row, the worker's last one */
+    unsigned band_next, band_end;  /* the rest of the worker's band */
 } render_worker;
 
 /*
@@ -277,9 +281,13 @@ static ray_rgb adaptive_square(render_job *job, ray_ctx *ctx,
 
 /*
 ** One row, adaptively: the corner samples of its top and bottom edges are
-** taken once for the row (about 2 rays per pixel where nothing varies),
-** then each pixel is refined from its four corners.  A pixel's sample
-** count is the lattice points its estimate uses: 4 to 4 + 5 (4^d - 1) / 3
+** taken once for the row, then each pixel is refined from its four
+** corners.  A worker that rendered the row above keeps that row's bottom
+** edge as this row's top, so only the bottom edge is traced: one corner
+** ray per pixel where nothing varies (plus one lattice row per band of
+** rows, next_row).  The values are those a fresh trace would give, as
+** every lattice point is seeded by its position.  A pixel's sample count
+** is the lattice points its estimate uses: 4 to 4 + 5 (4^d - 1) / 3
 ** (points on an edge shared by two refined squares are traced twice).
 */
 static void render_row_adaptive(render_job *job, render_worker *w,
@@ -288,11 +296,18 @@ static void render_row_adaptive(render_job *job, render_worker *w,
     unsigned long long side = 1ull << job->opt->adaptive_depth;
     unsigned x, width = job->opt->width;
 
-    for (x = 0; x <= width; x++) {
-        w->top[x] = lattice_sample(job, &w->ctx, x * side, row * side);
+    if (w->have_bottom && w->bottom_row + 1ull == row) {
+        ray_rgb *t = w->top;
+        w->top = w->bottom;
+        w->bottom = t;
+    } else
+        for (x = 0; x <= width; x++)
+            w->top[x] = lattice_sample(job, &w->ctx, x * side, row * side);
+    for (x = 0; x <= width; x++)
         w->bottom[x] = lattice_sample(job, &w->ctx, x * side,
                                       (row + 1ull) * side);
-    }
+    w->have_bottom = 1;
+    w->bottom_row = row;
     for (x = 0; x < width; x++) {
         unsigned long long n = 4;
         ray_rgb c[4], m;
@@ -308,16 +323,33 @@ static void render_row_adaptive(render_job *job, render_worker *w,
     }
 }
 
-/* Take the next row, or return 0 when none is left or the render was
-** cancelled. */
-static int next_row(render_job *job, unsigned *row)
+/*
+** Take the next row, or return 0 when none is left or the render was
+** cancelled.  Rows go out in contiguous bands, each a quarter of the
+** remaining rows' share per thread, at least one ("guided" scheduling,
+** Polychronopoulos and Kuck, IEEE Trans. Computers 36(12), 1987): a
+** worker mostly takes consecutive rows, which adaptive antialiasing needs
+** to reuse a row's bottom edge as the next row's top, and the bands
+** shrink toward the end, so the threads still finish together.  The band
+** sizes depend only on the rows left, never on which thread asks.
+*/
+static int next_row(render_job *job, render_worker *w, unsigned *row)
 {
     int ok;
 
     pthread_mutex_lock(&job->lock);
-    ok = !job->cancelled && job->next_row < job->y1;
+    ok = !job->cancelled;
+    if (ok && w->band_next == w->band_end) {
+        unsigned left = job->y1 - job->next_row;
+        unsigned band = left / job->threads / 4;
+        if (band < 1)
+            band = left < 1 ? left : 1;
+        w->band_next = job->next_row;
+        w->band_end = job->next_row += band;
+    }
+    ok = ok && w->band_next < w->band_end;
     if (ok)
-        *row = job->next_row++;
+        *row = w->band_next++;
     pthread_mutex_unlock(&job->lock);
     return ok;
 }
@@ -346,7 +378,7 @@ static void *worker_main(void *arg)
     render_job *job = w->job;
     unsigned row, x;
 
-    while (next_row(job, &row)) {
+    while (next_row(job, w, &row)) {
         float *out = job->rgb + (size_t)(row - job->y0) * job->opt->width * 3;
         if (job->opt->adaptive_threshold > 0)
             render_row_adaptive(job, w, row, out);
@@ -526,6 +558,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
         n = job.y1 - job.y0;
     if (WORKER_STRIDE > (size_t)-1 / n)        /* n >= 1 here */
         return RAY_ENOMEM;
+    job.threads = n;
     workers = ray__alloc(scene, n * WORKER_STRIDE);
     if (workers == NULL)
         return RAY_ENOMEM;
