@@ -1733,10 +1733,12 @@ typedef struct ray_render_options {
     ** pixel's four corners are sampled; where any channel differs between
     ** them by more than the threshold the square is split in four, down to
     ** adaptive_depth levels (1 .. 8), so a pixel takes 4 to
-    ** 4 + 5 (4^depth - 1) / 3 samples (a point on an edge shared by two
-    ** split quarters is traced for each).  +Inf samples the corners only.
-    ** Samples sit on a fixed lattice of the frame and are seeded by their
-    ** position: any thread count or region split gives the same bytes. */
+    ** 4 + 5 (4^depth - 1) / 3 samples (samples_hist; a point on an edge
+    ** shared by two split squares counts for each, but a thread traces
+    ** it once, and a row's top edge once with the row above).  +Inf
+    ** samples the corners only.  Samples sit on a fixed lattice of the
+    ** frame and are seeded by their position: any thread count or region
+    ** split gives the same bytes. */
     double adaptive_threshold;
     unsigned adaptive_depth;
 } ray_render_options;

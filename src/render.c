@@ -55,10 +55,17 @@ typedef struct render_worker {
     ray_ctx ctx;
     pthread_t thread;
     int started;
-    ray_rgb *top, *bottom;   /* adaptive: the row's corner samples */
-    int have_bottom;         /* "bottom" holds the bottom edge of ... */
-    unsigned bottom_row;     /* ... this row, the worker's last one */
     unsigned band_next, band_end;  /* the rest of the worker's band */
+    /* Adaptive antialiasing's lattice cache (lattice_get): two rows of
+    ** lattice points at the finest level, width * 2^depth + 1 each, one
+    ** for each parity of the lattice row of pixel corners they lie on,
+    ** and the points inside the current pixel, (2^depth + 1)^2.  A key
+    ** names what an entry holds -- the row's lattice y + 1, the pixel's
+    ** serial number -- 0 nothing. */
+    ray_rgb *row[2], *cell;
+    unsigned long long *row_key[2], *cell_key;
+    unsigned long long pixel;      /* serial number of the current pixel */
+    unsigned long long x0, y0;     /* its top-left lattice point */
 } render_worker;
 
 /*
@@ -245,14 +252,61 @@ static ray_rgb rgb_mean4(const ray_rgb c[4])
     return m;
 }
 
+/* Where lattice point (lx, ly) of the current pixel is cached: on the
+** pixel row's top or bottom edge, a row; else the pixel's cell grid. */
+static void lattice_slot(const render_job *job, render_worker *w,
+                         unsigned long long lx, unsigned long long ly,
+                         ray_rgb **value, unsigned long long **key,
+                         unsigned long long *want)
+{
+    unsigned long long side = 1ull << job->opt->adaptive_depth;
+
+    if (ly == w->y0 || ly == w->y0 + side) {
+        unsigned parity = (unsigned)((ly >> job->opt->adaptive_depth) & 1);
+        *value = w->row[parity] + lx;
+        *key = w->row_key[parity] + lx;
+        *want = ly + 1;
+    } else {
+        size_t i = (size_t)((ly - w->y0) * (side + 1) + (lx - w->x0));
+        *value = w->cell + i;
+        *key = w->cell_key + i;
+        *want = w->pixel;
+    }
+}
+
+/*
+** Lattice point (lx, ly) of the current pixel (lx within [x0, x0 + side],
+** ly within [y0, y0 + side]): from the cache if it holds it, else traced
+** and cached.  So a point is traced once however many squares use it: a
+** point on the edge between two refined squares, on the edge between two
+** pixels of the row (the left column comes from the previous pixel,
+** render_row_adaptive), on the edge between two rows (kept when the
+** worker takes the next row).  A cached value is the one a fresh trace
+** gives, as lattice_sample depends on the position alone, so the image is
+** the same bytes whichever worker traced what.
+*/
+static ray_rgb lattice_get(render_job *job, render_worker *w,
+                           unsigned long long lx, unsigned long long ly)
+{
+    ray_rgb *value;
+    unsigned long long *key, want;
+
+    lattice_slot(job, w, lx, ly, &value, &key, &want);
+    if (*key != want) {
+        *value = lattice_sample(job, &w->ctx, lx, ly);
+        *key = want;
+    }
+    return *value;
+}
+
 /*
 ** The mean over the square of side "size" lattice steps at (lx, ly),
 ** corners c = (top-left, top-right, bottom-left, bottom-right): the mean
 ** of the corners, or, where they differ and the lattice allows, the mean of
 ** the four quarter squares, for which the edge midpoints and the centre
-** are sampled (5 more samples, counted in *n).
+** are needed (5 more samples, counted in *n whether traced or cached).
 */
-static ray_rgb adaptive_square(render_job *job, ray_ctx *ctx,
+static ray_rgb adaptive_square(render_job *job, render_worker *w,
                                unsigned long long lx, unsigned long long ly,
                                unsigned long long size, const ray_rgb c[4],
                                unsigned long long *n)
@@ -262,60 +316,64 @@ static ray_rgb adaptive_square(render_job *job, ray_ctx *ctx,
 
     if (size < 2 || !corners_differ(c, job->opt->adaptive_threshold))
         return rgb_mean4(c);
-    top = lattice_sample(job, ctx, lx + h, ly);
-    left = lattice_sample(job, ctx, lx, ly + h);
-    mid = lattice_sample(job, ctx, lx + h, ly + h);
-    right = lattice_sample(job, ctx, lx + size, ly + h);
-    bottom = lattice_sample(job, ctx, lx + h, ly + size);
+    top = lattice_get(job, w, lx + h, ly);
+    left = lattice_get(job, w, lx, ly + h);
+    mid = lattice_get(job, w, lx + h, ly + h);
+    right = lattice_get(job, w, lx + size, ly + h);
+    bottom = lattice_get(job, w, lx + h, ly + size);
     *n += 5;
     q[0] = c[0], q[1] = top, q[2] = left, q[3] = mid;
-    sub[0] = adaptive_square(job, ctx, lx, ly, h, q, n);
+    sub[0] = adaptive_square(job, w, lx, ly, h, q, n);
     q[0] = top, q[1] = c[1], q[2] = mid, q[3] = right;
-    sub[1] = adaptive_square(job, ctx, lx + h, ly, h, q, n);
+    sub[1] = adaptive_square(job, w, lx + h, ly, h, q, n);
     q[0] = left, q[1] = mid, q[2] = c[2], q[3] = bottom;
-    sub[2] = adaptive_square(job, ctx, lx, ly + h, h, q, n);
+    sub[2] = adaptive_square(job, w, lx, ly + h, h, q, n);
     q[0] = mid, q[1] = right, q[2] = bottom, q[3] = c[3];
-    sub[3] = adaptive_square(job, ctx, lx + h, ly + h, h, q, n);
+    sub[3] = adaptive_square(job, w, lx + h, ly + h, h, q, n);
     return rgb_mean4(sub);
 }
 
 /*
-** One row, adaptively: the corner samples of its top and bottom edges are
-** taken once for the row, then each pixel is refined from its four
-** corners.  A worker that rendered the row above keeps that row's bottom
-** edge as this row's top, so only the bottom edge is traced: one corner
-** ray per pixel where nothing varies (plus one lattice row per band of
-** rows, next_row).  The values are those a fresh trace would give, as
-** every lattice point is seeded by its position.  A pixel's sample count
-** is the lattice points its estimate uses: 4 to 4 + 5 (4^d - 1) / 3
-** (points on an edge shared by two refined squares are traced twice).
+** One row, adaptively: the corners along its top and bottom edges, then
+** each pixel refined from its four corners.  Every lattice point goes
+** through the cache (lattice_get): a worker that rendered the row above
+** finds this row's top edge there, corners and refined points alike, so
+** where nothing varies a row costs one camera ray per pixel (plus one
+** lattice row per band of rows, next_row).  A pixel's sample count is the
+** lattice points its estimate uses, a shared one counted by each square
+** that uses it: 4 to 4 + 5 (4^d - 1) / 3.
 */
 static void render_row_adaptive(render_job *job, render_worker *w,
                                 unsigned row, float *out)
 {
     unsigned long long side = 1ull << job->opt->adaptive_depth;
     unsigned x, width = job->opt->width;
+    size_t j, stride = (size_t)side + 1;
 
-    if (w->have_bottom && w->bottom_row + 1ull == row) {
-        ray_rgb *t = w->top;
-        w->top = w->bottom;
-        w->bottom = t;
-    } else
-        for (x = 0; x <= width; x++)
-            w->top[x] = lattice_sample(job, &w->ctx, x * side, row * side);
-    for (x = 0; x <= width; x++)
-        w->bottom[x] = lattice_sample(job, &w->ctx, x * side,
-                                      (row + 1ull) * side);
-    w->have_bottom = 1;
-    w->bottom_row = row;
+    w->y0 = row * side;
+    w->x0 = 0;
+    for (x = 0; x <= width; x++) {
+        (void)lattice_get(job, w, x * side, w->y0);
+        (void)lattice_get(job, w, x * side, w->y0 + side);
+    }
     for (x = 0; x < width; x++) {
         unsigned long long n = 4;
         ray_rgb c[4], m;
-        c[0] = w->top[x];
-        c[1] = w->top[x + 1];
-        c[2] = w->bottom[x];
-        c[3] = w->bottom[x + 1];
-        m = adaptive_square(job, &w->ctx, x * side, row * side, side, c, &n);
+        /* A new serial number voids the cell grid; the previous pixel's
+        ** right column, if cached, is this one's left. */
+        w->pixel++;
+        if (x > 0)
+            for (j = 1; j + 1 < stride; j++)
+                if (w->cell_key[j * stride + side] == w->pixel - 1) {
+                    w->cell[j * stride] = w->cell[j * stride + side];
+                    w->cell_key[j * stride] = w->pixel;
+                }
+        w->x0 = x * side;
+        c[0] = lattice_get(job, w, w->x0, w->y0);
+        c[1] = lattice_get(job, w, w->x0 + side, w->y0);
+        c[2] = lattice_get(job, w, w->x0, w->y0 + side);
+        c[3] = lattice_get(job, w, w->x0 + side, w->y0 + side);
+        m = adaptive_square(job, w, w->x0, w->y0, side, c, &n);
         out[3 * (size_t)x] = to_pixel(m.r);
         out[3 * (size_t)x + 1] = to_pixel(m.g);
         out[3 * (size_t)x + 2] = to_pixel(m.b);
@@ -396,34 +454,68 @@ static unsigned online_cpus(void)
     return n > 0 ? (unsigned)n : 1u;
 }
 
-/* Each worker's two rows of corner samples for adaptive antialiasing. */
-static int alloc_row_caches(const ray_scene *s, void *workers, unsigned n,
-                            unsigned width)
+/* The lattice cache's sizes (render_worker): entries in a row, 0 if a
+** row's arrays would not fit in a size_t; entries in the cell grid. */
+static size_t cache_row(const ray_render_options *o)
 {
-    size_t bytes = ((size_t)width + 1) * sizeof(ray_rgb);
-    unsigned i;
+    size_t side = (size_t)1 << o->adaptive_depth;
+    size_t most = (size_t)-1 / sizeof(ray_rgb);
 
+    return o->width < (most - 1) / side ? o->width * side + 1 : 0;
+}
+
+static size_t cache_cell(const ray_render_options *o)
+{
+    size_t side = ((size_t)1 << o->adaptive_depth) + 1;   /* 257 at most */
+    return side * side;
+}
+
+/* Each worker's lattice cache for adaptive antialiasing, keys zeroed. */
+static int alloc_caches(const ray_scene *s, void *workers, unsigned n,
+                        const ray_render_options *o)
+{
+    size_t row = cache_row(o), cell = cache_cell(o);
+    unsigned i, k;
+
+    if (row == 0)
+        return RAY_ENOMEM;
     for (i = 0; i < n; i++) {
         render_worker *w = worker_at(workers, i);
-        w->top = ray__alloc(s, bytes);
-        w->bottom = ray__alloc(s, bytes);
-        if (w->top == NULL || w->bottom == NULL)
+        for (k = 0; k < 2; k++) {
+            w->row[k] = ray__alloc(s, row * sizeof(ray_rgb));
+            w->row_key[k] = ray__alloc(s, row * sizeof(unsigned long long));
+            if (w->row[k] == NULL || w->row_key[k] == NULL)
+                return RAY_ENOMEM;
+            memset(w->row_key[k], 0, row * sizeof(unsigned long long));
+        }
+        w->cell = ray__alloc(s, cell * sizeof(ray_rgb));
+        w->cell_key = ray__alloc(s, cell * sizeof(unsigned long long));
+        if (w->cell == NULL || w->cell_key == NULL)
             return RAY_ENOMEM;
+        memset(w->cell_key, 0, cell * sizeof(unsigned long long));
     }
     return RAY_OK;
 }
 
-static void free_row_caches(const ray_scene *s, void *workers, unsigned n,
-                            unsigned width)
+/* Release what alloc_caches got (NULLs included: ray__free takes them). */
+static void free_caches(const ray_scene *s, void *workers, unsigned n,
+                        const ray_render_options *o)
 {
-    size_t bytes = ((size_t)width + 1) * sizeof(ray_rgb);
-    unsigned i;
+    size_t row = cache_row(o), cell = cache_cell(o);
+    unsigned i, k;
 
     for (i = 0; i < n; i++) {
         render_worker *w = worker_at(workers, i);
-        ray__free(s, w->top, bytes);
-        ray__free(s, w->bottom, bytes);
-        w->top = w->bottom = NULL;
+        for (k = 0; k < 2; k++) {
+            ray__free(s, w->row[k], row * sizeof(ray_rgb));
+            ray__free(s, w->row_key[k], row * sizeof(unsigned long long));
+            w->row[k] = NULL;
+            w->row_key[k] = NULL;
+        }
+        ray__free(s, w->cell, cell * sizeof(ray_rgb));
+        ray__free(s, w->cell_key, cell * sizeof(unsigned long long));
+        w->cell = NULL;
+        w->cell_key = NULL;
     }
 }
 
@@ -569,10 +661,13 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     }
     job.rgb = rgb;
     rc = RAY_ENOMEM;
-    if (opt->adaptive_threshold <= 0 ||
-        alloc_row_caches(scene, workers, n, opt->width) == RAY_OK)
+    if (opt->adaptive_threshold <= 0)
         rc = run_job(&job, workers, n, stats);
-    free_row_caches(scene, workers, n, opt->width);
+    else {
+        if (alloc_caches(scene, workers, n, opt) == RAY_OK)
+            rc = run_job(&job, workers, n, stats);
+        free_caches(scene, workers, n, opt);
+    }
     ray__free(scene, workers, n * WORKER_STRIDE);
     return rc;
 }

@@ -501,6 +501,69 @@ START_TEST(adaptive_should_trace_each_lattice_row_once)
 }
 END_TEST
 
+/* A background that varies with every ray: no two lattice points of a
+** square see the same colour, so every square is split to the full depth
+** (the threshold being far below the differences, ~1e-3 per lattice
+** step). */
+static void slope_background(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud;
+    *out = rgb(r->dir.y, r->dir.x, 0.5);
+}
+
+/*
+** Every lattice point is traced once, however many squares use it: with
+** every square split down to depth d, a frame of w x h pixels needs each
+** point of its (w 2^d + 1) x (h 2^d + 1) lattice, and one thread traces
+** exactly that many camera rays (a point on the edge between two split
+** squares, two pixels or two rows included).  Every pixel still counts
+** the 4 + 5 (4^d - 1) / 3 samples its estimate uses.  Several threads:
+** the same bytes, and at most one lattice row at the finest level again
+** per band of rows.
+*/
+START_TEST(adaptive_should_trace_each_lattice_point_once)
+{
+    static const unsigned threads[] = {2, 3};
+    ray_scene *s;
+    ray_camera cam;
+    ray_stats st;
+    ray_render_options o;
+    float *one = malloc(sizeof(float) * 3 * AW * AH);
+    float *img = malloc(sizeof(float) * 3 * AW * AH);
+    unsigned d;
+    size_t k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, slope_background, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_camera_init(&cam);
+    for (d = 1; d <= 3; d++) {
+        unsigned long long side = 1ull << d, row = AW * side + 1;
+        unsigned long long per_pixel = 4 + 5 * (((1ull << (2 * d)) - 1) / 3);
+        ray_render_options_init(&o, AW, AH);
+        o.adaptive_threshold = 1e-12;
+        o.adaptive_depth = d;
+        o.threads = 1;
+        ck_assert_int_eq(ray_render(s, &cam, &o, one, &st), RAY_OK);
+        ck_assert_uint_eq(st.rays[RAY_KIND_PRIMARY], row * (AH * side + 1));
+        ck_assert_uint_eq(st.samples_hist[per_pixel < RAY_HIST_BINS - 1
+                                              ? per_pixel : RAY_HIST_BINS - 1],
+                          AW * AH);
+        for (k = 0; k < sizeof threads / sizeof threads[0]; k++) {
+            o.threads = threads[k];
+            ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
+            ck_assert(memcmp(img, one, sizeof(float) * 3 * AW * AH) == 0);
+            ck_assert_uint_le(st.rays[RAY_KIND_PRIMARY],
+                              row * (AH * side + 1 + band_count(AH, threads[k])));
+        }
+    }
+    free(one);
+    free(img);
+    ray_scene_free(s);
+}
+END_TEST
+
 /*
 ** The adaptive image agrees with uniform supersampling: against a
 ** reference of 256 stratified samples per pixel, adaptive (threshold
@@ -577,6 +640,7 @@ Suite *effects_suite(void)
     tcase_add_test(aa, adaptive_should_stay_within_its_sample_bounds);
     tcase_add_test(aa, adaptive_should_be_deterministic);
     tcase_add_test(aa, adaptive_should_trace_each_lattice_row_once);
+    tcase_add_test(aa, adaptive_should_trace_each_lattice_point_once);
     tcase_add_test(aa, adaptive_should_match_uniform_supersampling);
     tcase_add_test(aa, adaptive_should_reject_bad_options);
     suite_add_tcase(s, counts);
