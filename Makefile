@@ -100,8 +100,11 @@ deps-build:
 	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD)
 deps-check: deps-build
 	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD) check mandoc
+# POV-Ray is optional: bench/whitted.c prints its own rows without it.
 deps-bench: deps-build
 	@scripts/deps.sh $(DEPS_MODE) $(DEPS_BUILD) gnuplot
+	@scripts/deps.sh $(DEPS_MODE) povray 2>/dev/null || \
+	    echo "libray: no povray: bench/whitted.c skips POV-Ray (apt-get install povray)" >&2
 
 # src/intersect_avx2.c is the BVH queries again, built with -mavx2 where
 # the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
@@ -175,6 +178,7 @@ EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_FLAGS)) \
+	    $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
 	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;

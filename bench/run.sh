@@ -42,12 +42,14 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/mesh" data
     "$build/bench/packets" data
     "$build/bench/game" data
+    "$build/bench/whitted" bench/whitted.pov
 } | tee "$out.tmp"
 mv "$out.tmp" "$out"
 
 # Tables copied into doc/BENCHMARKS.md between <!-- NAME:begin --> and
 # <!-- NAME:end -->: the primitives (headline), the curved surfaces, the
-# effects, the thread speed-up and the meshes.  A marker missing from the
+# effects, the thread speed-up, the meshes, the live scenes and the
+# Whitted scene against POV-Ray.  A marker missing from the
 # page is an error, not a table silently dropped.
 splice() {
     grep -qx "<!-- $1:begin -->" "$doc" && grep -qx "<!-- $1:end -->" "$doc" || {
@@ -71,8 +73,10 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     splice mesh "$plots/mesh.md"
     awk '/^## Games and tools/{exit} /^## Packets:/{on=1; next} on' "$out" > "$plots/packets.md"
     splice packets "$plots/packets.md"
-    awk '/^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
+    awk '/^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice game "$plots/game.md"
+    awk '/^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
+    splice whitted "$plots/whitted.md"
     echo "bench: copied the tables into $doc" >&2
 else
     echo "bench: quick run: $doc and bench/RESULTS.md left as they were" >&2

@@ -1758,10 +1758,12 @@ typedef struct ray_render_options {
     ** pixel's four corners are sampled; where any channel differs between
     ** them by more than the threshold the square is split in four, down to
     ** adaptive_depth levels (1 .. 8), so a pixel takes 4 to
-    ** 4 + 5 (4^depth - 1) / 3 samples (a point on an edge shared by two
-    ** split quarters is traced for each).  +Inf samples the corners only.
-    ** Samples sit on a fixed lattice of the frame and are seeded by their
-    ** position: any thread count or region split gives the same bytes. */
+    ** 4 + 5 (4^depth - 1) / 3 samples (samples_hist; a point on an edge
+    ** shared by two split squares counts for each, but a thread traces
+    ** it once, and a row's top edge once with the row above).  +Inf
+    ** samples the corners only.  Samples sit on a fixed lattice of the
+    ** frame and are seeded by their position: any thread count or region
+    ** split gives the same bytes. */
     double adaptive_threshold;
     unsigned adaptive_depth;
 } ray_render_options;
@@ -1775,8 +1777,9 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
 ** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
 ** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
-** from a user material is stored as 0).  Rows are
-** handed to the threads one at a time from a shared counter; every pixel's
+** from a user material is stored as 0).  Rows are handed to the threads
+** in contiguous bands from a shared counter (guided: each band a quarter
+** of the remaining rows' share per thread, at least one); every pixel's
 ** samples are seeded from (seed, x, y, sample), so the bytes are the same
 ** whatever the thread count or region split.  "stats", if not NULL,
 ** receives the counters summed over the threads.

@@ -4,6 +4,7 @@
 #
 # Usage: scripts/deps.sh [--check | --install] NEED...   where NEED is one of
 #   pkg-config  libpng  check  mandoc  gnuplot (make bench's plot)
+#   povray (bench/whitted.c's other side; the Makefile treats it as optional)
 # Each present dependency costs one quick probe.  With --check (the
 # default; plain make and make install), missing ones are reported with
 # the exact apt-get command and the script fails.  With --install (only
@@ -28,6 +29,7 @@ for need in "$@"; do
                     || missing="$missing check" ;;
     mandoc)     command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc" ;;
     gnuplot)    command -v gnuplot >/dev/null 2>&1 || missing="$missing gnuplot-nox" ;;
+    povray)     command -v povray >/dev/null 2>&1 || missing="$missing povray" ;;
     *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;
     esac
 done

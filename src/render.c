@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** render.c -- the image: rows handed to pthreads one at a time from a
-** shared counter (dynamic scheduling: rows of a Whitted scene differ in
+** render.c -- the image: rows handed to pthreads in contiguous bands from
+** a shared counter (dynamic scheduling: rows of a Whitted scene differ in
 ** cost by orders of magnitude), supersampled, deterministic.
 */
 #include <pthread.h>
@@ -45,6 +45,7 @@ typedef struct render_job {
     unsigned lattice;        /* n-rooks lattice generator (side == 0) */
     float *rgb;
     pthread_mutex_t lock, progress_lock;
+    unsigned threads;        /* workers, for next_row's band size */
     unsigned next_row, rows_done;
     int cancelled, stopped;
 } render_job;
@@ -54,7 +55,17 @@ typedef struct render_worker {
     ray_ctx ctx;
     pthread_t thread;
     int started;
-    ray_rgb *top, *bottom;   /* adaptive: the row's corner samples */
+    unsigned band_next, band_end;  /* the rest of the worker's band */
+    /* Adaptive antialiasing's lattice cache (lattice_get): two rows of
+    ** lattice points at the finest level, width * 2^depth + 1 each, one
+    ** for each parity of the lattice row of pixel corners they lie on,
+    ** and the points inside the current pixel, (2^depth + 1)^2.  A key
+    ** names what an entry holds -- the row's lattice y + 1, the pixel's
+    ** serial number -- 0 nothing. */
+    ray_rgb *row[2], *cell;
+    unsigned long long *row_key[2], *cell_key;
+    unsigned long long pixel;      /* serial number of the current pixel */
+    unsigned long long x0, y0;     /* its top-left lattice point */
 } render_worker;
 
 /*
@@ -241,14 +252,61 @@ static ray_rgb rgb_mean4(const ray_rgb c[4])
     return m;
 }
 
+/* Where lattice point (lx, ly) of the current pixel is cached: on the
+** pixel row's top or bottom edge, a row; else the pixel's cell grid. */
+static void lattice_slot(const render_job *job, render_worker *w,
+                         unsigned long long lx, unsigned long long ly,
+                         ray_rgb **value, unsigned long long **key,
+                         unsigned long long *want)
+{
+    unsigned long long side = 1ull << job->opt->adaptive_depth;
+
+    if (ly == w->y0 || ly == w->y0 + side) {
+        unsigned parity = (unsigned)((ly >> job->opt->adaptive_depth) & 1);
+        *value = w->row[parity] + lx;
+        *key = w->row_key[parity] + lx;
+        *want = ly + 1;
+    } else {
+        size_t i = (size_t)((ly - w->y0) * (side + 1) + (lx - w->x0));
+        *value = w->cell + i;
+        *key = w->cell_key + i;
+        *want = w->pixel;
+    }
+}
+
+/*
+** Lattice point (lx, ly) of the current pixel (lx within [x0, x0 + side],
+** ly within [y0, y0 + side]): from the cache if it holds it, else traced
+** and cached.  So a point is traced once however many squares use it: a
+** point on the edge between two refined squares, on the edge between two
+** pixels of the row (the left column comes from the previous pixel,
+** render_row_adaptive), on the edge between two rows (kept when the
+** worker takes the next row).  A cached value is the one a fresh trace
+** gives, as lattice_sample depends on the position alone, so the image is
+** the same bytes whichever worker traced what.
+*/
+static ray_rgb lattice_get(render_job *job, render_worker *w,
+                           unsigned long long lx, unsigned long long ly)
+{
+    ray_rgb *value;
+    unsigned long long *key, want;
+
+    lattice_slot(job, w, lx, ly, &value, &key, &want);
+    if (*key != want) {
+        *value = lattice_sample(job, &w->ctx, lx, ly);
+        *key = want;
+    }
+    return *value;
+}
+
 /*
 ** The mean over the square of side "size" lattice steps at (lx, ly),
 ** corners c = (top-left, top-right, bottom-left, bottom-right): the mean
 ** of the corners, or, where they differ and the lattice allows, the mean of
 ** the four quarter squares, for which the edge midpoints and the centre
-** are sampled (5 more samples, counted in *n).
+** are needed (5 more samples, counted in *n whether traced or cached).
 */
-static ray_rgb adaptive_square(render_job *job, ray_ctx *ctx,
+static ray_rgb adaptive_square(render_job *job, render_worker *w,
                                unsigned long long lx, unsigned long long ly,
                                unsigned long long size, const ray_rgb c[4],
                                unsigned long long *n)
@@ -258,49 +316,64 @@ static ray_rgb adaptive_square(render_job *job, ray_ctx *ctx,
 
     if (size < 2 || !corners_differ(c, job->opt->adaptive_threshold))
         return rgb_mean4(c);
-    top = lattice_sample(job, ctx, lx + h, ly);
-    left = lattice_sample(job, ctx, lx, ly + h);
-    mid = lattice_sample(job, ctx, lx + h, ly + h);
-    right = lattice_sample(job, ctx, lx + size, ly + h);
-    bottom = lattice_sample(job, ctx, lx + h, ly + size);
+    top = lattice_get(job, w, lx + h, ly);
+    left = lattice_get(job, w, lx, ly + h);
+    mid = lattice_get(job, w, lx + h, ly + h);
+    right = lattice_get(job, w, lx + size, ly + h);
+    bottom = lattice_get(job, w, lx + h, ly + size);
     *n += 5;
     q[0] = c[0], q[1] = top, q[2] = left, q[3] = mid;
-    sub[0] = adaptive_square(job, ctx, lx, ly, h, q, n);
+    sub[0] = adaptive_square(job, w, lx, ly, h, q, n);
     q[0] = top, q[1] = c[1], q[2] = mid, q[3] = right;
-    sub[1] = adaptive_square(job, ctx, lx + h, ly, h, q, n);
+    sub[1] = adaptive_square(job, w, lx + h, ly, h, q, n);
     q[0] = left, q[1] = mid, q[2] = c[2], q[3] = bottom;
-    sub[2] = adaptive_square(job, ctx, lx, ly + h, h, q, n);
+    sub[2] = adaptive_square(job, w, lx, ly + h, h, q, n);
     q[0] = mid, q[1] = right, q[2] = bottom, q[3] = c[3];
-    sub[3] = adaptive_square(job, ctx, lx + h, ly + h, h, q, n);
+    sub[3] = adaptive_square(job, w, lx + h, ly + h, h, q, n);
     return rgb_mean4(sub);
 }
 
 /*
-** One row, adaptively: the corner samples of its top and bottom edges are
-** taken once for the row (about 2 rays per pixel where nothing varies),
-** then each pixel is refined from its four corners.  A pixel's sample
-** count is the lattice points its estimate uses: 4 to 4 + 5 (4^d - 1) / 3
-** (points on an edge shared by two refined squares are traced twice).
+** One row, adaptively: the corners along its top and bottom edges, then
+** each pixel refined from its four corners.  Every lattice point goes
+** through the cache (lattice_get): a worker that rendered the row above
+** finds this row's top edge there, corners and refined points alike, so
+** where nothing varies a row costs one camera ray per pixel (plus one
+** lattice row per band of rows, next_row).  A pixel's sample count is the
+** lattice points its estimate uses, a shared one counted by each square
+** that uses it: 4 to 4 + 5 (4^d - 1) / 3.
 */
 static void render_row_adaptive(render_job *job, render_worker *w,
                                 unsigned row, float *out)
 {
     unsigned long long side = 1ull << job->opt->adaptive_depth;
     unsigned x, width = job->opt->width;
+    size_t j, stride = (size_t)side + 1;
 
+    w->y0 = row * side;
+    w->x0 = 0;
     for (x = 0; x <= width; x++) {
-        w->top[x] = lattice_sample(job, &w->ctx, x * side, row * side);
-        w->bottom[x] = lattice_sample(job, &w->ctx, x * side,
-                                      (row + 1ull) * side);
+        (void)lattice_get(job, w, x * side, w->y0);
+        (void)lattice_get(job, w, x * side, w->y0 + side);
     }
     for (x = 0; x < width; x++) {
         unsigned long long n = 4;
         ray_rgb c[4], m;
-        c[0] = w->top[x];
-        c[1] = w->top[x + 1];
-        c[2] = w->bottom[x];
-        c[3] = w->bottom[x + 1];
-        m = adaptive_square(job, &w->ctx, x * side, row * side, side, c, &n);
+        /* A new serial number voids the cell grid; the previous pixel's
+        ** right column, if cached, is this one's left. */
+        w->pixel++;
+        if (x > 0)
+            for (j = 1; j + 1 < stride; j++)
+                if (w->cell_key[j * stride + side] == w->pixel - 1) {
+                    w->cell[j * stride] = w->cell[j * stride + side];
+                    w->cell_key[j * stride] = w->pixel;
+                }
+        w->x0 = x * side;
+        c[0] = lattice_get(job, w, w->x0, w->y0);
+        c[1] = lattice_get(job, w, w->x0 + side, w->y0);
+        c[2] = lattice_get(job, w, w->x0, w->y0 + side);
+        c[3] = lattice_get(job, w, w->x0 + side, w->y0 + side);
+        m = adaptive_square(job, w, w->x0, w->y0, side, c, &n);
         out[3 * (size_t)x] = to_pixel(m.r);
         out[3 * (size_t)x + 1] = to_pixel(m.g);
         out[3 * (size_t)x + 2] = to_pixel(m.b);
@@ -308,16 +381,33 @@ static void render_row_adaptive(render_job *job, render_worker *w,
     }
 }
 
-/* Take the next row, or return 0 when none is left or the render was
-** cancelled. */
-static int next_row(render_job *job, unsigned *row)
+/*
+** Take the next row, or return 0 when none is left or the render was
+** cancelled.  Rows go out in contiguous bands, each a quarter of the
+** remaining rows' share per thread, at least one ("guided" scheduling,
+** Polychronopoulos and Kuck, IEEE Trans. Computers 36(12), 1987): a
+** worker mostly takes consecutive rows, which adaptive antialiasing needs
+** to reuse a row's bottom edge as the next row's top, and the bands
+** shrink toward the end, so the threads still finish together.  The band
+** sizes depend only on the rows left, never on which thread asks.
+*/
+static int next_row(render_job *job, render_worker *w, unsigned *row)
 {
     int ok;
 
     pthread_mutex_lock(&job->lock);
-    ok = !job->cancelled && job->next_row < job->y1;
+    ok = !job->cancelled;
+    if (ok && w->band_next == w->band_end) {
+        unsigned left = job->y1 - job->next_row;
+        unsigned band = left / job->threads / 4;
+        if (band < 1)
+            band = left < 1 ? left : 1;
+        w->band_next = job->next_row;
+        w->band_end = job->next_row += band;
+    }
+    ok = ok && w->band_next < w->band_end;
     if (ok)
-        *row = job->next_row++;
+        *row = w->band_next++;
     pthread_mutex_unlock(&job->lock);
     return ok;
 }
@@ -346,7 +436,7 @@ static void *worker_main(void *arg)
     render_job *job = w->job;
     unsigned row, x;
 
-    while (next_row(job, &row)) {
+    while (next_row(job, w, &row)) {
         float *out = job->rgb + (size_t)(row - job->y0) * job->opt->width * 3;
         if (job->opt->adaptive_threshold > 0)
             render_row_adaptive(job, w, row, out);
@@ -364,34 +454,68 @@ static unsigned online_cpus(void)
     return n > 0 ? (unsigned)n : 1u;
 }
 
-/* Each worker's two rows of corner samples for adaptive antialiasing. */
-static int alloc_row_caches(const ray_scene *s, void *workers, unsigned n,
-                            unsigned width)
+/* The lattice cache's sizes (render_worker): entries in a row, 0 if a
+** row's arrays would not fit in a size_t; entries in the cell grid. */
+static size_t cache_row(const ray_render_options *o)
 {
-    size_t bytes = ((size_t)width + 1) * sizeof(ray_rgb);
-    unsigned i;
+    size_t side = (size_t)1 << o->adaptive_depth;
+    size_t most = (size_t)-1 / sizeof(ray_rgb);
 
+    return o->width < (most - 1) / side ? o->width * side + 1 : 0;
+}
+
+static size_t cache_cell(const ray_render_options *o)
+{
+    size_t side = ((size_t)1 << o->adaptive_depth) + 1;   /* 257 at most */
+    return side * side;
+}
+
+/* Each worker's lattice cache for adaptive antialiasing, keys zeroed. */
+static int alloc_caches(const ray_scene *s, void *workers, unsigned n,
+                        const ray_render_options *o)
+{
+    size_t row = cache_row(o), cell = cache_cell(o);
+    unsigned i, k;
+
+    if (row == 0)
+        return RAY_ENOMEM;
     for (i = 0; i < n; i++) {
         render_worker *w = worker_at(workers, i);
-        w->top = ray__alloc(s, bytes);
-        w->bottom = ray__alloc(s, bytes);
-        if (w->top == NULL || w->bottom == NULL)
+        for (k = 0; k < 2; k++) {
+            w->row[k] = ray__alloc(s, row * sizeof(ray_rgb));
+            w->row_key[k] = ray__alloc(s, row * sizeof(unsigned long long));
+            if (w->row[k] == NULL || w->row_key[k] == NULL)
+                return RAY_ENOMEM;
+            memset(w->row_key[k], 0, row * sizeof(unsigned long long));
+        }
+        w->cell = ray__alloc(s, cell * sizeof(ray_rgb));
+        w->cell_key = ray__alloc(s, cell * sizeof(unsigned long long));
+        if (w->cell == NULL || w->cell_key == NULL)
             return RAY_ENOMEM;
+        memset(w->cell_key, 0, cell * sizeof(unsigned long long));
     }
     return RAY_OK;
 }
 
-static void free_row_caches(const ray_scene *s, void *workers, unsigned n,
-                            unsigned width)
+/* Release what alloc_caches got (NULLs included: ray__free takes them). */
+static void free_caches(const ray_scene *s, void *workers, unsigned n,
+                        const ray_render_options *o)
 {
-    size_t bytes = ((size_t)width + 1) * sizeof(ray_rgb);
-    unsigned i;
+    size_t row = cache_row(o), cell = cache_cell(o);
+    unsigned i, k;
 
     for (i = 0; i < n; i++) {
         render_worker *w = worker_at(workers, i);
-        ray__free(s, w->top, bytes);
-        ray__free(s, w->bottom, bytes);
-        w->top = w->bottom = NULL;
+        for (k = 0; k < 2; k++) {
+            ray__free(s, w->row[k], row * sizeof(ray_rgb));
+            ray__free(s, w->row_key[k], row * sizeof(unsigned long long));
+            w->row[k] = NULL;
+            w->row_key[k] = NULL;
+        }
+        ray__free(s, w->cell, cell * sizeof(ray_rgb));
+        ray__free(s, w->cell_key, cell * sizeof(unsigned long long));
+        w->cell = NULL;
+        w->cell_key = NULL;
     }
 }
 
@@ -526,6 +650,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
         n = job.y1 - job.y0;
     if (WORKER_STRIDE > (size_t)-1 / n)        /* n >= 1 here */
         return RAY_ENOMEM;
+    job.threads = n;
     workers = ray__alloc(scene, n * WORKER_STRIDE);
     if (workers == NULL)
         return RAY_ENOMEM;
@@ -536,10 +661,13 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     }
     job.rgb = rgb;
     rc = RAY_ENOMEM;
-    if (opt->adaptive_threshold <= 0 ||
-        alloc_row_caches(scene, workers, n, opt->width) == RAY_OK)
+    if (opt->adaptive_threshold <= 0)
         rc = run_job(&job, workers, n, stats);
-    free_row_caches(scene, workers, n, opt->width);
+    else {
+        if (alloc_caches(scene, workers, n, opt) == RAY_OK)
+            rc = run_job(&job, workers, n, stats);
+        free_caches(scene, workers, n, opt);
+    }
     ray__free(scene, workers, n * WORKER_STRIDE);
     return rc;
 }

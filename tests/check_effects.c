@@ -418,12 +418,149 @@ START_TEST(adaptive_should_be_deterministic)
     a = aa_render(&t, 0.05, 3, 1, 1, 0, 0, NULL);
     b = aa_render(&t, 0.05, 3, 1, 3, 0, 0, NULL);
     ck_assert(memcmp(a, b, sizeof(float) * 3 * AW * AH) == 0);
+    free(b);
+    b = aa_render(&t, 0.05, 3, 1, 2, 0, 0, NULL);
+    ck_assert(memcmp(a, b, sizeof(float) * 3 * AW * AH) == 0);
     part = aa_render(&t, 0.05, 3, 1, 2, 10, 23, NULL);
     ck_assert(memcmp(part, a + 3 * AW * 10, sizeof(float) * 3 * AW * 13) == 0);
     free(a);
     free(b);
     free(part);
     ray_scene_free(t.s);
+}
+END_TEST
+
+/* The bands ray_render hands out for "rows" rows and "threads" threads
+** (render.c, next_row): a quarter of the remaining rows' share per
+** thread, at least 1. */
+static unsigned long long band_count(unsigned rows, unsigned threads)
+{
+    unsigned long long bands = 0;
+
+    while (rows > 0) {
+        unsigned band = rows / threads / 4;
+        rows -= band < 1 ? 1 : band;
+        bands++;
+    }
+    return bands;
+}
+
+/*
+** Camera rays of adaptive antialiasing on a flat image (an empty scene:
+** every ray sees the same background, so no pixel is refined): each
+** lattice row of pixel corners is traced once, (width + 1) rays, and a
+** frame of h rows has h + 1 of them -- one thread takes the rows in
+** order and keeps each row's bottom edge as the next row's top.  Before
+** the fix every row traced its top and bottom, 2 h lattice rows.  Several
+** threads trace at most one more lattice row per band of rows (a band
+** whose first row does not follow the worker's previous one), never fewer
+** than h + 1, and the same bytes.
+*/
+START_TEST(adaptive_should_trace_each_lattice_row_once)
+{
+    static const unsigned threads[] = {2, 3, 5};
+    ray_scene *s;
+    ray_camera cam;
+    ray_stats st;
+    ray_render_options o;
+    float *one = malloc(sizeof(float) * 3 * AW * AH);
+    float *img = malloc(sizeof(float) * 3 * AW * AH);
+    unsigned long long row = AW + 1;
+    size_t k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.3, 0.4, 0.6)), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_camera_init(&cam);
+    ray_render_options_init(&o, AW, AH);
+    o.adaptive_threshold = 0.01;
+    o.threads = 1;
+    ck_assert_int_eq(ray_render(s, &cam, &o, one, &st), RAY_OK);
+    ck_assert_uint_eq(st.rays[RAY_KIND_PRIMARY], row * (AH + 1));
+    ck_assert_uint_eq(st.samples_hist[4], AW * AH);   /* none refined */
+    ck_assert_uint_eq(st.pixels, AW * AH);
+    /* A region: its own h + 1 lattice rows, the full frame's bytes. */
+    o.y0 = 10;
+    o.y1 = 23;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
+    ck_assert_uint_eq(st.rays[RAY_KIND_PRIMARY], row * (23 - 10 + 1));
+    ck_assert(memcmp(img, one + 3 * AW * 10, sizeof(float) * 3 * AW * 13) == 0);
+    o.y0 = o.y1 = 0;
+    for (k = 0; k < sizeof threads / sizeof threads[0]; k++) {
+        o.threads = threads[k];
+        ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
+        ck_assert(memcmp(img, one, sizeof(float) * 3 * AW * AH) == 0);
+        ck_assert_uint_ge(st.rays[RAY_KIND_PRIMARY], row * (AH + 1));
+        ck_assert_uint_le(st.rays[RAY_KIND_PRIMARY],
+                          row * (AH + band_count(AH, threads[k])));
+        ck_assert_uint_lt(st.rays[RAY_KIND_PRIMARY], row * 2 * AH);
+    }
+    free(one);
+    free(img);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* A background that varies with every ray: no two lattice points of a
+** square see the same colour, so every square is split to the full depth
+** (the threshold being far below the differences, ~1e-3 per lattice
+** step). */
+static void slope_background(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud;
+    *out = rgb(r->dir.y, r->dir.x, 0.5);
+}
+
+/*
+** Every lattice point is traced once, however many squares use it: with
+** every square split down to depth d, a frame of w x h pixels needs each
+** point of its (w 2^d + 1) x (h 2^d + 1) lattice, and one thread traces
+** exactly that many camera rays (a point on the edge between two split
+** squares, two pixels or two rows included).  Every pixel still counts
+** the 4 + 5 (4^d - 1) / 3 samples its estimate uses.  Several threads:
+** the same bytes, and at most one lattice row at the finest level again
+** per band of rows.
+*/
+START_TEST(adaptive_should_trace_each_lattice_point_once)
+{
+    static const unsigned threads[] = {2, 3};
+    ray_scene *s;
+    ray_camera cam;
+    ray_stats st;
+    ray_render_options o;
+    float *one = malloc(sizeof(float) * 3 * AW * AH);
+    float *img = malloc(sizeof(float) * 3 * AW * AH);
+    unsigned d;
+    size_t k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, slope_background, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_camera_init(&cam);
+    for (d = 1; d <= 3; d++) {
+        unsigned long long side = 1ull << d, row = AW * side + 1;
+        unsigned long long per_pixel = 4 + 5 * (((1ull << (2 * d)) - 1) / 3);
+        ray_render_options_init(&o, AW, AH);
+        o.adaptive_threshold = 1e-12;
+        o.adaptive_depth = d;
+        o.threads = 1;
+        ck_assert_int_eq(ray_render(s, &cam, &o, one, &st), RAY_OK);
+        ck_assert_uint_eq(st.rays[RAY_KIND_PRIMARY], row * (AH * side + 1));
+        ck_assert_uint_eq(st.samples_hist[per_pixel < RAY_HIST_BINS - 1
+                                              ? per_pixel : RAY_HIST_BINS - 1],
+                          AW * AH);
+        for (k = 0; k < sizeof threads / sizeof threads[0]; k++) {
+            o.threads = threads[k];
+            ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
+            ck_assert(memcmp(img, one, sizeof(float) * 3 * AW * AH) == 0);
+            ck_assert_uint_le(st.rays[RAY_KIND_PRIMARY],
+                              row * (AH * side + 1 + band_count(AH, threads[k])));
+        }
+    }
+    free(one);
+    free(img);
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -502,6 +639,8 @@ Suite *effects_suite(void)
     tcase_add_test(counts, texture_effect_should_follow_the_materials);
     tcase_add_test(aa, adaptive_should_stay_within_its_sample_bounds);
     tcase_add_test(aa, adaptive_should_be_deterministic);
+    tcase_add_test(aa, adaptive_should_trace_each_lattice_row_once);
+    tcase_add_test(aa, adaptive_should_trace_each_lattice_point_once);
     tcase_add_test(aa, adaptive_should_match_uniform_supersampling);
     tcase_add_test(aa, adaptive_should_reject_bad_options);
     suite_add_tcase(s, counts);
