@@ -232,26 +232,55 @@ static inline int ray__bezier_quarter(unsigned q)
 ** converts back, ray__scale_t there (saturating, never 0 * Inf).  0 for a
 ** zero, infinite or NaN direction.  ray_sphere and ray_capsule use it.
 */
-static inline int ray__scaled_dir(ray_vec3 dir, ray_vec3 *d, int *e)
+/*
+** 2^k for k in [-1074, 1023] (a subnormal below -1022), from its bits.
+** x * ray__pow2(k) is ldexp(x, k), bit for bit: the exact x 2^k rounded
+** once (exact unless it leaves the normal range), where ldexp is a libm
+** call that costs more than the whole multiplication.
+*/
+static inline double ray__pow2(int k)
 {
-    double m = fmax(fabs(dir.x), fmax(fabs(dir.y), fabs(dir.z)));
+    uint64_t bits = k >= -1022 ? (uint64_t)(k + 1023) << 52
+                               : (uint64_t)1 << (k + 1074);
+    double x;
 
-    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
-        dir.z != dir.z)
-        return 0;
-    frexp(m, e);
-    *d = v3(ldexp(dir.x, -*e), ldexp(dir.y, -*e), ldexp(dir.z, -*e));
-    return 1;
+    memcpy(&x, &bits, sizeof x);
+    return x;
 }
 
+/* ldexp(t, e), by one multiplication where 2^e is a double. */
 static inline double ray__scale_t(double t, int e)
 {
-    return ldexp(t, e);
+    return e >= -1074 && e <= 1023 ? t * ray__pow2(e) : ldexp(t, e);
 }
 
 static inline double ray__unscale_t(double t, int e)
 {
-    return ldexp(t, -e);
+    return ray__scale_t(t, -e);
+}
+
+static inline int ray__scaled_dir(ray_vec3 dir, ray_vec3 *d, int *e)
+{
+    double ax = fabs(dir.x), ay = fabs(dir.y), az = fabs(dir.z);
+    /* Comparisons, not fmax (a libm call): a NaN component may be dropped
+    ** or taken here, and is refused just below either way. */
+    double m = ax > ay ? ax : ay;
+    uint64_t bits;
+
+    m = m > az ? m : az;
+    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
+        dir.z != dir.z)
+        return 0;
+    /* frexp's exponent, read from the bits of a normal m (m = f 2^e with
+    ** f in [0.5, 1)); frexp itself for a subnormal one. */
+    memcpy(&bits, &m, sizeof bits);
+    if (m >= DBL_MIN)
+        *e = (int)(bits >> 52 & 0x7ff) - 1022;
+    else
+        frexp(m, e);
+    *d = v3(ray__scale_t(dir.x, -*e), ray__scale_t(dir.y, -*e),
+            ray__scale_t(dir.z, -*e));
+    return 1;
 }
 
 /* ------------------------------------------------------ closest points */

@@ -57,11 +57,15 @@ static inline double v3_length(ray_vec3 a)
 */
 static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
 {
-    double m = fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z)));
+    double ax = fabs(a.x), ay = fabs(a.y), az = fabs(a.z);
+    /* Comparisons, not fmax (a libm call): they may drop or take a NaN
+    ** operand, so check every component -- a cross product of huge
+    ** vectors can hold Inf - Inf = NaN beside finite ones.  For a vector
+    ** without NaN, m is fmax's. */
+    double m = ax > ay ? ax : ay;
     double len;
 
-    /* fmax ignores a NaN operand, so check every component: a cross
-    ** product of huge vectors can hold Inf - Inf = NaN beside finite ones. */
+    m = m > az ? m : az;
     if (!(m > 0 && m < HUGE_VAL) || a.x != a.x || a.y != a.y || a.z != a.z)
         return 0;
     /* Divide by m rather than multiply by 1/m: for a denormal m, 1/m
