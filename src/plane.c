@@ -82,15 +82,16 @@ double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
 ** normal as given and only a hit pays for normalising it.  d.n == 0 (a
 ** parallel ray, or one lying in the plane: 0/0) is tested exactly; a
 ** nearly parallel ray gets a large but finite t, and an overflow to Inf
-** or a NaN from bad input fails the NaN-safe range test.
+** or a NaN from bad input fails the NaN-safe range test.  A normal that
+** cannot be normalised (zero, infinite, NaN) misses.
 */
-int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
-              ray_hit *hit)
+int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                 double *t_out)
 {
     double denom, t;
-    ray_vec3 n, po;
+    ray_vec3 po;
 
-    if (r == NULL || hit == NULL)
+    if (r == NULL)
         return 0;
     denom = v3_dot(r->dir, normal);
     if (denom == 0)
@@ -99,6 +100,39 @@ int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
     t = v3_dot(po, normal) / denom;
     if (!(t > r->tmin && t < r->tmax) ||
         !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin) ||
+        !v3_normalizable(normal))
+        return 0;
+    *t_out = t;
+    return 1;
+}
+
+/*
+** 1 when ray__plane_fill(r, point, n, point, t) (n unit) is sure to
+** succeed, by a test cheaper than the fill; 0 when it might not.  With
+** the origin, t dir and the point within 2^1000 of 0 on every axis, the
+** point p stays below 2^1002, its correction, p_err and (u, v) (|t1_i|,
+** |t2_i| <= 1) below 2^1008: all finite and (u, v) within DBL_MAX / 2.
+*/
+int ray__plane_fills(const ray_ray *r, ray_vec3 point, double t)
+{
+    ray_vec3 o = v3_abs(r->org), q = v3_abs(point), d = v3_abs(r->dir);
+    double m = o.x > o.y ? o.x : o.y, at = fabs(t);
+
+    m = m > o.z ? m : o.z;
+    m = m > q.x ? m : q.x;
+    m = m > q.y ? m : q.y;
+    m = m > q.z ? m : q.z;
+    return m <= 0x1p1000 && at * d.x <= 0x1p1000 && at * d.y <= 0x1p1000 &&
+           at * d.z <= 0x1p1000;
+}
+
+int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+              ray_hit *hit)
+{
+    double t;
+    ray_vec3 n;
+
+    if (hit == NULL || !ray__plane_t(r, point, normal, &t) ||
         !v3_normalize(normal, &n))
         return 0;
     return ray__plane_fill(r, point, n, point, t, hit);

@@ -128,6 +128,25 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
                       ray_hit *hit);
 
 /*
+** The sphere and the plane split in two, so that a scene query can test
+** many and fill the record of the nearest alone: ray__sphere_t and
+** ray__plane_t are ray_sphere's and ray_plane's decision and t (1 with *t
+** set on a hit), ray__sphere_fill the record of ray_sphere at t (0, *hit
+** untouched, when a result is not finite: then ray_sphere misses).
+** ray__sphere_fills and ray__plane_fills: 1 when the fill at t is sure
+** to succeed (a cheap sufficient test), 0 when it might fail.
+*/
+int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
+                  double *t);
+int ray__sphere_fill(const ray_ray *r, ray_vec3 center, double radius,
+                     double t, ray_hit *hit);
+int ray__sphere_fills(const ray_ray *r, ray_vec3 center, double radius,
+                      double t);
+int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                 double *t);
+int ray__plane_fills(const ray_ray *r, ray_vec3 point, double t);
+
+/*
 ** Fill *hit for a hit at parameter t on the plane through "point" with
 ** UNIT normal n: the point is projected back onto the plane and given the
 ** tangent-frame (u, v) of ray_plane, measured from "origin".  Returns 0,

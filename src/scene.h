@@ -277,7 +277,19 @@ int ray__reserve_tris(ray_scene *s, size_t more);
 ** prim_id 0, on a hit.  A curved surface whose iteration failed, or
 ** user geometry whose callback broke its contract (a negative answer),
 ** is a miss, counted in qc->failures.
+** ray__prim_candidate -- the same test for a query that wants the record
+** of its nearest hit alone (or none, for any hit): 0 on a miss,
+** RAY__HIT_FULL with *hit filled as ray__prim_intersect fills it, or
+** RAY__HIT_T with hit->t alone, for a kind whose record can be filled
+** later from t (a sphere, a plane: their t-only tests; the fill's success
+** checked, so a t that could not be filled is a miss here as there).
+** Same counts, same t, same hits and misses as ray__prim_intersect.
+** ray__prim_fill -- the record of such a hit at t, as ray__prim_intersect
+** would have filled it (the same formulas on the same t): 1, or 0 for a
+** geometry whose kind never answers RAY__HIT_T (cannot happen).
 */
+enum { RAY__HIT_FULL = 1, RAY__HIT_T = 2 };
+
 typedef enum ray__class {
     RAY__CLASS_TRIANGLES,    /* in tri_bvh: traverse.h tests them inline */
     RAY__CLASS_BOUNDED,      /* in prim_bvh */
@@ -333,6 +345,10 @@ void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
                    ray_vec3 *hi);
 int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc);
+int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc);
+int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
+                   double t, ray_hit *hit);
 
 /* ------------------------------------------------------------ instances */
 

@@ -13,8 +13,8 @@
 ** sum with c, bounded by gamma(7)*(|c| + radius*|n|) per component.
 ** Returns 0, leaving *hit untouched, if anything overflowed.
 */
-static int sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
-                       ray_hit *hit)
+int ray__sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
+                     ray_hit *hit)
 {
     ray_vec3 n, p, err;
     double ny;
@@ -37,6 +37,22 @@ static int sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
     hit->prim_id = RAY_INVALID_ID;
     hit->inst_id = RAY_INVALID_ID;
     return 1;
+}
+
+/*
+** 1 when ray__sphere_fill(r, c, radius, t) is sure to succeed, by a test
+** cheaper than the fill; 0 when it might not.  It fails only when p - c
+** (formed as the fill forms it) is zero or not finite, or when p or
+** p_err overflow; with |c_i| and radius at most 2^999, p_i = c_i +
+** radius n_i (|n_i| <= 1 + 2u) and p_err stay below 2^1001.
+*/
+int ray__sphere_fills(const ray_ray *r, ray_vec3 c, double radius, double t)
+{
+    ray_vec3 v = v3_sub(v3_madd(r->org, t, r->dir), c);
+    double cx = fabs(c.x), cy = fabs(c.y), cz = fabs(c.z);
+
+    return v3_normalizable(v) && cx <= 0x1p999 && cy <= 0x1p999 &&
+           cz <= 0x1p999 && radius <= 0x1p999;
 }
 
 /* The nearer of the roots t0, t1 inside (tmin, tmax); 0 if neither is. */
@@ -202,8 +218,8 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 ** The direction is first scaled by a power of two (ray__scaled_dir), and
 ** t, tmin and tmax with it.
 */
-int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
-               ray_hit *hit)
+int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
+                  double *t_out)
 {
     ray_vec3 f, d;
     sphere_quadratic k;
@@ -212,7 +228,7 @@ int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
 
     /* Exact tests, no epsilon: a radius that is not a positive finite
     ** number, or a zero (or NaN) direction, misses; so do NULLs. */
-    if (r == NULL || hit == NULL || !(radius > 0 && radius < HUGE_VAL) ||
+    if (r == NULL || !(radius > 0 && radius < HUGE_VAL) ||
         !ray__scaled_dir(r->dir, &d, &e))
         return 0;
     f = v3_sub(r->org, center);
@@ -238,7 +254,18 @@ int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
     t = ray__unscale_t(t, e);
     if (!(t > r->tmin && t < r->tmax))  /* the product rounded past one */
         return 0;
-    return sphere_fill(r, center, radius, t, hit);
+    *t_out = t;
+    return 1;
+}
+
+int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
+               ray_hit *hit)
+{
+    double t;
+
+    if (hit == NULL || !ray__sphere_t(r, center, radius, &t))
+        return 0;
+    return ray__sphere_fill(r, center, radius, t, hit);
 }
 
 /*
@@ -259,5 +286,5 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
     root = sqrt(disc);
     if (!nearest_root(r, (-dec - root) / dd, (-dec + root) / dd, &t))
         return 0;
-    return sphere_fill(r, center, radius, t, hit);
+    return ray__sphere_fill(r, center, radius, t, hit);
 }

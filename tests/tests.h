@@ -47,6 +47,7 @@ Suite *instance_suite(void);
 Suite *dynamic_suite(void);
 Suite *user_suite(void);
 Suite *closest_suite(void);
+Suite *lazy_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
