@@ -12,10 +12,10 @@
 #include "traverse.h"
 
 int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st)
 {
-    return query_nearest_gated(s, r, g, hit, st);
+    return query_nearest_gated(s, r, g, uv, hit, st);
 }
 
 int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,

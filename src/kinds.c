@@ -154,12 +154,16 @@ static void box_USER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
 
 /* ----------------------------------------------------- the intersections */
 
+/* ray_sphere, its (u, v) only where the query wants them (qc->uv). */
 static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
-    (void)qc;
+    double t;
+
     (void)s;
-    return ray_sphere(r, p->a, p->radius, hit);
+    if (!ray__sphere_t(r, p->a, p->radius, &t))
+        return 0;
+    return ray__sphere_fill(r, p->a, p->radius, t, qc->uv, hit);
 }
 
 static int hit_PLANE(const ray_scene *s, const ray__prim *p,
@@ -268,20 +272,19 @@ static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
     double t;
 
     (void)s;
-    (void)qc;
     if (!ray__sphere_t(r, p->a, p->radius, &t))
         return 0;
     if (!ray__sphere_fills(r, p->a, p->radius, t))
-        return ray__sphere_fill(r, p->a, p->radius, t, hit);
+        return ray__sphere_fill(r, p->a, p->radius, t, qc->uv, hit);
     hit->t = t;
     return RAY__HIT_T;
 }
 
 static int fill_SPHERE(const ray_scene *s, const ray__prim *p,
-                       const ray_ray *r, double t, ray_hit *hit)
+                       const ray_ray *r, double t, int uv, ray_hit *hit)
 {
     (void)s;
-    return ray__sphere_fill(r, p->a, p->radius, t, hit);
+    return ray__sphere_fill(r, p->a, p->radius, t, uv, hit);
 }
 
 /* The plane's record, as ray_plane fills it (its normal made unit). */
@@ -311,9 +314,10 @@ static int cand_PLANE(const ray_scene *s, const ray__prim *p,
 }
 
 static int fill_PLANE(const ray_scene *s, const ray__prim *p,
-                      const ray_ray *r, double t, ray_hit *hit)
+                      const ray_ray *r, double t, int uv, ray_hit *hit)
 {
     (void)s;
+    (void)uv;                    /* cheap, and they decide the hit */
     return plane_fill(p, r, t, hit);
 }
 
@@ -327,9 +331,10 @@ static int fill_PLANE(const ray_scene *s, const ray__prim *p,
         return ok > 0 ? RAY__HIT_FULL : ok;                                 \
     }                                                                       \
     static int fill_##NAME(const ray_scene *s, const ray__prim *p,          \
-                           const ray_ray *r, double t, ray_hit *hit)        \
+                           const ray_ray *r, double t, int uv,              \
+                           ray_hit *hit)                                    \
     {                                                                       \
-        (void)s, (void)p, (void)r, (void)t, (void)hit;                      \
+        (void)s, (void)p, (void)r, (void)t, (void)uv, (void)hit;            \
         return 0;                    /* never deferred */                   \
     }
 EAGER_CANDIDATE(TRIANGLE)
@@ -447,7 +452,7 @@ int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
 }
 
 int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
-                   double t, ray_hit *hit)
+                   double t, int uv, ray_hit *hit)
 {
     const ray__prim *p = &s->prims[i];
     int ok = 0;
@@ -455,7 +460,7 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
     switch (p->kind) {
 #define FILL_OF(name, counted_as, class)                                   \
     case RAY__KIND_##name:                                                 \
-        ok = fill_##name(s, p, r, t, hit);                                 \
+        ok = fill_##name(s, p, r, t, uv, hit);                             \
         break;
         RAY__PRIM_KINDS(FILL_OF)
 #undef FILL_OF

@@ -132,14 +132,16 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 ** many and fill the record of the nearest alone: ray__sphere_t and
 ** ray__plane_t are ray_sphere's and ray_plane's decision and t (1 with *t
 ** set on a hit), ray__sphere_fill the record of ray_sphere at t (0, *hit
-** untouched, when a result is not finite: then ray_sphere misses).
+** untouched, when a result is not finite: then ray_sphere misses), with
+** its texture coordinates (u, v) when "uv" is 1, else u = v = 0 (a
+** render whose materials read no (u, v): RAY_EFFECT_TEXTURE).
 ** ray__sphere_fills and ray__plane_fills: 1 when the fill at t is sure
 ** to succeed (a cheap sufficient test), 0 when it might fail.
 */
 int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
                   double *t);
 int ray__sphere_fill(const ray_ray *r, ray_vec3 center, double radius,
-                     double t, ray_hit *hit);
+                     double t, int uv, ray_hit *hit);
 int ray__sphere_fills(const ray_ray *r, ray_vec3 center, double radius,
                       double t);
 int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,

@@ -287,6 +287,8 @@ int ray__reserve_tris(ray_scene *s, size_t more);
 ** ray__prim_fill -- the record of such a hit at t, as ray__prim_intersect
 ** would have filled it (the same formulas on the same t): 1, or 0 for a
 ** geometry whose kind never answers RAY__HIT_T (cannot happen).
+** A sphere's texture coordinates are computed only for a query whose
+** qc->uv (uv) is 1, else 0 (see ray__intersect).
 */
 enum { RAY__HIT_FULL = 1, RAY__HIT_T = 2 };
 
@@ -337,6 +339,7 @@ typedef struct ray__counts {
     unsigned inst_id;
     const ray__instance *inst;
     const ray_ray *world_ray;
+    int uv;                  /* fill a sphere's (u, v): ray__intersect */
 } ray__counts;
 
 ray__class ray__kind_class(ray__kind kind);
@@ -348,7 +351,7 @@ int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
 int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc);
 int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
-                   double t, ray_hit *hit);
+                   double t, int uv, ray_hit *hit);
 
 /* ------------------------------------------------------------ instances */
 
@@ -394,10 +397,12 @@ const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h);
 ** Nearest hit / any hit over the scene, counting intersection tests, in
 ** all and by kind of primitive, into *st (may be NULL), with the
 ** scene's filters of that kind of query: ray_trace's and the shadow
-** rays' queries.
+** rays' queries.  uv: 1 fills every field of the hit; 0 leaves a
+** sphere's texture coordinates 0 (an atan2 and an acos saved per hit),
+** for a render whose materials read none (no RAY_EFFECT_TEXTURE).
 */
-int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                   ray_stats *st);
+int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
+                   ray_hit *hit, ray_stats *st);
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
 /* The queries come in two copies, for the baseline instruction set and
@@ -420,20 +425,21 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 ** instance met a child changed since the commit.
 */
 int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
-                         const ray__gate *g, ray_hit *hit, ray_stats *st);
+                         const ray__gate *g, int uv, ray_hit *hit,
+                         ray_stats *st);
 int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
                         const ray__gate *g, ray_stats *st);
 int ray__child_query(const ray_scene *child, ray_ray *r, ray_hit *hit,
                      ray__counts *qc);
 int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st);
 int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
                              const ray__gate *g, ray_stats *st);
 int ray__child_query_base(const ray_scene *child, ray_ray *r, ray_hit *hit,
                           ray__counts *qc);
 int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st);
 int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
                              const ray__gate *g, ray_stats *st);

@@ -14,7 +14,7 @@
 ** Returns 0, leaving *hit untouched, if anything overflowed.
 */
 int ray__sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
-                     ray_hit *hit)
+                     int uv, ray_hit *hit)
 {
     ray_vec3 n, p, err;
     double ny;
@@ -30,8 +30,10 @@ int ray__sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
     hit->t = t;
     hit->p = p;
     hit->n = n;
-    hit->u = atan2(n.x, n.z) / (2.0 * RAY__PI) + 0.5;
-    hit->v = acos(-ny) / RAY__PI;
+    /* The texture coordinates, an atan2 and an acos: only when wanted
+    ** (ray__sphere_fill in prim.h). */
+    hit->u = uv ? atan2(n.x, n.z) / (2.0 * RAY__PI) + 0.5 : 0.0;
+    hit->v = uv ? acos(-ny) / RAY__PI : 0.0;
     hit->p_err = err;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
@@ -265,7 +267,7 @@ int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
 
     if (hit == NULL || !ray__sphere_t(r, center, radius, &t))
         return 0;
-    return ray__sphere_fill(r, center, radius, t, hit);
+    return ray__sphere_fill(r, center, radius, t, 1, hit);
 }
 
 /*
@@ -286,5 +288,5 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
     root = sqrt(disc);
     if (!nearest_root(r, (-dec - root) / dd, (-dec + root) / dd, &t))
         return 0;
-    return ray__sphere_fill(r, center, radius, t, hit);
+    return ray__sphere_fill(r, center, radius, t, 1, hit);
 }

@@ -694,11 +694,11 @@ static inline void prim_keep(prim_best *b, unsigned idx, int k,
 ** as the candidate test would have filled it with (prim_candidate made
 ** sure it fills).  0 if it failed (cannot happen). */
 static inline int prim_fill_best(const ray_scene *s, const ray_ray *r,
-                                 prim_best *b)
+                                 prim_best *b, const ray__counts *qc)
 {
     if (b->deferred == RAY_INVALID_ID)
         return 1;
-    return ray__prim_fill(s, b->deferred, r, b->h.t, &b->h);
+    return ray__prim_fill(s, b->deferred, r, b->h.t, qc->uv, &b->h);
 }
 
 /*
@@ -799,6 +799,7 @@ static void counts_start(ray__counts *qc, const ray__gate *g, int any)
     qc->gate = g;
     qc->any = any;
     qc->inst_id = RAY_INVALID_ID;
+    qc->uv = 1;
 }
 
 /*
@@ -841,7 +842,7 @@ static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
         }
     }
     /* The record of the nearest, once per ray. */
-    if (found && !prim_fill_best(s, rr, &best))
+    if (found && !prim_fill_best(s, rr, &best, qc))
         found = 0;
     if (found)
         *hit = best.h;
@@ -864,7 +865,7 @@ static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
 }
 
 static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
-                               const ray__gate *g, ray_hit *hit,
+                               const ray__gate *g, int uv, ray_hit *hit,
                                ray_stats *st)
 {
     ray__counts qc;
@@ -875,6 +876,7 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
     if (!ray__ray_usable(r))
         return 0;
     counts_start(&qc, g, 0);
+    qc.uv = uv;
     found = nearest_core(s, &rr, &best, &qc);
     add_counts(st, &qc);
     if (qc.stale)

@@ -5,7 +5,9 @@
 ** traversal and filled once, at the end.  The answers must be those of
 ** the bare primitives, bit for bit (API-NOTES 11: a ray gives the same
 ** hit whatever path it takes), which these tests check against
-** ray_sphere and ray_plane called directly on the same rays.
+** ray_sphere and ray_plane called directly on the same rays; and a
+** render fills a sphere's texture coordinates only when a material of
+** the scene reads them.
 */
 #include "tests.h"
 
@@ -206,6 +208,62 @@ START_TEST(scene_should_agree_with_spheres_whose_fill_may_fail)
 }
 END_TEST
 
+/* A material that keeps the hit record it is given. */
+static void keep_hit(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                     ray_rgb *out)
+{
+    (void)ctx;
+    (void)out;
+    *(ray_hit *)ud = *a->hit;
+}
+
+/*
+** Texture coordinates only when read (API-NOTES 14): in a render whose
+** materials declare no RAY_EFFECT_TEXTURE, a sphere's hit comes without
+** its (u, v) (0, 0), every other field as ray_intersect gives it; with
+** one that declares it, the whole record is ray_intersect's.
+*/
+START_TEST(render_should_fill_sphere_uv_only_when_read)
+{
+    int texture;
+
+    for (texture = 0; texture < 2; texture++) {
+        ray_material mat;
+        ray_scene *s;
+        ray_ctx *ctx;
+        ray_hit seen, want;
+        ray_rgb c;
+        ray_ray r = ray_from(vec(0.3, 0.2, -5), vec(0, 0, 1));
+        unsigned id;
+
+        memset(&seen, 0, sizeof seen);
+        mat.shade = keep_hit;
+        mat.ud = &seen;
+        mat.effects = texture ? RAY_EFFECT_TEXTURE : 0;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &mat, &id), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, id, NULL),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_scene_effects(s) & RAY_EFFECT_TEXTURE,
+                         texture ? RAY_EFFECT_TEXTURE : 0);
+        ck_assert_int_eq(ray_intersect(s, &r, &want), 1);
+        ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c),
+                         RAY_OK);
+        /* (0.3, 0.2) off the axis: the longitude and latitude are not 0. */
+        ck_assert(want.u != 0 && want.v != 0);
+        if (!texture) {
+            want.u = 0;
+            want.v = 0;
+        }
+        ck_assert(hit_same(&seen, &want));
+        ray_ctx_free(ctx);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
 Suite *lazy_suite(void)
 {
     Suite *s = suite_create("lazy");
@@ -213,6 +271,7 @@ Suite *lazy_suite(void)
 
     tcase_add_test(tc, scene_hits_should_be_the_bare_primitives_bit_for_bit);
     tcase_add_test(tc, scene_should_agree_with_spheres_whose_fill_may_fail);
+    tcase_add_test(tc, render_should_fill_sphere_uv_only_when_read);
     suite_add_tcase(s, tc);
     return s;
 }
