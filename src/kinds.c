@@ -154,16 +154,28 @@ static void box_USER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
 
 /* ----------------------------------------------------- the intersections */
 
-/* ray_sphere, its (u, v) only where the query wants them (qc->uv). */
+/*
+** Fill a sphere's (u, v) -- an atan2 and an acos, the dearest part of its
+** record?  Always for ray_intersect (uv 1); in a render (uv 0) only when
+** the sphere's own material reads them (RAY_EFFECT_TEXTURE): the effect
+** analysis of API-NOTES 14, per material.
+*/
+static int sphere_uv(const ray_scene *s, const ray__prim *p, int uv)
+{
+    return uv || (p->material < s->n_materials &&
+                  (s->materials[p->material].effects & RAY_EFFECT_TEXTURE));
+}
+
+/* ray_sphere, its (u, v) only where they are read (sphere_uv). */
 static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
     double t;
 
-    (void)s;
     if (!ray__sphere_t(r, p->a, p->radius, &t))
         return 0;
-    return ray__sphere_fill(r, p->a, p->radius, t, qc->uv, hit);
+    return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, qc->uv),
+                            hit);
 }
 
 static int hit_PLANE(const ray_scene *s, const ray__prim *p,
@@ -271,11 +283,11 @@ static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
 {
     double t;
 
-    (void)s;
     if (!ray__sphere_t(r, p->a, p->radius, &t))
         return 0;
     if (!ray__sphere_fills(r, p->a, p->radius, t))
-        return ray__sphere_fill(r, p->a, p->radius, t, qc->uv, hit);
+        return ray__sphere_fill(r, p->a, p->radius, t,
+                                sphere_uv(s, p, qc->uv), hit);
     hit->t = t;
     return RAY__HIT_T;
 }
@@ -283,8 +295,7 @@ static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
 static int fill_SPHERE(const ray_scene *s, const ray__prim *p,
                        const ray_ray *r, double t, int uv, ray_hit *hit)
 {
-    (void)s;
-    return ray__sphere_fill(r, p->a, p->radius, t, uv, hit);
+    return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv), hit);
 }
 
 /* The plane's record, as ray_plane fills it (its normal made unit). */

@@ -134,7 +134,8 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 ** set on a hit), ray__sphere_fill the record of ray_sphere at t (0, *hit
 ** untouched, when a result is not finite: then ray_sphere misses), with
 ** its texture coordinates (u, v) when "uv" is 1, else u = v = 0 (a
-** render whose materials read no (u, v): RAY_EFFECT_TEXTURE).
+** render, for a sphere whose material reads no (u, v):
+** RAY_EFFECT_TEXTURE).
 ** ray__sphere_fills and ray__plane_fills: 1 when the fill at t is sure
 ** to succeed (a cheap sufficient test), 0 when it might fail.
 */

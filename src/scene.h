@@ -288,7 +288,8 @@ int ray__reserve_tris(ray_scene *s, size_t more);
 ** would have filled it (the same formulas on the same t): 1, or 0 for a
 ** geometry whose kind never answers RAY__HIT_T (cannot happen).
 ** A sphere's texture coordinates are computed only for a query whose
-** qc->uv (uv) is 1, else 0 (see ray__intersect).
+** qc->uv (uv) is 1 or when its material reads them, else 0 (see
+** ray__intersect).
 */
 enum { RAY__HIT_FULL = 1, RAY__HIT_T = 2 };
 
@@ -339,7 +340,7 @@ typedef struct ray__counts {
     unsigned inst_id;
     const ray__instance *inst;
     const ray_ray *world_ray;
-    int uv;                  /* fill a sphere's (u, v): ray__intersect */
+    int uv;                  /* fill every sphere's (u, v): ray__intersect */
 } ray__counts;
 
 ray__class ray__kind_class(ray__kind kind);
@@ -397,9 +398,9 @@ const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h);
 ** Nearest hit / any hit over the scene, counting intersection tests, in
 ** all and by kind of primitive, into *st (may be NULL), with the
 ** scene's filters of that kind of query: ray_trace's and the shadow
-** rays' queries.  uv: 1 fills every field of the hit; 0 leaves a
-** sphere's texture coordinates 0 (an atan2 and an acos saved per hit),
-** for a render whose materials read none (no RAY_EFFECT_TEXTURE).
+** rays' queries.  uv: 1 fills every field of the hit; 0 (a render)
+** leaves a sphere's texture coordinates 0 (an atan2 and an acos saved per
+** hit) unless its material reads them (RAY_EFFECT_TEXTURE).
 */
 int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
                    ray_hit *hit, ray_stats *st);

@@ -6,8 +6,8 @@
 ** the bare primitives, bit for bit (API-NOTES 11: a ray gives the same
 ** hit whatever path it takes), which these tests check against
 ** ray_sphere and ray_plane called directly on the same rays; and a
-** render fills a sphere's texture coordinates only when a material of
-** the scene reads them.
+** render fills a sphere's texture coordinates only when its material
+** reads them.
 */
 #include "tests.h"
 
@@ -218,49 +218,54 @@ static void keep_hit(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 }
 
 /*
-** Texture coordinates only when read (API-NOTES 14): in a render whose
-** materials declare no RAY_EFFECT_TEXTURE, a sphere's hit comes without
-** its (u, v) (0, 0), every other field as ray_intersect gives it; with
-** one that declares it, the whole record is ray_intersect's.
+** Texture coordinates only when read (API-NOTES 14): in a render, a
+** sphere whose material declares no RAY_EFFECT_TEXTURE gets its hit
+** without (u, v) (0, 0), every other field as ray_intersect gives it,
+** even beside a sphere whose material declares it, which gets the whole
+** record of ray_intersect.
 */
 START_TEST(render_should_fill_sphere_uv_only_when_read)
 {
-    int texture;
+    ray_material mat[2];
+    ray_hit seen[2];
+    ray_scene *s;
+    ray_ctx *ctx;
+    unsigned id[2];
+    int k;
 
-    for (texture = 0; texture < 2; texture++) {
-        ray_material mat;
-        ray_scene *s;
-        ray_ctx *ctx;
-        ray_hit seen, want;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    for (k = 0; k < 2; k++) {
+        memset(&seen[k], 0, sizeof seen[k]);
+        mat[k].shade = keep_hit;
+        mat[k].ud = &seen[k];
+        mat[k].effects = k ? RAY_EFFECT_TEXTURE : 0;
+        ck_assert_int_eq(ray_scene_add_material(s, &mat[k], &id[k]), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(3.0 * k, 0, 0), 1,
+                                              id[k], NULL), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_scene_effects(s) & RAY_EFFECT_TEXTURE,
+                     RAY_EFFECT_TEXTURE);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    for (k = 0; k < 2; k++) {
+        ray_ray r = ray_from(vec(3.0 * k + 0.3, 0.2, -5), vec(0, 0, 1));
+        ray_hit want;
         ray_rgb c;
-        ray_ray r = ray_from(vec(0.3, 0.2, -5), vec(0, 0, 1));
-        unsigned id;
 
-        memset(&seen, 0, sizeof seen);
-        mat.shade = keep_hit;
-        mat.ud = &seen;
-        mat.effects = texture ? RAY_EFFECT_TEXTURE : 0;
-        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_add_material(s, &mat, &id), RAY_OK);
-        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, id, NULL),
-                         RAY_OK);
-        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        ck_assert_int_eq(ray_scene_effects(s) & RAY_EFFECT_TEXTURE,
-                         texture ? RAY_EFFECT_TEXTURE : 0);
         ck_assert_int_eq(ray_intersect(s, &r, &want), 1);
-        ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+        ck_assert_uint_eq(want.geom_id, (unsigned)k);
         ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c),
                          RAY_OK);
         /* (0.3, 0.2) off the axis: the longitude and latitude are not 0. */
         ck_assert(want.u != 0 && want.v != 0);
-        if (!texture) {
+        if (k == 0) {
             want.u = 0;
             want.v = 0;
         }
-        ck_assert(hit_same(&seen, &want));
-        ray_ctx_free(ctx);
-        ray_scene_free(s);
+        ck_assert(hit_same(&seen[k], &want));
     }
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
 }
 END_TEST
 
