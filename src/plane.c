@@ -106,26 +106,6 @@ int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
     return 1;
 }
 
-/*
-** 1 when ray__plane_fill(r, point, n, point, t) (n unit) is sure to
-** succeed, by a test cheaper than the fill; 0 when it might not.  With
-** the origin, t dir and the point within 2^1000 of 0 on every axis, the
-** point p stays below 2^1002, its correction, p_err and (u, v) (|t1_i|,
-** |t2_i| <= 1) below 2^1008: all finite and (u, v) within DBL_MAX / 2.
-*/
-int ray__plane_fills(const ray_ray *r, ray_vec3 point, double t)
-{
-    ray_vec3 o = v3_abs(r->org), q = v3_abs(point), d = v3_abs(r->dir);
-    double m = o.x > o.y ? o.x : o.y, at = fabs(t);
-
-    m = m > o.z ? m : o.z;
-    m = m > q.x ? m : q.x;
-    m = m > q.y ? m : q.y;
-    m = m > q.z ? m : q.z;
-    return m <= 0x1p1000 && at * d.x <= 0x1p1000 && at * d.y <= 0x1p1000 &&
-           at * d.z <= 0x1p1000;
-}
-
 int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
               ray_hit *hit)
 {

@@ -136,18 +136,47 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 ** its texture coordinates (u, v) when "uv" is 1, else u = v = 0 (a
 ** render, for a sphere whose material reads no (u, v):
 ** RAY_EFFECT_TEXTURE).
-** ray__sphere_fills and ray__plane_fills: 1 when the fill at t is sure
-** to succeed (a cheap sufficient test), 0 when it might fail.
+** ray__sphere_fills and ray__plane_fills (below): 1 when the fill at t
+** is sure to succeed (a cheap sufficient test), 0 when it might fail.
 */
 int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
                   double *t);
 int ray__sphere_fill(const ray_ray *r, ray_vec3 center, double radius,
                      double t, int uv, ray_hit *hit);
-int ray__sphere_fills(const ray_ray *r, ray_vec3 center, double radius,
-                      double t);
 int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
                  double *t);
-int ray__plane_fills(const ray_ray *r, ray_vec3 point, double t);
+
+/*
+** ray__sphere_fill fails only when p - c (formed as the fill forms it) is
+** zero or not finite, or when p or p_err overflow; with |c_i| and radius
+** at most 2^999, p_i = c_i + radius n_i (|n_i| <= 1 + 2u) and p_err stay
+** below 2^1001.  Inline: it runs on every candidate of a scene query.
+*/
+static inline int ray__sphere_fills(const ray_ray *r, ray_vec3 c,
+                                    double radius, double t)
+{
+    ray_vec3 v = v3_sub(v3_madd(r->org, t, r->dir), c);
+
+    return v3_normalizable(v) &&
+           fabs(c.x) + fabs(c.y) + fabs(c.z) + radius <= 0x1p999;
+}
+
+/*
+** ray__plane_fill(r, point, n, point, t) with n unit: with the origin,
+** t dir and the point within 2^1000 of 0 on every axis (their sums of
+** |components| bound each), the point p stays below 2^1002, its
+** correction, p_err and (u, v) (|t1_i|, |t2_i| <= 1) below 2^1008: all
+** finite and (u, v) within DBL_MAX / 2, so the fill succeeds.
+*/
+static inline int ray__plane_fills(const ray_ray *r, ray_vec3 point,
+                                   double t)
+{
+    double o = fabs(r->org.x) + fabs(r->org.y) + fabs(r->org.z);
+    double q = fabs(point.x) + fabs(point.y) + fabs(point.z);
+    double d = fabs(r->dir.x) + fabs(r->dir.y) + fabs(r->dir.z);
+
+    return o + q <= 0x1p1000 && fabs(t) * d <= 0x1p1000;
+}
 
 /*
 ** Fill *hit for a hit at parameter t on the plane through "point" with

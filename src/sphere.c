@@ -41,22 +41,6 @@ int ray__sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
     return 1;
 }
 
-/*
-** 1 when ray__sphere_fill(r, c, radius, t) is sure to succeed, by a test
-** cheaper than the fill; 0 when it might not.  It fails only when p - c
-** (formed as the fill forms it) is zero or not finite, or when p or
-** p_err overflow; with |c_i| and radius at most 2^999, p_i = c_i +
-** radius n_i (|n_i| <= 1 + 2u) and p_err stay below 2^1001.
-*/
-int ray__sphere_fills(const ray_ray *r, ray_vec3 c, double radius, double t)
-{
-    ray_vec3 v = v3_sub(v3_madd(r->org, t, r->dir), c);
-    double cx = fabs(c.x), cy = fabs(c.y), cz = fabs(c.z);
-
-    return v3_normalizable(v) && cx <= 0x1p999 && cy <= 0x1p999 &&
-           cz <= 0x1p999 && radius <= 0x1p999;
-}
-
 /* The nearer of the roots t0, t1 inside (tmin, tmax); 0 if neither is. */
 static int nearest_root(const ray_ray *r, double t0, double t1, double *t)
 {
