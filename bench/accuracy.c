@@ -21,6 +21,7 @@
 #include "hardcases.h"
 #include "bench.h"
 #include "scenes.h"
+#include "reference.h"
 #include "watertight.h"
 
 static int reps = 5;
@@ -468,6 +469,200 @@ static void primitives(void)
 }
 
 
+/* ------------------------------------------- bare primitive vs reference */
+
+/*
+** Each bare primitive against its minimal references (bench/reference.h)
+** on the same rays: "ours" is the library's function, which fills the
+** whole ray_hit; "ref, t only" decides hit or miss and t alone, by the
+** same formulas; "ref, same record" fills the same record by the same
+** formulas, written straight.  Timing: a warm-up pass, then reps rounds
+** in which the three take turns (the order rotating each round), the
+** median pass of each.  Mismatches: rays where a reference's answer is
+** not the library's bit for bit (hit or miss and t; every field of the
+** record for "same record"), the first few printed.
+*/
+enum { P_SPHERE, P_PLANE, P_TRIANGLE, P_WATERTIGHT, P_COUNT };
+enum { R_OURS, R_REF_T, R_REF_HIT, R_COUNT };
+
+static const char *prim_name[P_COUNT] = {
+    "ray_sphere", "ray_plane", "ray_triangle (Cramer)",
+    "ray_triangle_watertight"
+};
+
+/* Test ray i of w with primitive p, variant v: 1 on a hit, *h filled
+** (only t for R_REF_T). */
+static int prim_run(int p, int v, const work *w, size_t i, ray_hit *h)
+{
+    const ray_ray *r = &w->rays[i];
+
+    switch (p * R_COUNT + v) {
+    case P_SPHERE * R_COUNT + R_OURS: return ray_sphere(r, w->a[i], w->r[i], h);
+    case P_SPHERE * R_COUNT + R_REF_T: return ref_sphere_t(r, w->a[i], w->r[i], &h->t);
+    case P_SPHERE * R_COUNT + R_REF_HIT: return ref_sphere_hit(r, w->a[i], w->r[i], h);
+    case P_PLANE * R_COUNT + R_OURS: return ray_plane(r, w->a[i], w->b[i], h);
+    case P_PLANE * R_COUNT + R_REF_T: return ref_plane_t(r, w->a[i], w->b[i], &h->t);
+    case P_PLANE * R_COUNT + R_REF_HIT: return ref_plane_hit(r, w->a[i], w->b[i], h);
+    case P_TRIANGLE * R_COUNT + R_OURS:
+        return ray_triangle(r, w->a[i], w->b[i], w->c[i], h);
+    case P_TRIANGLE * R_COUNT + R_REF_T:
+        return ref_triangle_t(r, w->a[i], w->b[i], w->c[i], &h->t);
+    case P_TRIANGLE * R_COUNT + R_REF_HIT:
+        return ref_triangle_hit(r, w->a[i], w->b[i], w->c[i], h);
+    case P_WATERTIGHT * R_COUNT + R_OURS:
+        return ray_triangle_watertight(r, w->a[i], w->b[i], w->c[i], h);
+    case P_WATERTIGHT * R_COUNT + R_REF_T:
+        return ref_watertight_t(r, w->a[i], w->b[i], w->c[i], &h->t);
+    default:
+        return ref_watertight_hit(r, w->a[i], w->b[i], w->c[i], h);
+    }
+}
+
+/* One timed pass of variant v of primitive p over w, in seconds.  The
+** switch is outside the loop: each loop calls its function directly. */
+#define PRIM_PASS(call)                                                    \
+    for (i = 0; i < w->n; i++)                                             \
+        if (call)                                                          \
+            sink += h.t;
+static double prim_pass(int p, int v, const work *w)
+{
+    const ray_ray *r = w->rays;
+    double t0 = now_seconds(), sink = 0;
+    ray_hit h;
+    size_t i;
+
+    switch (p * R_COUNT + v) {
+    case P_SPHERE * R_COUNT + R_OURS:
+        PRIM_PASS(ray_sphere(&r[i], w->a[i], w->r[i], &h)) break;
+    case P_SPHERE * R_COUNT + R_REF_T:
+        PRIM_PASS(ref_sphere_t(&r[i], w->a[i], w->r[i], &h.t)) break;
+    case P_SPHERE * R_COUNT + R_REF_HIT:
+        PRIM_PASS(ref_sphere_hit(&r[i], w->a[i], w->r[i], &h)) break;
+    case P_PLANE * R_COUNT + R_OURS:
+        PRIM_PASS(ray_plane(&r[i], w->a[i], w->b[i], &h)) break;
+    case P_PLANE * R_COUNT + R_REF_T:
+        PRIM_PASS(ref_plane_t(&r[i], w->a[i], w->b[i], &h.t)) break;
+    case P_PLANE * R_COUNT + R_REF_HIT:
+        PRIM_PASS(ref_plane_hit(&r[i], w->a[i], w->b[i], &h)) break;
+    case P_TRIANGLE * R_COUNT + R_OURS:
+        PRIM_PASS(ray_triangle(&r[i], w->a[i], w->b[i], w->c[i], &h)) break;
+    case P_TRIANGLE * R_COUNT + R_REF_T:
+        PRIM_PASS(ref_triangle_t(&r[i], w->a[i], w->b[i], w->c[i], &h.t))
+        break;
+    case P_TRIANGLE * R_COUNT + R_REF_HIT:
+        PRIM_PASS(ref_triangle_hit(&r[i], w->a[i], w->b[i], w->c[i], &h))
+        break;
+    case P_WATERTIGHT * R_COUNT + R_OURS:
+        PRIM_PASS(ray_triangle_watertight(&r[i], w->a[i], w->b[i], w->c[i],
+                                          &h)) break;
+    case P_WATERTIGHT * R_COUNT + R_REF_T:
+        PRIM_PASS(ref_watertight_t(&r[i], w->a[i], w->b[i], w->c[i], &h.t))
+        break;
+    default:
+        PRIM_PASS(ref_watertight_hit(&r[i], w->a[i], w->b[i], w->c[i], &h))
+        break;
+    }
+    if (sink == 42.0)                    /* keep the loop alive */
+        printf(" ");
+    return now_seconds() - t0;
+}
+#undef PRIM_PASS
+
+/* Bitwise equality of two doubles and of two vectors. */
+static int same_bits(double a, double b)
+{
+    return memcmp(&a, &b, sizeof a) == 0;
+}
+
+static int same_vec(ray_vec3 a, ray_vec3 b)
+{
+    return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
+}
+
+/* The rays of w where reference v's answer differs from ours, bit for
+** bit; the first three printed (as a note under the table). */
+static size_t prim_mismatches(int p, int v, const work *w, char *note,
+                              size_t note_size)
+{
+    size_t i, bad = 0, used = strlen(note);
+
+    for (i = 0; i < w->n; i++) {
+        ray_hit a, b;
+        int ha, hb, same;
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        ha = prim_run(p, R_OURS, w, i, &a);
+        hb = prim_run(p, v, w, i, &b);
+        same = ha == hb && (!ha || same_bits(a.t, b.t));
+        if (same && ha && v == R_REF_HIT)
+            same = same_vec(a.p, b.p) && same_vec(a.n, b.n) &&
+                   same_bits(a.u, b.u) && same_bits(a.v, b.v) &&
+                   same_vec(a.p_err, b.p_err) && a.geom_id == b.geom_id &&
+                   a.prim_id == b.prim_id && a.inst_id == b.inst_id;
+        if (same)
+            continue;
+        if (bad++ < 3 && used < note_size)
+            used += (size_t)snprintf(note + used, note_size - used,
+                                     "%s %s, ray %zu: ours %d t %.17g, "
+                                     "reference %d t %.17g.  ",
+                                     prim_name[p],
+                                     v == R_REF_T ? "t only" : "record", i,
+                                     ha, a.t, hb, b.t);
+    }
+    return bad;
+}
+
+static void primitives_vs_reference(void)
+{
+    size_t n = quick ? 20000 : 200000;
+    work sw = sphere_work(n), tw = triangle_work(n), pw = plane_work(n);
+    const work *wp[P_COUNT];
+    char note[1024] = "";
+    int p, preps = quick ? 7 : 15;   /* a pass is 2 to 20 ms */
+
+    wp[P_SPHERE] = &sw;
+    wp[P_PLANE] = &pw;
+    wp[P_TRIANGLE] = &tw;
+    wp[P_WATERTIGHT] = &tw;
+    printf("### Bare primitive vs reference\n\n"
+           "The library's primitives (filling the whole ray_hit) against "
+           "minimal references of the same accuracy on the same %zu rays "
+           "as above (bench/reference.h): \"t only\" gives the same hit or "
+           "miss and the same t, bit for bit, and nothing else; \"same "
+           "record\" also fills t, p, n, u, v and p_err by the same "
+           "formulas.  Nanoseconds per call, median of %d interleaved "
+           "passes; mismatches: rays whose answer differs from ours in any "
+           "bit (t only / same record).\n\n", n, preps);
+    printf("| primitive | ours (ns) | ref, t only (ns) | ref, same record "
+           "(ns) | ours / t only | ours / same record | mismatches |\n"
+           "|---|---|---|---|---|---|---|\n");
+    for (p = 0; p < P_COUNT; p++) {
+        double times[R_COUNT][16], ns[R_COUNT];
+        size_t bad_t, bad_h;
+        int k, j;
+        for (k = 0; k <= preps; k++)
+            for (j = 0; j < R_COUNT; j++) {
+                int v = (j + k) % R_COUNT;  /* the order rotates */
+                double s = prim_pass(p, v, wp[p]);
+                if (k > 0)                  /* round 0 is the warm-up */
+                    times[v][k - 1] = s;
+            }
+        for (j = 0; j < R_COUNT; j++)
+            ns[j] = quantile(times[j], (size_t)preps, 0.5) * 1e9 /
+                    (double)wp[p]->n;
+        bad_t = prim_mismatches(p, R_REF_T, wp[p], note, sizeof note);
+        bad_h = prim_mismatches(p, R_REF_HIT, wp[p], note, sizeof note);
+        printf("| %s | %.1f | %.1f | %.1f | %.2f | %.2f | %zu / %zu |\n",
+               prim_name[p], ns[R_OURS], ns[R_REF_T], ns[R_REF_HIT],
+               ns[R_OURS] / ns[R_REF_T], ns[R_OURS] / ns[R_REF_HIT], bad_t,
+               bad_h);
+    }
+    printf("\n%s%s", note, note[0] ? "\n\n" : "");
+    work_free(&sw);
+    work_free(&tw);
+    work_free(&pw);
+}
+
 /* ------------------------------------------------ needles and caps */
 
 /*
@@ -898,7 +1093,12 @@ int main(int argc, char **argv)
         slivers();
         return 0;
     }
+    if (getenv("BENCH_PRIMS_ONLY") != NULL) {     /* the table alone */
+        primitives_vs_reference();
+        return 0;
+    }
     primitives();
+    primitives_vs_reference();
     slivers();
     printf("### Images: time against error\n\n");
     s = whitted_scene(&cam, 1, NULL);

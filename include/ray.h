@@ -725,7 +725,9 @@ enum {
 #define RAY_EFFECT_SHADOW     4u   /* ray_light_visible casts shadow rays */
 #define RAY_EFFECT_TEXTURE    8u   /* reads args->u, v: without any such
                                       material the scene skips
-                                      interpolating mesh (s, t) */
+                                      interpolating mesh (s, t); a
+                                      sphere whose material lacks it
+                                      gets no (u, v) (0) in a render */
 
 /*
 ** Everything a material callback gets to shade one hit.  Read-only; valid

@@ -14,10 +14,10 @@
 ** a test), and also checks that the OS saves the AVX registers.  A NULL
 ** gate is the plain queries' path (traverse.h never reaches a gate). */
 int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st)
 {
-    return query_nearest_gated(s, r, g, hit, st);
+    return query_nearest_gated(s, r, g, uv, hit, st);
 }
 
 int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
@@ -58,13 +58,13 @@ static const ray__gate *gate_of(const ray_scene *s, const ray_query *q,
     return g;
 }
 
-int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                   ray_stats *st)
+int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
+                   ray_hit *hit, ray_stats *st)
 {
     ray__gate g;
 
     return ray__intersect_gated(s, r, gate_of(s, NULL, RAY_FILTER_INTERSECT,
-                                              &g), hit, st);
+                                              &g), uv, hit, st);
 }
 
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
@@ -76,13 +76,14 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st)
 }
 
 int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
-                         const ray__gate *g, ray_hit *hit, ray_stats *st)
+                         const ray__gate *g, int uv, ray_hit *hit,
+                         ray_stats *st)
 {
 #if RAY__AVX2_COPY
     if (HAS_AVX2())
-        return ray__intersect_gated_avx2(s, r, g, hit, st);
+        return ray__intersect_gated_avx2(s, r, g, uv, hit, st);
 #endif
-    return query_nearest_gated(s, r, g, hit, st);
+    return query_nearest_gated(s, r, g, uv, hit, st);
 }
 
 int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
@@ -133,7 +134,7 @@ int ray_intersect_opt(const ray_scene *s, const ray_ray *r,
     if (hit == NULL)
         return -RAY_EINVAL;
     return ray__intersect_gated(s, r, gate_of(s, q, RAY_FILTER_INTERSECT, &g),
-                                hit, NULL);
+                                1, hit, NULL);
 }
 
 int ray_occluded_opt(const ray_scene *s, const ray_ray *r,
@@ -185,8 +186,8 @@ static void queries_n(const ray_scene *s, const ray_ray *rays, size_t n,
 #endif
     for (i = 0; i < n; i++)
         results[i] = any ? ray__occluded_gated(s, &rays[i], g, NULL)
-                         : ray__intersect_gated(s, &rays[i], g, &hits[i],
-                                                NULL);
+                         : ray__intersect_gated(s, &rays[i], g, 1,
+                                                &hits[i], NULL);
 }
 
 int ray_intersect_n(const ray_scene *s, const ray_ray *rays, size_t n,

@@ -12,10 +12,10 @@
 #include "packet.h"
 
 int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st)
 {
-    return query_nearest_gated(s, r, g, hit, st);
+    return query_nearest_gated(s, r, g, uv, hit, st);
 }
 
 int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
@@ -40,7 +40,7 @@ void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
     size_t i;
     for (i = 0; i < n; i++)
         results[i] = any ? query_any_gated(s, &rays[i], NULL, NULL)
-                         : query_nearest_gated(s, &rays[i], NULL, &hits[i],
+                         : query_nearest_gated(s, &rays[i], NULL, 1, &hits[i],
                                                NULL);
 #endif
 }

@@ -154,12 +154,28 @@ static void box_USER(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
 
 /* ----------------------------------------------------- the intersections */
 
+/*
+** Fill a sphere's (u, v) -- an atan2 and an acos, the dearest part of its
+** record?  Always for ray_intersect (uv 1); in a render (uv 0) only when
+** the sphere's own material reads them (RAY_EFFECT_TEXTURE): the effect
+** analysis of API-NOTES 14, per material.
+*/
+static int sphere_uv(const ray_scene *s, const ray__prim *p, int uv)
+{
+    return uv || (p->material < s->n_materials &&
+                  (s->materials[p->material].effects & RAY_EFFECT_TEXTURE));
+}
+
+/* ray_sphere, its (u, v) only where they are read (sphere_uv). */
 static int hit_SPHERE(const ray_scene *s, const ray__prim *p,
                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
-    (void)qc;
-    (void)s;
-    return ray_sphere(r, p->a, p->radius, hit);
+    double t;
+
+    if (!ray__sphere_t(r, p->a, p->radius, &t))
+        return 0;
+    return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, qc->uv),
+                            hit);
 }
 
 static int hit_PLANE(const ray_scene *s, const ray__prim *p,
@@ -251,6 +267,100 @@ static int hit_USER(const ray_scene *s, const ray__prim *p,
     return ray__user_hit(&s->surfaces[p->surface].user, r, hit);
 }
 
+/* ------------------------------------------- candidates and deferred fills */
+
+/*
+** cand_NAME: hit_NAME for a query that fills only its nearest hit's
+** record (ray__prim_candidate): RAY__HIT_T with hit->t alone where the
+** kind can fill later (fill_NAME), else hit_NAME's answer (1 is
+** RAY__HIT_FULL).  A sphere or plane hit whose fill might fail (numbers
+** near overflow, a point rounding onto the centre) is filled now, as
+** ray_sphere / ray_plane fill it, so a failed fill stays the miss it is
+** there.
+*/
+static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
+                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
+{
+    double t;
+
+    if (!ray__sphere_t(r, p->a, p->radius, &t))
+        return 0;
+    if (!ray__sphere_fills(r, p->a, p->radius, t))
+        return ray__sphere_fill(r, p->a, p->radius, t,
+                                sphere_uv(s, p, qc->uv), hit);
+    hit->t = t;
+    return RAY__HIT_T;
+}
+
+static int fill_SPHERE(const ray_scene *s, const ray__prim *p,
+                       const ray_ray *r, double t, int uv, ray_hit *hit)
+{
+    return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv), hit);
+}
+
+/* The plane's record, as ray_plane fills it (its normal made unit). */
+static int plane_fill(const ray__prim *p, const ray_ray *r, double t,
+                      ray_hit *hit)
+{
+    ray_vec3 n;
+
+    if (!v3_normalize(p->b, &n))
+        return 0;
+    return ray__plane_fill(r, p->a, n, p->a, t, hit);
+}
+
+static int cand_PLANE(const ray_scene *s, const ray__prim *p,
+                      const ray_ray *r, ray_hit *hit, ray__counts *qc)
+{
+    double t;
+
+    (void)s;
+    (void)qc;
+    if (!ray__plane_t(r, p->a, p->b, &t))
+        return 0;
+    if (!ray__plane_fills(r, p->a, t))
+        return plane_fill(p, r, t, hit);
+    hit->t = t;
+    return RAY__HIT_T;
+}
+
+static int fill_PLANE(const ray_scene *s, const ray__prim *p,
+                      const ray_ray *r, double t, int uv, ray_hit *hit)
+{
+    (void)s;
+    (void)uv;                    /* cheap, and they decide the hit */
+    return plane_fill(p, r, t, hit);
+}
+
+/* The other kinds fill their record on every candidate: hit_NAME. */
+#define EAGER_CANDIDATE(NAME)                                              \
+    static int cand_##NAME(const ray_scene *s, const ray__prim *p,          \
+                           const ray_ray *r, ray_hit *hit,                  \
+                           ray__counts *qc)                                 \
+    {                                                                       \
+        int ok = hit_##NAME(s, p, r, hit, qc);                              \
+        return ok > 0 ? RAY__HIT_FULL : ok;                                 \
+    }                                                                       \
+    static int fill_##NAME(const ray_scene *s, const ray__prim *p,          \
+                           const ray_ray *r, double t, int uv,              \
+                           ray_hit *hit)                                    \
+    {                                                                       \
+        (void)s, (void)p, (void)r, (void)t, (void)uv, (void)hit;            \
+        return 0;                    /* never deferred */                   \
+    }
+EAGER_CANDIDATE(TRIANGLE)
+EAGER_CANDIDATE(MESH)
+EAGER_CANDIDATE(POLYGON)
+EAGER_CANDIDATE(TORUS)
+EAGER_CANDIDATE(IMPLICIT)
+EAGER_CANDIDATE(PARAMETRIC)
+EAGER_CANDIDATE(BEZIER)
+EAGER_CANDIDATE(INSTANCE)
+EAGER_CANDIDATE(USER)
+#define SHAPE_CANDIDATE(X, NAME, name, type, counted_as) EAGER_CANDIDATE(NAME)
+RAY__SHAPES(SHAPE_CANDIDATE, _)
+#undef SHAPE_CANDIDATE
+
 /* ---------------------------------------------------------- the dispatch */
 
 ray__class ray__kind_class(ray__kind kind)
@@ -296,6 +406,26 @@ void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
     }
 }
 
+/* The answer "ok" of geometry i's test, as the queries see it: a failure
+** (negative) counted and a miss; the ids of a full record set (an
+** instance's hit keeps its child's geom_id and prim_id). */
+static inline int prim_answer(const ray__prim *p, unsigned i, int ok,
+                              ray_hit *hit, ray__counts *qc)
+{
+    if (ok < 0) {
+        qc->failures++;
+        return 0;
+    }
+    if (ok == RAY__HIT_FULL && p->kind == RAY__KIND_INSTANCE)
+        hit->inst_id = i;        /* geom_id, prim_id: the child's */
+    else if (ok == RAY__HIT_FULL) {
+        hit->geom_id = i;
+        hit->prim_id = 0;
+        hit->inst_id = RAY_INVALID_ID;
+    }
+    return ok;
+}
+
 int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc)
 {
@@ -306,18 +436,47 @@ int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
     switch (p->kind) {
 #define HIT_OF(name, counted_as, class)                                    \
     case RAY__KIND_##name:                                                 \
-        ok = hit_##name(s, p, r, hit, qc);                                     \
+        ok = hit_##name(s, p, r, hit, qc);                                 \
         break;
         RAY__PRIM_KINDS(HIT_OF)
 #undef HIT_OF
     }
-    if (ok < 0) {
-        qc->failures++;
-        return 0;
+    return prim_answer(p, i, ok > 0 ? RAY__HIT_FULL : ok, hit, qc);
+}
+
+int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc)
+{
+    const ray__prim *p = &s->prims[i];
+    int ok = 0;
+
+    qc->tests[counter_of(p->kind)]++;
+    switch (p->kind) {
+#define CAND_OF(name, counted_as, class)                                   \
+    case RAY__KIND_##name:                                                 \
+        ok = cand_##name(s, p, r, hit, qc);                                \
+        break;
+        RAY__PRIM_KINDS(CAND_OF)
+#undef CAND_OF
     }
-    if (ok && p->kind == RAY__KIND_INSTANCE)
-        hit->inst_id = i;        /* geom_id, prim_id: the child's */
-    else if (ok) {
+    return prim_answer(p, i, ok, hit, qc);
+}
+
+int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
+                   double t, int uv, ray_hit *hit)
+{
+    const ray__prim *p = &s->prims[i];
+    int ok = 0;
+
+    switch (p->kind) {
+#define FILL_OF(name, counted_as, class)                                   \
+    case RAY__KIND_##name:                                                 \
+        ok = fill_##name(s, p, r, t, uv, hit);                             \
+        break;
+        RAY__PRIM_KINDS(FILL_OF)
+#undef FILL_OF
+    }
+    if (ok) {                    /* a sphere or a plane: never an instance */
         hit->geom_id = i;
         hit->prim_id = 0;
         hit->inst_id = RAY_INVALID_ID;

@@ -82,15 +82,16 @@ double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
 ** normal as given and only a hit pays for normalising it.  d.n == 0 (a
 ** parallel ray, or one lying in the plane: 0/0) is tested exactly; a
 ** nearly parallel ray gets a large but finite t, and an overflow to Inf
-** or a NaN from bad input fails the NaN-safe range test.
+** or a NaN from bad input fails the NaN-safe range test.  A normal that
+** cannot be normalised (zero, infinite, NaN) misses.
 */
-int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
-              ray_hit *hit)
+int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                 double *t_out)
 {
     double denom, t;
-    ray_vec3 n, po;
+    ray_vec3 po;
 
-    if (r == NULL || hit == NULL)
+    if (r == NULL)
         return 0;
     denom = v3_dot(r->dir, normal);
     if (denom == 0)
@@ -99,6 +100,19 @@ int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
     t = v3_dot(po, normal) / denom;
     if (!(t > r->tmin && t < r->tmax) ||
         !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin) ||
+        !v3_normalizable(normal))
+        return 0;
+    *t_out = t;
+    return 1;
+}
+
+int ray_plane(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+              ray_hit *hit)
+{
+    double t;
+    ray_vec3 n;
+
+    if (hit == NULL || !ray__plane_t(r, point, normal, &t) ||
         !v3_normalize(normal, &n))
         return 0;
     return ray__plane_fill(r, point, n, point, t, hit);

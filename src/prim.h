@@ -128,6 +128,57 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
                       ray_hit *hit);
 
 /*
+** The sphere and the plane split in two, so that a scene query can test
+** many and fill the record of the nearest alone: ray__sphere_t and
+** ray__plane_t are ray_sphere's and ray_plane's decision and t (1 with *t
+** set on a hit), ray__sphere_fill the record of ray_sphere at t (0, *hit
+** untouched, when a result is not finite: then ray_sphere misses), with
+** its texture coordinates (u, v) when "uv" is 1, else u = v = 0 (a
+** render, for a sphere whose material reads no (u, v):
+** RAY_EFFECT_TEXTURE).
+** ray__sphere_fills and ray__plane_fills (below): 1 when the fill at t
+** is sure to succeed (a cheap sufficient test), 0 when it might fail.
+*/
+int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
+                  double *t);
+int ray__sphere_fill(const ray_ray *r, ray_vec3 center, double radius,
+                     double t, int uv, ray_hit *hit);
+int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                 double *t);
+
+/*
+** ray__sphere_fill fails only when p - c (formed as the fill forms it) is
+** zero or not finite, or when p or p_err overflow; with |c_i| and radius
+** at most 2^999, p_i = c_i + radius n_i (|n_i| <= 1 + 2u) and p_err stay
+** below 2^1001.  Inline: it runs on every candidate of a scene query.
+*/
+static inline int ray__sphere_fills(const ray_ray *r, ray_vec3 c,
+                                    double radius, double t)
+{
+    ray_vec3 v = v3_sub(v3_madd(r->org, t, r->dir), c);
+
+    return v3_normalizable(v) &&
+           fabs(c.x) + fabs(c.y) + fabs(c.z) + radius <= 0x1p999;
+}
+
+/*
+** ray__plane_fill(r, point, n, point, t) with n unit: with the origin,
+** t dir and the point within 2^1000 of 0 on every axis (their sums of
+** |components| bound each), the point p stays below 2^1002, its
+** correction, p_err and (u, v) (|t1_i|, |t2_i| <= 1) below 2^1008: all
+** finite and (u, v) within DBL_MAX / 2, so the fill succeeds.
+*/
+static inline int ray__plane_fills(const ray_ray *r, ray_vec3 point,
+                                   double t)
+{
+    double o = fabs(r->org.x) + fabs(r->org.y) + fabs(r->org.z);
+    double q = fabs(point.x) + fabs(point.y) + fabs(point.z);
+    double d = fabs(r->dir.x) + fabs(r->dir.y) + fabs(r->dir.z);
+
+    return o + q <= 0x1p1000 && fabs(t) * d <= 0x1p1000;
+}
+
+/*
 ** Fill *hit for a hit at parameter t on the plane through "point" with
 ** UNIT normal n: the point is projected back onto the plane and given the
 ** tangent-frame (u, v) of ray_plane, measured from "origin".  Returns 0,
@@ -232,26 +283,55 @@ static inline int ray__bezier_quarter(unsigned q)
 ** converts back, ray__scale_t there (saturating, never 0 * Inf).  0 for a
 ** zero, infinite or NaN direction.  ray_sphere and ray_capsule use it.
 */
-static inline int ray__scaled_dir(ray_vec3 dir, ray_vec3 *d, int *e)
+/*
+** 2^k for k in [-1074, 1023] (a subnormal below -1022), from its bits.
+** x * ray__pow2(k) is ldexp(x, k), bit for bit: the exact x 2^k rounded
+** once (exact unless it leaves the normal range), where ldexp is a libm
+** call that costs more than the whole multiplication.
+*/
+static inline double ray__pow2(int k)
 {
-    double m = fmax(fabs(dir.x), fmax(fabs(dir.y), fabs(dir.z)));
+    uint64_t bits = k >= -1022 ? (uint64_t)(k + 1023) << 52
+                               : (uint64_t)1 << (k + 1074);
+    double x;
 
-    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
-        dir.z != dir.z)
-        return 0;
-    frexp(m, e);
-    *d = v3(ldexp(dir.x, -*e), ldexp(dir.y, -*e), ldexp(dir.z, -*e));
-    return 1;
+    memcpy(&x, &bits, sizeof x);
+    return x;
 }
 
+/* ldexp(t, e), by one multiplication where 2^e is a double. */
 static inline double ray__scale_t(double t, int e)
 {
-    return ldexp(t, e);
+    return e >= -1074 && e <= 1023 ? t * ray__pow2(e) : ldexp(t, e);
 }
 
 static inline double ray__unscale_t(double t, int e)
 {
-    return ldexp(t, -e);
+    return ray__scale_t(t, -e);
+}
+
+static inline int ray__scaled_dir(ray_vec3 dir, ray_vec3 *d, int *e)
+{
+    double ax = fabs(dir.x), ay = fabs(dir.y), az = fabs(dir.z);
+    /* Comparisons, not fmax (a libm call): a NaN component may be dropped
+    ** or taken here, and is refused just below either way. */
+    double m = ax > ay ? ax : ay;
+    uint64_t bits;
+
+    m = m > az ? m : az;
+    if (!(m > 0 && m < HUGE_VAL) || dir.x != dir.x || dir.y != dir.y ||
+        dir.z != dir.z)
+        return 0;
+    /* frexp's exponent, read from the bits of a normal m (m = f 2^e with
+    ** f in [0.5, 1)); frexp itself for a subnormal one. */
+    memcpy(&bits, &m, sizeof bits);
+    if (m >= DBL_MIN)
+        *e = (int)(bits >> 52 & 0x7ff) - 1022;
+    else
+        frexp(m, e);
+    *d = v3(ray__scale_t(dir.x, -*e), ray__scale_t(dir.y, -*e),
+            ray__scale_t(dir.z, -*e));
+    return 1;
 }
 
 /* ------------------------------------------------------ closest points */

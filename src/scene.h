@@ -277,7 +277,22 @@ int ray__reserve_tris(ray_scene *s, size_t more);
 ** prim_id 0, on a hit.  A curved surface whose iteration failed, or
 ** user geometry whose callback broke its contract (a negative answer),
 ** is a miss, counted in qc->failures.
+** ray__prim_candidate -- the same test for a query that wants the record
+** of its nearest hit alone (or none, for any hit): 0 on a miss,
+** RAY__HIT_FULL with *hit filled as ray__prim_intersect fills it, or
+** RAY__HIT_T with hit->t alone, for a kind whose record can be filled
+** later from t (a sphere, a plane: their t-only tests; the fill's success
+** checked, so a t that could not be filled is a miss here as there).
+** Same counts, same t, same hits and misses as ray__prim_intersect.
+** ray__prim_fill -- the record of such a hit at t, as ray__prim_intersect
+** would have filled it (the same formulas on the same t): 1, or 0 for a
+** geometry whose kind never answers RAY__HIT_T (cannot happen).
+** A sphere's texture coordinates are computed only for a query whose
+** qc->uv (uv) is 1 or when its material reads them, else 0 (see
+** ray__intersect).
 */
+enum { RAY__HIT_FULL = 1, RAY__HIT_T = 2 };
+
 typedef enum ray__class {
     RAY__CLASS_TRIANGLES,    /* in tri_bvh: traverse.h tests them inline */
     RAY__CLASS_BOUNDED,      /* in prim_bvh */
@@ -325,6 +340,7 @@ typedef struct ray__counts {
     unsigned inst_id;
     const ray__instance *inst;
     const ray_ray *world_ray;
+    int uv;                  /* fill every sphere's (u, v): ray__intersect */
 } ray__counts;
 
 ray__class ray__kind_class(ray__kind kind);
@@ -333,6 +349,10 @@ void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
                    ray_vec3 *hi);
 int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc);
+int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc);
+int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
+                   double t, int uv, ray_hit *hit);
 
 /* ------------------------------------------------------------ instances */
 
@@ -378,10 +398,12 @@ const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h);
 ** Nearest hit / any hit over the scene, counting intersection tests, in
 ** all and by kind of primitive, into *st (may be NULL), with the
 ** scene's filters of that kind of query: ray_trace's and the shadow
-** rays' queries.
+** rays' queries.  uv: 1 fills every field of the hit; 0 (a render)
+** leaves a sphere's texture coordinates 0 (an atan2 and an acos saved per
+** hit) unless its material reads them (RAY_EFFECT_TEXTURE).
 */
-int ray__intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
-                   ray_stats *st);
+int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
+                   ray_hit *hit, ray_stats *st);
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
 /* The queries come in two copies, for the baseline instruction set and
@@ -404,20 +426,21 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 ** instance met a child changed since the commit.
 */
 int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
-                         const ray__gate *g, ray_hit *hit, ray_stats *st);
+                         const ray__gate *g, int uv, ray_hit *hit,
+                         ray_stats *st);
 int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
                         const ray__gate *g, ray_stats *st);
 int ray__child_query(const ray_scene *child, ray_ray *r, ray_hit *hit,
                      ray__counts *qc);
 int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st);
 int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
                              const ray__gate *g, ray_stats *st);
 int ray__child_query_base(const ray_scene *child, ray_ray *r, ray_hit *hit,
                           ray__counts *qc);
 int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
-                              const ray__gate *g, ray_hit *hit,
+                              const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st);
 int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
                              const ray__gate *g, ray_stats *st);

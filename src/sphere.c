@@ -13,8 +13,8 @@
 ** sum with c, bounded by gamma(7)*(|c| + radius*|n|) per component.
 ** Returns 0, leaving *hit untouched, if anything overflowed.
 */
-static int sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
-                       ray_hit *hit)
+int ray__sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
+                     int uv, ray_hit *hit)
 {
     ray_vec3 n, p, err;
     double ny;
@@ -30,8 +30,10 @@ static int sphere_fill(const ray_ray *r, ray_vec3 c, double radius, double t,
     hit->t = t;
     hit->p = p;
     hit->n = n;
-    hit->u = atan2(n.x, n.z) / (2.0 * RAY__PI) + 0.5;
-    hit->v = acos(-ny) / RAY__PI;
+    /* The texture coordinates, an atan2 and an acos: only when wanted
+    ** (ray__sphere_fill in prim.h). */
+    hit->u = uv ? atan2(n.x, n.z) / (2.0 * RAY__PI) + 0.5 : 0.0;
+    hit->v = uv ? acos(-ny) / RAY__PI : 0.0;
     hit->p_err = err;
     hit->geom_id = RAY_INVALID_ID;
     hit->prim_id = RAY_INVALID_ID;
@@ -82,21 +84,39 @@ static int nearest_root(const ray_ray *r, double t0, double t1, double *t)
 ** (ray__watertight_t_error in watertight.h says more).
 */
 typedef struct sphere_quadratic {
-    double a, b, c, disc, l, f_len, fd_mag, radius, d_len;
+    double a, b, c, disc, l, f_len, radius, s, b_over_a;
+    ray_vec3 f, d;
 } sphere_quadratic;
 
-static double sphere_t_error(const sphere_quadratic *k, double t)
+/* dg above, for root t (|t| = at). */
+static double sphere_dg(const sphere_quadratic *k, double at)
 {
-    double at = fabs(t), R = k->radius;
-    double da = ray__gamma(3) * k->a, db = ray__gamma(4) * k->fd_mag;
+    double R = k->radius;
+    double fd_mag = fabs(k->f.x * k->d.x) + fabs(k->f.y * k->d.y) +
+                    fabs(k->f.z * k->d.z);
+    double da = ray__gamma(3) * k->a, db = ray__gamma(4) * fd_mag;
     double dc = ray__gamma(4) * k->f_len *
                     (k->f_len + R + fabs(k->f_len - R)) +
                 ray__gamma(3) * fabs(k->c);
-    double dl = ray__gamma(8) * (k->f_len + fabs(k->b / k->a) * k->d_len);
-    double ddisc = dl * (R + k->l + fabs(R - k->l)) +
-                   ray__gamma(3) * fabs(k->disc);
-    double dg = dc + 2 * at * db + at * at * da;
-    double s = sqrt(k->a * k->disc), s_low, ds, simple, twofold;
+
+    return dc + 2 * at * db + at * at * da;
+}
+
+/* ddisc above, for |d| at most d_len. */
+static double sphere_ddisc(const sphere_quadratic *k, double d_len)
+{
+    double R = k->radius;
+    double dl = ray__gamma(8) * (k->f_len + fabs(k->b_over_a) * d_len);
+
+    return dl * (R + k->l + fabs(R - k->l)) + ray__gamma(3) * fabs(k->disc);
+}
+
+static double sphere_t_error(const sphere_quadratic *k, double t)
+{
+    double at = fabs(t);
+    double ddisc = sphere_ddisc(k, v3_length(k->d));
+    double dg = sphere_dg(k, at);
+    double s = k->s, s_low, ds, simple, twofold;
 
     s_low = sqrt(k->a * fmax(k->disc - ddisc, 0.0)) * (1 - ray__gamma(4));
     ds = s - s_low;
@@ -104,6 +124,43 @@ static double sphere_t_error(const sphere_quadratic *k, double t)
     simple = s_low > 0 ? dg / s_low : HUGE_VAL;
     return fmin(simple, twofold) * (1 + ray__gamma(4)) +
            (s > 0 ? at * ds / s : 0) + ray__gamma(4) * at;
+}
+
+/*
+** Is t - sphere_t_error(k, t) > tmin, decided without the bound's three
+** square roots and four divisions where a cheaper, larger bound E already
+** says yes (fl(t - E) > tmin and E >= the bound as computed give fl(t -
+** bound) > tmin, rounding being monotonic); the bound itself otherwise.
+** So the answer is the bound's, bit for bit.  E holds where disc's error
+** is small, ddisc <= 2^-20 disc (ddisc formed with |d| < 2 for the scaled
+** direction, whose largest component is below 1: no larger than the
+** bound's):
+**   - s_low >= s sqrt(1 - 2^-20) (1 - gamma(4)) (1 - 6u) > s / 1.01 (6u
+**     for the roundings of disc - ddisc, the products and the roots), so
+**     the bound's first term is at most 1.01 (1 + gamma(4)) (1 + 3u)
+**     dg / s < 2 dg / s;
+**   - ds = s - s_low (exact: Sterbenz), so ds / s <= 1 - s_low / s <=
+**     2^-20 + gamma(4) + 6u, and the last two terms together are at most
+**     |t| (2^-20 + 2 gamma(4) + 8u) < 2^-18 |t|;
+**   - the sums' roundings (1 + 2u) fit in the factors' slack, and so do
+**     E's own roundings (E = 2 dg / s + 2^-18 |t|, rounded down by at
+**     most 3u); |t| >= 2^-1000 keeps 2^-18 |t| a normal number, beside
+**     which an underflow's absolute error (2^-1075) in either bound is
+**     lost in the slack.
+** A NaN or Inf anywhere fails the cheap test: the bound decides.  On
+** ordinary hits (disc far from 0, t far from tmin) the cheap test
+** decides; the bound is computed only for roots within ~2^-18 |t| + 2
+** dg / s of tmin (rays leaving the surface) and for grazing rays.
+*/
+static int sphere_past_tmin(const sphere_quadratic *k, double tmin,
+                            double t)
+{
+    double at = fabs(t);
+
+    if (at >= 0x1p-1000 && sphere_ddisc(k, 2.0) <= 0x1p-20 * k->disc &&
+        t - (2 * sphere_dg(k, at) / k->s + 0x1p-18 * at) > tmin)
+        return 1;
+    return t - sphere_t_error(k, t) > tmin;
 }
 
 /* The nearer of the roots t0, t1 whose error interval lies in (tmin,
@@ -117,9 +174,9 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
         t1 = s;
     }
     /* Written so that a NaN root fails the test instead of passing it. */
-    if (t0 > tmin && t0 < tmax && t0 - sphere_t_error(k, t0) > tmin)
+    if (t0 > tmin && t0 < tmax && sphere_past_tmin(k, tmin, t0))
         *t = t0;
-    else if (t1 > tmin && t1 < tmax && t1 - sphere_t_error(k, t1) > tmin)
+    else if (t1 > tmin && t1 < tmax && sphere_past_tmin(k, tmin, t1))
         *t = t1;
     else
         return 0;
@@ -147,8 +204,8 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 ** The direction is first scaled by a power of two (ray__scaled_dir), and
 ** t, tmin and tmax with it.
 */
-int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
-               ray_hit *hit)
+int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
+                  double *t_out)
 {
     ray_vec3 f, d;
     sphere_quadratic k;
@@ -157,22 +214,24 @@ int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
 
     /* Exact tests, no epsilon: a radius that is not a positive finite
     ** number, or a zero (or NaN) direction, misses; so do NULLs. */
-    if (r == NULL || hit == NULL || !(radius > 0 && radius < HUGE_VAL) ||
+    if (r == NULL || !(radius > 0 && radius < HUGE_VAL) ||
         !ray__scaled_dir(r->dir, &d, &e))
         return 0;
     f = v3_sub(r->org, center);
     k.a = v3_dot(d, d);
     k.b = -v3_dot(f, d);
-    k.l = v3_length(v3_madd(f, k.b / k.a, d));
+    k.b_over_a = k.b / k.a;
+    k.l = v3_length(v3_madd(f, k.b_over_a, d));
     k.disc = (radius - k.l) * (radius + k.l);
     if (!(k.disc >= 0))         /* < 0: the line misses; NaN: bad input */
         return 0;
     k.f_len = v3_length(f);
     k.c = (k.f_len - radius) * (k.f_len + radius);
-    k.fd_mag = fabs(f.x * d.x) + fabs(f.y * d.y) + fabs(f.z * d.z);
     k.radius = radius;
-    k.d_len = v3_length(d);
-    q = k.b + copysign(sqrt(k.a * k.disc), k.b);
+    k.f = f;
+    k.d = d;
+    k.s = sqrt(k.a * k.disc);
+    q = k.b + copysign(k.s, k.b);
     /* tmin, tmax in the scaled direction's units (ray__scaled_dir). */
     if (!nearest_root_bounded(&k, ray__scale_t(r->tmin, e),
                               ray__scale_t(r->tmax, e), k.c / q, q / k.a,
@@ -181,7 +240,18 @@ int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
     t = ray__unscale_t(t, e);
     if (!(t > r->tmin && t < r->tmax))  /* the product rounded past one */
         return 0;
-    return sphere_fill(r, center, radius, t, hit);
+    *t_out = t;
+    return 1;
+}
+
+int ray_sphere(const ray_ray *r, ray_vec3 center, double radius,
+               ray_hit *hit)
+{
+    double t;
+
+    if (hit == NULL || !ray__sphere_t(r, center, radius, &t))
+        return 0;
+    return ray__sphere_fill(r, center, radius, t, 1, hit);
 }
 
 /*
@@ -202,5 +272,5 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
     root = sqrt(disc);
     if (!nearest_root(r, (-dec - root) / dd, (-dec + root) / dd, &t))
         return 0;
-    return sphere_fill(r, center, radius, t, hit);
+    return ray__sphere_fill(r, center, radius, t, 1, hit);
 }

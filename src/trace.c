@@ -226,7 +226,8 @@ static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
     ctx->stats.rays[kind]++;
     if (depth > ctx->stats.max_depth)
         ctx->stats.max_depth = depth;
-    rc = ray__intersect(ctx->scene, r, &hit, &ctx->stats);
+    /* A sphere's (u, v) only where its material reads them (uv 0). */
+    rc = ray__intersect(ctx->scene, r, 0, &hit, &ctx->stats);
     if (rc < 0) {
         ctx->stale = 1;        /* an instance's child changed: recommit */
         return RAY_ESTATE;

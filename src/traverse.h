@@ -694,14 +694,55 @@ static int prim_gated(const ray_scene *s, unsigned idx, const ray_ray *r,
     return 0;
 }
 
-/* Geometry "idx" (not a triangle) against r, gated or not. */
+/*
+** Geometry "idx" (not a triangle) against r, gated or not: 0 on a miss,
+** RAY__HIT_FULL with *h filled, or (ungated only) RAY__HIT_T with h->t
+** alone, its record left for prim_fill_best to fill if it stays the
+** nearest -- a sphere's or a plane's record (a normalisation, a point
+** projected, for a sphere an atan2 and an acos) is then filled once per
+** ray, not once per candidate, and never for an any-hit query.  A gated
+** query fills every candidate: its filters and collector take records.
+*/
 static inline int prim_candidate(const ray_scene *s, unsigned idx,
                                  const ray_ray *r, ray_hit *h,
                                  ray__counts *qc)
 {
     if (qc->gate == NULL)
-        return ray__prim_intersect(s, idx, r, h, qc);
+        return ray__prim_candidate(s, idx, r, h, qc);
     return prim_gated(s, idx, r, h, qc);
+}
+
+/* The nearest hit of a geometry other than a triangle so far: its record
+** h, or (deferred != RAY_INVALID_ID) geometry "deferred"'s hit at h.t,
+** whose record prim_fill_best fills. */
+typedef struct prim_best {
+    ray_hit h;
+    unsigned deferred;
+} prim_best;
+
+/* Record candidate h of geometry idx (prim_candidate's answer k) as the
+** nearest so far. */
+static inline void prim_keep(prim_best *b, unsigned idx, int k,
+                             const ray_hit *h)
+{
+    if (k == RAY__HIT_T) {
+        b->h.t = h->t;
+        b->deferred = idx;
+    } else {
+        b->h = *h;
+        b->deferred = RAY_INVALID_ID;
+    }
+}
+
+/* Fill the deferred record of *b, if any: the same formulas on the same t
+** as the candidate test would have filled it with (prim_candidate made
+** sure it fills).  0 if it failed (cannot happen). */
+static inline int prim_fill_best(const ray_scene *s, const ray_ray *r,
+                                 prim_best *b, const ray__counts *qc)
+{
+    if (b->deferred == RAY_INVALID_ID)
+        return 1;
+    return ray__prim_fill(s, b->deferred, r, b->h.t, qc->uv, &b->h);
 }
 
 /*
@@ -788,13 +829,15 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
 static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
                      void *best, ray__counts *qc)
 {
+    unsigned idx = s->prim_bvh.items[item];
     ray_hit h;
+    int k = prim_candidate(s, idx, r, &h, qc);
 
-    if (!prim_candidate(s, s->prim_bvh.items[item], r, &h, qc))
+    if (!k)
         return 0;
     r->tmax = h.t;
     if (best != NULL)
-        *(ray_hit *)best = h;
+        prim_keep(best, idx, k, &h);
     return 1;
 }
 
@@ -805,6 +848,7 @@ static void counts_start(ray__counts *qc, const ray__gate *g, int any)
     qc->gate = g;
     qc->any = any;
     qc->inst_id = RAY_INVALID_ID;
+    qc->uv = 1;
 }
 
 /*
@@ -815,34 +859,43 @@ static void counts_start(ray__counts *qc, const ray__gate *g, int any)
 static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
                         ray__counts *qc)
 {
-    ray_hit best;
+    prim_best best;
     tri_best tb;
     trav tr;
     int found = 0;
     size_t i;
 
+    best.deferred = RAY_INVALID_ID;
     trav_init(&tr, rr);
     tri_best_start(&tb);
-    for (i = 0; i < s->n_planes; i++)
-        if (prim_candidate(s, s->planes[i], rr, &best, qc)) {
-            rr->tmax = best.t;
+    for (i = 0; i < s->n_planes; i++) {
+        ray_hit h;
+        int k = prim_candidate(s, s->planes[i], rr, &h, qc);
+        if (k) {
+            rr->tmax = h.t;
+            prim_keep(&best, s->planes[i], k, &h);
             found = 1;
         }
+    }
     if (traverse(s, &s->prim_bvh, &tr, rr, LEAF_PRIMS, &best, 0, qc))
         found = 1;
     if (traverse(s, &s->tri_bvh, &tr, rr, LEAF_TRIANGLES, &tb, 0, qc)) {
         const ray__tri *t = &s->tris[tb.index];
         /* A usable triangle (checked at commit) always fills. */
         if (ray__triangle_fill(t->a, t->b, t->c, rr->tmax, tb.beta,
-                               tb.gamma, &best)) {
-            best.geom_id = s->tri_ids[tb.index].geom_id;
-            best.prim_id = s->tri_ids[tb.index].prim_id;
-            best.inst_id = RAY_INVALID_ID;
+                               tb.gamma, &best.h)) {
+            best.h.geom_id = s->tri_ids[tb.index].geom_id;
+            best.h.prim_id = s->tri_ids[tb.index].prim_id;
+            best.h.inst_id = RAY_INVALID_ID;
+            best.deferred = RAY_INVALID_ID;
             found = 1;
         }
     }
+    /* The record of the nearest, once per ray. */
+    if (found && !prim_fill_best(s, rr, &best, qc))
+        found = 0;
     if (found)
-        *hit = best;
+        *hit = best.h;
     return found;
 }
 
@@ -862,7 +915,7 @@ static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
 }
 
 static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
-                               const ray__gate *g, ray_hit *hit,
+                               const ray__gate *g, int uv, ray_hit *hit,
                                ray_stats *st)
 {
     ray__counts qc;
@@ -873,6 +926,7 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
     if (!ray__ray_usable(r))
         return 0;
     counts_start(&qc, g, 0);
+    qc.uv = uv;
     found = nearest_core(s, &rr, &best, &qc);
     add_counts(st, &qc);
     if (qc.stale)

@@ -167,6 +167,13 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     t = t_num / m;
     if (!(t > r->tmin && t < r->tmax))
         return 0;
+    gamma = gamma_num / m;
+    if (!(gamma >= 0 && gamma <= 1))
+        return 0;
+    beta = beta_num / m;
+    if (!(beta >= 0 && beta <= 1 - gamma))
+        return 0;
+    /* Last, as it costs most: only a hit inside the triangle pays. */
     {
         const double n[3] = {nx, ny, nz}, dir[3] = {g, h, i},
                      ae[3] = {j, k, l};
@@ -174,12 +181,6 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
               r->tmin))
             return 0;
     }
-    gamma = gamma_num / m;
-    if (!(gamma >= 0 && gamma <= 1))
-        return 0;
-    beta = beta_num / m;
-    if (!(beta >= 0 && beta <= 1 - gamma))
-        return 0;
     *t_out = t;
     *beta_out = beta;
     *gamma_out = gamma;

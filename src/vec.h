@@ -47,6 +47,20 @@ static inline double v3_length(ray_vec3 a)
     return sqrt(v3_dot(a, a));
 }
 
+/* 1 when v3_normalize(a, ...) succeeds: a finite, non-zero vector.
+** Comparisons, not fmax (a libm call): they may drop or take a NaN
+** operand, so every component is checked too -- a cross product of huge
+** vectors can hold Inf - Inf = NaN beside finite ones.  For a vector
+** without NaN, m is fmax's. */
+static inline int v3_normalizable(ray_vec3 a)
+{
+    double ax = fabs(a.x), ay = fabs(a.y), az = fabs(a.z);
+    double m = ax > ay ? ax : ay;
+
+    m = m > az ? m : az;
+    return m > 0 && m < HUGE_VAL && a.x == a.x && a.y == a.y && a.z == a.z;
+}
+
 /*
 ** a / |a| into *out, safe from overflow and underflow of |a|^2: a is first
 ** divided by its largest |component|, which brings that component to 1
@@ -57,12 +71,12 @@ static inline double v3_length(ray_vec3 a)
 */
 static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
 {
-    double m = fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z)));
+    double ax = fabs(a.x), ay = fabs(a.y), az = fabs(a.z);
+    double m = ax > ay ? ax : ay;
     double len;
 
-    /* fmax ignores a NaN operand, so check every component: a cross
-    ** product of huge vectors can hold Inf - Inf = NaN beside finite ones. */
-    if (!(m > 0 && m < HUGE_VAL) || a.x != a.x || a.y != a.y || a.z != a.z)
+    m = m > az ? m : az;
+    if (!v3_normalizable(a))
         return 0;
     /* Divide by m rather than multiply by 1/m: for a denormal m, 1/m
     ** overflows to Inf, while each quotient here is at most 1. */

@@ -372,8 +372,8 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
             int ha, hb;
             memset(&a, 0, sizeof a);
             memset(&b, 0, sizeof b);
-            ha = ray__intersect_gated_base(s, &r, NULL, &a, NULL);
-            hb = ray__intersect_gated_avx2(s, &r, NULL, &b, NULL);
+            ha = ray__intersect_gated_base(s, &r, NULL, 1, &a, NULL);
+            hb = ray__intersect_gated_avx2(s, &r, NULL, 1, &b, NULL);
             ck_assert_int_eq(ha, hb);
             ck_assert_msg(hit_same(&a, &b), "ray %zu", j);
             ck_assert_int_eq(ray__occluded_gated_base(s, &r, NULL, NULL),
@@ -444,8 +444,9 @@ START_TEST(gated_and_instanced_queries_should_be_the_same_with_and_without_avx2)
             gate.all = NULL;
             memset(&x, 0, sizeof x);
             memset(&y, 0, sizeof y);
-            ck_assert_int_eq(ray__intersect_gated_base(top, &r, &gate, &x, NULL),
-                             ray__intersect_gated_avx2(top, &r, &gate, &y, NULL));
+            ck_assert_int_eq(
+                ray__intersect_gated_base(top, &r, &gate, 1, &x, NULL),
+                ray__intersect_gated_avx2(top, &r, &gate, 1, &y, NULL));
             ck_assert_msg(hit_same(&x, &y), "ray %zu", j);
             gate.query = RAY_FILTER_OCCLUDED;
             ck_assert_int_eq(ray__occluded_gated_base(top, &r, &gate, NULL),
