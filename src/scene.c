@@ -77,6 +77,7 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
     s->prune = 1;
     s->watertight = 1;
+    s->build_threads = 1;
     s->dirty = RAY__DIRTY_ALL;
     *out = s;
     return RAY_OK;
@@ -744,7 +745,8 @@ static int rebuild_triangles(ray_scene *s)
         if (tri_live(s, i))
             tri_swap(s, n++, i);
     tris_collapse_unusable(s, 0, n);
-    rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs, &fresh);
+    rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
+                        s->build_threads, &fresh);
     if (rc != RAY_OK)
         return rc;
     if (n > 0) {
@@ -831,7 +833,7 @@ static int rebuild_prims(ray_scene *s)
         pl.s = s;
         pl.ids = ids;
         rc = ray__bvh_build(&s->alloc, prim_box, &pl, n_bounded, &prim_costs,
-                            &fresh);
+                            s->build_threads, &fresh);
     }
     if (rc == RAY_OK) {
         /* Items become prim indices. */
@@ -866,6 +868,20 @@ int ray_scene_set_watertight(ray_scene *s, int enabled)
     if (rc != RAY_OK)
         return rc;
     s->watertight = enabled != 0;
+    ray__touch(s, 0);
+    return RAY_OK;
+}
+
+/* A setting like the others: after a commit it is staged (ray__touch),
+** though the commit that follows rebuilds nothing for it -- the tree is
+** the same at every thread count; the next build uses it. */
+int ray_scene_set_build_threads(ray_scene *s, unsigned threads)
+{
+    int rc = ray__begin(s, "ray_scene_set_build_threads");
+
+    if (rc != RAY_OK)
+        return rc;
+    s->build_threads = threads;
     ray__touch(s, 0);
     return RAY_OK;
 }
