@@ -96,15 +96,19 @@ static inline float centroid2(const ref *r, int axis)
     return r->lo[axis] + r->hi[axis];
 }
 
-typedef struct bin {
-    box b;
-    size_t count;
-} bin;
+/* The scale that maps doubled centroids to nb bins along each axis: nb *
+** (1 - eps) / extent keeps the largest centroid in range; a flat axis
+** gets scale 0 (everything in bin 0, never split). */
+static void bin_scales(const box *cb, int nb, float scale[3])
+{
+    int axis;
 
-/*
-** Drop refs[begin, end) into the first nb bins of each axis (bins[axis][b],
-** emptied first): the build's inner loop.
-*/
+    for (axis = 0; axis < 3; axis++) {
+        float extent = cb->hi[axis] - cb->lo[axis];
+        scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
+    }
+}
+
 #if defined(__SSE2__) && !defined(RAY_NO_SIMD)
 #include <emmintrin.h>
 
@@ -119,58 +123,193 @@ static inline __m128 ref_lanes(const ref *r, size_t at)
 }
 
 /*
-** With SSE: one register holds an item's lo (or hi) on all three axes,
-** so its three bins grow by one min and one max each, where the scalar
-** loop below does three of each; the bin indices of the three axes come
-** from one subtraction, one product, one clamp and one conversion.  The
-** arithmetic is bin_of's and box_grow's, lane for lane (minps / maxps
-** pick as their "a < b ? a : b"), so both loops make the same tree.
+** The bins with SSE, as registers: one holds a box's lo (or hi) on all
+** three axes.  An item's three bins grow by one min and one max each,
+** where the scalar loop (below, without SSE) does three of each; the bin
+** indices of the three axes come from one subtraction, one product, one
+** clamp and one conversion.  The arithmetic is bin_of's and box_grow's,
+** lane for lane (minps / maxps pick as their "a < b ? a : b").
 */
-static void bin_items(const builder *bd, size_t begin, size_t end,
-                      const box *cb, const float scale[3], int nb,
-                      bin bins[3][BINS])
+typedef struct bins4 {
+    __m128 lo[3][BINS], hi[3][BINS];
+    int count[3][BINS];
+} bins4;
+
+static void bins4_empty(bins4 *bn, int nb)
 {
-    __m128 lo_acc[3][BINS], hi_acc[3][BINS];
-    size_t count[3][BINS], i;
-    const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
-    const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
-    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
     int axis, b;
 
     for (axis = 0; axis < 3; axis++)
         for (b = 0; b < nb; b++) {
-            lo_acc[axis][b] = _mm_set1_ps(FLT_MAX);
-            hi_acc[axis][b] = _mm_set1_ps(-FLT_MAX);
-            count[axis][b] = 0;
+            bn->lo[axis][b] = _mm_set1_ps(FLT_MAX);
+            bn->hi[axis][b] = _mm_set1_ps(-FLT_MAX);
+            bn->count[axis][b] = 0;
         }
+}
+
+/*
+** Drop refs[begin, end) into the first nb bins of each axis: the build's
+** inner loop.  Items go in turn to two sets of bins, merged at the end:
+** successive items of a mesh tend to fall in the same bin, and one set
+** would chain every update of a bin on the one before (a store, a load
+** and a min each), where two halve the chains -- for nodes of PAIRS_MIN
+** items or more: below, emptying and merging the second set costs more
+** than it saves.  The merge may order two
+** zeros of opposite sign otherwise than one pass would; the boxes only
+** give the bins' areas, whose values (and so the tree) are the same.
+*/
+#define PAIRS_MIN 64
+
+static void bin_items(const builder *bd, size_t begin, size_t end,
+                      const box *cb, const float scale[3], int nb,
+                      bins4 *out)
+{
+    bins4 two;
+    size_t i;
+    const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
+    const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
+    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
+    int axis, b, pairs = end - begin >= PAIRS_MIN;
+
+    bins4_empty(out, nb);
+    if (pairs)
+        bins4_empty(&two, nb);
     for (i = begin; i < end; i++) {
+        bins4 *bn = pairs && ((i - begin) & 1) ? &two : out;
         __m128 lo = ref_lanes(&bd->refs[i], offsetof(ref, lo));
         __m128 hi = ref_lanes(&bd->refs[i], offsetof(ref, hi));
         __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
         int k[4];
         x = _mm_min_ps(_mm_max_ps(x, zero), top);
         _mm_storeu_si128((__m128i *)(void *)k, _mm_cvttps_epi32(x));
-        lo_acc[0][k[0]] = _mm_min_ps(lo_acc[0][k[0]], lo);
-        hi_acc[0][k[0]] = _mm_max_ps(hi_acc[0][k[0]], hi);
-        count[0][k[0]]++;
-        lo_acc[1][k[1]] = _mm_min_ps(lo_acc[1][k[1]], lo);
-        hi_acc[1][k[1]] = _mm_max_ps(hi_acc[1][k[1]], hi);
-        count[1][k[1]]++;
-        lo_acc[2][k[2]] = _mm_min_ps(lo_acc[2][k[2]], lo);
-        hi_acc[2][k[2]] = _mm_max_ps(hi_acc[2][k[2]], hi);
-        count[2][k[2]]++;
+        bn->lo[0][k[0]] = _mm_min_ps(bn->lo[0][k[0]], lo);
+        bn->hi[0][k[0]] = _mm_max_ps(bn->hi[0][k[0]], hi);
+        bn->count[0][k[0]]++;
+        bn->lo[1][k[1]] = _mm_min_ps(bn->lo[1][k[1]], lo);
+        bn->hi[1][k[1]] = _mm_max_ps(bn->hi[1][k[1]], hi);
+        bn->count[1][k[1]]++;
+        bn->lo[2][k[2]] = _mm_min_ps(bn->lo[2][k[2]], lo);
+        bn->hi[2][k[2]] = _mm_max_ps(bn->hi[2][k[2]], hi);
+        bn->count[2][k[2]]++;
     }
-    for (axis = 0; axis < 3; axis++)
+    for (axis = 0; axis < 3 && pairs; axis++)
         for (b = 0; b < nb; b++) {
-            float l[4], h[4];
-            _mm_storeu_ps(l, lo_acc[axis][b]);
-            _mm_storeu_ps(h, hi_acc[axis][b]);
-            memcpy(bins[axis][b].b.lo, l, sizeof bins[axis][b].b.lo);
-            memcpy(bins[axis][b].b.hi, h, sizeof bins[axis][b].b.hi);
-            bins[axis][b].count = count[axis][b];
+            out->lo[axis][b] = _mm_min_ps(out->lo[axis][b], two.lo[axis][b]);
+            out->hi[axis][b] = _mm_max_ps(out->hi[axis][b], two.hi[axis][b]);
+            out->count[axis][b] += two.count[axis][b];
         }
 }
+
+/*
+** box_area of four boxes at once, lane k of the result for box k (given
+** as registers of lo and hi): the same operations in the same order, so
+** the same floats.
+*/
+static inline __m128 area4(const __m128 *lo, const __m128 *hi)
+{
+    __m128 dx = _mm_sub_ps(hi[0], lo[0]), dy = _mm_sub_ps(hi[1], lo[1]);
+    __m128 dz = _mm_sub_ps(hi[2], lo[2]), dw = _mm_sub_ps(hi[3], lo[3]);
+    __m128 a;
+
+    _MM_TRANSPOSE4_PS(dx, dy, dz, dw);
+    a = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dy), _mm_mul_ps(dy, dz)),
+                   _mm_mul_ps(dz, dx));
+    return _mm_and_ps(a, _mm_cmpge_ps(dx, _mm_setzero_ps()));
+}
+
+/*
+** The best binned split of refs[begin, end), all three axes binned in one
+** pass over the items; cb is the box of the doubled centroids.  A node of
+** few items uses as many bins as items (at least 4): the sweep over 3 x 16
+** bins would otherwise cost more than the items themselves.  The sweep
+** takes the boxes on both sides of each of the nb - 1 candidate planes
+** (running unions, one min and one max a step), then their areas and
+** costs four planes at a time: the scalar sweep's arithmetic (without
+** SSE, below), lane for lane, so the same costs and the same choice.
+*/
+static split best_split(const builder *bd, size_t begin, size_t end,
+                        const box *cb, float node_area)
+{
+    bins4 bins;
+    float scale[3];
+    split best;
+    size_t count = end - begin;
+    int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
+    const __m128 trav = _mm_set1_ps(bd->costs->traversal);
+    const __m128 area = _mm_set1_ps(node_area);
+
+    best.axis = -1;
+    best.bin = 0;
+    best.bins = nb;
+    best.cost = HUGE_VALF;
+    best.cmin = 0;
+    best.scale = 0;
+    bin_scales(cb, nb, scale);
+    bin_items(bd, begin, end, cb, scale, nb, &bins);
+    for (axis = 0; axis < 3; axis++) {
+        /* Plane b (0 .. nb - 2) has bins 0 .. b on its left, the rest on
+        ** its right; the entries up to BINS - 1 are padding (empty). */
+        __m128 llo[BINS], lhi[BINS], rlo[BINS], rhi[BINS];
+        __m128 alo = _mm_set1_ps(FLT_MAX), ahi = _mm_set1_ps(-FLT_MAX);
+        int lcount[BINS], rcount[BINS], n = 0;
+        float cost[BINS];
+
+        if (scale[axis] == 0)
+            continue;
+        for (b = nb - 1; b < BINS; b++) {
+            llo[b] = rlo[b] = alo;
+            lhi[b] = rhi[b] = ahi;
+            lcount[b] = rcount[b] = 0;
+        }
+        for (b = nb - 1; b > 0; b--) {
+            alo = _mm_min_ps(alo, bins.lo[axis][b]);
+            ahi = _mm_max_ps(ahi, bins.hi[axis][b]);
+            n += bins.count[axis][b];
+            rlo[b - 1] = alo;
+            rhi[b - 1] = ahi;
+            rcount[b - 1] = n;
+        }
+        alo = _mm_set1_ps(FLT_MAX);
+        ahi = _mm_set1_ps(-FLT_MAX);
+        n = 0;
+        for (b = 0; b < nb - 1; b++) {
+            alo = _mm_min_ps(alo, bins.lo[axis][b]);
+            ahi = _mm_max_ps(ahi, bins.hi[axis][b]);
+            n += bins.count[axis][b];
+            llo[b] = alo;
+            lhi[b] = ahi;
+            lcount[b] = n;
+        }
+        for (b = 0; b < nb - 1; b += 4) {
+            __m128 nl = _mm_cvtepi32_ps(_mm_loadu_si128(
+                            (const __m128i *)(const void *)&lcount[b]));
+            __m128 nr = _mm_cvtepi32_ps(_mm_loadu_si128(
+                            (const __m128i *)(const void *)&rcount[b]));
+            __m128 c = _mm_add_ps(trav, _mm_div_ps(
+                _mm_add_ps(_mm_mul_ps(area4(&llo[b], &lhi[b]), nl),
+                           _mm_mul_ps(area4(&rlo[b], &rhi[b]), nr)), area));
+            _mm_storeu_ps(&cost[b], c);
+        }
+        for (b = 0; b < nb - 1; b++) {
+            if (lcount[b] == 0 || rcount[b] == 0)
+                continue;
+            if (cost[b] < best.cost) {
+                best.cost = cost[b];
+                best.axis = axis;
+                best.bin = b;
+                best.cmin = cb->lo[axis];
+                best.scale = scale[axis];
+            }
+        }
+    }
+    return best;
+}
 #else
+typedef struct bin {
+    box b;
+    size_t count;
+} bin;
+
 /* The bin of doubled centroid c: clamped in float before the conversion
 ** (a NaN, from an infinite box, goes to bin 0), as the SSE binning does. */
 static inline int bin_of(float c, float cmin, float scale, int bins)
@@ -182,6 +321,8 @@ static inline int bin_of(float c, float cmin, float scale, int bins)
     return (int)x;
 }
 
+/* Drop refs[begin, end) into the first nb bins of each axis (emptied
+** first): the build's inner loop. */
 static void bin_items(const builder *bd, size_t begin, size_t end,
                       const box *cb, const float scale[3], int nb,
                       bin bins[3][BINS])
@@ -204,14 +345,8 @@ static void bin_items(const builder *bd, size_t begin, size_t end,
         }
     }
 }
-#endif
 
-/*
-** The best binned split of refs[begin, end), all three axes binned in one
-** pass over the items; cb is the box of the doubled centroids.  A node of
-** few items uses as many bins as items (at least 4): the sweep over 3 x 16
-** bins would otherwise cost more than the items themselves.
-*/
+/* best_split without SSE: the SSE one's rules, one plane at a time. */
 static split best_split(const builder *bd, size_t begin, size_t end,
                         const box *cb, float node_area)
 {
@@ -227,12 +362,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     best.cost = HUGE_VALF;
     best.cmin = 0;
     best.scale = 0;
-    for (axis = 0; axis < 3; axis++) {
-        float extent = cb->hi[axis] - cb->lo[axis];
-        /* nb * (1 - eps) / extent keeps the largest centroid in range; a
-        ** flat axis gets scale 0: everything in bin 0, never split. */
-        scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
-    }
+    bin_scales(cb, nb, scale);
     bin_items(bd, begin, end, cb, scale, nb, bins);
     for (axis = 0; axis < 3; axis++) {
         float right_area[BINS];
@@ -269,6 +399,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     }
     return best;
 }
+#endif
 
 /* The boxes a node needs before it is split: its items' box and the box
 ** of their doubled centroids. */
