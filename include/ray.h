@@ -936,7 +936,7 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** when normals or texture coordinates are given (none when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
 ** triangle BVH keeps 4 bytes a leaf more, about 1 a triangle.
-** ray_scene_commit briefly needs about 180 bytes per triangle (189 on
+** ray_scene_commit briefly needs about 187 bytes per triangle (189 on
 ** the bunny).
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data

@@ -616,24 +616,28 @@ static int opens(const ray__node *n)
 static int gather_children(const ray__node *nodes, unsigned n,
                            unsigned out[RAY__WIDTH])
 {
+    float area[RAY__WIDTH];      /* out[i]'s, taken once */
     int k = 2;
 
     out[0] = nodes[n].first;
     out[1] = nodes[n].first + 1;
+    area[0] = node_area(&nodes[out[0]]);
+    area[1] = node_area(&nodes[out[1]]);
     while (k < RAY__WIDTH) {
         int best = -1, i;
         float best_area = -1;
-        for (i = 0; i < k; i++) {
-            const ray__node *c = &nodes[out[i]];
-            if (opens(c) && node_area(c) > best_area) {
-                best_area = node_area(c);
+        for (i = 0; i < k; i++)
+            if (opens(&nodes[out[i]]) && area[i] > best_area) {
+                best_area = area[i];
                 best = i;
             }
-        }
         if (best < 0)
             break;
-        out[k++] = nodes[out[best]].first + 1;
+        out[k] = nodes[out[best]].first + 1;
         out[best] = nodes[out[best]].first;
+        area[k] = node_area(&nodes[out[k]]);
+        area[best] = node_area(&nodes[out[best]]);
+        k++;
     }
     return k;
 }
