@@ -248,7 +248,8 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     bin_items(bd, begin, end, cb, scale, nb, &bins);
     for (axis = 0; axis < 3; axis++) {
         /* Plane b (0 .. nb - 2) has bins 0 .. b on its left, the rest on
-        ** its right; the entries up to BINS - 1 are padding (empty). */
+        ** its right; the entries after nb - 2, up to a multiple of four,
+        ** are padding (empty). */
         __m128 llo[BINS], lhi[BINS], rlo[BINS], rhi[BINS];
         __m128 alo = _mm_set1_ps(FLT_MAX), ahi = _mm_set1_ps(-FLT_MAX);
         int lcount[BINS], rcount[BINS], n = 0;
@@ -256,7 +257,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
 
         if (scale[axis] == 0)
             continue;
-        for (b = nb - 1; b < BINS; b++) {
+        for (b = nb - 1; b < ((nb + 2) & ~3); b++) {
             llo[b] = rlo[b] = alo;
             lhi[b] = rhi[b] = ahi;
             lcount[b] = rcount[b] = 0;

@@ -628,10 +628,18 @@ static void tris_box(const void *ud, size_t first, size_t n, float lo[3],
 }
 
 /* The float box of triangle i of the scene, rounded outward (the build's
-** box callback). */
+** box callback, once a triangle): tris_box of one, without its loop (the
+** min of a set that holds x is the min of x and the set, bit for bit). */
 static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
 {
-    tris_box(ud, i, 1, lo, hi);
+    const ray__tri *t = &((const ray_scene *)ud)->tris[i];
+
+    lo[0] = ray__float_down(min3(t->a.x, t->b.x, t->c.x));
+    lo[1] = ray__float_down(min3(t->a.y, t->b.y, t->c.y));
+    lo[2] = ray__float_down(min3(t->a.z, t->b.z, t->c.z));
+    hi[0] = ray__float_up(max3(t->a.x, t->b.x, t->c.x));
+    hi[1] = ray__float_up(max3(t->a.y, t->b.y, t->c.y));
+    hi[2] = ray__float_up(max3(t->a.z, t->b.z, t->c.z));
 }
 
 /* Give back the spare capacity that doubling left in the triangle arrays
