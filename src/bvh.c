@@ -506,7 +506,7 @@ static size_t partition(builder *bd, size_t begin, size_t end,
     return i;
 }
 
-/* Bounds by a pass over the items (the root, and halved runs). */
+/* Bounds by a pass over the items (halved runs). */
 static void bounds_of(const builder *bd, size_t begin, size_t end,
                       bounds *out)
 {
@@ -940,15 +940,20 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
         rc = RAY_ENOMEM;
         goto done;
     }
-    for (i = 0; i < n; i++) {
-        box_of(ud, i, bd.refs[i].lo, bd.refs[i].hi);
-        bd.refs[i].id = (unsigned)i;
-        bd.refs[i].pad = 0;
-    }
-    bd.n_nodes = 1;
     {
+        /* The root's bounds as the records are made (bounds_of's
+        ** operations in its order, without a pass of its own). */
         bounds root;
-        bounds_of(&bd, 0, n, &root);
+        bounds4 b;
+        bounds4_empty(&b);
+        for (i = 0; i < n; i++) {
+            box_of(ud, i, bd.refs[i].lo, bd.refs[i].hi);
+            bd.refs[i].id = (unsigned)i;
+            bd.refs[i].pad = 0;
+            bounds4_grow(&b, &bd.refs[i]);
+        }
+        bounds4_store(&b, &root);
+        bd.n_nodes = 1;
         child_task(&stack[0], 0, 0, n, 0, &root);
     }
     sp = 1;

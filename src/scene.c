@@ -780,11 +780,17 @@ static void tris_collapse_unusable(ray_scene *s, size_t first, size_t end)
         ray__tri_collapse_unusable(&s->tris[i]);
 }
 
-/* Swap triangle slots i and j (and their ids). */
+/* Swap triangle slots i and j (and their ids); nothing to do for i == j,
+** the usual case (every triangle kept, in place). */
 static void tri_swap(ray_scene *s, size_t i, size_t j)
 {
-    ray__tri t = s->tris[i];
-    ray__tri_id id = s->tri_ids[i];
+    ray__tri t;
+    ray__tri_id id;
+
+    if (i == j)
+        return;
+    t = s->tris[i];
+    id = s->tri_ids[i];
 
     s->tris[i] = s->tris[j];
     s->tri_ids[i] = s->tri_ids[j];
