@@ -21,7 +21,10 @@
 ** default; Embree on a device made with "threads=1", at
 ** RTC_BUILD_QUALITY_MEDIUM, its default quality) and at all threads
 ** (ours with ray_scene_set_build_threads(s, 0); Embree's default device,
-** its thread pool over every CPU).  The instruction sets each side ran
+** its thread pool over every CPU).  Only one Embree device lives at a
+** time: Embree's thread pool is shared by its devices and sized for the
+** largest count any live one asked for, so a "threads=1" device beside a
+** default one builds on every CPU.  The instruction sets each side ran
 ** are printed first: ours by the rule intersect.c picks its copy of the
 ** queries with, Embree's from its own verbose output.
 */
@@ -438,8 +441,7 @@ static void run_set(const char *name, ray_scene *ours, void *embree,
 ** the repetitions' own ratios.  Then our memory after commit and at its
 ** peak (the tree, and so its memory, is the same at any thread count).
 */
-static void bench_build(const obj_mesh *obj, unsigned cpus, void *dev_one,
-                        void *dev_all)
+static void bench_build(const obj_mesh *obj, unsigned cpus)
 {
     static const char *const row[2] = {
         "one thread (Embree: device \"threads=1\", "
@@ -454,6 +456,9 @@ static void bench_build(const obj_mesh *obj, unsigned cpus, void *dev_one,
     printf("|---|---|---|---|---|\n");
     for (mode = 0; mode < 2; mode++) {
         double ours[9], emb[9], ratio[9];
+#ifdef HAVE_EMBREE
+        RTCDevice dev = rtcNewDevice(mode == 0 ? "threads=1" : NULL);
+#endif
         for (k = -1; k < reps; k++) {
             double to, te = 0;
             ray_scene *s;
@@ -463,12 +468,7 @@ static void bench_build(const obj_mesh *obj, unsigned cpus, void *dev_one,
             peak = cnt.peak;
             ray_scene_free(s);
 #ifdef HAVE_EMBREE
-            rtcReleaseScene(embree_scene((RTCDevice)(mode == 0 ? dev_one
-                                                                : dev_all),
-                                         obj, &te));
-#else
-            (void)dev_one;
-            (void)dev_all;
+            rtcReleaseScene(embree_scene(dev, obj, &te));
 #endif
             if (k < 0)
                 continue;              /* the warm-up */
@@ -477,6 +477,7 @@ static void bench_build(const obj_mesh *obj, unsigned cpus, void *dev_one,
             ratio[k] = te > 0 ? to / te : 0;
         }
 #ifdef HAVE_EMBREE
+        rtcReleaseDevice(dev);
         printf("| %s | %u | %.1f | %.1f | %.2f |\n", row[mode],
                mode == 0 ? 1 : cpus, 1e3 * median(ours, reps),
                1e3 * median(emb, reps), median(ratio, reps));
@@ -492,8 +493,7 @@ static void bench_build(const obj_mesh *obj, unsigned cpus, void *dev_one,
            (double)peak / (double)obj->triangle_count);
 }
 
-static void bench_mesh(const char *path, unsigned res, unsigned cpus,
-                       void *dev_one, void *dev_all)
+static void bench_mesh(const char *path, unsigned res, unsigned cpus)
 {
     obj_mesh obj;
     char err[600];
@@ -503,16 +503,20 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     void *emb = NULL;
     ray_vec3 centre;
     ray_set far, near, diffuse, shadow;
+#ifdef HAVE_EMBREE
+    RTCDevice device;
+#endif
 
     if (obj_load(path, &obj, err, sizeof err) != 0) {
         printf("(skipped: %s)\n\n", err);
         return;
     }
     printf("### %s: %zu triangles\n\n", path, obj.triangle_count);
-    bench_build(&obj, cpus, dev_one, dev_all);
+    bench_build(&obj, cpus);
     ours = our_scene(&obj, &cnt, &b, 1);
 #ifdef HAVE_EMBREE
-    emb = embree_scene((RTCDevice)dev_all, &obj, &b);
+    device = rtcNewDevice(NULL);
+    emb = embree_scene(device, &obj, &b);
 #endif
     printf("\n| rays | threads | count | ours Mrays/s | Embree Mrays/s | "
            "ours / Embree | same hit and primitive | max rel. t diff |\n");
@@ -539,6 +543,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     ray_scene_free(ours);
 #ifdef HAVE_EMBREE
     rtcReleaseScene((RTCScene)emb);
+    rtcReleaseDevice(device);
 #endif
     obj_free(&obj);
 }
@@ -865,7 +870,6 @@ int main(int argc, char **argv)
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     unsigned cpus = n > 0 ? (n > 256 ? 256 : (unsigned)n) : 1;
     char path[512];
-    void *device = NULL, *device_one = NULL;
 
     reps = quick ? 3 : 5;
     printf("## Meshes: the Stanford bunny, BVH vs %s\n\n",
@@ -882,24 +886,16 @@ int main(int argc, char **argv)
            "Median of %d runs (ours / Embree: median of the runs' own "
            "ratios, ours and Embree's alternating); %u CPUs.\n\n", res, res,
            reps, cpus);
-#ifdef HAVE_EMBREE
-    device = rtcNewDevice(NULL);
-    device_one = rtcNewDevice("threads=1");
-#endif
     bench_grid_memory();
     print_isa();
     snprintf(path, sizeof path, "%s/bunny.obj", dir);
     bench_brute(path);
     snprintf(path, sizeof path, "%s/bunny-2.obj", dir);
     bench_closest(path);
-    bench_mesh(path, res, cpus, device_one, device);
+    bench_mesh(path, res, cpus);
     if (!quick) {
         snprintf(path, sizeof path, "%s/bunny-4.obj", dir);
-        bench_mesh(path, res, cpus, device_one, device);
+        bench_mesh(path, res, cpus);
     }
-#ifdef HAVE_EMBREE
-    rtcReleaseDevice((RTCDevice)device_one);
-    rtcReleaseDevice((RTCDevice)device);
-#endif
     return 0;
 }
