@@ -584,7 +584,7 @@ static int build_node(builder *bd, const task *t, task *stack)
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh)
 {
     ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
-    ray__release(a, bvh->wide, bvh->n_wide * sizeof *bvh->wide);
+    ray__release(a, bvh->wide, bvh->cap_wide * sizeof *bvh->wide);
     ray__release(a, bvh->items, bvh->n_items * sizeof *bvh->items);
     ray__release(a, bvh->leaves, bvh->n_leaves * sizeof *bvh->leaves);
     memset(bvh, 0, sizeof *bvh);
@@ -663,38 +663,39 @@ static void slot_empty(ray__wnode *q, int k)
     q->count[k] = RAY__LEAF;            /* a leaf of no items */
 }
 
-/* How many wide nodes the collapse makes: a dry run of it. */
-static size_t count_wide(const ray__node *nodes)
+/*
+** Room in the wide nodes for one more node's children (RAY__WIDTH), the
+** array grown by half when full.  RAY_OK or RAY_ENOMEM (*w kept).
+*/
+static int wide_room(const ray__allocator *a, ray__wnode **w, size_t *cap,
+                     size_t used)
 {
-    unsigned stack[RAY__WIDTH * 64];
-    size_t n = 1;
-    int sp = 0;
+    size_t more = *cap + *cap / 2 + RAY__WIDTH;
+    ray__wnode *grown;
 
-    if (opens(&nodes[0]))
-        stack[sp++] = 0;
-    while (sp > 0) {
-        unsigned kids[RAY__WIDTH];
-        int k, m = gather_children(nodes, stack[--sp], kids);
-        for (k = 0; k < m; k++)
-            if (opens(&nodes[kids[k]])) {
-                stack[sp++] = kids[k];
-                n++;
-            }
-    }
-    return n;
+    if (*cap - used >= RAY__WIDTH)
+        return RAY_OK;
+    grown = ray__reallocate(a, *w, *cap * sizeof **w, more * sizeof **w);
+    if (grown == NULL)
+        return RAY_ENOMEM;
+    *w = grown;
+    *cap = more;
+    return RAY_OK;
 }
 
 /*
-** Collapse the binary BVH into wide nodes, counted first so that the
-** array is allocated once at its size.  The children of a wide node are
-** numbered consecutively, depth first.
+** Collapse the binary BVH into wide nodes.  The children of a wide node
+** are numbered consecutively, depth first.  The array starts at a sixth
+** of the binary nodes (the bunnies need a seventh to an eighth), grows by
+** half when full and is trimmed to its size at the end: one walk of the
+** tree, where counting first took two.
 */
 static int collapse(const ray__allocator *a, ray__bvh *bvh)
 {
-    size_t cap = count_wide(bvh->nodes), used = 1;
+    size_t cap = bvh->n_nodes / 6 + RAY__WIDTH, used = 1;
     /* (binary node, wide node): RAY__WIDTH - 1 per level, 64 levels */
     unsigned stack[RAY__WIDTH * 64][2];
-    ray__wnode *w = ray__allocate(a, cap * sizeof *w);
+    ray__wnode *w = ray__allocate(a, cap * sizeof *w), *trimmed;
     int sp = 0;
 
     if (w == NULL)
@@ -714,7 +715,12 @@ static int collapse(const ray__allocator *a, ray__bvh *bvh)
     while (sp > 0) {
         unsigned n = stack[--sp][0], qi = stack[sp][1], kids[RAY__WIDTH];
         int k, m = gather_children(bvh->nodes, n, kids);
-        ray__wnode *q = &w[qi];
+        ray__wnode *q;
+        if (wide_room(a, &w, &cap, used) != RAY_OK) {
+            ray__release(a, w, cap * sizeof *w);
+            return RAY_ENOMEM;
+        }
+        q = &w[qi];
         for (k = 0; k < RAY__WIDTH; k++) {
             const ray__node *c;
             if (k >= m) {
@@ -734,8 +740,14 @@ static int collapse(const ray__allocator *a, ray__bvh *bvh)
             }
         }
     }
+    trimmed = ray__reallocate(a, w, cap * sizeof *w, used * sizeof *w);
+    if (trimmed != NULL) {               /* else keep the larger block */
+        w = trimmed;
+        cap = used;
+    }
     bvh->wide = w;
     bvh->n_wide = used;
+    bvh->cap_wide = cap;
     ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
     bvh->nodes = NULL;
     bvh->n_nodes = bvh->cap_nodes = 0;

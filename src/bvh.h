@@ -44,7 +44,7 @@ typedef struct ray__bvh {
     ray__node *nodes;    /* binary BVH: built first, freed after collapse */
     size_t n_nodes, cap_nodes;
     ray__wnode *wide;    /* what traversal uses */
-    size_t n_wide;
+    size_t n_wide, cap_wide;
     unsigned *items;     /* leaf order -> item index */
     size_t n_items;
     unsigned *leaves;    /* refit's: the leaf slots (node * RAY__WIDTH +
