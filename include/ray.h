@@ -936,8 +936,8 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** when normals or texture coordinates are given (none when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
 ** triangle BVH keeps 4 bytes a leaf more, about 1 a triangle.
-** ray_scene_commit briefly needs about 187 bytes per triangle (189 on
-** the bunny).
+** ray_scene_commit briefly needs about 187 bytes per triangle (189 to
+** 191 on the bunny).
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data
 ** (RAY_UINT*); 0 is none of them. */
@@ -1128,8 +1128,9 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 ** it returns; no more than the build can use, at most 64).  The tree is
 ** the same, bit for bit, at every thread count, so are the queries'
 ** answers; a thread that cannot be started only means fewer threads.
-** The box callbacks (ray_user_geometry's bounds) and the scene's
-** allocator are still called on the committing thread only.  Like every
+** The scene's allocator is still called on the committing thread only,
+** and the threads call nothing of the program's (user geometry's bounds
+** callback runs when it is added, not at commit).  Like every
 ** ray_scene_set_*, a call after a commit stages a change (the scene
 ** answers no query until it is committed again), but that commit
 ** rebuilds nothing for it: the setting takes effect at the next build.
