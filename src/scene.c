@@ -772,14 +772,6 @@ static int tri_live(const ray_scene *s, size_t i)
     return p->enabled && !p->removed;
 }
 
-static void tris_collapse_unusable(ray_scene *s, size_t first, size_t end)
-{
-    size_t i;
-
-    for (i = first; i < end; i++)
-        ray__tri_collapse_unusable(&s->tris[i]);
-}
-
 /* Swap triangle slots i and j (and their ids); nothing to do for i == j,
 ** the usual case (every triangle kept, in place). */
 static void tri_swap(ray_scene *s, size_t i, size_t j)
@@ -819,9 +811,10 @@ static int rebuild_triangles(ray_scene *s)
     s->n_tris = n;
     n = 0;
     for (i = 0; i < s->n_tris; i++)
-        if (tri_live(s, i))
-            tri_swap(s, n++, i);
-    tris_collapse_unusable(s, 0, n);
+        if (tri_live(s, i)) {
+            tri_swap(s, n, i);
+            ray__tri_collapse_unusable(&s->tris[n++]);   /* while at hand */
+        }
     rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
                         s->build_threads, &fresh);
     if (rc != RAY_OK)
