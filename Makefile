@@ -375,7 +375,7 @@ sanitize:
 
 # The showcase: the Whitted scene, with a progress bar on stderr.
 # The suite again under ThreadSanitizer (the renderer's threads, the
-# per-thread contexts and the shared row counter).
+# per-thread contexts and the shared row counter; the threaded BVH build).
 TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 tsan:
 	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) \

@@ -16,6 +16,17 @@
 ** spell of the shared machine moves less than a ratio of two medians.
 ** BENCH_QUICK=1: 256 x 256 rays, fewer repetitions, and the 940k mesh
 ** skipped.
+**
+** The build is timed twice against Embree's: at one thread (ours by
+** default; Embree on a device made with "threads=1", at
+** RTC_BUILD_QUALITY_MEDIUM, its default quality) and at all threads
+** (ours with ray_scene_set_build_threads(s, 0); Embree's default device,
+** its thread pool over every CPU).  Only one Embree device lives at a
+** time: Embree's thread pool is shared by its devices and sized for the
+** largest count any live one asked for, so a "threads=1" device beside a
+** default one builds on every CPU.  The instruction sets each side ran
+** are printed first: ours by the rule intersect.c picks its copy of the
+** queries with, Embree's from its own verbose output.
 */
 #include <pthread.h>
 #include <unistd.h>
@@ -25,6 +36,7 @@
 #include "common.h"
 
 #include "embree.h"
+#include "scene.h"          /* RAY__AVX2_COPY: is there an AVX2 copy? */
 
 static int reps = 5;
 
@@ -244,9 +256,11 @@ static double trace_all(void *engine, int embree, const ray_set *set,
     return t;
 }
 
-/* Our scene of the mesh; *build_s: the commit (BVH build) time. */
-static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
-                            double *build_s, int watertight)
+/* Our scene of the mesh, built on "threads" threads (0: all CPUs);
+** *build_s: the commit (BVH build) time. */
+static ray_scene *our_scene_on(const obj_mesh *obj, counting *cnt,
+                               double *build_s, int watertight,
+                               unsigned threads)
 {
     ray_mesh mesh = obj_as_ray_mesh(obj);
     ray_scene *s;
@@ -255,10 +269,18 @@ static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
     check(nop_scene_new(&s, counting_alloc, cnt), "nop_scene_new");
     check(ray_scene_add_mesh(s, &mesh, 0, NULL), "mesh");
     check(ray_scene_set_watertight(s, watertight), "watertight");
+    check(ray_scene_set_build_threads(s, threads), "build threads");
     t = now_seconds();
     check(ray_scene_commit(s), "commit");
     *build_s = now_seconds() - t;
     return s;
+}
+
+/* The same, built on one thread (the default). */
+static ray_scene *our_scene(const obj_mesh *obj, counting *cnt,
+                            double *build_s, int watertight)
+{
+    return our_scene_on(obj, cnt, build_s, watertight, 1);
 }
 
 #ifdef HAVE_EMBREE
@@ -287,6 +309,8 @@ static RTCScene embree_scene(RTCDevice dev, const obj_mesh *obj,
     rtcCommitGeometry(g);
     rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
+    /* Its default, said explicitly: the quality the one-thread row names. */
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
     t = now_seconds();
     rtcCommitScene(scene);
     *build_s = now_seconds() - t;
@@ -411,50 +435,88 @@ static void run_set(const char *name, ray_scene *ours, void *embree,
     results_free(&re);
 }
 
-static void bench_mesh(const char *path, unsigned res, unsigned cpus,
-                       void *device)
+/*
+** The build, timed as the header says: for each row a warm-up, then reps
+** repetitions of ours and Embree's in turn; medians of each side and of
+** the repetitions' own ratios.  Then our memory after commit and at its
+** peak (the tree, and so its memory, is the same at any thread count).
+*/
+static void bench_build(const obj_mesh *obj, unsigned cpus)
+{
+    static const char *const row[2] = {
+        "one thread (Embree: device \"threads=1\", "
+        "RTC_BUILD_QUALITY_MEDIUM)",
+        "all threads (ours: ray_scene_set_build_threads 0; Embree: its "
+        "default device)"};
+    counting cnt = {0, 0};
+    long long kept = 0, peak = 0;
+    int mode, k;
+
+    printf("| BVH build | threads | ours ms | Embree ms | ours / Embree |\n");
+    printf("|---|---|---|---|---|\n");
+    for (mode = 0; mode < 2; mode++) {
+        double ours[9], emb[9], ratio[9];
+#ifdef HAVE_EMBREE
+        RTCDevice dev = rtcNewDevice(mode == 0 ? "threads=1" : NULL);
+#endif
+        for (k = -1; k < reps; k++) {
+            double to, te = 0;
+            ray_scene *s;
+            cnt.now = cnt.peak = 0;
+            s = our_scene_on(obj, &cnt, &to, 1, mode == 0 ? 1 : 0);
+            kept = cnt.now;
+            peak = cnt.peak;
+            ray_scene_free(s);
+#ifdef HAVE_EMBREE
+            rtcReleaseScene(embree_scene(dev, obj, &te));
+#endif
+            if (k < 0)
+                continue;              /* the warm-up */
+            ours[k] = to;
+            emb[k] = te;
+            ratio[k] = te > 0 ? to / te : 0;
+        }
+#ifdef HAVE_EMBREE
+        rtcReleaseDevice(dev);
+        printf("| %s | %u | %.1f | %.1f | %.2f |\n", row[mode],
+               mode == 0 ? 1 : cpus, 1e3 * median(ours, reps),
+               1e3 * median(emb, reps), median(ratio, reps));
+#else
+        (void)emb;
+        (void)ratio;
+        printf("| %s | %u | %.1f | - | - |\n", row[mode],
+               mode == 0 ? 1 : cpus, 1e3 * median(ours, reps));
+#endif
+    }
+    printf("\nMemory after commit %.1f bytes/triangle, peak %.1f during "
+           "commit\n", (double)kept / (double)obj->triangle_count,
+           (double)peak / (double)obj->triangle_count);
+}
+
+static void bench_mesh(const char *path, unsigned res, unsigned cpus)
 {
     obj_mesh obj;
     char err[600];
     counting cnt = {0, 0};
-    double builds[9], build_emb[9], b_ours, b_emb = 0, diag;
+    double b, diag;
     ray_scene *ours = NULL;
     void *emb = NULL;
     ray_vec3 centre;
     ray_set far, near, diffuse, shadow;
-    int k;
+#ifdef HAVE_EMBREE
+    RTCDevice device;
+#endif
 
     if (obj_load(path, &obj, err, sizeof err) != 0) {
         printf("(skipped: %s)\n\n", err);
         return;
     }
-    for (k = 0; k < reps; k++) {
-        if (ours != NULL)
-            ray_scene_free(ours);
-        cnt.now = cnt.peak = 0;
-        ours = our_scene(&obj, &cnt, &builds[k], 1);
-#ifdef HAVE_EMBREE
-        if (emb != NULL)
-            rtcReleaseScene((RTCScene)emb);
-        emb = embree_scene((RTCDevice)device, &obj, &build_emb[k]);
-#else
-        (void)device;
-        build_emb[k] = 0;
-#endif
-    }
-    b_ours = median(builds, reps);
     printf("### %s: %zu triangles\n\n", path, obj.triangle_count);
-    printf("BVH build (ray_scene_commit, one thread): %.1f ms; memory after "
-           "commit %.1f bytes/triangle, peak %.1f\n", 1e3 * b_ours,
-           (double)cnt.now / (double)obj.triangle_count,
-           (double)cnt.peak / (double)obj.triangle_count);
+    bench_build(&obj, cpus);
+    ours = our_scene(&obj, &cnt, &b, 1);
 #ifdef HAVE_EMBREE
-    b_emb = median(build_emb, reps);
-    printf("Embree rtcCommitScene (its own thread pool, all CPUs): %.1f ms\n",
-           1e3 * b_emb);
-#else
-    (void)b_emb;
-    (void)build_emb;
+    device = rtcNewDevice(NULL);
+    emb = embree_scene(device, &obj, &b);
 #endif
     printf("\n| rays | threads | count | ours Mrays/s | Embree Mrays/s | "
            "ours / Embree | same hit and primitive | max rel. t diff |\n");
@@ -481,6 +543,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus,
     ray_scene_free(ours);
 #ifdef HAVE_EMBREE
     rtcReleaseScene((RTCScene)emb);
+    rtcReleaseDevice(device);
 #endif
     obj_free(&obj);
 }
@@ -684,6 +747,121 @@ static void bench_grid_memory(void)
     free(idx);
 }
 
+#ifdef HAVE_EMBREE
+/* The text of "line" after "key" up to "stop" (or the line's end, less
+** its newline) into out; 0 if key is not in the line. */
+static int field_after(const char *line, const char *key, const char *stop,
+                       char *out, size_t size)
+{
+    const char *p = strstr(line, key), *end;
+    size_t n;
+
+    if (p == NULL)
+        return 0;
+    p += strlen(key);
+    while (*p == ' ')
+        p++;
+    end = stop != NULL ? strstr(p, stop) : NULL;
+    if (end == NULL)
+        end = p + strcspn(p, "\n");
+    while (end > p && end[-1] == ' ')
+        end--;
+    n = (size_t)(end - p) < size - 1 ? (size_t)(end - p) : size - 1;
+    memcpy(out, p, n);
+    out[n] = '\0';
+    return 1;
+}
+
+/*
+** Embree's instruction sets, as Embree itself reports them: a device made
+** with "verbose=3" prints on stdout, when it builds a scene, the builder
+** it selected and its intersectors, each named after the ISA its code was
+** compiled for ("avx::BVH8BuilderSAH", "avx512::BVH8Triangle4Intersector1
+** Moeller"), and its compiled targets.  stdout goes to a temporary file
+** meanwhile (fd 1 redirected, both sides of it flushed), then back.
+*/
+static void embree_isa(void)
+{
+    static const ray_vec3 v[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    static const unsigned idx[3] = {0, 1, 2};
+    char path[] = "/tmp/bench-mesh-embree-XXXXXX", line[1024];
+    char build[128] = "not reported", query[128] = "not reported";
+    char targets[256] = "not reported";
+    int fd = mkstemp(path), saved;
+    FILE *f;
+
+    if (fd < 0) {
+        printf("Embree ISA: unknown (no temporary file for its report)\n\n");
+        return;
+    }
+    fflush(stdout);
+    saved = dup(1);
+    if (saved >= 0 && dup2(fd, 1) >= 0) {
+        RTCDevice d = rtcNewDevice("verbose=3");
+        RTCScene sc = rtcNewScene(d);
+        RTCGeometry g = embree_triangles(d, v, 3, idx, 1, NULL);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(sc, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(sc);
+        rtcReleaseScene(sc);
+        rtcReleaseDevice(d);
+        fflush(stdout);
+        dup2(saved, 1);
+    }
+    if (saved >= 0)
+        close(saved);
+    f = fdopen(fd, "r");
+    if (f != NULL) {
+        rewind(f);
+        while (fgets(line, sizeof line, f) != NULL) {
+            if (strstr(line, "building ") != NULL)
+                field_after(line, " using ", " ...", build, sizeof build);
+            if (strstr(line, "intersector1 ") != NULL)
+                field_after(line, "=", NULL, query, sizeof query);
+            if (strstr(line, "(compile time enabled)") != NULL)
+                field_after(line, "", "(compile", targets, sizeof targets);
+        }
+        fclose(f);
+    } else
+        close(fd);
+    unlink(path);
+    printf("Embree ISA (from its verbose report): rtcIntersect1 %s; build %s; "
+           "compiled for %s\n\n", query, build, targets);
+}
+#endif
+
+/*
+** The instruction sets each side ran.  Ours: intersect.c runs the AVX2
+** copy of the queries when there is one and the CPU has AVX2 (this is
+** its rule: RAY__AVX2_COPY and __builtin_cpu_supports), else the
+** baseline; the build bins with SSE2 unless built with RAY_NO_SIMD; no
+** code of ours uses AVX-512, which the CPU's line says whether it has.
+*/
+static void print_isa(void)
+{
+    int avx2 = 0, avx512 = 0;
+
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+    avx2 = __builtin_cpu_supports("avx2") != 0;
+    avx512 = __builtin_cpu_supports("avx512f") != 0;
+#endif
+    printf("ISA: the CPU has AVX2 %s, AVX-512F %s; libray's queries ran "
+           "%s, its build binned with %s (libray has no AVX-512 code)\n\n",
+           avx2 ? "yes" : "no", avx512 ? "yes" : "no",
+           RAY__AVX2_COPY && avx2 ? "the AVX2 copy (intersect_avx2.c)"
+                                  : "the baseline copy",
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+           "SSE2"
+#else
+           "portable C"
+#endif
+    );
+#ifdef HAVE_EMBREE
+    embree_isa();
+#endif
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "data";
@@ -692,7 +870,6 @@ int main(int argc, char **argv)
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     unsigned cpus = n > 0 ? (n > 256 ? 256 : (unsigned)n) : 1;
     char path[512];
-    void *device = NULL;
 
     reps = quick ? 3 : 5;
     printf("## Meshes: the Stanford bunny, BVH vs %s\n\n",
@@ -709,21 +886,16 @@ int main(int argc, char **argv)
            "Median of %d runs (ours / Embree: median of the runs' own "
            "ratios, ours and Embree's alternating); %u CPUs.\n\n", res, res,
            reps, cpus);
-#ifdef HAVE_EMBREE
-    device = rtcNewDevice(NULL);
-#endif
     bench_grid_memory();
+    print_isa();
     snprintf(path, sizeof path, "%s/bunny.obj", dir);
     bench_brute(path);
     snprintf(path, sizeof path, "%s/bunny-2.obj", dir);
     bench_closest(path);
-    bench_mesh(path, res, cpus, device);
+    bench_mesh(path, res, cpus);
     if (!quick) {
         snprintf(path, sizeof path, "%s/bunny-4.obj", dir);
-        bench_mesh(path, res, cpus, device);
+        bench_mesh(path, res, cpus);
     }
-#ifdef HAVE_EMBREE
-    rtcReleaseDevice((RTCDevice)device);
-#endif
     return 0;
 }

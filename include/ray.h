@@ -837,7 +837,8 @@ RAY_API void ray_limits_init(ray_limits *l);
 ** serves every allocation the scene makes, with "alloc_ud", including
 ** those of ray_ctx_new and ray_render on it: these may run on several
 ** threads at once after commit, so a shared allocator must then be
-** thread-safe.  Returns RAY_OK, RAY_EINVAL (out NULL) or RAY_ENOMEM.
+** thread-safe (a commit allocates on its calling thread only, even one
+** that builds on several: ray_scene_set_build_threads).  Returns RAY_OK, RAY_EINVAL (out NULL) or RAY_ENOMEM.
 ** ray_scene_free -- release it; NULL is a no-op.  Free every context made
 ** on a scene (ray_ctx_free) before the scene itself.
 **
@@ -937,8 +938,8 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** when normals or texture coordinates are given (none when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
 ** triangle BVH keeps 4 bytes a leaf more, about 1 a triangle.
-** ray_scene_commit briefly needs about 180 bytes per triangle (189 on
-** the bunny).
+** ray_scene_commit briefly needs about 187 bytes per triangle (189 to
+** 191 on the bunny).
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data
 ** (RAY_UINT*); 0 is none of them. */
@@ -1121,10 +1122,31 @@ RAY_API unsigned ray_scene_effects(const ray_scene *scene);
 RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 
 /*
+** ray_scene_set_build_threads -- how many threads ray_scene_commit builds
+** the BVHs on: 1 (the default), the calling thread alone, so that the
+** library never starts a thread a program did not ask for (a game may
+** have its own threads busy); 0, one per online CPU; n, up to n (the
+** calling thread and n - 1 started inside the commit and joined before
+** it returns; no more than the build can use, at most 64).  The tree is
+** the same, bit for bit, at every thread count, so are the queries'
+** answers; a thread that cannot be started only means fewer threads.
+** The scene's allocator is still called on the committing thread only,
+** and the threads call nothing of the program's (user geometry's bounds
+** callback runs when it is added, not at commit).  Like every
+** ray_scene_set_*, a call after a commit stages a change (the scene
+** answers no query until it is committed again), but that commit
+** rebuilds nothing for it: the setting takes effect at the next build.
+** RAY_EINVAL (NULL).
+*/
+RAY_API int ray_scene_set_build_threads(ray_scene *scene, unsigned threads);
+
+/*
 ** ray_scene_commit -- make what was built or changed take effect: the
-** first commit builds the acceleration structures, a later one refits or
-** rebuilds only what changed since ("Changing a committed scene" below)
-** and takes the new boxes of instanced scenes committed again since.
+** first commit builds the acceleration structures (on the calling thread,
+** or on those ray_scene_set_build_threads asks for: the same tree), a
+** later one refits or rebuilds only what changed since ("Changing a
+** committed scene" below) and takes the new boxes of instanced scenes
+** committed again since.
 ** The scene then answers queries, from any number of threads, until its
 ** next change.  A commit with nothing staged (and no instanced scene
 ** committed again) does nothing and returns RAY_OK.  Returns RAY_OK,

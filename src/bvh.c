@@ -12,8 +12,10 @@
 ** differ).
 */
 #include <float.h>
+#include <pthread.h>
 #include <stddef.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "bvh.h"
 
@@ -94,15 +96,19 @@ static inline float centroid2(const ref *r, int axis)
     return r->lo[axis] + r->hi[axis];
 }
 
-typedef struct bin {
-    box b;
-    size_t count;
-} bin;
+/* The scale that maps doubled centroids to nb bins along each axis: nb *
+** (1 - eps) / extent keeps the largest centroid in range; a flat axis
+** gets scale 0 (everything in bin 0, never split). */
+static void bin_scales(const box *cb, int nb, float scale[3])
+{
+    int axis;
 
-/*
-** Drop refs[begin, end) into the first nb bins of each axis (bins[axis][b],
-** emptied first): the build's inner loop.
-*/
+    for (axis = 0; axis < 3; axis++) {
+        float extent = cb->hi[axis] - cb->lo[axis];
+        scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
+    }
+}
+
 #if defined(__SSE2__) && !defined(RAY_NO_SIMD)
 #include <emmintrin.h>
 
@@ -117,58 +123,194 @@ static inline __m128 ref_lanes(const ref *r, size_t at)
 }
 
 /*
-** With SSE: one register holds an item's lo (or hi) on all three axes,
-** so its three bins grow by one min and one max each, where the scalar
-** loop below does three of each; the bin indices of the three axes come
-** from one subtraction, one product, one clamp and one conversion.  The
-** arithmetic is bin_of's and box_grow's, lane for lane (minps / maxps
-** pick as their "a < b ? a : b"), so both loops make the same tree.
+** The bins with SSE, as registers: one holds a box's lo (or hi) on all
+** three axes.  An item's three bins grow by one min and one max each,
+** where the scalar loop (below, without SSE) does three of each; the bin
+** indices of the three axes come from one subtraction, one product, one
+** clamp and one conversion.  The arithmetic is bin_of's and box_grow's,
+** lane for lane (minps / maxps pick as their "a < b ? a : b").
 */
-static void bin_items(const builder *bd, size_t begin, size_t end,
-                      const box *cb, const float scale[3], int nb,
-                      bin bins[3][BINS])
+typedef struct bins4 {
+    __m128 lo[3][BINS], hi[3][BINS];
+    int count[3][BINS];
+} bins4;
+
+static void bins4_empty(bins4 *bn, int nb)
 {
-    __m128 lo_acc[3][BINS], hi_acc[3][BINS];
-    size_t count[3][BINS], i;
-    const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
-    const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
-    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
     int axis, b;
 
     for (axis = 0; axis < 3; axis++)
         for (b = 0; b < nb; b++) {
-            lo_acc[axis][b] = _mm_set1_ps(FLT_MAX);
-            hi_acc[axis][b] = _mm_set1_ps(-FLT_MAX);
-            count[axis][b] = 0;
+            bn->lo[axis][b] = _mm_set1_ps(FLT_MAX);
+            bn->hi[axis][b] = _mm_set1_ps(-FLT_MAX);
+            bn->count[axis][b] = 0;
         }
+}
+
+/*
+** Drop refs[begin, end) into the first nb bins of each axis: the build's
+** inner loop.  Items go in turn to two sets of bins, merged at the end:
+** successive items of a mesh tend to fall in the same bin, and one set
+** would chain every update of a bin on the one before (a store, a load
+** and a min each), where two halve the chains -- for nodes of PAIRS_MIN
+** items or more: below, emptying and merging the second set costs more
+** than it saves.  The merge may order two
+** zeros of opposite sign otherwise than one pass would; the boxes only
+** give the bins' areas, whose values (and so the tree) are the same.
+*/
+#define PAIRS_MIN 64
+
+static void bin_items(const builder *bd, size_t begin, size_t end,
+                      const box *cb, const float scale[3], int nb,
+                      bins4 *out)
+{
+    bins4 two;
+    size_t i;
+    const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
+    const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
+    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
+    int axis, b, pairs = end - begin >= PAIRS_MIN;
+
+    bins4_empty(out, nb);
+    if (pairs)
+        bins4_empty(&two, nb);
     for (i = begin; i < end; i++) {
+        bins4 *bn = pairs && ((i - begin) & 1) ? &two : out;
         __m128 lo = ref_lanes(&bd->refs[i], offsetof(ref, lo));
         __m128 hi = ref_lanes(&bd->refs[i], offsetof(ref, hi));
         __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
         int k[4];
         x = _mm_min_ps(_mm_max_ps(x, zero), top);
         _mm_storeu_si128((__m128i *)(void *)k, _mm_cvttps_epi32(x));
-        lo_acc[0][k[0]] = _mm_min_ps(lo_acc[0][k[0]], lo);
-        hi_acc[0][k[0]] = _mm_max_ps(hi_acc[0][k[0]], hi);
-        count[0][k[0]]++;
-        lo_acc[1][k[1]] = _mm_min_ps(lo_acc[1][k[1]], lo);
-        hi_acc[1][k[1]] = _mm_max_ps(hi_acc[1][k[1]], hi);
-        count[1][k[1]]++;
-        lo_acc[2][k[2]] = _mm_min_ps(lo_acc[2][k[2]], lo);
-        hi_acc[2][k[2]] = _mm_max_ps(hi_acc[2][k[2]], hi);
-        count[2][k[2]]++;
+        bn->lo[0][k[0]] = _mm_min_ps(bn->lo[0][k[0]], lo);
+        bn->hi[0][k[0]] = _mm_max_ps(bn->hi[0][k[0]], hi);
+        bn->count[0][k[0]]++;
+        bn->lo[1][k[1]] = _mm_min_ps(bn->lo[1][k[1]], lo);
+        bn->hi[1][k[1]] = _mm_max_ps(bn->hi[1][k[1]], hi);
+        bn->count[1][k[1]]++;
+        bn->lo[2][k[2]] = _mm_min_ps(bn->lo[2][k[2]], lo);
+        bn->hi[2][k[2]] = _mm_max_ps(bn->hi[2][k[2]], hi);
+        bn->count[2][k[2]]++;
     }
-    for (axis = 0; axis < 3; axis++)
+    for (axis = 0; axis < 3 && pairs; axis++)
         for (b = 0; b < nb; b++) {
-            float l[4], h[4];
-            _mm_storeu_ps(l, lo_acc[axis][b]);
-            _mm_storeu_ps(h, hi_acc[axis][b]);
-            memcpy(bins[axis][b].b.lo, l, sizeof bins[axis][b].b.lo);
-            memcpy(bins[axis][b].b.hi, h, sizeof bins[axis][b].b.hi);
-            bins[axis][b].count = count[axis][b];
+            out->lo[axis][b] = _mm_min_ps(out->lo[axis][b], two.lo[axis][b]);
+            out->hi[axis][b] = _mm_max_ps(out->hi[axis][b], two.hi[axis][b]);
+            out->count[axis][b] += two.count[axis][b];
         }
 }
+
+/*
+** box_area of four boxes at once, lane k of the result for box k (given
+** as registers of lo and hi): the same operations in the same order, so
+** the same floats.
+*/
+static inline __m128 area4(const __m128 *lo, const __m128 *hi)
+{
+    __m128 dx = _mm_sub_ps(hi[0], lo[0]), dy = _mm_sub_ps(hi[1], lo[1]);
+    __m128 dz = _mm_sub_ps(hi[2], lo[2]), dw = _mm_sub_ps(hi[3], lo[3]);
+    __m128 a;
+
+    _MM_TRANSPOSE4_PS(dx, dy, dz, dw);
+    a = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dy), _mm_mul_ps(dy, dz)),
+                   _mm_mul_ps(dz, dx));
+    return _mm_and_ps(a, _mm_cmpge_ps(dx, _mm_setzero_ps()));
+}
+
+/*
+** The best binned split of refs[begin, end), all three axes binned in one
+** pass over the items; cb is the box of the doubled centroids.  A node of
+** few items uses as many bins as items (at least 4): the sweep over 3 x 16
+** bins would otherwise cost more than the items themselves.  The sweep
+** takes the boxes on both sides of each of the nb - 1 candidate planes
+** (running unions, one min and one max a step), then their areas and
+** costs four planes at a time: the scalar sweep's arithmetic (without
+** SSE, below), lane for lane, so the same costs and the same choice.
+*/
+static split best_split(const builder *bd, size_t begin, size_t end,
+                        const box *cb, float node_area)
+{
+    bins4 bins;
+    float scale[3];
+    split best;
+    size_t count = end - begin;
+    int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
+    const __m128 trav = _mm_set1_ps(bd->costs->traversal);
+    const __m128 area = _mm_set1_ps(node_area);
+
+    best.axis = -1;
+    best.bin = 0;
+    best.bins = nb;
+    best.cost = HUGE_VALF;
+    best.cmin = 0;
+    best.scale = 0;
+    bin_scales(cb, nb, scale);
+    bin_items(bd, begin, end, cb, scale, nb, &bins);
+    for (axis = 0; axis < 3; axis++) {
+        /* Plane b (0 .. nb - 2) has bins 0 .. b on its left, the rest on
+        ** its right; the entries after nb - 2, up to a multiple of four,
+        ** are padding (empty). */
+        __m128 llo[BINS], lhi[BINS], rlo[BINS], rhi[BINS];
+        __m128 alo = _mm_set1_ps(FLT_MAX), ahi = _mm_set1_ps(-FLT_MAX);
+        int lcount[BINS], rcount[BINS], n = 0;
+        float cost[BINS];
+
+        if (scale[axis] == 0)
+            continue;
+        for (b = nb - 1; b < ((nb + 2) & ~3); b++) {
+            llo[b] = rlo[b] = alo;
+            lhi[b] = rhi[b] = ahi;
+            lcount[b] = rcount[b] = 0;
+        }
+        for (b = nb - 1; b > 0; b--) {
+            alo = _mm_min_ps(alo, bins.lo[axis][b]);
+            ahi = _mm_max_ps(ahi, bins.hi[axis][b]);
+            n += bins.count[axis][b];
+            rlo[b - 1] = alo;
+            rhi[b - 1] = ahi;
+            rcount[b - 1] = n;
+        }
+        alo = _mm_set1_ps(FLT_MAX);
+        ahi = _mm_set1_ps(-FLT_MAX);
+        n = 0;
+        for (b = 0; b < nb - 1; b++) {
+            alo = _mm_min_ps(alo, bins.lo[axis][b]);
+            ahi = _mm_max_ps(ahi, bins.hi[axis][b]);
+            n += bins.count[axis][b];
+            llo[b] = alo;
+            lhi[b] = ahi;
+            lcount[b] = n;
+        }
+        for (b = 0; b < nb - 1; b += 4) {
+            __m128 nl = _mm_cvtepi32_ps(_mm_loadu_si128(
+                            (const __m128i *)(const void *)&lcount[b]));
+            __m128 nr = _mm_cvtepi32_ps(_mm_loadu_si128(
+                            (const __m128i *)(const void *)&rcount[b]));
+            __m128 c = _mm_add_ps(trav, _mm_div_ps(
+                _mm_add_ps(_mm_mul_ps(area4(&llo[b], &lhi[b]), nl),
+                           _mm_mul_ps(area4(&rlo[b], &rhi[b]), nr)), area));
+            _mm_storeu_ps(&cost[b], c);
+        }
+        for (b = 0; b < nb - 1; b++) {
+            if (lcount[b] == 0 || rcount[b] == 0)
+                continue;
+            if (cost[b] < best.cost) {
+                best.cost = cost[b];
+                best.axis = axis;
+                best.bin = b;
+                best.cmin = cb->lo[axis];
+                best.scale = scale[axis];
+            }
+        }
+    }
+    return best;
+}
 #else
+typedef struct bin {
+    box b;
+    size_t count;
+} bin;
+
 /* The bin of doubled centroid c: clamped in float before the conversion
 ** (a NaN, from an infinite box, goes to bin 0), as the SSE binning does. */
 static inline int bin_of(float c, float cmin, float scale, int bins)
@@ -180,6 +322,8 @@ static inline int bin_of(float c, float cmin, float scale, int bins)
     return (int)x;
 }
 
+/* Drop refs[begin, end) into the first nb bins of each axis (emptied
+** first): the build's inner loop. */
 static void bin_items(const builder *bd, size_t begin, size_t end,
                       const box *cb, const float scale[3], int nb,
                       bin bins[3][BINS])
@@ -202,14 +346,8 @@ static void bin_items(const builder *bd, size_t begin, size_t end,
         }
     }
 }
-#endif
 
-/*
-** The best binned split of refs[begin, end), all three axes binned in one
-** pass over the items; cb is the box of the doubled centroids.  A node of
-** few items uses as many bins as items (at least 4): the sweep over 3 x 16
-** bins would otherwise cost more than the items themselves.
-*/
+/* best_split without SSE: the SSE one's rules, one plane at a time. */
 static split best_split(const builder *bd, size_t begin, size_t end,
                         const box *cb, float node_area)
 {
@@ -225,12 +363,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     best.cost = HUGE_VALF;
     best.cmin = 0;
     best.scale = 0;
-    for (axis = 0; axis < 3; axis++) {
-        float extent = cb->hi[axis] - cb->lo[axis];
-        /* nb * (1 - eps) / extent keeps the largest centroid in range; a
-        ** flat axis gets scale 0: everything in bin 0, never split. */
-        scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
-    }
+    bin_scales(cb, nb, scale);
     bin_items(bd, begin, end, cb, scale, nb, bins);
     for (axis = 0; axis < 3; axis++) {
         float right_area[BINS];
@@ -267,6 +400,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     }
     return best;
 }
+#endif
 
 /* The boxes a node needs before it is split: its items' box and the box
 ** of their doubled centroids. */
@@ -372,7 +506,7 @@ static size_t partition(builder *bd, size_t begin, size_t end,
     return i;
 }
 
-/* Bounds by a pass over the items (the root, and halved runs). */
+/* Bounds by a pass over the items (halved runs). */
 static void bounds_of(const builder *bd, size_t begin, size_t end,
                       bounds *out)
 {
@@ -450,7 +584,7 @@ static int build_node(builder *bd, const task *t, task *stack)
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh)
 {
     ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
-    ray__release(a, bvh->wide, bvh->n_wide * sizeof *bvh->wide);
+    ray__release(a, bvh->wide, bvh->cap_wide * sizeof *bvh->wide);
     ray__release(a, bvh->items, bvh->n_items * sizeof *bvh->items);
     ray__release(a, bvh->leaves, bvh->n_leaves * sizeof *bvh->leaves);
     memset(bvh, 0, sizeof *bvh);
@@ -483,24 +617,28 @@ static int opens(const ray__node *n)
 static int gather_children(const ray__node *nodes, unsigned n,
                            unsigned out[RAY__WIDTH])
 {
+    float area[RAY__WIDTH];      /* out[i]'s, taken once */
     int k = 2;
 
     out[0] = nodes[n].first;
     out[1] = nodes[n].first + 1;
+    area[0] = node_area(&nodes[out[0]]);
+    area[1] = node_area(&nodes[out[1]]);
     while (k < RAY__WIDTH) {
         int best = -1, i;
         float best_area = -1;
-        for (i = 0; i < k; i++) {
-            const ray__node *c = &nodes[out[i]];
-            if (opens(c) && node_area(c) > best_area) {
-                best_area = node_area(c);
+        for (i = 0; i < k; i++)
+            if (opens(&nodes[out[i]]) && area[i] > best_area) {
+                best_area = area[i];
                 best = i;
             }
-        }
         if (best < 0)
             break;
-        out[k++] = nodes[out[best]].first + 1;
+        out[k] = nodes[out[best]].first + 1;
         out[best] = nodes[out[best]].first;
+        area[k] = node_area(&nodes[out[k]]);
+        area[best] = node_area(&nodes[out[best]]);
+        k++;
     }
     return k;
 }
@@ -525,38 +663,39 @@ static void slot_empty(ray__wnode *q, int k)
     q->count[k] = RAY__LEAF;            /* a leaf of no items */
 }
 
-/* How many wide nodes the collapse makes: a dry run of it. */
-static size_t count_wide(const ray__node *nodes)
+/*
+** Room in the wide nodes for one more node's children (RAY__WIDTH), the
+** array grown by half when full.  RAY_OK or RAY_ENOMEM (*w kept).
+*/
+static int wide_room(const ray__allocator *a, ray__wnode **w, size_t *cap,
+                     size_t used)
 {
-    unsigned stack[RAY__WIDTH * 64];
-    size_t n = 1;
-    int sp = 0;
+    size_t more = *cap + *cap / 2 + RAY__WIDTH;
+    ray__wnode *grown;
 
-    if (opens(&nodes[0]))
-        stack[sp++] = 0;
-    while (sp > 0) {
-        unsigned kids[RAY__WIDTH];
-        int k, m = gather_children(nodes, stack[--sp], kids);
-        for (k = 0; k < m; k++)
-            if (opens(&nodes[kids[k]])) {
-                stack[sp++] = kids[k];
-                n++;
-            }
-    }
-    return n;
+    if (*cap - used >= RAY__WIDTH)
+        return RAY_OK;
+    grown = ray__reallocate(a, *w, *cap * sizeof **w, more * sizeof **w);
+    if (grown == NULL)
+        return RAY_ENOMEM;
+    *w = grown;
+    *cap = more;
+    return RAY_OK;
 }
 
 /*
-** Collapse the binary BVH into wide nodes, counted first so that the
-** array is allocated once at its size.  The children of a wide node are
-** numbered consecutively, depth first.
+** Collapse the binary BVH into wide nodes.  The children of a wide node
+** are numbered consecutively, depth first.  The array starts at a sixth
+** of the binary nodes (the bunnies need a seventh to an eighth), grows by
+** half when full and is trimmed to its size at the end: one walk of the
+** tree, where counting first took two.
 */
 static int collapse(const ray__allocator *a, ray__bvh *bvh)
 {
-    size_t cap = count_wide(bvh->nodes), used = 1;
+    size_t cap = bvh->n_nodes / 6 + RAY__WIDTH, used = 1;
     /* (binary node, wide node): RAY__WIDTH - 1 per level, 64 levels */
     unsigned stack[RAY__WIDTH * 64][2];
-    ray__wnode *w = ray__allocate(a, cap * sizeof *w);
+    ray__wnode *w = ray__allocate(a, cap * sizeof *w), *trimmed;
     int sp = 0;
 
     if (w == NULL)
@@ -576,7 +715,12 @@ static int collapse(const ray__allocator *a, ray__bvh *bvh)
     while (sp > 0) {
         unsigned n = stack[--sp][0], qi = stack[sp][1], kids[RAY__WIDTH];
         int k, m = gather_children(bvh->nodes, n, kids);
-        ray__wnode *q = &w[qi];
+        ray__wnode *q;
+        if (wide_room(a, &w, &cap, used) != RAY_OK) {
+            ray__release(a, w, cap * sizeof *w);
+            return RAY_ENOMEM;
+        }
+        q = &w[qi];
         for (k = 0; k < RAY__WIDTH; k++) {
             const ray__node *c;
             if (k >= m) {
@@ -596,23 +740,203 @@ static int collapse(const ray__allocator *a, ray__bvh *bvh)
             }
         }
     }
+    trimmed = ray__reallocate(a, w, cap * sizeof *w, used * sizeof *w);
+    if (trimmed != NULL) {               /* else keep the larger block */
+        w = trimmed;
+        cap = used;
+    }
     bvh->wide = w;
     bvh->n_wide = used;
+    bvh->cap_wide = cap;
     ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
     bvh->nodes = NULL;
     bvh->n_nodes = bvh->cap_nodes = 0;
     return RAY_OK;
 }
 
-int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
-                   const void *ud, size_t n, const ray__bvh_costs *costs,
-                   ray__bvh *out)
+/* ------------------------------------------------------ threaded build */
+
+/*
+** The threaded build.  The top of the tree is split on the calling thread,
+** depth first as ever, until every node left has at most top_limit(n)
+** items; those nodes become subtree tasks, numbered in the order the top
+** phase reaches them, and task j builds into its own run of the node
+** array, from region[j] on (2 m - 2 nodes at most below its root for m
+** items, so the runs fit in the 2 n - 1 a binary tree needs: the top's
+** L leaves take 2 L - 1, their runs 2 n - 2 L).  Each task works on its
+** own items (a contiguous range of refs) and its own nodes, so the
+** threads share nothing but the counter that hands out tasks, and what a
+** task writes does not depend on which thread ran it or when: the tree,
+** its item order and every float are the same at any thread count.  The
+** runs are then closed up in task order (their links moved with them),
+** so the node array shrinks to what the tree uses before the collapse
+** allocates the wide nodes, as in the plain build.
+** The splits are those of the plain depth-first build (the same code on
+** the same items), so the wide tree is too.
+*/
+
+/* Subtrees of at most n / TOP_SHARE items (and at least TOP_MIN): enough
+** tasks for dynamic scheduling to even out, whatever the thread count
+** (the rule must not depend on it), and few enough that the top stays
+** a small part of the work. */
+#define TOP_SHARE 64
+#define TOP_MIN 4096
+
+static size_t top_limit(size_t n)
+{
+    return n / TOP_SHARE > TOP_MIN ? n / TOP_SHARE : TOP_MIN;
+}
+
+typedef struct subtree {
+    task root;               /* its root node (in the top) and its items */
+    size_t region;           /* where its other nodes go */
+    size_t used;             /* how many it made there */
+} subtree;
+
+typedef struct build_job {
+    const ray__bvh_costs *costs;
+    ref *refs;
+    ray__node *nodes;
+    subtree *tasks;
+    const size_t *order;     /* tasks by size, largest first */
+    size_t n_tasks;
+    pthread_mutex_t lock;    /* guards next (threaded runs only) */
+    size_t next;
+} build_job;
+
+/* Build one subtree, depth first, into its region. */
+static void build_subtree(const build_job *job, subtree *st)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
-    size_t cap, i;
+    int sp = 1;
+
+    bd.costs = job->costs;
+    bd.refs = job->refs;
+    bd.nodes = job->nodes;
+    bd.n_nodes = st->region;
+    stack[0] = st->root;
+    while (sp > 0) {
+        task t = stack[--sp];
+        sp += build_node(&bd, &t, stack + sp);
+    }
+    st->used = bd.n_nodes - st->region;
+}
+
+static void *build_worker(void *arg)
+{
+    build_job *job = arg;
+
+    for (;;) {
+        size_t k;
+        pthread_mutex_lock(&job->lock);
+        k = job->next++;
+        pthread_mutex_unlock(&job->lock);
+        if (k >= job->n_tasks)
+            return NULL;
+        build_subtree(job, &job->tasks[job->order[k]]);
+    }
+}
+
+static unsigned online_cpus(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (n > 1024 ? 1024u : (unsigned)n) : 1u;
+}
+
+/* Larger subtrees first: the last task to start is then a small one, and
+** the threads finish close together. */
+static void order_by_size(const subtree *tasks, size_t n, size_t *order)
+{
+    size_t i, j;
+
+    for (i = 0; i < n; i++) {
+        size_t m = tasks[i].root.end - tasks[i].root.begin;
+        for (j = i; j > 0; j--) {
+            const task *o = &tasks[order[j - 1]].root;
+            if (o->end - o->begin >= m)
+                break;
+            order[j] = order[j - 1];
+        }
+        order[j] = i;
+    }
+}
+
+/*
+** Run the subtree tasks on "threads" threads (the caller's included):
+** fewer if a thread cannot be started or the job's mutex cannot be made
+** (then the caller builds them all), the same tree either way.  Thread
+** handles live in a small array on the stack, in batches, so that no
+** allocation is needed here.
+*/
+#define THREAD_BATCH 64
+
+static void run_subtrees(build_job *job, unsigned threads)
+{
+    pthread_t tid[THREAD_BATCH];
+    int started[THREAD_BATCH];
+    unsigned i, n = 0;
+
+    job->next = 0;
+    if (threads > THREAD_BATCH)
+        threads = THREAD_BATCH;
+    if (threads > job->n_tasks)
+        threads = (unsigned)job->n_tasks;
+    if (threads > 1 && pthread_mutex_init(&job->lock, NULL) == 0) {
+        n = threads - 1;
+        for (i = 0; i < n; i++)
+            started[i] = pthread_create(&tid[i], NULL, build_worker,
+                                        job) == 0;
+        build_worker(job);
+        for (i = 0; i < n; i++)
+            if (started[i])
+                pthread_join(tid[i], NULL);
+        pthread_mutex_destroy(&job->lock);
+        return;
+    }
+    for (i = 0; i < job->n_tasks; i++)
+        build_subtree(job, &job->tasks[job->order[i]]);
+}
+
+/*
+** Close up the subtrees' runs, in task order, from node "at" on: a run
+** moves down by the gaps before it, and so do the links into it (its
+** inner nodes' and its root's).  Returns the node count.
+*/
+static size_t close_up(ray__node *nodes, const subtree *tasks,
+                       size_t n_tasks, size_t at)
+{
+    size_t j, k;
+
+    for (j = 0; j < n_tasks; j++) {
+        const subtree *st = &tasks[j];
+        unsigned shift = (unsigned)(st->region - at);
+        ray__node *root = &nodes[st->root.node];
+        if (shift != 0 && st->used > 0) {
+            memmove(&nodes[at], &nodes[st->region],
+                    st->used * sizeof *nodes);
+            for (k = at; k < at + st->used; k++)
+                if (nodes[k].count == 0)
+                    nodes[k].first -= shift;
+            if (root->count == 0)
+                root->first -= shift;
+        }
+        at += st->used;
+    }
+    return at;
+}
+
+int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
+                   const void *ud, size_t n, const ray__bvh_costs *costs,
+                   unsigned threads, ray__bvh *out)
+{
+    builder bd;
+    task stack[2 * MAX_DEPTH + 4];
+    size_t cap, i, limit, region, n_tasks = 0, cap_tasks = 0;
+    subtree *tasks = NULL;
+    size_t *order = NULL;
     unsigned *items;
-    int sp = 0;
+    int sp = 0, rc = RAY_OK;
 
     memset(out, 0, sizeof *out);
     if (n == 0)
@@ -625,31 +949,82 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     bd.nodes = ray__allocate(a, cap * sizeof *bd.nodes);
     items = ray__allocate(a, n * sizeof *items);
     if (bd.refs == NULL || bd.nodes == NULL || items == NULL) {
-        ray__release(a, bd.refs, n * sizeof *bd.refs);
-        ray__release(a, bd.nodes, cap * sizeof *bd.nodes);
-        ray__release(a, items, n * sizeof *items);
-        return RAY_ENOMEM;
+        rc = RAY_ENOMEM;
+        goto done;
     }
-    for (i = 0; i < n; i++) {
-        box_of(ud, i, bd.refs[i].lo, bd.refs[i].hi);
-        bd.refs[i].id = (unsigned)i;
-        bd.refs[i].pad = 0;
-    }
-    bd.n_nodes = 1;
     {
+        /* The root's bounds as the records are made (bounds_of's
+        ** operations in its order, without a pass of its own). */
         bounds root;
-        bounds_of(&bd, 0, n, &root);
+        bounds4 b;
+        bounds4_empty(&b);
+        for (i = 0; i < n; i++) {
+            box_of(ud, i, bd.refs[i].lo, bd.refs[i].hi);
+            bd.refs[i].id = (unsigned)i;
+            bd.refs[i].pad = 0;
+            bounds4_grow(&b, &bd.refs[i]);
+        }
+        bounds4_store(&b, &root);
+        bd.n_nodes = 1;
         child_task(&stack[0], 0, 0, n, 0, &root);
     }
     sp = 1;
-    /* Depth-first: the stack never holds more than two tasks per level. */
+    /* The top, depth first: the stack never holds more than two tasks per
+    ** level.  A node small enough becomes a subtree task. */
+    limit = top_limit(n);
     while (sp > 0) {
         task t = stack[--sp];
-        sp += build_node(&bd, &t, stack + sp);
+        if (t.end - t.begin > limit) {
+            sp += build_node(&bd, &t, stack + sp);
+            continue;
+        }
+        if (n_tasks == cap_tasks) {
+            size_t more = cap_tasks ? 2 * cap_tasks : 2 * TOP_SHARE;
+            subtree *grown = ray__reallocate(a, tasks,
+                                             cap_tasks * sizeof *tasks,
+                                             more * sizeof *tasks);
+            if (grown == NULL) {
+                rc = RAY_ENOMEM;
+                goto done;
+            }
+            tasks = grown;
+            cap_tasks = more;
+        }
+        tasks[n_tasks++].root = t;
+    }
+    if (n_tasks > 0) {
+        order = ray__allocate(a, n_tasks * sizeof *order);
+        if (order == NULL) {
+            rc = RAY_ENOMEM;
+            goto done;
+        }
+        region = bd.n_nodes;
+        for (i = 0; i < n_tasks; i++) {
+            tasks[i].region = region;
+            region += 2 * (tasks[i].root.end - tasks[i].root.begin) - 2;
+        }
+        order_by_size(tasks, n_tasks, order);
+        {
+            build_job job;
+            job.costs = costs;
+            job.refs = bd.refs;
+            job.nodes = bd.nodes;
+            job.tasks = tasks;
+            job.order = order;
+            job.n_tasks = n_tasks;
+            run_subtrees(&job, threads ? threads : online_cpus());
+        }
     }
     for (i = 0; i < n; i++)
         items[i] = bd.refs[i].id;
+    bd.n_nodes = close_up(bd.nodes, tasks, n_tasks, bd.n_nodes);
+    /* Before the collapse allocates: the peak stays where it was. */
+    ray__release(a, order, n_tasks * sizeof *order);
+    ray__release(a, tasks, cap_tasks * sizeof *tasks);
     ray__release(a, bd.refs, n * sizeof *bd.refs);
+    order = NULL;
+    tasks = NULL;
+    bd.refs = NULL;
     out->nodes = ray__reallocate(a, bd.nodes, cap * sizeof *bd.nodes,
                                  bd.n_nodes * sizeof *bd.nodes);
     out->cap_nodes = bd.n_nodes;
@@ -660,11 +1035,19 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     out->n_nodes = bd.n_nodes;
     out->items = items;
     out->n_items = n;
+    bd.nodes = NULL;
+    items = NULL;
     if (collapse(a, out) != RAY_OK) {
         ray__bvh_free(a, out);
-        return RAY_ENOMEM;
+        rc = RAY_ENOMEM;
     }
-    return RAY_OK;
+done:
+    ray__release(a, order, n_tasks * sizeof *order);
+    ray__release(a, tasks, cap_tasks * sizeof *tasks);
+    ray__release(a, bd.refs, n * sizeof *bd.refs);
+    ray__release(a, bd.nodes, cap * sizeof *bd.nodes);
+    ray__release(a, items, n * sizeof *items);
+    return rc;
 }
 
 /* Slot k of node q fitted to box b. */

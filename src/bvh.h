@@ -44,7 +44,7 @@ typedef struct ray__bvh {
     ray__node *nodes;    /* binary BVH: built first, freed after collapse */
     size_t n_nodes, cap_nodes;
     ray__wnode *wide;    /* what traversal uses */
-    size_t n_wide;
+    size_t n_wide, cap_wide;
     unsigned *items;     /* leaf order -> item index */
     size_t n_items;
     unsigned *leaves;    /* refit's: the leaf slots (node * RAY__WIDTH +
@@ -84,9 +84,14 @@ static inline void *ray__reallocate(const ray__allocator *a, void *ptr,
 /*
 ** Build a BVH over n items whose float boxes box(ud, i, lo, hi) writes
 ** (rounded outward), with the binned surface-area heuristic, collapsed to
-** RAY__WIDTH-wide nodes.  On success *out holds the nodes and the item
-** permutation (through allocator a).  RAY_OK or RAY_ENOMEM (nothing
-** kept).  ray__bvh_free gives them back through the same allocator.
+** RAY__WIDTH-wide nodes, on up to "threads" threads (0: one per online
+** CPU; the calling thread is one of them, the others are started and
+** joined inside).  The tree is the same, bit for bit, at every thread
+** count.  box and the allocator are called on the calling thread only.
+** On success *out holds the nodes and the item permutation (through
+** allocator a).  RAY_OK or RAY_ENOMEM (nothing kept); a thread that
+** cannot be started only means fewer threads.  ray__bvh_free gives them
+** back through the same allocator.
 */
 typedef void (*ray__box_fn)(const void *ud, size_t i, float lo[3],
                             float hi[3]);
@@ -96,7 +101,7 @@ typedef struct ray__bvh_costs {
 } ray__bvh_costs;
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
-                   ray__bvh *out);
+                   unsigned threads, ray__bvh *out);
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
 /*

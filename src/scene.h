@@ -150,6 +150,8 @@ struct ray_scene {
     ray_limits limits;
     int prune;               /* ray_scene_set_pruning; 1 by default */
     int watertight;          /* ray_scene_set_watertight; 1 by default */
+    unsigned build_threads;  /* ray_scene_set_build_threads; 1 by default,
+                                0: one per online CPU */
     unsigned effects;        /* what the scene can need, set by commit */
     unsigned material_effects; /* the effects of the materials its
                                   enabled geometry uses (what an instance

@@ -967,6 +967,7 @@ static int after_commit(ray_scene *s, int k)
     case 14: return ray_scene_set_limits(s, NULL);
     case 15: return ray_scene_set_pruning(s, 0);
     case 16: return ray_scene_set_watertight(s, 0);
+    case 17: return ray_scene_set_build_threads(s, 2);
     default: return ray_scene_commit(s);
     }
 }
@@ -978,7 +979,8 @@ static const char *const building_calls[] = {
     "ray_scene_add_parametric", "ray_scene_add_bezier", "ray_scene_add_light",
     "ray_scene_set_background", "ray_scene_set_background_fn",
     "ray_scene_set_ambient", "ray_scene_set_limits", "ray_scene_set_pruning",
-    "ray_scene_set_watertight", "ray_scene_commit"};
+    "ray_scene_set_watertight", "ray_scene_set_build_threads",
+    "ray_scene_commit"};
 
 #define N_BUILDING ((int)(sizeof building_calls / sizeof building_calls[0]))
 

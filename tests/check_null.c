@@ -166,6 +166,7 @@ START_TEST(scene_calls_should_refuse_null)
     ck_assert_int_eq(ray_scene_set_limits(NULL, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_pruning(NULL, 1), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_watertight(NULL, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_build_threads(NULL, 2), RAY_EINVAL);
     ck_assert_uint_eq(ray_scene_effects(NULL), 0);
     ck_assert_uint_eq(ray_scene_light_count(NULL), 0);
     ck_assert_uint_eq(ray_light_samples(NULL, 0), 0);
