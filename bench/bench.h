@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bench.h -- what the benchmarks share: medians, PSNR, a counting
-** allocator, a large grid mesh; and, from tests/testkit.h, a generator,
+** bench.h -- what the benchmarks share: camera and cosine rays, medians,
+** PSNR, a counting allocator, a large grid mesh; and, from tests/testkit.h, a generator,
 ** image error (rmse) and a scene whose material shades nothing.
 ** Header-only; not part of the library.
 */
@@ -14,6 +14,46 @@
 
 #include "ray.h"
 #include "testkit.h"
+
+/* The ray through pixel (x, y) of a res x res image from a camera on +z
+** at dist diagonals from "centre", looking down -z, 45 degrees: the mesh
+** benchmarks' primary rays. */
+static inline ray_ray bench_camera_ray(ray_vec3 centre, double diag,
+                                       double dist, unsigned res, unsigned x,
+                                       unsigned y)
+{
+    double half = tan(45.0 * 3.14159265358979323846 / 360.0);
+    ray_ray r;
+
+    r.org = ray_vec3_make(centre.x, centre.y, centre.z + dist * diag);
+    r.dir = ray_vec3_make((2 * (x + 0.5) / res - 1) * half,
+                          (1 - 2 * (y + 0.5) / res) * half, -1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    return r;
+}
+
+/* A direction from the cosine distribution about the unit normal n, for
+** uniform u1, u2 in [0, 1) (Malley's method: a uniform disk sample lifted
+** to the hemisphere). */
+static inline ray_vec3 bench_cosine_dir(ray_vec3 n, double u1, double u2)
+{
+    ray_vec3 t1, t2;
+    double r, phi;
+
+    t1 = fabs(n.x) > 0.5 ? ray_vec3_make(n.y, -n.x, 0)
+                         : ray_vec3_make(0, n.z, -n.y);
+    r = sqrt(t1.x * t1.x + t1.y * t1.y + t1.z * t1.z);
+    t1 = ray_vec3_make(t1.x / r, t1.y / r, t1.z / r);
+    t2 = ray_vec3_make(n.y * t1.z - n.z * t1.y, n.z * t1.x - n.x * t1.z,
+                       n.x * t1.y - n.y * t1.x);
+    r = sqrt(u1);
+    phi = 2 * 3.14159265358979323846 * u2;
+    return ray_vec3_make(
+        t1.x * r * cos(phi) + t2.x * r * sin(phi) + n.x * sqrt(1 - u1),
+        t1.y * r * cos(phi) + t2.y * r * sin(phi) + n.y * sqrt(1 - u1),
+        t1.z * r * cos(phi) + t2.z * r * sin(phi) + n.z * sqrt(1 - u1));
+}
 
 static int bench_cmp_double(const void *a, const void *b)
 {

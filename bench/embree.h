@@ -79,6 +79,28 @@ static inline int embree_hit(RTCScene scene, const ray_ray *r, float *t,
         *prim = rh.hit.primID;
     return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
+
+/* Embree's any hit of r (rtcOccluded1, in float): 1 if occluded. */
+static inline int embree_occluded(RTCScene scene, const ray_ray *r)
+{
+    struct RTCIntersectContext ctx;
+    struct RTCRay ray;
+
+    rtcInitIntersectContext(&ctx);
+    ray.org_x = (float)r->org.x;
+    ray.org_y = (float)r->org.y;
+    ray.org_z = (float)r->org.z;
+    ray.dir_x = (float)r->dir.x;
+    ray.dir_y = (float)r->dir.y;
+    ray.dir_z = (float)r->dir.z;
+    ray.tnear = (float)r->tmin;
+    ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
+    ray.mask = 0xffffffffu;
+    ray.flags = 0;
+    ray.time = 0;
+    rtcOccluded1(scene, &ctx, &ray);
+    return ray.tfar < 0;
+}
 #endif
 
 #endif

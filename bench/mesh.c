@@ -78,7 +78,6 @@ static ray_set primary_rays(ray_vec3 centre, double diag, double dist,
                             unsigned res)
 {
     ray_set s;
-    double half = tan(45.0 * 3.14159265358979323846 / 360.0);
     unsigned x, y;
 
     s.n = (size_t)res * res;
@@ -87,14 +86,9 @@ static ray_set primary_rays(ray_vec3 centre, double diag, double dist,
     if (s.rays == NULL)
         exit(1);
     for (y = 0; y < res; y++)
-        for (x = 0; x < res; x++) {
-            ray_ray *r = &s.rays[(size_t)y * res + x];
-            r->org = vec(centre.x, centre.y, centre.z + dist * diag);
-            r->dir = vec((2 * (x + 0.5) / res - 1) * half,
-                         (1 - 2 * (y + 0.5) / res) * half, -1);
-            r->tmin = 0;
-            r->tmax = HUGE_VAL;
-        }
+        for (x = 0; x < res; x++)
+            s.rays[(size_t)y * res + x] =
+                bench_camera_ray(centre, diag, dist, res, x, y);
     return s;
 }
 
@@ -124,26 +118,17 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *prim,
         exit(1);
     for (i = 0; i < prim->n; i++) {
         ray_hit h;
-        ray_vec3 n, t1, t2, d;
-        double u1, u2, r, phi;
+        ray_vec3 n, d;
+        double u1, u2;
         if (!ray_intersect(scene, &prim->rays[i], &h))
             continue;
         n = h.n;
         if (n.x * prim->rays[i].dir.x + n.y * prim->rays[i].dir.y +
             n.z * prim->rays[i].dir.z > 0)
             n = vec(-n.x, -n.y, -n.z);
-        t1 = fabs(n.x) > 0.5 ? vec(n.y, -n.x, 0) : vec(0, n.z, -n.y);
-        r = sqrt(t1.x * t1.x + t1.y * t1.y + t1.z * t1.z);
-        t1 = vec(t1.x / r, t1.y / r, t1.z / r);
-        t2 = vec(n.y * t1.z - n.z * t1.y, n.z * t1.x - n.x * t1.z,
-                 n.x * t1.y - n.y * t1.x);
         u1 = rng_unit(&g);
         u2 = rng_unit(&g);
-        r = sqrt(u1);
-        phi = 2 * 3.14159265358979323846 * u2;
-        d = vec(t1.x * r * cos(phi) + t2.x * r * sin(phi) + n.x * sqrt(1 - u1),
-                t1.y * r * cos(phi) + t2.y * r * sin(phi) + n.y * sqrt(1 - u1),
-                t1.z * r * cos(phi) + t2.z * r * sin(phi) + n.z * sqrt(1 - u1));
+        d = bench_cosine_dir(n, u1, u2);
         if (ray_spawn(&h, d, &s.rays[s.n]) == RAY_OK) {
             s.rays[s.n].tmin = 1e-5 * diag;
             s.n++;
@@ -169,23 +154,8 @@ typedef struct job {
 static void embree_trace(RTCScene scene, const ray_ray *r, int occlusion,
                          results *out, size_t i)
 {
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
     if (occlusion) {
-        struct RTCRay ray;
-        ray.org_x = (float)r->org.x;
-        ray.org_y = (float)r->org.y;
-        ray.org_z = (float)r->org.z;
-        ray.dir_x = (float)r->dir.x;
-        ray.dir_y = (float)r->dir.y;
-        ray.dir_z = (float)r->dir.z;
-        ray.tnear = (float)r->tmin;
-        ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
-        ray.mask = 0xffffffffu;
-        ray.flags = 0;
-        ray.time = 0;
-        rtcOccluded1(scene, &ctx, &ray);
-        out->hit[i] = ray.tfar < 0;
+        out->hit[i] = (unsigned char)embree_occluded(scene, r);
     } else {
         float t;
         out->hit[i] = (unsigned char)embree_hit(scene, r, &t,

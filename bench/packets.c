@@ -48,7 +48,6 @@ typedef struct ray_set {
 static ray_set camera_rays(ray_vec3 centre, double diag, double dist,
                            unsigned res, const char *name)
 {
-    double half = tan(45.0 * 3.14159265358979323846 / 360.0);
     ray_set s;
     unsigned bx, by, j;
 
@@ -60,15 +59,10 @@ static ray_set camera_rays(ray_vec3 centre, double diag, double dist,
         exit(1);
     for (by = 0; by < res; by += 2)
         for (bx = 0; bx < res; bx += 4)
-            for (j = 0; j < 8; j++) {
-                unsigned x = bx + j % 4, y = by + j / 4;
-                ray_ray *r = &s.rays[(size_t)by * res + (size_t)bx * 2 + j];
-                r->org = vec(centre.x, centre.y, centre.z + dist * diag);
-                r->dir = vec((2 * (x + 0.5) / res - 1) * half,
-                             (1 - 2 * (y + 0.5) / res) * half, -1);
-                r->tmin = 0;
-                r->tmax = HUGE_VAL;
-            }
+            for (j = 0; j < 8; j++)
+                s.rays[(size_t)by * res + (size_t)bx * 2 + j] =
+                    bench_camera_ray(centre, diag, dist, res, bx + j % 4,
+                                     by + j / 4);
     return s;
 }
 
@@ -92,8 +86,8 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *cam,
     for (i = 0; i < cam->n; i++) {
         ray_hit h;
         ray_ray *out = &s.rays[s.n];
-        ray_vec3 n, t1, t2, d;
-        double u1, u2, r, phi;
+        ray_vec3 n, d;
+        double u1, u2;
         if (ray_intersect(scene, &cam->rays[i], &h) <= 0)
             continue;
         if (shadow) {
@@ -106,16 +100,9 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *cam,
         n = h.n;
         if (ray_vec3_dot(n, cam->rays[i].dir) > 0)
             n = vec(-n.x, -n.y, -n.z);
-        t1 = fabs(n.x) > 0.5 ? vec(n.y, -n.x, 0) : vec(0, n.z, -n.y);
-        t1 = ray_vec3_scale(t1, 1 / sqrt(ray_vec3_dot(t1, t1)));
-        t2 = ray_vec3_cross(n, t1);
         u1 = rng_unit(&g);
         u2 = rng_unit(&g);
-        r = sqrt(u1);
-        phi = 2 * 3.14159265358979323846 * u2;
-        d = ray_vec3_add(ray_vec3_add(ray_vec3_scale(t1, r * cos(phi)),
-                                      ray_vec3_scale(t2, r * sin(phi))),
-                         ray_vec3_scale(n, sqrt(1 - u1)));
+        d = bench_cosine_dir(n, u1, u2);
         if (ray_spawn(&h, d, out) == RAY_OK) {
             out->tmin = 1e-5 * diag;
             s.n++;
@@ -179,24 +166,9 @@ static void embree_one(RTCScene scene, const ray_set *set, results *out)
 
     for (i = 0; i < set->n; i++) {
         const ray_ray *r = &set->rays[i];
-        if (set->occlusion) {
-            struct RTCIntersectContext ctx;
-            struct RTCRay ray;
-            rtcInitIntersectContext(&ctx);
-            ray.org_x = (float)r->org.x;
-            ray.org_y = (float)r->org.y;
-            ray.org_z = (float)r->org.z;
-            ray.dir_x = (float)r->dir.x;
-            ray.dir_y = (float)r->dir.y;
-            ray.dir_z = (float)r->dir.z;
-            ray.tnear = (float)r->tmin;
-            ray.tfar = r->tmax < HUGE_VAL ? (float)r->tmax : INFINITY;
-            ray.mask = 0xffffffffu;
-            ray.flags = 0;
-            ray.time = 0;
-            rtcOccluded1(scene, &ctx, &ray);
-            out->res[i] = ray.tfar < 0;
-        } else
+        if (set->occlusion)
+            out->res[i] = embree_occluded(scene, r);
+        else
             out->res[i] = embree_hit(scene, r, &out->t[i], &out->prim[i]);
     }
 }

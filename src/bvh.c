@@ -90,6 +90,20 @@ typedef struct split {
     float cmin, scale;       /* bin of c = (c - cmin) * scale */
 } split;
 
+/* No split found yet among nb bins: any split's cost is lower. */
+static split split_none(int nb)
+{
+    split none;
+
+    none.axis = -1;
+    none.bin = 0;
+    none.bins = nb;
+    none.cost = HUGE_VALF;
+    none.cmin = 0;
+    none.scale = 0;
+    return none;
+}
+
 /* Twice the centroid along "axis". */
 static inline float centroid2(const ref *r, int axis)
 {
@@ -238,12 +252,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     const __m128 trav = _mm_set1_ps(bd->costs->traversal);
     const __m128 area = _mm_set1_ps(node_area);
 
-    best.axis = -1;
-    best.bin = 0;
-    best.bins = nb;
-    best.cost = HUGE_VALF;
-    best.cmin = 0;
-    best.scale = 0;
+    best = split_none(nb);
     bin_scales(cb, nb, scale);
     bin_items(bd, begin, end, cb, scale, nb, &bins);
     for (axis = 0; axis < 3; axis++) {
@@ -357,12 +366,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
     size_t count = end - begin;
     int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
 
-    best.axis = -1;
-    best.bin = 0;
-    best.bins = nb;
-    best.cost = HUGE_VALF;
-    best.cmin = 0;
-    best.scale = 0;
+    best = split_none(nb);
     bin_scales(cb, nb, scale);
     bin_items(bd, begin, end, cb, scale, nb, bins);
     for (axis = 0; axis < 3; axis++) {
