@@ -279,6 +279,42 @@ int ray__sphere_naive(const ray_ray *r, ray_vec3 center, double radius,
 ** 128) swamps the ~1 difference, so the naive test misclassifies rays a
 ** little inside the silhouette; the cancellation-free form does not.
 */
+/*
+** Rays passing just inside and just outside tangency, a relative 2^-20 of
+** the radius, for radii from 1e-100 to 1e100, origins from 1 to 1e6 radii
+** away and sphere centres up to 1e3 radii from the world origin: inside
+** must hit and outside must miss.  2^-20 is far above every rounding in
+** play (the test's l is within 17u |f| of the true distance, 2e-9 R at
+** |f| = 1e6 R; building the ray adds a few ulps of 1e6 R), and far below
+** what a wrong early out would need to be caught: ray_sphere's cheap
+** "surely missed" test (sphere.c) answers for these outside rays at
+** |f| <= 1e6 R (its margin is 512u |f| <= 6e-8 R), the full test for
+** the inside ones.
+*/
+START_TEST(sphere_should_decide_near_tangent_rays_at_every_scale)
+{
+    rng g = {2024};
+    int k, wrong = 0;
+
+    for (k = 0; k < 20000; k++) {
+        double R = pow(10, -100 + 200 * rng_unit(&g));
+        double away = pow(10, 6 * rng_unit(&g)) * R;
+        ray_vec3 c = vscale(rng_dir(&g), 1e3 * R * rng_unit(&g));
+        ray_vec3 d = rng_dir(&g), side;
+        double inside = (k & 1) ? 1 + 0x1p-20 : 1 - 0x1p-20;
+        ray_ray r;
+        ray_hit h;
+        side = fabs(d.x) > 0.5 ? vec(d.y, -d.x, 0) : vec(0, d.z, -d.y);
+        side = vscale(side, 1 / sqrt(vdot(side, side)));
+        r = make_ray(vadd(vadd(c, vscale(side, R * inside)),
+                            vscale(d, -away)),
+                     d, 0, HUGE_VAL);
+        wrong += ray_sphere(&r, c, R, &h) != !(k & 1);
+    }
+    ck_assert_int_eq(wrong, 0);
+}
+END_TEST
+
 START_TEST(sphere_should_beat_naive_formula_when_far)
 {
     ray_vec3 c = vec(0, 0, -1e9);
@@ -317,6 +353,7 @@ Suite *sphere_suite(void)
     tcase_add_loop_test(hard, sphere_should_hit_tiny_and_far, 0, N_OFFSETS);
     tcase_add_test(hard, sphere_should_hit_huge_ground_near_origin);
     tcase_add_test(hard, sphere_should_beat_naive_formula_when_far);
+    tcase_add_test(hard, sphere_should_decide_near_tangent_rays_at_every_scale);
     tcase_add_test(prop, sphere_should_reproduce_aimed_points);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);
