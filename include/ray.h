@@ -1167,9 +1167,10 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 ** -RAY_ESTATE for a scene not committed (never, or changed since its
 ** last commit) or when the ray meets an instance whose scene was changed
 ** since this scene's commit (*hit untouched).  So test "> 0" for a hit:
-** a negative value is true in C.  Of two triangles of a scene hit at the
-** same t (a ray through a shared edge or vertex), the one with the lower
-** (geom_id, prim_id) is the nearest, whatever order the search met them in.
+** a negative value is true in C.  Of two triangles of the scene itself
+** (not reached through an instance) hit at the same t (a ray through a
+** shared edge or vertex), the one with the lower (geom_id, prim_id) is
+** the nearest, whatever order the search met them in.
 */
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
                           ray_hit *hit);
@@ -1422,8 +1423,8 @@ RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
 ** query, the rays are traced eight at a time (rays[0..7], rays[8..15],
 ** ...) through the BVH together: much faster when those eight are close
 ** in origin and direction (a 4x2 block of pixels, shadow rays from nearby
-** points to one light), no faster when they scatter; other scenes trace
-** them one by one.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
+** points to one light), somewhat slower when they scatter; other scenes
+** trace them one by one.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
 ** results or, for ray_intersect_n, hits NULL with n > 0) or RAY_ESTATE
 ** (not committed), writing nothing.
 */

@@ -850,8 +850,11 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
 ** that would skip it does, and trav_init cost 9% of the Whitted
 ** render's profile (perf, examples/whitted 1024 x 768, one thread).  The
 ** answers are the traversal's: the box test only ever skips spheres that
-** the ray misses (up to ties in t between two spheres, settled by order
-** in both).
+** the ray misses.  Two spheres hit at exactly the same t are settled by
+** the order they are tested in, in the BVH's leaf order here and in
+** box-entry order there, so such a tie may go the other way
+** (ray_intersect(3) leaves ties between kinds other than triangles
+** unspecified).
 */
 #define FEW_SPHERES 4
 
