@@ -75,7 +75,7 @@ static ray_ray *batch_rays(const hc_mesh *m, ray_vec3 centre, size_t n,
         if (i % 97 == 5)
             r[i].dir = v3(0, 0, 0);
         else if (i % 97 == 17)
-            r[i].dir.y = NAN;
+            r[i].dir.y = (double)NAN;
         else if (i % 97 == 29)
             r[i].tmax = 0.5;
         else if (i % 97 == 41)
