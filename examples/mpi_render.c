@@ -1,0 +1,325 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** mpi_render.c -- one frame rendered by several processes, on one machine
+** or many, with MPI (issue 20).  Built only where mpicc exists (make
+** mpi-demo, make check); run under mpirun or srun:
+**
+**     mpirun -np 3 mpi_render [scene [out.png [width height [samples
+**                             [threads]]]]]
+**
+** scene: whitted, cornell, or a Wavefront .obj file (the mesh example's
+** scene; the bunny: scripts/fetch-bunny.sh).  Defaults: whitted,
+** mpi_render.png, 640 x 480, 4 samples, all CPUs of each rank.
+**
+** Rank 0 hands out bands of rows on demand: each rank (rank 0 too,
+** between its answers) renders one band at a time with all its threads
+** through ray_render's region (y0, y1), sends the rows back, and gets the
+** next band, so a fast machine simply takes more bands and all finish
+** together.  The band is RAY_MPI_BAND rows (default: the height / (16 x
+** ranks), at least 1): small enough that the last band costs little idle
+** time, large enough that a band's message is not mostly latency.  Every
+** pixel is seeded by its position (ray_render(3)), so the picture is
+** byte-identical to the one-process examples' at any rank count and band
+** size, provided every node runs the same libray, scene and options.
+**
+** A rank whose scene cannot be set up, or whose render fails, sends rank
+** 0 the reason; rank 0 stops handing out bands, tells every rank to stop,
+** prints "mpi_render: rank N: why", writes no PNG and exits 1.  MPI errors
+** are returned (MPI_ERRORS_RETURN), not fatal, and reported the same way.
+**
+** Test hook: RAY_MPI_FAIL_RANK=N makes rank N fail its scene setup, as a
+** missing scene file on one node would (scripts/check-mpi.sh uses it).
+** --help and bad arguments print the usage and exit 2 (common.h), before
+** MPI is started.
+*/
+#include <limits.h>
+#include <mpi.h>
+
+#include "scenes.h"
+
+enum {
+    TAG_READY = 1,  /* worker -> 0: set up, give me a band */
+    TAG_RESULT,     /* worker -> 0: the band's rows; give me another */
+    TAG_FAIL,       /* worker -> 0: the reason, a string; stopping */
+    TAG_WORK        /* 0 -> worker: unsigned {y0, y1}; y1 = 0: stop */
+};
+
+#define REASON_MAX 256
+
+/* The scene by name: whitted, cornell, or an OBJ file; NULL with the
+** reason in "why". */
+static ray_scene *setup_scene(const char *name, int rank, ray_camera *cam,
+                              char *why, size_t size)
+{
+    const char *hook = getenv("RAY_MPI_FAIL_RANK");
+    ray_scene *scene;
+    size_t triangles;
+    FILE *f;
+
+    if (hook != NULL && hook[0] != '\0' && atoi(hook) == rank) {
+        snprintf(why, size, "scene setup failed (RAY_MPI_FAIL_RANK=%s, the "
+                            "test hook)", hook);
+        return NULL;
+    }
+    if (strcmp(name, "whitted") == 0)
+        return whitted_scene(cam, 1, NULL);
+    if (strcmp(name, "cornell") == 0)
+        return cornell_scene(cam, 1, NULL);
+    /* An OBJ: opened here first, so the reason is errno's text. */
+    f = fopen(name, "rb");
+    if (f == NULL) {
+        snprintf(why, size, "cannot read scene %s: %s", name, strerror(errno));
+        return NULL;
+    }
+    fclose(f);
+    scene = mesh_scene(name, cam, 1, NULL, &triangles);
+    if (scene == NULL)
+        snprintf(why, size, "cannot load scene %s (its message above)", name);
+    return scene;
+}
+
+/* Render rows [y0, y1) into rgb; 0, or -1 with the reason in "why". */
+static int render_band(const ray_scene *scene, const ray_camera *cam,
+                       const example_args *a, unsigned y0, unsigned y1,
+                       float *rgb, char *why, size_t size)
+{
+    ray_render_options opt;
+    int rc;
+
+    ray_render_options_init(&opt, a->width, a->height);
+    opt.y0 = y0;
+    opt.y1 = y1;
+    opt.samples = a->samples;
+    opt.threads = a->threads;
+    if (a->adaptive_threshold > 0)
+        opt.adaptive_threshold = a->adaptive_threshold;
+    if (a->adaptive_depth > 0)
+        opt.adaptive_depth = a->adaptive_depth;
+    rc = ray_render(scene, cam, &opt, rgb, NULL);
+    if (rc == RAY_OK)
+        return 0;
+    snprintf(why, size, "ray_render rows %u..%u: %s", y0, y1,
+             ray_strerror(rc));
+    return -1;
+}
+
+static void mpi_why(int err, char *why, size_t size, const char *what)
+{
+    char text[MPI_MAX_ERROR_STRING];
+    int len = 0;
+
+    if (MPI_Error_string(err, text, &len) != MPI_SUCCESS)
+        snprintf(text, sizeof text, "MPI error %d", err);
+    snprintf(why, size, "%s: %.200s", what, text);
+}
+
+/* A worker (rank > 0): set up, then bands until told to stop. */
+static int worker(const example_args *a, const char *scene_name, int rank,
+                  unsigned band)
+{
+    char why[REASON_MAX] = "";
+    ray_camera cam;
+    ray_scene *scene = setup_scene(scene_name, rank, &cam, why, sizeof why);
+    float *rgb = NULL;
+    int tag = TAG_READY, count = 0, err;
+
+    if (scene != NULL) {
+        rgb = malloc(3 * sizeof(float) * a->width * band);
+        if (rgb == NULL)
+            snprintf(why, sizeof why, "out of memory for a band of %u rows",
+                     band);
+    }
+    if (rgb == NULL) {
+        err = MPI_Send(why, (int)strlen(why) + 1, MPI_CHAR, 0, TAG_FAIL,
+                       MPI_COMM_WORLD);
+        ray_scene_free(scene);
+        return err == MPI_SUCCESS ? 0 : 1;
+    }
+    for (;;) {
+        unsigned job[2];
+
+        err = MPI_Send(rgb, count, MPI_FLOAT, 0, tag, MPI_COMM_WORLD);
+        if (err == MPI_SUCCESS)
+            err = MPI_Recv(job, 2, MPI_UNSIGNED, 0, TAG_WORK, MPI_COMM_WORLD,
+                           MPI_STATUS_IGNORE);
+        if (err != MPI_SUCCESS || job[1] == 0)
+            break;
+        if (render_band(scene, &cam, a, job[0], job[1], rgb, why,
+                        sizeof why) != 0) {
+            err = MPI_Send(why, (int)strlen(why) + 1, MPI_CHAR, 0, TAG_FAIL,
+                           MPI_COMM_WORLD);
+            break;
+        }
+        tag = TAG_RESULT;
+        count = (int)(3 * a->width * (job[1] - job[0]));
+    }
+    free(rgb);
+    ray_scene_free(scene);
+    return err == MPI_SUCCESS ? 0 : 1;
+}
+
+/* Rank 0: hand out bands, render some itself, gather; the exit status. */
+static int coordinator(example_args *a, const char *scene_name, int ranks,
+                       unsigned band)
+{
+    char why[REASON_MAX] = "", error[REASON_MAX + 32] = "";
+    unsigned *given = calloc((size_t)ranks, 2 * sizeof(unsigned));
+    unsigned *bands = calloc((size_t)ranks, sizeof(unsigned));
+    unsigned next = 0, y0;
+    int active = ranks - 1, rank;
+    size_t row = 3 * (size_t)a->width;
+    float *image = NULL;
+    ray_camera cam;
+    ray_scene *scene;
+    double t = now_seconds();
+
+    if ((size_t)a->height <= SIZE_MAX / (3 * sizeof(float)) / a->width)
+        image = malloc(3 * sizeof(float) * a->width * a->height);
+    scene = setup_scene(scene_name, 0, &cam, why, sizeof why);
+    if (scene == NULL)
+        snprintf(error, sizeof error, "rank 0: %.*s", REASON_MAX, why);
+    else if (image == NULL || given == NULL || bands == NULL)
+        snprintf(error, sizeof error, "rank 0: out of memory for a %u x %u "
+                 "picture", a->width, a->height);
+    while (active > 0 || (error[0] == '\0' && next < a->height)) {
+        MPI_Status st;
+        int flag = 0, count = 0, err = MPI_SUCCESS;
+        unsigned job[2] = {0, 0};
+
+        /* Answer the workers first; render a band here only when none is
+        ** waiting, so they are never held up by more than one band. */
+        if (active > 0) {
+            if (error[0] == '\0' && next < a->height)
+                err = MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD,
+                                 &flag, &st);
+            else
+                err = MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD,
+                                &st), flag = 1;
+        }
+        if (err != MPI_SUCCESS) {
+            mpi_why(err, why, sizeof why, "MPI_Probe");
+            snprintf(error, sizeof error, "rank 0: %.*s", REASON_MAX, why);
+            break;
+        }
+        if (!flag) {            /* nobody waiting: a band here */
+            y0 = next;
+            next = y0 + band < a->height ? y0 + band : a->height;
+            bands[0]++;
+            if (render_band(scene, &cam, a, y0, next, image + y0 * row, why,
+                            sizeof why) != 0)
+                snprintf(error, sizeof error, "rank 0: %.*s", REASON_MAX, why);
+            continue;
+        }
+        rank = st.MPI_SOURCE;
+        if (st.MPI_TAG == TAG_FAIL) {
+            MPI_Get_count(&st, MPI_CHAR, &count);
+            if (count < 1 || count > REASON_MAX)
+                count = REASON_MAX;
+            err = MPI_Recv(why, count, MPI_CHAR, rank, TAG_FAIL,
+                           MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            why[REASON_MAX - 1] = '\0';
+            if (error[0] == '\0')
+                snprintf(error, sizeof error, "rank %d: %s", rank,
+                         err == MPI_SUCCESS ? why : "failed");
+            active--;           /* it stops by itself */
+            continue;
+        }
+        MPI_Get_count(&st, MPI_FLOAT, &count);
+        if (st.MPI_TAG == TAG_RESULT &&
+            (size_t)count == row * (given[2 * rank + 1] - given[2 * rank]))
+            err = MPI_Recv(image + given[2 * rank] * row, count, MPI_FLOAT,
+                           rank, TAG_RESULT, MPI_COMM_WORLD,
+                           MPI_STATUS_IGNORE);
+        else if (st.MPI_TAG == TAG_READY && count == 0)
+            err = MPI_Recv(NULL, 0, MPI_FLOAT, rank, TAG_READY,
+                           MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        else
+            err = MPI_ERR_TRUNCATE;
+        if (err != MPI_SUCCESS && error[0] == '\0') {
+            mpi_why(err, why, sizeof why, "receiving its rows");
+            snprintf(error, sizeof error, "rank %d: %.*s", rank, REASON_MAX, why);
+        }
+        if (error[0] == '\0' && next < a->height) {
+            job[0] = next;
+            job[1] = next = next + band < a->height ? next + band : a->height;
+            bands[rank]++;
+        } else {
+            active--;           /* job[1] = 0: stop */
+        }
+        given[2 * rank] = job[0];
+        given[2 * rank + 1] = job[1];
+        err = MPI_Send(job, 2, MPI_UNSIGNED, rank, TAG_WORK, MPI_COMM_WORLD);
+        if (err != MPI_SUCCESS && error[0] == '\0') {
+            mpi_why(err, why, sizeof why, "sending it a band");
+            snprintf(error, sizeof error, "rank %d: %.*s", rank, REASON_MAX, why);
+        }
+    }
+    t = now_seconds() - t;
+    ray_scene_free(scene);
+    if (error[0] == '\0' && example_write_png(a, image) != 0)
+        snprintf(error, sizeof error, "rank 0: the PNG was not written");
+    else if (error[0] == '\0') {
+        printf("mpi_render: wrote %s (%ux%u, %u samples per pixel) with %d "
+               "ranks, bands of %u rows, in %.3f s\n", a->output, a->width,
+               a->height, a->samples, ranks, band, t);
+        for (rank = 0; rank < ranks; rank++)
+            printf("mpi_render: rank %d rendered %u bands\n", rank,
+                   bands[rank]);
+    }
+    free(image);
+    free(given);
+    free(bands);
+    if (error[0] == '\0')
+        return 0;
+    fprintf(stderr, "mpi_render: %s; no picture written\n", error);
+    return 1;
+}
+
+int main(int argc, char **argv)
+{
+    static const example_cli cli = {
+        .name = "mpi_render", .input = "scene",
+        .input_what = "whitted, cornell or a Wavefront .obj file",
+        .input_default = "whitted", .output_default = "mpi_render.png",
+        .sized = 1, .width = 640, .height = 480, .samples = 4,
+        .what = "Renders one frame with MPI: rank 0 hands out bands of rows "
+                "(RAY_MPI_BAND rows,\ndefault height / (16 x ranks)) to "
+                "every rank and writes the picture.\nTest hook: "
+                "RAY_MPI_FAIL_RANK=N makes rank N fail its scene setup."};
+    example_args args;
+    const char *band_env = getenv("RAY_MPI_BAND");
+    unsigned band = 0, max_band;
+    int rc = example_parse(&cli, argc, argv, &args), rank = 0, ranks = 1;
+
+    if (rc != 0)
+        return rc;
+    if (band_env != NULL && band_env[0] != '\0' &&
+        (rc = example_number(&cli, "RAY_MPI_BAND", band_env, 1,
+                             EXAMPLE_MAX_SIDE, &band)) != 0)
+        return rc;
+    if (MPI_Init(&argc, &argv) != MPI_SUCCESS) {
+        fprintf(stderr, "mpi_render: MPI_Init failed\n");
+        return 1;
+    }
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    /* Every rank computes the same band: same arguments, same size. */
+    if (band == 0)
+        band = args.height / (16u * (unsigned)ranks);
+    /* A band's message counts floats in an int. */
+    max_band = (unsigned)(INT_MAX / 3 / args.width);
+    band = band < 1 ? 1 : band > max_band ? max_band : band;
+    band = band > args.height ? args.height : band;
+    /* The output is checked on rank 0 only (the other nodes may not have
+    ** its directory), and every rank learns the verdict. */
+    if (rank == 0)
+        rc = example_output_check(cli.name, args.output);
+    if (MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rc = 1;
+    if (rc == 0)
+        rc = rank == 0 ? coordinator(&args, args.input, ranks, band)
+                       : worker(&args, args.input, rank, band);
+    MPI_Finalize();
+    return rc;
+}
