@@ -221,6 +221,7 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 # short run, written to bench/RESULTS-quick.md and accuracy-quick.png
 # (untracked) so that it never replaces the documented figures.
 bench: deps-bench lib $(BENCHES)
+	@if command -v $(MPICC) >/dev/null 2>&1; then $(MAKE) --no-print-directory $(MPI_RENDER); fi
 	bench/run.sh $(BUILD)
 
 # The stability suite alone (doc/NUMERICS.md): the table of hard cases,
