@@ -182,7 +182,7 @@ $(MPI_RENDER): examples/mpi_render.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	OMPI_CC="$(CC)" $(MPICC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
 
-mpi-check: lib $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh
+mpi-check: lib $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh $(BUILD)/examples/teapot
 	@if [ "$(MPI_CHECK)" != 1 ]; then \
 	    echo "check: MPI tests skipped (MPI_CHECK=$(MPI_CHECK))"; \
 	elif command -v $(MPICC) >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; then \

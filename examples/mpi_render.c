@@ -7,8 +7,10 @@
 **     mpirun -np 3 mpi_render [scene [out.png [width height [samples
 **                             [threads]]]]]
 **
-** scene: whitted, cornell, or a Wavefront .obj file (the mesh example's
-** scene; the bunny: scripts/fetch-bunny.sh).  Defaults: whitted,
+** scene: whitted, cornell, teapot (data/teapot.bpt, scripts/fetch-
+** teapot.sh) or another Newell .bpt file (the teapot example's scene), or
+** a Wavefront .obj file (the mesh example's; the bunny:
+** scripts/fetch-bunny.sh).  Defaults: whitted,
 ** mpi_render.png, 640 x 480, 4 samples, all CPUs of each rank.
 **
 ** Rank 0 hands out bands of rows on demand: each rank (rank 0 too,
@@ -36,6 +38,7 @@
 #include <mpi.h>
 
 #include "scenes.h"
+#include "teapot_scene.h"
 
 enum {
     TAG_READY = 1,  /* worker -> 0: set up, give me a band */
@@ -46,8 +49,16 @@ enum {
 
 #define REASON_MAX 256
 
-/* The scene by name: whitted, cornell, or an OBJ file; NULL with the
-** reason in "why". */
+/* A name ending in "suffix". */
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+
+    return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+/* The scene by name: whitted, cornell, teapot (data/teapot.bpt), a
+** Newell .bpt file or an OBJ file; NULL with the reason in "why". */
 static ray_scene *setup_scene(const char *name, int rank, ray_camera *cam,
                               char *why, size_t size)
 {
@@ -65,6 +76,8 @@ static ray_scene *setup_scene(const char *name, int rank, ray_camera *cam,
         return whitted_scene(cam, 1, NULL);
     if (strcmp(name, "cornell") == 0)
         return cornell_scene(cam, 1, NULL);
+    if (strcmp(name, "teapot") == 0)
+        name = "data/teapot.bpt";
     /* An OBJ: opened here first, so the reason is errno's text. */
     f = fopen(name, "rb");
     if (f == NULL) {
@@ -72,6 +85,18 @@ static ray_scene *setup_scene(const char *name, int rank, ray_camera *cam,
         return NULL;
     }
     fclose(f);
+    if (ends_with(name, ".bpt")) {
+        bpt_patches model;
+        char err[600];
+
+        if (bpt_load(name, &model, err, sizeof err) != 0) {
+            snprintf(why, size, "%.200s", err);
+            return NULL;
+        }
+        scene = teapot_scene(&model, cam);
+        bpt_free(&model);               /* the scene copied the patches */
+        return scene;
+    }
     scene = mesh_scene(name, cam, 1, NULL, &triangles);
     if (scene == NULL)
         snprintf(why, size, "cannot load scene %s (its message above)", name);
@@ -279,7 +304,7 @@ int main(int argc, char **argv)
 {
     static const example_cli cli = {
         .name = "mpi_render", .input = "scene",
-        .input_what = "whitted, cornell or a Wavefront .obj file",
+        .input_what = "whitted, cornell, teapot, a .bpt or an .obj file",
         .input_default = "whitted", .output_default = "mpi_render.png",
         .sized = 1, .width = 640, .height = 480, .samples = 4,
         .what = "Renders one frame with MPI: rank 0 hands out bands of rows "

@@ -7,7 +7,8 @@
 #     argument exit 2, before MPI starts);
 #   * the picture is byte-identical (cmp) to the plain example's PNG of the
 #     same scene and options, at 1, 2 and 3 ranks and several band sizes
-#     (RAY_MPI_BAND), for whitted, cornell, a small OBJ and adaptive
+#     (RAY_MPI_BAND), for whitted, cornell, a small OBJ, one Bezier patch
+#     (the teapot's scene) and adaptive
 #     antialiasing;
 #   * a rank that fails its setup (RAY_MPI_FAIL_RANK, the test hook, or a
 #     scene file that is not there) makes the run exit non-zero with
@@ -68,6 +69,15 @@ f 1 3 4
 f 2 4 3
 OBJ
 
+{
+    echo 1
+    echo 1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16
+    echo 16
+    for y in 0 1 2 3; do
+        for x in 0 1 2 3; do echo "$x, $y, 0.$((x * y))"; done
+    done
+} > "$tmp/patch.bpt"
+
 # same NAME REF NP BAND ARGS...: the NP-rank picture of ARGS (bands of
 # BAND rows; "-": the default) is REF, byte for byte.
 same() {
@@ -96,6 +106,8 @@ done
 same cornell "$tmp/cornell.png" 3 5 cornell "$tmp/mpi.png" 96 96 4 1
 "$build/examples/mesh" "$tmp/tri.obj" "$tmp/mesh.png" 80 60 1 2 >/dev/null 2>&1
 same mesh "$tmp/mesh.png" 2 3 "$tmp/tri.obj" "$tmp/mpi.png" 80 60 1 1
+"$build/examples/teapot" "$tmp/patch.bpt" "$tmp/teapot.png" 64 48 1 2 >/dev/null 2>&1
+same teapot "$tmp/teapot.png" 3 2 "$tmp/patch.bpt" "$tmp/mpi.png" 64 48 1 1
 RAY_ADAPTIVE=0.05,2 "$build/examples/whitted" "$tmp/adaptive.png" 96 72 1 2 \
     >/dev/null 2>&1
 RAY_ADAPTIVE=0.05,2 same adaptive "$tmp/adaptive.png" 3 4 whitted "$tmp/mpi.png" 96 72 1 1
