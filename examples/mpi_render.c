@@ -138,6 +138,23 @@ static void mpi_why(int err, char *why, size_t size, const char *what)
     snprintf(why, size, "%s: %.200s", what, text);
 }
 
+/* A message that is not what its sender was asked for (a band of another
+** size): received and dropped, so that it does not stay first in the queue;
+** MPI_ERR_TRUNCATE, to stop the render. */
+static int discard(const MPI_Status *st)
+{
+    int bytes = 0;
+    char *scratch;
+
+    MPI_Get_count(st, MPI_BYTE, &bytes);
+    scratch = malloc(bytes > 0 ? (size_t)bytes : 1);
+    if (scratch != NULL)
+        MPI_Recv(scratch, bytes, MPI_BYTE, st->MPI_SOURCE, st->MPI_TAG,
+                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    free(scratch);
+    return MPI_ERR_TRUNCATE;
+}
+
 /* A worker (rank > 0): set up, then bands until told to stop. */
 static int worker(const example_args *a, const char *scene_name, int rank,
                   unsigned band)
@@ -259,7 +276,7 @@ static int coordinator(example_args *a, const char *scene_name, int ranks,
             err = MPI_Recv(NULL, 0, MPI_FLOAT, rank, TAG_READY,
                            MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         else
-            err = MPI_ERR_TRUNCATE;
+            err = discard(&st);
         if (err != MPI_SUCCESS && error[0] == '\0') {
             mpi_why(err, why, sizeof why, "receiving its rows");
             snprintf(error, sizeof error, "rank %d: %.*s", rank, REASON_MAX, why);
