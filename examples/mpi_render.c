@@ -163,7 +163,8 @@ static int worker(const example_args *a, const char *scene_name, int rank,
     ray_camera cam;
     ray_scene *scene = setup_scene(scene_name, rank, &cam, why, sizeof why);
     float *rgb = NULL;
-    int tag = TAG_READY, count = 0, err;
+    unsigned cur[2] = {0, 0}, next[2] = {0, 0};
+    int err;
 
     if (scene != NULL) {
         rgb = malloc(3 * sizeof(float) * a->width * band);
@@ -177,23 +178,29 @@ static int worker(const example_args *a, const char *scene_name, int rank,
         ray_scene_free(scene);
         return err == MPI_SUCCESS ? 0 : 1;
     }
-    for (;;) {
-        unsigned job[2];
-
-        err = MPI_Send(rgb, count, MPI_FLOAT, 0, tag, MPI_COMM_WORLD);
-        if (err == MPI_SUCCESS)
-            err = MPI_Recv(job, 2, MPI_UNSIGNED, 0, TAG_WORK, MPI_COMM_WORLD,
-                           MPI_STATUS_IGNORE);
-        if (err != MPI_SUCCESS || job[1] == 0)
-            break;
-        if (render_band(scene, &cam, a, job[0], job[1], rgb, why,
+    /* Two bands in hand: the one being rendered and the next, so that a
+    ** worker never waits while rank 0 finishes a band of its own before
+    ** answering.  Rank 0 answers READY twice and each RESULT once. */
+    err = MPI_Send(rgb, 0, MPI_FLOAT, 0, TAG_READY, MPI_COMM_WORLD);
+    if (err == MPI_SUCCESS)
+        err = MPI_Recv(cur, 2, MPI_UNSIGNED, 0, TAG_WORK, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE);
+    if (err == MPI_SUCCESS)
+        err = MPI_Recv(next, 2, MPI_UNSIGNED, 0, TAG_WORK, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE);
+    while (err == MPI_SUCCESS && cur[1] != 0) {
+        if (render_band(scene, &cam, a, cur[0], cur[1], rgb, why,
                         sizeof why) != 0) {
             err = MPI_Send(why, (int)strlen(why) + 1, MPI_CHAR, 0, TAG_FAIL,
                            MPI_COMM_WORLD);
             break;
         }
-        tag = TAG_RESULT;
-        count = (int)(3 * a->width * (job[1] - job[0]));
+        err = MPI_Send(rgb, (int)(3 * a->width * (cur[1] - cur[0])),
+                       MPI_FLOAT, 0, TAG_RESULT, MPI_COMM_WORLD);
+        memcpy(cur, next, sizeof cur);
+        if (err == MPI_SUCCESS)
+            err = MPI_Recv(next, 2, MPI_UNSIGNED, 0, TAG_WORK,
+                           MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     }
     free(rgb);
     ray_scene_free(scene);
@@ -205,7 +212,10 @@ static int coordinator(example_args *a, const char *scene_name, int ranks,
                        unsigned band)
 {
     char why[REASON_MAX] = "", error[REASON_MAX + 32] = "";
-    unsigned *given = calloc((size_t)ranks, 2 * sizeof(unsigned));
+    /* Per worker, the bands it holds, oldest first (up to 2: y0, y1 each)
+    ** and how many. */
+    unsigned *given = calloc((size_t)ranks, 4 * sizeof(unsigned));
+    unsigned *held = calloc((size_t)ranks, sizeof(unsigned));
     unsigned *bands = calloc((size_t)ranks, sizeof(unsigned));
     unsigned next = 0, y0;
     int active = ranks - 1, rank;
@@ -220,16 +230,16 @@ static int coordinator(example_args *a, const char *scene_name, int ranks,
     scene = setup_scene(scene_name, 0, &cam, why, sizeof why);
     if (scene == NULL)
         snprintf(error, sizeof error, "rank 0: %.*s", REASON_MAX, why);
-    else if (image == NULL || given == NULL || bands == NULL)
+    else if (image == NULL || given == NULL || held == NULL || bands == NULL)
         snprintf(error, sizeof error, "rank 0: out of memory for a %u x %u "
                  "picture", a->width, a->height);
     while (active > 0 || (error[0] == '\0' && next < a->height)) {
         MPI_Status st;
-        int flag = 0, count = 0, err = MPI_SUCCESS;
+        int flag = 0, count = 0, err = MPI_SUCCESS, replies;
         unsigned job[2] = {0, 0};
 
         /* Answer the workers first; render a band here only when none is
-        ** waiting, so they are never held up by more than one band. */
+        ** waiting (each holds a second band meanwhile). */
         if (active > 0) {
             if (error[0] == '\0' && next < a->height)
                 err = MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD,
@@ -263,38 +273,58 @@ static int coordinator(example_args *a, const char *scene_name, int ranks,
             if (error[0] == '\0')
                 snprintf(error, sizeof error, "rank %d: %s", rank,
                          err == MPI_SUCCESS ? why : "failed");
+            held[rank] = 0;
             active--;           /* it stops by itself */
             continue;
         }
         MPI_Get_count(&st, MPI_FLOAT, &count);
-        if (st.MPI_TAG == TAG_RESULT &&
-            (size_t)count == row * (given[2 * rank + 1] - given[2 * rank]))
-            err = MPI_Recv(image + given[2 * rank] * row, count, MPI_FLOAT,
+        if (st.MPI_TAG == TAG_RESULT && held[rank] > 0 &&
+            (size_t)count == row * (given[4 * rank + 1] - given[4 * rank])) {
+            err = MPI_Recv(image + given[4 * rank] * row, count, MPI_FLOAT,
                            rank, TAG_RESULT, MPI_COMM_WORLD,
                            MPI_STATUS_IGNORE);
-        else if (st.MPI_TAG == TAG_READY && count == 0)
+            given[4 * rank] = given[4 * rank + 2];
+            given[4 * rank + 1] = given[4 * rank + 3];
+            held[rank]--;
+            replies = 1;
+        } else if (st.MPI_TAG == TAG_READY && count == 0) {
             err = MPI_Recv(NULL, 0, MPI_FLOAT, rank, TAG_READY,
                            MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        else
+            replies = 2;
+        } else {
             err = discard(&st);
+            replies = st.MPI_TAG == TAG_READY ? 2 : 1;
+            if (held[rank] > 0 && st.MPI_TAG == TAG_RESULT)
+                held[rank]--;   /* the band it was for, lost */
+        }
         if (err != MPI_SUCCESS && error[0] == '\0') {
             mpi_why(err, why, sizeof why, "receiving its rows");
             snprintf(error, sizeof error, "rank %d: %.*s", rank, REASON_MAX, why);
         }
-        if (error[0] == '\0' && next < a->height) {
-            job[0] = next;
-            job[1] = next = next + band < a->height ? next + band : a->height;
-            bands[rank]++;
-        } else {
-            active--;           /* job[1] = 0: stop */
+        while (replies-- > 0) {
+            job[0] = job[1] = 0;        /* y1 = 0: stop */
+            if (error[0] == '\0' && next < a->height) {
+                size_t k = 4 * (size_t)rank + 2 * (size_t)held[rank];
+
+                job[0] = next;
+                job[1] = next = next + band < a->height ? next + band
+                                                        : a->height;
+                given[k] = job[0];
+                given[k + 1] = job[1];
+                held[rank]++;
+                bands[rank]++;
+            }
+            err = MPI_Send(job, 2, MPI_UNSIGNED, rank, TAG_WORK,
+                           MPI_COMM_WORLD);
+            if (err != MPI_SUCCESS && error[0] == '\0') {
+                mpi_why(err, why, sizeof why, "sending it a band");
+                snprintf(error, sizeof error, "rank %d: %.*s", rank,
+                         REASON_MAX, why);
+            }
         }
-        given[2 * rank] = job[0];
-        given[2 * rank + 1] = job[1];
-        err = MPI_Send(job, 2, MPI_UNSIGNED, rank, TAG_WORK, MPI_COMM_WORLD);
-        if (err != MPI_SUCCESS && error[0] == '\0') {
-            mpi_why(err, why, sizeof why, "sending it a band");
-            snprintf(error, sizeof error, "rank %d: %.*s", rank, REASON_MAX, why);
-        }
+        /* Holding nothing, it has just been sent a stop: it is done. */
+        if (held[rank] == 0)
+            active--;
     }
     t = now_seconds() - t;
     ray_scene_free(scene);
@@ -310,6 +340,7 @@ static int coordinator(example_args *a, const char *scene_name, int ranks,
     }
     free(image);
     free(given);
+    free(held);
     free(bands);
     if (error[0] == '\0')
         return 0;
