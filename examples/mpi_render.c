@@ -17,7 +17,9 @@
 ** between its answers) renders one band at a time with all its threads
 ** through ray_render's region (y0, y1), sends the rows back, and gets the
 ** next band, so a fast machine simply takes more bands and all finish
-** together.  The band is RAY_MPI_BAND rows (default: the height / (16 x
+** together.  A worker holds two bands, the one it renders and the next,
+** so it does not wait for rank 0's answer, which comes after the band
+** rank 0 may be rendering.  The band is RAY_MPI_BAND rows (default: the height / (16 x
 ** ranks), at least 1): small enough that the last band costs little idle
 ** time, large enough that a band's message is not mostly latency.  Every
 ** pixel is seeded by its position (ray_render(3)), so the picture is
