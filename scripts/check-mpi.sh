@@ -26,6 +26,12 @@ unset RAY_ADAPTIVE RAY_MPI_BAND RAY_MPI_FAIL_RANK 2>/dev/null || true
 OMPI_ALLOW_RUN_AS_ROOT=1
 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_ALLOW_RUN_AS_ROOT OMPI_ALLOW_RUN_AS_ROOT_CONFIRM
+# Under make sanitize: OpenMPI leaks at exit from plugins it has already
+# unloaded (frames of "<unknown module>"), which no suppression can name,
+# so leak checking is off for these runs; out-of-bounds accesses and
+# undefined behaviour are still caught.
+ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0
+export ASAN_OPTIONS
 
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/check-mpi.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT INT TERM
