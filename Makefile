@@ -197,7 +197,7 @@ deps-mpi: deps-build
 mpi-demo: deps-mpi lib
 	$(MAKE) --no-print-directory $(MPI_RENDER)
 	OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
-	    mpirun -np 3 --oversubscribe $(MPI_RENDER) whitted mpi_render.png
+	    mpirun -np 3 --oversubscribe --bind-to none $(MPI_RENDER) whitted mpi_render.png
 
 BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # Embree is optional: used by the mesh, game and packets benchmarks when

@@ -9,7 +9,9 @@
 # only parallelism, so up to the machine's cores the speed-up is what the
 # distribution delivers), and all CPUs per rank (the cores are shared out
 # either way, so the ideal is 1.0x and what is below it is the cost of
-# the bands, the messages and the oversubscription).  The time is the one
+# the bands, the messages and the oversubscription).  --bind-to none:
+# OpenMPI binds each of up to 2 ranks to one core by default, which would
+# crowd a rank's threads onto that core.  The time is the one
 # rank 0 prints (setup, render and gather, not mpirun's start); the median
 # of interleaved repetitions after a warm-up run, the rank counts
 # alternating, as the other benchmarks do.  BENCH_QUICK=1: a smaller
@@ -30,7 +32,7 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 
 # run NP THREADS: the seconds rank 0 reports.
 run() {
-    mpirun -np "$1" --oversubscribe "$exe" whitted "$tmp/out.png" \
+    mpirun -np "$1" --oversubscribe --bind-to none "$exe" whitted "$tmp/out.png" \
         "$w" "$h" "$s" "$2" 2>/dev/null |
         sed -n 's/.* in \([0-9.]*\) s$/\1/p'
 }
@@ -50,7 +52,7 @@ done
 echo "## MPI: one frame across ranks"
 echo
 echo "Whitted's scene, ${w}x${h}, $s samples per pixel, rendered by"
-echo "\`mpirun -np N --oversubscribe mpi_render\` on this machine ($(nproc) CPUs);"
+echo "\`mpirun -np N --oversubscribe --bind-to none mpi_render\` on this machine ($(nproc) CPUs);"
 echo "default bands (height / (16 x ranks) rows); median of $reps interleaved runs."
 echo
 echo "| ranks | threads per rank | time (s) | speed-up vs 1 rank |"
