@@ -13,7 +13,7 @@
 #   * a rank that fails its setup (RAY_MPI_FAIL_RANK, the test hook, or a
 #     scene file that is not there) makes the run exit non-zero with
 #     "rank N: why" on stderr, within a time limit (no hang), and leaves
-#     no PNG.
+#     no PNG; so does an output that cannot be written.
 #
 # Small pictures and --oversubscribe: the machine may have fewer cores
 # than ranks.  OpenMPI refuses to run as root unless told it may.
@@ -133,6 +133,11 @@ for rank in 1 2 0; do
 done
 mpi 2 "$tmp/missing.obj" "$tmp/fail.png" 32 24 1 1
 expect_failure "a missing scene file" "rank 0: cannot read scene $tmp/missing.obj"
+
+# An output that cannot be written: refused by rank 0 before the render,
+# every rank told, exit 1.
+mpi 2 whitted "$tmp/no-such-dir/fail.png" 32 24 1 1
+expect_failure "an unwritable output" "cannot write $tmp/no-such-dir/fail.png"
 
 if [ "$failures" -ne 0 ]; then
     echo "check-mpi: $failures of $checks checks failed" >&2
