@@ -68,7 +68,8 @@ TEST_BIN = $(BUILD)/tests/check_ray
 # by make check ("fuzzing" below).
 FUZZ_TARGETS = $(patsubst fuzz/%.c,%,$(wildcard fuzz/fuzz_*.c))
 FUZZ_REPLAYS = $(FUZZ_TARGETS:%=$(BUILD)/fuzz-replay/%)
-EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/*.c))
+# examples/mpi_render.c needs MPI: built with mpicc, apart (make mpi-demo).
+EXAMPLES = $(patsubst examples/%.c,$(BUILD)/examples/%,$(filter-out examples/mpi_render.c,$(wildcard examples/*.c)))
 MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # Functions documented on another function's page, as page:alias: every
 # name of a page's NAME section after its own (its .Nm lines, not those of
@@ -81,7 +82,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
 
 .PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
-        deps-bench numerics links-test \
+        deps-bench numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
         png-free-test install-test libray.pc cmake-config FORCE
 
@@ -93,7 +94,7 @@ lib: deps-build $(STATIC) $(SHARED)
 # root or with password-less sudo); plain make and make install only check
 # and print the apt-get command to run.  deps-check waits for deps-build,
 # so two apt-get never run at once.
-SHOWCASE_GOALS = check test demo bench numerics sanitize tsan examples
+SHOWCASE_GOALS = check test demo mpi-demo bench numerics sanitize tsan examples
 DEPS_MODE = $(if $(filter $(SHOWCASE_GOALS),$(MAKECMDGOALS)),--install,--check)
 DEPS_BUILD = pkg-config $(if $(filter 1,$(PNG)),libpng)
 deps-build:
@@ -166,6 +167,38 @@ $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
 
 examples: $(EXAMPLES)
 
+# MPI (issue 20): mpi_render is built with MPICC (OpenMPI's wrapper, told
+# to drive $(CC)) only where it exists; make check runs scripts/check-mpi.sh
+# (byte identity against the plain examples, a failing rank) when mpicc and
+# mpirun are there, and says it skipped them otherwise.  make mpi-demo
+# installs OpenMPI (as make demo does its packages) and renders with 3
+# ranks.  MPI_CHECK=0 skips the MPI tests (the ThreadSanitizer run: OpenMPI's
+# own threads are not built for it).
+MPICC ?= mpicc
+# Without libpng (PNG=0) there is no picture to compare: skipped too.
+MPI_CHECK ?= $(PNG)
+MPI_RENDER = $(BUILD)/mpi/mpi_render
+$(MPI_RENDER): examples/mpi_render.c $(wildcard examples/*.h) $(STATIC)
+	@mkdir -p $(@D)
+	OMPI_CC="$(CC)" $(MPICC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+
+mpi-check: lib $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh $(BUILD)/examples/teapot
+	@if [ "$(MPI_CHECK)" != 1 ]; then \
+	    echo "check: MPI tests skipped (MPI_CHECK=$(MPI_CHECK))"; \
+	elif command -v $(MPICC) >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; then \
+	    $(MAKE) --no-print-directory $(MPI_RENDER) && scripts/check-mpi.sh $(BUILD); \
+	else \
+	    echo "check: no mpicc/mpirun: MPI tests skipped (apt-get install libopenmpi-dev openmpi-bin, or make mpi-demo as root)"; \
+	fi
+
+deps-mpi: deps-build
+	@scripts/deps.sh $(DEPS_MODE) mpi
+
+mpi-demo: deps-mpi lib
+	$(MAKE) --no-print-directory $(MPI_RENDER)
+	OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+	    mpirun -np 3 --oversubscribe --bind-to none $(MPI_RENDER) whitted mpi_render.png
+
 BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # Embree is optional: used by the mesh, game and packets benchmarks when
 # its header is there.
@@ -188,6 +221,7 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 # short run, written to bench/RESULTS-quick.md and accuracy-quick.png
 # (untracked) so that it never replaces the documented figures.
 bench: deps-bench lib $(BENCHES)
+	@if command -v $(MPICC) >/dev/null 2>&1; then $(MAKE) --no-print-directory $(MPI_RENDER); fi
 	bench/run.sh $(BUILD)
 
 # The stability suite alone (doc/NUMERICS.md): the table of hard cases,
@@ -283,6 +317,7 @@ else
 	    $(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2 >/dev/null 2>&1; \
 	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
 	scripts/check-examples.sh $(BUILD)
+	@$(MAKE) --no-print-directory mpi-check
 endif
 
 test: check
@@ -379,7 +414,7 @@ sanitize:
 TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 tsan:
 	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) \
-	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)"
+	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0
 
 demo: deps-build lib $(BUILD)/examples/whitted
 	$(BUILD)/examples/whitted whitted.png

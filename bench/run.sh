@@ -43,6 +43,12 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/packets" data
     "$build/bench/game" data
     "$build/bench/whitted" bench/whitted.pov
+    # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
+    if command -v mpirun >/dev/null 2>&1 && [ -x "$build/mpi/mpi_render" ]; then
+        bench/mpi.sh "$build"
+    else
+        echo "bench: no mpirun or $build/mpi/mpi_render: MPI rows skipped" >&2
+    fi
 } | tee "$out.tmp"
 mv "$out.tmp" "$out"
 
@@ -75,8 +81,13 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     splice packets "$plots/packets.md"
     awk '/^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice game "$plots/game.md"
-    awk '/^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
+    awk '/^## MPI: one frame/{exit} /^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
     splice whitted "$plots/whitted.md"
+    if grep -q '^## MPI: one frame' "$out"; then
+        awk '/^## MPI: one frame/{on=1; next} on' "$out" |
+            sed -e '/./,$!d' > "$plots/mpi.md"
+        splice mpi "$plots/mpi.md"
+    fi
     echo "bench: copied the tables into $doc" >&2
 else
     echo "bench: quick run: $doc and bench/RESULTS.md left as they were" >&2

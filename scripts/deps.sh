@@ -5,6 +5,7 @@
 # Usage: scripts/deps.sh [--check | --install] NEED...   where NEED is one of
 #   pkg-config  libpng  check  mandoc  gnuplot (make bench's plot)
 #   povray (bench/whitted.c's other side; the Makefile treats it as optional)
+#   mpi (OpenMPI's mpicc and mpirun: make mpi-demo)
 # Each present dependency costs one quick probe.  With --check (the
 # default; plain make and make install), missing ones are reported with
 # the exact apt-get command and the script fails.  With --install (only
@@ -30,6 +31,8 @@ for need in "$@"; do
     mandoc)     command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc" ;;
     gnuplot)    command -v gnuplot >/dev/null 2>&1 || missing="$missing gnuplot-nox" ;;
     povray)     command -v povray >/dev/null 2>&1 || missing="$missing povray" ;;
+    mpi)        { command -v mpicc >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; } \
+                    || missing="$missing libopenmpi-dev openmpi-bin" ;;
     *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;
     esac
 done
