@@ -32,23 +32,8 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 mkdir "$tmp/work"
 cd "$tmp/work"                           # where default outputs would land
 
-cat > "$tmp/tri.obj" <<'EOF'
-v -1 0 0
-v 1 0 0
-v 0 1.5 0.3
-v 0 0.5 -1
-f 1 2 3
-f 1 3 4
-f 2 4 3
-EOF
-{
-    echo 1
-    echo 1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16
-    echo 16
-    for y in 0 1 2 3; do
-        for x in 0 1 2 3; do echo "$x, $y, 0.$((x * y))"; done
-    done
-} > "$tmp/patch.bpt"
+. "$root/scripts/example-inputs.sh"
+example_inputs "$tmp"
 
 checks=0
 failures=0

@@ -18,6 +18,7 @@
 # Small pictures and --oversubscribe: the machine may have fewer cores
 # than ranks.  OpenMPI refuses to run as root unless told it may.
 set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "${1:-build}" && pwd)
 exe=$build/mpi/mpi_render
 LC_ALL=C
@@ -65,24 +66,8 @@ for bad in --help "whitted x.png -5 3" "whitted x.png 12abc 3" \
 done
 grep -q "^usage: mpi_render" "$tmp/err" || fail "--bogus: no usage on stderr"
 
-cat > "$tmp/tri.obj" <<'OBJ'
-v -1 0 0
-v 1 0 0
-v 0 1.5 0.3
-v 0 0.5 -1
-f 1 2 3
-f 1 3 4
-f 2 4 3
-OBJ
-
-{
-    echo 1
-    echo 1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16
-    echo 16
-    for y in 0 1 2 3; do
-        for x in 0 1 2 3; do echo "$x, $y, 0.$((x * y))"; done
-    done
-} > "$tmp/patch.bpt"
+. "$root/scripts/example-inputs.sh"
+example_inputs "$tmp"
 
 # same NAME REF NP BAND ARGS...: the NP-rank picture of ARGS (bands of
 # BAND rows; "-": the default) is REF, byte for byte.
