@@ -754,6 +754,20 @@ typedef struct ray_shade_args {
                                 0: the scene's naive mode, spawn every
                                 effect the material declared, whatever
                                 its weight (for comparisons) */
+    /* Ray cones (Akenine-Moller et al., "Texture Level of Detail
+    ** Strategies for Real-Time Ray Tracing", Ray Tracing Gems, 2019),
+    ** set only in a scene whose effects include RAY_EFFECT_TEXTURE and
+    ** for a ray that carries a cone (ray_render_options.cones,
+    ** ray_ctx_set_cone), else 0: */
+    double cone_width;       /* the cone's width at the hit, across the
+                                ray, in world units */
+    double footprint;        /* its footprint in texture units (u, v):
+                                cone_width / |cos incidence| times the
+                                surface's (u, v) per world unit, when the
+                                hit's material declared RAY_EFFECT_TEXTURE
+                                and that scale is known (ray(7)); +Inf at
+                                grazing incidence; 0 = unknown: sample
+                                unfiltered */
 } ray_shade_args;
 
 /*
@@ -1653,6 +1667,22 @@ typedef struct ray_texture {
 ** rows decoded, so a file that declares a large image and then fails
 ** costs little; a decoded image takes 12 bytes per pixel.
 **
+** Both constructors build the image's mip pyramid when it is made (the
+** exact area-weighted box filter: each level half the one below in each
+** dimension, rounded down, down to 1 x 1; an odd side is reduced with
+** weights by overlap, e.g. 5 texels to 2 with (0.4 0.4 0.2) and (0.2 0.4
+** 0.4), so every level keeps the image's mean colour; a 1 x N image
+** halves only N).  The pyramid takes about 1/3 more memory (a square
+** image: 16 bytes per pixel in all; at most twice the image for a 1 x N
+** strip).
+**
+** ray_image_new -- an image of width x height texels copied from "rgb":
+** linear RGB floats, 3 per texel, rows top to bottom (as ray_write_png
+** takes them), for procedural textures.  RAY_OK; RAY_EINVAL (NULLs, a
+** zero size, a value that is NaN or infinite); RAY_ELIMIT (a side over
+** 16384, ray_image_load_png's default limit); RAY_ENOMEM.  *out is
+** untouched on failure.
+**
 ** ray_image_free(NULL) is a no-op.  ray_image_size writes width and
 ** height (either pointer may be NULL).
 **
@@ -1662,7 +1692,19 @@ typedef struct ray_texture {
 ** nearest texel centres.  RAY_OK, or RAY_EINVAL (NULL, s or t not finite:
 ** nothing written).
 **
-** ray_texture_image -- a texture that samples "img" at (args->u, args->v).
+** ray_image_sample_footprint -- the image at (s, t) filtered over a
+** footprint "width" wide in texture units (1: the whole image; usually
+** ray_shade_args.footprint): trilinear mip-mapping, level lambda =
+** log2(width * max(image width, height)) blended between the two levels
+** around it; a width of at most one texel (lambda <= 0, width 0
+** included) gives exactly ray_image_sample's answer, a width beyond the
+** image (+Inf included) the 1 x 1 level, the mean colour.  RAY_OK, or
+** RAY_EINVAL (NULL, s or t not finite, width NaN or negative: nothing
+** written).
+**
+** ray_texture_image -- a texture that samples "img" at (args->u, args->v),
+** filtered over args->footprint when it is positive (the ray carried a
+** cone, ray_render_options.cones), else as ray_image_sample.
 ** The image is BORROWED: it must outlive every scene that uses it.
 ** Loaded images are read-only and may be shared between threads.
 */
@@ -1679,11 +1721,16 @@ RAY_API int ray_image_load_png(const char *path, ray_image **out);
 RAY_API int ray_image_load_png_opt(const char *path,
                                    const ray_image_load_options *opt,
                                    ray_image **out);
+RAY_API int ray_image_new(unsigned width, unsigned height, const float *rgb,
+                          ray_image **out);
 RAY_API void ray_image_free(ray_image *img);
 RAY_API void ray_image_size(const ray_image *img, unsigned *width,
                             unsigned *height);
 RAY_API int ray_image_sample(const ray_image *img, double s, double t,
                              ray_rgb *out);
+RAY_API int ray_image_sample_footprint(const ray_image *img, double s,
+                                       double t, double width,
+                                       ray_rgb *out);
 RAY_API ray_texture ray_texture_image(const ray_image *img);
 
 /* ------------------------------------------------------ built-in materials */
