@@ -1514,6 +1514,24 @@ RAY_API void ray_ctx_free(ray_ctx *ctx);
 RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 
 /*
+** ray_ctx_set_cone -- give the context's next primary rays (ray_trace
+** outside a material callback) a cone: "width" across the ray at its
+** origin (world units; 0 for a pinhole) and "spread", the cone's whole
+** angle in radians (a camera's pixel: about vfov / height).  The cone
+** widens with distance, and the tracer carries it through the rays
+** materials trace: a reflection widens it by the curvature of the mirror
+** (a sphere; other surfaces reflect it as flat), a refraction passes it on
+** unchanged.  At each hit, a material sees its width and its footprint
+** in texture units (ray_shade_args.cone_width, footprint), from which
+** ray_texture_image picks a mip level.  Only in a scene whose effects
+** include RAY_EFFECT_TEXTURE; width = spread = 0 (a new context's
+** default) means no cone.  ray_render sets its own contexts' cones
+** (ray_render_options.cones).  RAY_OK, or RAY_EINVAL (ctx NULL, width or
+** spread negative, NaN or infinite: the cone unchanged).
+*/
+RAY_API int ray_ctx_set_cone(ray_ctx *ctx, double width, double spread);
+
+/*
 ** ray_trace -- trace ray "r" and write the radiance it brings back into
 ** *out: the shade of the material it hits, or the background; geometry
 ** added with RAY_NO_MATERIAL shades exactly black (0, 0, 0).
@@ -1838,10 +1856,24 @@ typedef struct ray_render_options {
     ** split gives the same bytes. */
     double adaptive_threshold;
     unsigned adaptive_depth;
+    /* Ray cones (ray_ctx_set_cone): non-zero, every camera ray carries a
+    ** cone of width 0 at the eye and spread atan(2 tan(vfov/2) / height)
+    ** (one pixel's angle), divided by sqrt(samples) with several samples
+    ** per pixel (each sample stands for its stratum, 1/sqrt(samples) of
+    ** the pixel across: a sample filtered over the whole pixel would blur
+    ** the image twice); the whole pixel's angle with adaptive
+    ** antialiasing (a lattice point's value does not depend on the square
+    ** it serves).  A textured hit then filters its texture over the
+    ** cone's footprint (ray_texture_image).  0: rays are lines, footprint
+    ** 0, textures sampled as ray_image_sample does.  The cone models the
+    ** pixel, not a lens's defocus.  ray_render_options_init sets 1; a
+    ** zero-filled struct means 0, as for the other fields. */
+    int cones;
 } ray_render_options;
 
 /* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
-** no adaptive antialiasing (threshold 0, depth 2 if it is turned on). */
+** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
+** ray cones on. */
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 

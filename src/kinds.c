@@ -483,3 +483,86 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
     }
     return ok;
 }
+
+/* ------------------------------------------------------ ray cones' data */
+
+/* A sphere's (u, v) per unit length at latitude v pi - pi/2 (ray_sphere):
+** du = dphi / 2pi over r cos(lat) dphi, dv = dlat / pi over r dlat, so
+** the area ratio is 1 / (2 pi^2 r^2 cos(lat)); cos(lat) = sin(pi v). */
+static double sphere_uv_scale(const ray__prim *p, const ray_hit *hit)
+{
+    double c = sin(RAY__PI * hit->v);
+
+    if (!(c > 0))
+        return HUGE_VAL;              /* a pole: u's footprint unbounded */
+    return 1.0 / (RAY__PI * p->radius * sqrt(2.0 * c));
+}
+
+/* A triangle's barycentrics (u, v) span half a unit square over its area. */
+static double triangle_uv_scale(const ray__prim *p)
+{
+    double area = v3_length(v3_cross(v3_sub(p->b, p->a), v3_sub(p->c, p->a)));
+    double q = 1.0 / area;            /* (1/2) / (area / 2) */
+
+    return q > 0 && q < HUGE_VAL ? sqrt(q) : 0.0;
+}
+
+double ray__prim_uv_scale(const ray_scene *s, const ray__prim *p,
+                          const ray_hit *hit)
+{
+    const ray__mesh *m;
+
+    switch (p->kind) {
+    case RAY__KIND_SPHERE:
+        return sphere_uv_scale(p, hit);
+    case RAY__KIND_PLANE:
+    case RAY__KIND_POLYGON:
+        return 1.0;                   /* ray_plane's tangent-axis lengths */
+    case RAY__KIND_TRIANGLE:
+        return triangle_uv_scale(p);
+    case RAY__KIND_MESH:
+        m = &s->meshes[p->mesh];
+        return m->uv_scale != NULL && hit->prim_id < m->n_tris
+                   ? m->uv_scale[hit->prim_id] : 0.0;
+    case RAY__KIND_TORUS:
+    case RAY__KIND_IMPLICIT:
+    case RAY__KIND_PARAMETRIC:
+    case RAY__KIND_BEZIER:
+    case RAY__KIND_INSTANCE:
+    case RAY__KIND_USER:
+#define UV_SCALE_UNKNOWN(X, NAME, name, type, counted_as) \
+    case RAY__KIND_##NAME:
+        RAY__SHAPES(UV_SCALE_UNKNOWN, _)
+#undef UV_SCALE_UNKNOWN
+        return 0.0;
+    }
+    return 0.0;                       /* not a ray__kind: cannot happen */
+}
+
+double ray__prim_curvature(const ray_scene *s, const ray__prim *p,
+                           const ray_hit *hit)
+{
+    (void)s;
+    (void)hit;
+    switch (p->kind) {
+    case RAY__KIND_SPHERE:
+        return 1.0 / p->radius;
+    case RAY__KIND_PLANE:
+    case RAY__KIND_POLYGON:
+    case RAY__KIND_TRIANGLE:
+        return 0.0;                   /* flat */
+    case RAY__KIND_MESH:              /* no curvature data: as flat */
+    case RAY__KIND_TORUS:
+    case RAY__KIND_IMPLICIT:
+    case RAY__KIND_PARAMETRIC:
+    case RAY__KIND_BEZIER:
+    case RAY__KIND_INSTANCE:
+    case RAY__KIND_USER:
+#define CURVATURE_UNKNOWN(X, NAME, name, type, counted_as) \
+    case RAY__KIND_##NAME:
+        RAY__SHAPES(CURVATURE_UNKNOWN, _)
+#undef CURVATURE_UNKNOWN
+        return 0.0;
+    }
+    return 0.0;                       /* not a ray__kind: cannot happen */
+}

@@ -529,6 +529,7 @@ void ray_render_options_init(ray_render_options *o, unsigned width,
     o->height = height;
     o->samples = 1;
     o->adaptive_depth = 2;
+    o->cones = 1;
 }
 
 static int options_valid(const ray_render_options *o, unsigned *y1)
@@ -622,6 +623,22 @@ static int run_job(render_job *job, void *workers, unsigned n,
     return job->cancelled ? RAY_ECANCELED : RAY_OK;
 }
 
+/*
+** A camera ray's cone spread (ray_render_options.cones): one pixel's angle,
+** atan(2 tan(vfov/2) / height) (Akenine-Moller et al., Ray Tracing Gems,
+** 2019, eq. 20.30), per sample the angle of its stratum: / sqrt(samples).
+** Adaptive antialiasing's lattice points take the whole pixel's.
+*/
+static double pixel_spread(const render_job *job)
+{
+    const ray_render_options *o = job->opt;
+    double pixel = atan(2.0 * job->cam.half_h / (double)o->height);
+
+    if (o->adaptive_threshold > 0)
+        return pixel;
+    return pixel / sqrt((double)o->samples);
+}
+
 int ray_render(const ray_scene *scene, const ray_camera *camera,
                const ray_render_options *opt, float *rgb, ray_stats *stats)
 {
@@ -658,6 +675,8 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     for (i = 0; i < n; i++) {
         worker_at(workers, i)->job = &job;
         worker_at(workers, i)->ctx.scene = scene;
+        if (opt->cones)
+            worker_at(workers, i)->ctx.cone_spread = pixel_spread(&job);
     }
     job.rgb = rgb;
     rc = RAY_ENOMEM;

@@ -86,6 +86,8 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
 void ray__mesh_release(const ray_scene *s, ray__mesh *m)
 {
     /* The scene's own copies: freed through a cast, as allocated. */
+    ray__free(s, m->uv_scale, m->n_tris * sizeof *m->uv_scale);
+    m->uv_scale = NULL;
     if (!m->borrowed) {
         ray__free(s, ray__unconst(m->indices),
                   3 * m->n_tris * sizeof *m->indices);

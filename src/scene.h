@@ -105,6 +105,10 @@ typedef struct ray__mesh {
     size_t n_vertices, n_tris;
     int borrowed;                /* the arrays are the caller's */
     ray_mesh src;                /* borrowed: the caller's descriptor */
+    double *uv_scale;            /* with texcoords: per triangle, sqrt(its
+                                    (s, t) area / its area), for ray
+                                    cones' footprints; the scene's own
+                                    even when borrowed; else NULL */
 } ray__mesh;
 
 /* Corner k (0 .. 3 n_tris - 1) of mesh m's triangles, for shading. */
@@ -346,6 +350,25 @@ typedef struct ray__counts {
 } ray__counts;
 
 ray__class ray__kind_class(ray__kind kind);
+
+/*
+** For ray cones (trace.c), by kind, at a hit of geometry p of s (its
+** owner; an instance's child in object space):
+** ray__prim_uv_scale -- the surface's (u, v) per unit of length there,
+** the isotropic estimate sqrt(|d(u, v)| / |dA|) of Akenine-Moller et al.
+** (Ray Tracing Gems, 2019, chapter 20): plane, polygon 1 (their (u, v)
+** are lengths); triangle sqrt((1/2) / area) (barycentrics); mesh with
+** (s, t) its triangle's sqrt(st area / area), without 0; sphere
+** 1 / (pi r sqrt(2 cos latitude)) (u = longitude / 2pi, v = latitude /
+** pi), +Inf at a pole; every other kind 0: unknown, no filtering.
+** ray__prim_curvature -- the surface's mean curvature there for the side
+** its normal points to (convex > 0): sphere 1 / r, every other kind 0
+** (flat, or unknown: a cone then reflects as off a flat mirror).
+*/
+double ray__prim_uv_scale(const ray_scene *s, const ray__prim *p,
+                          const ray_hit *hit);
+double ray__prim_curvature(const ray_scene *s, const ray__prim *p,
+                           const ray_hit *hit);
 int ray__kind_counter(ray__kind kind);
 void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
                    ray_vec3 *hi);

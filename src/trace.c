@@ -16,6 +16,7 @@ void ray__ctx_start(ray_ctx *ctx, unsigned long long rng)
     ctx->weight = 1.0;
     ctx->effects = 0;
     ctx->fanout = 0;
+    ctx->hit_cone = 0;
 }
 
 int ray_ctx_new(const ray_scene *scene, unsigned long long seed,
@@ -45,6 +46,16 @@ void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out)
 {
     if (ctx != NULL && out != NULL)
         *out = ctx->stats;
+}
+
+int ray_ctx_set_cone(ray_ctx *ctx, double width, double spread)
+{
+    if (ctx == NULL || !(width >= 0 && width < HUGE_VAL) ||
+        !(spread >= 0 && spread < HUGE_VAL))
+        return RAY_EINVAL;
+    ctx->cone_width = width;
+    ctx->cone_spread = spread;
+    return RAY_OK;
 }
 
 double ray_ctx_random(ray_ctx *ctx)
@@ -155,6 +166,75 @@ static void mesh_shading(const ray_scene *top, const ray_hit *hit,
 }
 
 /*
+** A ray's cone (Amanatides, "Ray Tracing with Cones", SIGGRAPH 1984; as
+** Akenine-Moller et al. use it for texture level of detail, "Texture
+** Level of Detail Strategies for Real-Time Ray Tracing", Ray Tracing
+** Gems, 2019, chapter 20): its width w0 at the origin and its spread
+** angle (radians, the whole angle), so its width at distance d is
+** w0 + spread d (their equation 20.32, the small-angle form).
+*/
+typedef struct cone {
+    double width, spread;
+} cone;
+
+/*
+** The cone at the hit and what the material sees of it.  The width at
+** the hit is w = w0 + spread d, d = t |dir| (kept signed for the rays
+** that go on: a concave mirror's focus makes it pass through 0; the
+** material gets |w|).  The footprint in (u, v) is |w| / |cos incidence|
+** (the cone's section on the surface, stretched along the plane of
+** incidence; the isotropic estimate takes the stretch whole, as their
+** section 20.3.4 does) times the surface's (u, v) per unit length
+** (ray__prim_uv_scale, which an instance's scale divides).
+**
+** A reflection off a surface of curvature k (ray__prim_curvature, > 0
+** convex toward the ray) widens the spread by beta = 2 k |w|: across the
+** footprint the normal turns by k |w| / cos(theta) in the plane of
+** incidence and by k |w| across it, and the reflection turns twice as
+** much in the first and 2 cos(theta) times in the second; the
+** geometric mean of the two is 2 k |w| whatever theta (the 2019 chapter's
+** beta = 2 curvature term, eq. 20.33, with the curvature taken from the
+** geometry rather than from screen-space normal derivatives).  Flat:
+** beta = 0, so a cone through a flat mirror widens as if the mirror were
+** not there.  Refraction passes the cone on unchanged: the spread's
+** scaling by n1 cos(theta1) / (n2 cos(theta2)) at a flat boundary is
+** undone on the way out of a slab, and the ratio of the indices is not
+** known to the tracer (the 2021 refraction chapter, Ray Tracing Gems II
+** ch. 10, computes it from the material's index).
+*/
+static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
+                        const ray_material *m, const ray_ray *r,
+                        const ray_hit *hit, const cone *c,
+                        ray_shade_args *args)
+{
+    const ray__instance *in = ray__hit_instance(ctx->scene, hit);
+    const ray__prim *p = &owner->prims[hit->geom_id];
+    double len = v3_length(r->dir);
+    double w = c->width + c->spread * (hit->t * len), aw = fabs(w);
+    /* An instance's object lengths per world length: 1 / s for a
+    ** similarity s R; else |L^-1| / sqrt(3), the Frobenius norm's value
+    ** for the identity, a mean scale. */
+    double obj_per_world =
+        in == NULL ? 1.0
+                   : in->similarity > 0 ? 1.0 / in->similarity
+                                        : in->inv_norm / sqrt(3.0);
+
+    args->cone_width = aw;
+    if ((m->effects & RAY_EFFECT_TEXTURE) && aw > 0) {
+        double scale = ray__prim_uv_scale(owner, p, hit) * obj_per_world;
+        double cosi = fabs(v3_dot(r->dir, hit->n)) / len;
+        if (scale > 0)
+            args->footprint = cosi > 0 ? aw / cosi * scale : HUGE_VAL;
+        if (!(args->footprint >= 0))
+            args->footprint = 0;     /* NaN from an Inf scale: unknown */
+    }
+    ctx->hit_width = w;
+    ctx->hit_spread = c->spread;
+    ctx->hit_beta = (args->entering ? 2.0 : -2.0) * aw *
+                    ray__prim_curvature(owner, p, hit) * obj_per_world;
+}
+
+/*
 ** Shade "hit" with its material, with the context set up for the hit and
 ** restored afterwards.  Only a material that declared reflection or
 ** refraction can call ray_trace back (any other call is refused as
@@ -162,7 +242,8 @@ static void mesh_shading(const ray_scene *top, const ray_hit *hit,
 ** a scene without such materials pays no recursion bookkeeping.
 */
 static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
-                  unsigned depth, double weight, ray_rgb *out)
+                  unsigned depth, double weight, const cone *c,
+                  ray_rgb *out)
 {
     const ray_scene *s = ctx->scene, *owner = ray__hit_owner(s, hit);
     const ray_material *m =
@@ -173,6 +254,9 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     unsigned saved_depth = ctx->depth, effects = ctx->effects;
     unsigned fanout = ctx->fanout;
     double saved_weight = ctx->weight;
+    int saved_cone = ctx->hit_cone;
+    double saved_cw = ctx->hit_width, saved_cs = ctx->hit_spread;
+    double saved_cb = ctx->hit_beta;
     ray_shade_args args;
 
     args.scene = s;
@@ -187,7 +271,12 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     args.ambient = s->ambient;
     args.shading_normal = args.normal;
     args.prune = s->prune;
+    args.cone_width = 0;
+    args.footprint = 0;
     mesh_shading(s, hit, &args);
+    ctx->hit_cone = c != NULL;
+    if (c != NULL)
+        cone_at_hit(ctx, owner, m, r, hit, c, &args);
     ctx->in_shade = 1;
     ctx->effects = m->effects;
     if (recursive) {
@@ -204,6 +293,10 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
         ctx->weight = saved_weight;
         ctx->fanout = fanout;
     }
+    ctx->hit_cone = saved_cone;
+    ctx->hit_width = saved_cw;
+    ctx->hit_spread = saved_cs;
+    ctx->hit_beta = saved_cb;
 }
 
 static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
@@ -212,6 +305,7 @@ static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
     unsigned depth;
     double weight;
     ray_hit hit;
+    cone c, *has = NULL;
     int rc;
 
     if (ctx == NULL || r == NULL || out == NULL || kind >= RAY_KIND_COUNT)
@@ -223,6 +317,22 @@ static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
         return rc;
     if (ctx->in_shade)
         ctx->fanout++;
+    /* The ray's cone: a primary ray's from ray_ctx_set_cone; a secondary
+    ** ray's from the hit that spawned it (cone_at_hit).  Only where a
+    ** material reads textures (API-NOTES 14). */
+    if (ctx->scene->effects & RAY_EFFECT_TEXTURE) {
+        if (!ctx->in_shade) {
+            c.width = ctx->cone_width;
+            c.spread = ctx->cone_spread;
+            if (c.width > 0 || c.spread > 0)
+                has = &c;
+        } else if (ctx->hit_cone) {
+            c.width = ctx->hit_width;
+            c.spread = ctx->hit_spread +
+                       (kind == RAY_KIND_REFLECTION ? ctx->hit_beta : 0.0);
+            has = &c;
+        }
+    }
     ctx->stats.rays[kind]++;
     if (depth > ctx->stats.max_depth)
         ctx->stats.max_depth = depth;
@@ -238,7 +348,7 @@ static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
              RAY_NO_MATERIAL)
         out->r = out->g = out->b = 0.0;   /* no material: black (ray.h) */
     else
-        shade(ctx, r, &hit, depth, weight, out);
+        shade(ctx, r, &hit, depth, weight, has, out);
     return RAY_OK;
 }
 

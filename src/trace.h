@@ -20,6 +20,14 @@ struct ray_ctx {
     int stale;               /* a ray of the current tree met an instance
                                 of a scene changed since the commit: the
                                 outermost ray_trace answers RAY_ESTATE */
+    /* Ray cones (trace.c): the cone of the next primary rays
+    ** (ray_ctx_set_cone, ray_render), and of the hit being shaded, for
+    ** the rays its material traces: the signed width there (a cone
+    ** focused by a concave mirror passes through 0), the spread it
+    ** arrived with, and what a reflection adds to it. */
+    double cone_width, cone_spread;
+    int hit_cone;            /* the hit being shaded carries a cone */
+    double hit_width, hit_spread, hit_beta;
 };
 
 /* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed

@@ -294,10 +294,542 @@ START_TEST(image_texture_should_use_the_footprint)
 }
 END_TEST
 
+/* ------------------------------------------------------------ the tracer */
+
+/* What a recording material saw at its last hit. */
+typedef struct cone_seen {
+    double width, footprint, t, u, v;
+    ray_vec3 dir;
+    int calls;
+} cone_seen;
+
+static void record_cone(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                        ray_rgb *out)
+{
+    cone_seen *s = ud;
+
+    (void)ctx;
+    (void)out;
+    s->width = a->cone_width;
+    s->footprint = a->footprint;
+    s->t = a->hit->t;
+    s->u = a->u;
+    s->v = a->v;
+    s->dir = a->ray->dir;
+    s->calls++;
+}
+
+static ray_material recorder(cone_seen *seen, unsigned effects)
+{
+    ray_material m;
+
+    memset(seen, 0, sizeof *seen);
+    m.shade = record_cone;
+    m.ud = seen;
+    m.effects = effects;
+    return m;
+}
+
+static ray_scene *new_scene(void)
+{
+    ray_scene *s = NULL;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    return s;
+}
+
+/* Trace one primary ray with cone (w0, spread) through a new context. */
+static void trace_cone(ray_scene *s, ray_vec3 org, ray_vec3 dir, double w0,
+                       double spread)
+{
+    ray_ctx *ctx = NULL;
+    ray_ray r = ray_from(org, dir);
+    ray_rgb c;
+
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, w0, spread), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ray_ctx_free(ctx);
+}
+
+/*
+** The width is w0 + spread t |dir|: t from ray_plane within a few ulps
+** (ray-numerics(7)), |dir| within 2 ulps, the product and sum one each:
+** 16 ulps relative is a generous bound for all of them together.
+*/
+#define CONE_REL (16 * DBL_EPSILON)
+
+START_TEST(cone_should_grow_linearly_with_distance_on_a_plane)
+{
+    static const double dist[3] = {1, 2, 4};
+    double width[3], foot[3];
+    int i;
+
+    for (i = 0; i < 3; i++) {
+        cone_seen seen;
+        ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+        ray_scene *s = new_scene();
+        unsigned mid;
+        /* The plane z = 0 met from height dist[i] at incidence cos 0.8:
+        ** the distance along the ray is dist / 0.8. */
+        ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1),
+                                             mid, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        trace_cone(s, vec(0, 0, dist[i]), vec(0.6, 0, -0.8), 0, 0.01);
+        ck_assert_int_eq(seen.calls, 1);
+        width[i] = seen.width;
+        foot[i] = seen.footprint;
+        ck_assert_double_eq_tol(width[i], 0.01 * dist[i] / 0.8,
+                                CONE_REL * width[i]);
+        /* The plane's (u, v) are lengths: the footprint is the width
+        ** stretched by 1 / cos(incidence), one more division. */
+        ck_assert_double_eq_tol(foot[i], width[i] / 0.8, CONE_REL * foot[i]);
+        ray_scene_free(s);
+    }
+    ck_assert_double_eq_tol(width[1] / width[0], 2.0, 2 * CONE_REL * 2);
+    ck_assert_double_eq_tol(width[2] / width[1], 2.0, 2 * CONE_REL * 2);
+    ck_assert_double_eq_tol(foot[2] / foot[0], 4.0, 2 * CONE_REL * 4);
+}
+END_TEST
+
+START_TEST(cone_should_start_at_its_width)
+{
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_scene *s = new_scene();
+    unsigned mid;
+
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* A direction of length 2: the distance is t |dir| = 3. */
+    trace_cone(s, vec(0, 0, 3), vec(0, 0, -2), 0.5, 0.25);
+    ck_assert_double_eq_tol(seen.width, 0.5 + 0.25 * 3, CONE_REL * 2);
+    /* A cylinder (spread 0) keeps its width. */
+    trace_cone(s, vec(0, 0, 3), vec(0, 0, -1), 0.5, 0);
+    ck_assert_double_eq(seen.width, 0.5);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Direct: the floor y = 0 from height D.  Through the mirror: up 0.5 D to
+** a flat mirror at y = 1.5 D and down 1.5 D: twice the path, twice the
+** width and the footprint. */
+START_TEST(cone_should_double_through_a_flat_mirror_at_twice_the_distance)
+{
+    static const ray_rgb one = {1, 1, 1};
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_material mirror = ray_material_mirror(&one);
+    ray_scene *s = new_scene();
+    unsigned mid, mirror_id;
+    double direct, direct_fp, d = 3.0;
+
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mirror_id), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 1.5 * d, 0),
+                                         vec(0, -1, 0), mirror_id, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, d, 0), vec(0, -1, 0), 0, 0.02);
+    direct = seen.width;
+    direct_fp = seen.footprint;
+    ck_assert_double_eq_tol(direct, 0.02 * d, CONE_REL * direct);
+    seen.calls = 0;
+    trace_cone(s, vec(0, d, 0), vec(0, 1, 0), 0, 0.02);
+    ck_assert_int_eq(seen.calls, 1);
+    /* Two segments, each within CONE_REL. */
+    ck_assert_double_eq_tol(seen.width / direct, 2.0, 4 * CONE_REL * 2);
+    ck_assert_double_eq_tol(seen.footprint / direct_fp, 2.0,
+                            4 * CONE_REL * 2);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A sphere mirror of radius R met head-on at distance D: the width there
+** is w = spread D, and the reflection's spread is spread + 2 w / R
+** (convex, trace.c's cone_at_hit); the ray comes straight back over D + E
+** to the plane z = E behind the eye.  From inside (concave), the spread
+** becomes spread - 2 w / R.
+*/
+START_TEST(cone_should_widen_off_a_convex_and_narrow_off_a_concave_mirror)
+{
+    static const ray_rgb one = {1, 1, 1};
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_material mirror = ray_material_mirror(&one);
+    ray_scene *s = new_scene();
+    unsigned mid, mirror_id;
+    double R = 2, D = 3, E = 1, g = 0.01, w, want;
+
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mirror_id), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -D - R), R, mirror_id,
+                                          NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, E), vec(0, 0, -1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, 0, 0), vec(0, 0, -1), 0, g);
+    ck_assert_int_eq(seen.calls, 1);
+    w = g * D;
+    want = w + (g + 2 * w / R) * (D + E);
+    /* Each of the two segments within CONE_REL, the curvature term too. */
+    ck_assert_double_eq_tol(seen.width, want, 4 * CONE_REL * want);
+    /* Without the curvature it would be g (2 D + E): visibly less. */
+    ck_assert_double_gt(seen.width, 1.5 * g * (2 * D + E));
+    ray_scene_free(s);
+
+    /* Concave: from the centre of a mirror sphere of radius R, out R to
+    ** the wall (w = g R), back 1.5 R to the plane z = R/2: spread g - 2 g
+    ** = -g, width g R - g 1.5 R = -0.5 g R, seen as its size 0.5 g R. */
+    memset(&seen, 0, sizeof seen);
+    s = new_scene();
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mirror_id), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), R, mirror_id,
+                                          NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, R / 2), vec(0, 0, -1),
+                                         mid, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, 0, 0), vec(0, 0, -1), 0, g);
+    ck_assert_int_eq(seen.calls, 1);
+    want = 0.5 * g * R;
+    /* The difference g R - 1.5 g R cancels to a third of its terms: the
+    ** terms' relative error, tripled. */
+    ck_assert_double_eq_tol(seen.width, want, 3 * 4 * CONE_REL * want);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Refraction passes the cone on unchanged (trace.c): through a glass
+** slab, the width is the spread times the whole path. */
+START_TEST(cone_should_pass_through_refraction_unchanged)
+{
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_glass_params gp;
+    ray_material glass;
+    ray_scene *s = new_scene();
+    unsigned mid, gid;
+    ray_vec3 quad[4];
+
+    ray_glass_params_init(&gp);
+    glass = ray_material_glass(&gp);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
+    /* A pane z = -1 (polygon) in front of the floor z = -3, met head-on:
+    ** no bending. */
+    quad[0] = vec(-1, -1, -1);
+    quad[1] = vec(1, -1, -1);
+    quad[2] = vec(1, 1, -1);
+    quad[3] = vec(-1, 1, -1);
+    ck_assert_int_eq(ray_scene_add_polygon(s, quad, 4, gid, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -3), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, 0, 0), vec(0, 0, -1), 0, 0.01);
+    ck_assert_int_ge(seen.calls, 1);
+    ck_assert_double_eq_tol(seen.width, 0.03, 4 * CONE_REL * 0.03);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The (u, v) scale by kind, met head-on at distance 1 with spread 0.01
+** (width 0.01): a triangle's barycentrics, sqrt(1 / area); a mesh's (s,
+** t), sqrt(st area / area); a sphere at its equator, 1 / (pi R sqrt 2).
+*/
+START_TEST(footprint_should_scale_by_each_kinds_uv_per_length)
+{
+    static const ray_vec3 quad_v[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0},
+                                       {-1, 1, 0}};
+    static const unsigned quad_i[6] = {0, 1, 2, 0, 2, 3};
+    static const double quad_st[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_scene *s = new_scene();
+    ray_mesh mesh;
+    unsigned mid;
+    double w = 0.01;
+
+    /* A right triangle with legs 1 and 2: area 1, over which the
+    ** barycentrics span 1/2: scale sqrt(1/2). */
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, -1, 0), vec(0, -1, 0),
+                                            vec(-1, 1, 0), mid, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(-0.8, -0.5, 1), vec(0, 0, -1), 0, 0.01);
+    ck_assert_double_eq_tol(seen.footprint, w * sqrt(0.5),
+                            4 * CONE_REL * w);
+    ray_scene_free(s);
+
+    /* A 2 x 2 quad with (s, t) over [0, 1]^2: scale 1/2, borrowed or
+    ** copied alike. */
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = quad_v;
+    mesh.vertex_count = 4;
+    mesh.indices = quad_i;
+    mesh.triangle_count = 2;
+    mesh.texcoords = quad_st;
+    s = new_scene();
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mid, NULL), RAY_OK);
+    mesh.flags = RAY_MESH_BORROW;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, mid, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0.5, -0.25, 1), vec(0, 0, -1), 0, 0.01);
+    ck_assert_double_eq_tol(seen.footprint, w * 0.5, 4 * CONE_REL * w);
+    trace_cone(s, vec(-0.5, 0.25, 1), vec(0, 0, -1), 0, 0.01);
+    ck_assert_double_eq_tol(seen.footprint, w * 0.5, 4 * CONE_REL * w);
+    ray_scene_free(s);
+
+    /* A sphere of radius 2 met at its equator (v = 1/2; sin(pi/2) = 1
+    ** within an ulp). */
+    s = new_scene();
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 2, mid, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, 0, 3), vec(0, 0, -1), 0, 0.01);
+    ck_assert_double_eq_tol(seen.v, 0.5, 4 * DBL_EPSILON);
+    ck_assert_double_eq_tol(seen.footprint, w / (3.14159265358979323846 * 2 * sqrt(2.0)),
+                            8 * CONE_REL * w);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Effects decide work: without RAY_EFFECT_TEXTURE in the scene, no cone;
+** a context without ray_ctx_set_cone, none either. */
+START_TEST(cone_should_be_zero_without_texture_effect_or_cone)
+{
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_SHADOW);
+    ray_scene *s = new_scene();
+    ray_ctx *ctx = NULL;
+    ray_ray r = ray_from(vec(0, 0, 1), vec(0, 0, -1));
+    ray_rgb c;
+    unsigned mid;
+
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, 0, 1), vec(0, 0, -1), 1, 1);
+    ck_assert_int_eq(seen.calls, 1);
+    ck_assert_double_eq(seen.width, 0);
+    ck_assert_double_eq(seen.footprint, 0);
+    ray_scene_free(s);
+
+    m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    s = new_scene();
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_int_eq(seen.calls, 1);
+    ck_assert_double_eq(seen.width, 0);
+    ck_assert_double_eq(seen.footprint, 0);
+    /* Misuse leaves the cone as it was: still none. */
+    ck_assert_int_eq(ray_ctx_set_cone(NULL, 0, 0.1), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, -1e-300, 0.1), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, -0.1), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, NAN, 0.1), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, NAN), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, HUGE_VAL, 0.1), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, HUGE_VAL), RAY_EINVAL);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_double_eq(seen.width, 0);
+    /* And a valid cone is then used, and 0, 0 turns it off again. */
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, 0.5), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_double_eq_tol(seen.width, 0.5, CONE_REL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, 0), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_double_eq(seen.width, 0);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* ----------------------------------------------------------- ray_render */
+
+static ray_camera floor_camera(void)
+{
+    ray_camera cam;
+
+    ray_camera_init(&cam);
+    cam.position = vec(0, 1, 0);
+    cam.look_at = vec(0, 0.8, -10);
+    cam.vfov = 40;
+    return cam;
+}
+
+/* A camera ray's cone: one pixel's angle, / sqrt(samples). */
+START_TEST(render_should_give_camera_rays_the_pixel_cone)
+{
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_scene *s = new_scene();
+    ray_render_options o;
+    ray_camera cam;
+    unsigned mid, h = 50;
+    float rgb[3 * 4];
+    double pixel;
+
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -5), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_camera_init(&cam);
+    cam.vfov = 30;
+    /* One pixel of an h-tall frame, rendered alone (rows 25 .. 26 of a
+    ** 1-wide frame: the centre row), one thread: the recorder is not
+    ** shared. */
+    ray_render_options_init(&o, 1, h);
+    ck_assert_int_eq(o.cones, 1);
+    o.threads = 1;
+    o.y0 = h / 2;
+    o.y1 = h / 2 + 1;
+    pixel = atan(2 * tan(15 * 3.14159265358979323846 / 180) / h);
+    ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
+    ck_assert_int_eq(seen.calls, 1);
+    ck_assert_double_eq_tol(seen.width,
+                            pixel * seen.t * sqrt(vdot(seen.dir, seen.dir)),
+                            4 * CONE_REL * seen.width);
+    o.samples = 4;
+    ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
+    ck_assert_double_eq_tol(seen.width,
+                            pixel / 2 * seen.t *
+                                sqrt(vdot(seen.dir, seen.dir)),
+                            4 * CONE_REL * seen.width);
+    o.cones = 0;
+    ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
+    ck_assert_double_eq(seen.width, 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* A checkerboard image, 64 x 64 texels of 8 x 8 squares. */
+static ray_image *checker_image(void)
+{
+    float rgb[64 * 64 * 3];
+    ray_image *img = NULL;
+    int x, y;
+
+    for (y = 0; y < 64; y++)
+        for (x = 0; x < 64; x++) {
+            float c = ((x / 8 + y / 8) & 1) ? 0.9f : 0.1f;
+            rgb[3 * (64 * y + x)] = c;
+            rgb[3 * (64 * y + x) + 1] = c;
+            rgb[3 * (64 * y + x) + 2] = c;
+        }
+    ck_assert_int_eq(ray_image_new(64, 64, rgb, &img), RAY_OK);
+    return img;
+}
+
+/* The unfiltered texture: ray_image_sample whatever the footprint. */
+static void plain_texture(void *ud, const ray_shade_args *a, ray_rgb *out)
+{
+    ray_image_sample(ud, a->u, a->v, out);
+}
+
+/* A Phong floor textured by "tex" under a point light, to the horizon. */
+static ray_scene *floor_scene(ray_phong_params *p, ray_texture tex)
+{
+    ray_scene *s = new_scene();
+    ray_material m;
+    ray_light l;
+    unsigned mid;
+
+    ray_phong_params_init(p);
+    p->texture = tex;
+    m = ray_material_phong(p);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mid,
+                                         NULL), RAY_OK);
+    memset(&l, 0, sizeof l);
+    l.kind = RAY_LIGHT_DIRECTIONAL;
+    l.direction = vec(0.3, -1, -0.2);
+    l.intensity = ray_rgb_make(1, 1, 1);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+#define FW 48
+#define FH 32
+
+static void render_floor(ray_scene *s, unsigned threads, unsigned samples,
+                         int cones, float *rgb)
+{
+    ray_camera cam = floor_camera();
+    ray_render_options o;
+
+    ray_render_options_init(&o, FW, FH);
+    o.threads = threads;
+    o.samples = samples;
+    o.cones = cones;
+    ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
+}
+
+START_TEST(render_with_cones_should_be_the_same_at_any_thread_count)
+{
+    static float a[3 * FW * FH], b[3 * FW * FH];
+    ray_image *img = checker_image();
+    ray_phong_params p;
+    ray_scene *s = floor_scene(&p, ray_texture_image(img));
+    unsigned threads, samples;
+
+    for (samples = 1; samples <= 4; samples += 3) {
+        render_floor(s, 1, samples, 1, a);
+        for (threads = 2; threads <= 3; threads++) {
+            render_floor(s, threads, samples, 1, b);
+            ck_assert_int_eq(memcmp(a, b, sizeof a), 0);
+        }
+    }
+    ray_scene_free(s);
+    ray_image_free(img);
+}
+END_TEST
+
+/* cones = 0 is the image the unfiltered texture gives with cones on: the
+** bytes of a library without cones; and cones = 1 filters (differs). */
+START_TEST(render_without_cones_should_give_the_unfiltered_bytes)
+{
+    static float off[3 * FW * FH], plain[3 * FW * FH], on[3 * FW * FH];
+    ray_image *img = checker_image();
+    ray_phong_params p, q;
+    ray_scene *s = floor_scene(&p, ray_texture_image(img));
+    ray_texture t;
+    ray_scene *u;
+
+    t.fn = plain_texture;
+    t.ud = img;
+    u = floor_scene(&q, t);
+    render_floor(s, 2, 4, 0, off);
+    render_floor(u, 2, 4, 1, plain);
+    render_floor(s, 2, 4, 1, on);
+    ck_assert_int_eq(memcmp(off, plain, sizeof off), 0);
+    ck_assert_int_ne(memcmp(off, on, sizeof off), 0);
+    ray_scene_free(s);
+    ray_scene_free(u);
+    ray_image_free(img);
+}
+END_TEST
+
 Suite *cones_suite(void)
 {
     Suite *s = suite_create("cones");
     TCase *mip = tcase_create("mip");
+    TCase *trace = tcase_create("trace");
 
     tcase_add_test(mip, mip_4x4_should_average_2x2_blocks);
     tcase_add_test(mip, mip_5x3_should_weigh_texels_by_area);
@@ -307,5 +839,20 @@ Suite *cones_suite(void)
     tcase_add_test(mip, image_misuse_should_leave_outputs_untouched);
     tcase_add_test(mip, image_texture_should_use_the_footprint);
     suite_add_tcase(s, mip);
+    tcase_add_test(trace, cone_should_grow_linearly_with_distance_on_a_plane);
+    tcase_add_test(trace, cone_should_start_at_its_width);
+    tcase_add_test(trace,
+        cone_should_double_through_a_flat_mirror_at_twice_the_distance);
+    tcase_add_test(trace,
+        cone_should_widen_off_a_convex_and_narrow_off_a_concave_mirror);
+    tcase_add_test(trace, cone_should_pass_through_refraction_unchanged);
+    tcase_add_test(trace, footprint_should_scale_by_each_kinds_uv_per_length);
+    tcase_add_test(trace, cone_should_be_zero_without_texture_effect_or_cone);
+    tcase_add_test(trace, render_should_give_camera_rays_the_pixel_cone);
+    tcase_add_test(trace,
+        render_with_cones_should_be_the_same_at_any_thread_count);
+    tcase_add_test(trace,
+        render_without_cones_should_give_the_unfiltered_bytes);
+    suite_add_tcase(s, trace);
     return s;
 }
