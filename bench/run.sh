@@ -37,6 +37,7 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/numerics"
     "$build/bench/selfhit"
     "$build/bench/effects" data
+    "$build/bench/cones"
     "$build/bench/threads"
     "$build/bench/surfaces"
     "$build/bench/mesh" data
@@ -54,7 +55,7 @@ mv "$out.tmp" "$out"
 
 # Tables copied into doc/BENCHMARKS.md between <!-- NAME:begin --> and
 # <!-- NAME:end -->: the primitives (headline), the curved surfaces, the
-# effects, the thread speed-up, the meshes, the live scenes and the
+# effects, the ray cones, the thread speed-up, the meshes, the live scenes and the
 # Whitted scene against POV-Ray.  A marker missing from the
 # page is an error, not a table silently dropped.
 splice() {
@@ -73,6 +74,9 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     awk '/^Pruned \(effect analysis/{on=1} /^## Whitted scene/{exit} on' "$out" |
         sed -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/effects.md"
     splice effects "$plots/effects.md"
+    awk '/^## Ray cones/{on=1; next} on&&/^## /{exit} on' "$out" |
+        sed -e '/./,$!d' -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/cones.md"
+    splice cones "$plots/cones.md"
     awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
     splice threads "$plots/threads.md"
     awk '/^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
