@@ -37,8 +37,8 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/numerics"
     "$build/bench/selfhit"
     "$build/bench/effects" data
-    "$build/bench/cones"
     "$build/bench/threads"
+    "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
     "$build/bench/surfaces"
     "$build/bench/mesh" data
     "$build/bench/packets" data
