@@ -1,14 +1,20 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** textures.c -- texture coordinates from every kind of primitive, and
-** textures of both kinds: a PNG image (loaded with ray_image_load_png,
-** filtered bilinearly) and procedural functions (ray_texture_fn).
+** textures of both kinds: images (a PNG loaded with ray_image_load_png,
+** and a checkerboard made in memory with ray_image_new), mip-mapped and
+** filtered over each camera ray's cone (ray_render_options.cones, on by
+** default), and procedural functions (ray_texture_fn).
 **
 **   * a sphere wrapped in the image by its longitude and latitude;
 **   * a curved Bezier "canvas" showing the image by its (u, v);
 **   * a mesh quad with per-vertex (s, t) showing it too;
 **   * a torus striped by its two angles (procedural);
-**   * the floor, a plane, with procedural rings in its own axes.
+**   * the floor, a plane, tiled in its own axes with a checkerboard image
+**     of 8 x 8 squares per unit: without cones (cones = 0 in
+**     ray_render_options) its far squares alias into moire at a few
+**     samples per pixel; with them each ray reads the mip level of its
+**     footprint.
 **
 **     textures [image.png [out.png [width height [samples [threads]]]]]
 **
@@ -26,13 +32,24 @@ static void torus_stripes(void *ud, const ray_shade_args *a, ray_rgb *out)
     *out = rgb(0.3 + 0.7 * band, 0.25 + 0.5 * band * ring, 0.2 + 0.2 * ring);
 }
 
-/* Rings on the floor, around its origin, in the plane's (u, v) axes. */
-static void floor_rings(void *ud, const ray_shade_args *a, ray_rgb *out)
+/* The floor's tile: a 64 x 64 image of 8 x 8 squares in two warm tones,
+** made in memory (linear RGB, rows top to bottom). */
+static ray_image *floor_tile(void)
 {
-    double r = sqrt(a->u * a->u + a->v * a->v);
-    double k = 0.5 + 0.5 * cos(2 * 3.14159265358979 * 1.5 * r);
-    (void)ud;
-    *out = rgb(0.55 + 0.3 * k, 0.45 + 0.25 * k, 0.35 + 0.15 * k);
+    static float texels[64 * 64 * 3];
+    ray_image *img;
+    int x, y;
+
+    for (y = 0; y < 64; y++)
+        for (x = 0; x < 64; x++) {
+            int odd = (x / 8 + y / 8) & 1;
+            float *p = texels + 3 * (64 * y + x);
+            p[0] = odd ? 0.85f : 0.35f;
+            p[1] = odd ? 0.7f : 0.27f;
+            p[2] = odd ? 0.5f : 0.2f;
+        }
+    check(ray_image_new(64, 64, texels, &img), "ray_image_new");
+    return img;
 }
 
 
@@ -109,8 +126,8 @@ int main(int argc, char **argv)
                      .radius = 0.5, .intensity = {50, 50, 48}, .samples = 16};
     ray_camera cam = {.position = {0, 2.0, 6.5}, .look_at = {0, 0.8, 0},
                       .up = {0, 1, 0}, .vfov = 42};
-    ray_texture stripes = {.fn = torus_stripes}, rings = {.fn = floor_rings};
-    ray_image *image;
+    ray_texture stripes = {.fn = torus_stripes};
+    ray_image *image, *tile;
     ray_scene *scene;
     ray_vec3 cp[16];
     unsigned w, h;
@@ -128,7 +145,8 @@ int main(int argc, char **argv)
     printf("textures: %s: %u x %u texels\n", args.input, w, h);
     image_mat = textured(ray_texture_image(image), 0.3);
     torus_mat = textured(stripes, 0.5);
-    floor_mat = textured(rings, 0);
+    tile = floor_tile();
+    floor_mat = textured(ray_texture_image(tile), 0);
 
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
     check(ray_scene_add_plane(scene, vec(0, 0, 0), vec(0, 1, 0),
@@ -152,5 +170,6 @@ int main(int argc, char **argv)
     rc = render_to_png(&args, scene, &cam);
     ray_scene_free(scene);
     ray_image_free(image);
+    ray_image_free(tile);
     return rc;
 }

@@ -604,6 +604,38 @@ START_TEST(footprint_should_scale_by_each_kinds_uv_per_length)
 }
 END_TEST
 
+/* Through an instance scaled by 2 (a similarity), a unit sphere's (u, v)
+** per world length halves: the footprint of a sphere of radius 2. */
+START_TEST(footprint_should_shrink_through_a_scaling_instance)
+{
+    cone_seen seen;
+    ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+    ray_scene *child = new_scene(), *s = new_scene();
+    ray_transform x;
+    unsigned mid;
+    double w = 0.03;
+
+    ck_assert_int_eq(ray_scene_add_material(child, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, mid, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ray_transform_identity(&x);
+    x.m[0][0] = x.m[1][1] = x.m[2][2] = 2;
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    trace_cone(s, vec(0, 0, 5), vec(0, 0, -1), 0, 0.01);
+    ck_assert_int_eq(seen.calls, 1);
+    ck_assert_double_eq_tol(seen.width, w, CONE_REL * w);
+    /* The instance's hit point and t carry the transform's rounding too:
+    ** the same 8 CONE_REL as the plain sphere's. */
+    ck_assert_double_eq_tol(seen.footprint,
+                            w / (3.14159265358979323846 * 2 * sqrt(2.0)),
+                            8 * CONE_REL * w);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
 /* Effects decide work: without RAY_EFFECT_TEXTURE in the scene, no cone;
 ** a context without ray_ctx_set_cone, none either. */
 START_TEST(cone_should_be_zero_without_texture_effect_or_cone)
@@ -847,6 +879,7 @@ Suite *cones_suite(void)
         cone_should_widen_off_a_convex_and_narrow_off_a_concave_mirror);
     tcase_add_test(trace, cone_should_pass_through_refraction_unchanged);
     tcase_add_test(trace, footprint_should_scale_by_each_kinds_uv_per_length);
+    tcase_add_test(trace, footprint_should_shrink_through_a_scaling_instance);
     tcase_add_test(trace, cone_should_be_zero_without_texture_effect_or_cone);
     tcase_add_test(trace, render_should_give_camera_rays_the_pixel_cone);
     tcase_add_test(trace,
