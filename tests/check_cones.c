@@ -256,12 +256,12 @@ START_TEST(image_misuse_should_leave_outputs_untouched)
                      RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample_footprint(good, 0, 0, 0, NULL),
                      RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample_footprint(good, 0, 0, NAN, &c),
-                     RAY_EINVAL);
+    ck_assert_int_eq(
+        ray_image_sample_footprint(good, 0, 0, (double)NAN, &c), RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample_footprint(good, 0, 0, -1e-300, &c),
                      RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample_footprint(good, NAN, 0, 1, &c),
-                     RAY_EINVAL);
+    ck_assert_int_eq(
+        ray_image_sample_footprint(good, (double)NAN, 0, 1, &c), RAY_EINVAL);
     ck_assert_int_eq(ray_image_sample_footprint(good, 0, HUGE_VAL, 1, &c),
                      RAY_EINVAL);
     ck_assert_double_eq(c.r, 7);
@@ -598,7 +598,8 @@ START_TEST(footprint_should_scale_by_each_kinds_uv_per_length)
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     trace_cone(s, vec(0, 0, 3), vec(0, 0, -1), 0, 0.01);
     ck_assert_double_eq_tol(seen.v, 0.5, 4 * DBL_EPSILON);
-    ck_assert_double_eq_tol(seen.footprint, w / (3.14159265358979323846 * 2 * sqrt(2.0)),
+    ck_assert_double_eq_tol(seen.footprint,
+                            w / (3.14159265358979323846 * 2 * sqrt(2.0)),
                             8 * CONE_REL * w);
     ray_scene_free(s);
 }
@@ -673,8 +674,8 @@ START_TEST(cone_should_be_zero_without_texture_effect_or_cone)
     ck_assert_int_eq(ray_ctx_set_cone(NULL, 0, 0.1), RAY_EINVAL);
     ck_assert_int_eq(ray_ctx_set_cone(ctx, -1e-300, 0.1), RAY_EINVAL);
     ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, -0.1), RAY_EINVAL);
-    ck_assert_int_eq(ray_ctx_set_cone(ctx, NAN, 0.1), RAY_EINVAL);
-    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, NAN), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, (double)NAN, 0.1), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, (double)NAN), RAY_EINVAL);
     ck_assert_int_eq(ray_ctx_set_cone(ctx, HUGE_VAL, 0.1), RAY_EINVAL);
     ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, HUGE_VAL), RAY_EINVAL);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
