@@ -19,6 +19,11 @@
 ** footprint -- a slightly blurred pixel -- and the reference would favour
 ** cones.
 **
+** Why each sample's cone is the pixel's divided by sqrt(samples): the
+** last column filters every sample over the whole pixel's footprint (a
+** texture that scales args->footprint by sqrt(samples)), which blurs the
+** pixel twice, by the filter and by the samples' spread.
+**
 ** Method: one warm-up render of each, then the median of REPS renders
 ** per row, lines and cones alternating within each repetition; the time
 ** ratio is cones / lines in the same run.  2 threads.  BENCH_QUICK=1: a
@@ -57,7 +62,22 @@ static ray_image *checker_image(unsigned side)
     return img;
 }
 
-static ray_scene *floor_scene(ray_phong_params *p, const ray_image *img,
+/* ray_texture_image with the footprint scaled by "scale": the whole
+** pixel's footprint for a cone made per sample. */
+typedef struct scaled_texture {
+    const ray_image *img;
+    double scale;
+} scaled_texture;
+
+static void scaled_lookup(void *ud, const ray_shade_args *a, ray_rgb *out)
+{
+    const scaled_texture *t = ud;
+
+    ray_image_sample_footprint(t->img, a->u, a->v, a->footprint * t->scale,
+                               out);
+}
+
+static ray_scene *floor_scene(ray_phong_params *p, ray_texture tex,
                               ray_camera *cam)
 {
     ray_scene *s = NULL;
@@ -67,7 +87,7 @@ static ray_scene *floor_scene(ray_phong_params *p, const ray_image *img,
 
     ray_phong_params_init(p);
     p->diffuse = rgb(1, 1, 1);
-    p->texture = ray_texture_image(img);
+    p->texture = tex;
     m = ray_material_phong(p);
     check(ray_scene_new(&s, NULL, NULL), "ray_scene_new");
     check(ray_scene_add_material(s, &m, &mid), "material");
@@ -95,9 +115,11 @@ int main(void)
     unsigned w = quick ? 160 : 640, h = quick ? 90 : 360;
     size_t n = (size_t)w * h;
     ray_image *img = checker_image(256);
-    ray_phong_params p;
+    ray_phong_params p, pw;
+    scaled_texture whole;
+    ray_texture wt;
     ray_camera cam;
-    ray_scene *s;
+    ray_scene *s, *sw;
     ray_render_options o;
     float *ref = malloc(3 * sizeof(float) * n),
           *a = malloc(3 * sizeof(float) * n),
@@ -108,7 +130,11 @@ int main(void)
         fprintf(stderr, "cones: out of memory\n");
         return 1;
     }
-    s = floor_scene(&p, img, &cam);
+    s = floor_scene(&p, ray_texture_image(img), &cam);
+    whole.img = img;
+    wt.fn = scaled_lookup;
+    wt.ud = &whole;
+    sw = floor_scene(&pw, wt, &cam);
     ray_render_options_init(&o, w, h);
     o.threads = 2;
     o.samples = 256;
@@ -120,12 +146,15 @@ int main(void)
            "threads (bench/cones.c).  RMSE (values clamped to [0, 1]) "
            "against a 256-sample reference without cones (%.1f s); time: "
            "median of %d, lines and cones alternating; ratio: cones / "
-           "lines in the same run.\n\n", w, h, t_ref, reps);
+           "lines in the same run.  Last column: cones over the whole pixel "
+           "for every sample (instead of the pixel's / sqrt(samples)), "
+           "which blurs twice.\n\n", w, h, t_ref, reps);
     printf("| samples per pixel | RMSE, lines | RMSE, cones | time lines (s) "
-           "| time cones (s) | time ratio |\n");
-    printf("|---|---|---|---|---|---|\n");
+           "| time cones (s) | time ratio | RMSE, cones over the whole "
+           "pixel |\n");
+    printf("|---|---|---|---|---|---|---|\n");
     for (k = 0; k < 3; k++) {
-        double tl[9], tc[9], el, ec;
+        double tl[9], tc[9], el, ec, ew;
         o.samples = spp[k];
         o.cones = 0;
         render(s, &cam, &o, a);                  /* warm-up */
@@ -139,12 +168,17 @@ int main(void)
         }
         el = rmse(a, ref, n);
         ec = rmse(b, ref, n);
-        printf("| %u | %.4f | %.4f | %.3f | %.3f | %.2f |\n", spp[k], el, ec,
-               median(tl, reps), median(tc, reps),
-               median(tc, reps) / median(tl, reps));
+        whole.scale = sqrt((double)spp[k]);
+        o.cones = 1;
+        render(sw, &cam, &o, a);
+        ew = rmse(a, ref, n);
+        printf("| %u | %.4f | %.4f | %.3f | %.3f | %.2f | %.4f |\n", spp[k],
+               el, ec, median(tl, reps), median(tc, reps),
+               median(tc, reps) / median(tl, reps), ew);
     }
     printf("\n");
     ray_scene_free(s);
+    ray_scene_free(sw);
     ray_image_free(img);
     free(ref);
     free(a);

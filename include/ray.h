@@ -765,9 +765,9 @@ typedef struct ray_shade_args {
                                 cone_width / |cos incidence| times the
                                 surface's (u, v) per world unit, when the
                                 hit's material declared RAY_EFFECT_TEXTURE
-                                and that scale is known (ray(7)); +Inf at
-                                grazing incidence; 0 = unknown: sample
-                                unfiltered */
+                                and that scale is known (ray_trace(3),
+                                "Ray cones"); +Inf at grazing incidence;
+                                0 = unknown: sample unfiltered */
 } ray_shade_args;
 
 /*
