@@ -1520,8 +1520,10 @@ RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 ** angle in radians (a camera's pixel: about vfov / height).  The cone
 ** widens with distance, and the tracer carries it through the rays
 ** materials trace: a reflection widens it by the curvature of the mirror
-** (a sphere; other surfaces reflect it as flat), a refraction passes it on
-** unchanged.  At each hit, a material sees its width and its footprint
+** (a sphere; other surfaces reflect it as flat), a refraction bends it as
+** Snell's law bends the light (a glass ball focuses it; the ratio of
+** indices is read from the two directions, so within 2^-30 rad of normal
+** incidence it goes on unchanged).  At each hit, a material sees its width and its footprint
 ** in texture units (ray_shade_args.cone_width, footprint), from which
 ** ray_texture_image picks a mip level.  Only in a scene whose effects
 ** include RAY_EFFECT_TEXTURE; width = spread = 0 (a new context's

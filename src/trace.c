@@ -16,7 +16,7 @@ void ray__ctx_start(ray_ctx *ctx, unsigned long long rng)
     ctx->weight = 1.0;
     ctx->effects = 0;
     ctx->fanout = 0;
-    ctx->hit_cone = 0;
+    ctx->hit_cone.on = 0;
 }
 
 int ray_ctx_new(const ray_scene *scene, unsigned long long seed,
@@ -196,11 +196,7 @@ typedef struct cone {
 ** beta = 2 curvature term, eq. 20.33, with the curvature taken from the
 ** geometry rather than from screen-space normal derivatives).  Flat:
 ** beta = 0, so a cone through a flat mirror widens as if the mirror were
-** not there.  Refraction passes the cone on unchanged: the spread's
-** scaling by n1 cos(theta1) / (n2 cos(theta2)) at a flat boundary is
-** undone on the way out of a slab, and the ratio of the indices is not
-** known to the tracer (the 2021 refraction chapter, Ray Tracing Gems II
-** ch. 10, computes it from the material's index).
+** not there.  Refraction: refracted_spread.
 */
 static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
                         const ray_material *m, const ray_ray *r,
@@ -228,10 +224,74 @@ static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
         if (!(args->footprint >= 0))
             args->footprint = 0;     /* NaN from an Inf scale: unknown */
     }
-    ctx->hit_width = w;
-    ctx->hit_spread = c->spread;
-    ctx->hit_beta = (args->entering ? 2.0 : -2.0) * aw *
-                    ray__prim_curvature(owner, p, hit) * obj_per_world;
+    ctx->hit_cone.on = 1;
+    ctx->hit_cone.width = w;
+    ctx->hit_cone.spread = c->spread;
+    ctx->hit_cone.bend = (args->entering ? aw : -aw) *
+                         ray__prim_curvature(owner, p, hit) * obj_per_world;
+    ctx->hit_cone.dir = v3_scale(r->dir, 1.0 / len);
+    ctx->hit_cone.normal = args->normal;
+}
+
+/*
+** Below this sine of the incidence angle (2^-30 rad from the normal) the
+** ratio of the sines does not give the refractive index: the sines are
+** computed from unit vectors with an absolute error of a few ulps of 1,
+** so above it eta carries a relative error under 2^-20, a millionth of a
+** mip level; below it, nothing reliable.
+*/
+#define MIN_SIN_FOR_ETA 0x1p-30
+
+/*
+** The spread of a cone refracted at the hit into unit direction t
+** (Boksansky, Crassin, Akenine-Moller, "Refraction Ray Cones for Texture
+** Level of Detail", Ray Tracing Gems II, 2021, ch. 10, refract the
+** cone's two edge rays through the normals at the footprint's edges; this
+** is the same to first order, in closed form).  Snell's law
+** n1 sin(ti) = n2 sin(tt) differentiated: a change of the incoming
+** direction by dtheta turns the refracted one by eta cos(ti) / cos(tt)
+** dtheta in the plane of incidence and by eta dtheta across it, eta =
+** n1 / n2 (the geometric mean of the two scales the spread); a turn
+** delta of the normal turns the refracted ray by (1 - eta cos(ti) /
+** cos(tt)) delta in the plane (delta = bend / cos(ti) there: the
+** footprint is stretched) and by (1 - eta) delta across it, toward the
+** normal's inward side, so a convex surface entered (eta < 1) focuses
+** the cone: a glass ball of index n focuses a parallel cone at n R /
+** (2 (n - 1)) from its centre, the paraxial focus of a ball lens.  The
+** tracer does not know the index: eta = sin(tt) / sin(ti), read from the
+** two directions, which fails only within MIN_SIN_FOR_ETA of normal
+** incidence; there the cone goes on as it came (eta taken as 1).  A
+** flat boundary's scaling is undone on the way out of a slab.
+*/
+static double refracted_spread(const ray__hit_cone *h, ray_vec3 t)
+{
+    double cos_i = -v3_dot(h->dir, h->normal), cos_t = -v3_dot(t, h->normal);
+    double sin_i = v3_length(v3_cross(h->dir, h->normal));
+    double eta, in_plane, across;
+
+    if (!(cos_i > 0 && cos_t > 0 && sin_i >= MIN_SIN_FOR_ETA))
+        return h->spread;      /* head-on, or not through the surface */
+    eta = v3_length(v3_cross(t, h->normal)) / sin_i;
+    in_plane = (1 - eta * cos_i / cos_t) / cos_i;
+    across = 1 - eta;
+    return h->spread * eta * sqrt(cos_i / cos_t) -
+           copysign(sqrt(fabs(in_plane * across)), across) * h->bend;
+}
+
+/* The cone of a ray the material of the hit being shaded traces: it
+** starts with the width at the hit; a reflection turns twice as much as
+** the normal (cone_at_hit), a refraction as refracted_spread says. */
+static void secondary_cone(const ray__hit_cone *h, unsigned kind,
+                           const ray_ray *r, cone *c)
+{
+    ray_vec3 t;
+
+    c->width = h->width;
+    c->spread = h->spread;
+    if (kind == RAY_KIND_REFLECTION)
+        c->spread += 2 * h->bend;
+    else if (v3_normalize(r->dir, &t))
+        c->spread = refracted_spread(h, t);
 }
 
 /*
@@ -254,9 +314,7 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     unsigned saved_depth = ctx->depth, effects = ctx->effects;
     unsigned fanout = ctx->fanout;
     double saved_weight = ctx->weight;
-    int saved_cone = ctx->hit_cone;
-    double saved_cw = ctx->hit_width, saved_cs = ctx->hit_spread;
-    double saved_cb = ctx->hit_beta;
+    ray__hit_cone saved_cone = ctx->hit_cone;
     ray_shade_args args;
 
     args.scene = s;
@@ -274,7 +332,7 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     args.cone_width = 0;
     args.footprint = 0;
     mesh_shading(s, hit, &args);
-    ctx->hit_cone = c != NULL;
+    ctx->hit_cone.on = 0;
     if (c != NULL)
         cone_at_hit(ctx, owner, m, r, hit, c, &args);
     ctx->in_shade = 1;
@@ -294,9 +352,6 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
         ctx->fanout = fanout;
     }
     ctx->hit_cone = saved_cone;
-    ctx->hit_width = saved_cw;
-    ctx->hit_spread = saved_cs;
-    ctx->hit_beta = saved_cb;
 }
 
 static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
@@ -326,10 +381,8 @@ static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
             c.spread = ctx->cone_spread;
             if (c.width > 0 || c.spread > 0)
                 has = &c;
-        } else if (ctx->hit_cone) {
-            c.width = ctx->hit_width;
-            c.spread = ctx->hit_spread +
-                       (kind == RAY_KIND_REFLECTION ? ctx->hit_beta : 0.0);
+        } else if (ctx->hit_cone.on) {
+            secondary_cone(&ctx->hit_cone, kind, r, &c);
             has = &c;
         }
     }

@@ -8,6 +8,24 @@
 
 #include "scene.h"
 
+/*
+** The ray cone at the hit being shaded (trace.c's cone_at_hit), from
+** which the cones of the rays its material traces are derived.
+*/
+typedef struct ray__hit_cone {
+    int on;                  /* the hit carries a cone */
+    double width;            /* the cone's signed width there (a cone
+                                focused by a concave mirror or a lens
+                                passes through 0 and goes on negative) */
+    double spread;           /* the spread it arrived with */
+    double bend;             /* the surface's curvature, signed (> 0:
+                                convex toward the ray), times |width|:
+                                how far the normal turns across the
+                                footprint */
+    ray_vec3 dir;            /* the incoming ray's unit direction */
+    ray_vec3 normal;         /* the unit normal facing it */
+} ray__hit_cone;
+
 struct ray_ctx {
     const ray_scene *scene;
     ray_stats stats;
@@ -21,13 +39,10 @@ struct ray_ctx {
                                 of a scene changed since the commit: the
                                 outermost ray_trace answers RAY_ESTATE */
     /* Ray cones (trace.c): the cone of the next primary rays
-    ** (ray_ctx_set_cone, ray_render), and of the hit being shaded, for
-    ** the rays its material traces: the signed width there (a cone
-    ** focused by a concave mirror passes through 0), the spread it
-    ** arrived with, and what a reflection adds to it. */
+    ** (ray_ctx_set_cone, ray_render), and that of the hit being shaded,
+    ** for the rays its material traces. */
     double cone_width, cone_spread;
-    int hit_cone;            /* the hit being shaded carries a cone */
-    double hit_width, hit_spread, hit_beta;
+    ray__hit_cone hit_cone;
 };
 
 /* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed

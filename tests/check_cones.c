@@ -506,9 +506,12 @@ START_TEST(cone_should_widen_off_a_convex_and_narrow_off_a_concave_mirror)
 }
 END_TEST
 
-/* Refraction passes the cone on unchanged (trace.c): through a glass
-** slab, the width is the spread times the whole path. */
-START_TEST(cone_should_pass_through_refraction_unchanged)
+/*
+** Refraction (trace.c's refracted_spread).  Head-on through a pane the
+** index cannot be read from the directions (they are parallel): the cone
+** goes on as it came, its width the spread times the whole path.
+*/
+START_TEST(cone_should_pass_head_on_through_a_pane_unchanged)
 {
     cone_seen seen;
     ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
@@ -536,6 +539,112 @@ START_TEST(cone_should_pass_through_refraction_unchanged)
     ck_assert_int_ge(seen.calls, 1);
     ck_assert_double_eq_tol(seen.width, 0.03, 4 * CONE_REL * 0.03);
     ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The cones' closed forms below take a few dozen roundings of 2^-53
+** each; 1e-12 of the value leaves a margin of thousands, while the
+** errors they guard against (a spread not scaled, or not focused) change
+** the width by more than 1%.
+*/
+#define REFRACT_REL 1e-12
+
+/* Two glass panes z = -1 (normal +z, entered) and z = -2 (normal -z,
+** left), the floor z = -3; a ray at 30 degrees to the normal. */
+static ray_scene *slab_scene(cone_seen *seen)
+{
+    ray_material m = recorder(seen, RAY_EFFECT_TEXTURE);
+    static ray_glass_params gp;
+    ray_material glass;
+    ray_scene *s = new_scene();
+    unsigned mid, gid;
+    ray_vec3 top[4], bottom[4];
+    int i;
+
+    ray_glass_params_init(&gp);
+    glass = ray_material_glass(&gp);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
+    for (i = 0; i < 4; i++) {
+        double x = (i == 1 || i == 2) ? 10 : -10, y = i < 2 ? -10 : 10;
+        top[i] = vec(x, y, -1);
+        bottom[3 - i] = vec(x, y, -2);   /* reversed: normal -z */
+    }
+    ck_assert_int_eq(ray_scene_add_polygon(s, top, 4, gid, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_polygon(s, bottom, 4, gid, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -3), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+/*
+** Through a slab at 30 degrees: inside, the spread is scaled by eta
+** sqrt(cos ti / cos tt), eta = 1 / 1.5 (Snell differentiated: eta cos
+** ti / cos tt in the plane of incidence, eta across it, their geometric
+** mean); leaving, by the inverse, so the cone goes on with its spread.
+*/
+START_TEST(cone_should_narrow_inside_a_slab_and_recover_behind_it)
+{
+    cone_seen seen;
+    ray_scene *s = slab_scene(&seen);
+    double g = 0.01, ci = sqrt(3.0) / 2, st = 0.5 / 1.5;
+    double ct = sqrt(1 - st * st);
+    double inside = g / 1.5 * sqrt(ci / ct);
+    double want = g / ci + inside / ct + g / ci;
+
+    trace_cone(s, vec(0, 0, 0), vec(0.5, 0, -ci), 0, g);
+    ck_assert_int_ge(seen.calls, 1);
+    ck_assert_double_eq_tol(seen.width, want, REFRACT_REL * want);
+    /* Unscaled inside it would be g (2 / ci + 1 / ct): 5% more. */
+    ck_assert_double_lt(seen.width, 0.97 * g * (2 / ci + 1 / ct));
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A glass ball of radius R and index n is a lens: a parallel beam near
+** its axis focuses at n R / (2 (n - 1)) = 1.5 R from its centre (n =
+** 1.5; the paraxial ball lens, e.g. Hecht, Optics, section 6.2).  A cone
+** of width w and spread 0 entering 0.001 R off the axis must narrow to
+** w / 3 at the far side (the front surface's power over 2R), reach a
+** sixth of w a quarter R behind the ball, and about 0 at the focus.  The
+** ray is off the axis by 0.001 R so that the index can be read from its
+** directions; that aberrates the focus by about (0.001)^2 of R, and the
+** model's cosines differ from 1 by as much: the bound 1e-4 w keeps a
+** margin of 100 while a cone that ignored the lens would keep its
+** width w.
+*/
+START_TEST(cone_should_focus_behind_a_glass_ball)
+{
+    static const double behind[2] = {0.25, 0.5}, want[2] = {1.0 / 6, 0};
+    double R = 1, D = 5, h = 1e-3 * R, w = 0.01;
+    int i;
+
+    for (i = 0; i < 2; i++) {
+        cone_seen seen;
+        ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
+        ray_glass_params gp;
+        ray_material glass;
+        ray_scene *s = new_scene();
+        unsigned mid, gid;
+
+        ray_glass_params_init(&gp);
+        glass = ray_material_glass(&gp);
+        ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -D), R, gid,
+                                              NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -D - R - behind[i]),
+                                             vec(0, 0, 1), mid, NULL),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        trace_cone(s, vec(h, 0, 0), vec(0, 0, -1), w, 0);
+        ck_assert_int_eq(seen.calls, 1);
+        ck_assert_double_eq_tol(seen.width, want[i] * w, 1e-4 * w);
+        ray_scene_free(s);
+    }
 }
 END_TEST
 
@@ -878,7 +987,9 @@ Suite *cones_suite(void)
         cone_should_double_through_a_flat_mirror_at_twice_the_distance);
     tcase_add_test(trace,
         cone_should_widen_off_a_convex_and_narrow_off_a_concave_mirror);
-    tcase_add_test(trace, cone_should_pass_through_refraction_unchanged);
+    tcase_add_test(trace, cone_should_pass_head_on_through_a_pane_unchanged);
+    tcase_add_test(trace, cone_should_narrow_inside_a_slab_and_recover_behind_it);
+    tcase_add_test(trace, cone_should_focus_behind_a_glass_ball);
     tcase_add_test(trace, footprint_should_scale_by_each_kinds_uv_per_length);
     tcase_add_test(trace, footprint_should_shrink_through_a_scaling_instance);
     tcase_add_test(trace, cone_should_be_zero_without_texture_effect_or_cone);
