@@ -154,6 +154,30 @@ static void mesh_shading(const ray_scene *top, const ray_hit *hit,
     }
 }
 
+/* The inputs of a material's callbacks at a hit: one function, so the
+** camera's rays (shade) and the photons (photons.c) see the same args. */
+void ray__shade_args(const ray_scene *s, const ray_ray *r,
+                     const ray_hit *hit, unsigned depth, double weight,
+                     ray_shade_args *a)
+{
+    ray_shade_args args;
+
+    args.scene = s;
+    args.ray = r;
+    args.hit = hit;
+    args.entering = v3_dot(r->dir, hit->n) < 0;
+    args.normal = args.entering ? hit->n : v3_scale(hit->n, -1.0);
+    args.u = hit->u;
+    args.v = hit->v;
+    args.depth = depth;
+    args.weight = weight;
+    args.ambient = s->ambient;
+    args.shading_normal = args.normal;
+    args.prune = s->prune;
+    mesh_shading(s, hit, &args);
+    *a = args;
+}
+
 /*
 ** Shade "hit" with its material, with the context set up for the hit and
 ** restored afterwards.  Only a material that declared reflection or
@@ -175,19 +199,7 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     double saved_weight = ctx->weight;
     ray_shade_args args;
 
-    args.scene = s;
-    args.ray = r;
-    args.hit = hit;
-    args.entering = v3_dot(r->dir, hit->n) < 0;
-    args.normal = args.entering ? hit->n : v3_scale(hit->n, -1.0);
-    args.u = hit->u;
-    args.v = hit->v;
-    args.depth = depth;
-    args.weight = weight;
-    args.ambient = s->ambient;
-    args.shading_normal = args.normal;
-    args.prune = s->prune;
-    mesh_shading(s, hit, &args);
+    ray__shade_args(s, r, hit, depth, weight, &args);
     ctx->in_shade = 1;
     ctx->effects = m->effects;
     if (recursive) {
