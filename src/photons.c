@@ -622,10 +622,11 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
         job.threads = (unsigned)job.n_chunks;
     job.e.cdf = ray__alloc(s, s->n_lights * sizeof *job.e.cdf);
     job.chunks = ray__alloc(s, job.n_chunks * sizeof *job.chunks);
+    if (job.chunks != NULL)       /* empty, for the cleanup below too */
+        memset(job.chunks, 0, job.n_chunks * sizeof *job.chunks);
     if (job.e.cdf == NULL || job.chunks == NULL)
         rc = RAY_ENOMEM;
     else {
-        memset(job.chunks, 0, job.n_chunks * sizeof *job.chunks);
         for (i = 0; i < s->n_lights; i++) {
             job.e.total += light_power(&job.e, &s->lights[i].desc);
             job.e.cdf[i] = job.e.total;
