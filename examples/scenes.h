@@ -274,7 +274,8 @@ static inline int tinted_mirror_scatter(void *ud, ray_ctx *ctx,
 ** The caustics scene (examples/caustics.c, bench/caustics.c): a glass
 ** sphere of radius 1 whose focus (a ball lens: f = n R / (2 (n - 1)) =
 ** 1.5 from its centre, 1.94 for a light 6.6 away) lies on the floor,
-** and a ring of tinted-mirror triangles (half a cylinder, 48 quads)
+** and a ring of tinted-mirror triangles (half a cylinder of radius 2.4
+** and height 1.3, 48 quads)
 ** standing on a diffuse floor under a small rect light.  Committed;
 ** fills *cam.
 */
@@ -286,14 +287,14 @@ static inline ray_scene *caustics_scene(ray_camera *cam)
     ray_light light = {.kind = RAY_LIGHT_RECT, .position = {-2.3, 8, 0.7},
                        .edge1 = {0.6, 0, 0}, .edge2 = {0, 0, 0.6},
                        .intensity = {40, 40, 40}, .samples = 4};
-    ray_camera view = {.position = {0, 5, 7.5}, .look_at = {0, 0.5, -0.3},
+    ray_camera view = {.position = {0, 5.5, 7}, .look_at = {0, 0.4, -0.4},
                        .up = {0, 1, 0}, .vfov = 42};
     ray_material m = {.shade = tinted_mirror_shade, .ud = &brass,
                       .effects = RAY_EFFECT_REFLECTION,
                       .scatter = tinted_mirror_scatter};
     ray_scene *scene;
     unsigned floor_mat, glass_mat, ring_mat;
-    const double R = 2.6, h = 0.9, pi = 3.14159265358979323846;
+    const double R = 2.4, h = 1.3, pi = 3.14159265358979323846;
     int i;
 
     check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
