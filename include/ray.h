@@ -1870,7 +1870,9 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
 ** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
 ** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
-** axis, vfov not in (0, 180)); RAY_ENOMEM.  If fewer threads than asked
+** axis, vfov not in (0, 180)), photons above RAY_MAX_PHOTONS or a
+** photon_radius NaN, negative, infinite or whose pi r^2 under- or
+** overflows (ray_caustics_at); RAY_ENOMEM.  If fewer threads than asked
 ** can be started, the render goes on with those it has: the image is the
 ** same.  A scene that instances a scene changed since its own commit
 ** is refused with RAY_ESTATE before anything is rendered: commit the
