@@ -395,6 +395,13 @@ START_TEST(caustics_should_be_the_same_bytes_at_any_thread_count)
     }
     ck_assert_uint_gt(st[0].photons_stored, 0);
     ck_assert_uint_gt(st[0].photon_lookups, 0);
+    /* A region (rows 7 .. 18) traces the same photons: the frame's rows. */
+    o.y0 = 7;
+    o.y1 = 19;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img[1], NULL), RAY_OK);
+    ck_assert(memcmp(img[1], img[0] + 3 * W * 7,
+                     sizeof(float) * 3 * W * 12) == 0);
+    o.y0 = o.y1 = 0;
     /* The caustics change the picture (the photons are not lost). */
     o.photons = 0;
     ck_assert_int_eq(ray_render(s, &cam, &o, img[1], NULL), RAY_OK);
@@ -425,7 +432,7 @@ START_TEST(bad_photon_settings_should_be_refused)
     ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_EINVAL);
     ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_EINVAL);
     o.photons = 1000;
-    o.photon_radius = NAN;
+    o.photon_radius = (double)NAN;
     ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_EINVAL);
     ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_EINVAL);
     /* Negative, infinite, and radii whose disk area pi r^2 underflows
@@ -458,7 +465,7 @@ static int rogue_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     ck_assert_int_eq(ray_trace(ctx, a->ray, RAY_KIND_REFLECTION, 1.0, &c),
                      RAY_EEFFECT);
     *dir = ray_reflect(a->ray->dir, a->normal);
-    *weight = rgb(NAN, 1, 1);
+    *weight = rgb((double)NAN, 1, 1);
     return 1;
 }
 
