@@ -1835,7 +1835,9 @@ typedef struct ray_render_options {
     ** "Caustics"): r = D / 100 * (photons / 100000)^(-1/6), D the
     ** diagonal of the box of the geometry whose material scatters
     ** photons (progressive photon mapping's shrinking radius, alpha =
-    ** 2/3: the estimate converges as photons grow). */
+    ** 2/3: the estimate converges as photons grow; D is the scene's
+    ** bounded geometry's diagonal when some scattering geometry is a
+    ** plane). */
     unsigned long long photons;
     double photon_radius;
 } ray_render_options;
