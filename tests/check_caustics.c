@@ -374,6 +374,60 @@ START_TEST(effect_analysis_should_need_light_scatterer_and_gatherer)
 }
 END_TEST
 
+/* A mirror placed through an instance: the analysis sees its child's
+** scattering material, and photons find it where the instance puts it
+** (the mirror scene's square, moved up by 1: the light at (0, 2, 0) sits
+** under it as before, so the floor gets R I 2 pi / 3 as in the first
+** test, within the same 5-sigma bound). */
+START_TEST(instanced_mirror_should_make_caustics)
+{
+    const unsigned long long N = 200000;
+    const double r = 100, omega = 2 * PI / 3;
+    const double tol = 5 * sqrt((1 - 1.0 / 6) / ((double)N / 6.0));
+    ray_material probe = probe_material();
+    ray_material mirror = ray_material_mirror(&mirror_R);
+    ray_light l = point_light(vec(0, 2, 0), mirror_I);
+    ray_scene *child, *top;
+    ray_transform x;
+    ray_photon_map *map;
+    ray_ctx *ctx;
+    ray_rgb e;
+    unsigned pm, mm;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(child, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, vec(-1, 2, -1),
+                                            vec(1, 2, -1), vec(1, 2, 1), mm,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, vec(-1, 2, -1),
+                                            vec(1, 2, 1), vec(-1, 2, 1), mm,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(top, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(top, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ray_transform_identity(&x);
+    x.m[1][3] = 1;               /* up by 1: the mirror at y = 3 */
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(top, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(top) & RAY_EFFECT_CAUSTICS,
+                      RAY_EFFECT_CAUSTICS);
+    map = build(top, N, r, 2);
+    ck_assert_int_eq(ray_ctx_new(top, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    ck_assert_double_eq_tol(e.g * PI * r * r,
+                            mirror_R.g * mirror_I.g * omega,
+                            tol * mirror_R.g * mirror_I.g * omega);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
 START_TEST(caustics_should_be_the_same_bytes_at_any_thread_count)
 {
     static float img[3][3 * W * H];
@@ -555,6 +609,7 @@ Suite *caustics_suite(void)
     tcase_add_test(tc, glass_sphere_should_focus_its_caustic_below_its_centre);
     tcase_add_test(tc, scene_without_specular_should_trace_no_photon);
     tcase_add_test(tc, effect_analysis_should_need_light_scatterer_and_gatherer);
+    tcase_add_test(tc, instanced_mirror_should_make_caustics);
     tcase_add_test(tc, caustics_should_be_the_same_bytes_at_any_thread_count);
     tcase_add_test(tc, bad_photon_settings_should_be_refused);
     tcase_add_test(tc, misuse_should_be_answered);
