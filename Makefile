@@ -80,7 +80,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
         if (n != "" && n != p) print p ":" n}' "$$f"; done)
 
-.PHONY: all lib check test demo sanitize tsan examples header-test symbols-test layers-test \
+.PHONY: all lib check test demo caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
@@ -418,6 +418,10 @@ tsan:
 
 demo: deps-build lib $(BUILD)/examples/whitted
 	$(BUILD)/examples/whitted whitted.png
+
+# The README's caustics picture (examples/caustics.c, 4 million photons).
+caustics-png: deps-build lib $(BUILD)/examples/caustics
+	RAY_PHOTONS=4000000 $(BUILD)/examples/caustics doc/caustics.png 640 480 16
 
 # ---------------------------------------------------------------- install
 # libray.pc and the CMake package name their paths relative to where they

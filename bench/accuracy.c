@@ -1052,7 +1052,7 @@ static void offsets(void)
             for (m = 0; m < 3; m++) {
                 double X = dist[k], t;
                 acne_shader sh = {0, 0, 0};
-                ray_material mat = {acne_shade, NULL, 0};
+                ray_material mat = {acne_shade, NULL, 0, NULL};
                 ray_camera cam;
                 ray_render_options o;
                 ray_scene *s;

@@ -17,9 +17,11 @@ doc=doc/BENCHMARKS.md
 if [ -n "${BENCH_QUICK:-}" ]; then
     out=bench/RESULTS-quick.md
     plot=bench/accuracy-quick.png
+    cplot=bench/caustics-quick.png
 else
     out=bench/RESULTS.md
     plot=bench/accuracy.png
+    cplot=bench/caustics.png
 fi
 plots=$(mktemp -d)
 trap 'rm -rf "$plots"' EXIT
@@ -44,6 +46,7 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/packets" data
     "$build/bench/game" data
     "$build/bench/whitted" bench/whitted.pov
+    "$build/bench/caustics" "$plots"
     # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
     if command -v mpirun >/dev/null 2>&1 && [ -x "$build/mpi/mpi_render" ]; then
         bench/mpi.sh "$build"
@@ -85,8 +88,11 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     splice packets "$plots/packets.md"
     awk '/^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice game "$plots/game.md"
-    awk '/^## MPI: one frame/{exit} /^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
+    awk '/^## MPI: one frame/{exit} /^## Caustics: error/{exit} /^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
     splice whitted "$plots/whitted.md"
+    awk '/^## MPI: one frame/{exit} /^## Caustics: error/{on=1; next} on' "$out" |
+        sed -e '/./,$!d' > "$plots/caustics.md"
+    splice caustics "$plots/caustics.md"
     if grep -q '^## MPI: one frame' "$out"; then
         awk '/^## MPI: one frame/{on=1; next} on' "$out" |
             sed -e '/./,$!d' > "$plots/mpi.md"
@@ -115,6 +121,19 @@ plot "$plots/whitted-uniform.dat" with linespoints title "Whitted, uniform 1-64 
      "$plots/bunny-adaptive.dat" with linespoints title "bunny, adaptive"
 GP
     echo "bench: wrote $plot" >&2
+    gnuplot <<GP
+set terminal pngcairo size 800,500 noenhanced
+set output "$cplot"
+set title "Caustics: error against the photon pass and gather time"
+set xlabel "caustics' time (s): render with photons minus without, 2 threads"
+set ylabel "RMSE of the caustic image"
+set logscale xy
+set key top right box opaque
+set grid
+plot "$plots/caustics.dat" using 1:2 with linespoints title "10k to 1M photons, automatic radius", \
+     "$plots/caustics.dat" using 1:2:(sprintf("%.0f", \$3)) with labels offset 0,1 notitle
+GP
+    echo "bench: wrote $cplot" >&2
 else
     # make bench installs it (scripts/deps.sh gnuplot); run.sh run alone
     # may find none.

@@ -82,7 +82,8 @@ static inline const char *effect_names(unsigned effects, char *buf,
     } names[] = {{RAY_EFFECT_SHADOW, "shadow"},
                  {RAY_EFFECT_REFLECTION, "reflection"},
                  {RAY_EFFECT_REFRACTION, "refraction"},
-                 {RAY_EFFECT_TEXTURE, "texture"}};
+                 {RAY_EFFECT_TEXTURE, "texture"},
+                 {RAY_EFFECT_CAUSTICS, "caustics"}};
     size_t k, used = 0;
 
     snprintf(buf, size, "none");
@@ -144,6 +145,9 @@ static inline void print_stats(const char *name, const ray_scene *scene,
         printf("%s: samples per pixel: min %d, mean %.2f, max %d%s\n", name,
                lo, (double)sum / (double)s->pixels, hi,
                hi == RAY_HIST_BINS - 1 ? " or more" : "");
+    if (s->photons_emitted > 0)
+        printf("%s: photons emitted %llu, stored %llu, lookups %llu\n", name,
+               s->photons_emitted, s->photons_stored, s->photon_lookups);
     if (seconds > 0)
         printf("%s: %.3f s, %.2f Mrays/s\n", name, seconds,
                (double)total / seconds / 1e6);
@@ -296,6 +300,8 @@ typedef struct example_args {
     unsigned width, height, samples, threads;   /* threads 0: all CPUs */
     double adaptive_threshold;  /* RAY_ADAPTIVE's threshold, 0: off */
     unsigned adaptive_depth;    /* RAY_ADAPTIVE's depth, 0: the default */
+    unsigned long long photons; /* caustics' photons, 0: none (set by the
+                                   example after example_start) */
 } example_args;
 
 static inline void example_usage(const example_cli *c, FILE *f)
@@ -555,6 +561,7 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
         opt.adaptive_threshold = a->adaptive_threshold;
     if (a->adaptive_depth > 0)
         opt.adaptive_depth = a->adaptive_depth;
+    opt.photons = a->photons;
     if ((size_t)a->height <= SIZE_MAX / (3 * sizeof(float)) / a->width)
         image = malloc(3 * sizeof(float) * a->width * a->height);
     if (image == NULL) {

@@ -238,4 +238,88 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
     return scene;
 }
 
+/*
+** A user material that scatters photons: a tinted mirror (polished brass
+** or gold), reflection weighted by its colour.  Its shade callback
+** traces the camera's reflection ray; its scatter callback
+** (ray_scatter_fn) sends a photon on in the same direction with the same
+** weight, so the light it focuses (a caustic on the floor) matches what
+** the eye sees in it.
+*/
+static inline void tinted_mirror_shade(void *ud, ray_ctx *ctx,
+                                       const ray_shade_args *a, ray_rgb *out)
+{
+    const ray_rgb *tint = ud;
+    ray_ray r;
+    ray_rgb c;
+    double w = fmax(tint->r, fmax(tint->g, tint->b));
+
+    if (ray_spawn(a->hit, ray_reflect(a->ray->dir, a->normal), &r) ==
+            RAY_OK &&
+        ray_trace(ctx, &r, RAY_KIND_REFLECTION, w, &c) == RAY_OK)
+        *out = ray_rgb_mul(*tint, c);
+}
+
+static inline int tinted_mirror_scatter(void *ud, ray_ctx *ctx,
+                                        const ray_shade_args *a,
+                                        ray_vec3 *dir, ray_rgb *weight)
+{
+    (void)ctx;
+    *dir = ray_reflect(a->ray->dir, a->normal);
+    *weight = *(const ray_rgb *)ud;
+    return 1;
+}
+
+/*
+** The caustics scene (examples/caustics.c, bench/caustics.c): a glass
+** sphere of radius 1 whose focus (a ball lens: f = n R / (2 (n - 1)) =
+** 1.5 from its centre, 1.94 for a light 6.6 away) lies on the floor,
+** and a ring of tinted-mirror triangles (half a cylinder of radius 2.4
+** and height 1.3, 48 quads)
+** standing on a diffuse floor under a small rect light.  Committed;
+** fills *cam.
+*/
+static inline ray_scene *caustics_scene(ray_camera *cam)
+{
+    static const ray_phong_params floor_p = {.diffuse = {0.75, 0.73, 0.7}};
+    static const ray_glass_params glass = {.ior = 1.5};
+    static ray_rgb brass = {0.95, 0.75, 0.35};   /* ud: read only */
+    ray_light light = {.kind = RAY_LIGHT_RECT, .position = {-2.3, 8, 0.7},
+                       .edge1 = {0.6, 0, 0}, .edge2 = {0, 0, 0.6},
+                       .intensity = {40, 40, 40}, .samples = 4};
+    ray_camera view = {.position = {0, 5.5, 7}, .look_at = {0, 0.4, -0.4},
+                       .up = {0, 1, 0}, .vfov = 42};
+    ray_material m = {.shade = tinted_mirror_shade, .ud = &brass,
+                      .effects = RAY_EFFECT_REFLECTION,
+                      .scatter = tinted_mirror_scatter};
+    ray_scene *scene;
+    unsigned floor_mat, glass_mat, ring_mat;
+    const double R = 2.4, h = 1.3, pi = 3.14159265358979323846;
+    int i;
+
+    check(ray_scene_new(&scene, NULL, NULL), "ray_scene_new");
+    check(ray_scene_add_material(scene, &m, &ring_mat), "ring material");
+    m = ray_material_phong(&floor_p);
+    check(ray_scene_add_material(scene, &m, &floor_mat), "floor material");
+    m = ray_material_glass(&glass);
+    check(ray_scene_add_material(scene, &m, &glass_mat), "glass material");
+    check(ray_scene_add_plane(scene, vec(0, 0, 0), vec(0, 1, 0), floor_mat,
+                              NULL), "floor");
+    check(ray_scene_add_sphere(scene, vec(0, 1.8, 0), 1.0, glass_mat, NULL),
+          "glass sphere");
+    /* The ring: from angle 0 (+x) over the back (-z) to pi (-x). */
+    for (i = 0; i < 48; i++) {
+        double a0 = pi * i / 48, a1 = pi * (i + 1) / 48;
+        ray_vec3 p0 = vec(0.4 + R * cos(a0), 0, -0.6 - R * sin(a0));
+        ray_vec3 p1 = vec(0.4 + R * cos(a1), 0, -0.6 - R * sin(a1));
+        add_quad_triangles(scene, p0, p1, vec(p1.x, h, p1.z),
+                           vec(p0.x, h, p0.z), ring_mat);
+    }
+    check(ray_scene_add_light(scene, &light, NULL), "light");
+    check(ray_scene_set_ambient(scene, rgb(0.04, 0.04, 0.05)), "ambient");
+    check(ray_scene_commit(scene), "commit");
+    *cam = view;
+    return scene;
+}
+
 #endif

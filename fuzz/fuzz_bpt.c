@@ -61,6 +61,7 @@ static void check_patches(const bpt_patches *b)
     mat.shade = black;
     mat.ud = NULL;
     mat.effects = 0;
+    mat.scatter = NULL;
     FUZZ_CHECK(ray_scene_add_material(scene, &mat, NULL) == RAY_OK,
                "ray_scene_add_material");
     for (k = 0; k < b->count && k < MAX_SCENE_PATCHES; k++) {

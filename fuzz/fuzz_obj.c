@@ -52,6 +52,7 @@ static void check_mesh(const obj_mesh *m)
     mat.shade = black;
     mat.ud = NULL;
     mat.effects = 0;
+    mat.scatter = NULL;
     rc = ray_scene_add_material(scene, &mat, NULL);
     FUZZ_CHECK(rc == RAY_OK, "ray_scene_add_material");
     rc = ray_scene_add_mesh(scene, &rm, 0, NULL);

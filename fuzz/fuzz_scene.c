@@ -276,6 +276,7 @@ static void op_material(prog *p)
         m.shade = kind == 6 ? NULL : flat_shade;
         m.ud = &p->flat[s];
         m.effects = p->flat[s].effects;
+        m.scatter = NULL;
         break;
     }
     fuzz_sentinel(&id, sizeof id);

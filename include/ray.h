@@ -728,6 +728,11 @@ enum {
                                       interpolating mesh (s, t); a
                                       sphere whose material lacks it
                                       gets no (u, v) (0) in a render */
+#define RAY_EFFECT_CAUSTICS  16u   /* reads ray_caustics_at: photons are
+                                      stored on its surfaces (a render
+                                      with photons > 0 traces them only
+                                      if the scene can make a caustic:
+                                      ray_scene_effects) */
 
 /*
 ** Everything a material callback gets to shade one hit.  Read-only; valid
@@ -780,10 +785,36 @@ typedef struct ray_shade_args {
 typedef void (*ray_shade_fn)(void *ud, ray_ctx *ctx,
                              const ray_shade_args *args, ray_rgb *out);
 
+/*
+** A material's photon scattering function, for caustics (forward
+** tracing: light -> specular surfaces -> a diffuse one).  Called at a
+** photon's hit with the shade args a camera ray would get there
+** (args->ray is the photon's ray, args->depth its specular bounces so
+** far, args->weight 1); CONCURRENTLY from the photon threads, like
+** "shade".  Return 1 and write the direction the photon goes on in (any
+** length, not zero) and the per-channel factor its power is multiplied
+** by (finite, >= 0), when it goes on specularly; return 0 (nothing
+** read) when it stops here.  It may draw ray_ctx_random(ctx), which is
+** seeded per photon (a dielectric picks reflection with probability F
+** and refraction with 1 - F, both with weight 1: Russian roulette keeps
+** the power unbiased without splitting the photon); it must not call
+** ray_trace (refused: RAY_EEFFECT) nor cast shadow rays.  The built-in
+** mirror, glass and Phong with reflect > 0 have one (ray_material_mirror).
+*/
+typedef int (*ray_scatter_fn)(void *ud, ray_ctx *ctx,
+                              const ray_shade_args *args, ray_vec3 *dir,
+                              ray_rgb *weight);
+
+/*
+** A material.  "scatter" was added after the first three fields (no
+** release was tagged before it): a material written as { shade, ud,
+** effects } gets NULL there, a material that stops photons.
+*/
 typedef struct ray_material {
     ray_shade_fn shade;
     void *ud;                /* borrowed: must outlive the scene */
     unsigned effects;        /* RAY_EFFECT_* bits it may request */
+    ray_scatter_fn scatter;  /* NULL: photons stop here (not specular) */
 } ray_material;
 
 /*
@@ -1497,6 +1528,12 @@ typedef struct ray_stats {
                                           taken as misses */
     unsigned long long filter_calls;   /* filter callbacks called
                                           (ray_scene_set_filter) */
+    unsigned long long photons_emitted; /* photons traced from the lights
+                                           (ray_render, caustics) */
+    unsigned long long photons_stored;  /* photon hits stored after >= 1
+                                           specular bounce */
+    unsigned long long photon_lookups;  /* ray_caustics_at density
+                                           estimates over a photon map */
 } ray_stats;
 
 /*
@@ -1871,11 +1908,28 @@ typedef struct ray_render_options {
     ** pixel, not a lens's defocus.  ray_render_options_init sets 1; a
     ** zero-filled struct means 0, as for the other fields. */
     int cones;
+    /* Caustics (ray_caustics_at): photons emitted from the lights before
+    ** the frame, 0 (the default) for none, at most RAY_MAX_PHOTONS; they
+    ** are traced only if ray_scene_effects has RAY_EFFECT_CAUSTICS.  The
+    ** gather radius in world units, 0 for the automatic one (ray(7),
+    ** "Caustics"): r = D / 100 * (photons / 100000)^(-1/6), D the
+    ** diagonal of the box of the geometry whose material scatters
+    ** photons (progressive photon mapping's shrinking radius, alpha =
+    ** 2/3: the estimate converges as photons grow; D is the scene's
+    ** bounded geometry's diagonal when some scattering geometry is a
+    ** plane). */
+    unsigned long long photons;
+    double photon_radius;
 } ray_render_options;
+
+/* Photons per frame: 2^26 (about 67 million), so the photon map (48
+** bytes a stored photon, up to max_depth stores a photon) stays within
+** a few GiB. */
+#define RAY_MAX_PHOTONS (1ull << 26)
 
 /* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
 ** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
-** ray cones on. */
+** ray cones on, no photons (caustics off), automatic photon radius. */
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 
@@ -1898,7 +1952,9 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
 ** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
 ** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
-** axis, vfov not in (0, 180)); RAY_ENOMEM.  If fewer threads than asked
+** axis, vfov not in (0, 180)), photons above RAY_MAX_PHOTONS or a
+** photon_radius NaN, negative, infinite or whose pi r^2 under- or
+** overflows (ray_caustics_at); RAY_ENOMEM.  If fewer threads than asked
 ** can be started, the render goes on with those it has: the image is the
 ** same.  A scene that instances a scene changed since its own commit
 ** is refused with RAY_ESTATE before anything is rendered: commit the
@@ -1907,6 +1963,60 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
                        const ray_render_options *options, float *rgb,
                        ray_stats *stats);
+
+/*
+** Caustics: light that reaches a diffuse surface through specular ones
+** (L S+ D E), which tracing from the eye cannot find.  With
+** options->photons > 0 and a scene whose ray_scene_effects has
+** RAY_EFFECT_CAUSTICS (a light, enabled geometry with a scattering
+** material, enabled geometry with a material declaring
+** RAY_EFFECT_CAUSTICS), ray_render first emits that many photons from
+** the lights (chosen in proportion to their power, aimed at the box of
+** the scattering geometry, each photon's power scaled by the fraction of
+** the light's emission it stands for, so the estimate stays unbiased),
+** traces them through the scattering materials (ray_scatter_fn) and
+** stores them where they land on a RAY_EFFECT_CAUSTICS material after
+** at least one specular bounce.  Photon i is seeded from (seed, i) alone
+** and the map is kept in photon order: the same bytes at any thread
+** count.  Other scenes trace no photon (photons_emitted = 0) and render
+** the same bytes as with photons = 0.
+**
+** ray_caustics_at -- called from a material declaring
+** RAY_EFFECT_CAUSTICS: the irradiance the photon map gives at the hit,
+** E = (sum of the power of the photons within the radius r of hit->p
+** that arrive at the front of args->normal) / (pi r^2) (the plain disk
+** kernel), in the units of the direct term of ray_shade_direct
+** (intensity * cos / dist^2), so diffuse * E is the caustic's radiance
+** as Phong's diffuse * n.l * intensity / dist^2 is the direct light's.
+** Writes zero when there is no photon map: no photons asked for, a scene
+** without caustics, outside ray_render without ray_ctx_set_photon_map,
+** or a material that did not declare RAY_EFFECT_CAUSTICS.  RAY_OK, or
+** RAY_EINVAL (NULL ctx, args, args->hit or irradiance; nothing written).
+**
+** ray_photon_map_build -- the same photon pass outside ray_render, for
+** programs that call ray_trace themselves: options->photons (1 ..
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
+** are read, the rest ignored.  A scene without caustics gives an empty
+** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
+** above the cap, a radius NaN, negative or infinite); RAY_ESTATE (an
+** instanced scene changed since the commit); RAY_ENOMEM.  *out is
+** untouched on failure.
+** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
+** it must outlive the use; NULL: none) in this context.  RAY_OK, or
+** RAY_EINVAL (ctx NULL, or a map built for another scene).
+** ray_photon_map_free -- release it (NULL: no-op), after every context
+** using it is done.  A map is read-only once built: any number of
+** contexts on any threads may share it.
+*/
+typedef struct ray_photon_map ray_photon_map;
+
+RAY_API int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
+                            ray_rgb *irradiance);
+RAY_API int ray_photon_map_build(const ray_scene *scene,
+                                 const ray_render_options *options,
+                                 ray_photon_map **out);
+RAY_API int ray_ctx_set_photon_map(ray_ctx *ctx, const ray_photon_map *map);
+RAY_API void ray_photon_map_free(ray_photon_map *map);
 
 /* ------------------------------------------------------------------ images */
 

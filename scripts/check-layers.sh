@@ -33,7 +33,7 @@ level() {
     scene.c|mesh.c|surfaces.c|kinds.c|error.c|instance.c|dynamic.c|closest.c) echo 40 ;;
     intersect.c) echo 45 ;;
     intersect_avx2.c) echo 46 ;;
-    trace.c|light.c|sampling.c|direct.c) echo 50 ;;
+    trace.c|light.c|sampling.c|direct.c|photons.c) echo 50 ;;
     camera.c|render.c) echo 60 ;;
     *.c) echo 25 ;;                   # a primitive (or optics, spawn)
     *) echo 99 ;;                     # an unknown header: refused

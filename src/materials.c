@@ -121,10 +121,27 @@ static ray_rgb phong_brdf(void *ud, const ray_brdf_args *b)
                h->diffuse.b * ndotl + h->p->specular.b * spec);
 }
 
+/*
+** A photon's mirror bounce, shared by the mirror and Phong's reflect
+** term: the direction ray_reflect gives and the reflectance as the
+** weight (no roulette: the weight carries the loss, as the camera's
+** reflection ray does).  A reflectance with no positive channel stops it.
+*/
+static int reflect_photon(const ray_shade_args *a, ray_rgb k, ray_vec3 *dir,
+                          ray_rgb *weight)
+{
+    if (!(max3(k) > 0))
+        return 0;
+    *dir = ray_reflect(a->ray->dir, a->normal);
+    *weight = k;
+    return 1;
+}
+
 static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                         ray_rgb *out)
 {
     phong_hit h;
+    ray_rgb e;
 
     if (ud == NULL)
         return;
@@ -132,8 +149,26 @@ static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     h.diffuse = diffuse_at(h.p, a);
     add_product(out, a->ambient, h.diffuse);
     (void)ray_shade_direct(ctx, a, phong_brdf, &h, out);  /* cannot fail here */
+    /* Caustics: E is the photons' irradiance, in the units of the direct
+    ** term's intensity * n.l / r^2 (ray_caustics_at), so diffuse * E is
+    ** as bright as the direct light the caustic focuses.  Zero without a
+    ** photon map; then nothing is added (the bytes stay those of a render
+    ** without caustics). */
+    if (ray_caustics_at(ctx, a, &e) == RAY_OK && max3(e) > 0)
+        add_product(out, e, h.diffuse);
     if (max3(h.p->reflect) > 0)
         add_reflection(ctx, a, h.p->reflect, out);
+}
+
+/* Phong with a mirror term: a photon goes on with weight "reflect"
+** (and is also stored here: it declares RAY_EFFECT_CAUSTICS). */
+static int phong_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_vec3 *dir, ray_rgb *weight)
+{
+    (void)ctx;
+    return ud != NULL &&
+           reflect_photon(a, ((const ray_phong_params *)ud)->reflect, dir,
+                          weight);
 }
 
 ray_material ray_material_phong(const ray_phong_params *p)
@@ -142,9 +177,12 @@ ray_material ray_material_phong(const ray_phong_params *p)
 
     m.shade = phong_shade;
     m.ud = unconst(p);   /* borrowed */
-    m.effects = RAY_EFFECT_SHADOW;
-    if (p != NULL && max3(p->reflect) > 0)
+    m.effects = RAY_EFFECT_SHADOW | RAY_EFFECT_CAUSTICS;
+    m.scatter = NULL;
+    if (p != NULL && max3(p->reflect) > 0) {
         m.effects |= RAY_EFFECT_REFLECTION;
+        m.scatter = phong_scatter;
+    }
     if (p != NULL && p->texture.fn != NULL)
         m.effects |= RAY_EFFECT_TEXTURE;
     return m;
@@ -159,6 +197,13 @@ static void mirror_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
         add_reflection(ctx, a, *(const ray_rgb *)ud, out);
 }
 
+static int mirror_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                          ray_vec3 *dir, ray_rgb *weight)
+{
+    (void)ctx;
+    return ud != NULL && reflect_photon(a, *(const ray_rgb *)ud, dir, weight);
+}
+
 ray_material ray_material_mirror(const ray_rgb *reflectance)
 {
     ray_material m;
@@ -166,6 +211,7 @@ ray_material ray_material_mirror(const ray_rgb *reflectance)
     m.shade = mirror_shade;
     m.ud = unconst(reflectance);
     m.effects = RAY_EFFECT_REFLECTION;
+    m.scatter = mirror_scatter;
     return m;
 }
 
@@ -206,6 +252,40 @@ static void glass_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     }
 }
 
+/*
+** A photon at a dielectric boundary: reflected with probability F,
+** refracted with 1 - F, weight 1 either way (Russian roulette: the
+** expected power is F * 1 + (1 - F) * 1 of what a split photon would
+** carry, without doubling the photons at every surface).  Leaving the
+** object, Beer-Lambert's exp(-absorption * distance) is the weight, as
+** glass_shade attenuates the camera's rays.
+*/
+static int glass_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_vec3 *dir, ray_rgb *weight)
+{
+    const ray_glass_params *p = ud;
+    ray_vec3 d, t;
+    double eta, F;
+
+    if (p == NULL)
+        return 0;
+    d = unit(a->ray->dir);
+    eta = a->entering ? 1.0 / p->ior : p->ior;
+    F = ray_fresnel(-dot(d, a->normal), eta);
+    if (ray_ctx_random(ctx) < F || !ray_refract(d, a->normal, eta, &t))
+        *dir = ray_reflect(a->ray->dir, a->normal);
+    else
+        *dir = t;
+    *weight = rgb(1, 1, 1);
+    if (!a->entering) {
+        double dist = a->hit->t * sqrt(dot(a->ray->dir, a->ray->dir));
+        *weight = rgb(exp(-p->absorption.r * dist),
+                      exp(-p->absorption.g * dist),
+                      exp(-p->absorption.b * dist));
+    }
+    return 1;
+}
+
 ray_material ray_material_glass(const ray_glass_params *p)
 {
     ray_material m;
@@ -213,25 +293,43 @@ ray_material ray_material_glass(const ray_glass_params *p)
     m.shade = glass_shade;
     m.ud = unconst(p);
     m.effects = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION;
+    m.scatter = glass_scatter;
     return m;
 }
 
 /* ------------------------------------------------------------ checkerboard */
 
-/* fmod, not a cast to an integer: u * scale may be huge or not finite. */
+/* The material of the square the hit lies in.  fmod, not a cast to an
+** integer: u * scale may be huge or not finite. */
+static const ray_material *checker_pick(const ray_checker_params *p,
+                                        const ray_shade_args *a)
+{
+    double cell = floor(a->u * p->scale) + floor(a->v * p->scale);
+    return fabs(fmod(cell, 2.0)) == 1.0 ? &p->odd : &p->even;
+}
+
 static void checker_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                           ray_rgb *out)
 {
-    const ray_checker_params *p = ud;
     const ray_material *m;
-    double cell;
 
-    if (p == NULL)
+    if (ud == NULL)
         return;
-    cell = floor(a->u * p->scale) + floor(a->v * p->scale);
-    m = fabs(fmod(cell, 2.0)) == 1.0 ? &p->odd : &p->even;
+    m = checker_pick(ud, a);
     if (m->shade != NULL)
         m->shade(m->ud, ctx, a, out);
+}
+
+/* A photon scatters as the square's material does (or stops there). */
+static int checker_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                           ray_vec3 *dir, ray_rgb *weight)
+{
+    const ray_material *m;
+
+    if (ud == NULL)
+        return 0;
+    m = checker_pick(ud, a);
+    return m->scatter != NULL && m->scatter(m->ud, ctx, a, dir, weight);
 }
 
 ray_material ray_material_checker(const ray_checker_params *p)
@@ -240,6 +338,9 @@ ray_material ray_material_checker(const ray_checker_params *p)
 
     m.shade = checker_shade;
     m.ud = unconst(p);
+    m.scatter = p != NULL && (p->even.scatter != NULL ||
+                              p->odd.scatter != NULL) ? checker_scatter
+                                                      : NULL;
     m.effects = RAY_EFFECT_TEXTURE |
                 (p != NULL ? p->even.effects | p->odd.effects : 0);
     return m;

@@ -535,6 +535,9 @@ void ray_render_options_init(ray_render_options *o, unsigned width,
 static int options_valid(const ray_render_options *o, unsigned *y1)
 {
     *y1 = o->y1 ? o->y1 : o->height;
+    if (o->photons > RAY_MAX_PHOTONS ||
+        !ray__photon_radius_valid(o->photon_radius))
+        return 0;
     if (!(o->adaptive_threshold >= 0) ||
         (o->adaptive_threshold > 0 &&
          (o->adaptive_depth < 1 || o->adaptive_depth > 8)))
@@ -565,6 +568,7 @@ static void sum_stats(void *workers, unsigned n, ray_stats *out)
         out->cut_weight += s->cut_weight;
         out->cut_fanout += s->cut_fanout;
         out->root_failures += s->root_failures;
+        out->photon_lookups += s->photon_lookups;
         if (s->max_depth > out->max_depth)
             out->max_depth = s->max_depth;
     }
@@ -643,6 +647,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
                const ray_render_options *opt, float *rgb, ray_stats *stats)
 {
     render_job job;
+    ray_photon_map *map = NULL;
     void *workers;
     unsigned n, i;
     int rc;
@@ -679,6 +684,18 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
             worker_at(workers, i)->ctx.cone_spread = pixel_spread(&job);
     }
     job.rgb = rgb;
+    /* Caustics: the photon pass first, on as many threads as asked for
+    ** (not capped by the rows), and only where a caustic can exist. */
+    if (opt->photons > 0 && (scene->effects & RAY_EFFECT_CAUSTICS)) {
+        rc = ray__photon_map_make(scene, opt->photons, opt->photon_radius,
+                                  opt->seed, opt->threads, &map);
+        if (rc != RAY_OK) {
+            ray__free(scene, workers, n * WORKER_STRIDE);
+            return rc;
+        }
+        for (i = 0; i < n; i++)
+            worker_at(workers, i)->ctx.photons = map;
+    }
     rc = RAY_ENOMEM;
     if (opt->adaptive_threshold <= 0)
         rc = run_job(&job, workers, n, stats);
@@ -686,6 +703,11 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
         if (alloc_caches(scene, workers, n, opt) == RAY_OK)
             rc = run_job(&job, workers, n, stats);
         free_caches(scene, workers, n, opt);
+    }
+    if (map != NULL) {
+        if (stats != NULL && rc != RAY_ENOMEM)
+            ray__photon_map_counts(map, stats);
+        ray_photon_map_free(map);
     }
     ray__free(scene, workers, n * WORKER_STRIDE);
     return rc;

@@ -137,7 +137,8 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
                            unsigned *id)
 {
     const unsigned known = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
-                           RAY_EFFECT_SHADOW | RAY_EFFECT_TEXTURE;
+                           RAY_EFFECT_SHADOW | RAY_EFFECT_TEXTURE |
+                           RAY_EFFECT_CAUSTICS;
     void *p;
     int rc = ray__begin(s, "ray_scene_add_material");
 
@@ -986,11 +987,19 @@ static void scene_summary(ray_scene *s)
             e |= c->material_effects;
             gated |= c->gated;
             instances = 1;
-        } else if (p->material != RAY_NO_MATERIAL)
+        } else if (p->material != RAY_NO_MATERIAL) {
             e |= s->materials[p->material].effects;
+            if (s->materials[p->material].scatter != NULL)
+                e |= RAY__EFFECT_SCATTER;
+        }
         gated |= p->mask != ~0u || p->filter != NULL;
     }
     s->material_effects = e;
+    /* A caustic needs a light, a surface that scatters photons and one
+    ** that gathers them (L S+ D): else no photon is ever traced. */
+    if (s->n_lights == 0 || !(e & RAY__EFFECT_SCATTER))
+        e &= ~RAY_EFFECT_CAUSTICS;
+    e &= ~RAY__EFFECT_SCATTER;
     s->effects = s->n_lights == 0 ? e & ~RAY_EFFECT_SHADOW : e;
     s->gated = gated;
     s->has_instances = instances;

@@ -165,6 +165,32 @@ static void mesh_shading(const ray_scene *top, const ray_hit *hit,
     }
 }
 
+/* The inputs of a material's callbacks at a hit: one function, so the
+** camera's rays (shade) and the photons (photons.c) see the same args. */
+void ray__shade_args(const ray_scene *s, const ray_ray *r,
+                     const ray_hit *hit, unsigned depth, double weight,
+                     ray_shade_args *a)
+{
+    ray_shade_args args;
+
+    args.scene = s;
+    args.ray = r;
+    args.hit = hit;
+    args.entering = v3_dot(r->dir, hit->n) < 0;
+    args.normal = args.entering ? hit->n : v3_scale(hit->n, -1.0);
+    args.u = hit->u;
+    args.v = hit->v;
+    args.depth = depth;
+    args.weight = weight;
+    args.ambient = s->ambient;
+    args.shading_normal = args.normal;
+    args.prune = s->prune;
+    args.cone_width = 0;
+    args.footprint = 0;
+    mesh_shading(s, hit, &args);
+    *a = args;
+}
+
 /*
 ** A ray's cone (Amanatides, "Ray Tracing with Cones", SIGGRAPH 1984; as
 ** Akenine-Moller et al. use it for texture level of detail, "Texture
@@ -317,21 +343,7 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     ray__hit_cone saved_cone = ctx->hit_cone;
     ray_shade_args args;
 
-    args.scene = s;
-    args.ray = r;
-    args.hit = hit;
-    args.entering = v3_dot(r->dir, hit->n) < 0;
-    args.normal = args.entering ? hit->n : v3_scale(hit->n, -1.0);
-    args.u = hit->u;
-    args.v = hit->v;
-    args.depth = depth;
-    args.weight = weight;
-    args.ambient = s->ambient;
-    args.shading_normal = args.normal;
-    args.prune = s->prune;
-    args.cone_width = 0;
-    args.footprint = 0;
-    mesh_shading(s, hit, &args);
+    ray__shade_args(s, r, hit, depth, weight, &args);
     ctx->hit_cone.on = 0;
     if (c != NULL)
         cone_at_hit(ctx, owner, m, r, hit, c, &args);

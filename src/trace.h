@@ -43,6 +43,9 @@ struct ray_ctx {
     ** for the rays its material traces. */
     double cone_width, cone_spread;
     ray__hit_cone hit_cone;
+    const ray_photon_map *photons;  /* what ray_caustics_at reads: the
+                                       render's map, or the one given to
+                                       ray_ctx_set_photon_map; NULL: none */
 };
 
 /* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed
@@ -74,5 +77,25 @@ void ray__concentric_disk(double a, double b, double *x, double *y);
 
 /* Reset a context's per-sample state. */
 void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
+
+/* The shade args of hit "hit" of ray "r" in scene "s" at "depth" with path
+** weight "weight": what a material's shade (and scatter) callback gets. */
+void ray__shade_args(const ray_scene *s, const ray_ray *r,
+                     const ray_hit *hit, unsigned depth, double weight,
+                     ray_shade_args *args);
+
+/*
+** The photon pass (photons.c): ray_photon_map_build's work on "threads"
+** threads (0: one per online CPU), "photons" photons, options already
+** checked; ray__photon_map_counts adds the map's counters (photons
+** emitted and stored, the photon rays' intersection tests) to *st.
+*/
+int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
+                         double radius, unsigned long long seed,
+                         unsigned threads, ray_photon_map **out);
+void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st);
+
+/* Is a photon radius acceptable (0: automatic, else finite and > 0)? */
+int ray__photon_radius_valid(double r);
 
 #endif /* RAY_TRACE_H */

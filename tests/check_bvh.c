@@ -696,6 +696,7 @@ START_TEST(mesh_should_interpolate_normals_and_texcoords)
     m.shade = shade_record;
     m.ud = &got;
     m.effects = RAY_EFFECT_TEXTURE;   /* else (s, t) is not interpolated */
+    m.scatter = NULL;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(50, 50, 50), 1, mat, NULL), RAY_OK);

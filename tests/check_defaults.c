@@ -97,7 +97,7 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_limits(s, &l), RAY_OK);
     m = ray_material_phong(&p);
-    ck_assert_uint_eq(m.effects, RAY_EFFECT_SHADOW);
+    ck_assert_uint_eq(m.effects, RAY_EFFECT_SHADOW | RAY_EFFECT_CAUSTICS);
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     m = ray_material_glass(&g);
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);

@@ -142,7 +142,7 @@ START_TEST(borrowed_mesh_should_be_read_again_in_place)
     game_vertex *gv = malloc(ball.nv * sizeof *gv);
     uint16_t *idx16 = malloc(3 * ball.nt * sizeof *idx16);
     ray_vec3 *nrm = malloc(ball.nv * sizeof *nrm), *moved = malloc(ball.nv * sizeof *moved);
-    ray_material mat = {normal_colour, NULL, 0};
+    ray_material mat = {normal_colour, NULL, 0, NULL};
     ray_mesh m, copied;
     ray_scene *s, *fresh;
     ray_ctx *ctx;
@@ -516,7 +516,7 @@ static void white(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 */
 START_TEST(filter_calls_should_be_counted_and_absent_without_filters)
 {
-    ray_material w = {white, NULL, 0};
+    ray_material w = {white, NULL, 0, NULL};
     filter_log cut = {0, 0};
     ray_scene *s;
     ray_ctx *ctx;

@@ -649,6 +649,7 @@ static shade_seen shade_mesh(const ray_mesh *m, const ray_ray *r)
     mat.shade = shade_record;
     mat.ud = &got;
     mat.effects = RAY_EFFECT_TEXTURE;   /* else (s, t) is not interpolated */
+    mat.scatter = NULL;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &mat, &id), RAY_OK);
     ck_assert_int_eq(ray_scene_add_mesh(s, m, id, NULL), RAY_OK);

@@ -438,8 +438,8 @@ static void flat_colour(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 START_TEST(instances_should_shade_with_their_child_materials)
 {
     static ray_rgb red = {1, 0, 0}, blue = {0, 0, 1};
-    ray_material mr = {flat_colour, &red, RAY_EFFECT_REFLECTION};
-    ray_material mb = {flat_colour, &blue, 0};
+    ray_material mr = {flat_colour, &red, RAY_EFFECT_REFLECTION, NULL};
+    ray_material mb = {flat_colour, &blue, 0, NULL};
     ray_scene *c1, *c2, *top;
     ray_transform a, b;
     ray_ctx *ctx;

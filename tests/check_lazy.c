@@ -239,6 +239,7 @@ START_TEST(render_should_fill_sphere_uv_only_when_read)
         mat[k].shade = keep_hit;
         mat[k].ud = &seen[k];
         mat[k].effects = k ? RAY_EFFECT_TEXTURE : 0;
+        mat[k].scatter = NULL;
         ck_assert_int_eq(ray_scene_add_material(s, &mat[k], &id[k]), RAY_OK);
         ck_assert_int_eq(ray_scene_add_sphere(s, vec(3.0 * k, 0, 0), 1,
                                               id[k], NULL), RAY_OK);

@@ -301,6 +301,7 @@ START_TEST(context_and_render_calls_should_refuse_null)
     ray_light l;
 
     m.shade = probe_shade, m.ud = &probe, m.effects = RAY_EFFECT_SHADOW;
+    m.scatter = NULL;
     memset(&l, 0, sizeof l);
     l.kind = RAY_LIGHT_POINT;
     l.position = vec(0, 5, 5);

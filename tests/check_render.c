@@ -425,6 +425,7 @@ START_TEST(render_pixels_should_always_be_finite)
             m.shade = constant_shade;
             m.ud = ray__test_unconst(colours[k]);
             m.effects = 0;
+            m.scatter = NULL;
             ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0,

@@ -110,6 +110,7 @@ static ray_stats run_greedy(unsigned effects, greedy *g)
     m.shade = greedy_shade;
     m.ud = g;
     m.effects = effects;
+    m.scatter = NULL;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
@@ -324,6 +325,7 @@ START_TEST(undeclared_shadows_should_cast_no_rays)
         m.shade = count_visible;
         m.ud = &visible;
         m.effects = declared ? RAY_EFFECT_SHADOW : 0;
+        m.scatter = NULL;
         memset(&l, 0, sizeof l);
         l.kind = RAY_LIGHT_POINT;
         l.position = vec(0, 0, 10);     /* blocked by the sphere above */
@@ -482,6 +484,7 @@ START_TEST(lights_should_sample_as_documented)
     m.shade = probe_lights;
     m.ud = &probe;
     m.effects = 0;
+    m.scatter = NULL;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);

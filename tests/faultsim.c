@@ -622,6 +622,8 @@ typedef struct render_case {
     unsigned y0, y1;
     double adaptive;          /* > 0: adaptive antialiasing */
     unsigned samples;
+    unsigned long long photons;  /* > 0: caustics (the scene's glass and
+                                    reflecting Phong scatter photons) */
 } render_case;
 
 static int render_workload(env *e, const render_case *c, const ray_image *img)
@@ -648,6 +650,7 @@ static int render_workload(env *e, const render_case *c, const ray_image *img)
     o.y0 = c->y0;
     o.y1 = c->y1;
     o.adaptive_threshold = c->adaptive;
+    o.photons = c->photons;
     memset(rgb, 0, sizeof rgb);
     CALL(e, ray_render(s, &cam, &o, rgb, NULL));
     digest_bytes(e, rgb, sizeof rgb);
@@ -658,38 +661,82 @@ out:
 
 static int w_render_point(env *e)
 {
-    static const render_case c = {HAS_PRIMS, 0, 0, 0, 1};
+    static const render_case c = {HAS_PRIMS, 0, 0, 0, 1, 0};
     return render_workload(e, &c, NULL);
 }
 
 static int w_render_area(env *e)
 {
-    static const render_case c = {HAS_PRIMS | HAS_AREA, 0, 0, 0, 4};
+    static const render_case c = {HAS_PRIMS | HAS_AREA, 0, 0, 0, 4, 0};
     return render_workload(e, &c, NULL);
 }
 
 static int w_render_adaptive(env *e)
 {
-    static const render_case c = {HAS_PRIMS, 0, 0, 0.05, 1};
+    static const render_case c = {HAS_PRIMS, 0, 0, 0.05, 1, 0};
     return render_workload(e, &c, NULL);
 }
 
 static int w_render_region(env *e)
 {
-    static const render_case c = {HAS_PRIMS | HAS_AREA, 3, 7, 0.05, 1};
+    static const render_case c = {HAS_PRIMS | HAS_AREA, 3, 7, 0.05, 1, 0};
     return render_workload(e, &c, NULL);
 }
 
 static int w_render_curved(env *e)
 {
-    static const render_case c = {HAS_CURVED, 0, 0, 0, 1};
+    static const render_case c = {HAS_CURVED, 0, 0, 0, 1, 0};
     return render_workload(e, &c, NULL);
 }
 
 static int w_render_mesh(env *e)
 {
-    static const render_case c = {HAS_MESH | HAS_AREA, 0, 0, 0, 1};
+    static const render_case c = {HAS_MESH | HAS_AREA, 0, 0, 0, 1, 0};
     return render_workload(e, &c, NULL);
+}
+
+/* Caustics: the photon pass from a point and a directional light (two
+** chunks, on the three render threads:
+** their pthread_create calls and every chunk's buffer fail in turn). */
+static int w_render_caustics(env *e)
+{
+    static const render_case c = {HAS_PRIMS, 0, 0, 0, 1, 5000};
+    return render_workload(e, &c, NULL);
+}
+
+/* A photon map built apart and read from a context. */
+static int w_photon_map(env *e)
+{
+    scene_parts sp;
+    ray_scene *s = NULL;
+    ray_ctx *ctx = NULL;
+    ray_photon_map *map = NULL;
+    ray_render_options o;
+    int rc, i;
+
+    memset(&sp, 0, sizeof sp);
+    CALL(e, build_scene(e, HAS_PRIMS | HAS_AREA, &sp, &s));
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 5000;
+    o.threads = 2;
+    CALL(e, ray_photon_map_build(s, &o, &map));
+    CALL(e, ray_ctx_new(s, 3, &ctx));
+    CALL(e, ray_ctx_set_photon_map(ctx, map));
+    for (i = 0; i < 8; i++) {
+        ray_ray r;
+        ray_rgb c;
+        r.org = vec(-1.5 + 0.4 * i, 3, 2);
+        r.dir = vec(0.1, -1, -0.3);
+        r.tmin = 0;
+        r.tmax = HUGE_VAL;
+        CALL(e, ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c));
+        digest_bytes(e, &c, sizeof c);
+    }
+out:
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+    return rc;
 }
 
 /* A scene of everything, queried; two contexts tracing. */
@@ -798,7 +845,7 @@ static char texture_path[4096], output_path[4096];
 /* Load the texture written at setup, sample it, render with it. */
 static int w_texture(env *e)
 {
-    static const render_case c = {HAS_TEXTURE | HAS_MESH, 0, 0, 0, 1};
+    static const render_case c = {HAS_TEXTURE | HAS_MESH, 0, 0, 0, 1, 0};
     ray_image *img = NULL;
     unsigned w, h;
     ray_rgb texel;
@@ -901,6 +948,8 @@ static const workload workloads[] = {
     {"render region", w_render_region, 1, 0},
     {"render curved", w_render_curved, 1, 0},
     {"render mesh", w_render_mesh, 1, 0},
+    {"render caustics", w_render_caustics, 1, 0},
+    {"photon map", w_photon_map, 1, 0},
 #if RAY_TEST_PNG
     {"texture load+render", w_texture, 1, 0},
     {"write png", w_write_png, 0, 1},

@@ -180,6 +180,7 @@ static inline ray_material plain(void)
     m.shade = black;
     m.ud = NULL;
     m.effects = 0;
+    m.scatter = NULL;
     return m;
 }
 

@@ -1,0 +1,618 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_caustics.c -- caustics by photon tracing (issue 19): the power a
+** mirror sends onto a floor, the focus of a glass sphere, no photon where
+** no caustic can be, the same bytes at any thread count, bad settings
+** refused, misuse answered.
+**
+** Statistical tolerances: N photons leave the light; each reaches the
+** mirror (or the disk of a density estimate) independently with some
+** probability p, so the count is binomial, and the estimate's relative
+** standard deviation is sqrt((1 - p) / (N p)) (about 1 / sqrt(count)).
+** The tests allow 5 of them (a 5-sigma deviation has probability 6e-7 by
+** the central limit theorem), and the seed is fixed, so they are
+** deterministic anyway.
+*/
+#include <stdlib.h>
+
+#include "tests.h"
+#include "scenes.h"
+
+/* pi, which strict C99 <math.h> does not define. */
+#define PI 3.14159265358979323846
+
+/* A floor probe: the material of the surface whose caustic irradiance a
+** test reads.  It declares RAY_EFFECT_CAUSTICS (photons are stored on
+** it) and shades the irradiance itself, so ray_trace returns it. */
+static void irradiance_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                             ray_rgb *out)
+{
+    (void)ud;
+    ck_assert_int_eq(ray_caustics_at(ctx, a, out), RAY_OK);
+}
+
+static ray_material probe_material(void)
+{
+    ray_material m;
+
+    m.shade = irradiance_shade;
+    m.ud = NULL;
+    m.effects = RAY_EFFECT_CAUSTICS;
+    m.scatter = NULL;
+    return m;
+}
+
+/* The caustic irradiance on the floor y = 0 at (x, z): a ray from 0.5
+** above, straight down, shaded by the probe. */
+static ray_rgb floor_irradiance(ray_ctx *ctx, double x, double z)
+{
+    ray_ray r = make_ray(vec(x, 0.5, z), vec(0, -1, 0), 0, HUGE_VAL);
+    ray_rgb e = {-1, -1, -1};
+
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &e), RAY_OK);
+    return e;
+}
+
+static ray_light point_light(ray_vec3 p, ray_rgb intensity)
+{
+    ray_light l;
+
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = p;
+    l.intensity = intensity;
+    return l;
+}
+
+/*
+** The mirror scene: a point light of intensity I at (0, 1, 0), under a
+** square mirror 2 x 2 at y = 2 (facing down, reflectance R), over the
+** probe floor y = 0.  The square subtends the solid angle
+** 4 asin(a b / sqrt((a^2 + d^2)(b^2 + d^2))) = 4 asin(1/2) = 2 pi / 3
+** from the light (a = b = 1 half-sides, d = 1), so the floor receives
+** R I 2 pi / 3 in all (every reflected photon lands on the infinite
+** floor), and at (x, z) the irradiance of the mirror image of the light,
+** R I cos / dist^2 from (0, 3, 0), where the image's rays pass through
+** the square (|x|, |z| < 3).
+*/
+static const ray_rgb mirror_R = {0.8, 0.6, 0.4};
+static const ray_rgb mirror_I = {2.0, 3.0, 5.0};
+
+static ray_scene *mirror_scene(void)
+{
+    ray_scene *s;
+    ray_material probe = probe_material();
+    ray_material mirror = ray_material_mirror(&mirror_R);
+    ray_light l = point_light(vec(0, 1, 0), mirror_I);
+    unsigned pm, mm;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 2, -1), vec(1, 2, -1),
+                                            vec(1, 2, 1), mm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 2, -1), vec(1, 2, 1),
+                                            vec(-1, 2, 1), mm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+static ray_photon_map *build(const ray_scene *s, unsigned long long n,
+                             double radius, unsigned threads)
+{
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+
+    ray_render_options_init(&o, 1, 1);
+    o.photons = n;
+    o.photon_radius = radius;
+    o.threads = threads;
+    o.seed = 19;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_ptr_nonnull(map);
+    return map;
+}
+
+START_TEST(mirror_should_send_its_reflected_power_to_the_floor)
+{
+    /* All of it: a radius of 100 holds every photon (the footprint is
+    ** the 6 x 6 square under the mirror), so E pi r^2 is the total.
+    ** The light sits inside the sphere around the mirror's box (radius
+    ** sqrt 2 > 1), so photons go everywhere: p = (2 pi / 3) / (4 pi) =
+    ** 1/6 reach the mirror, relative deviation sqrt(5 / N). */
+    const unsigned long long N = 200000;
+    const double r = 100, omega = 2 * PI / 3;
+    const double tol = 5 * sqrt((1 - 1.0 / 6) / ((double)N / 6.0));
+    ray_scene *s = mirror_scene();
+    ray_photon_map *map = build(s, N, r, 2);
+    ray_ctx *ctx;
+    ray_rgb e;
+    ray_stats st;
+
+    ck_assert_uint_eq(ray_scene_effects(s) & RAY_EFFECT_CAUSTICS,
+                      RAY_EFFECT_CAUSTICS);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    ck_assert(e.r == 0 && e.g == 0 && e.b == 0);   /* no map yet: zero */
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    ck_assert_double_eq_tol(e.r * PI * r * r,
+                            mirror_R.r * mirror_I.r * omega,
+                            tol * mirror_R.r * mirror_I.r * omega);
+    ck_assert_double_eq_tol(e.g * PI * r * r,
+                            mirror_R.g * mirror_I.g * omega,
+                            tol * mirror_R.g * mirror_I.g * omega);
+    ck_assert_double_eq_tol(e.b * PI * r * r,
+                            mirror_R.b * mirror_I.b * omega,
+                            tol * mirror_R.b * mirror_I.b * omega);
+    ray_ctx_stats(ctx, &st);
+    ck_assert_uint_eq(st.photon_lookups, 1);      /* not the one without */
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
+START_TEST(disk_estimate_should_give_the_mirror_image_irradiance)
+{
+    /* E at (x, 0, z) is R I cos / d^2 from the image (0, 3, 0).  With
+    ** r = 0.25 the disk holds about E pi r^2 / (photon power) photons
+    ** (photon power 4 pi I R / N, all channels alike); its relative
+    ** deviation is 1 / sqrt(that count).  The kernel's bias: E varies
+    ** over the disk by its curvature, (r / d)^2 ~ 0.7% at d = 3, added. */
+    const unsigned long long N = 1000000;
+    const double r = 0.25;
+    static const double pts[3][2] = {{0, 0}, {1, 0.5}, {-1.5, -1.2}};
+    ray_scene *s = mirror_scene();
+    ray_photon_map *map = build(s, N, r, 2);
+    ray_ctx *ctx;
+    int k;
+
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    for (k = 0; k < 3; k++) {
+        double x = pts[k][0], z = pts[k][1];
+        double d2 = x * x + 9 + z * z, cosv = 3 / sqrt(d2);
+        double want = mirror_R.g * mirror_I.g * cosv / d2;
+        double per = 4 * PI * mirror_I.g * mirror_R.g / (double)N;
+        double count = want * PI * r * r / per;
+        double tol = 5 / sqrt(count) + (r * r) / d2;
+        ray_rgb e = floor_irradiance(ctx, x, z);
+        ck_assert_double_eq_tol(e.g, want, tol * want);
+        /* The channels share the photons: r and b scale with R I. */
+        ck_assert_double_eq_tol(e.r / (mirror_R.r * mirror_I.r),
+                                e.g / (mirror_R.g * mirror_I.g),
+                                1e-6 * e.g);     /* float powers: 2^-24 */
+    }
+    /* Outside the footprint (|x| > 3 + r): nothing. */
+    ck_assert(floor_irradiance(ctx, 3.5, 0).g == 0);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A glass sphere of radius 1 under a point light straight above: a ball
+** lens of focal length f = n R / (2 (n - 1)) = 1.5 from its centre; for
+** the light s = 10 - h above the centre the image lies s' = 1 / (1/f -
+** 1/s) below it, which is the floor for h = 1.8376 (solved by fixed
+** point: h = s').  The brightest point of the floor must be below the
+** centre, and far brighter than the unfocused light I / 10^2 there.
+*/
+START_TEST(glass_sphere_should_focus_its_caustic_below_its_centre)
+{
+    const double h = 1.8376, cx = 0.7, cz = -0.4, step = 0.05, r = 0.04;
+    static const ray_glass_params glass = {1.5, {0, 0, 0}};
+    ray_scene *s;
+    ray_material probe = probe_material(), g = ray_material_glass(&glass);
+    ray_light l = point_light(vec(cx, 10, cz), rgb(100, 100, 100));
+    ray_photon_map *map;
+    ray_ctx *ctx;
+    unsigned pm, gm;
+    double best = -1, bx = 0, bz = 0;
+    int i, j;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &g, &gm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(cx, h, cz), 1, gm, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    map = build(s, 200000, r, 2);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    for (i = -12; i <= 12; i++)
+        for (j = -12; j <= 12; j++) {
+            double x = cx + i * step, z = cz + j * step;
+            ray_rgb e = floor_irradiance(ctx, x, z);
+            if (e.g > best) {
+                best = e.g;
+                bx = x;
+                bz = z;
+            }
+        }
+    /* Within one grid step and the gather radius of the axis. */
+    ck_assert_double_eq_tol(bx, cx, step + r);
+    ck_assert_double_eq_tol(bz, cz, step + r);
+    /* The lens gathers I * (its solid angle, pi / 8.2^2) into a spot a
+    ** few radii r across: far more than 10x the unfocused I / 100. */
+    ck_assert(best > 10 * 100.0 / 100.0);
+    /* Half a radius out, inside the sphere's shadow, only the halo of
+    ** its spherical aberration: much less. */
+    ck_assert(floor_irradiance(ctx, cx + 0.5, cz).g < best / 10);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* A diffuse floor and sphere under a light: nothing scatters photons. */
+static ray_scene *diffuse_scene(void)
+{
+    static ray_phong_params p;
+    ray_scene *s;
+    ray_material m;
+    ray_light l = point_light(vec(2, 6, 3), rgb(30, 30, 30));
+    unsigned id;
+
+    ray_phong_params_init(&p);
+    m = ray_material_phong(&p);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), id,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 1, id, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+#define W 40
+#define H 30
+
+static ray_stats render(const ray_scene *s, unsigned long long photons,
+                        unsigned threads, float *img)
+{
+    ray_camera cam;
+    ray_render_options o;
+    ray_stats st;
+
+    ray_camera_init(&cam);
+    cam.position = vec(0, 4, 7.5);
+    cam.look_at = vec(0, 0.5, 0);
+    ray_render_options_init(&o, W, H);
+    o.threads = threads;
+    o.photons = photons;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
+    return st;
+}
+
+START_TEST(scene_without_specular_should_trace_no_photon)
+{
+    static float a[3 * W * H], b[3 * W * H];
+    ray_scene *s = diffuse_scene();
+    ray_stats sa, sb;
+    ray_photon_map *map;
+    ray_ctx *ctx;
+
+    ck_assert_uint_eq(ray_scene_effects(s),
+                      RAY_EFFECT_SHADOW);           /* no caustics */
+    sa = render(s, 0, 2, a);
+    sb = render(s, 100000, 2, b);
+    ck_assert_uint_eq(sb.photons_emitted, 0);
+    ck_assert_uint_eq(sb.photons_stored, 0);
+    ck_assert_uint_eq(sb.photon_lookups, 0);
+    ck_assert_uint_eq(sa.tests, sb.tests);
+    ck_assert(memcmp(a, b, sizeof a) == 0);
+    /* The explicit map is empty, and reads zero. */
+    map = build(s, 1000, 0, 1);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Each condition of a caustic missing in turn: no light, no gatherer,
+** no scatterer (a disabled mirror), caustics switched off (photons 0). */
+START_TEST(effect_analysis_should_need_light_scatterer_and_gatherer)
+{
+    static float img[3 * W * H];
+    ray_material probe = probe_material(), mirror;
+    static const ray_rgb one = {1, 1, 1};
+    ray_light l = point_light(vec(0, 1, 0), rgb(1, 1, 1));
+    ray_scene *s;
+    unsigned pm, mm, tri;
+    ray_stats st;
+
+    mirror = ray_material_mirror(&one);
+    /* A mirror without a light. */
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 2, -1), vec(1, 2, -1),
+                                            vec(1, 2, 1), mm, &tri), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(s) & RAY_EFFECT_CAUSTICS, 0);
+    /* With the light: caustics. */
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(s) & RAY_EFFECT_CAUSTICS,
+                      RAY_EFFECT_CAUSTICS);
+    st = render(s, 5000, 1, img);
+    ck_assert_uint_eq(st.photons_emitted, 5000);
+    ck_assert_uint_gt(st.photons_stored, 0);
+    st = render(s, 0, 1, img);                      /* switched off */
+    ck_assert_uint_eq(st.photons_emitted, 0);
+    /* The mirror disabled: nothing scatters. */
+    ck_assert_int_eq(ray_scene_set_enabled(s, tri, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(s) & RAY_EFFECT_CAUSTICS, 0);
+    st = render(s, 5000, 1, img);
+    ck_assert_uint_eq(st.photons_emitted, 0);
+    ray_scene_free(s);
+    /* Mirrors alone: nothing gathers. */
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(s),
+                      RAY_EFFECT_REFLECTION);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* A mirror placed through an instance: the analysis sees its child's
+** scattering material, and photons find it where the instance puts it
+** (the mirror scene's square, moved up by 1: the light at (0, 2, 0) sits
+** under it as before, so the floor gets R I 2 pi / 3 as in the first
+** test, within the same 5-sigma bound). */
+START_TEST(instanced_mirror_should_make_caustics)
+{
+    const unsigned long long N = 200000;
+    const double r = 100, omega = 2 * PI / 3;
+    const double tol = 5 * sqrt((1 - 1.0 / 6) / ((double)N / 6.0));
+    ray_material probe = probe_material();
+    ray_material mirror = ray_material_mirror(&mirror_R);
+    ray_light l = point_light(vec(0, 2, 0), mirror_I);
+    ray_scene *child, *top;
+    ray_transform x;
+    ray_photon_map *map;
+    ray_ctx *ctx;
+    ray_rgb e;
+    unsigned pm, mm;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(child, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, vec(-1, 2, -1),
+                                            vec(1, 2, -1), vec(1, 2, 1), mm,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, vec(-1, 2, -1),
+                                            vec(1, 2, 1), vec(-1, 2, 1), mm,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(top, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(top, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ray_transform_identity(&x);
+    x.m[1][3] = 1;               /* up by 1: the mirror at y = 3 */
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(top, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(top) & RAY_EFFECT_CAUSTICS,
+                      RAY_EFFECT_CAUSTICS);
+    map = build(top, N, r, 2);
+    ck_assert_int_eq(ray_ctx_new(top, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    ck_assert_double_eq_tol(e.g * PI * r * r,
+                            mirror_R.g * mirror_I.g * omega,
+                            tol * mirror_R.g * mirror_I.g * omega);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+START_TEST(caustics_should_be_the_same_bytes_at_any_thread_count)
+{
+    static float img[3][3 * W * H];
+    ray_camera cam;
+    ray_scene *s = caustics_scene(&cam);
+    ray_render_options o;
+    ray_stats st[3];
+    unsigned t;
+
+    ray_render_options_init(&o, W, H);
+    o.photons = 20000;       /* 5 chunks of 4096: every thread has some */
+    for (t = 0; t < 3; t++) {
+        o.threads = t + 1;
+        ck_assert_int_eq(ray_render(s, &cam, &o, img[t], &st[t]), RAY_OK);
+        ck_assert_uint_eq(st[t].photons_emitted, 20000);
+        ck_assert_uint_eq(st[t].photons_stored, st[0].photons_stored);
+        ck_assert_uint_eq(st[t].photon_lookups, st[0].photon_lookups);
+        ck_assert(memcmp(img[t], img[0], sizeof img[0]) == 0);
+    }
+    ck_assert_uint_gt(st[0].photons_stored, 0);
+    ck_assert_uint_gt(st[0].photon_lookups, 0);
+    /* A region (rows 7 .. 18) traces the same photons: the frame's rows. */
+    o.y0 = 7;
+    o.y1 = 19;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img[1], NULL), RAY_OK);
+    ck_assert(memcmp(img[1], img[0] + 3 * W * 7,
+                     sizeof(float) * 3 * W * 12) == 0);
+    o.y0 = o.y1 = 0;
+    /* The caustics change the picture (the photons are not lost). */
+    o.photons = 0;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img[1], NULL), RAY_OK);
+    ck_assert(memcmp(img[1], img[0], sizeof img[0]) != 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+START_TEST(bad_photon_settings_should_be_refused)
+{
+    static float img[3 * W * H];
+    static const double bad_radius[] = {-1, -1e-300, HUGE_VAL,
+                                        1e-200, 1e200};
+    ray_camera cam;
+    ray_scene *s = caustics_scene(&cam);
+    ray_render_options o;
+    ray_photon_map *map = (ray_photon_map *)&o;    /* a sentinel */
+    size_t k;
+
+    ray_render_options_init(&o, W, H);
+    ck_assert_uint_eq(o.photons, 0);                /* the default: off */
+    ck_assert(o.photon_radius == 0);                /* automatic */
+    memset(img, 0x5a, sizeof img);
+    /* 0 photons: a render without caustics, but no map to build. */
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_EINVAL);
+    ck_assert_ptr_eq(map, (ray_photon_map *)&o);
+    o.photons = RAY_MAX_PHOTONS + 1;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_EINVAL);
+    o.photons = 1000;
+    o.photon_radius = (double)NAN;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_EINVAL);
+    /* Negative, infinite, and radii whose disk area pi r^2 underflows
+    ** to 0 or overflows: refused. */
+    for (k = 0; k < sizeof bad_radius / sizeof bad_radius[0]; k++) {
+        o.photon_radius = bad_radius[k];
+        ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_EINVAL);
+        ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_EINVAL);
+    }
+    ck_assert_ptr_eq(map, (ray_photon_map *)&o);
+    {
+        unsigned char want[sizeof img];
+        memset(want, 0x5a, sizeof want);
+        ck_assert(memcmp(img, want, sizeof img) == 0);  /* untouched */
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+static int scatter_calls;
+
+/* A user scatter that breaks the contract: tries to trace (refused),
+** and answers a NaN weight (the photon stops). */
+static int rogue_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_vec3 *dir, ray_rgb *weight)
+{
+    ray_rgb c;
+    (void)ud;
+    scatter_calls++;
+    ck_assert_int_eq(ray_trace(ctx, a->ray, RAY_KIND_REFLECTION, 1.0, &c),
+                     RAY_EEFFECT);
+    *dir = ray_reflect(a->ray->dir, a->normal);
+    *weight = rgb((double)NAN, 1, 1);
+    return 1;
+}
+
+START_TEST(misuse_should_be_answered)
+{
+    ray_scene *s = mirror_scene(), *other = mirror_scene(), *rogue;
+    ray_photon_map *map = build(s, 1000, 0, 1), *got = NULL;
+    ray_render_options o;
+    ray_ctx *ctx, *octx;
+    ray_shade_args args;
+    ray_hit hit;
+    ray_rgb e = {7, 7, 7};
+    ray_material probe = probe_material(), m = probe_material();
+    ray_light l = point_light(vec(0, 1, 0), rgb(1, 1, 1));
+    unsigned pm, mm;
+
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 10;
+    ck_assert_int_eq(ray_photon_map_build(NULL, &o, &got), RAY_EINVAL);
+    ck_assert_int_eq(ray_photon_map_build(s, NULL, &got), RAY_EINVAL);
+    ck_assert_int_eq(ray_photon_map_build(s, &o, NULL), RAY_EINVAL);
+    ck_assert_ptr_null(got);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(other, 0, &octx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(NULL, map), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_photon_map(octx, map), RAY_EINVAL);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, NULL), RAY_OK);
+    memset(&args, 0, sizeof args);
+    memset(&hit, 0, sizeof hit);
+    args.hit = &hit;
+    ck_assert_int_eq(ray_caustics_at(NULL, &args, &e), RAY_EINVAL);
+    ck_assert_int_eq(ray_caustics_at(ctx, NULL, &e), RAY_EINVAL);
+    ck_assert_int_eq(ray_caustics_at(ctx, &args, NULL), RAY_EINVAL);
+    args.hit = NULL;
+    ck_assert_int_eq(ray_caustics_at(ctx, &args, &e), RAY_EINVAL);
+    ck_assert(e.r == 7 && e.g == 7 && e.b == 7);      /* untouched */
+    /* Outside a callback (no RAY_EFFECT_CAUSTICS declared): zero. */
+    args.hit = &hit;
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    ck_assert_int_eq(ray_caustics_at(ctx, &args, &e), RAY_OK);
+    ck_assert(e.r == 0 && e.g == 0 && e.b == 0);
+    ray_photon_map_free(NULL);
+    ray_ctx_free(ctx);
+    ray_ctx_free(octx);
+    ray_photon_map_free(map);
+    /* Not committed (changed since): refused. */
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(0, 0, 0)), RAY_OK);
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &got), RAY_EINVAL);
+    ck_assert_ptr_null(got);
+    ray_scene_free(s);
+    ray_scene_free(other);
+    /* A scatter callback that traces and answers NaN: refused, stopped. */
+    m.shade = black;
+    m.effects = 0;
+    m.scatter = rogue_scatter;
+    ck_assert_int_eq(ray_scene_new(&rogue, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(rogue, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(rogue, &m, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(rogue, vec(0, 0, 0), vec(0, 1, 0),
+                                         pm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(rogue, vec(0, 2, 0), 0.5, mm,
+                                          NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(rogue, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(rogue), RAY_OK);
+    scatter_calls = 0;
+    map = build(rogue, 2000, 0, 1);
+    ck_assert_int_gt(scatter_calls, 0);
+    ck_assert_int_eq(ray_ctx_new(rogue, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    ck_assert(e.r == 0 && e.g == 0 && e.b == 0);       /* none stored */
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(rogue);
+}
+END_TEST
+
+Suite *caustics_suite(void)
+{
+    Suite *s = suite_create("caustics");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 60);
+    tcase_add_test(tc, mirror_should_send_its_reflected_power_to_the_floor);
+    tcase_add_test(tc, disk_estimate_should_give_the_mirror_image_irradiance);
+    tcase_add_test(tc, glass_sphere_should_focus_its_caustic_below_its_centre);
+    tcase_add_test(tc, scene_without_specular_should_trace_no_photon);
+    tcase_add_test(tc, effect_analysis_should_need_light_scatterer_and_gatherer);
+    tcase_add_test(tc, instanced_mirror_should_make_caustics);
+    tcase_add_test(tc, caustics_should_be_the_same_bytes_at_any_thread_count);
+    tcase_add_test(tc, bad_photon_settings_should_be_refused);
+    tcase_add_test(tc, misuse_should_be_answered);
+    suite_add_tcase(s, tc);
+    return s;
+}
