@@ -290,7 +290,8 @@ static inline ray_scene *caustics_scene(ray_camera *cam)
     ray_camera view = {.position = {0, 5.5, 7}, .look_at = {0, 0.4, -0.4},
                        .up = {0, 1, 0}, .vfov = 42};
     ray_material m = {.shade = tinted_mirror_shade, .ud = &brass,
-                      .effects = RAY_EFFECT_REFLECTION,
+                      .effects = RAY_EFFECT_REFLECTION |
+                                 RAY_EFFECT_SCATTER,
                       .scatter = tinted_mirror_scatter};
     ray_scene *scene;
     unsigned floor_mat, glass_mat, ring_mat;

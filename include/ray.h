@@ -733,6 +733,10 @@ enum {
                                       with photons > 0 traces them only
                                       if the scene can make a caustic:
                                       ray_scene_effects) */
+#define RAY_EFFECT_SCATTER   32u   /* scatters photons: its "scatter"
+                                      function is called (not NULL);
+                                      without this bit the field is
+                                      ignored, whatever it holds */
 
 /*
 ** Everything a material callback gets to shade one hit.  Read-only; valid
@@ -807,14 +811,16 @@ typedef int (*ray_scatter_fn)(void *ud, ray_ctx *ctx,
 
 /*
 ** A material.  "scatter" was added after the first three fields (no
-** release was tagged before it): a material written as { shade, ud,
-** effects } gets NULL there, a material that stops photons.
+** release was tagged before it) and is read only when "effects" has
+** RAY_EFFECT_SCATTER: a material written as { shade, ud, effects }, or
+** filled field by field by code older than the field, stops photons.
 */
 typedef struct ray_material {
     ray_shade_fn shade;
     void *ud;                /* borrowed: must outlive the scene */
     unsigned effects;        /* RAY_EFFECT_* bits it may request */
-    ray_scatter_fn scatter;  /* NULL: photons stop here (not specular) */
+    ray_scatter_fn scatter;  /* with RAY_EFFECT_SCATTER: how photons go
+                                on from its surfaces (specular) */
 } ray_material;
 
 /*
@@ -1148,7 +1154,10 @@ RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 ** ray_scene_effects -- after commit, the RAY_EFFECT_* bits the scene can
 ** ever need: the union of the effects of the materials its enabled
 ** geometry uses (its instances' children's included), without
-** RAY_EFFECT_SHADOW when it has no lights.  0 while not committed
+** RAY_EFFECT_SHADOW when it has no lights, and without
+** RAY_EFFECT_CAUSTICS and RAY_EFFECT_SCATTER unless it can make a caustic
+** (a light, a material that scatters photons and one that gathers
+** them: then photons are traced when asked for).  0 while not committed
 ** (before the first commit, or with a change staged).
 */
 RAY_API int ray_scene_set_pruning(ray_scene *scene, int enabled);

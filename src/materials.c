@@ -180,7 +180,7 @@ ray_material ray_material_phong(const ray_phong_params *p)
     m.effects = RAY_EFFECT_SHADOW | RAY_EFFECT_CAUSTICS;
     m.scatter = NULL;
     if (p != NULL && max3(p->reflect) > 0) {
-        m.effects |= RAY_EFFECT_REFLECTION;
+        m.effects |= RAY_EFFECT_REFLECTION | RAY_EFFECT_SCATTER;
         m.scatter = phong_scatter;
     }
     if (p != NULL && p->texture.fn != NULL)
@@ -210,7 +210,7 @@ ray_material ray_material_mirror(const ray_rgb *reflectance)
 
     m.shade = mirror_shade;
     m.ud = unconst(reflectance);
-    m.effects = RAY_EFFECT_REFLECTION;
+    m.effects = RAY_EFFECT_REFLECTION | RAY_EFFECT_SCATTER;
     m.scatter = mirror_scatter;
     return m;
 }
@@ -292,7 +292,8 @@ ray_material ray_material_glass(const ray_glass_params *p)
 
     m.shade = glass_shade;
     m.ud = unconst(p);
-    m.effects = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION;
+    m.effects = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
+                RAY_EFFECT_SCATTER;
     m.scatter = glass_scatter;
     return m;
 }
@@ -329,7 +330,8 @@ static int checker_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     if (ud == NULL)
         return 0;
     m = checker_pick(ud, a);
-    return m->scatter != NULL && m->scatter(m->ud, ctx, a, dir, weight);
+    return (m->effects & RAY_EFFECT_SCATTER) && m->scatter != NULL &&
+           m->scatter(m->ud, ctx, a, dir, weight);
 }
 
 ray_material ray_material_checker(const ray_checker_params *p)
@@ -338,10 +340,8 @@ ray_material ray_material_checker(const ray_checker_params *p)
 
     m.shade = checker_shade;
     m.ud = unconst(p);
-    m.scatter = p != NULL && (p->even.scatter != NULL ||
-                              p->odd.scatter != NULL) ? checker_scatter
-                                                      : NULL;
     m.effects = RAY_EFFECT_TEXTURE |
                 (p != NULL ? p->even.effects | p->odd.effects : 0);
+    m.scatter = (m.effects & RAY_EFFECT_SCATTER) ? checker_scatter : NULL;
     return m;
 }

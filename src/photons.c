@@ -127,7 +127,7 @@ static void find_target(emitter *e)
             continue;
         if (p->kind == RAY__KIND_INSTANCE) {
             const ray__instance *in = &s->instances[p->surface];
-            if (!(in->child->material_effects & RAY__EFFECT_SCATTER))
+            if (!(in->child->material_effects & RAY_EFFECT_SCATTER))
                 continue;
             a = in->lo;
             b = in->hi;

@@ -138,7 +138,7 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
 {
     const unsigned known = RAY_EFFECT_REFLECTION | RAY_EFFECT_REFRACTION |
                            RAY_EFFECT_SHADOW | RAY_EFFECT_TEXTURE |
-                           RAY_EFFECT_CAUSTICS;
+                           RAY_EFFECT_CAUSTICS | RAY_EFFECT_SCATTER;
     void *p;
     int rc = ray__begin(s, "ray_scene_add_material");
 
@@ -151,6 +151,9 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
     if ((m->effects & ~known) != 0)
         return ray__fail(s, RAY_EINVAL, "unknown effect bits 0x%x (known: "
                          "RAY_EFFECT_* = 0x%x)", m->effects & ~known, known);
+    if ((m->effects & RAY_EFFECT_SCATTER) && m->scatter == NULL)
+        return ray__fail(s, RAY_EINVAL, "RAY_EFFECT_SCATTER without a "
+                         "scatter function");
     if (s->n_materials >= RAY_INVALID_ID)
         return ray__fail(s, RAY_ENOMEM, "too many materials (%zu: ids are "
                          "32-bit)", s->n_materials);
@@ -161,6 +164,10 @@ int ray_scene_add_material(ray_scene *s, const ray_material *m,
                          s->n_materials);
     s->materials = p;
     s->materials[s->n_materials] = *m;
+    /* Read only with the bit (ray.h): code that fills a material field
+    ** by field and predates "scatter" leaves garbage there. */
+    if (!(m->effects & RAY_EFFECT_SCATTER))
+        s->materials[s->n_materials].scatter = NULL;
     if (id != NULL)
         *id = (unsigned)s->n_materials;
     s->n_materials++;
@@ -989,17 +996,16 @@ static void scene_summary(ray_scene *s)
             instances = 1;
         } else if (p->material != RAY_NO_MATERIAL) {
             e |= s->materials[p->material].effects;
-            if (s->materials[p->material].scatter != NULL)
-                e |= RAY__EFFECT_SCATTER;
         }
         gated |= p->mask != ~0u || p->filter != NULL;
     }
     s->material_effects = e;
     /* A caustic needs a light, a surface that scatters photons and one
-    ** that gathers them (L S+ D): else no photon is ever traced. */
-    if (s->n_lights == 0 || !(e & RAY__EFFECT_SCATTER))
-        e &= ~RAY_EFFECT_CAUSTICS;
-    e &= ~RAY__EFFECT_SCATTER;
+    ** that gathers them (L S+ D): else no photon is ever traced, and
+    ** neither bit is an effect the scene can need. */
+    if (s->n_lights == 0 || !(e & RAY_EFFECT_SCATTER) ||
+        !(e & RAY_EFFECT_CAUSTICS))
+        e &= ~(RAY_EFFECT_CAUSTICS | RAY_EFFECT_SCATTER);
     s->effects = s->n_lights == 0 ? e & ~RAY_EFFECT_SHADOW : e;
     s->gated = gated;
     s->has_instances = instances;

@@ -159,9 +159,7 @@ struct ray_scene {
     unsigned effects;        /* what the scene can need, set by commit */
     unsigned material_effects; /* the effects of the materials its
                                   enabled geometry uses (what an instance
-                                  of it adds to its parent's), with
-                                  RAY__EFFECT_SCATTER if one of them
-                                  scatters photons */
+                                  of it adds to its parent's) */
     int committed;
     /* Dynamic scenes (ray(7)): what the next commit must redo
     ** (RAY__DIRTY_*), the commits made so far (instances of this scene
@@ -179,10 +177,6 @@ struct ray_scene {
     const char *op;
     char errmsg[RAY__ERRMSG_SIZE];
 };
-
-/* In material_effects only, never in effects: some material of the
-** enabled geometry has a scatter function (a bit no RAY_EFFECT_* uses). */
-#define RAY__EFFECT_SCATTER 0x80000000u
 
 /* What a commit must redo: the triangle BVH (rebuild, or refit after
 ** vertex updates only), the BVH of the other bounded kinds and the plane

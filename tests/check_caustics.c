@@ -379,6 +379,67 @@ END_TEST
 ** (the mirror scene's square, moved up by 1: the light at (0, 2, 0) sits
 ** under it as before, so the floor gets R I 2 pi / 3 as in the first
 ** test, within the same 5-sigma bound). */
+/* A scatter function no photon may reach: the test fails if it runs. */
+static int never_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                         ray_vec3 *dir, ray_rgb *weight)
+{
+    (void)ud;
+    (void)ctx;
+    (void)a;
+    (void)dir;
+    (void)weight;
+    ck_abort_msg("scatter called without RAY_EFFECT_SCATTER");
+    return 0;
+}
+
+/*
+** "scatter" is read only with RAY_EFFECT_SCATTER (ray.h): code that fills
+** a material field by field and predates the field leaves whatever the
+** stack held there.  A mirror-like material whose scatter points to
+** never_scatter, without the bit, over the probe floor under a light:
+** no caustics, no photon, the function never called.  The bit with a
+** NULL function is refused, with the scene's message.
+*/
+START_TEST(scatter_should_be_read_only_with_its_effect_bit)
+{
+    static float img[3 * W * H];
+    ray_material probe = probe_material(), m;
+    ray_light l = point_light(vec(0, 1, 0), rgb(1, 1, 1));
+    ray_scene *s;
+    unsigned pm, mm, n;
+    ray_stats st;
+
+    m = ray_material_mirror(&mirror_R);
+    m.effects = RAY_EFFECT_REFLECTION;        /* the bit left out */
+    m.scatter = never_scatter;                /* "garbage" */
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 2, -1), vec(1, 2, -1),
+                                            vec(1, 2, 1), mm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(s) &
+                      (RAY_EFFECT_CAUSTICS | RAY_EFFECT_SCATTER), 0);
+    st = render(s, 20000, 2, img);
+    ck_assert_uint_eq(st.photons_emitted, 0);
+    /* The bit without a function: refused, nothing added. */
+    m.effects = RAY_EFFECT_REFLECTION | RAY_EFFECT_SCATTER;
+    m.scatter = NULL;
+    n = 77;
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &n), RAY_EINVAL);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_str_eq(ray_scene_errmsg(s), "ray_scene_add_material: "
+                     "RAY_EFFECT_SCATTER without a scatter function");
+    /* The built-in mirror declares the bit with its function. */
+    m = ray_material_mirror(&mirror_R);
+    ck_assert_uint_eq(m.effects, RAY_EFFECT_REFLECTION | RAY_EFFECT_SCATTER);
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(instanced_mirror_should_make_caustics)
 {
     const unsigned long long N = 200000;
@@ -574,7 +635,7 @@ START_TEST(misuse_should_be_answered)
     ray_scene_free(other);
     /* A scatter callback that traces and answers NaN: refused, stopped. */
     m.shade = black;
-    m.effects = 0;
+    m.effects = RAY_EFFECT_SCATTER;
     m.scatter = rogue_scatter;
     ck_assert_int_eq(ray_scene_new(&rogue, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(rogue, &probe, &pm), RAY_OK);
@@ -609,6 +670,7 @@ Suite *caustics_suite(void)
     tcase_add_test(tc, glass_sphere_should_focus_its_caustic_below_its_centre);
     tcase_add_test(tc, scene_without_specular_should_trace_no_photon);
     tcase_add_test(tc, effect_analysis_should_need_light_scatterer_and_gatherer);
+    tcase_add_test(tc, scatter_should_be_read_only_with_its_effect_bit);
     tcase_add_test(tc, instanced_mirror_should_make_caustics);
     tcase_add_test(tc, caustics_should_be_the_same_bytes_at_any_thread_count);
     tcase_add_test(tc, bad_photon_settings_should_be_refused);

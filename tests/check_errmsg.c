@@ -152,7 +152,7 @@ static int material_no_shade(ray_scene *s)
 static int material_bad_effects(ray_scene *s)
 {
     ray_material m = plain();
-    m.effects = 0x61;   /* 0x20 and 0x40 unknown, 1 known */
+    m.effects = 0xc1;   /* 0x40 and 0x80 unknown, 1 known */
     return ray_scene_add_material(s, &m, NULL);
 }
 
@@ -740,7 +740,7 @@ static const errcase cases[] = {
     {material_no_shade, RAY_EINVAL,
      "ray_scene_add_material: shade function is NULL"},
     {material_bad_effects, RAY_EINVAL, "ray_scene_add_material: unknown "
-     "effect bits 0x60 (known: RAY_EFFECT_* = 0x1f)"},
+     "effect bits 0xc0 (known: RAY_EFFECT_* = 0x3f)"},
     {sphere_nan_center, RAY_EINVAL,
      "ray_scene_add_sphere: center (0, nan, 0) is not finite"},
     {sphere_negative_radius, RAY_EINVAL,
