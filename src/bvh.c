@@ -12,6 +12,7 @@
 ** differ).
 */
 #include <float.h>
+#include <limits.h>
 #include <pthread.h>
 #include <stddef.h>
 #include <string.h>
@@ -842,10 +843,10 @@ static void *build_worker(void *arg)
     }
 }
 
-static unsigned online_cpus(void)
+unsigned ray__online_cpus(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n > 0 ? (n > 1024 ? 1024u : (unsigned)n) : 1u;
+    return n > 0 && n <= (long)UINT_MAX ? (unsigned)n : 1u;
 }
 
 /* Larger subtrees first: the last task to start is then a small one, and
@@ -1016,7 +1017,7 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
             job.tasks = tasks;
             job.order = order;
             job.n_tasks = n_tasks;
-            run_subtrees(&job, threads ? threads : online_cpus());
+            run_subtrees(&job, threads ? threads : ray__online_cpus());
         }
     }
     for (i = 0; i < n; i++)

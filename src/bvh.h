@@ -120,4 +120,8 @@ void ray__bvh_refit(const ray__allocator *a, ray__bvh *bvh,
                     ray__range_box_fn range_box, const void *ud,
                     size_t n_items);
 
+/* The CPUs online (at least 1): what a thread count of 0 means, for the
+** threaded build, the photon pass and the render. */
+unsigned ray__online_cpus(void);
+
 #endif /* RAY_BVH_H */

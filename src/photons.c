@@ -18,7 +18,6 @@
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "trace.h"
 
@@ -447,12 +446,6 @@ static void *pass_main(void *arg)
     return NULL;
 }
 
-static unsigned online_cpus(void)
-{
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n > 0 ? (unsigned)n : 1u;
-}
-
 /* Trace every chunk on "threads" threads (the caller is one; a chunk
 ** whose thread could not start is traced by the caller afterwards). */
 static int run_pass(pass *job, const ray_scene *s, ray_stats *st)
@@ -617,7 +610,7 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
     job.seed = seed;
     job.e.per_photon = 1.0 / (double)photons;
     job.n_chunks = (size_t)((photons + CHUNK - 1) / CHUNK);
-    job.threads = threads ? threads : online_cpus();
+    job.threads = threads ? threads : ray__online_cpus();
     if (job.threads > job.n_chunks)
         job.threads = (unsigned)job.n_chunks;
     job.e.cdf = ray__alloc(s, s->n_lights * sizeof *job.e.cdf);

@@ -6,7 +6,6 @@
 */
 #include <pthread.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "camera.h"
 
@@ -448,12 +447,6 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
-static unsigned online_cpus(void)
-{
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n > 0 ? (unsigned)n : 1u;
-}
-
 /* The lattice cache's sizes (render_worker): entries in a row, 0 if a
 ** row's arrays would not fit in a size_t; entries in the cell grid. */
 static size_t cache_row(const ray_render_options *o)
@@ -667,7 +660,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     if (job.side * job.side != opt->samples)
         job.side = 0;
     job.lattice = lattice_generator(opt->samples);
-    n = opt->threads ? opt->threads : online_cpus();
+    n = opt->threads ? opt->threads : ray__online_cpus();
     if (n > job.y1 - job.y0)
         n = job.y1 - job.y0;
     if (WORKER_STRIDE > (size_t)-1 / n)        /* n >= 1 here */
