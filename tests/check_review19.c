@@ -1,0 +1,424 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_review19.c -- review of issue 19 (caustics, ray cones, mip maps):
+** each test demonstrates a suspected bug; a failure is the finding.
+*/
+#include <float.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tests.h"
+
+#define PI 3.14159265358979323846
+
+/* ------------------------------------------------------------ helpers */
+
+static void irradiance_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                             ray_rgb *out)
+{
+    (void)ud;
+    ck_assert_int_eq(ray_caustics_at(ctx, a, out), RAY_OK);
+}
+
+static ray_material probe_material(void)
+{
+    ray_material m;
+
+    m.shade = irradiance_shade;
+    m.ud = NULL;
+    m.effects = RAY_EFFECT_CAUSTICS;
+    m.scatter = NULL;
+    return m;
+}
+
+static const ray_rgb mirror_R = {0.8, 0.6, 0.4};
+
+/* check_caustics.c's mirror scene (light (0,1,0) under a 2 x 2 mirror at
+** y = 2, probe floor y = 0), through allocator "alloc", light "I". */
+static ray_scene *mirror_scene(ray_alloc_fn alloc, void *ud, ray_rgb I,
+                               const ray_material *floor_mat)
+{
+    ray_scene *s;
+    ray_material probe = floor_mat ? *floor_mat : probe_material();
+    ray_material mirror = ray_material_mirror(&mirror_R);
+    ray_light l;
+    unsigned pm, mm;
+
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(0, 1, 0);
+    l.intensity = I;
+    ck_assert_int_eq(ray_scene_new(&s, alloc, ud), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 2, -1), vec(1, 2, -1),
+                                            vec(1, 2, 1), mm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 2, -1), vec(1, 2, 1),
+                                            vec(-1, 2, 1), mm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+static ray_rgb floor_irradiance(ray_ctx *ctx, double x, double z)
+{
+    ray_ray r = make_ray(vec(x, 0.5, z), vec(0, -1, 0), 0, HUGE_VAL);
+    ray_rgb e = {-1, -1, -1};
+
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &e), RAY_OK);
+    return e;
+}
+
+/* ---------------------------------- 1. allocator called off the caller */
+
+typedef struct thread_alloc {
+    pthread_t owner;
+    pthread_mutex_t lock;        /* the test's own bookkeeping only */
+    long off_thread;
+} thread_alloc;
+
+static void *owner_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    thread_alloc *t = ud;
+
+    (void)osize;
+    if (!pthread_equal(pthread_self(), t->owner)) {
+        pthread_mutex_lock(&t->lock);
+        t->off_thread++;
+        pthread_mutex_unlock(&t->lock);
+    }
+    if (nsize == 0) {
+        free(ptr);
+        return NULL;
+    }
+    return realloc(ptr, nsize);
+}
+
+/*
+** ray_scene_new: a commit "allocates on its calling thread only", and
+** before issue 19 ray_render allocated only on its calling thread (workers
+** and adaptive caches are allocated before the threads start).  The photon
+** pass now grows each chunk's buffer (photons.c store -> ray__realloc) on
+** the worker threads: a single-threaded program with an arena allocator
+** that is not thread-safe races as soon as it asks for photons.
+*/
+START_TEST(review19_photon_pass_allocates_on_caller_thread_only)
+{
+    thread_alloc t;
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+    ray_scene *s;
+    ray_rgb I = {1, 1, 1};
+
+    t.owner = pthread_self();
+    pthread_mutex_init(&t.lock, NULL);
+    t.off_thread = 0;
+    s = mirror_scene(owner_alloc, &t, I, NULL);
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 100000;
+    o.threads = 4;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+    pthread_mutex_destroy(&t.lock);
+    ck_assert_msg(t.off_thread == 0,
+                  "%ld allocator calls on the photon threads", t.off_thread);
+}
+END_TEST
+
+/* ------------------------------------- 2. map freed after its scene */
+
+/* libc, but a block is overwritten before it is freed, so a read of freed
+** scene memory finds garbage (a use after free made visible without ASan). */
+static void *poison_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    (void)ud;
+    if (nsize == 0) {
+        if (ptr != NULL)
+            memset(ptr, 0x5A, osize);
+        free(ptr);
+        return NULL;
+    }
+    return realloc(ptr, nsize);
+}
+
+/*
+** ray.h says to free contexts before their scene, but says nothing of a
+** photon map; the map keeps m->scene and ray_photon_map_free frees
+** through m->scene's allocator: freeing the scene first is a use after
+** free (reads the freed scene's allocator).
+*/
+START_TEST(review19_map_free_after_scene_free)
+{
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+    ray_rgb I = {1, 1, 1};
+    ray_scene *s = mirror_scene(poison_alloc, NULL, I, NULL);
+
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 10000;
+    o.threads = 1;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ray_scene_free(s);
+    ray_photon_map_free(map);   /* reads the freed scene: crashes */
+}
+END_TEST
+
+/* ----------------------------- 3. photon power above FLT_MAX -> Inf/NaN */
+
+/*
+** A photon's power is stored as float (photons.c store): a power above
+** FLT_MAX (3.4e38; intensity * omega / photons) is undefined behaviour
+** (C99 6.3.1.5) and in practice +Inf, so the irradiance is +Inf and a
+** Phong floor with a zero diffuse channel gets Inf * 0 = NaN there.
+** The light's intensity 1e300 is finite, which ray_scene_add_light
+** accepts; the true irradiance, about R I cos / d^2, is finite (~1e299).
+*/
+START_TEST(review19_huge_intensity_caustic_is_finite)
+{
+    ray_rgb I = {1e300, 1e300, 1e300};
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+    ray_scene *s = mirror_scene(NULL, NULL, I, NULL);
+    ray_ctx *ctx;
+    ray_rgb e;
+
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 100000;
+    o.photon_radius = 0.25;
+    o.threads = 1;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    ck_assert_msg(isfinite(e.r) && isfinite(e.g) && isfinite(e.b),
+                  "irradiance (%g, %g, %g) for a light of intensity 1e300",
+                  e.r, e.g, e.b);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
+START_TEST(review19_huge_intensity_phong_caustic_no_nan)
+{
+    static const ray_phong_params red = {{1, 0, 0}, {0, 0, 0}, 1, 0,
+                                         {0, 0, 0}, {NULL, NULL}};
+    ray_material floor_mat = ray_material_phong(&red);
+    ray_rgb I = {1e300, 1e300, 1e300};
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+    ray_scene *s = mirror_scene(NULL, NULL, I, &floor_mat);
+    ray_ctx *ctx;
+    ray_rgb e;
+
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 100000;
+    o.photon_radius = 0.25;
+    o.threads = 1;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, 0, 0);
+    /* green: diffuse 0, so direct 0 and caustic 0, not NaN */
+    ck_assert_msg(!isnan(e.g), "Phong floor green = %g (diffuse 0)", e.g);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* --------------------------------------- 4. photon_radius contract */
+
+/*
+** ray_render(3) / ray.h: RAY_EINVAL for "a photon_radius NaN, negative,
+** infinite or whose pi r^2 under- or overflows".  options_valid checks
+** only NaN/negative/infinite; the area is checked in the photon pass,
+** which runs only for a scene with caustics: a scene without caustics
+** renders with photon_radius = 1e200 (RAY_OK).
+*/
+START_TEST(review19_render_radius_area_overflow_einval)
+{
+    ray_scene *s;
+    ray_camera cam;
+    ray_render_options o;
+    float px[3] = {-1, -1, -1};
+
+    ck_assert_int_eq(nop_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, 0, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_camera_init(&cam);
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 1000;
+    o.photon_radius = 1e200;    /* pi r^2 = +Inf */
+    ck_assert_int_eq(ray_render(s, &cam, &o, px, NULL), RAY_EINVAL);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* --------------------------------------------- 5. cones: NaN width */
+
+static void cone_probe(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                       ray_rgb *out)
+{
+    (void)ctx;
+    *(double *)ud = a->cone_width;
+    out->r = a->footprint;
+    out->g = out->b = 0;
+}
+
+/*
+** ray_ctx_set_cone accepts any finite spread (1e300 rad): at distance 2
+** the width overflows to +Inf, the flat mirror's bend is Inf * 0 = NaN,
+** and the reflected ray's cone -- what the next material sees as
+** cone_width -- is NaN.  ray.h promises "the cone's width at the hit".
+*/
+START_TEST(review19_cone_width_never_nan)
+{
+    ray_scene *s;
+    ray_material probe, mirror;
+    static const ray_rgb one = {1, 1, 1};
+    double seen = -1;
+    ray_ctx *ctx;
+    ray_rgb out;
+    ray_ray r = make_ray(vec(0, 0, 0), vec(0, 0, -1), 0, HUGE_VAL);
+    unsigned pm, mm;
+
+    probe.shade = cone_probe;
+    probe.ud = &seen;
+    probe.effects = RAY_EFFECT_TEXTURE;
+    probe.scatter = NULL;
+    mirror = ray_material_mirror(&one);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+    /* mirror plane z = -2 facing +z; probe plane z = 5 facing -z */
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -2), vec(0, 0, 1), mm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 5), vec(0, 0, -1), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, DBL_MAX), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &out),
+                     RAY_OK);
+    ck_assert_msg(!isnan(seen), "cone_width %g after a flat mirror", seen);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* --------------------------------- 6. cones through a mirrored instance */
+
+static double reflected_cone_width(const ray_transform *xfm)
+{
+    ray_scene *s, *child = NULL;
+    ray_material probe, mirror;
+    static const ray_rgb one = {1, 1, 1};
+    double seen = -1;
+    ray_ctx *ctx;
+    ray_rgb out;
+    /* straight at the sphere's pole (0, 0, 1), back through the eye */
+    ray_ray r = make_ray(vec(0.1, 0.05, 5), vec(0, 0, -1), 0, HUGE_VAL);
+    unsigned pm, mm;
+
+    probe.shade = cone_probe;
+    probe.ud = &seen;
+    probe.effects = RAY_EFFECT_TEXTURE;
+    probe.scatter = NULL;
+    mirror = ray_material_mirror(&one);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 10), vec(0, 0, -1), pm,
+                                         NULL), RAY_OK);
+    if (xfm == NULL) {
+        ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mm, NULL),
+                         RAY_OK);
+    } else {
+        ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(child, &mirror, &mm),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, mm,
+                                              NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(s, child, xfm, NULL),
+                         RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_cone(ctx, 0, 0.01), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &out),
+                     RAY_OK);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+    ray_scene_free(child);
+    return seen;
+}
+
+START_TEST(review19_cone_mirrored_instance_same_as_plain)
+{
+    ray_transform x;
+    double plain_w = reflected_cone_width(NULL), mirrored_w, id_w;
+
+    ray_transform_identity(&x);
+    id_w = reflected_cone_width(&x);
+    x.m[0][0] = -1;             /* mirrored in x: the same sphere */
+    mirrored_w = reflected_cone_width(&x);
+    ck_assert_msg(plain_w > 0.5, "plain %g", plain_w);
+    ck_assert_double_eq_tol(id_w, plain_w, 1e-9 * plain_w);
+    ck_assert_double_eq_tol(mirrored_w, plain_w, 1e-9 * plain_w);
+}
+END_TEST
+
+/* ---------------------------------------------- 7. image strips */
+
+/* 1 x N and N x 1 at the 16384 limit: pyramid levels keep the mean. */
+START_TEST(review19_image_strip_mean)
+{
+    const unsigned n = 16384;
+    float *px = malloc(3 * sizeof(float) * n);
+    ray_image *a = NULL, *b = NULL;
+    ray_rgb ca, cb;
+    unsigned i;
+
+    ck_assert_ptr_nonnull(px);
+    for (i = 0; i < n; i++)
+        px[3 * i] = px[3 * i + 1] = px[3 * i + 2] = (float)(i % 2);
+    ck_assert_int_eq(ray_image_new(1, n, px, &a), RAY_OK);
+    ck_assert_int_eq(ray_image_new(n, 1, px, &b), RAY_OK);
+    ck_assert_int_eq(ray_image_sample_footprint(a, 0.3, 0.7, HUGE_VAL, &ca),
+                     RAY_OK);
+    ck_assert_int_eq(ray_image_sample_footprint(b, 0.3, 0.7, HUGE_VAL, &cb),
+                     RAY_OK);
+    ck_assert_double_eq_tol(ca.r, 0.5, 1e-6);
+    ck_assert_double_eq_tol(cb.r, 0.5, 1e-6);
+    ck_assert_int_eq(ray_image_sample_footprint(b, 0.3, 0.7, 1.0 / 3000, &cb),
+                     RAY_OK);
+    ck_assert_double_eq_tol(cb.r, 0.5, 1e-6);
+    ray_image_free(a);
+    ray_image_free(b);
+    free(px);
+}
+END_TEST
+
+Suite *review19_suite(void)
+{
+    Suite *s = suite_create("review19");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 120);
+    tcase_add_test(tc, review19_photon_pass_allocates_on_caller_thread_only);
+    tcase_add_test(tc, review19_map_free_after_scene_free);
+    tcase_add_test(tc, review19_huge_intensity_caustic_is_finite);
+    tcase_add_test(tc, review19_huge_intensity_phong_caustic_no_nan);
+    tcase_add_test(tc, review19_render_radius_area_overflow_einval);
+    tcase_add_test(tc, review19_cone_width_never_nan);
+    tcase_add_test(tc, review19_cone_mirrored_instance_same_as_plain);
+    tcase_add_test(tc, review19_image_strip_mean);
+    suite_add_tcase(s, tc);
+    return s;
+}
