@@ -405,6 +405,129 @@ START_TEST(review19_image_strip_mean)
 }
 END_TEST
 
+
+/* ------------------------------------- 8. a scene far from the origin */
+
+/* The mirror scene moved by (1e8, 0, 1e8): the same irradiance under the
+** mirror as at the origin, within 5 sigma of the count (N = 1e6, r =
+** 0.25: about 2800 photons in the disk, 5 / sqrt(2800) = 9.4%). */
+static double offset_irradiance(double off)
+{
+    ray_scene *s;
+    ray_material probe = probe_material();
+    ray_material mirror = ray_material_mirror(&mirror_R);
+    ray_light l;
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+    ray_ctx *ctx;
+    ray_rgb e;
+    unsigned pm, mm;
+
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(off, 1, off);
+    l.intensity = rgb(1, 1, 1);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &mirror, &mm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(off, 0, off), vec(0, 1, 0),
+                                         pm, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(off - 1, 2, off - 1),
+                                            vec(off + 1, 2, off - 1),
+                                            vec(off + 1, 2, off + 1), mm,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(off - 1, 2, off - 1),
+                                            vec(off + 1, 2, off + 1),
+                                            vec(off - 1, 2, off + 1), mm,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 1000000;
+    o.photon_radius = 0.25;
+    o.threads = 2;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    e = floor_irradiance(ctx, off + 0.5, off + 0.25);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+    return e.g;
+}
+
+START_TEST(review19_caustic_far_from_origin)
+{
+    double near0 = offset_irradiance(0), far = offset_irradiance(1e8);
+    /* want: R I cos / d^2 from the image (0, 3, 0) */
+    double d2 = 0.25 + 9 + 0.0625, want = mirror_R.g * 3 / sqrt(d2) / d2;
+
+    ck_assert_double_eq_tol(near0, want, 0.1 * want);
+    ck_assert_double_eq_tol(far, want, 0.1 * want);
+}
+END_TEST
+
+
+/* ------------------------- 9. directional light over a scattering plane */
+
+/*
+** The pool: a water surface (glass plane y = 1, ior 1.33) over a probe
+** floor y = 0, the sun straight down (directional, I = 1), and one small
+** diffuse ball (radius 0.25 at (0, 3, 0), the scene's only bounded
+** geometry).  Every point of the floor receives the transmitted sunlight,
+** about (1 - F) I = 0.98 (F = ((n-1)/(n+1))^2 = 0.02 at normal
+** incidence), the same at (0, 0) and at (5, 5).  The scattering geometry
+** is a plane, so photons are "emitted in every direction", but a
+** directional light's start on the disk of radius R of the target,
+** which is then the sphere around the bounded geometry (the ball):
+** the floor beyond 0.25 of the axis gets no photon at all.
+*/
+START_TEST(review19_directional_light_over_scattering_plane)
+{
+    static const ray_glass_params water = {1.33, {0, 0, 0}};
+    ray_material probe = probe_material(), glass = ray_material_glass(&water);
+    ray_material dull = plain();
+    ray_render_options o;
+    ray_photon_map *map = NULL;
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_light l;
+    ray_rgb at0, at5;
+    unsigned pm, gm, dm;
+
+    ray_light_init(&l, RAY_LIGHT_DIRECTIONAL);
+    l.direction = vec(0, -1, 0);
+    l.intensity = rgb(1, 1, 1);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &probe, &pm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &glass, &gm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &dull, &dm), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), pm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 1, 0), vec(0, 1, 0), gm,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 3, 0), 0.25, dm, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_render_options_init(&o, 1, 1);
+    o.photons = 200000;
+    o.photon_radius = 0.05;
+    o.threads = 2;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_ctx_set_photon_map(ctx, map), RAY_OK);
+    at0 = floor_irradiance(ctx, 0.34, 0);   /* beside the ball's shadow */
+    at5 = floor_irradiance(ctx, 5, 5);
+    ck_assert_msg(at0.g > 0.5, "beside the ball's shadow: %g", at0.g);
+    ck_assert_msg(at5.g > 0.5,
+                  "at (5, 5): %g (beside the ball's shadow %g): the sun's photons "
+                  "cover only the bounded geometry's sphere", at5.g, at0.g);
+    ray_ctx_free(ctx);
+    ray_photon_map_free(map);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *review19_suite(void)
 {
     Suite *s = suite_create("review19");
@@ -419,6 +542,8 @@ Suite *review19_suite(void)
     tcase_add_test(tc, review19_cone_width_never_nan);
     tcase_add_test(tc, review19_cone_mirrored_instance_same_as_plain);
     tcase_add_test(tc, review19_image_strip_mean);
+    tcase_add_test(tc, review19_caustic_far_from_origin);
+    tcase_add_test(tc, review19_directional_light_over_scattering_plane);
     suite_add_tcase(s, tc);
     return s;
 }
