@@ -889,9 +889,13 @@ RAY_API void ray_limits_init(ray_limits *l);
 ** those of ray_ctx_new and ray_render on it: these may run on several
 ** threads at once after commit, so a shared allocator must then be
 ** thread-safe (a commit allocates on its calling thread only, even one
-** that builds on several: ray_scene_set_build_threads).  Returns RAY_OK, RAY_EINVAL (out NULL) or RAY_ENOMEM.
+** that builds on several: ray_scene_set_build_threads; ray_render without
+** photons too; the photon pass of ray_render and ray_photon_map_build
+** allocates from its threads, unless given threads = 1).  Returns RAY_OK,
+** RAY_EINVAL (out NULL) or RAY_ENOMEM.
 ** ray_scene_free -- release it; NULL is a no-op.  Free every context made
-** on a scene (ray_ctx_free) before the scene itself.
+** on a scene (ray_ctx_free) before the scene itself; a photon map
+** (ray_photon_map_build) may be freed before or after it.
 **
 ** A scene is built by one thread at a time, then ray_scene_commit makes
 ** it queryable: any number of threads may then trace it at once, until
@@ -1574,8 +1578,9 @@ RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 ** ray_texture_image picks a mip level.  Only in a scene whose effects
 ** include RAY_EFFECT_TEXTURE; width = spread = 0 (a new context's
 ** default) means no cone.  ray_render sets its own contexts' cones
-** (ray_render_options.cones).  RAY_OK, or RAY_EINVAL (ctx NULL, width or
-** spread negative, NaN or infinite: the cone unchanged).
+** (ray_render_options.cones).  RAY_OK, or RAY_EINVAL (ctx NULL, width
+** negative, NaN or infinite, spread negative, NaN or not below pi, a
+** cone's whole angle: the cone unchanged).
 */
 RAY_API int ray_ctx_set_cone(ray_ctx *ctx, double width, double spread);
 
@@ -2007,15 +2012,18 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
 ** are read, the rest ignored.  A scene without caustics gives an empty
 ** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
-** above the cap, a radius NaN, negative or infinite); RAY_ESTATE (an
+** above the cap, a radius NaN, negative, infinite or whose pi r^2
+** under- or overflows); RAY_ESTATE (an
 ** instanced scene changed since the commit); RAY_ENOMEM.  *out is
 ** untouched on failure.
 ** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
 ** it must outlive the use; NULL: none) in this context.  RAY_OK, or
 ** RAY_EINVAL (ctx NULL, or a map built for another scene).
 ** ray_photon_map_free -- release it (NULL: no-op), after every context
-** using it is done.  A map is read-only once built: any number of
-** contexts on any threads may share it.
+** using it is done, before or after its scene (it keeps a copy of the
+** scene's allocator).  A map is read-only once built: any number of
+** contexts on any threads may share it.  The photon pass allocates from
+** its threads (ray_scene_new; threads = 1 keeps it on the caller's).
 */
 typedef struct ray_photon_map ray_photon_map;
 

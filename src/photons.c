@@ -15,6 +15,7 @@
 ** any thread count.  The grid's cells list their photons in that order,
 ** so a gather sums them in the same order every time.
 */
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -31,7 +32,9 @@ typedef struct photon {
 } photon;
 
 struct ray_photon_map {
-    const ray_scene *scene;
+    const ray_scene *scene;      /* compared, never read: the map may
+                                    outlive it (ray.h) */
+    ray__allocator alloc;        /* a copy of the scene's, to free with */
     photon *ph;                  /* sorted by grid bucket, stably */
     size_t n;
     size_t *start;               /* bucket b: ph[start[b] .. start[b+1]) */
@@ -63,9 +66,13 @@ static double max3(ray_rgb c)
     return fmax(c.r, fmax(c.g, c.b));
 }
 
+/* 0 (automatic), or a radius whose disk area pi r^2 and its inverse are
+** finite: the density estimate divides by that area. */
 int ray__photon_radius_valid(double r)
 {
-    return r == 0 || (r > 0 && r < HUGE_VAL);
+    double area = RAY__PI * r * r;
+
+    return r == 0 || (r > 0 && area < HUGE_VAL && 1.0 / area < HUGE_VAL);
 }
 
 /* ------------------------------------------------------------ emission */
@@ -206,8 +213,10 @@ static ray_vec3 aimed_dir(ray_ctx *ctx, const emitter *e, ray_vec3 x,
     double u1 = ray_ctx_random(ctx), u2 = ray_ctx_random(ctx);
 
     if (e->aim && d > e->R && v3_normalize(to, &w)) {
-        /* sqrt(1 - (R/d)^2) without the cancellation of 1 - x^2. */
-        cos_max = sqrt((d - e->R) * (d + e->R)) / d;
+        /* sqrt(1 - (R/d)^2) without the cancellation of 1 - x^2, nor
+        ** the overflow of d^2 for a light beyond 1e154. */
+        double q = e->R / d;
+        cos_max = sqrt((1 - q) * (1 + q));
     } else
         w = v3(0, 1, 0);
     *omega = 2 * RAY__PI * (1 - cos_max);
@@ -328,6 +337,13 @@ typedef struct pass_worker {
     int started;
 } pass_worker;
 
+/* A photon's power (finite, >= 0) as a float: clamped to FLT_MAX, since
+** converting a double beyond float's range is undefined (C99 6.3.1.5). */
+static float to_float(double x)
+{
+    return x < (double)FLT_MAX ? (float)x : FLT_MAX;
+}
+
 static int store(const ray_scene *s, chunk *c, const ray_hit *hit,
                  ray_vec3 dir, ray_rgb power)
 {
@@ -344,9 +360,9 @@ static int store(const ray_scene *s, chunk *c, const ray_hit *hit,
     }
     q = &c->ph[c->n++];
     q->p = hit->p;
-    q->power[0] = (float)power.r;
-    q->power[1] = (float)power.g;
-    q->power[2] = (float)power.b;
+    q->power[0] = to_float(power.r);
+    q->power[1] = to_float(power.g);
+    q->power[2] = to_float(power.b);
     q->dir[0] = (float)dir.x;
     q->dir[1] = (float)dir.y;
     q->dir[2] = (float)dir.z;
@@ -563,11 +579,12 @@ static int build_grid(ray_photon_map *m, pass *job)
 
 static void free_map(ray_photon_map *m)
 {
-    if (m->ph != NULL)
-        ray__free(m->scene, m->ph, m->n * sizeof *m->ph);
-    if (m->start != NULL)
-        ray__free(m->scene, m->start, (m->buckets + 1) * sizeof *m->start);
-    ray__free(m->scene, m, sizeof *m);
+    ray__allocator a = m->alloc;
+
+    ray__release(&a, m->ph, m->n * sizeof *m->ph);
+    ray__release(&a, m->start,
+                 m->start != NULL ? (m->buckets + 1) * sizeof *m->start : 0);
+    ray__release(&a, m, sizeof *m);
 }
 
 int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
@@ -587,6 +604,7 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
     memset(&job, 0, sizeof job);
     memset(&st, 0, sizeof st);
     m->scene = s;
+    m->alloc = s->alloc;
     job.s = s;
     job.e.s = s;
     find_target(&job.e);
@@ -741,8 +759,9 @@ int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
                     sum[2] += (double)q->power[2];
                 }
             }
-    irradiance->r = sum[0] * m->inv_area;
-    irradiance->g = sum[1] * m->inv_area;
-    irradiance->b = sum[2] * m->inv_area;
+    /* Finite, so that a material's 0 * E is 0, not NaN. */
+    irradiance->r = fmin(sum[0] * m->inv_area, DBL_MAX);
+    irradiance->g = fmin(sum[1] * m->inv_area, DBL_MAX);
+    irradiance->b = fmin(sum[2] * m->inv_area, DBL_MAX);
     return RAY_OK;
 }

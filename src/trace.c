@@ -4,6 +4,7 @@
 ** material's callback, which may trace further rays through the same
 ** context.  The tree's bounds (depth, weight, fan-out) are enforced here.
 */
+#include <float.h>
 #include <string.h>
 
 #include "trace.h"
@@ -51,8 +52,8 @@ void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out)
 int ray_ctx_set_cone(ray_ctx *ctx, double width, double spread)
 {
     if (ctx == NULL || !(width >= 0 && width < HUGE_VAL) ||
-        !(spread >= 0 && spread < HUGE_VAL))
-        return RAY_EINVAL;
+        !(spread >= 0 && spread < RAY__PI))
+        return RAY_EINVAL;     /* a cone's whole angle is below pi */
     ctx->cone_width = width;
     ctx->cone_spread = spread;
     return RAY_OK;
@@ -224,6 +225,15 @@ typedef struct cone {
 ** beta = 0, so a cone through a flat mirror widens as if the mirror were
 ** not there.  Refraction: refracted_spread.
 */
+/* x clamped to [-DBL_MAX, DBL_MAX], NaN to DBL_MAX: a cone that grew
+** beyond every length (a spread near pi over 1e300) is as wide as can be
+** (a texture's coarsest level), never NaN or infinite in the sums that
+** carry it on. */
+static double finite_or_max(double x)
+{
+    return fmax(fmin(x, DBL_MAX), -DBL_MAX);
+}
+
 static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
                         const ray_material *m, const ray_ray *r,
                         const ray_hit *hit, const cone *c,
@@ -232,7 +242,8 @@ static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
     const ray__instance *in = ray__hit_instance(ctx->scene, hit);
     const ray__prim *p = &owner->prims[hit->geom_id];
     double len = v3_length(r->dir);
-    double w = c->width + c->spread * (hit->t * len), aw = fabs(w);
+    double w = finite_or_max(c->width + c->spread * (hit->t * len));
+    double aw = fabs(w), k;
     /* An instance's object lengths per world length: 1 / s for a
     ** similarity s R; else |L^-1| / sqrt(3), the Frobenius norm's value
     ** for the identity, a mean scale. */
@@ -253,8 +264,13 @@ static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
     ctx->hit_cone.on = 1;
     ctx->hit_cone.width = w;
     ctx->hit_cone.spread = c->spread;
-    ctx->hit_cone.bend = (args->entering ? aw : -aw) *
-                         ray__prim_curvature(owner, p, hit) * obj_per_world;
+    /* Only a curved surface bends: a flat one adds nothing, even to a
+    ** cone as wide as DBL_MAX (whose product with 0 would be NaN). */
+    k = ray__prim_curvature(owner, p, hit);
+    ctx->hit_cone.bend =
+        k != 0 ? finite_or_max((args->entering ? aw : -aw) * k *
+                               obj_per_world)
+               : 0.0;
     ctx->hit_cone.dir = v3_scale(r->dir, 1.0 / len);
     ctx->hit_cone.normal = args->normal;
 }
@@ -315,9 +331,9 @@ static void secondary_cone(const ray__hit_cone *h, unsigned kind,
     c->width = h->width;
     c->spread = h->spread;
     if (kind == RAY_KIND_REFLECTION)
-        c->spread += 2 * h->bend;
+        c->spread = finite_or_max(c->spread + 2 * h->bend);
     else if (v3_normalize(r->dir, &t))
-        c->spread = refracted_spread(h, t);
+        c->spread = finite_or_max(refracted_spread(h, t));
 }
 
 /*
