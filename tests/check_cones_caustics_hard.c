@@ -13,30 +13,11 @@
 #include <string.h>
 
 #include "tests.h"
+#include "caustics_kit.h"
 
 #define PI 3.14159265358979323846
 
 /* ------------------------------------------------------------ helpers */
-
-static void irradiance_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                             ray_rgb *out)
-{
-    (void)ud;
-    ck_assert_int_eq(ray_caustics_at(ctx, a, out), RAY_OK);
-}
-
-static ray_material probe_material(void)
-{
-    ray_material m;
-
-    m.shade = irradiance_shade;
-    m.ud = NULL;
-    m.effects = RAY_EFFECT_CAUSTICS;
-    m.scatter = NULL;
-    return m;
-}
-
-static const ray_rgb mirror_R = {0.8, 0.6, 0.4};
 
 /* check_caustics.c's mirror scene (light (0,1,0) under a 2 x 2 mirror at
 ** y = 2, probe floor y = 0), through allocator "alloc", light "I". */
@@ -64,15 +45,6 @@ static ray_scene *mirror_scene(ray_alloc_fn alloc, void *ud, ray_rgb I,
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     return s;
-}
-
-static ray_rgb floor_irradiance(ray_ctx *ctx, double x, double z)
-{
-    ray_ray r = make_ray(vec(x, 0.5, z), vec(0, -1, 0), 0, HUGE_VAL);
-    ray_rgb e = {-1, -1, -1};
-
-    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &e), RAY_OK);
-    return e;
 }
 
 /* ---------------------------------- 1. allocator called off the caller */
