@@ -42,7 +42,7 @@ struct ray_photon_map {
     double radius, r2, inv_area; /* r, r^2, 1 / (pi r^2) */
     double cell;                 /* the grid's cell size, >= 2r */
     ray_vec3 lo, hi;             /* the stored photons' box */
-    unsigned long long emitted, stored, tests;
+    unsigned long long emitted, tests;
 };
 
 /* Photons per chunk: large enough that a chunk's bookkeeping is nothing
@@ -464,7 +464,8 @@ static void *pass_main(void *arg)
 
 /* Trace every chunk on "threads" threads (the caller is one; a chunk
 ** whose thread could not start is traced by the caller afterwards). */
-static int run_pass(pass *job, const ray_scene *s, ray_stats *st)
+static int run_pass(pass *job, const ray_scene *s,
+                    unsigned long long *tests)
 {
     pass_worker *w;
     unsigned n = job->threads, i;
@@ -491,7 +492,7 @@ static int run_pass(pass *job, const ray_scene *s, ray_stats *st)
             pass_main(&w[i]);
     }
     for (i = 0; i < n; i++)
-        st->tests += w[i].ctx.stats.tests;
+        *tests += w[i].ctx.stats.tests;
     for (k = 0; k < job->n_chunks; k++)
         if (job->chunks[k].failed)
             rc = RAY_ENOMEM;
@@ -517,14 +518,22 @@ static size_t bucket_of(const ray_photon_map *m, const long long c[3])
     return (size_t)(h & (m->buckets - 1));
 }
 
-/* Join the chunks in order and sort the photons into the grid's buckets
+/* The grid bucket of a stored photon. */
+static size_t photon_bucket(const ray_photon_map *m, const photon *q)
+{
+    long long c[3];
+
+    cell_of(m, q->p, c);
+    return bucket_of(m, c);
+}
+
+/* Sort the chunks' photons, read in chunk order, into the grid's buckets
 ** (a stable counting sort, so a bucket lists its photons in index
 ** order).  The map's radius is set. */
-static int build_grid(ray_photon_map *m, pass *job)
+static int build_grid(ray_photon_map *m, const pass *job)
 {
     const ray_scene *s = m->scene;
-    photon *all;
-    size_t n = 0, k, b, *count;
+    size_t n = 0, k, j, b, *count;
     double extent;
 
     for (k = 0; k < job->n_chunks; k++)
@@ -534,46 +543,35 @@ static int build_grid(ray_photon_map *m, pass *job)
         return RAY_OK;
     for (m->buckets = 1; m->buckets < n; m->buckets *= 2)
         ;
-    all = ray__alloc(s, n * sizeof *all);
     m->ph = ray__alloc(s, n * sizeof *m->ph);
     m->start = ray__alloc(s, (m->buckets + 1) * sizeof *m->start);
-    if (all == NULL || m->ph == NULL || m->start == NULL) {
-        ray__free(s, all, n * sizeof *all);
+    if (m->ph == NULL || m->start == NULL)
         return RAY_ENOMEM;
-    }
-    n = 0;
     m->lo = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
     m->hi = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
-    for (k = 0; k < job->n_chunks; k++) {
-        const chunk *c = &job->chunks[k];
-        size_t j;
-        for (j = 0; j < c->n; j++) {
-            all[n++] = c->ph[j];
-            grow_box(&m->lo, &m->hi, c->ph[j].p, c->ph[j].p);
-        }
-    }
+    for (k = 0; k < job->n_chunks; k++)
+        for (j = 0; j < job->chunks[k].n; j++)
+            grow_box(&m->lo, &m->hi, job->chunks[k].ph[j].p,
+                     job->chunks[k].ph[j].p);
     extent = fmax(m->hi.x - m->lo.x,
                   fmax(m->hi.y - m->lo.y, m->hi.z - m->lo.z));
     m->cell = fmax(2 * m->radius, ldexp(extent, -MAX_CELLS_LOG2));
     count = m->start;
     memset(count, 0, (m->buckets + 1) * sizeof *count);
-    for (k = 0; k < n; k++) {
-        long long c[3];
-        cell_of(m, all[k].p, c);
-        count[bucket_of(m, c) + 1]++;
-    }
+    for (k = 0; k < job->n_chunks; k++)
+        for (j = 0; j < job->chunks[k].n; j++)
+            count[photon_bucket(m, &job->chunks[k].ph[j]) + 1]++;
     for (b = 0; b < m->buckets; b++)
         count[b + 1] += count[b];
     /* count[b] is now bucket b's start; place, then shift back. */
-    for (k = 0; k < n; k++) {
-        long long c[3];
-        cell_of(m, all[k].p, c);
-        m->ph[count[bucket_of(m, c)]++] = all[k];
-    }
+    for (k = 0; k < job->n_chunks; k++)
+        for (j = 0; j < job->chunks[k].n; j++) {
+            const photon *q = &job->chunks[k].ph[j];
+            m->ph[count[photon_bucket(m, q)]++] = *q;
+        }
     for (b = m->buckets; b > 0; b--)
         m->start[b] = m->start[b - 1];
     m->start[0] = 0;
-    ray__free(s, all, n * sizeof *all);
     return RAY_OK;
 }
 
@@ -593,7 +591,6 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
 {
     ray_photon_map *m;
     pass job;
-    ray_stats st;
     size_t k, i;
     int rc = RAY_OK;
 
@@ -602,7 +599,6 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
         return RAY_ENOMEM;
     memset(m, 0, sizeof *m);
     memset(&job, 0, sizeof job);
-    memset(&st, 0, sizeof st);
     m->scene = s;
     m->alloc = s->alloc;
     job.s = s;
@@ -614,12 +610,12 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
                            : job.e.diag / RADIUS_DIV *
                                  pow((double)photons / RADIUS_REF,
                                      -1.0 / 6.0);
-    m->r2 = m->radius * m->radius;
-    m->inv_area = 1.0 / (RAY__PI * m->r2);
-    if (!(m->inv_area < HUGE_VAL && m->r2 < HUGE_VAL)) {
+    if (!(m->radius > 0 && ray__photon_radius_valid(m->radius))) {
         free_map(m);
         return RAY_EINVAL;     /* a radius whose area over- or underflows */
     }
+    m->r2 = m->radius * m->radius;
+    m->inv_area = 1.0 / (RAY__PI * m->r2);
     if ((s->effects & RAY_EFFECT_CAUSTICS) == 0) {
         *out = m;              /* nothing can make a caustic: no photon */
         return RAY_OK;
@@ -643,14 +639,12 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
             job.e.cdf[i] = job.e.total;
         }
         if (job.e.total > 0 && job.e.total < HUGE_VAL) {
-            rc = run_pass(&job, s, &st);
+            rc = run_pass(&job, s, &m->tests);
             m->emitted = photons;
         }
         if (rc == RAY_OK)
             rc = build_grid(m, &job);
     }
-    m->stored = m->n;
-    m->tests = st.tests;
     if (job.chunks != NULL)
         for (k = 0; k < job.n_chunks; k++)
             ray__free(s, job.chunks[k].ph,
@@ -668,7 +662,7 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
 void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st)
 {
     st->photons_emitted += m->emitted;
-    st->photons_stored += m->stored;
+    st->photons_stored += m->n;
     st->tests += m->tests;
 }
 
