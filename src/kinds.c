@@ -498,15 +498,6 @@ static double sphere_uv_scale(const ray__prim *p, const ray_hit *hit)
     return 1.0 / (RAY__PI * p->radius * sqrt(2.0 * c));
 }
 
-/* A triangle's barycentrics (u, v) span half a unit square over its area. */
-static double triangle_uv_scale(const ray__prim *p)
-{
-    double area = v3_length(v3_cross(v3_sub(p->b, p->a), v3_sub(p->c, p->a)));
-    double q = 1.0 / area;            /* (1/2) / (area / 2) */
-
-    return q > 0 && q < HUGE_VAL ? sqrt(q) : 0.0;
-}
-
 double ray__prim_uv_scale(const ray_scene *s, const ray__prim *p,
                           const ray_hit *hit)
 {
@@ -518,8 +509,8 @@ double ray__prim_uv_scale(const ray_scene *s, const ray__prim *p,
     case RAY__KIND_PLANE:
     case RAY__KIND_POLYGON:
         return 1.0;                   /* ray_plane's tangent-axis lengths */
-    case RAY__KIND_TRIANGLE:
-        return triangle_uv_scale(p);
+    case RAY__KIND_TRIANGLE:          /* barycentrics: half a unit square */
+        return ray__triangle_uv_scale(p->a, p->b, p->c, 1.0);
     case RAY__KIND_MESH:
         m = &s->meshes[p->mesh];
         return m->uv_scale != NULL && hit->prim_id < m->n_tris

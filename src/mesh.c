@@ -219,56 +219,6 @@ static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
 ** the caller's arrays themselves (and its descriptor, to read its indices
 ** and, on update, its positions again).
 */
-static void mesh_triangle(const ray_mesh *m, size_t i, ray__tri *t);
-
-/*
-** The per-triangle (s, t) scale of a mesh with texture coordinates, for
-** ray cones' footprints (ray__prim_uv_scale): sqrt(st area / area), a
-** degenerate triangle 0 (no filtering).  RAY_OK, RAY_ENOMEM.
-*/
-static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
-                         ray__mesh *out)
-{
-    size_t i;
-
-    if (m->texcoords == NULL)
-        return RAY_OK;
-    out->uv_scale = ray__alloc(s, m->triangle_count * sizeof(double));
-    if (out->uv_scale == NULL)
-        return RAY_ENOMEM;
-    for (i = 0; i < m->triangle_count; i++) {
-        const double *st = m->texcoords;
-        ray__tri t;
-        size_t a = 2 * (size_t)mesh_index(m, 3 * i);
-        size_t b = 2 * (size_t)mesh_index(m, 3 * i + 1);
-        size_t c = 2 * (size_t)mesh_index(m, 3 * i + 2);
-        double area, st_area, q;
-
-        mesh_triangle(m, i, &t);
-        area = v3_length(v3_cross(v3_sub(t.b, t.a), v3_sub(t.c, t.a)));
-        st_area = fabs((st[b] - st[a]) * (st[c + 1] - st[a + 1]) -
-                       (st[c] - st[a]) * (st[b + 1] - st[a + 1]));
-        q = st_area / area;
-        out->uv_scale[i] = q > 0 && q < HUGE_VAL ? sqrt(q) : 0.0;
-    }
-    return RAY_OK;
-}
-
-static int mesh_shading_copy_arrays(const ray_scene *s, const ray_mesh *m,
-                                    ray__mesh *out);
-
-static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
-                             ray__mesh *out)
-{
-    int rc = mesh_shading_copy_arrays(s, m, out);
-
-    if (rc == RAY_OK && mesh_uv_scale(s, m, out) != RAY_OK) {
-        ray__mesh_release(s, out);
-        return RAY_ENOMEM;
-    }
-    return rc;
-}
-
 static int mesh_shading_copy_arrays(const ray_scene *s, const ray_mesh *m,
                                     ray__mesh *out)
 {
@@ -314,6 +264,50 @@ static void mesh_triangle(const ray_mesh *m, size_t i, ray__tri *t)
     t->a = mesh_vertex(m, mesh_index(m, 3 * i));
     t->b = mesh_vertex(m, mesh_index(m, 3 * i + 1));
     t->c = mesh_vertex(m, mesh_index(m, 3 * i + 2));
+}
+
+/*
+** The per-triangle (s, t) scale of a mesh with texture coordinates, for
+** ray cones' footprints (ray__prim_uv_scale): sqrt(st area / area), a
+** degenerate triangle 0 (no filtering).  RAY_OK, RAY_ENOMEM.
+*/
+static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
+                         ray__mesh *out)
+{
+    size_t i;
+
+    if (m->texcoords == NULL)
+        return RAY_OK;
+    out->uv_scale = ray__alloc(s, m->triangle_count * sizeof(double));
+    if (out->uv_scale == NULL)
+        return RAY_ENOMEM;
+    for (i = 0; i < m->triangle_count; i++) {
+        const double *st = m->texcoords;
+        ray__tri t;
+        size_t a = 2 * (size_t)mesh_index(m, 3 * i);
+        size_t b = 2 * (size_t)mesh_index(m, 3 * i + 1);
+        size_t c = 2 * (size_t)mesh_index(m, 3 * i + 2);
+
+        mesh_triangle(m, i, &t);
+        out->uv_scale[i] = ray__triangle_uv_scale(
+            t.a, t.b, t.c,
+            fabs((st[b] - st[a]) * (st[c + 1] - st[a + 1]) -
+                 (st[c] - st[a]) * (st[b + 1] - st[a + 1])));
+    }
+    return RAY_OK;
+}
+
+/* The shading data and the (s, t) scales; RAY_ENOMEM keeps nothing. */
+static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
+                             ray__mesh *out)
+{
+    int rc = mesh_shading_copy_arrays(s, m, out);
+
+    if (rc == RAY_OK && mesh_uv_scale(s, m, out) != RAY_OK) {
+        ray__mesh_release(s, out);
+        return RAY_ENOMEM;
+    }
+    return rc;
 }
 
 unsigned ray__mesh_corner(const ray__mesh *m, size_t k)

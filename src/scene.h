@@ -367,6 +367,18 @@ ray__class ray__kind_class(ray__kind kind);
 */
 double ray__prim_uv_scale(const ray_scene *s, const ray__prim *p,
                           const ray_hit *hit);
+
+/* The (u, v) per unit length of triangle abc whose (u, v) span twice the
+** area uv2: sqrt(uv area / area), the same estimate for a triangle's
+** barycentrics (uv2 = 1) and a mesh's (s, t); 0 for a degenerate one (no
+** filtering). */
+static inline double ray__triangle_uv_scale(ray_vec3 a, ray_vec3 b,
+                                            ray_vec3 c, double uv2)
+{
+    double q = uv2 / v3_length(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+
+    return q > 0 && q < HUGE_VAL ? sqrt(q) : 0.0;
+}
 double ray__prim_curvature(const ray_scene *s, const ray__prim *p,
                            const ray_hit *hit);
 int ray__kind_counter(ray__kind kind);
