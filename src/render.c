@@ -641,6 +641,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
 {
     render_job job;
     ray_photon_map *map = NULL;
+    double spread;
     void *workers;
     unsigned n, i;
     int rc;
@@ -670,11 +671,11 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     if (workers == NULL)
         return RAY_ENOMEM;
     memset(workers, 0, n * WORKER_STRIDE);
+    spread = opt->cones ? pixel_spread(&job) : 0.0;
     for (i = 0; i < n; i++) {
         worker_at(workers, i)->job = &job;
         worker_at(workers, i)->ctx.scene = scene;
-        if (opt->cones)
-            worker_at(workers, i)->ctx.cone_spread = pixel_spread(&job);
+        worker_at(workers, i)->ctx.cone_spread = spread;
     }
     job.rgb = rgb;
     /* Caustics: the photon pass first, on as many threads as asked for

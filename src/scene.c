@@ -994,9 +994,8 @@ static void scene_summary(ray_scene *s)
             e |= c->material_effects;
             gated |= c->gated;
             instances = 1;
-        } else if (p->material != RAY_NO_MATERIAL) {
+        } else if (p->material != RAY_NO_MATERIAL)
             e |= s->materials[p->material].effects;
-        }
         gated |= p->mask != ~0u || p->filter != NULL;
     }
     s->material_effects = e;

@@ -184,27 +184,6 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 }
 
 /*
-** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
-** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
-**
-** Discriminant: b'^2 - a*c = a*(R^2 - |l|^2) where l = f + (b'/a) d is the
-** vector from the centre to the closest point of the ray's line (Hearn and
-** Baker eq. 10-72; Haines, Guenther, Akenine-Moeller, Ray Tracing Gems
-** ch. 7, eq. 7-9).  Forming |l| before subtracting keeps R's digits when
-** the sphere is small and far: b'^2 - ac subtracts two numbers ~|f|^4 and
-** loses R entirely once |f| > 2^26 R in double.  R^2 - |l|^2 is further
-** written (R - |l|)(R + |l|) so that it does not square before subtracting
-** (pbrt-v4 Sphere::BasicIntersect), and c likewise as (|f| - R)(|f| + R):
-** near a huge sphere c is the small difference of two ~R^2 terms.
-**
-** Roots: q = b' + sign(b') sqrt(a*disc), t0 = c/q, t1 = q/a (Press et al.,
-** Numerical Recipes, 5.6): both roots come from an addition of like signs,
-** so the near root of a huge sphere does not cancel.
-**
-** The direction is first scaled by a power of two (ray__scaled_dir), and
-** t, tmin and tmax with it.
-*/
-/*
 ** Does the ray's line surely miss the sphere, by more than the rounding of
 ** the test below could hide?  A cheap early out for the common case (most
 ** rays of a scene miss most of its spheres), without the test's division
@@ -240,6 +219,27 @@ static int sphere_surely_missed(ray_vec3 f, ray_vec3 d, double a,
     return c > a * (radius * radius * (1 + K) + g * K);
 }
 
+/*
+** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
+** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
+**
+** Discriminant: b'^2 - a*c = a*(R^2 - |l|^2) where l = f + (b'/a) d is the
+** vector from the centre to the closest point of the ray's line (Hearn and
+** Baker eq. 10-72; Haines, Guenther, Akenine-Moeller, Ray Tracing Gems
+** ch. 7, eq. 7-9).  Forming |l| before subtracting keeps R's digits when
+** the sphere is small and far: b'^2 - ac subtracts two numbers ~|f|^4 and
+** loses R entirely once |f| > 2^26 R in double.  R^2 - |l|^2 is further
+** written (R - |l|)(R + |l|) so that it does not square before subtracting
+** (pbrt-v4 Sphere::BasicIntersect), and c likewise as (|f| - R)(|f| + R):
+** near a huge sphere c is the small difference of two ~R^2 terms.
+**
+** Roots: q = b' + sign(b') sqrt(a*disc), t0 = c/q, t1 = q/a (Press et al.,
+** Numerical Recipes, 5.6): both roots come from an addition of like signs,
+** so the near root of a huge sphere does not cancel.
+**
+** The direction is first scaled by a power of two (ray__scaled_dir), and
+** t, tmin and tmax with it.
+*/
 int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
                   double *t_out)
 {

@@ -172,24 +172,21 @@ void ray__shade_args(const ray_scene *s, const ray_ray *r,
                      const ray_hit *hit, unsigned depth, double weight,
                      ray_shade_args *a)
 {
-    ray_shade_args args;
-
-    args.scene = s;
-    args.ray = r;
-    args.hit = hit;
-    args.entering = v3_dot(r->dir, hit->n) < 0;
-    args.normal = args.entering ? hit->n : v3_scale(hit->n, -1.0);
-    args.u = hit->u;
-    args.v = hit->v;
-    args.depth = depth;
-    args.weight = weight;
-    args.ambient = s->ambient;
-    args.shading_normal = args.normal;
-    args.prune = s->prune;
-    args.cone_width = 0;
-    args.footprint = 0;
-    mesh_shading(s, hit, &args);
-    *a = args;
+    a->scene = s;
+    a->ray = r;
+    a->hit = hit;
+    a->entering = v3_dot(r->dir, hit->n) < 0;
+    a->normal = a->entering ? hit->n : v3_scale(hit->n, -1.0);
+    a->u = hit->u;
+    a->v = hit->v;
+    a->depth = depth;
+    a->weight = weight;
+    a->ambient = s->ambient;
+    a->shading_normal = a->normal;
+    a->prune = s->prune;
+    a->cone_width = 0;
+    a->footprint = 0;
+    mesh_shading(s, hit, a);
 }
 
 /*
@@ -203,6 +200,15 @@ void ray__shade_args(const ray_scene *s, const ray_ray *r,
 typedef struct cone {
     double width, spread;
 } cone;
+
+/* x clamped to [-DBL_MAX, DBL_MAX], NaN to DBL_MAX: a cone that grew
+** beyond every length (a spread near pi over 1e300) is as wide as can be
+** (a texture's coarsest level), never NaN or infinite in the sums that
+** carry it on. */
+static double finite_or_max(double x)
+{
+    return fmax(fmin(x, DBL_MAX), -DBL_MAX);
+}
 
 /*
 ** The cone at the hit and what the material sees of it.  The width at
@@ -225,15 +231,6 @@ typedef struct cone {
 ** beta = 0, so a cone through a flat mirror widens as if the mirror were
 ** not there.  Refraction: refracted_spread.
 */
-/* x clamped to [-DBL_MAX, DBL_MAX], NaN to DBL_MAX: a cone that grew
-** beyond every length (a spread near pi over 1e300) is as wide as can be
-** (a texture's coarsest level), never NaN or infinite in the sums that
-** carry it on. */
-static double finite_or_max(double x)
-{
-    return fmax(fmin(x, DBL_MAX), -DBL_MAX);
-}
-
 static void cone_at_hit(ray_ctx *ctx, const ray_scene *owner,
                         const ray_material *m, const ray_ray *r,
                         const ray_hit *hit, const cone *c,
