@@ -2,8 +2,8 @@
 # libray -- plain Makefile.  Override any variable on the command line or
 # in config.mak (e.g. CC=clang, CFLAGS=-O3, PREFIX=/usr, PNG=0).
 #
-# PNG=0 builds the library without libpng: src/png_none.c instead of
-# src/png.c, whose PNG calls return RAY_ENOTSUP; build/nopng by default.
+# PNG=0 builds the library without libpng: src/image/png_none.c instead of
+# src/image/png.c, whose PNG calls return RAY_ENOTSUP; build/nopng by default.
 PNG        ?= 1
 PREFIX     ?= /usr/local
 LIBDIR     ?= $(PREFIX)/lib
@@ -42,11 +42,11 @@ PKG_CONFIG ?= pkg-config
 ifeq ($(PNG),1)
 PNG_CFLAGS  = $(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null)
 PNG_LIBS    = $(shell $(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
-PNG_SRC_UNUSED = src/png_none.c
+PNG_SRC_UNUSED = src/image/png_none.c
 else
 PNG_CFLAGS  =
 PNG_LIBS    =
-PNG_SRC_UNUSED = src/png.c
+PNG_SRC_UNUSED = src/image/png.c
 endif
 # Check's header directory as a system one (-isystem), wherever it is
 # installed: expanded in the tests, its ck_assert_*_tol macros compute in
@@ -57,8 +57,9 @@ CHECK_CFLAGS = $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags check 2>
 CHECK_LIBS   = $(shell $(PKG_CONFIG) --libs check 2>/dev/null)
 LIBS = $(PNG_LIBS) -lm -lpthread
 
-SRCS = $(filter-out $(PNG_SRC_UNUSED),$(wildcard src/*.c))
+SRCS = $(filter-out $(PNG_SRC_UNUSED),$(wildcard src/*/*.c))
 OBJS = $(SRCS:src/%.c=$(BUILD)/obj/%.o)
+PRIVATE_HEADERS = $(wildcard src/*/*.h)
 STATIC = $(BUILD)/libray.a
 SHARED = $(BUILD)/libray.so.$(VERSION)
 
@@ -107,7 +108,7 @@ deps-bench: deps-build
 	@scripts/deps.sh $(DEPS_MODE) povray 2>/dev/null || \
 	    echo "libray: no povray: bench/whitted.c skips POV-Ray (apt-get install povray)" >&2
 
-# src/intersect_avx2.c is the BVH queries again, built with -mavx2 where
+# src/query/intersect_avx2.c is the BVH queries again, built with -mavx2 where
 # the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
 AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
                 $(shell $(CC) -dumpmachine 2>/dev/null)),-mavx2)
@@ -115,11 +116,11 @@ AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
 # The package probes run before any compile (order-only), so a parallel
 # make on a fresh machine does not compile against headers still being
 # installed.
-$(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) include/ray.h | deps-build
+$(BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | deps-build
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -DRAY_BUILD \
-	    $(if $(filter src/png.c,$<),$(PNG_CFLAGS)) \
-	    $(if $(filter src/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
+	$(CC) $(ALL_CFLAGS) -Isrc -fPIC -fvisibility=hidden -DRAY_BUILD \
+	    $(if $(filter src/image/png.c,$<),$(PNG_CFLAGS)) \
+	    $(if $(filter src/query/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
 
 # The PNG setting the objects were built with: rewritten only when it
 # changes (as Linux's filechk), so that switching PNG in one BUILD
@@ -283,9 +284,12 @@ docs-test:
 links-test:
 	@scripts/check-links.sh
 
-# No source file includes a header above its layer (src/*.h).
-layers-test:
-	@scripts/check-layers.sh 2>/dev/null
+# The layers are src/'s folders: no file includes, and no object calls,
+# above its layer, and no objects call each other round a circle
+# (scripts/check-layers.sh; its self-test shows it fails on each).
+layers-test: $(OBJS)
+	@scripts/check-layers.sh $(BUILD)/obj $(OBJS)
+	@CC="$(CC)" scripts/test-check-layers.sh $(BUILD)/obj $(OBJS)
 
 # Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
 EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh

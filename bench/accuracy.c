@@ -22,7 +22,7 @@
 #include "bench.h"
 #include "scenes.h"
 #include "reference.h"
-#include "watertight.h"
+#include "prim/watertight.h"
 
 static int reps = 5;
 static int quick;

@@ -36,7 +36,7 @@
 #include "common.h"
 
 #include "embree.h"
-#include "scene.h"          /* RAY__AVX2_COPY: is there an AVX2 copy? */
+#include "query/query.h"          /* RAY__AVX2_COPY: is there an AVX2 copy? */
 
 static int reps = 5;
 

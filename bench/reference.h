@@ -45,7 +45,7 @@
 #ifndef BENCH_REFERENCE_H
 #define BENCH_REFERENCE_H
 
-#include "vec.h"
+#include "core/vec.h"
 
 #if defined(__GNUC__)
 #define REF_NOINLINE __attribute__((noinline))

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "bench.h"
-#include "vec.h"
+#include "core/vec.h"
 
 typedef int (*method_fn)(const ray_ray *r, const void *obj, ray_hit *hit);
 

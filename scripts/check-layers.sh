@@ -1,59 +1,148 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# check-layers.sh -- no source file reaches above its layer (issue 15).
+# check-layers.sh [OBJDIR [OBJECT...]] -- the library's layers are its
+# folders, and nothing reaches above its own (issue 26).
 #
-# The library's private headers are layers, each including only the one
-# below it:  vec.h < prim.h < bvh.h < scene.h < trace.h < camera.h, with
-# image.h beside prim.h on vec.h, watertight.h on prim.h and traverse.h
-# (the queries, a source file built twice) on scene.h, packet.h (their
-# eight-ray form, in the AVX2 copy) on traverse.h.  A file may
-# include headers of its own layer or below, never above; the primitives
-# (every .c file that is not listed as a higher layer below) stand on
-# prim.h, so they cannot see the BVH, the scene or the trace context.
-# Prints the include graph and fails naming any file that breaks this.
+# A file's layer is the folder it lives in, src/LAYER/.  The layers, each
+# with the layers below it that it may use (doc/DESIGN.md draws them):
+#
+#   core    vectors, rounding, errors, defaults, sampling, the platform
+#   prim    one file per primitive and its bare test          -> core
+#   image   images, mip maps, PNG                             -> core
+#   accel   the BVH: build, wide nodes, refit                 -> core
+#   scene   the store, meshes, kinds, changes, instances      -> core prim accel
+#   query   traversal, packets, instances, all hits, closest  -> core prim accel scene
+#   trace   the ray tree, lights, materials, photons          -> ... query image
+#   render  camera, rows, progress                            -> ... trace
+#
+# Three checks, each printing every offence it finds:
+#   1. includes: a file includes headers of its own layer or of a layer
+#      it may use ("ray.h" is everyone's), never one above or beside it;
+#   2. calls: every symbol an object of OBJDIR/LAYER/ references that
+#      another object of the library defines is defined in its own layer
+#      or one it may use (nm; a static inline helper of a header is
+#      copied into each object, so only real calls count);
+#   3. circles: the objects' call graph has no loop at all, within a
+#      layer too (tsort), so that every object can be read, and tested,
+#      knowing only those below it.
+# OBJDIR defaults to build/obj; the objects are OBJDIR/LAYER/NAME.o, those
+# given (the Makefile names the library's) or else all there.  The
+# sources are those of the tree the script is in, unless SRCDIR is set
+# in the environment (the self-test's scratch trees).  Prints what it checked;
+# exits 1 on any offence.  scripts/test-check-layers.sh proves it fails
+# on each kind of offence, the circle that issue 26 opened among them.
 set -eu
-cd "$(dirname "$0")/../src"
+root=$(cd "$(dirname "$0")/.." && pwd)
+obj=${1:-$root/build/obj}
+[ $# -gt 0 ] && shift
+src=${SRCDIR:-$root/src}
 
-level() {
+LAYERS="core prim image accel scene query trace render"
+
+# The layers that layer $1 may use besides itself.
+uses() {
     case "$1" in
-    ray.h) echo 0 ;;
-    vec.h) echo 10 ;;
-    image.h) echo 15 ;;
-    prim.h) echo 20 ;;
-    watertight.h) echo 25 ;;
-    bvh.h) echo 30 ;;
-    scene.h) echo 40 ;;
-    traverse.h) echo 45 ;;
-    packet.h) echo 46 ;;
-    trace.h) echo 50 ;;
-    camera.h) echo 60 ;;
-    # The layer each source file belongs to (its highest allowed include).
-    image.c|png.c|png_none.c) echo 15 ;;
-    bvh.c) echo 30 ;;
-    scene.c|mesh.c|surfaces.c|kinds.c|error.c|instance.c|dynamic.c|closest.c) echo 40 ;;
-    intersect.c) echo 45 ;;
-    intersect_avx2.c) echo 46 ;;
-    trace.c|light.c|sampling.c|direct.c|photons.c) echo 50 ;;
-    camera.c|render.c) echo 60 ;;
-    *.c) echo 25 ;;                   # a primitive (or optics, spawn)
-    *) echo 99 ;;                     # an unknown header: refused
+    core) echo "" ;;
+    prim|image|accel) echo "core" ;;
+    scene) echo "core prim accel" ;;
+    query) echo "core prim accel scene" ;;
+    trace) echo "core prim image accel scene query" ;;
+    render) echo "core prim image accel scene query trace" ;;
+    *) echo "?" ;;
     esac
 }
 
+# 0 if layer $1 may use layer $2.
+may_use() {
+    [ "$1" = "$2" ] && return 0
+    for l in $(uses "$1"); do [ "$l" = "$2" ] && return 0; done
+    return 1
+}
+
 bad=0
-for f in *.c *.h; do
-    own=$(level "$f")
-    deps=$(sed -n 's/^#include "\([^"]*\)".*/\1/p' "$f" | tr '\n' ' ')
-    echo "$f: $deps"
-    for d in $deps; do
-        dl=$(level "$d")
-        # A header sits strictly above what it includes; a .c file may
-        # include its own layer.
-        case "$f" in
-        *.h) [ "$dl" -lt "$own" ] || { echo "layers: $f includes $d (not below it)"; bad=1; } ;;
-        *.c) [ "$dl" -le "$own" ] || { echo "layers: $f includes $d (above its layer)"; bad=1; } ;;
+offence() {
+    echo "layers: $*" >&2
+    bad=1
+}
+
+# ------------------------------------------------------------ the files
+for f in "$src"/*; do
+    case "$(basename "$f")" in
+    libray.map) ;;
+    *) [ -d "$f" ] || offence "src/$(basename "$f") is in no layer" ;;
+    esac
+done
+for d in "$src"/*/; do
+    d=$(basename "$d")
+    [ "$(uses "$d")" != "?" ] || offence "src/$d/ is not a layer ($LAYERS)"
+done
+
+# --------------------------------------------------------- 1. includes
+n_inc=0
+for f in "$src"/*/*.c "$src"/*/*.h; do
+    [ -f "$f" ] || continue
+    layer=$(basename "$(dirname "$f")")
+    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f"); do
+        n_inc=$((n_inc + 1))
+        case "$dep" in
+        ray.h) continue ;;
+        */*) to=${dep%%/*} ;;
+        *) offence "${f#"$src"/} includes \"$dep\": name its layer (\"$layer/$dep\")"
+           continue ;;
         esac
+        [ -f "$src/$dep" ] || { offence "${f#"$src"/} includes \"$dep\", which is not in src/"; continue; }
+        may_use "$layer" "$to" ||
+            offence "${f#"$src"/} includes \"$dep\": $to is not below $layer"
     done
-done >&2
-[ "$bad" -eq 0 ] && echo "layers-test: no file includes above its layer"
-exit "$bad"
+done
+
+# ------------------------------------------------------------ 2. calls
+if [ $# -gt 0 ]; then
+    objs=$(for o in "$@"; do echo "${o#"$obj"/}"; done | sort)
+else
+    objs=$(cd "$obj" && ls ./*/*.o 2>/dev/null | sed 's|^\./||' | sort)
+fi
+if [ -z "$objs" ]; then
+    echo "layers: no objects in $obj/*/ (build the library first)" >&2
+    exit 1
+fi
+for o in $objs; do
+    [ -f "$obj/$o" ] || { echo "layers: no object $obj/$o" >&2; exit 1; }
+done
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/check-layers.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT INT TERM
+# symbol object (every global definition) and object symbol (every use)
+for o in $objs; do
+    nm -g --defined-only "$obj/$o" | awk -v o="$o" 'NF == 3 {print $3, o}'
+done | sort > "$tmp/defs"
+for o in $objs; do
+    nm -u "$obj/$o" | awk -v o="$o" '{print $NF, o}'
+done | sort > "$tmp/uses"
+# caller callee symbol, for the uses the library itself defines
+join "$tmp/uses" "$tmp/defs" | awk '$2 != $3 {print $2, $3, $1}' \
+    | sort -u > "$tmp/calls"
+n_calls=$(wc -l < "$tmp/calls")
+while read -r from to sym; do
+    lf=${from%%/*}
+    lt=${to%%/*}
+    may_use "$lf" "$lt" ||
+        offence "$from calls $sym, defined in $to: $lt is not below $lf"
+done < "$tmp/calls"
+
+# ---------------------------------------------------------- 3. circles
+# tsort names the objects of a loop on stderr and still exits 0 on some
+# systems: its messages are the verdict.
+awk '{print $1, $2}' "$tmp/calls" | sort -u > "$tmp/edges"
+tsort "$tmp/edges" > /dev/null 2> "$tmp/loops" || true
+if [ -s "$tmp/loops" ]; then
+    offence "the objects call each other round a circle:"
+    sed 's/^/    /' "$tmp/loops" >&2
+fi
+
+if [ "$bad" -ne 0 ]; then
+    echo "layers-test: FAILED (doc/DESIGN.md: which layer may use which)" >&2
+    exit 1
+fi
+echo "layers-test: $(echo "$objs" | wc -l | tr -d ' ') objects in 8 layers" \
+     "($LAYERS): $n_inc includes and $n_calls calls between objects, none" \
+     "above its layer, no circle"

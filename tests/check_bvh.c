@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 #include "bench.h"
-#include "scene.h"
+#include "query/query.h"
 #include "tests.h"
 
 /* A scene whose material *mat (0) shades nothing. */

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 
 #include "tests.h"
-#include "image.h"
+#include "image/image.h"
 
 /*
 ** A level texel is a sum of at most 16 weighted texels in double (each

@@ -6,7 +6,7 @@
 */
 #include <stdlib.h>
 
-#include "prim.h"
+#include "prim/prim.h"
 #include "tests.h"
 
 /* ----------------------------------------------------------- fields */

@@ -19,7 +19,7 @@
 #define RAY_TEST_PNG 1
 #endif
 #if !RAY_TEST_PNG
-#include "image.h"
+#include "image/image.h"
 #endif
 
 static ray_ray a_ray(void)

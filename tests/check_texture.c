@@ -20,7 +20,7 @@
 #if RAY_TEST_PNG
 #include <png.h>
 #else
-#include "image.h"
+#include "image/image.h"
 #endif
 
 #if RAY_TEST_PNG

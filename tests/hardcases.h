@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "prim.h"
+#include "prim/prim.h"
 #include "testkit.h"
 
 /* |a - b| in units of the spacing of doubles at b. */

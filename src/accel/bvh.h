@@ -1,0 +1,95 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** bvh.h -- the BVH: its node types and its builder (bvh.c), generic over
+** the items' boxes and allocating through an allocator of its own, so it
+** knows nothing of the scene that uses it.
+*/
+#ifndef RAY_BVH_H
+#define RAY_BVH_H
+
+#include "core/alloc.h"
+
+/*
+** A node of the binary BVH that the build makes and collapses into wide
+** nodes: its box, in float, rounded outward from the double geometry so
+** it still contains it; an inner node (count == 0) has its two children
+** side by side at nodes[first] and nodes[first + 1], a leaf holds items
+** first .. first + count - 1.
+*/
+typedef struct ray__node {
+    float lo[3], hi[3];
+    unsigned first, count;
+} ray__node;
+
+/*
+** The traversal's node: up to RAY__WIDTH children's boxes side by side,
+** one float array per bound and axis, so four- or eight-lane arithmetic
+** tests them all at once.  Eight children rather than four halve the
+** depth a ray descends, and traversal is a chain of dependent node visits
+** (each ~70 cycles, mostly latency); the two four-lane halves of a node
+** are independent and overlap.  count[k] == 0: child[k] is the index of an
+** inner node; else slot k is a leaf, count[k] == RAY__LEAF | n, of the n
+** items from child[k].  An unused slot is a leaf of no items with an
+** empty box (lo = +Inf, hi = -Inf), so even a ray that "entered" it would
+** test nothing.  256 bytes: four cache lines.
+*/
+#define RAY__WIDTH 8
+#define RAY__LEAF 0x80000000u
+typedef struct ray__wnode {
+    float lo[3][RAY__WIDTH], hi[3][RAY__WIDTH];
+    unsigned child[RAY__WIDTH], count[RAY__WIDTH];
+} ray__wnode;
+
+typedef struct ray__bvh {
+    ray__node *nodes;    /* binary BVH: built first, freed after collapse */
+    size_t n_nodes, cap_nodes;
+    ray__wnode *wide;    /* what traversal uses */
+    size_t n_wide, cap_wide;
+    unsigned *items;     /* leaf order -> item index */
+    size_t n_items;
+    unsigned *leaves;    /* refit's: the leaf slots (node * RAY__WIDTH +
+                            slot) by their first item; made by the first
+                            refit, kept until the BVH is freed */
+    size_t n_leaves;
+} ray__bvh;
+
+/*
+** Build a BVH over n items whose float boxes box(ud, i, lo, hi) writes
+** (rounded outward), with the binned surface-area heuristic, collapsed to
+** RAY__WIDTH-wide nodes, on up to "threads" threads (0: one per online
+** CPU; the calling thread is one of them, the others are started and
+** joined inside).  The tree is the same, bit for bit, at every thread
+** count.  box and the allocator are called on the calling thread only.
+** On success *out holds the nodes and the item permutation (through
+** allocator a).  RAY_OK or RAY_ENOMEM (nothing kept); a thread that
+** cannot be started only means fewer threads.  ray__bvh_free gives them
+** back through the same allocator.
+*/
+typedef void (*ray__box_fn)(const void *ud, size_t i, float lo[3],
+                            float hi[3]);
+typedef struct ray__bvh_costs {
+    float traversal;         /* a split's cost, in item tests */
+    unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
+} ray__bvh_costs;
+int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
+                   const void *ud, size_t n, const ray__bvh_costs *costs,
+                   unsigned threads, ray__bvh *out);
+void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
+
+/*
+** Refit: the same tree, every box fitted again bottom up, a leaf's to its
+** items as range_box(ud, first, n, ...) now bounds items first .. first
+** + n - 1 (leaf positions: indices into items[] when the BVH keeps them,
+** else what the leaves index), rounded outward once for the run.  For
+** geometry that moved but kept its items (n_items of them): O(items +
+** nodes), with a temporary array of n_items through "a" (without it,
+** when that allocation fails, the same boxes, slower); the tree may fit
+** worse than a rebuild would.
+*/
+typedef void (*ray__range_box_fn)(const void *ud, size_t first, size_t n,
+                                  float lo[3], float hi[3]);
+void ray__bvh_refit(const ray__allocator *a, ray__bvh *bvh,
+                    ray__range_box_fn range_box, const void *ud,
+                    size_t n_items);
+
+#endif /* RAY_BVH_H */

@@ -1,0 +1,89 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** spawn.c -- secondary rays that start just off the surface.
+*/
+#include "core/vec.h"
+
+/* x moved one ulp further in the direction of "dir" (not at all if 0). */
+static double step_away(double x, double dir)
+{
+    if (dir > 0)
+        return nextafter(x, HUGE_VAL);
+    if (dir < 0)
+        return nextafter(x, -HUGE_VAL);
+    return x;
+}
+
+/*
+** The origin of a ray leaving "hit" toward side "dir".
+**
+** The hit point p is only known to lie within p +- p_err of the surface.
+** Moving it along the geometric normal by d = dot(|n|, p_err) puts it past
+** that box on the side of dir, so the ray cannot start behind the surface
+** it leaves (pbrt-v4, section 6.8.6, OffsetRayOrigin).  We move by 2d: the
+** intersection routines' own rounding of t near t = 0 is of the same order
+** as p_err, and the factor 2 keeps the re-hit root negative rather than
+** merely near zero (pbrt instead adds a conservative t > delta-t test to
+** every intersector).  Finally each component is stepped one ulp further
+** away, since p + offset is itself rounded (also pbrt).
+*/
+static int offset_origin(const ray_hit *hit, ray_vec3 dir, ray_vec3 *org)
+{
+    ray_vec3 n = hit->n, an = v3_abs(n);
+    double d = 2.0 * v3_dot(an, hit->p_err);
+    ray_vec3 off, o;
+
+    if (v3_dot(dir, n) < 0)
+        n = v3_scale(n, -1.0);
+    off = v3_scale(n, d);
+    o = v3_add(hit->p, off);
+    o.x = step_away(o.x, off.x);
+    o.y = step_away(o.y, off.y);
+    o.z = step_away(o.z, off.z);
+    if (!v3_isfinite(o))
+        return 0;
+    *org = o;
+    return 1;
+}
+
+static int hit_valid(const ray_hit *hit)
+{
+    return v3_isfinite(hit->p) && v3_isfinite(hit->n) &&
+           v3_isfinite(hit->p_err);
+}
+
+int ray_spawn(const ray_hit *hit, ray_vec3 dir, ray_ray *out)
+{
+    ray_vec3 org;
+
+    if (hit == NULL || out == NULL || !hit_valid(hit) || !v3_isfinite(dir) ||
+        (dir.x == 0 && dir.y == 0 && dir.z == 0) ||
+        !offset_origin(hit, dir, &org))
+        return RAY_EINVAL;
+    out->org = org;
+    out->dir = dir;
+    out->tmin = 0.0;
+    out->tmax = HUGE_VAL;
+    return RAY_OK;
+}
+
+int ray_spawn_to(const ray_hit *hit, ray_vec3 target, ray_ray *out)
+{
+    ray_vec3 org, dir;
+
+    if (hit == NULL || out == NULL || !hit_valid(hit) ||
+        !v3_isfinite(target))
+        return RAY_EINVAL;
+    dir = v3_sub(target, hit->p);
+    if ((dir.x == 0 && dir.y == 0 && dir.z == 0) ||
+        !offset_origin(hit, dir, &org))
+        return RAY_EINVAL;
+    dir = v3_sub(target, org);
+    if (!v3_isfinite(dir))
+        return RAY_EINVAL;
+    out->org = org;
+    out->dir = dir;
+    out->tmin = 0.0;
+    out->tmax = 1.0;
+    return RAY_OK;
+}

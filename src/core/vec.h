@@ -1,0 +1,280 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** vec.h -- the bottom layer: vectors, rounding bounds and float
+** bracketing, as static inline functions over the public ray_vec3.
+** Depends on nothing but ray.h and libm; every other private header
+** stands on it (vec.h < prim.h < bvh.h < scene.h < trace.h).
+*/
+#ifndef RAY_VEC_H
+#define RAY_VEC_H
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "ray.h"
+
+/* pi, which strict C99 <math.h> does not define. */
+#define RAY__PI 3.14159265358979323846
+
+/* ------------------------------------------------------- vector helpers */
+
+/* The public helpers of ray.h (ray_vec3_make ...) under the short names
+** the library's code uses: one definition of the arithmetic, not two. */
+#define v3 ray_vec3_make
+#define v3_add ray_vec3_add
+#define v3_sub ray_vec3_sub
+#define v3_scale ray_vec3_scale
+
+/* a + s*b, in two roundings per component (no FMA: see the Makefile). */
+static inline ray_vec3 v3_madd(ray_vec3 a, double s, ray_vec3 b)
+{
+    return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z);
+}
+
+#define v3_dot ray_vec3_dot
+#define v3_cross ray_vec3_cross
+
+static inline ray_vec3 v3_abs(ray_vec3 a)
+{
+    return v3(fabs(a.x), fabs(a.y), fabs(a.z));
+}
+
+static inline double v3_length(ray_vec3 a)
+{
+    return sqrt(v3_dot(a, a));
+}
+
+/* 1 when v3_normalize(a, ...) succeeds: a finite, non-zero vector.
+** Comparisons, not fmax (a libm call): they may drop or take a NaN
+** operand, so every component is checked too -- a cross product of huge
+** vectors can hold Inf - Inf = NaN beside finite ones.  For a vector
+** without NaN, m is fmax's. */
+static inline int v3_normalizable(ray_vec3 a)
+{
+    double ax = fabs(a.x), ay = fabs(a.y), az = fabs(a.z);
+    double m = ax > ay ? ax : ay;
+
+    m = m > az ? m : az;
+    return m > 0 && m < HUGE_VAL && a.x == a.x && a.y == a.y && a.z == a.z;
+}
+
+/*
+** a / |a| into *out, safe from overflow and underflow of |a|^2: a is first
+** divided by its largest |component|, which brings that component to 1
+** and |a| into [1, sqrt 3], so the normal of a 1e-150-sized triangle
+** (|n|^2 ~ 1e-600), of a denormal one or of a 1e200-sized one still comes
+** out unit.
+** Returns 0, leaving *out untouched, for a zero or non-finite vector.
+*/
+static inline int v3_normalize(ray_vec3 a, ray_vec3 *out)
+{
+    double ax = fabs(a.x), ay = fabs(a.y), az = fabs(a.z);
+    double m = ax > ay ? ax : ay;
+    double len;
+
+    m = m > az ? m : az;
+    if (!v3_normalizable(a))
+        return 0;
+    /* Divide by m rather than multiply by 1/m: for a denormal m, 1/m
+    ** overflows to Inf, while each quotient here is at most 1. */
+    a = v3(a.x / m, a.y / m, a.z / m);
+    len = v3_length(a);
+    *out = v3_scale(a, 1.0 / len);
+    return 1;
+}
+
+/* Component k (0: x, 1: y, 2: z) of v. */
+static inline double v3_axis(ray_vec3 v, int k)
+{
+    return k == 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
+/* 1 when every component is finite (neither NaN nor +-Inf). */
+static inline int v3_isfinite(ray_vec3 a)
+{
+    return isfinite(a.x) && isfinite(a.y) && isfinite(a.z);
+}
+
+/* A borrowed const pointer as the plain void * of a callback's ud: the
+** library only reads through it.  A union rather than a cast, so the
+** compiler's -Wcast-qual still guards every other cast. */
+static inline void *ray__unconst(const void *p)
+{
+    union {
+        const void *c;
+        void *m;
+    } u;
+    u.c = p;
+    return u.m;
+}
+
+/* ------------------------------------------------------ rounding bounds */
+
+/*
+** gamma(n) = n*u / (1 - n*u), u = DBL_EPSILON/2: the relative error bound
+** of n chained IEEE-754 roundings (Higham, "Accuracy and Stability of
+** Numerical Algorithms", 2nd ed., Lemma 3.1; pbrt-v4 util/float.h uses the
+** same name).  Used to build the hit records' p_err bounds.
+*/
+/*
+** Underflow: gamma(n) bounds relative errors, which hold only while no
+** result falls below DBL_MIN.  A product or quotient that underflows is
+** off by at most half the smallest subnormal, 2^-1075, in absolute terms
+** (sums and differences of subnormals are exact): IEEE 754's gradual
+** underflow, Higham 2nd ed., section 2.1.  The error bounds add
+** RAY__TINY (2^-1074, one whole subnormal) per product they cover, so
+** they stay bounds for geometry with coordinates near 1e-308 or whose
+** products underflow (found by fuzz/fuzz_primitives: a ray spawned off a
+** triangle at z = 2e-312 re-hit it).
+*/
+#define RAY__TINY 0x1p-1074
+
+static inline double ray__gamma(int n)
+{
+    double nu = (double)n * (DBL_EPSILON * 0.5);
+    return nu / (1.0 - nu);
+}
+
+/*
+** a*b - c*d with one rounding's worth of error: the products' rounding
+** errors e1 = a*b - p1 and e2 = c*d - p2 are exact doubles, computed by
+** fma (correctly rounded on every C99 platform, hardware FMA or not, so
+** the result is the same everywhere), and added back:
+**
+**     p1 = fl(a*b), p2 = fl(c*d), e1 = fma(a, b, -p1), e2 = fma(c, d, -p2),
+**     result = fl(fl(p1 - p2) + fl(e1 - e2)).
+**
+** This is the symmetric form of Cornea, Harrison and Tang ("Scientific
+** Computing on Itanium-based Systems", 2002), not Kahan's (pbrt-v4's
+** DifferenceOfProducts, which rounds c*d first and is not symmetric in its
+** two products).  Error, with u = 2^-53 and E = a*b - c*d (Jeannerod,
+** Louvet, Muller, "Further analysis of Kahan's algorithm for the accurate
+** computation of 2x2 determinants", Math. Comp. 82, 2013, do the same
+** kind of case split):
+**   - p1, p2 of one sign within a factor 2 of each other: p1 - p2 is
+**     exact (Sterbenz), so the error is that of the two last roundings,
+**     at most u |E| + u^2 (|ab| + |cd|), |e1 - e2| <= u (|ab| + |cd|);
+**   - otherwise |p1 - p2| >= (|p1| + |p2|) / 4 and |e1 - e2| <= 4 u
+**     |p1 - p2|: three roundings of quantities within 1 + 5u of |E|,
+**     at most 2 u |E| (1 + O(u)).
+** So |error| <= 2u |E| + u^2 (|ab| + |cd|): relative accuracy however much
+** a*b and c*d cancel (the plain fl(fl(ab) - fl(cd)) has absolute error up
+** to u (|ab| + |cd|) + u |E|, unbounded relative to E).  And the sign is
+** E's or zero (in the first case by the monotonicity of rounding, in the
+** second as the error is below |E|).  Products or errors in the subnormal
+** range lose these bounds (the error terms round); libray's callers keep
+** a fallback for that range.
+**
+** Exactly antisymmetric: ray__diff_of_products(c, d, a, b) swaps p1 with
+** p2 and e1 with e2, and fl(x - y) = -fl(y - x), fl(-x + -y) = -fl(x + y)
+** under round-to-nearest-even, so it returns exactly -result; and a*b =
+** b*a, fma(a, b, z) = fma(b, a, z).  So two triangles sharing an edge
+** still get opposite values for it -- and, the products being explicit
+** statements and fma an explicit call, that holds even where a compiler
+** would contract a*b - c*d into an FMA of its own choosing.
+*/
+static inline double ray__diff_of_products(double a, double b, double c,
+                                           double d)
+{
+    double p1 = a * b, p2 = c * d;
+    double e1 = fma(a, b, -p1), e2 = fma(c, d, -p2);
+
+    return (p1 - p2) + (e1 - e2);
+}
+
+/* Component "at" (a byte offset, as in ray__frame) of *v: a load from a
+** per-ray offset, where v3_axis would branch on the axis. */
+static inline const double *v3_ptr(const ray_vec3 *v, size_t at)
+{
+    return (const double *)(const void *)((const char *)v + at);
+}
+
+static inline double v3_at(const ray_vec3 *v, size_t at)
+{
+    return *v3_ptr(v, at);
+}
+
+/*
+** x rounded to a float no larger (down) or no smaller (up) than it, so a
+** double interval becomes a float one that still contains it: the
+** nearest float, moved one step of its IEEE-754 bit pattern (which orders
+** like the value within a sign: an inline nextafterf) when it fell on the
+** wrong side.  Branch-free, since the side is a coin toss for the ray
+** origins of a traversal: the step is +1 or -1 on the bits by the sign,
+** times 0 or 1.  A zero needs no special case: only -0 steps down (to
+** -2^-149: an x below +0 rounds to -0) and only +0 steps up.  NaN stays
+** NaN (both comparisons fail).
+*/
+static inline float ray__float_down(double x)
+{
+    float f = (float)x;
+    uint32_t u, need = (double)f > x;
+
+    memcpy(&u, &f, sizeof u);
+    u += need * (2u * (u >> 31) - 1u);     /* f > 0: -1; f < 0 or -0: +1 */
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+static inline float ray__float_up(double x)
+{
+    float f = (float)x;
+    uint32_t u, need = (double)f < x;
+
+    memcpy(&u, &f, sizeof u);
+    u += need * (1u - 2u * (u >> 31));     /* f >= +0: +1; f < 0: -1 */
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+/*
+** 2^k for k in [-1074, 1023] (a subnormal below -1022), from its bits.
+** x * ray__pow2(k) is ldexp(x, k), bit for bit: the exact x 2^k rounded
+** once (exact unless it leaves the normal range), where ldexp is a libm
+** call that costs more than the whole multiplication.
+*/
+static inline double ray__pow2(int k)
+{
+    uint64_t bits = k >= -1022 ? (uint64_t)(k + 1023) << 52
+                               : (uint64_t)1 << (k + 1074);
+    double x;
+
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+/* The binary exponent of finite x > 0 (2^e <= x < 2^(e+1)), clamped to
+** [-1022, 1023]: a subnormal gives -1022.  With ray__pow2, the scaling
+** of a ray's direction (the traversal's) or of a query point (the
+** closest-point search's) by a power of two, which is exact. */
+static inline int ray__exponent_of(double x)
+{
+    uint64_t bits;
+    int e;
+
+    memcpy(&bits, &x, sizeof bits);
+    e = (int)(bits >> 52 & 0x7ff) - 1023;
+    return e < -1022 ? -1022 : e;
+}
+
+/*
+** The orthonormal tangents (t1, t2) of unit normal n, so that (t1, t2, n)
+** is right-handed.  Duff, Burgess, Christensen, Hery, Kensler, Liani,
+** Villemin, "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017,
+** listing 3: branch-free and continuous except across n.z = 0's sign.
+*/
+static inline void ray__tangent_frame(ray_vec3 n, ray_vec3 *t1,
+                                      ray_vec3 *t2)
+{
+    double sign = copysign(1.0, n.z);
+    double a = -1.0 / (sign + n.z);
+    double b = n.x * n.y * a;
+
+    *t1 = v3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    *t2 = v3(b, sign + n.y * n.y * a, -n.y);
+}
+
+#endif /* RAY_VEC_H */

@@ -1,0 +1,43 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** intersect_avx2.c -- the scene queries of traverse.h once more, built
+** with -mavx2 where the compiler targets x86 (see the Makefile): the box
+** test then takes a node's eight boxes in one register.  intersect.c
+** calls these only on a CPU with AVX2.  Built without -mavx2 (another
+** build system), they are the baseline code again: slower, not wrong.
+*/
+#include "query/query.h"
+
+#if RAY__AVX2_COPY
+#include "query/packet.h"
+
+int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, int uv, ray_hit *hit,
+                              ray_stats *st)
+{
+    return query_nearest_gated(s, r, g, uv, hit, st);
+}
+
+int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st)
+{
+    return query_any_gated(s, r, g, st);
+}
+
+void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
+                       ray_hit *hits, int *results, int any)
+{
+#if RAY__PACKETS
+    packet_queries(s, rays, n, hits, results, any);
+#else
+    /* Built without AVX (see the top of this file): ray by ray. */
+    size_t i;
+    for (i = 0; i < n; i++)
+        results[i] = any ? query_any_gated(s, &rays[i], NULL, NULL)
+                         : query_nearest_gated(s, &rays[i], NULL, 1, &hits[i],
+                                               NULL);
+#endif
+}
+#else
+typedef int ray__no_avx2_copy;  /* ISO C wants a declaration in a file */
+#endif

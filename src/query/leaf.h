@@ -1,0 +1,225 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** leaf.h -- part of the query template (traverse.h): what a leaf holds,
+** tested: the triangles of a triangle leaf (the nearest so far and the
+** tie rule), the other kinds one by one through the kinds' dispatch
+** (scene/kinds.c) or, for an instance, by descending into it.
+*/
+#ifndef RAY_LEAF_H
+#define RAY_LEAF_H
+
+#include "query/gate.h"
+
+/*
+** The nearest triangle so far (index TRI_NONE: none yet), and the
+** interval's end a new candidate is tested against: r->tmax before the
+** first triangle hit (the interval is open), the next double above it
+** after one, so that a tie is seen and settled by tri_beats.
+*/
+#define TRI_NONE 0xffffffffu
+typedef struct tri_best {
+    unsigned index;
+    double beta, gamma;
+    double limit;
+} tri_best;
+
+static inline void tri_best_start(tri_best *b)
+{
+    b->index = TRI_NONE;
+}
+
+/* What a candidate's t must lie below for a ray r whose nearest triangle
+** so far is *best (NULL: any hit, no ties to settle). */
+static inline double tri_limit(const ray_ray *r, const void *best)
+{
+    const tri_best *b = best;
+
+    return b != NULL && b->index != TRI_NONE ? b->limit : r->tmax;
+}
+
+/*
+** Does triangle i, hit at t (below the limit), beat the nearest so far?
+** Nearer wins; of two hit at the same t (a ray through a shared edge or
+** vertex hits both, often at equal t), the lower (geom_id, prim_id) wins,
+** whichever the traversal met first: the answer then depends on the
+** geometry alone, not on the order a traversal visits it in, so packets
+** (ray_intersect_n), refit and rebuilt trees and single rays agree.
+*/
+static inline int tri_beats(const ray_scene *s, unsigned i, double t,
+                            const ray_ray *r, const void *best)
+{
+    const tri_best *b = best;
+    const ray__tri_id *x, *y;
+
+    if (t < r->tmax || b == NULL || b->index == TRI_NONE)
+        return 1;
+    x = &s->tri_ids[i];
+    y = &s->tri_ids[b->index];
+    return x->geom_id != y->geom_id ? x->geom_id < y->geom_id
+                                    : x->prim_id < y->prim_id;
+}
+
+/* Record hit t on triangle i (beta, gamma) as the nearest so far. */
+static inline void tri_hit(unsigned i, double t, double beta, double gamma,
+                           ray_ray *r, void *best)
+{
+    r->tmax = t;
+    if (best != NULL) {
+        tri_best *b = best;
+        b->index = i;
+        b->beta = beta;
+        b->gamma = gamma;
+        b->limit = nextafter(t, HUGE_VAL);
+    }
+}
+
+/*
+** Geometry "idx" (not a triangle) against r, gated or not: 0 on a miss,
+** RAY__HIT_FULL with *h filled, or (ungated only) RAY__HIT_T with h->t
+** alone, its record left for prim_fill_best to fill if it stays the
+** nearest -- a sphere's or a plane's record (a normalisation, a point
+** projected, for a sphere an atan2 and an acos) is then filled once per
+** ray, not once per candidate, and never for an any-hit query.  A gated
+** query fills every candidate: its filters and collector take records.
+*/
+static inline int prim_candidate(const ray_scene *s, unsigned idx,
+                                 const ray_ray *r, ray_hit *h,
+                                 ray__counts *qc)
+{
+    if (qc->gate != NULL)
+        return prim_gated(s, idx, r, h, qc);
+    if (s->prims[idx].kind == RAY__KIND_INSTANCE)
+        return instance_hit(s, idx, r, h, qc);
+    return ray__prim_candidate(s, idx, r, h, qc);
+}
+
+/* The nearest hit of a geometry other than a triangle so far: its record
+** h, or (deferred != RAY_INVALID_ID) geometry "deferred"'s hit at h.t,
+** whose record prim_fill_best fills. */
+typedef struct prim_best {
+    ray_hit h;
+    unsigned deferred;
+} prim_best;
+
+/* Record candidate h of geometry idx (prim_candidate's answer k) as the
+** nearest so far. */
+static inline void prim_keep(prim_best *b, unsigned idx, int k,
+                             const ray_hit *h)
+{
+    if (k == RAY__HIT_T) {
+        b->h.t = h->t;
+        b->deferred = idx;
+    } else {
+        b->h = *h;
+        b->deferred = RAY_INVALID_ID;
+    }
+}
+
+/* Fill the deferred record of *b, if any: the same formulas on the same t
+** as the candidate test would have filled it with (prim_candidate made
+** sure it fills).  0 if it failed (cannot happen). */
+static inline int prim_fill_best(const ray_scene *s, const ray_ray *r,
+                                 prim_best *b, const ray__counts *qc)
+{
+    if (b->deferred == RAY_INVALID_ID)
+        return 1;
+    return ray__prim_fill(s, b->deferred, r, b->h.t, qc->uv, &b->h);
+}
+
+/*
+** The triangles first .. end - 1 of a leaf, in order, each hit shrinking
+** r->tmax; "any": stop at the first hit.  Where SSE2 is there the
+** watertight test takes them in pairs (an odd one pairs with itself, its
+** twin lane giving the same answer, which the order below ignores); each
+** pair's lanes are ended in order, so the answers are those of testing
+** one triangle after another.
+*/
+static inline int tri_leaf(const ray_scene *s, trav *tr,
+                           unsigned first, unsigned end, ray_ray *r,
+                           void *best, int any, ray__counts *qc)
+{
+    int found = 0;
+    unsigned i;
+    ray_ray rl;    /* r with the limit of tri_limit as its tmax */
+
+    if (s->watertight && !trav_frame(tr, r))
+        return 0;
+#if RAY__PAIRS
+    if (s->watertight) {
+        for (i = first; i < end; i += 2) {
+            unsigned pair[2];
+            const ray__tri *t0 = &s->tris[i], *t1;
+            int m, lane;
+            pair[0] = i;
+            pair[1] = i + (i + 1 < end);   /* i itself if last; no branch */
+            t1 = &s->tris[pair[1]];
+            m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
+                                     &t1->b, &t0->c, &t1->c);
+            if (m == 0)
+                continue;
+            /* The twin lane of an odd last triangle is that triangle
+            ** again: never offered twice (a gate would see it twice). */
+            for (lane = 0; lane < 1 + (pair[1] != pair[0]); lane++) {
+                const ray__tri *t = lane ? t1 : t0;
+                double th, beta, gamma;
+                /* A lane the pair test keeps is a hit candidate: the
+                ** one-triangle test ends it, with the compensated edge
+                ** functions it computes for candidates (fma, scalar). */
+                int hit = (m < 0 || (m >> lane & 1)) &&
+                          ray__triangle_watertight_pre(
+                              &tr->wt, r->tmin, tri_limit(r, best), &t->a,
+                              &t->b, &t->c, &th, &beta, &gamma) &&
+                          tri_beats(s, pair[lane], th, r, best);
+                if (hit && (qc->gate == NULL ||
+                            tri_gate(s, pair[lane], th, beta, gamma, r,
+                                     qc))) {
+                    tri_hit(pair[lane], th, beta, gamma, r, best);
+                    found = 1;
+                    if (any)
+                        return 1;
+                }
+            }
+        }
+        return found;
+    }
+#endif
+    rl = *r;
+    for (i = first; i < end; i++) {
+        const ray__tri *t = &s->tris[i];
+        double th, beta, gamma;
+        int hit;
+        rl.tmax = tri_limit(r, best);
+        hit = (s->watertight
+                   ? ray__triangle_watertight_pre(&tr->wt, rl.tmin, rl.tmax,
+                                                  &t->a, &t->b, &t->c, &th,
+                                                  &beta, &gamma)
+                   : ray__triangle_test(&rl, t->a, t->b, t->c, &th, &beta,
+                                        &gamma)) &&
+              tri_beats(s, i, th, r, best);
+        if (hit && (qc->gate == NULL ||
+                    tri_gate(s, i, th, beta, gamma, r, qc))) {
+            tri_hit(i, th, beta, gamma, r, best);
+            found = 1;
+            if (any)
+                return 1;
+        }
+    }
+    return found;
+}
+
+static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
+                     void *best, ray__counts *qc)
+{
+    unsigned idx = s->prim_bvh.items[item];
+    ray_hit h;
+    int k = prim_candidate(s, idx, r, &h, qc);
+
+    if (!k)
+        return 0;
+    r->tmax = h.t;
+    if (best != NULL)
+        prim_keep(best, idx, k, &h);
+    return 1;
+}
+
+#endif /* RAY_LEAF_H */

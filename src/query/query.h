@@ -1,0 +1,87 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** query.h -- the query layer: a query's gate (masks, filters, all hits)
+** and the scene queries every layer above asks (intersect.c over the
+** traversal template, traverse.h).
+*/
+#ifndef RAY_QUERY_H
+#define RAY_QUERY_H
+
+#include "scene/scene.h"
+
+/*
+** A gated query's rules (ray_query, filters, ray_intersect_all): the
+** ray's mask, the filters' query_ud, which filters apply
+** (RAY_FILTER_INTERSECT or _OCCLUDED), and for ray_intersect_all the
+** collector that every accepted candidate goes to (then rejected, so the
+** traversal goes on).
+*/
+typedef struct ray__collect {
+    ray_hit *hits;
+    size_t cap, count;
+} ray__collect;
+
+typedef struct ray__gate {
+    unsigned mask;
+    void *query_ud;
+    unsigned query;
+    ray__collect *all;
+} ray__gate;
+
+/* ------------------------------------------------------------ the queries */
+
+/*
+** Nearest hit / any hit over the scene, counting intersection tests, in
+** all and by kind of primitive, into *st (may be NULL), with the
+** scene's filters of that kind of query: ray_trace's and the shadow
+** rays' queries.  uv: 1 fills every field of the hit; 0 (a render)
+** leaves a sphere's texture coordinates 0 (an atan2 and an acos saved per
+** hit) unless its material reads them (RAY_EFFECT_TEXTURE).
+*/
+int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
+                   ray_hit *hit, ray_stats *st);
+int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
+
+/* The queries come in two copies, for the baseline instruction set and
+** for AVX2 (x86 with GCC or Clang only, intersect_avx2.c:
+** RAY__AVX2_COPY), which ray__intersect and ray__occluded choose between
+** (below); the tests compare the two. */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(RAY_NO_SIMD) && !defined(RAY_NO_AVX2)
+#define RAY__AVX2_COPY 1
+#else
+#define RAY__AVX2_COPY 0
+#endif
+
+/*
+** The queries with a gate (masks, filters, all hits: ray__gate; NULL for
+** none, what ray__intersect and ray__occluded pass a scene without masks
+** or filters), in both copies.  They return 1 (hit), 0, or -RAY_ESTATE when an
+** instance met a child changed since the commit.
+*/
+int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
+                         const ray__gate *g, int uv, ray_hit *hit,
+                         ray_stats *st);
+int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
+                        const ray__gate *g, ray_stats *st);
+int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, int uv, ray_hit *hit,
+                              ray_stats *st);
+int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st);
+int ray__intersect_gated_avx2(const ray_scene *s, const ray_ray *r,
+                              const ray__gate *g, int uv, ray_hit *hit,
+                              ray_stats *st);
+int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
+                             const ray__gate *g, ray_stats *st);
+
+/*
+** ray_intersect_n and ray_occluded_n's packets (packet.h): n rays of a
+** scene that ray__packable accepts, eight at a time; results[i] (and
+** hits[i] unless "any") as the single-ray queries give them.  AVX2 copy
+** only.
+*/
+void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
+                       ray_hit *hits, int *results, int any);
+
+#endif /* RAY_QUERY_H */

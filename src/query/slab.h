@@ -1,0 +1,326 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** slab.h -- part of the query template (traverse.h): a ray's traversal
+** data and the box test of a wide node, eight boxes at once in float.
+*/
+#ifndef RAY_SLAB_H
+#define RAY_SLAB_H
+
+#include <string.h>
+
+#include "query/query.h"
+#include "prim/watertight.h"
+
+/*
+** The slab test, eight boxes at a time in float, kept conservative: it
+** may let a box through that the ray misses, never the reverse.
+**
+**   * The origin is bracketed, o_lo <= o <= o_hi (float_down / float_up),
+**     and each plane distance uses the end that makes the near distance
+**     smaller and the far distance larger; the boxes themselves were
+**     rounded outward from the double geometry.
+**   * (b - o) * (1/d) then carries three float roundings (gamma(3) of
+**     float, relative), so the far distance -- clipped to tmax first, so
+**     that the same slack covers a near distance rounded past tmax -- is
+**     moved away from zero by FAR_SLACK times its magnitude (a factor,
+**     as in Ize's 1 + 2 gamma(3), would move a negative far distance the
+**     wrong way: tmin may be negative).  Ize proves with that bound that
+**     no hit is lost ("Robust BVH Ray Traversal", JCGT 2(2), 2013;
+**     pbrt-v4 Bounds3::IntersectP; Embree's robust mode); the popped
+**     entries get the same slack against tmax.
+**   * The distances are in units of a direction scaled by a power of two
+**     (exact) so that its largest component lies in [1, 2): 1/d of that
+**     component is then a normal float whatever the ray's length.
+**   * A zero direction component makes 1/d = +-Inf (IEEE), so the slab is
+**     everything or nothing (Williams et al., "An Efficient and Robust
+**     Ray-Box Intersection Algorithm", JGT 10(1), 2005); 0 * Inf = NaN
+**     when the origin is on the plane, and the max/min below ignore a NaN
+**     operand: the box is kept.  A component too small beside the largest
+**     for 1/d to be a normal float (below 2^-126 of it) gets 1/d = NaN:
+**     its slab is ignored, which only lets more boxes through.
+**
+** Everything else stays in double: the triangle tests decide the hits.
+*/
+typedef struct trav {
+    float o_near[3], o_far[3];   /* the origin end used for near / far */
+    float inv[3];                /* 1 / scaled direction (NaN: ignored) */
+    size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
+    float tmin;                  /* scaled, widened to a float */
+    double t_scale;              /* distance units of the scaled direction */
+    int framed;                  /* wt set up: 1; 0 not yet; -1 cannot be */
+    ray__watertight wt;          /* the triangle test's frame of the ray */
+#if RAY__PAIRS
+    ray__watertight2 wt2;        /* the same, for two triangles at once */
+#endif
+} trav;
+
+/*
+** The far distance's slack, relative: 2 gamma(3) as Ize's bound asks
+** (the near and the far distance each off by gamma(3)), plus 4u for the
+** two roundings of far + |far| * slack itself; u = 2^-24.
+*/
+#define FLOAT_U 5.9604644775390625e-8f
+#define FAR_SLACK (2.0f * (3.0f * FLOAT_U) / (1.0f - 3.0f * FLOAT_U) + \
+                   4.0f * FLOAT_U)
+
+/* The interval's end t in the scaled units, rounded up to a float. */
+static inline float trav_tmax(const trav *tr, double t)
+{
+    return ray__float_up(t * tr->t_scale);
+}
+
+/* t moved away from zero by the slack. */
+static inline float with_slack(float t)
+{
+    return t + fabsf(t) * FAR_SLACK;
+}
+
+/* Axis k of the traversal data: origin component o, direction component
+** d, and d scaled by the power of two (ds). */
+static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
+{
+    /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
+    int neg = signbit(d) != 0;
+    double inv = 1.0 / ds;
+    float ends[2];
+    size_t at[2];
+
+    ends[0] = ray__float_down(o);
+    ends[1] = ray__float_up(o);
+    at[0] = offsetof(ray__wnode, lo[k]);
+    at[1] = offsetof(ray__wnode, hi[k]);
+    /* 1/d beyond float: NaN, the slab ignored (chosen by indexing, as
+    ** the other choices here). */
+    {
+        double choice[2];
+        choice[0] = inv;
+        choice[1] = (double)NAN;
+        tr->inv[k] = (float)choice[(d != 0) & !(fabs(ds) >= 0x1p-126)];
+    }
+    /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
+    ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
+    tr->near_at[k] = at[neg];
+    tr->far_at[k] = at[!neg];
+    tr->o_near[k] = ends[!neg];
+    tr->o_far[k] = ends[neg];
+}
+
+/*
+** The traversal data of r, a ray that passed ray__ray_usable.  Free of
+** branches on the ray's signs and roundings (each a coin toss for
+** incoherent rays): the choices are made by indexing, and the axes are
+** written out (a loop's exit is mispredicted once a ray).
+*/
+static void trav_init(trav *tr, const ray_ray *r)
+{
+    ray_vec3 ad = v3_abs(r->dir);
+    double m = ad.x > ad.y ? ad.x : ad.y, down;
+    int e;
+
+    m = m > ad.z ? m : ad.z;
+    e = ray__exponent_of(m);
+    tr->t_scale = ray__pow2(e);          /* t' = t 2^e for d' = d 2^-e */
+    down = ray__pow2(-e);
+    trav_axis(tr, 0, r->org.x, r->dir.x, r->dir.x * down);
+    trav_axis(tr, 1, r->org.y, r->dir.y, r->dir.y * down);
+    trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
+    tr->tmin = ray__float_down(r->tmin * tr->t_scale);
+    tr->framed = 0;
+}
+
+/*
+** The triangle test's frame of the ray, set up when the ray first reaches
+** a leaf of triangles: most primary rays of a scene that does not fill
+** the frame reach none, and would pay its three divisions for nothing.
+** 0 if the ray has no frame (a zero or NaN direction: never for a ray
+** that passed ray__ray_usable).
+*/
+static inline int trav_frame(trav *tr, const ray_ray *r)
+{
+    if (tr->framed == 0) {
+        tr->framed = ray__watertight_init(&tr->wt, r) ? 1 : -1;
+#if RAY__PAIRS
+        if (tr->framed > 0)
+            ray__watertight2_init(&tr->wt2, &tr->wt);
+#endif
+    }
+    return tr->framed > 0;
+}
+
+/* Node q's bound array at byte offset "at" (one of trav's offsets). */
+static inline const float *bound_at(const ray__wnode *q, size_t at)
+{
+    return (const float *)(const void *)((const char *)q + at);
+}
+
+/*
+** Which of node q's boxes does the ray enter within (tmin, tmax)?
+** boxes_hit returns a bit mask; entry[k] is where it enters box k.  The
+** ray's quantities are first spread over the lanes ("lanes", once per
+** traversal), so a node costs only its loads and the arithmetic.
+*/
+#if !defined(RAY_NO_SIMD) && (defined(__AVX__) || defined(__SSE2__))
+#if RAY__WIDTH != 8
+#error "boxes_hit below tests eight lanes, or two halves of four"
+#endif
+/*
+** The ray's quantities in a register each: eight lanes with AVX (the
+** AVX2 copy of the queries), four with SSE.
+*/
+#if defined(__AVX__)
+#include <immintrin.h>
+typedef __m256 vf;
+#define VF_SET1 _mm256_set1_ps
+#else
+#include <emmintrin.h>
+typedef __m128 vf;
+#define VF_SET1 _mm_set1_ps
+#endif
+
+typedef struct lanes {
+    vf o_near[3], o_far[3], inv[3], tmin, slack;
+    size_t near_at[3], far_at[3];
+} lanes;
+
+static inline void lanes_axis(lanes *l, const trav *tr, int a)
+{
+    l->o_near[a] = VF_SET1(tr->o_near[a]);
+    l->o_far[a] = VF_SET1(tr->o_far[a]);
+    l->inv[a] = VF_SET1(tr->inv[a]);
+    l->near_at[a] = tr->near_at[a];
+    l->far_at[a] = tr->far_at[a];
+}
+
+static void lanes_init(lanes *l, const trav *tr)
+{
+    lanes_axis(l, tr, 0);           /* written out: no loop to exit */
+    lanes_axis(l, tr, 1);
+    lanes_axis(l, tr, 2);
+    l->tmin = VF_SET1(tr->tmin);
+    l->slack = VF_SET1(FAR_SLACK);
+}
+#endif
+
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+/*
+** AVX: all eight lanes in one register, the same arithmetic as the plain
+** loop below lane for lane (vmaxps / vminps pick as maxps / minps do).
+*/
+static inline void slab8(const ray__wnode *q, const lanes *l, int a,
+                         __m256 *t0, __m256 *t1)
+{
+    __m256 np = _mm256_loadu_ps(bound_at(q, l->near_at[a]));
+    __m256 fp = _mm256_loadu_ps(bound_at(q, l->far_at[a]));
+    __m256 tn = _mm256_mul_ps(_mm256_sub_ps(np, l->o_near[a]), l->inv[a]);
+    __m256 tf = _mm256_mul_ps(_mm256_sub_ps(fp, l->o_far[a]), l->inv[a]);
+
+    *t0 = _mm256_max_ps(tn, *t0);                    /* NaN tn: ignored */
+    *t1 = _mm256_min_ps(tf, *t1);                    /* NaN tf: ignored */
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    __m256 t0 = l->tmin, t1 = _mm256_set1_ps(HUGE_VALF);
+
+    slab8(q, l, 0, &t0, &t1);
+    slab8(q, l, 1, &t0, &t1);
+    slab8(q, l, 2, &t0, &t1);
+    t1 = _mm256_min_ps(t1, _mm256_set1_ps(tmax));
+    t1 = _mm256_add_ps(t1, _mm256_mul_ps(
+                               _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t1),
+                               l->slack));
+    _mm256_storeu_ps(entry, t0);
+    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
+}
+#elif defined(__SSE2__) && !defined(RAY_NO_SIMD)
+/*
+** SSE: four lanes a register, the same arithmetic as the plain loop below
+** lane for lane; a node's two halves are independent, so their latencies
+** overlap.  maxps / minps return their second operand when either is NaN,
+** so max(tn, t0) keeps t0 for a NaN tn exactly as the plain
+** "tn > t0 ? tn : t0" does.  slab4 narrows [*t0, *t1] to the slab of
+** axis a in lanes lane .. lane + 3.
+*/
+static inline void slab4(const ray__wnode *q, const lanes *l, int a,
+                         int lane, __m128 *t0, __m128 *t1)
+{
+    __m128 np = _mm_loadu_ps(bound_at(q, l->near_at[a]) + lane);
+    __m128 fp = _mm_loadu_ps(bound_at(q, l->far_at[a]) + lane);
+    __m128 tn = _mm_mul_ps(_mm_sub_ps(np, l->o_near[a]), l->inv[a]);
+    __m128 tf = _mm_mul_ps(_mm_sub_ps(fp, l->o_far[a]), l->inv[a]);
+
+    *t0 = _mm_max_ps(tn, *t0);                       /* NaN tn: ignored */
+    *t1 = _mm_min_ps(tf, *t1);                       /* NaN tf: ignored */
+}
+
+static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
+                                  __m128 vmax, int lane, float *entry)
+{
+    __m128 t0 = l->tmin, t1 = _mm_set1_ps(HUGE_VALF);
+
+    slab4(q, l, 0, lane, &t0, &t1);
+    slab4(q, l, 1, lane, &t0, &t1);
+    slab4(q, l, 2, lane, &t0, &t1);
+    /* Clipped to tmax, then the slack: t1 is never NaN; -Inf (a box
+    ** wholly outside a slab of a zero direction component) gives NaN,
+    ** a miss. */
+    t1 = _mm_min_ps(t1, vmax);
+    t1 = _mm_add_ps(t1, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), t1),
+                                   l->slack));
+    _mm_storeu_ps(entry + lane, t0);
+    return (unsigned)_mm_movemask_ps(_mm_cmple_ps(t0, t1)) << lane;
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    __m128 vmax = _mm_set1_ps(tmax);
+
+    /* Written out for the two halves (-O2 does not unroll a loop). */
+    return boxes_hit4(q, l, vmax, 0, entry) | boxes_hit4(q, l, vmax, 4, entry);
+}
+#else
+/* Plain C reads the ray's quantities from the traversal data itself. */
+typedef struct lanes {
+    const trav *tr;
+} lanes;
+
+static void lanes_init(lanes *l, const trav *tr)
+{
+    l->tr = tr;
+}
+
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float entry[RAY__WIDTH])
+{
+    const trav *tr = l->tr;
+    float t0[RAY__WIDTH], t1[RAY__WIDTH];
+    unsigned mask = 0;
+    int a, k;
+
+    for (k = 0; k < RAY__WIDTH; k++) {
+        t0[k] = tr->tmin;
+        t1[k] = HUGE_VALF;
+    }
+    for (a = 0; a < 3; a++) {
+        const float *np = bound_at(q, tr->near_at[a]);
+        const float *fp = bound_at(q, tr->far_at[a]);
+        for (k = 0; k < RAY__WIDTH; k++) {
+            float tn = (np[k] - tr->o_near[a]) * tr->inv[a];
+            float tf = (fp[k] - tr->o_far[a]) * tr->inv[a];
+            t0[k] = tn > t0[k] ? tn : t0[k];        /* NaN tn: ignored */
+            t1[k] = tf < t1[k] ? tf : t1[k];        /* NaN tf: ignored */
+        }
+    }
+    for (k = 0; k < RAY__WIDTH; k++) {
+        float far = t1[k] < tmax ? t1[k] : tmax;
+        far = with_slack(far);                  /* as the SSE lanes */
+        entry[k] = t0[k];
+        mask |= (unsigned)(t0[k] <= far) << k;
+    }
+    return mask;
+}
+#endif
+
+#endif /* RAY_SLAB_H */

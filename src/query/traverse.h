@@ -1,0 +1,362 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** traverse.h -- the query template: the scene queries (nearest hit, any
+** hit) over the planes and the two BVHs, as static functions, included
+** by intersect.c, built for the baseline instruction set, and by
+** intersect_avx2.c, built with AVX2 (the Makefile adds -mavx2 on x86),
+** which ray__intersect and ray__occluded pick at run time on CPUs that
+** have it.  Both copies do the same arithmetic, lane for lane, so they
+** give the same answers.  The template's parts, each included here:
+**   slab.h       a ray's traversal data and the wide nodes' box test;
+**   instance.h   an instance met: the query descends into its child;
+**   gate.h       masks, filters and all hits;
+**   leaf.h       a leaf's triangles (tested inline) and other kinds
+**                (through the kinds' dispatch, scene/kinds.c);
+**   traverse.h   the ordered traversal and the queries themselves.
+*/
+#ifndef RAY_TRAVERSE_H
+#define RAY_TRAVERSE_H
+
+#include "query/slab.h"
+
+enum { LEAF_TRIANGLES, LEAF_PRIMS };
+
+/* traverse() is inlined into each caller, its "leaf" and "any" constant
+** there, so that each of the four copies keeps only its own branches. */
+#if defined(__GNUC__)
+#define RAY__INLINE inline __attribute__((always_inline))
+#else
+#define RAY__INLINE inline
+#endif
+
+/* Add a query's counts to *st (if any). */
+static void add_counts(ray_stats *st, const ray__counts *qc)
+{
+    int k;
+
+    if (st == NULL)
+        return;
+    for (k = 0; k < RAY_PRIM_KINDS; k++) {
+        st->tests_by_kind[k] += qc->tests[k];
+        st->tests += qc->tests[k];
+    }
+    st->root_failures += qc->failures;
+    st->filter_calls += qc->filter_calls;
+}
+
+#include "query/leaf.h"
+
+/* A node's slot waiting on the traversal stack: child and count as in
+** ray__wnode, and where the ray enters its box. */
+typedef struct pending {
+    unsigned child, count;
+    float t;
+} pending;
+
+/* The lowest set bit of a mask of RAY__WIDTH bits (mask != 0). */
+static inline int lowest_bit(unsigned mask)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(mask);
+#else
+    int k = 0;
+    while (!(mask >> k & 1))
+        k++;
+    return k;
+#endif
+}
+
+/*
+** Ordered traversal: of the children a ray enters, the nearest is visited
+** next and the others pushed with their entry distances, the farthest
+** deepest, so they are popped nearest first and only if still in front
+** of the nearest hit found since.  One child entered (the usual case deep
+** in the tree) needs no stack at all, two a single compare.  "any": stop
+** at the first hit.  "leaf" picks the primitive test.
+*/
+static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
+                                trav *tr, ray_ray *r, int leaf,
+                                void *best, int any, ray__counts *qc)
+{
+    pending stack[RAY__WIDTH * 64];   /* WIDTH - 1 a level, 64 levels */
+    unsigned child = 0, count = 0;    /* the root: an inner node */
+    float tmax = trav_tmax(tr, r->tmax);  /* earlier hits shrank it */
+    float tpop = with_slack(tmax);        /* what popped entries face */
+    int sp = 0, found = 0;
+    lanes l;
+
+    if (bvh->n_wide == 0)
+        return 0;
+    lanes_init(&l, tr);
+    for (;;) {
+        if (count == 0) {                           /* an inner node */
+            const ray__wnode *q = &bvh->wide[child];
+            float entry[RAY__WIDTH];
+            unsigned mask = boxes_hit(q, &l, tmax, entry);
+            int k0, k1, base, j;
+
+            if (mask == 0)
+                goto pop;
+            k0 = lowest_bit(mask);
+            mask &= mask - 1;
+            if (mask == 0) {
+                child = q->child[k0];
+                count = q->count[k0];
+                continue;
+            }
+            k1 = lowest_bit(mask);
+            mask &= mask - 1;
+            if (mask == 0) {
+                /* Any hit will do: no order (an occluder found a little
+                ** later costs less than ordering every node). */
+                int near = !any && entry[k1] < entry[k0] ? k1 : k0;
+                int far = near == k0 ? k1 : k0;
+                stack[sp].child = q->child[far];
+                stack[sp].count = q->count[far];
+                stack[sp++].t = entry[far];
+                child = q->child[near];
+                count = q->count[near];
+                continue;
+            }
+            /* Three or more: push them all, insertion-sorted so the
+            ** nearest is on top (unsorted for any hit), and pop it. */
+            base = sp;
+            for (mask |= 1u << k0 | 1u << k1; mask != 0; mask &= mask - 1) {
+                int k = lowest_bit(mask);
+                pending p;
+                p.child = q->child[k];
+                p.count = q->count[k];
+                p.t = entry[k];
+                for (j = sp; !any && j > base && stack[j - 1].t < p.t; j--)
+                    stack[j] = stack[j - 1];
+                stack[j] = p;
+                sp++;
+            }
+            sp--;
+            child = stack[sp].child;
+            count = stack[sp].count;
+            continue;
+        }
+        if (leaf == LEAF_TRIANGLES) {               /* a leaf */
+            unsigned n = count & ~RAY__LEAF;
+            qc->tests[RAY_PRIM_TRIANGLE] += n;
+            if (tri_leaf(s, tr, child, child + n, r, best, any, qc)) {
+                found = 1;
+                if (any)
+                    return found;
+                tmax = trav_tmax(tr, r->tmax);
+                tpop = with_slack(tmax);
+            }
+        } else {
+            unsigned i, end = child + (count & ~RAY__LEAF);
+            for (i = child; i < end; i++) {
+                if (prim_test(s, i, r, best, qc)) {
+                    found = 1;
+                    if (any)
+                        return found;
+                    tmax = trav_tmax(tr, r->tmax);
+                    tpop = with_slack(tmax);
+                }
+            }
+        }
+    pop:
+        do {
+            if (sp == 0)
+                return found;
+            sp--;
+        } while (stack[sp].t > tpop);
+        child = stack[sp].child;
+        count = stack[sp].count;
+    }
+}
+
+/*
+** A scene of a few spheres (the Whitted scene has two) is not traversed:
+** its spheres are tested one after another, as the planes are, and the
+** ray's traversal data (trav_init: three divisions and six roundings to
+** float) is then not set up at all unless the scene has triangles.  A
+** sphere's test for t alone costs about what the box test of a node
+** that would skip it does, and trav_init cost 9% of the Whitted
+** render's profile (perf, examples/whitted 1024 x 768, one thread).  The
+** answers are the traversal's: the box test only ever skips spheres that
+** the ray misses.  Two spheres hit at exactly the same t are settled by
+** the order they are tested in, in the BVH's leaf order here and in
+** box-entry order there, so such a tie may go the other way
+** (ray_intersect(3) leaves ties between kinds other than triangles
+** unspecified).
+*/
+#define FEW_SPHERES 4
+
+static int few_spheres(const ray_scene *s)
+{
+    size_t i, n = s->prim_bvh.n_items;
+
+    if (n > FEW_SPHERES)
+        return 0;
+    for (i = 0; i < n; i++)
+        if (s->prims[s->prim_bvh.items[i]].kind != RAY__KIND_SPHERE)
+            return 0;
+    return 1;
+}
+
+/* The bounded primitives of s along r, by traversal (the traversal data
+** set up first if *ready is 0) or one after another (few_spheres). */
+static inline int prims_along(const ray_scene *s, trav *tr, int *ready,
+                              ray_ray *r, void *best, int any,
+                              ray__counts *qc)
+{
+    unsigned i;
+    int found = 0;
+
+    if (!few_spheres(s)) {
+        if (!*ready)
+            trav_init(tr, r);
+        *ready = 1;
+        return traverse(s, &s->prim_bvh, tr, r, LEAF_PRIMS, best, any, qc);
+    }
+    for (i = 0; i < s->prim_bvh.n_items; i++)
+        if (prim_test(s, i, r, best, qc)) {
+            found = 1;
+            if (any)
+                return 1;
+        }
+    return found;
+}
+
+/* The triangles of s along r (the traversal data set up first if *ready
+** is 0; not at all for a scene without triangles). */
+static inline int tris_along(const ray_scene *s, trav *tr, int *ready,
+                             ray_ray *r, void *best, int any,
+                             ray__counts *qc)
+{
+    if (s->tri_bvh.n_wide == 0)
+        return 0;
+    if (!*ready)
+        trav_init(tr, r);
+    *ready = 1;
+    return traverse(s, &s->tri_bvh, tr, r, LEAF_TRIANGLES, best, any, qc);
+}
+
+/* A fresh query's state: no counts, gate g (NULL: ungated). */
+static void counts_start(ray__counts *qc, const ray__gate *g, int any)
+{
+    memset(qc, 0, sizeof *qc);
+    qc->gate = g;
+    qc->any = any;
+    qc->inst_id = RAY_INVALID_ID;
+    qc->uv = 1;
+}
+
+/*
+** The nearest hit of s along rr (usable), rr->tmax shrunk to it, into
+** *hit; counted and gated by qc.  Planes first, then the bounded kinds,
+** then the triangles, each shrinking the interval for the next.
+*/
+static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
+                        ray__counts *qc)
+{
+    prim_best best;
+    tri_best tb;
+    trav tr;
+    int found = 0, ready = 0;
+    size_t i;
+
+    best.deferred = RAY_INVALID_ID;
+    tri_best_start(&tb);
+    for (i = 0; i < s->n_planes; i++) {
+        ray_hit h;
+        int k = prim_candidate(s, s->planes[i], rr, &h, qc);
+        if (k) {
+            rr->tmax = h.t;
+            prim_keep(&best, s->planes[i], k, &h);
+            found = 1;
+        }
+    }
+    if (prims_along(s, &tr, &ready, rr, &best, 0, qc))
+        found = 1;
+    if (tris_along(s, &tr, &ready, rr, &tb, 0, qc)) {
+        const ray__tri *t = &s->tris[tb.index];
+        /* A usable triangle (checked at commit) always fills. */
+        if (ray__triangle_fill(t->a, t->b, t->c, rr->tmax, tb.beta,
+                               tb.gamma, &best.h)) {
+            best.h.geom_id = s->tri_ids[tb.index].geom_id;
+            best.h.prim_id = s->tri_ids[tb.index].prim_id;
+            best.h.inst_id = RAY_INVALID_ID;
+            best.deferred = RAY_INVALID_ID;
+            found = 1;
+        }
+    }
+    /* The record of the nearest, once per ray. */
+    if (found && !prim_fill_best(s, rr, &best, qc))
+        found = 0;
+    if (found)
+        *hit = best.h;
+    return found;
+}
+
+/* Is anything of s along rr (usable)?  Counted and gated by qc. */
+static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
+{
+    ray_hit h;
+    trav tr;
+    size_t i;
+    int ready = 0;
+
+    for (i = 0; i < s->n_planes; i++)
+        if (prim_candidate(s, s->planes[i], rr, &h, qc))
+            return 1;
+    return prims_along(s, &tr, &ready, rr, NULL, 1, qc) ||
+           tris_along(s, &tr, &ready, rr, NULL, 1, qc);
+}
+
+static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
+                               const ray__gate *g, int uv, ray_hit *hit,
+                               ray_stats *st)
+{
+    ray__counts qc;
+    ray_ray rr = *r;
+    ray_hit best;
+    int found;
+
+    if (!ray__ray_usable(r))
+        return 0;
+    counts_start(&qc, g, 0);
+    qc.uv = uv;
+    found = nearest_core(s, &rr, &best, &qc);
+    add_counts(st, &qc);
+    if (qc.stale)
+        return -RAY_ESTATE;
+    if (found)
+        ray__hit_store(hit, &best);
+    return found;
+}
+
+static int query_any_gated(const ray_scene *s, const ray_ray *r,
+                           const ray__gate *g, ray_stats *st)
+{
+    ray__counts qc;
+    ray_ray rr = *r;
+    int hit;
+
+    if (!ray__ray_usable(r))
+        return 0;
+    counts_start(&qc, g, 1);
+    hit = any_core(s, &rr, &qc);
+    add_counts(st, &qc);
+    return qc.stale ? -RAY_ESTATE : hit;
+}
+
+/* An instance's child inside a parent's query: nearest or any as the
+** parent's query is, with its counts and gate. */
+static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                       ray__counts *qc)
+{
+    if (!ray__ray_usable(r))
+        return 0;
+    if (qc->any)
+        return any_core(child, r, qc);
+    return nearest_core(child, r, hit, qc);
+}
+
+#endif
+

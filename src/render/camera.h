@@ -1,0 +1,22 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** camera.h -- the camera's precomputed frame (private).
+*/
+#ifndef RAY_CAMERA_H
+#define RAY_CAMERA_H
+
+#include "trace/trace.h"
+
+typedef struct ray__cam {
+    ray_vec3 org, u, v, w;   /* right, up, backward */
+    double half_w, half_h;   /* image-plane half extents at distance 1 */
+    double lens_radius, focus;
+    double inv_w, inv_h;
+} ray__cam;
+
+int ray__camera_setup(ray__cam *c, const ray_camera *cam, unsigned width,
+                      unsigned height);
+void ray__camera_ray(const ray__cam *c, double x, double y, double lx,
+                     double ly, ray_ray *r);
+
+#endif

@@ -1,0 +1,388 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** instance.c -- instances: a committed scene placed in another with an
+** affine transform (ray_scene_add_instance), the two-level hierarchy of
+** Embree and pbrt-v4: its record, its transforms and its world box,
+** which the parent's BVH holds.  A query that enters the box moves the
+** ray into the child's space and descends into the child itself (the
+** query layer's query/instance.h); the hit comes back to world space
+** here, its error bound grown by the rounding of both transforms.
+*/
+#include <string.h>
+
+#include "scene/scene.h"
+
+void ray_transform_identity(ray_transform *t)
+{
+    if (t == NULL)
+        return;
+    memset(t, 0, sizeof *t);
+    t->m[0][0] = t->m[1][1] = t->m[2][2] = 1.0;
+}
+
+/* Row k of the linear part applied to v (no translation). */
+static double row_dot(const double m[3][4], int k, ray_vec3 v)
+{
+    return m[k][0] * v.x + m[k][1] * v.y + m[k][2] * v.z;
+}
+
+/* The inverse's row k applied to v. */
+static double inv_dot(const double inv[3][3], int k, ray_vec3 v)
+{
+    return inv[k][0] * v.x + inv[k][1] * v.y + inv[k][2] * v.z;
+}
+
+ray_vec3 ray__instance_point_to_world(const ray__instance *in, ray_vec3 p)
+{
+    const double (*m)[4] = in->xfm.m;
+
+    return v3(row_dot(m, 0, p) + m[0][3], row_dot(m, 1, p) + m[1][3],
+              row_dot(m, 2, p) + m[2][3]);
+}
+
+ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q)
+{
+    const double (*m)[4] = in->xfm.m;
+    ray_vec3 o = v3(q.x - m[0][3], q.y - m[1][3], q.z - m[2][3]);
+
+    return v3(inv_dot(in->inv, 0, o), inv_dot(in->inv, 1, o),
+              inv_dot(in->inv, 2, o));
+}
+
+/*
+** The inverse of the linear part by its adjugate, or 0 if L is singular
+** to working precision: |det L| at most 8 ulps of the product of its row
+** lengths (Hadamard's inequality bounds |det| by that product, reached by
+** orthogonal rows; a ratio that small means the rows are parallel to
+** within the rounding of the cofactors, and the inverse would be noise).
+** Each row is first scaled by a power of two (exact) to bring its
+** largest entry into [1, 2), so that neither the cofactors, the
+** determinant nor the row lengths overflow or underflow whatever the
+** transform's scale: L = D S with D = diag(2^e_i), so L^-1 = S^-1 D^-1,
+** column j of S^-1 times 2^-e_j (exact again).  A zero row is singular.
+*/
+static int invert(const ray_transform *t, double inv[3][3])
+{
+    double m[3][3], c[3][3], det, rows = 1.0;
+    int e[3], i, j;
+
+    for (i = 0; i < 3; i++) {
+        double big = fmax(fabs(t->m[i][0]),
+                          fmax(fabs(t->m[i][1]), fabs(t->m[i][2])));
+        if (!(big > 0))
+            return 0;
+        (void)frexp(big, &e[i]);            /* big in [2^(e-1), 2^e) */
+        e[i] -= 1;
+        for (j = 0; j < 3; j++)
+            m[i][j] = ldexp(t->m[i][j], -e[i]);
+    }
+    c[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    c[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+    c[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+    c[1][0] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    c[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+    c[1][2] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+    c[2][0] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    c[2][1] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+    c[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    det = m[0][0] * c[0][0] + m[0][1] * c[1][0] + m[0][2] * c[2][0];
+    for (i = 0; i < 3; i++)
+        rows *= sqrt(m[i][0] * m[i][0] + m[i][1] * m[i][1] +
+                     m[i][2] * m[i][2]);
+    if (!(fabs(det) > 8.0 * DBL_EPSILON * rows))
+        return 0;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            inv[i][j] = ldexp(c[i][j] / det, -e[j]);
+            if (!isfinite(inv[i][j]))
+                return 0;
+        }
+    return 1;
+}
+
+/*
+** Whether L is a rotation times a uniform scale s (L^T L = s^2 I): then
+** distances scale by s exactly (to rounding) and a closest-point query
+** through the instance is exact.  Within 64 ulps of s^2, entry by entry:
+** an L assembled from a rotation matrix and a scale in double is that
+** close.  Also |L^-1|_F, which bounds how much any distance grows on the
+** way into the child's space.
+*/
+static void similarity(ray__instance *in)
+{
+    const double (*m)[4] = (const double (*)[4])in->xfm.m;
+    double g[3][3], s2, f = 0;
+    int i, j, k, ok = 1;
+
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            g[i][j] = 0;
+            for (k = 0; k < 3; k++)
+                g[i][j] += m[k][i] * m[k][j];
+            f += in->inv[i][j] * in->inv[i][j];
+        }
+    s2 = (g[0][0] + g[1][1] + g[2][2]) / 3;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            ok &= fabs(g[i][j] - (i == j ? s2 : 0.0)) <=
+                  64 * DBL_EPSILON * s2;
+    in->similarity = ok ? sqrt(s2) : 0.0;
+    in->inv_norm = sqrt(f);
+}
+
+/* RAY_OK and the instance's transform data, or RAY_EINVAL (message). */
+static int transform_set(ray_scene *s, ray__instance *in,
+                         const ray_transform *t)
+{
+    int i, j;
+
+    if (t == NULL)
+        return ray__fail(s, RAY_EINVAL, "xfm is NULL");
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 4; j++)
+            if (!isfinite(t->m[i][j]))
+                return ray__fail(s, RAY_EINVAL, "xfm m[%d][%d] is not "
+                                 "finite (%g)", i, j, t->m[i][j]);
+    if (!invert(t, in->inv))
+        return ray__fail(s, RAY_EINVAL, "xfm is singular: its linear part "
+                         "cannot be inverted to working precision");
+    in->xfm = *t;
+    similarity(in);
+    in->linear_identity = 1;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            in->linear_identity &= t->m[i][j] == (i == j ? 1.0 : 0.0);
+    return RAY_OK;
+}
+
+/* RAY_OK if "child" may be instanced, else the error (message). */
+static int child_check(ray_scene *s, const ray_scene *child)
+{
+    if (child == NULL)
+        return ray__fail(s, RAY_EINVAL, "child is NULL");
+    if (child == s)
+        return ray__fail(s, RAY_EINVAL, "a scene cannot instance itself");
+    if (!child->committed)
+        return ray__fail(s, RAY_ESTATE, "the child scene is not committed");
+    if (child->has_instances)
+        return ray__fail(s, RAY_EINVAL, "the child scene has instances "
+                         "(two levels only)");
+    if (child->n_planes > 0)
+        return ray__fail(s, RAY_EINVAL, "the child scene has planes, which "
+                         "are unbounded (instance bounded geometry)");
+    return RAY_OK;
+}
+
+/*
+** The world box of an instance: its child's box (the union of the roots
+** of its BVHs, rounded outward already) through the transform, corner by
+** corner, grown by the rounding a world ray suffers on its way into the
+** child's space (see ray__instance_to_world: the box must hold every
+** point whose object-space image the child can hit).  An empty child
+** gets the point at the translation: nothing there can be hit.
+*/
+void ray__instance_box(ray__instance *in)
+{
+    const ray_scene *c = in->child;
+    const double (*m)[4] = (const double (*)[4])in->xfm.m;
+    ray_vec3 lo, hi;
+    double big[3], g = ray__gamma(6);
+    int k, corner;
+
+    if (!(c->lo.x <= c->hi.x)) {
+        in->lo = in->hi = v3(m[0][3], m[1][3], m[2][3]);
+        return;
+    }
+    lo = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+    hi = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+    for (corner = 0; corner < 8; corner++) {
+        ray_vec3 p = v3(corner & 1 ? c->hi.x : c->lo.x,
+                        corner & 2 ? c->hi.y : c->lo.y,
+                        corner & 4 ? c->hi.z : c->lo.z);
+        ray_vec3 w = ray__instance_point_to_world(in, p);
+        lo = v3(fmin(lo.x, w.x), fmin(lo.y, w.y), fmin(lo.z, w.z));
+        hi = v3(fmax(hi.x, w.x), fmax(hi.y, w.y), fmax(hi.z, w.z));
+    }
+    /* The largest magnitude of each world coordinate in the box. */
+    big[0] = fmax(fabs(lo.x), fabs(hi.x));
+    big[1] = fmax(fabs(lo.y), fabs(hi.y));
+    big[2] = fmax(fabs(lo.z), fabs(hi.z));
+    for (k = 0; k < 3; k++) {
+        /* Forward rounding of a corner, and the inverse's rounding of a
+        ** world point mapped back (both gamma(6) bounds, generous). */
+        double fwd = g * (fabs(m[k][0]) * fmax(fabs(c->lo.x), fabs(c->hi.x)) +
+                          fabs(m[k][1]) * fmax(fabs(c->lo.y), fabs(c->hi.y)) +
+                          fabs(m[k][2]) * fmax(fabs(c->lo.z), fabs(c->hi.z)) +
+                          fabs(m[k][3]));
+        double back = 0;
+        int j;
+        for (j = 0; j < 3; j++) {
+            double d = g * (fabs(in->inv[j][0]) * (big[0] + fabs(m[0][3])) +
+                            fabs(in->inv[j][1]) * (big[1] + fabs(m[1][3])) +
+                            fabs(in->inv[j][2]) * (big[2] + fabs(m[2][3])));
+            back += fabs(m[k][j]) * d;
+        }
+        if (k == 0) {
+            lo.x -= fwd + back;
+            hi.x += fwd + back;
+        } else if (k == 1) {
+            lo.y -= fwd + back;
+            hi.y += fwd + back;
+        } else {
+            lo.z -= fwd + back;
+            hi.z += fwd + back;
+        }
+    }
+    in->lo = lo;
+    in->hi = hi;
+}
+
+int ray_scene_add_instance(ray_scene *s, const ray_scene *child,
+                           const ray_transform *xfm, unsigned *geom_id)
+{
+    int rc = ray__begin(s, "ray_scene_add_instance");
+    ray__instance in, *grown;
+    ray__prim p;
+
+    if (rc != RAY_OK)
+        return rc;
+    memset(&in, 0, sizeof in);
+    if ((rc = child_check(s, child)) != RAY_OK)
+        return rc;
+    if ((rc = transform_set(s, &in, xfm)) != RAY_OK)
+        return rc;
+    in.child = child;
+    in.generation = child->generation;
+    ray__instance_box(&in);
+    grown = ray__grow(s, s->instances, &s->cap_instances, s->n_instances,
+                      sizeof *s->instances);
+    if (grown == NULL)
+        return ray__fail(s, RAY_ENOMEM, "out of memory");
+    s->instances = grown;
+    memset(&p, 0, sizeof p);
+    p.kind = RAY__KIND_INSTANCE;
+    p.material = RAY_NO_MATERIAL;
+    p.surface = (unsigned)s->n_instances;
+    rc = ray__add_prim(s, &p, geom_id);
+    if (rc != RAY_OK)
+        return rc;
+    s->instances[s->n_instances++] = in;
+    return RAY_OK;
+}
+
+/* The live instance named by geom_id, or NULL with the error recorded. */
+static ray__instance *instance_of(ray_scene *s, unsigned geom_id)
+{
+    const ray__prim *p = ray__live_prim(s, geom_id);
+
+    if (p == NULL)
+        return NULL;
+    if (p->kind != RAY__KIND_INSTANCE) {
+        ray__fail(s, RAY_EINVAL, "geometry %u is not an instance", geom_id);
+        return NULL;
+    }
+    return &s->instances[p->surface];
+}
+
+int ray_scene_set_transform(ray_scene *s, unsigned geom_id,
+                            const ray_transform *xfm)
+{
+    int rc = ray__begin(s, "ray_scene_set_transform");
+    ray__instance *in, next;
+
+    if (rc != RAY_OK)
+        return rc;
+    if ((in = instance_of(s, geom_id)) == NULL)
+        return RAY_EINVAL;
+    next = *in;
+    if ((rc = transform_set(s, &next, xfm)) != RAY_OK)
+        return rc;
+    ray__instance_box(&next);
+    *in = next;
+    ray__touch(s, RAY__DIRTY_PRIMS);
+    return RAY_OK;
+}
+
+/* ----------------------------------------------------- for the queries */
+
+void ray__instance_ray_to_object(const ray__instance *in, const ray_ray *r,
+                                 ray_ray *out)
+{
+    out->org = ray__instance_point_to_object(in, r->org);
+    out->dir = v3(inv_dot(in->inv, 0, r->dir), inv_dot(in->inv, 1, r->dir),
+                  inv_dot(in->inv, 2, r->dir));
+    out->tmin = r->tmin;
+    out->tmax = r->tmax;
+}
+
+ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n)
+{
+    ray_vec3 w;
+
+    if (in->linear_identity)
+        return n;
+    /* Normals go by the inverse transpose: column k of L^-1. */
+    w = v3(in->inv[0][0] * n.x + in->inv[1][0] * n.y + in->inv[2][0] * n.z,
+           in->inv[0][1] * n.x + in->inv[1][1] * n.y + in->inv[2][1] * n.z,
+           in->inv[0][2] * n.x + in->inv[1][2] * n.y + in->inv[2][2] * n.z);
+    return v3_normalize(w, &w) ? w : n;
+}
+
+/*
+** The hit's world point is p = L p' + c, rounded; its error bound adds,
+** per axis k (pbrt-v4's Transform::ApplyError, section 6.8.6, with gamma
+** widened for the sums of four terms):
+**   |L| p_err'                    the child's own bound, carried over;
+**   gamma(4) (|L| |p'| + |c|)     the rounding of p = L p' + c;
+**   |L| gamma(5) |L^-1| (|p| + |c|)   the rounding a ray leaving p will
+**                                 suffer on its way back into the child's
+**                                 space (o - c, then L^-1), mapped to world:
+** so a ray spawned by ray_spawn from p, offset by this bound, starts on
+** the right side of the surface in the child's space too.  t, u, v and
+** the ids are the child's.
+*/
+void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
+                            ray_hit *world)
+{
+    const double (*m)[4] = in->xfm.m;
+    ray_vec3 p = obj->p, e = obj->p_err, w, err;
+    double back[3], bound[3], g4 = ray__gamma(4), g5 = ray__gamma(5);
+    int j, k;
+
+    *world = *obj;
+    w = ray__instance_point_to_world(in, p);
+    for (j = 0; j < 3; j++)
+        back[j] = g5 * (fabs(in->inv[j][0]) * (fabs(w.x) + fabs(m[0][3])) +
+                        fabs(in->inv[j][1]) * (fabs(w.y) + fabs(m[1][3])) +
+                        fabs(in->inv[j][2]) * (fabs(w.z) + fabs(m[2][3])));
+    for (k = 0; k < 3; k++) {
+        double carried = fabs(m[k][0]) * e.x + fabs(m[k][1]) * e.y +
+                         fabs(m[k][2]) * e.z;
+        double fwd = g4 * (fabs(m[k][0]) * fabs(p.x) +
+                           fabs(m[k][1]) * fabs(p.y) +
+                           fabs(m[k][2]) * fabs(p.z) + fabs(m[k][3]));
+        double ret = fabs(m[k][0]) * back[0] + fabs(m[k][1]) * back[1] +
+                     fabs(m[k][2]) * back[2];
+        /* The sum of three non-negative terms rounds up by at most 2
+        ** ulps: one more gamma(2) keeps it a bound. */
+        bound[k] = (carried + fwd + ret) * (1.0 + ray__gamma(2));
+    }
+    err = v3(bound[0], bound[1], bound[2]);
+    world->p = w;
+    world->p_err = err;
+    world->n = ray__instance_normal(in, obj->n);
+}
+
+const ray__instance *ray__hit_instance(const ray_scene *s, const ray_hit *h)
+{
+    if (h->inst_id == RAY_INVALID_ID || h->inst_id >= s->n_prims)
+        return NULL;
+    return &s->instances[s->prims[h->inst_id].surface];
+}
+
+const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h)
+{
+    const ray__instance *in = ray__hit_instance(s, h);
+
+    return in != NULL ? in->child : s;
+}

@@ -1,0 +1,410 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** mesh.c -- indexed triangle meshes (double vertices and unsigned
+** indices, or strided float or double positions and 16- or 32-bit
+** indices, as games keep them): validated, then copied into the scene's
+** flat triangle array (for traversal) and, when the mesh has normals or
+** texture coordinates, kept indexed for shading.
+*/
+#include <stdint.h>
+#include <string.h>
+
+#include "scene/scene.h"
+
+/* The bytes of one position of positions: 3 values of position_type. */
+static size_t position_size(const ray_mesh *m)
+{
+    return m->position_type == RAY_FLOAT32 ? 3 * sizeof(float)
+                                           : 3 * sizeof(double);
+}
+
+/*
+** Vertex i, from vertices or from the strided positions (validated by
+** mesh_positions_check).  memcpy: a stride need not keep the values
+** aligned.  A float converts to double exactly (C99 6.3.1.5: every float
+** value is a double value, signed zeros and subnormals included), so a
+** float-sourced mesh is the mesh of the doubles of its floats, bit for
+** bit.
+*/
+static ray_vec3 mesh_vertex(const ray_mesh *m, size_t i)
+{
+    const unsigned char *p;
+    size_t stride;
+    ray_vec3 v;
+
+    if (m->vertices != NULL)
+        return m->vertices[i];
+    stride = m->position_stride != 0 ? m->position_stride
+                                     : position_size(m);
+    p = (const unsigned char *)m->positions + i * stride;
+    if (m->position_type == RAY_FLOAT32) {
+        float f[3];
+        memcpy(f, p, sizeof f);
+        v.x = (double)f[0];
+        v.y = (double)f[1];
+        v.z = (double)f[2];
+    } else {
+        double d[3];
+        memcpy(d, p, sizeof d);
+        v.x = d[0];
+        v.y = d[1];
+        v.z = d[2];
+    }
+    return v;
+}
+
+/* Index i (of 3 * triangle_count), from indices or from index_data. */
+static unsigned mesh_index(const ray_mesh *m, size_t i)
+{
+    if (m->indices != NULL)
+        return m->indices[i];
+    if (m->index_type == RAY_UINT16) {
+        uint16_t k;
+        memcpy(&k, (const unsigned char *)m->index_data + i * sizeof k,
+               sizeof k);
+        return k;
+    } else {
+        uint32_t k;
+        memcpy(&k, (const unsigned char *)m->index_data + i * sizeof k,
+               sizeof k);
+        return (unsigned)k;
+    }
+}
+
+/* The strided positions, if used, are described consistently: a known
+** type, a stride of at least one position, and every byte read,
+** (vertex_count - 1) * stride + one position, addressable. */
+static int mesh_positions_check(ray_scene *s, const ray_mesh *m)
+{
+    size_t size, stride;
+
+    if (m->vertices != NULL)
+        return RAY_OK;               /* positions is not read */
+    if (m->positions == NULL)
+        return ray__fail(s, RAY_EINVAL, "vertices and positions are both "
+                         "NULL");
+    if (m->position_type != RAY_FLOAT32 && m->position_type != RAY_FLOAT64)
+        return ray__fail(s, RAY_EINVAL, "position_type %d is not "
+                         "RAY_FLOAT32 or RAY_FLOAT64", m->position_type);
+    size = position_size(m);
+    if (m->position_stride != 0 && m->position_stride < size)
+        return ray__fail(s, RAY_EINVAL, "position_stride %zu is smaller "
+                         "than a position (%zu bytes)", m->position_stride,
+                         size);
+    stride = m->position_stride != 0 ? m->position_stride : size;
+    if (m->vertex_count > 1 &&
+        m->vertex_count - 1 > ((size_t)-1 - size) / stride)
+        return ray__fail(s, RAY_EINVAL, "position_stride %zu: %zu "
+                         "positions overflow size_t", m->position_stride,
+                         m->vertex_count);
+    return RAY_OK;
+}
+
+/* The indices come from indices or, when it is NULL, from index_data of
+** a known type.  Their count, 3 * triangle_count, times 4 bytes is
+** checked against size_t by the caller (triangle_count's limit). */
+static int mesh_indices_check(ray_scene *s, const ray_mesh *m)
+{
+    if (m->indices != NULL)
+        return RAY_OK;               /* index_data is not read */
+    if (m->index_data == NULL)
+        return ray__fail(s, RAY_EINVAL, "indices and index_data are both "
+                         "NULL");
+    if (m->index_type != RAY_UINT16 && m->index_type != RAY_UINT32)
+        return ray__fail(s, RAY_EINVAL, "index_type %d is not RAY_UINT16 "
+                         "or RAY_UINT32", m->index_type);
+    return RAY_OK;
+}
+
+/* The arrays are there and not empty: RAY_OK, or the failure. */
+static int mesh_arrays_check(ray_scene *s, const ray_mesh *m)
+{
+    int rc = mesh_positions_check(s, m);
+
+    if (rc == RAY_OK)
+        rc = mesh_indices_check(s, m);
+    if (rc != RAY_OK)
+        return rc;
+    if (m->vertex_count == 0)
+        return ray__fail(s, RAY_EINVAL, "no vertices (vertex_count 0)");
+    if (m->triangle_count == 0)
+        return ray__fail(s, RAY_EINVAL, "no triangles (triangle_count 0)");
+    if ((m->flags & ~RAY_MESH_BORROW) != 0)
+        return ray__fail(s, RAY_EINVAL, "unknown flags 0x%x (known: "
+                         "RAY_MESH_BORROW)", m->flags & ~RAY_MESH_BORROW);
+    return RAY_OK;
+}
+
+/* Vertex i and its attributes are finite: RAY_OK, or the failure. */
+static int mesh_vertex_check(ray_scene *s, const ray_mesh *m, size_t i)
+{
+    ray_vec3 v = mesh_vertex(m, i);
+
+    if (!v3_isfinite(v))
+        return ray__fail(s, RAY_EINVAL, "%s %zu " RAY__V3FMT " is not "
+                         "finite", m->vertices != NULL ? "vertex" :
+                         "position", i, RAY__V3ARGS(v));
+    if (m->normals != NULL && !v3_isfinite(m->normals[i]))
+        return ray__fail(s, RAY_EINVAL, "normal %zu " RAY__V3FMT " is not "
+                         "finite", i, RAY__V3ARGS(m->normals[i]));
+    if (m->texcoords != NULL && (!isfinite(m->texcoords[2 * i]) ||
+                                 !isfinite(m->texcoords[2 * i + 1])))
+        return ray__fail(s, RAY_EINVAL, "texture coordinates %zu (%g, %g) "
+                         "are not finite", i, m->texcoords[2 * i],
+                         m->texcoords[2 * i + 1]);
+    return RAY_OK;
+}
+
+/* Every index in range, every vertex and attribute finite: RAY_OK, or the
+** first failure, named by triangle and corner, or by vertex. */
+static int mesh_check(ray_scene *s, const ray_mesh *m)
+{
+    size_t i;
+    int rc = mesh_arrays_check(s, m);
+
+    if (rc != RAY_OK)
+        return rc;
+    for (i = 0; i < 3 * m->triangle_count; i++)
+        if (mesh_index(m, i) >= m->vertex_count)
+            return ray__fail(s, RAY_EINVAL, "%striangle %zu index %u out "
+                             "of range (%zu vertices)", m->indices != NULL ?
+                             "" : "index_data: ", i / 3, mesh_index(m, i),
+                             m->vertex_count);
+    for (i = 0; i < m->vertex_count; i++) {
+        rc = mesh_vertex_check(s, m, i);
+        if (rc != RAY_OK)
+            return rc;
+    }
+    return RAY_OK;
+}
+
+/* Copy "count" elements of "size" bytes (NULL stays NULL). */
+static int copy_array(const ray_scene *s, const void *src, size_t count,
+                      size_t size, void **dst)
+{
+    *dst = NULL;
+    if (src == NULL)
+        return RAY_OK;
+    if (count > (size_t)-1 / size)
+        return RAY_ENOMEM;
+    *dst = ray__alloc(s, count * size);
+    if (*dst == NULL)
+        return RAY_ENOMEM;
+    memcpy(*dst, src, count * size);
+    return RAY_OK;
+}
+
+/* The 3 * triangle_count indices as unsigned, whatever their input type
+** (the shading data keeps them in one form). */
+static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
+{
+    size_t n = 3 * m->triangle_count, i;
+    unsigned *idx;
+
+    if (m->indices != NULL)
+        return copy_array(s, m->indices, n, sizeof(unsigned), dst);
+    *dst = NULL;
+    idx = ray__alloc(s, n * sizeof(unsigned));
+    if (idx == NULL)
+        return RAY_ENOMEM;
+    for (i = 0; i < n; i++)
+        idx[i] = mesh_index(m, i);
+    *dst = idx;
+    return RAY_OK;
+}
+
+/*
+** The shading data of a mesh: copies of its indices, normals and texture
+** coordinates when it has either of the latter, or for a borrowed mesh
+** the caller's arrays themselves (and its descriptor, to read its indices
+** and, on update, its positions again).
+*/
+static int mesh_shading_copy_arrays(const ray_scene *s, const ray_mesh *m,
+                                    ray__mesh *out)
+{
+    void *idx, *nrm, *tex;
+
+    memset(out, 0, sizeof *out);
+    if (m->flags & RAY_MESH_BORROW) {
+        out->borrowed = 1;
+        out->src = *m;
+        out->indices = m->indices;
+        out->normals = m->normals;
+        out->texcoords = m->texcoords;
+        out->n_vertices = m->vertex_count;
+        out->n_tris = m->triangle_count;
+        return RAY_OK;
+    }
+    if (m->normals == NULL && m->texcoords == NULL)
+        return RAY_OK;
+    if (copy_indices(s, m, &idx) != RAY_OK)
+        return RAY_ENOMEM;
+    if (copy_array(s, m->normals, m->vertex_count, sizeof(ray_vec3), &nrm) !=
+        RAY_OK) {
+        ray__free(s, idx, 3 * m->triangle_count * sizeof(unsigned));
+        return RAY_ENOMEM;
+    }
+    if (copy_array(s, m->texcoords, 2 * m->vertex_count, sizeof(double),
+                   &tex) != RAY_OK) {
+        ray__free(s, idx, 3 * m->triangle_count * sizeof(unsigned));
+        ray__free(s, nrm, m->vertex_count * sizeof(ray_vec3));
+        return RAY_ENOMEM;
+    }
+    out->indices = idx;
+    out->normals = nrm;
+    out->texcoords = tex;
+    out->n_vertices = m->vertex_count;
+    out->n_tris = m->triangle_count;
+    return RAY_OK;
+}
+
+/* Triangle i of mesh m, its three corners' positions. */
+static void mesh_triangle(const ray_mesh *m, size_t i, ray__tri *t)
+{
+    t->a = mesh_vertex(m, mesh_index(m, 3 * i));
+    t->b = mesh_vertex(m, mesh_index(m, 3 * i + 1));
+    t->c = mesh_vertex(m, mesh_index(m, 3 * i + 2));
+}
+
+/*
+** The per-triangle (s, t) scale of a mesh with texture coordinates, for
+** ray cones' footprints (ray__prim_uv_scale): sqrt(st area / area), a
+** degenerate triangle 0 (no filtering).  RAY_OK, RAY_ENOMEM.
+*/
+static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
+                         ray__mesh *out)
+{
+    size_t i;
+
+    if (m->texcoords == NULL)
+        return RAY_OK;
+    out->uv_scale = ray__alloc(s, m->triangle_count * sizeof(double));
+    if (out->uv_scale == NULL)
+        return RAY_ENOMEM;
+    for (i = 0; i < m->triangle_count; i++) {
+        const double *st = m->texcoords;
+        ray__tri t;
+        size_t a = 2 * (size_t)mesh_index(m, 3 * i);
+        size_t b = 2 * (size_t)mesh_index(m, 3 * i + 1);
+        size_t c = 2 * (size_t)mesh_index(m, 3 * i + 2);
+
+        mesh_triangle(m, i, &t);
+        out->uv_scale[i] = ray__triangle_uv_scale(
+            t.a, t.b, t.c,
+            fabs((st[b] - st[a]) * (st[c + 1] - st[a + 1]) -
+                 (st[c] - st[a]) * (st[b + 1] - st[a + 1])));
+    }
+    return RAY_OK;
+}
+
+/* The shading data and the (s, t) scales; RAY_ENOMEM keeps nothing. */
+static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
+                             ray__mesh *out)
+{
+    int rc = mesh_shading_copy_arrays(s, m, out);
+
+    if (rc == RAY_OK && mesh_uv_scale(s, m, out) != RAY_OK) {
+        ray__mesh_release(s, out);
+        return RAY_ENOMEM;
+    }
+    return rc;
+}
+
+unsigned ray__mesh_corner(const ray__mesh *m, size_t k)
+{
+    return m->indices != NULL ? m->indices[k] : mesh_index(&m->src, k);
+}
+
+int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
+                       unsigned *geom_id)
+{
+    ray__mesh shading;
+    unsigned id;
+    size_t i;
+    int rc = ray__begin(s, "ray_scene_add_mesh");
+
+    if (rc != RAY_OK)
+        return rc;
+    if (m == NULL)
+        return ray__fail(s, RAY_EINVAL, "mesh is NULL");
+    if (m->triangle_count > ((size_t)-1) / 3 / sizeof(unsigned))
+        return ray__fail(s, RAY_ENOMEM, "%zu triangles: the index count "
+                         "overflows size_t", m->triangle_count);
+    rc = mesh_check(s, m);
+    if (rc == RAY_OK)
+        rc = ray__material_known(s, material);
+    if (rc == RAY_OK)
+        rc = ray__reserve_tris(s, m->triangle_count);
+    if (rc != RAY_OK)
+        return rc;
+    rc = mesh_shading_copy(s, m, &shading);
+    if (rc != RAY_OK)
+        return ray__fail(s, rc, "out of memory (copying the normals or "
+                         "texture coordinates of %zu vertices)",
+                         m->vertex_count);
+    rc = ray__add_mesh_prim(s, material, s->n_tris, m->triangle_count,
+                            &shading, &id);
+    if (rc != RAY_OK) {
+        ray__mesh_release(s, &shading);
+        return rc;
+    }
+    for (i = 0; i < m->triangle_count; i++) {
+        mesh_triangle(m, i, &s->tris[s->n_tris + i]);
+        s->tri_ids[s->n_tris + i].geom_id = id;
+        s->tri_ids[s->n_tris + i].prim_id = (unsigned)i;
+    }
+    s->n_tris += m->triangle_count;
+    if (geom_id != NULL)
+        *geom_id = id;
+    return RAY_OK;
+}
+
+/*
+** New positions for a mesh: every slot of its triangles (wherever the
+** last commit put them: tri_ids name them) rewritten from "m" (NULL: the
+** borrowed arrays again, changed in place by the caller), its shading
+** data replaced, and the triangle BVH refitted at the next commit.  The
+** triangle count stays: that is what makes a refit enough.
+*/
+int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
+{
+    ray__mesh shading;
+    ray_mesh again;
+    ray__prim *p;
+    size_t i;
+    int rc = ray__begin(s, "ray_scene_update_mesh");
+
+    if (rc != RAY_OK)
+        return rc;
+    if ((p = ray__live_prim(s, geom_id)) == NULL)
+        return RAY_EINVAL;
+    if (p->kind != RAY__KIND_MESH)
+        return ray__fail(s, RAY_EINVAL, "geometry %u is not a mesh",
+                         geom_id);
+    if (m == NULL) {
+        if (!s->meshes[p->mesh].borrowed)
+            return ray__fail(s, RAY_EINVAL, "mesh is NULL and geometry %u "
+                             "was not borrowed (RAY_MESH_BORROW)", geom_id);
+        again = s->meshes[p->mesh].src;
+        m = &again;
+    }
+    if (m->triangle_count != p->count)
+        return ray__fail(s, RAY_EINVAL, "triangle_count %zu: the mesh has "
+                         "%zu (an update keeps the count: remove it and add "
+                         "another)", m->triangle_count, p->count);
+    if ((rc = mesh_check(s, m)) != RAY_OK)
+        return rc;
+    if (mesh_shading_copy(s, m, &shading) != RAY_OK)
+        return ray__fail(s, RAY_ENOMEM, "out of memory (copying the "
+                         "normals or texture coordinates of %zu vertices)",
+                         m->vertex_count);
+    ray__mesh_release(s, &s->meshes[p->mesh]);
+    s->meshes[p->mesh] = shading;
+    for (i = 0; i < s->n_tris; i++)
+        if (s->tri_ids[i].geom_id == geom_id) {
+            mesh_triangle(m, s->tri_ids[i].prim_id, &s->tris[i]);
+            ray__tri_collapse_unusable(&s->tris[i]);
+        }
+    ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
+    return RAY_OK;
+}

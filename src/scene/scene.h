@@ -1,0 +1,424 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** scene.h -- the scene: its records, struct ray_scene, its allocation
+** helpers and error messages, and the per-kind dispatch (kinds.c).
+*/
+#ifndef RAY_SCENE_H
+#define RAY_SCENE_H
+
+#include "accel/bvh.h"
+#include "prim/prim.h"
+
+/* Let gcc and clang check the arguments of printf-like functions
+** (-Wformat); other compilers ignore it. */
+#if defined(__GNUC__)
+#define RAY__PRINTF(fmt, first) __attribute__((format(printf, fmt, first)))
+#else
+#define RAY__PRINTF(fmt, first)
+#endif
+
+/* A scene's error message (ray_scene_errmsg): room for the longest one,
+** a function name, two size_t and three %g vectors (about 150 bytes);
+** snprintf cuts anything longer. */
+#define RAY__ERRMSG_SIZE 256
+
+/* A vector in a message: printf("at " RAY__V3FMT, RAY__V3ARGS(v)). */
+#define RAY__V3FMT "(%g, %g, %g)"
+#define RAY__V3ARGS(v) (v).x, (v).y, (v).z
+
+/* A curved surface's descriptor as added: the member of its geometry's
+** kind (RAY__KIND_TORUS, _IMPLICIT, _PARAMETRIC, _USER, a shape's) is
+** the live one. */
+typedef union ray__surface {
+    ray_torus_params torus;
+    ray_implicit_surface implicit;
+    ray_parametric_surface parametric;
+    ray_user_geometry user;
+#define RAY__SHAPE_MEMBER(X, NAME, name, type, counted_as) type name;
+    RAY__SHAPES(RAY__SHAPE_MEMBER, _)
+} ray__surface;
+
+/* One piece of geometry (what a geom_id names).  By kind: sphere: a =
+** centre; plane: a = point, b = unit normal; triangle and mesh: tris[first
+** .. first+count-1] of the scene (until commit reorders them), and for a
+** mesh meshes[mesh]; polygon: verts[first .. first+count-1]; torus,
+** implicit, parametric, user geometry and the shapes: surfaces[surface],
+** and Bezier: its 16 control points at verts[first ..]; all of these keep
+** their box in a (lo), b (hi). */
+typedef struct ray__prim {
+    ray__kind kind;
+    unsigned material;
+    ray_vec3 a, b, c;
+    double radius;
+    size_t first, count;
+    unsigned mesh;
+    unsigned surface;        /* also an instance's index in instances */
+    unsigned mask;           /* ray_scene_set_mask; all bits by default */
+    unsigned filter_queries; /* RAY_FILTER_* bits its filter applies to */
+    ray_filter_fn filter;    /* NULL: none */
+    void *filter_ud;
+    int enabled;             /* ray_scene_set_enabled; 1 by default */
+    int removed;             /* ray_scene_remove: never seen again */
+} ray__prim;
+
+/*
+** An instance (ray_scene_add_instance): the child scene, the transform
+** and its inverse (L^-1, applied to p - c), the child's commit generation
+** its box was taken at, and its box in world space.
+*/
+typedef struct ray__instance {
+    const ray_scene *child;
+    ray_transform xfm;       /* object -> world */
+    double inv[3][3];        /* L^-1: world -> object, after - c */
+    int linear_identity;     /* L == I exactly: normals need no transform */
+    double similarity;       /* L = s R (R a rotation) to 64 ulps: s, the
+                                scale distances take; 0 for other L */
+    double inv_norm;         /* |L^-1| (Frobenius): no object distance is
+                                more than this times the world one */
+    unsigned long long generation;
+    ray_vec3 lo, hi;         /* world box, rounded outward */
+    int removed;             /* ray_scene_remove: its child may be gone */
+} ray__instance;
+
+/* Triangles are stored flat, three vertices each, whatever they came
+** from; at commit they are reordered into BVH leaf order, so a leaf is a
+** contiguous run.  Their ids live apart: only the nearest hit needs them. */
+typedef struct ray__tri {
+    ray_vec3 a, b, c;
+} ray__tri;
+
+typedef struct ray__tri_id {
+    unsigned geom_id, prim_id;
+} ray__tri_id;
+
+/*
+** What a mesh keeps for shading: its index triples, and its per-vertex
+** normals and texture coordinates when it has them (else NULL); copies
+** the scene owns, or for a borrowed mesh (RAY_MESH_BORROW) the caller's
+** own arrays, its indices read through "src" (the caller's descriptor,
+** also what ray_scene_update_mesh(.., NULL) reads again).
+*/
+typedef struct ray__mesh {
+    const unsigned *indices;     /* copied (or the caller's unsigned) */
+    const ray_vec3 *normals;
+    const double *texcoords;
+    size_t n_vertices, n_tris;
+    int borrowed;                /* the arrays are the caller's */
+    ray_mesh src;                /* borrowed: the caller's descriptor */
+    double *uv_scale;            /* with texcoords: per triangle, sqrt(its
+                                    (s, t) area / its area), for ray
+                                    cones' footprints; the scene's own
+                                    even when borrowed; else NULL */
+} ray__mesh;
+
+/* Corner k (0 .. 3 n_tris - 1) of mesh m's triangles, for shading. */
+unsigned ray__mesh_corner(const ray__mesh *m, size_t k);
+
+/* A light as added, with the unit vector every sample of it needs
+** computed once when it is added: the direction toward a directional
+** light (-direction) or the emitting normal of a rect light
+** (edge1 x edge2); unused by the other kinds. */
+typedef struct ray__light {
+    ray_light desc;
+    ray_vec3 axis;
+} ray__light;
+
+struct ray_scene {
+    ray__allocator alloc;    /* the user's, or libc's */
+    ray__prim *prims;
+    size_t n_prims, cap_prims;
+    ray__tri *tris;
+    ray__tri_id *tri_ids;
+    size_t n_tris, cap_tris, cap_tri_ids;
+    size_t n_live_tris;      /* tris[0 .. n_live_tris - 1] are in tri_bvh
+                                (enabled geometry), the rest wait */
+    ray__mesh *meshes;
+    size_t n_meshes, cap_meshes;
+    ray__surface *surfaces;
+    size_t n_surfaces, cap_surfaces;
+    ray__instance *instances;
+    size_t n_instances, cap_instances;
+    ray__bvh tri_bvh;        /* over tris, reordered to leaf order */
+    ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
+    unsigned *planes;        /* the unbounded prims, tested apart */
+    size_t n_planes;
+    ray_vec3 *verts;
+    size_t n_verts, cap_verts;
+    ray_material *materials;
+    size_t n_materials, cap_materials;
+    ray__light *lights;
+    size_t n_lights, cap_lights;
+    ray_rgb background, ambient;
+    ray_background_fn background_fn;
+    void *background_ud;
+    ray_limits limits;
+    int prune;               /* ray_scene_set_pruning; 1 by default */
+    int watertight;          /* ray_scene_set_watertight; 1 by default */
+    unsigned build_threads;  /* ray_scene_set_build_threads; 1 by default,
+                                0: one per online CPU */
+    unsigned effects;        /* what the scene can need, set by commit */
+    unsigned material_effects; /* the effects of the materials its
+                                  enabled geometry uses (what an instance
+                                  of it adds to its parent's) */
+    int committed;
+    /* Dynamic scenes (ray(7)): what the next commit must redo
+    ** (RAY__DIRTY_*), the commits made so far (instances of this scene
+    ** compare it with theirs), whether any geometry has a mask or a
+    ** filter (else queries take the ungated path), and the box of the
+    ** enabled bounded geometry (for instances of it). */
+    unsigned dirty;
+    unsigned long long generation;
+    int gated;
+    int has_instances;
+    ray_vec3 lo, hi;
+    /* ray_scene_errmsg: the building call now running (a function name,
+    ** static) and the message of its failure, "" while none.  A fixed
+    ** buffer, so that out of memory can be reported too. */
+    const char *op;
+    char errmsg[RAY__ERRMSG_SIZE];
+};
+
+/* What a commit must redo: the triangle BVH (rebuild, or refit after
+** vertex updates only), the BVH of the other bounded kinds and the plane
+** list (PRIMS), instances' boxes. */
+#define RAY__DIRTY_TRIS   1u
+#define RAY__DIRTY_REFIT  2u
+#define RAY__DIRTY_PRIMS  4u
+#define RAY__DIRTY_ALL    (RAY__DIRTY_TRIS | RAY__DIRTY_PRIMS)
+
+
+/*
+** What changed since the commit (dirty.c).
+** ray__touch -- mark what a successful building call changed (and that
+** the scene needs a commit before its next query).
+** ray__dirty_of -- what adding, removing, enabling or disabling geometry
+** p makes the next commit rebuild: the triangle BVH or the other one
+** (RAY__DIRTY_*).
+** ray__instance_stale -- has instance in's child been changed (or not
+** committed again) since its box was taken?  A query that meets it
+** answers -RAY_ESTATE; the parent's next commit takes its box again.
+*/
+void ray__touch(ray_scene *s, unsigned dirty);
+unsigned ray__dirty_of(const ray__prim *p);
+int ray__instance_stale(const ray__instance *in);
+/* Has a scene that s instances changed since s was committed (so that
+** its queries would answer -RAY_ESTATE where they meet it)?  O(number of
+** instances): for the calls that check once before a long run (a
+** render, every hit along a ray) rather than per ray.  Disabled
+** instances count too (their child must stay committed: the next commit
+** checks it); removed ones do not (their child may be freed). */
+int ray__scene_stale(const ray_scene *s);
+
+/* Allocation through the scene's allocator (libc when it has none). */
+void *ray__alloc(const ray_scene *s, size_t size);
+void ray__free(const ray_scene *s, void *ptr, size_t size);
+void *ray__realloc(const ray_scene *s, void *ptr, size_t osize, size_t nsize);
+
+/* Append a validated primitive (checks its material; RAY_EINVAL,
+** RAY_ENOMEM); *geom_id, if not NULL, receives its id. */
+int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id);
+
+/*
+** ray__begin -- the start of every building call ("op", its name, heads
+** its messages): clears the last message (a success leaves none) and
+** returns RAY_OK, or RAY_EINVAL for NULL.  A committed scene may be
+** changed too: the call's success marks it (ray__touch), a failure
+** leaves it committed.
+** ray__fail -- record the failure of the running call: "op: " and the
+** printf-formatted message, cut to the buffer; returns "code".
+*/
+int ray__begin(ray_scene *s, const char *op);
+int ray__fail(ray_scene *s, int code, const char *fmt, ...)
+    RAY__PRINTF(3, 4);
+
+/* RAY_OK if "material" names a material of the scene, else RAY_EINVAL with
+** its message. */
+int ray__material_known(ray_scene *s, unsigned material);
+
+/* Room for "more" vertices in the scene's verts array. */
+int ray__reserve_verts(ray_scene *s, size_t more);
+
+/* Grow an array of "size"-byte items through the scene's allocator so it
+** holds used + 1; returns the (maybe moved) array or NULL. */
+void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
+                size_t size);
+
+/* The geometry record of a mesh over tris[first .. first+count-1]. */
+int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
+                       size_t count, const ray__mesh *shading, unsigned *id);
+
+/* Geometry geom_id of s if it exists and was not removed, else NULL with
+** the error recorded (dynamic.c): what every call on an added geometry
+** checks first. */
+ray__prim *ray__live_prim(ray_scene *s, unsigned geom_id);
+
+
+/* Free a mesh's shading data (its arrays NULL after). */
+void ray__mesh_release(const ray_scene *s, ray__mesh *m);
+
+/* A triangle that can be hit: its normal exists, i.e. its cross product
+** has a non-zero finite component (what v3_normalize in triangle.c
+** needs).  Comparisons, not fmax (a libm call under -std=c99): a NaN
+** component (inf - inf) fails both tests, as it should. */
+static inline int ray__tri_usable(const ray__tri *t)
+{
+    ray_vec3 n = v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a));
+    double x = fabs(n.x), y = fabs(n.y), z = fabs(n.z);
+    return (x > 0 || y > 0 || z > 0) && x < HUGE_VAL && y < HUGE_VAL &&
+           z < HUGE_VAL;
+}
+
+/*
+** A triangle that has no normal becomes the point at its first vertex:
+** it keeps its slot (a mesh update may give it an area again), and every
+** triangle test misses a point (no edge function is non-zero, so det is
+** 0) while its box stays finite.
+*/
+static inline void ray__tri_collapse_unusable(ray__tri *t)
+{
+    if (!ray__tri_usable(t))
+        t->b = t->c = t->a;
+}
+
+/* Room for "more" triangles in the scene's tris/tri_ids arrays. */
+int ray__reserve_tris(ray_scene *s, size_t more);
+
+/* ---------------------------------------------------- the kinds' dispatch */
+
+/*
+** What the scene does by kind (kinds.c), each a switch generated from the
+** list of kinds (RAY__PRIM_KINDS, prim.h).
+**
+** ray__kind_class -- where a committed scene keeps geometry of a kind
+** (the list's class column).
+** ray__kind_counter -- the RAY_PRIM_* its tests count under.
+** ray__prim_box -- the box of geometry p, in double (the BVH's float box
+** is rounded outward from it); for the bounded kinds.
+** ray__prim_intersect -- geometry i (of class BOUNDED or UNBOUNDED)
+** against r, counted in qc->tests; fills *hit, with geom_id i and
+** prim_id 0, on a hit.  A curved surface whose iteration failed, or
+** user geometry whose callback broke its contract (a negative answer),
+** is a miss, counted in qc->failures.
+** ray__prim_candidate -- the same test for a query that wants the record
+** of its nearest hit alone (or none, for any hit): 0 on a miss,
+** RAY__HIT_FULL with *hit filled as ray__prim_intersect fills it, or
+** RAY__HIT_T with hit->t alone, for a kind whose record can be filled
+** later from t (a sphere, a plane: their t-only tests; the fill's success
+** checked, so a t that could not be filled is a miss here as there).
+** Same counts, same t, same hits and misses as ray__prim_intersect.
+** ray__prim_fill -- the record of such a hit at t, as ray__prim_intersect
+** would have filled it (the same formulas on the same t): 1, or 0 for a
+** geometry whose kind never answers RAY__HIT_T (cannot happen).
+** A sphere's texture coordinates are computed only for a query whose
+** qc->uv (uv) is 1 or when its material reads them, else 0 (see
+** ray__intersect).
+*/
+enum { RAY__HIT_FULL = 1, RAY__HIT_T = 2 };
+
+typedef enum ray__class {
+    RAY__CLASS_TRIANGLES,    /* in tri_bvh: traverse.h tests them inline */
+    RAY__CLASS_BOUNDED,      /* in prim_bvh */
+    RAY__CLASS_UNBOUNDED     /* in planes: tested on every ray */
+} ray__class;
+
+/*
+** What one query counts and carries: tests by kind, the curved-surface
+** tests that failed (iteration limit) and were taken as misses, filter
+** calls; its gate (NULL: ungated, the fast path), whether it wants any
+** hit (occluded) or the nearest, and while inside an instance the
+** instance (its geom_id and record) through which candidates are seen;
+** "stale" is set when an instance meets a child changed since the
+** parent's commit.
+*/
+/* What one query counts: tests by kind, and the curved-surface and user
+** tests that failed (iteration limit, a callback's invalid answer) and
+** were taken as misses. */
+typedef struct ray__counts {
+    unsigned long long tests[RAY_PRIM_KINDS];
+    unsigned long long failures;
+    unsigned long long filter_calls;
+    const struct ray__gate *gate;  /* the query layer's (query.h) */
+    int any;
+    int stale;
+    unsigned inst_id;
+    const ray__instance *inst;
+    const ray_ray *world_ray;
+    int uv;                  /* fill every sphere's (u, v): ray__intersect */
+} ray__counts;
+
+ray__class ray__kind_class(ray__kind kind);
+
+/*
+** For ray cones (trace.c), by kind, at a hit of geometry p of s (its
+** owner; an instance's child in object space):
+** ray__prim_uv_scale -- the surface's (u, v) per unit of length there,
+** the isotropic estimate sqrt(|d(u, v)| / |dA|) of Akenine-Moller et al.
+** (Ray Tracing Gems, 2019, chapter 20): plane, polygon 1 (their (u, v)
+** are lengths); triangle sqrt((1/2) / area) (barycentrics); mesh with
+** (s, t) its triangle's sqrt(st area / area), without 0; sphere
+** 1 / (pi r sqrt(2 cos latitude)) (u = longitude / 2pi, v = latitude /
+** pi), +Inf at a pole; every other kind 0: unknown, no filtering.
+** ray__prim_curvature -- the surface's mean curvature there for the side
+** its normal points to (convex > 0): sphere 1 / r, every other kind 0
+** (flat, or unknown: a cone then reflects as off a flat mirror).
+*/
+double ray__prim_uv_scale(const ray_scene *s, const ray__prim *p,
+                          const ray_hit *hit);
+
+/* The (u, v) per unit length of triangle abc whose (u, v) span twice the
+** area uv2: sqrt(uv area / area), the same estimate for a triangle's
+** barycentrics (uv2 = 1) and a mesh's (s, t); 0 for a degenerate one (no
+** filtering). */
+static inline double ray__triangle_uv_scale(ray_vec3 a, ray_vec3 b,
+                                            ray_vec3 c, double uv2)
+{
+    double q = uv2 / v3_length(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+
+    return q > 0 && q < HUGE_VAL ? sqrt(q) : 0.0;
+}
+double ray__prim_curvature(const ray_scene *s, const ray__prim *p,
+                           const ray_hit *hit);
+int ray__kind_counter(ray__kind kind);
+void ray__prim_box(const ray_scene *s, const ray__prim *p, ray_vec3 *lo,
+                   ray_vec3 *hi);
+int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc);
+int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc);
+int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
+                   double t, int uv, ray_hit *hit);
+
+/* ------------------------------------------------------------ instances */
+
+/*
+** An instance's record and transforms (instance.c); the query layer
+** descends into its child (query/instance.h).
+** ray__instance_box -- its world box, from its child's box.
+** ray__instance_ray_to_object -- world ray r in the child's space: o' =
+** L^-1 (o - c), d' = L^-1 d, the same interval (an affine map keeps
+** ratios: t names the same point on both).
+** ray__instance_to_world -- a hit of the child in object space as the
+** world sees it: p and n transformed, p_err grown by the rounding of both
+** transforms (instance.c explains the bound).
+** ray__instance_normal -- a child's normal (a shading normal) in world
+** space, unit.
+*/
+void ray__instance_box(ray__instance *in);
+void ray__instance_ray_to_object(const ray__instance *in, const ray_ray *r,
+                                 ray_ray *out);
+void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
+                            ray_hit *world);
+ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n);
+
+/* A point of the child's space in the world's (L p + c), and back
+** (L^-1 (q - c)). */
+ray_vec3 ray__instance_point_to_world(const ray__instance *in, ray_vec3 p);
+ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q);
+
+
+/* The instance of s a hit came through, or NULL; and the scene that owns
+** the geometry it names (s itself, or the instance's child). */
+const ray__instance *ray__hit_instance(const ray_scene *s, const ray_hit *h);
+const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h);
+
+#endif /* RAY_SCENE_H */

@@ -1,0 +1,83 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** direct.c -- ray_shade_direct: the direct-light loop every material
+** would otherwise repeat (sample each light, weigh it by the material's
+** BRDF, ask for a shadow ray only when the sample can contribute).
+*/
+#include "trace/trace.h"
+
+/* Any channel strictly positive: a factor that can add light.  NaN
+** channels do not count (NaN > 0 is false). */
+static int rgb_any_positive(ray_rgb c)
+{
+    return c.r > 0 || c.g > 0 || c.b > 0;
+}
+
+/* -d / |d|, the unit direction back toward the eye, computed as the
+** built-in Phong did before it used this file (divide, then negate), so
+** moving a material onto ray_shade_direct keeps its bits. */
+static ray_vec3 toward_eye(ray_vec3 d)
+{
+    double len = sqrt(v3_dot(d, d));
+    ray_vec3 e;
+
+    e.x = -(d.x / len);
+    e.y = -(d.y / len);
+    e.z = -(d.z / len);
+    return e;
+}
+
+/*
+** One light sample: its factor f from the BRDF (zero behind the shading
+** normal, where the BRDF is not called), then its shadow ray.  With
+** pruning, a sample that cannot add light costs no ray; without, the ray
+** is cast anyway (the naive mode that pruning is measured against), and
+** the sample still adds nothing.
+*/
+static void add_sample(ray_ctx *ctx, const ray_shade_args *a,
+                       ray_brdf_fn brdf, void *ud, ray_brdf_args *b,
+                       ray_rgb *out)
+{
+    const ray_light_sample *ls = b->sample;
+    ray_rgb f = {0, 0, 0};
+    int contributes;
+
+    b->to_light = ls->dir;
+    b->cos_light = v3_dot(a->shading_normal, ls->dir);
+    if (b->cos_light > 0)
+        f = brdf(ud, b);
+    contributes = b->cos_light > 0 && rgb_any_positive(f);
+    if (!contributes && a->prune)
+        return;
+    if (!ray_light_visible(ctx, a, ls) || !contributes)
+        return;
+    out->r += f.r * ls->radiance.r;
+    out->g += f.g * ls->radiance.g;
+    out->b += f.b * ls->radiance.b;
+}
+
+int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
+                     ray_brdf_fn brdf, void *ud, ray_rgb *out)
+{
+    ray_brdf_args b;
+    unsigned li, si;
+
+    if (ctx == NULL || args == NULL || args->ray == NULL ||
+        args->hit == NULL || brdf == NULL || out == NULL)
+        return RAY_EINVAL;
+    b.shade = args;
+    b.to_eye = toward_eye(args->ray->dir);
+    for (li = 0; li < ray_scene_light_count(ctx->scene); li++) {
+        unsigned ns = ray_light_samples(ctx->scene, li);
+        for (si = 0; si < ns; si++) {
+            ray_light_sample ls;
+
+            if (ray_light_sample_at(ctx, args, li, si, &ls) != RAY_OK)
+                continue;
+            b.sample = &ls;
+            b.light = li;
+            add_sample(ctx, args, brdf, ud, &b, out);
+        }
+    }
+    return RAY_OK;
+}

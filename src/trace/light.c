@@ -1,0 +1,142 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** light.c -- light samples and shadow rays for material callbacks.
+*/
+#include "trace/trace.h"
+
+/* Samples per shading point: area lights round their count up to a
+** square k*k, so the samples can be stratified on a k x k grid. */
+static unsigned strata_side(const ray_light *l)
+{
+    return ray__strata_side(l->samples ? l->samples : 16);
+}
+
+unsigned ray_light_samples(const ray_scene *s, unsigned light)
+{
+    const ray_light *l;
+    unsigned k;
+
+    if (s == NULL || light >= s->n_lights)
+        return 0;
+    l = &s->lights[light].desc;
+    if (l->kind == RAY_LIGHT_POINT || l->kind == RAY_LIGHT_DIRECTIONAL)
+        return 1;
+    k = strata_side(l);
+    return k * k;
+}
+
+/*
+** A jittered position in stratum "index" of a k x k grid over [0,1)^2,
+** mapped onto the light: the parallelogram for a rect light; for a sphere
+** light, the disk of its radius facing the shading point (its silhouette)
+** by Shirley and Chiu's concentric map ("A Low Distortion Map Between Disk
+** and Square", JGT 2(3), 1997), which keeps the strata compact.
+*/
+static ray_vec3 area_point(ray_ctx *ctx, const ray_light *l, ray_vec3 from,
+                           unsigned index, unsigned k)
+{
+    double su = ((double)(index % k) + ray_ctx_random(ctx)) / (double)k;
+    double sv = ((double)(index / k) + ray_ctx_random(ctx)) / (double)k;
+    ray_vec3 w, t1, t2;
+    double dx, dy;
+
+    if (l->kind == RAY_LIGHT_RECT)
+        return v3_add(l->position, v3_add(v3_scale(l->edge1, su),
+                                          v3_scale(l->edge2, sv)));
+    ray__concentric_disk(2 * su - 1, 2 * sv - 1, &dx, &dy);
+    if (!v3_normalize(v3_sub(from, l->position), &w))
+        return l->position;
+    ray__tangent_frame(w, &t1, &t2);
+    return v3_add(l->position, v3_add(v3_scale(t1, l->radius * dx),
+                                      v3_scale(t2, l->radius * dy)));
+}
+
+static ray_rgb rgb_scale(ray_rgb c, double s)
+{
+    c.r *= s;
+    c.g *= s;
+    c.b *= s;
+    return c;
+}
+
+int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
+                        unsigned light, unsigned index,
+                        ray_light_sample *out)
+{
+    const ray__light *sl;
+    const ray_light *l;
+    ray_light_sample ls;
+    ray_vec3 p, to;
+    double dist, n = 1.0, scale;
+
+    if (ctx == NULL || args == NULL || args->hit == NULL || out == NULL ||
+        light >= ctx->scene->n_lights ||
+        index >= ray_light_samples(ctx->scene, light))
+        return RAY_EINVAL;
+    sl = &ctx->scene->lights[light];
+    l = &sl->desc;
+    p = args->hit->p;
+    if (l->kind == RAY_LIGHT_DIRECTIONAL) {
+        ls.dir = sl->axis;
+        ls.dist = HUGE_VAL;
+        ls.radiance = l->intensity;
+        ls.point = p;
+        *out = ls;
+        return RAY_OK;
+    }
+    if (l->kind == RAY_LIGHT_POINT)
+        ls.point = l->position;
+    else {
+        unsigned k = strata_side(l);
+        ls.point = area_point(ctx, l, p, index, k);
+        n = (double)(k * k);
+    }
+    to = v3_sub(ls.point, p);
+    dist = v3_length(to);
+    if (!(dist > 0 && dist < HUGE_VAL) || !v3_normalize(to, &ls.dir))
+        return RAY_EINVAL;
+    ls.dist = dist;
+    /* Inverse-square falloff, the total split evenly over the samples.
+    ** A light closer than ~1e-154 would overflow 1/dist^2: refused. */
+    scale = 1.0 / (dist * dist * n);
+    if (!(scale < HUGE_VAL))
+        return RAY_EINVAL;
+    ls.radiance = rgb_scale(l->intensity, scale);
+    if (l->kind == RAY_LIGHT_RECT) {
+        /* A one-sided Lambertian emitter: its intensity toward the point
+        ** falls with the cosine at the light, and is 0 behind it. */
+        double cos_l = -v3_dot(sl->axis, ls.dir);
+        ls.radiance = rgb_scale(ls.radiance, cos_l > 0 ? cos_l : 0.0);
+    }
+    if (!(ls.radiance.r < HUGE_VAL && ls.radiance.g < HUGE_VAL &&
+          ls.radiance.b < HUGE_VAL))
+        return RAY_EINVAL;
+    *out = ls;
+    return RAY_OK;
+}
+
+int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
+                      const ray_light_sample *sample)
+{
+    ray_ray shadow;
+    int rc;
+
+    if (ctx == NULL || args == NULL || args->hit == NULL || sample == NULL)
+        return 0;
+    if ((ctx->effects & RAY_EFFECT_SHADOW) == 0)
+        return 1;            /* undeclared: unshadowed, and no ray cast */
+    if (sample->dist < HUGE_VAL)
+        rc = ray_spawn_to(args->hit, sample->point, &shadow);
+    else
+        rc = ray_spawn(args->hit, sample->dir, &shadow);
+    if (rc != RAY_OK)
+        return 0;
+    ctx->stats.rays[RAY_KIND_SHADOW]++;
+    /* A negative answer (an instance's child changed since the commit)
+    ** is no light: a stale scene must not pass for unoccluded; the
+    ** outermost ray_trace then reports it. */
+    rc = ray__occluded(ctx->scene, &shadow, &ctx->stats);
+    if (rc < 0)
+        ctx->stale = 1;
+    return rc == 0;
+}

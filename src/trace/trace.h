@@ -1,0 +1,96 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** trace.h -- tracing: the per-thread context (struct ray_ctx) and the
+** sampler's helpers.
+*/
+#ifndef RAY_TRACE_H
+#define RAY_TRACE_H
+
+#include "core/sampling.h"
+#include "query/query.h"
+
+/*
+** The ray cone at the hit being shaded (trace.c's cone_at_hit), from
+** which the cones of the rays its material traces are derived.
+*/
+typedef struct ray__hit_cone {
+    int on;                  /* the hit carries a cone */
+    double width;            /* the cone's signed width there (a cone
+                                focused by a concave mirror or a lens
+                                passes through 0 and goes on negative) */
+    double spread;           /* the spread it arrived with */
+    double bend;             /* the surface's curvature, signed (> 0:
+                                convex toward the ray), times |width|:
+                                how far the normal turns across the
+                                footprint */
+    ray_vec3 dir;            /* the incoming ray's unit direction */
+    ray_vec3 normal;         /* the unit normal facing it */
+} ray__hit_cone;
+
+struct ray_ctx {
+    const ray_scene *scene;
+    ray_stats stats;
+    unsigned long long rng;  /* splitmix64 state of the current sample */
+    int in_shade;            /* inside a material callback */
+    unsigned depth;          /* depth of the hit being shaded */
+    double weight;           /* path weight of the ray being shaded */
+    unsigned effects;        /* effects of the material being shaded */
+    unsigned fanout;         /* secondary rays spawned by that hit so far */
+    int stale;               /* a ray of the current tree met an instance
+                                of a scene changed since the commit: the
+                                outermost ray_trace answers RAY_ESTATE */
+    /* Ray cones (trace.c): the cone of the next primary rays
+    ** (ray_ctx_set_cone, ray_render), and that of the hit being shaded,
+    ** for the rays its material traces. */
+    double cone_width, cone_spread;
+    ray__hit_cone hit_cone;
+    const ray_photon_map *photons;  /* what ray_caustics_at reads: the
+                                       render's map, or the one given to
+                                       ray_ctx_set_photon_map; NULL: none */
+};
+
+/* splitmix64 (Steele, Lea, Flood, OOPSLA 2014): a tiny, fast, well-mixed
+** generator whose state is a single counter, so a pixel's sequence can be
+** started anywhere from a hash of its coordinates. */
+static inline unsigned long long ray__mix64(unsigned long long z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* The sampler state of sample "s" of pixel (x, y) in a frame with "seed":
+** a hash of all four, independent of which thread renders the pixel. */
+static inline unsigned long long ray__pixel_seed(unsigned long long seed,
+                                                 unsigned x, unsigned y,
+                                                 unsigned s)
+{
+    unsigned long long h = ray__mix64(seed + 0x9e3779b97f4a7c15ull);
+    h = ray__mix64(h ^ (((unsigned long long)y << 32) | x));
+    return ray__mix64(h + s);
+}
+
+/* Reset a context's per-sample state. */
+void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
+
+/* The shade args of hit "hit" of ray "r" in scene "s" at "depth" with path
+** weight "weight": what a material's shade (and scatter) callback gets. */
+void ray__shade_args(const ray_scene *s, const ray_ray *r,
+                     const ray_hit *hit, unsigned depth, double weight,
+                     ray_shade_args *args);
+
+/*
+** The photon pass (photons.c): ray_photon_map_build's work on "threads"
+** threads (0: one per online CPU), "photons" photons, options already
+** checked; ray__photon_map_counts adds the map's counters (photons
+** emitted and stored, the photon rays' intersection tests) to *st.
+*/
+int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
+                         double radius, unsigned long long seed,
+                         unsigned threads, ray_photon_map **out);
+void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st);
+
+/* Is a photon radius acceptable (0: automatic, else finite and > 0)? */
+int ray__photon_radius_valid(double r);
+
+#endif /* RAY_TRACE_H */
