@@ -50,6 +50,29 @@
 **     object (the primitives, optics, ray_strerror) are reentrant.
 **     ray(7), "Threads" and "Dynamic scenes", states the rule in full.
 */
+/*
+** Contents, in the order a program meets them: README's first example
+** tests a ray against a sphere alone (1, 2); its second builds a scene,
+** renders it and writes a PNG (3 to 10); picking in a game queries a
+** scene (11, 12); a material of one's own traces rays (13, 14); the
+** other surfaces come last (15).
+**    1. values              ray_vec3, ray_ray, ray_hit, ids
+**    2. primitives          the lecture's ray / object tests
+**    3. errors              status codes, ray_strerror
+**    4. version
+**    5. scene               materials, lights, geometry, settings, commit
+**    6. textures            images as textures
+**    7. built-in materials  Phong, mirror, glass, checker
+**    8. counters            ray_stats
+**    9. rendering           camera, ray_render, caustics
+**   10. images              PNG output
+**   11. queries             nearest hit, any hit, closest point
+**   12. games and tools     instances, changes, masks, filters, batches
+**   13. tracing             contexts, ray_trace, lights, direct light
+**   14. secondary rays      ray_spawn, reflection, refraction
+**   15. more surfaces       implicit, torus, box, capsule, blobs,
+**                           parametric, Bezier, the caller's own
+*/
 #ifndef RAY_H
 #define RAY_H
 
@@ -65,51 +88,7 @@ extern "C" {
 #define RAY_API
 #endif
 
-/* ---------------------------------------------------------------- version */
-
-#define RAY_VERSION_MAJOR 0
-#define RAY_VERSION_MINOR 1
-#define RAY_VERSION_PATCH 0
-/* major*10000 + minor*100 + patch, for compile-time comparisons. */
-#define RAY_VERSION_NUMBER 100
-#define RAY_VERSION_STRING "0.1.0"
-
-/*
-** The version of the library actually linked, to compare with
-** RAY_VERSION_NUMBER / RAY_VERSION_STRING of the header compiled against.
-** The string is static and must not be freed.
-*/
-RAY_API int ray_version_number(void);
-RAY_API const char *ray_version_string(void);
-
-/* ----------------------------------------------------------------- errors */
-
-enum {
-    RAY_OK = 0,          /* success */
-    RAY_EINVAL,          /* invalid argument: NULL, NaN, Inf, out of domain */
-    RAY_EDEGENERATE,     /* degenerate geometry: zero area or length */
-    RAY_ERANGE,          /* a result would overflow double */
-    RAY_ENOMEM,          /* an allocation failed */
-    RAY_EIO,             /* an I/O call failed (see errno) */
-    RAY_EPNG,            /* libpng reported an error */
-    RAY_ESTATE,          /* call not allowed in the object's current state */
-    RAY_ECANCELED,       /* the caller's progress callback cancelled */
-    RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
-                            weight, fan-out), iterations, image load */
-    RAY_EEFFECT,         /* a material asked for an undeclared effect */
-    RAY_ENOTSUP          /* not supported by this build (PNG I/O in a
-                            library built with make PNG=0) */
-};
-
-/*
-** A static, English, one-line description of status code "code", or of
-** its negation (-RAY_ELIMIT reads as RAY_ELIMIT: the queries and the
-** iterative intersections return negated statuses); an unknown code gives
-** "unknown error".  Never NULL; do not free.
-*/
-RAY_API const char *ray_strerror(int code);
-
-/* ------------------------------------------------------------ value types */
+/* ------------------------------------------------------------ 1. values */
 
 typedef struct ray_vec3 {
     double x, y, z;
@@ -156,7 +135,7 @@ typedef struct ray_hit {
                           the scene queried), RAY_INVALID_ID if none */
 } ray_hit;
 
-/* --------------------------------------------- the lecture's primitives */
+/* ----------------------------------------- 2. primitives: the lecture's */
 
 /*
 ** ray_sphere -- ray against the sphere |p - center| = radius.
@@ -275,349 +254,51 @@ RAY_API int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t n,
 RAY_API int ray_barycentric(ray_vec3 p, ray_vec3 a, ray_vec3 b, ray_vec3 c,
                             double abg[3], int *inside);
 
-/* ------------------------------------- implicit and parametric surfaces */
+/* ------------------------------------------------------------ 3. errors */
+
+enum {
+    RAY_OK = 0,          /* success */
+    RAY_EINVAL,          /* invalid argument: NULL, NaN, Inf, out of domain */
+    RAY_EDEGENERATE,     /* degenerate geometry: zero area or length */
+    RAY_ERANGE,          /* a result would overflow double */
+    RAY_ENOMEM,          /* an allocation failed */
+    RAY_EIO,             /* an I/O call failed (see errno) */
+    RAY_EPNG,            /* libpng reported an error */
+    RAY_ESTATE,          /* call not allowed in the object's current state */
+    RAY_ECANCELED,       /* the caller's progress callback cancelled */
+    RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
+                            weight, fan-out), iterations, image load */
+    RAY_EEFFECT,         /* a material asked for an undeclared effect */
+    RAY_ENOTSUP          /* not supported by this build (PNG I/O in a
+                            library built with make PNG=0) */
+};
 
 /*
-** ray_implicit -- ray against the implicit surface f(p) = 0, as root
-** finding on g(t) = f(org + t*dir) (the lecture's "ray ∩ implicit").
-**
-** f is the user's callback: f < 0 inside, f > 0 outside.  Only roots in
-** the box [lo, hi] are searched: the ray is clipped to it first.  Then:
-**
-**   * lipschitz = L > 0 promises |f(p) - f(q)| <= L |p - q| in the box, so
-**     no root lies within |f(p)| / L of p: the march steps by that much
-**     (sphere tracing: Hart, "Sphere Tracing", The Visual Computer 12(10),
-**     1996), never less than the tolerance.  A thin feature cannot be
-**     skipped, and a double root (a ray tangent to the surface) is found:
-**     where the step falls to the tolerance the gradient step
-**     p - f grad f / |grad f|^2 is probed, and a surface point of the
-**     other sign within the tolerance of the ray counts as a hit.
-**   * lipschitz = 0 (no bound known): the march samples g every "step"
-**     (world units) and detects sign changes, so features thinner than the
-**     step, and double roots, can be missed.
-**
-** A sign change brackets a root; it is refined by safeguarded Newton (on
-** g'(t) = grad f . dir, when a gradient callback is given) or else the
-** Illinois variant of regula falsi, both falling back to bisection,
-** until the bracket is narrower than "tolerance" (world units along the
-** ray) or no double lies inside it.  The hit is the
-** root of the first bracket along the ray: it is REAL (f changes sign
-** within the tolerance of hit->p), never a guess.
-**
-** On a hit: n = the unit gradient at p (outward: toward f > 0), from the
-** "gradient" callback or central differences; (u, v) from the "uv"
-** callback, else 0; p_err covers the tolerance and p's rounding.
-**
-** Returns 1 (hit), 0 (miss, also for an invalid ray), or a NEGATED status
-** with *hit untouched: -RAY_ELIMIT when max_iterations evaluations of f
-** ran out before the march decided (a grazing ray can need many small
-** steps), -RAY_EINVAL for NULL pointers, an invalid descriptor (NULL f, a
-** box that is not finite or has lo > hi, negative or non-finite settings),
-** or callbacks that misbehave: f NaN or Inf at a point of the box, a zero
-** or non-finite gradient at the hit, a non-finite (u, v).
-**
-** Defaults (a field left 0): step = box diagonal / 128; tolerance =
-** 1e-9 * box diagonal + 64 * DBL_EPSILON * largest |coordinate| of the
-** box (the surface's size, and the coarseness of coordinates far from
-** the origin); max_iterations = 100000 (sphere tracing
-** needs ~3 sqrt(2 R / tolerance) steps to bring a ray tangent to a
-** surface of curvature radius R within the tolerance: 63,000 for a
-** sphere filling its box).
-** Thread-safe if the callbacks are.
+** A static, English, one-line description of status code "code", or of
+** its negation (-RAY_ELIMIT reads as RAY_ELIMIT: the queries and the
+** iterative intersections return negated statuses); an unknown code gives
+** "unknown error".  Never NULL; do not free.
 */
-typedef double (*ray_field_fn)(void *ud, ray_vec3 p);
-typedef ray_vec3 (*ray_gradient_fn)(void *ud, ray_vec3 p);
-typedef void (*ray_uv_fn)(void *ud, ray_vec3 p, ray_vec3 n, double *u,
-                          double *v);
+RAY_API const char *ray_strerror(int code);
 
-typedef struct ray_implicit_surface {
-    ray_field_fn f;              /* f(p): < 0 inside, > 0 outside */
-    ray_gradient_fn gradient;    /* grad f, or NULL: central differences */
-    ray_uv_fn uv;                /* texture coordinates, or NULL: 0, 0 */
-    void *ud;                    /* passed to the three; borrowed */
-    ray_vec3 lo, hi;             /* a box containing the surface */
-    double lipschitz;            /* > 0: a bound on |grad f|; 0: none */
-    double step;                 /* without a bound: the sampling step */
-    double tolerance;            /* of the hit along the ray, world units */
-    unsigned max_iterations;     /* evaluations of f per ray */
-} ray_implicit_surface;
+/* ----------------------------------------------------------- 4. version */
 
-RAY_API int ray_implicit(const ray_ray *r, const ray_implicit_surface *s,
-                         ray_hit *hit);
+#define RAY_VERSION_MAJOR 0
+#define RAY_VERSION_MINOR 1
+#define RAY_VERSION_PATCH 0
+/* major*10000 + minor*100 + patch, for compile-time comparisons. */
+#define RAY_VERSION_NUMBER 100
+#define RAY_VERSION_STRING "0.1.0"
 
 /*
-** ray_torus -- ray against the ring torus of "major" radius R (centre to
-** tube centre) and "minor" radius r, 0 < r < R, around the axis through
-** "center" along "axis" (any length).  (A spindle torus, r >= R, crosses
-** itself: its quartic has an inner surface that this contract does not
-** cover, so it is refused.)
-**
-** Exact: the quartic g(t) = (|q|^2 + R^2 - r^2)^2 - 4R^2|q - (q.a)a|^2 = 0
-** in the torus's own frame, with the ray origin first moved to the point
-** of the ray nearest the centre (so far-away rays keep their digits, as in
-** ray_sphere).  Its real roots are isolated by the roots of its
-** derivatives (cubic, then quadratic, solved the same way) and each is
-** refined by safeguarded Newton inside its monotone interval (Yuksel,
-** "High-Performance Polynomial Root Finding for Graphics", HPG 2022): no
-** closed formula, so no catastrophic cancellation of Ferrari's method.
-** Tangent rays (double roots) hit where the polynomial touches zero in
-** floating point.
-**
-** On a hit: n = outward unit normal; u = angle around the axis / 2pi,
-** v = angle around the tube / 2pi, both in [0, 1].  Returns 1 or 0 (*hit
-** untouched); invalid input (NULL, NaN, Inf, zero axis, radii not > 0) is
-** a miss (also r >= R).
-**
-** ray_implicit_torus -- the same torus as a ray_implicit_surface for the
-** generic method: its exact signed distance (Lipschitz constant 1), its
-** gradient and the same (u, v).  The params are BORROWED (they are the
-** surface's ud).  RAY_OK, or RAY_EINVAL (nothing written).
+** The version of the library actually linked, to compare with
+** RAY_VERSION_NUMBER / RAY_VERSION_STRING of the header compiled against.
+** The string is static and must not be freed.
 */
-typedef struct ray_torus_params {
-    ray_vec3 center;
-    ray_vec3 axis;
-    double major, minor;
-} ray_torus_params;
+RAY_API int ray_version_number(void);
+RAY_API const char *ray_version_string(void);
 
-RAY_API int ray_torus(const ray_ray *r, const ray_torus_params *t,
-                      ray_hit *hit);
-RAY_API int ray_implicit_torus(const ray_torus_params *t,
-                               ray_implicit_surface *out);
-
-/*
-** ray_box -- ray against the oriented box of half-extents h =
-** half_extents (each > 0 and finite) about "center", whose local x axis
-** is axis_x and whose local y axis is axis_y, both in world space, of any
-** length and not parallel: the frame is ex = axis_x / |axis_x|, ey =
-** axis_y made orthogonal to ex (Gram-Schmidt) and normalised, ez = ex x
-** ey (right-handed), computed by the same operations on every call.  An
-** axis-aligned box: axis_x = (1, 0, 0), axis_y = (0, 1, 0).  The axes
-** are refused as parallel when axis_y's part orthogonal to axis_x is
-** within the rounding error of computing it (an angle under ~2e-15
-** rad); keep them at a clear angle: the frame's error is about 1e-15 /
-** sin(angle), a few ulps for orthogonal axes.
-**
-** The slab method in the box's frame, the ray's origin taken relative to
-** the centre (so a box far from the origin keeps its digits) and its
-** direction scaled by a power of two (any length gives the same hit).
-** The box is closed: a ray through an edge or a corner hits, and so does
-** a ray lying in a face's plane within the face (at the edge where it
-** enters).  A ray starting inside hits the face it leaves through.
-**
-** On a hit: n = the face's OUTWARD unit normal, +-ex, +-ey or +-ez (also
-** from inside); t passes the conservative tmin test of every primitive;
-** (u, v) in [0, 1]^2 on the face: for the face +-e_k, u runs along
-** e_(k+1) (cyclically: x -> y -> z -> x), reversed on the negative face,
-** and v along e_(k+2), from the face's edge at -h to the one at +h, so
-** that (dp/du, dp/dv, n) is right-handed on every face: a texture reads
-** unmirrored from outside.  At an edge or a corner, where two faces'
-** slabs tie, the face of the lower axis (x, then y, then z) is reported.
-** Returns 1 or 0 (*hit untouched); invalid params (NULL, NaN, Inf, a
-** half-extent not > 0, a zero or parallel axis, a box reaching beyond
-** the largest double) are a miss.
-**
-** ray_scene_add_box -- copies the params; hits as ray_box, prim_id 0.
-** RAY_EINVAL (with a message naming the field) for params ray_box
-** refuses, or an unknown material; RAY_ENOMEM.
-*/
-typedef struct ray_box_params {
-    ray_vec3 center;
-    ray_vec3 half_extents;       /* along the local x, y, z; each > 0 */
-    ray_vec3 axis_x;             /* the local x axis, any length */
-    ray_vec3 axis_y;             /* the local y axis, not parallel to x */
-} ray_box_params;
-
-RAY_API int ray_box(const ray_ray *r, const ray_box_params *b,
-                    ray_hit *hit);
-
-/*
-** ray_capsule -- ray against the capsule of radius "radius" around the
-** segment [a, b]: every point at distance radius from the segment, a
-** cylinder around it closed by two hemispheres (the shape games use for
-** characters' collision and picking).  a == b is allowed: a sphere.
-**
-** Exact, to rounding: the cylinder's quadratic and the caps' are solved
-** as ray_sphere's (closest-approach discriminant, q = b + sign(b) sqrt,
-** roots c/q and q/a) relative to the segment's midpoint, so far-away
-** capsules keep their digits; a ray parallel to the axis meets the caps
-** (no epsilon).  The nearest crossing in (tmin, tmax) whose error bound
-** also lies past tmin is the hit (ray-numerics(7)).
-**
-** On a hit: n = outward unit normal; p on the surface, within p_err.
-** With w the unit axis from a to b and (t1, t2) ray_plane's tangents for
-** the normal w (a == b: w = +y):
-**   u = atan2(n.t1, -n.t2) / 2pi + 1/2 in [0, 1], the angle around the
-**       axis (1/2 toward -t2, 3/4 toward t1; for w = +y, ray_sphere's u);
-**   v = the arc length along the meridian from a's pole (v = 0) through
-**       the cylinder to b's pole (v = 1) over its length pi radius +
-**       |b - a|: continuous across the seams (a == b: ray_sphere's v).
-** Returns 1 or 0 (*hit untouched); invalid input (NULL, NaN or Inf, a
-** radius not > 0 and finite, a capsule whose box overflows) is a miss.
-*/
-typedef struct ray_capsule_params {
-    ray_vec3 a, b;               /* the segment's ends (a == b: a sphere) */
-    double radius;               /* > 0 */
-} ray_capsule_params;
-
-RAY_API int ray_capsule(const ray_ray *r, const ray_capsule_params *c,
-                        ray_hit *hit);
-
-/*
-** ray_implicit_blobs -- metaballs (Blinn's "blobby molecules", with
-** Wyvill's compact falloff): f(p) = threshold - sum of strength_i *
-** (1 - |p - c_i|^2 / radius_i^2)^2 over the blobs whose radius reaches p.
-** Strengths may be negative (a blob that carves).  Fills *out with f, its
-** exact gradient, the box of the positive blobs (where f < threshold is
-** possible), (u, v) = the normal's longitude and latitude as ray_sphere
-** gives them, and the Lipschitz bound
-** sum |strength_i| * 8 / (3 sqrt(3) radius_i) (the falloff's steepest
-** slope), so ray_implicit sphere-traces it.  The params and the blob
-** array are BORROWED.  RAY_OK, or RAY_EINVAL (NULL, no blobs, a
-** non-finite value, a radius not > 0, a threshold not > 0).
-*/
-typedef struct ray_blob {
-    ray_vec3 center;
-    double radius;               /* of influence */
-    double strength;
-} ray_blob;
-
-typedef struct ray_blobs_params {
-    const ray_blob *blobs;
-    size_t count;
-    double threshold;            /* e.g. 0.5 */
-} ray_blobs_params;
-
-RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
-                               ray_implicit_surface *out);
-
-/*
-** ray_parametric -- ray against the parametric surface S(u, v), u in
-** [u0, u1], v in [v0, v1] (the lecture's "ray ∩ parametric"): solve
-** org + t*dir = S(u, v) for (t, u, v) by Newton's method, each step's
-** 3x3 system [dir, -S_u, -S_v] [dt du dv]^T = S(u, v) - org - t*dir solved
-** by Cramer's rule.
-**
-** Starting guesses come from subdividing the (u, v) domain: the "bounds"
-** callback gives a box containing S over a sub-rectangle; sub-rectangles
-** whose box the ray misses (or enters beyond the nearest hit so far) are
-** dropped, the others split in four down to "subdivisions" levels, and
-** Newton starts at the centre of each remaining one, at the t where the
-** ray enters its box.  Iterates stay in that sub-rectangle grown by 1/16
-** of its size (so roots on its border are not lost) and in the domain: a
-** step out is cut at the border, and from the border the iterate slides
-** along it (that parameter held, the others solved by least squares), as
-** it does where S does not move along a parameter (a collapsed edge).  An
-** iterate is accepted when |org + t*dir - S(u, v)| <= tolerance and
-** tmin < t < tmax.  A sub-rectangle whose start finds no root is split
-** again, up to 8 more levels and 4096 boxes per ray; one whose start finds
-** a root is split too, unless the normals at its corners, centre and root
-** all face the ray the same way with a margin larger than their spread
-** (the ray then crosses it once) (Sweeney and Bartels's refinement:
-** smaller boxes prove a miss or give better starts, and a grazing ray's
-** nearer crossing is not lost).  A singular
-** system (a ray parallel to the tangent plane) is a miss.  The nearest
-** accepted root is the hit.
-** For a surface made by ray_bezier_surface over its own domain [0, 1]^2,
-** the bounds callback is called once, for the whole patch: the boxes of
-** sub-rectangles come from the parent's control net halved by de
-** Casteljau, grown by gamma(6L + 2) * (max |cp| + 2 DBL_MIN) per axis at
-** level L, and contain the sub-patch like the callback's (twice as fast).
-**
-** On a hit: n = normalize(S_u x S_v) (the parameterisation's orientation),
-** taken 1e-6 (then 1e-4, 1e-2) of the domain's size toward its centre
-** where that cross product vanishes or is rounding noise (the collapsed
-** edges of a Bezier patch), else -dir/|dir|; (u, v) as found, inside the
-** domain; p = S(u, v); p_err = tolerance + gamma(18) * the box's largest
-** |coordinate| per axis (the rounding of a Bezier evaluation).
-**
-** Returns 1, 0 (miss), or -RAY_ELIMIT (*hit untouched) when no root was
-** accepted and some Newton start at the deepest refinement neither
-** converged nor left within max_iterations steps, or the refinement ran
-** out of boxes (non-convergence, reported rather than taken for a miss),
-** or -- whether or not a root was found -- the descent to "subdivisions"
-** levels asked for more than 262,144 boxes (a ray lying in a flat patch
-** of a 12-level tree: its work per ray is bounded);
-** -RAY_EINVAL for NULL r, s or hit, an invalid descriptor (NULL
-** callbacks, an empty or non-finite domain, subdivisions > 12, a negative
-** or non-finite tolerance), or non-finite values or a box with lo > hi
-** from the callbacks.  An invalid ray is a miss, decided before any
-** callback runs.
-** Defaults (a field left 0): the domain [0, 1]^2 when u0 = u1 = v0 = v1 =
-** 0; subdivisions = 4; tolerance = 1e-9 * diagonal + 64 * DBL_EPSILON *
-** largest |coordinate| of the whole surface's box (as ray_implicit);
-** max_iterations = 16.
-*/
-typedef void (*ray_surface_fn)(void *ud, double u, double v, ray_vec3 *s,
-                               ray_vec3 *s_u, ray_vec3 *s_v);
-typedef void (*ray_surface_bounds_fn)(void *ud, double u0, double u1,
-                                      double v0, double v1, ray_vec3 *lo,
-                                      ray_vec3 *hi);
-
-typedef struct ray_parametric_surface {
-    ray_surface_fn eval;         /* S(u, v) and its partials S_u, S_v */
-    ray_surface_bounds_fn bounds;/* a box containing S over a rectangle */
-    void *ud;                    /* passed to both; borrowed */
-    double u0, u1, v0, v1;       /* the domain */
-    unsigned subdivisions;       /* levels of the domain's quad tree */
-    double tolerance;            /* |e + td - S(u, v)| at a root */
-    unsigned max_iterations;     /* Newton steps per start */
-} ray_parametric_surface;
-
-RAY_API int ray_parametric(const ray_ray *r,
-                           const ray_parametric_surface *s, ray_hit *hit);
-
-/*
-** ray_bezier_surface -- the bicubic Bezier patch with control points
-** cp[4*i + j] (row i along v, column j along u, so cp[0], cp[3], cp[12],
-** cp[15] are the corners at (u, v) = (0,0), (1,0), (0,1), (1,1)) as a
-** ray_parametric_surface over [0, 1]^2.  Its bounds are the boxes of the
-** control points of the sub-patch (de Casteljau subdivision; the convex
-** hull property makes them contain it), grown by gamma(22) * max |cp| for
-** rounding; rectangles are clamped to [0, 1]^2.  The 16 points are BORROWED.
-** RAY_OK, or RAY_EINVAL (NULL, a non-finite point).
-*/
-RAY_API int ray_bezier_surface(const ray_vec3 cp[16],
-                               ray_parametric_surface *out);
-
-/* ----------------------------------------------------- secondary rays */
-
-/*
-** ray_spawn -- the ray leaving hit "hit" in direction "dir", with its
-** origin moved off the surface so it cannot hit that surface again
-** ("acne") nor skip geometry thicker than the hit point's own rounding
-** error.  The origin is p offset along the geometric normal, to the side
-** "dir" points to, by the error bound dot(|n|, p_err) times 2, then rounded
-** one more ulp away from p per component (pbrt-v4 OffsetRayOrigin, which
-** follows the same argument).  out->tmin = 0, out->tmax = +Inf.
-**
-** ray_spawn_to -- the same for a segment toward the point "target" (a
-** shadow ray): out->dir = target - origin, tmax = 1, so only geometry
-** strictly between the surface and the target blocks it.
-**
-** Both return RAY_OK, or RAY_EINVAL (nothing written) for NULL pointers,
-** non-finite input or a zero direction.  Thread-safe, no state.
-*/
-RAY_API int ray_spawn(const ray_hit *hit, ray_vec3 dir, ray_ray *out);
-RAY_API int ray_spawn_to(const ray_hit *hit, ray_vec3 target, ray_ray *out);
-
-/*
-** Optics helpers for material callbacks.  "d" is the incident direction
-** (toward the surface, any length) and "n" a unit normal on either side.
-**
-** ray_reflect: the mirror direction d - 2(d.n)n.
-** ray_refract: Snell's law for relative index eta = n_incident /
-**   n_transmitted, with n flipped to face d if needed.  Writes the unit
-**   transmitted direction and returns 1, or returns 0 (nothing written)
-**   on total internal reflection or bad input.
-** ray_fresnel: the unpolarised Fresnel reflectance of a dielectric
-**   interface for cos_i = cosine of the incidence angle (|d.n|/|d|) and
-**   eta = n_incident / n_transmitted; 1 on total internal reflection.
-*/
-RAY_API ray_vec3 ray_reflect(ray_vec3 d, ray_vec3 n);
-RAY_API int ray_refract(ray_vec3 d, ray_vec3 n, double eta, ray_vec3 *out);
-RAY_API double ray_fresnel(double cos_i, double eta);
-
-/* ------------------------------------------------------------------ scene */
+/* ------------------------------------------------------------- 5. scene */
 
 /* Linear RGB radiance or reflectance. */
 typedef struct ray_rgb {
@@ -1045,89 +726,6 @@ RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
                                unsigned material, unsigned *geom_id);
 
 /*
-** Curved surfaces in a scene, inside its BVH through their boxes.
-**
-** ray_scene_add_implicit: copies the descriptor (its ud stays BORROWED and
-** must outlive the scene); hits as ray_implicit.  ray_scene_add_torus:
-** copies the params, intersected with the quartic of ray_torus.
-** ray_scene_add_parametric: copies the descriptor (ud borrowed); the box
-** is its bounds over the whole domain.  ray_scene_add_bezier: copies the
-** 16 control points (as ray_bezier_surface lays them out).  Their hits
-** report prim_id 0 and (u, v) as the functions do.  A ray for which
-** ray_implicit or ray_parametric fails (a negative answer) counts as a
-** miss of that surface and adds 1 to ray_stats.root_failures.
-**
-** Errors, with nothing added: RAY_EINVAL (NULLs, an invalid descriptor or
-** torus, a non-finite control point, an unknown material), RAY_ENOMEM.
-*/
-RAY_API int ray_scene_add_implicit(ray_scene *scene,
-                                   const ray_implicit_surface *s,
-                                   unsigned material, unsigned *geom_id);
-RAY_API int ray_scene_add_torus(ray_scene *scene, const ray_torus_params *t,
-                                unsigned material, unsigned *geom_id);
-RAY_API int ray_scene_add_parametric(ray_scene *scene,
-                                     const ray_parametric_surface *s,
-                                     unsigned material, unsigned *geom_id);
-RAY_API int ray_scene_add_bezier(ray_scene *scene, const ray_vec3 cp[16],
-                                 unsigned material, unsigned *geom_id);
-RAY_API int ray_scene_add_box(ray_scene *scene, const ray_box_params *b,
-                              unsigned material, unsigned *geom_id);
-
-/*
-** ray_scene_add_capsule: copies the params; hits as ray_capsule, through
-** the BVH (the box: the segment's grown by radius).  RAY_EINVAL (with a
-** message naming the field: ray_scene_errmsg) for what ray_capsule
-** refuses, RAY_ENOMEM; nothing added.
-*/
-RAY_API int ray_scene_add_capsule(ray_scene *scene,
-                                  const ray_capsule_params *c,
-                                  unsigned material, unsigned *geom_id);
-
-/*
-** ray_scene_add_user -- the caller's own geometry (a character's capsule
-** set, a voxel chunk, a signed distance field) in the scene's BVH like
-** the built-in kinds: a box and an intersection callback.  The
-** descriptor is copied; its ud is BORROWED and must outlive the scene.
-**
-** User geometry: the scene calls these, never concurrently with a
-** building call, but CONCURRENTLY from query threads (intersect).
-** "bounds" is called once, by ray_scene_add_user, and the box kept: it
-** must hold every hit the intersection reports (a hit outside it may be
-** missed).  "intersect" gets the ray in the scene's (world) space, its
-** tmax already shrunk to the nearest hit found so far; it must be
-** reentrant.  It answers 1 with *hit filled (t, p, n, u, v, p_err) for
-** the nearest hit in (r->tmin, r->tmax), 0 for a miss, or a negative
-** status for a failure (ray_implicit's, passed on).  Like the built-in
-** tests it must report a hit only when t minus its rounding error still
-** exceeds tmin (no acne, ray-numerics(7)), and fill p_err (0 leaves
-** ray_spawn nothing to offset by).  The library checks the answer: t
-** outside (tmin, tmax) or NaN, a non-finite p, u or v, a p_err not
-** finite and >= 0, a normal not finite and non-zero, or an answer other
-** than 0 and 1, is a miss counted in ray_stats.root_failures; n is
-** normalised when it is not unit; geom_id and prim_id (0) are the
-** library's, whatever the callback wrote.  Tests count under
-** RAY_PRIM_USER.
-**
-** Errors, with nothing added: RAY_EINVAL (scene, g, bounds or intersect
-** NULL; a box not finite or with lo > hi, the axis named by
-** ray_scene_errmsg; an unknown material), RAY_ENOMEM.  In an instanced
-** scene the callback gets the ray in that scene's own space.
-*/
-typedef void (*ray_user_bounds_fn)(void *ud, ray_vec3 *lo, ray_vec3 *hi);
-typedef int (*ray_user_intersect_fn)(void *ud, const ray_ray *r,
-                                     ray_hit *hit);
-typedef struct ray_user_geometry {
-    ray_user_bounds_fn bounds;       /* the box holding the geometry */
-    ray_user_intersect_fn intersect; /* 1 and *hit filled (t, p, n, u, v,
-                                        p_err) for the nearest hit in
-                                        (r->tmin, r->tmax), else 0 */
-    void *ud;                        /* borrowed: must outlive the scene */
-} ray_user_geometry;
-RAY_API int ray_scene_add_user(ray_scene *scene,
-                               const ray_user_geometry *g,
-                               unsigned material, unsigned *geom_id);
-
-/*
 ** Lights (copied).  RAY_EINVAL for an unknown kind, non-finite or
 ** negative intensity, a zero direction (directional), a radius not > 0
 ** (sphere), parallel edges (rect) or samples > RAY_MAX_LIGHT_SAMPLES.
@@ -1215,6 +813,440 @@ RAY_API int ray_scene_set_build_threads(ray_scene *scene, unsigned threads);
 */
 RAY_API int ray_scene_commit(ray_scene *scene);
 
+/* ---------------------------------------------------------- 6. textures */
+
+/*
+** Texture coordinates (s, t) reach a material as ray_shade_args.u, v:
+** sphere: longitude and latitude (ray_sphere); plane and polygon: the
+** projected tangent axes (ray_plane); triangle: the barycentrics; mesh:
+** its per-vertex (s, t) interpolated by the barycentrics; torus: its two
+** angles; box: the position on the face (ray_box); capsule: the angle
+** around its axis and the meridian's arc (ray_capsule); Bezier and
+** parametric: (u, v); implicit: the surface's uv callback.
+**
+** A texture is a function of the shading point, called CONCURRENTLY from
+** the render threads: write the colour at args (usually at args->u, v)
+** into *out.  Materials that take one (ray_phong_params.texture) declare
+** RAY_EFFECT_TEXTURE.
+*/
+typedef void (*ray_texture_fn)(void *ud, const ray_shade_args *args,
+                               ray_rgb *out);
+
+typedef struct ray_texture {
+    ray_texture_fn fn;           /* NULL: no texture */
+    void *ud;                    /* borrowed */
+} ray_texture;
+
+/*
+** Images for textures.  ray_image_load_png reads a PNG file through libpng
+** (any bit depth and colour type, interlaced or not: palette and grey are
+** expanded, alpha composed on black in linear light) and stores it as
+** linear RGB floats.  An sRGB chunk, or no gamma information in an 8-bit
+** file, means the exact IEC 61966-2-1 curve; a gAMA chunk g means
+** linear = code^(1/g); a 16-bit file without either is linear (as
+** ray_write_png's 16-bit files are).
+** RAY_OK; RAY_EINVAL (NULLs); RAY_EIO (the file cannot be opened or read:
+** errno); RAY_EPNG (not a PNG, corrupt or truncated); RAY_ENOMEM;
+** RAY_ELIMIT (over a load limit, refused from the headers before the
+** image or the chunk is allocated); RAY_ENOTSUP in a library built
+** without libpng (make PNG=0), after the RAY_EINVAL checks.  *out is
+** untouched on failure.
+**
+** ray_image_load_png_opt -- the same with limits for files from untrusted
+** sources (opt NULL, or a field 0: the default).  Memory grows with the
+** rows decoded, so a file that declares a large image and then fails
+** costs little; a decoded image takes 12 bytes per pixel.
+**
+** Both constructors build the image's mip pyramid when it is made (the
+** exact area-weighted box filter: each level half the one below in each
+** dimension, rounded down, down to 1 x 1; an odd side is reduced with
+** weights by overlap, e.g. 5 texels to 2 with (0.4 0.4 0.2) and (0.2 0.4
+** 0.4), so every level keeps the image's mean colour; a 1 x N image
+** halves only N).  The pyramid takes about 1/3 more memory (a square
+** image: 16 bytes per pixel in all; at most twice the image for a 1 x N
+** strip).
+**
+** ray_image_new -- an image of width x height texels copied from "rgb":
+** linear RGB floats, 3 per texel, rows top to bottom (as ray_write_png
+** takes them), for procedural textures.  RAY_OK; RAY_EINVAL (NULLs, a
+** zero size, a value that is NaN or infinite); RAY_ELIMIT (a side over
+** 16384, ray_image_load_png's default limit); RAY_ENOMEM.  *out is
+** untouched on failure.
+**
+** ray_image_free(NULL) is a no-op.  ray_image_size writes width and
+** height (either pointer may be NULL).
+**
+** ray_image_sample -- the image at texture coordinates (s, t), s from the
+** left edge (0) to the right (1), t from the BOTTOM row (0) to the top (1),
+** repeating outside [0, 1) (wrap), filtered bilinearly between the four
+** nearest texel centres.  RAY_OK, or RAY_EINVAL (NULL, s or t not finite:
+** nothing written).
+**
+** ray_image_sample_footprint -- the image at (s, t) filtered over a
+** footprint "width" wide in texture units (1: the whole image; usually
+** ray_shade_args.footprint): trilinear mip-mapping, level lambda =
+** log2(width * max(image width, height)) blended between the two levels
+** around it; a width of at most one texel (lambda <= 0, width 0
+** included) gives exactly ray_image_sample's answer, a width beyond the
+** image (+Inf included) the 1 x 1 level, the mean colour.  RAY_OK, or
+** RAY_EINVAL (NULL, s or t not finite, width NaN or negative: nothing
+** written).
+**
+** ray_texture_image -- a texture that samples "img" at (args->u, args->v),
+** filtered over args->footprint when it is positive (the ray carried a
+** cone, ray_render_options.cones), else as ray_image_sample.
+** The image is BORROWED: it must outlive every scene that uses it.
+** Loaded images are read-only and may be shared between threads.
+*/
+typedef struct ray_image ray_image;
+
+typedef struct ray_image_load_options {
+    unsigned max_width;      /* pixels; 0: 16384 */
+    unsigned max_height;     /* pixels; 0: 16384 */
+    size_t max_pixels;       /* width * height; 0: 16384 * 16384 */
+    size_t max_chunk_bytes;  /* the largest chunk but IDAT; 0: 64 MiB */
+} ray_image_load_options;
+
+RAY_API int ray_image_load_png(const char *path, ray_image **out);
+RAY_API int ray_image_load_png_opt(const char *path,
+                                   const ray_image_load_options *opt,
+                                   ray_image **out);
+RAY_API int ray_image_new(unsigned width, unsigned height, const float *rgb,
+                          ray_image **out);
+RAY_API void ray_image_free(ray_image *img);
+RAY_API void ray_image_size(const ray_image *img, unsigned *width,
+                            unsigned *height);
+RAY_API int ray_image_sample(const ray_image *img, double s, double t,
+                             ray_rgb *out);
+RAY_API int ray_image_sample_footprint(const ray_image *img, double s,
+                                       double t, double width,
+                                       ray_rgb *out);
+RAY_API ray_texture ray_texture_image(const ray_image *img);
+
+/* ------------------------------------------------ 7. built-in materials */
+
+/*
+** Written with the public callback API only (src/materials.c): read them
+** as examples.  Each constructor returns a ray_material whose ud is the
+** given parameter block, which is BORROWED and must outlive the scene.
+**
+** ray_material_phong: ambient*diffuse + sum over lights of diffuse *
+**   max(0, n.l) + specular * max(0, r.v)^shininess (Phong) or
+**   max(0, n.h)^shininess (Blinn-Phong if blinn != 0), each light sample
+**   shadowed; plus a mirror term if reflect is non-zero.  Lambert is
+**   specular = reflect = 0.  With a texture, diffuse is multiplied by
+**   the texture's colour at the hit (and RAY_EFFECT_TEXTURE declared).
+** ray_material_mirror: perfect mirror, reflectance per channel.
+** ray_material_glass: dielectric: Fresnel-weighted reflection and
+**   refraction (Snell; total internal reflection), optional Beer-Lambert
+**   absorption per unit distance inside.
+** ray_material_checker: picks "even" or "odd" by the parity of
+**   floor(u*scale) + floor(v*scale) and shades with it (with the union of
+**   the two materials' effects).
+**
+** The effects are fixed when the material is made, from the parameter
+** block as it is then (Phong declares RAY_EFFECT_REFLECTION only if
+** reflect is non-zero).  Glass blocks shadow rays like any surface.
+*/
+typedef struct ray_phong_params {
+    ray_rgb diffuse;
+    ray_rgb specular;
+    double shininess;
+    int blinn;
+    ray_rgb reflect;
+    ray_texture texture;     /* fn != NULL: diffuse is multiplied by it */
+} ray_phong_params;
+
+typedef struct ray_glass_params {
+    double ior;              /* index of refraction inside, e.g. 1.5 */
+    ray_rgb absorption;      /* Beer-Lambert coefficient per unit length */
+} ray_glass_params;
+
+/* ray_phong_params_init -- a grey Lambertian surface: diffuse (0.8, 0.8,
+** 0.8), no specular (shininess 32 if one is set), Phong's lobe, no
+** reflection, no texture.  ray_glass_params_init -- ior 1.5 (window
+** glass), no absorption. */
+RAY_API void ray_phong_params_init(ray_phong_params *p);
+RAY_API void ray_glass_params_init(ray_glass_params *p);
+
+typedef struct ray_checker_params {
+    ray_material even, odd;
+    double scale;
+} ray_checker_params;
+
+RAY_API ray_material ray_material_phong(const ray_phong_params *p);
+RAY_API ray_material ray_material_mirror(const ray_rgb *reflectance);
+RAY_API ray_material ray_material_glass(const ray_glass_params *p);
+RAY_API ray_material ray_material_checker(const ray_checker_params *p);
+
+/* ---------------------------------------------------------- 8. counters */
+
+/*
+** Kinds of primitives, for the intersection-test counters.
+** RAY_PRIM_KINDS is the number in use; ray_stats.tests_by_kind has room
+** for RAY_PRIM_KINDS_MAX, so that a kind added later (numbered after the
+** last, before RAY_PRIM_KINDS) leaves ray_stats' size and layout as they
+** are.  The counters from RAY_PRIM_KINDS up stay 0.
+*/
+enum {
+    RAY_PRIM_SPHERE = 0,
+    RAY_PRIM_PLANE,
+    RAY_PRIM_TRIANGLE,           /* triangles and mesh triangles */
+    RAY_PRIM_POLYGON,
+    RAY_PRIM_TORUS,
+    RAY_PRIM_IMPLICIT,
+    RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
+    RAY_PRIM_BOX,
+    RAY_PRIM_CAPSULE,
+    RAY_PRIM_INSTANCE,           /* instances entered (ray_scene_add_instance);
+                                    their geometry's tests count by kind */
+    RAY_PRIM_USER,               /* ray_scene_add_user geometry */
+    RAY_PRIM_KINDS
+};
+#define RAY_PRIM_KINDS_MAX 16
+
+/* samples_hist[n] counts the pixels that took n samples (n < 64);
+** samples_hist[64], those that took 64 or more. */
+#define RAY_HIST_BINS 65
+
+/* Counters of one context or one render (summed over its threads). */
+typedef struct ray_stats {
+    unsigned long long rays[RAY_KIND_COUNT];  /* traced, by RAY_KIND_* */
+    unsigned long long tests;       /* ray-primitive intersection tests */
+    unsigned long long tests_by_kind[RAY_PRIM_KINDS_MAX];  /* the same, by
+                                       RAY_PRIM_*; RAY_PRIM_KINDS in use */
+    unsigned long long cut_depth;   /* rays refused by max_depth */
+    unsigned long long cut_weight;  /* rays refused by min_weight */
+    unsigned long long cut_fanout;  /* rays refused by max_fanout */
+    unsigned max_depth;             /* deepest level reached */
+    unsigned long long pixels;      /* pixels rendered (ray_render) */
+    unsigned long long samples_hist[RAY_HIST_BINS];
+    unsigned long long root_failures;  /* implicit, parametric or user
+                                          tests that failed (iteration
+                                          limit, or a callback giving NaN,
+                                          Inf or an invalid hit) and were
+                                          taken as misses */
+    unsigned long long filter_calls;   /* filter callbacks called
+                                          (ray_scene_set_filter) */
+    unsigned long long photons_emitted; /* photons traced from the lights
+                                           (ray_render, caustics) */
+    unsigned long long photons_stored;  /* photon hits stored after >= 1
+                                           specular bounce */
+    unsigned long long photon_lookups;  /* ray_caustics_at density
+                                           estimates over a photon map */
+} ray_stats;
+
+/* --------------------------------------------------------- 9. rendering */
+
+/*
+** A pinhole camera at "position" looking at "look_at", "up" giving the
+** roll, "vfov" the vertical field of view in degrees.  aperture > 0 makes
+** it a thin lens of that diameter focused at focus_distance (0: the
+** distance to look_at), for depth of field.
+*/
+typedef struct ray_camera {
+    ray_vec3 position, look_at, up;
+    double vfov;
+    double aperture;
+    double focus_distance;
+} ray_camera;
+
+/* ray_camera_init -- a pinhole camera at the origin looking down -z, up
+** (0, 1, 0), vfov 60 degrees, aperture 0, focus distance 0 (the look-at
+** distance). */
+RAY_API void ray_camera_init(ray_camera *c);
+
+/* Called after each finished row: return non-zero to cancel the render. */
+typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
+                               unsigned rows_total);
+
+typedef struct ray_render_options {
+    unsigned width, height;  /* the whole frame, in pixels */
+    unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
+                                height); rows are counted from the top */
+    unsigned threads;        /* 0 = one per online CPU */
+    unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
+                                1 = the pixel centre; a square k*k:
+                                jittered k x k strata; otherwise n-rooks
+                                strata on a rank-1 lattice, jittered */
+    unsigned long long seed; /* frame seed of every pixel's sampler */
+    ray_progress_fn progress;
+    void *progress_ud;
+    /* Adaptive antialiasing (Whitted 1980), used when adaptive_threshold
+    ** > 0 (then "samples" is not used, but must still be valid): the
+    ** pixel's four corners are sampled; where any channel differs between
+    ** them by more than the threshold the square is split in four, down to
+    ** adaptive_depth levels (1 .. 8), so a pixel takes 4 to
+    ** 4 + 5 (4^depth - 1) / 3 samples (samples_hist; a point on an edge
+    ** shared by two split squares counts for each, but a thread traces
+    ** it once, and a row's top edge once with the row above).  +Inf
+    ** samples the corners only.  Samples sit on a fixed lattice of the
+    ** frame and are seeded by their position: any thread count or region
+    ** split gives the same bytes. */
+    double adaptive_threshold;
+    unsigned adaptive_depth;
+    /* Ray cones (ray_ctx_set_cone): non-zero, every camera ray carries a
+    ** cone of width 0 at the eye and spread atan(2 tan(vfov/2) / height)
+    ** (one pixel's angle), divided by sqrt(samples) with several samples
+    ** per pixel (each sample stands for its stratum, 1/sqrt(samples) of
+    ** the pixel across: a sample filtered over the whole pixel would blur
+    ** the image twice); the whole pixel's angle with adaptive
+    ** antialiasing (a lattice point's value does not depend on the square
+    ** it serves).  A textured hit then filters its texture over the
+    ** cone's footprint (ray_texture_image).  0: rays are lines, footprint
+    ** 0, textures sampled as ray_image_sample does.  The cone models the
+    ** pixel, not a lens's defocus.  ray_render_options_init sets 1; a
+    ** zero-filled struct means 0, as for the other fields. */
+    int cones;
+    /* Caustics (ray_caustics_at): photons emitted from the lights before
+    ** the frame, 0 (the default) for none, at most RAY_MAX_PHOTONS; they
+    ** are traced only if ray_scene_effects has RAY_EFFECT_CAUSTICS.  The
+    ** gather radius in world units, 0 for the automatic one (ray(7),
+    ** "Caustics"): r = D / 100 * (photons / 100000)^(-1/6), D the
+    ** diagonal of the box of the geometry whose material scatters
+    ** photons (progressive photon mapping's shrinking radius, alpha =
+    ** 2/3: the estimate converges as photons grow; D is the scene's
+    ** bounded geometry's diagonal when some scattering geometry is a
+    ** plane). */
+    unsigned long long photons;
+    double photon_radius;
+} ray_render_options;
+
+/* Photons per frame: 2^26 (about 67 million), so the photon map (48
+** bytes a stored photon, up to max_depth stores a photon) stays within
+** a few GiB. */
+#define RAY_MAX_PHOTONS (1ull << 26)
+
+/* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
+** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
+** ray cones on, no photons (caustics off), automatic photon radius. */
+RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
+                                     unsigned height);
+
+/*
+** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
+** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
+** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
+** from a user material is stored as 0).  Rows are handed to the threads
+** in contiguous bands from a shared counter (guided: each band a quarter
+** of the remaining rows' share per thread, at least one); every pixel's
+** samples are seeded from (seed, x, y, sample), so the bytes are the same
+** whatever the thread count or region split.  "stats", if not NULL,
+** receives the counters summed over the threads.
+**
+** The progress callback is called from the render threads, one call at a
+** time, and never again after it asked to cancel.  Returns RAY_OK;
+** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
+** unspecified); RAY_EINVAL for NULLs, an uncommitted scene (never
+** committed, or changed since), zero sizes, samples outside 1 ..
+** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
+** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
+** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
+** axis, vfov not in (0, 180)), photons above RAY_MAX_PHOTONS or a
+** photon_radius NaN, negative, infinite or whose pi r^2 under- or
+** overflows (ray_caustics_at); RAY_ENOMEM.  If fewer threads than asked
+** can be started, the render goes on with those it has: the image is the
+** same.  A scene that instances a scene changed since its own commit
+** is refused with RAY_ESTATE before anything is rendered: commit the
+** scene after its instanced scenes.
+*/
+RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
+                       const ray_render_options *options, float *rgb,
+                       ray_stats *stats);
+
+/*
+** Caustics: light that reaches a diffuse surface through specular ones
+** (L S+ D E), which tracing from the eye cannot find.  With
+** options->photons > 0 and a scene whose ray_scene_effects has
+** RAY_EFFECT_CAUSTICS (a light, enabled geometry with a scattering
+** material, enabled geometry with a material declaring
+** RAY_EFFECT_CAUSTICS), ray_render first emits that many photons from
+** the lights (chosen in proportion to their power, aimed at the box of
+** the scattering geometry, each photon's power scaled by the fraction of
+** the light's emission it stands for, so the estimate stays unbiased),
+** traces them through the scattering materials (ray_scatter_fn) and
+** stores them where they land on a RAY_EFFECT_CAUSTICS material after
+** at least one specular bounce.  Photon i is seeded from (seed, i) alone
+** and the map is kept in photon order: the same bytes at any thread
+** count.  Other scenes trace no photon (photons_emitted = 0) and render
+** the same bytes as with photons = 0.
+**
+** ray_caustics_at -- called from a material declaring
+** RAY_EFFECT_CAUSTICS: the irradiance the photon map gives at the hit,
+** E = (sum of the power of the photons within the radius r of hit->p
+** that arrive at the front of args->normal) / (pi r^2) (the plain disk
+** kernel), in the units of the direct term of ray_shade_direct
+** (intensity * cos / dist^2), so diffuse * E is the caustic's radiance
+** as Phong's diffuse * n.l * intensity / dist^2 is the direct light's.
+** Writes zero when there is no photon map: no photons asked for, a scene
+** without caustics, outside ray_render without ray_ctx_set_photon_map,
+** or a material that did not declare RAY_EFFECT_CAUSTICS.  RAY_OK, or
+** RAY_EINVAL (NULL ctx, args, args->hit or irradiance; nothing written).
+**
+** ray_photon_map_build -- the same photon pass outside ray_render, for
+** programs that call ray_trace themselves: options->photons (1 ..
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
+** are read, the rest ignored.  A scene without caustics gives an empty
+** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
+** above the cap, a radius NaN, negative, infinite or whose pi r^2
+** under- or overflows); RAY_ESTATE (an
+** instanced scene changed since the commit); RAY_ENOMEM.  *out is
+** untouched on failure.
+** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
+** it must outlive the use; NULL: none) in this context.  RAY_OK, or
+** RAY_EINVAL (ctx NULL, or a map built for another scene).
+** ray_photon_map_free -- release it (NULL: no-op), after every context
+** using it is done, before or after its scene (it keeps a copy of the
+** scene's allocator).  A map is read-only once built: any number of
+** contexts on any threads may share it.  The photon pass allocates from
+** its threads (ray_scene_new; threads = 1 keeps it on the caller's).
+*/
+typedef struct ray_photon_map ray_photon_map;
+
+RAY_API int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
+                            ray_rgb *irradiance);
+RAY_API int ray_photon_map_build(const ray_scene *scene,
+                                 const ray_render_options *options,
+                                 ray_photon_map **out);
+RAY_API int ray_ctx_set_photon_map(ray_ctx *ctx, const ray_photon_map *map);
+RAY_API void ray_photon_map_free(ray_photon_map *map);
+
+/* ----------------------------------------------------------- 10. images */
+
+/*
+** ray_image_to_srgb8 -- encode "count" linear RGB float pixels (3 floats
+** each) as 8-bit sRGB (IEC 61966-2-1 transfer curve, rounded to nearest).
+** Values are clamped to [0, 1]; NaN becomes 0.  "out" receives 3*count
+** bytes.  Returns RAY_OK, or RAY_EINVAL for a NULL pointer.
+*/
+RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
+                               unsigned char *out);
+
+/*
+** ray_write_png -- write a width x height image of linear RGB floats
+** (3 per pixel, rows top to bottom, no padding) to the file "path" through
+** libpng.  bits = 8 writes 8-bit sRGB (with an sRGB chunk); bits = 16
+** writes 16-bit LINEAR samples with gAMA 1.0, for tools that want the
+** unquantised data.  Values are clamped to [0, 1]; NaN becomes 0.
+**
+** A regular file (or none yet) is written as "<path>.<pid>-<n>.tmp" beside
+** it and renamed over it only when complete: on failure only that file is
+** removed and an existing file is left as it was (its permission bits are
+** kept on success; a symbolic link is replaced, not followed).  A device
+** or FIFO is written in place and never removed; a directory is RAY_EIO.
+**
+** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
+** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
+** created or written (errno tells why); RAY_EPNG if libpng fails;
+** RAY_ENOTSUP in a library built without libpng (make PNG=0), after the
+** RAY_EINVAL checks, with no file created.
+** Thread-safe; the image is only read.
+*/
+RAY_API int ray_write_png(const char *path, const float *rgb,
+                          unsigned width, unsigned height, int bits);
+
+/* ---------------------------------------------------------- 11. queries */
+
 /*
 ** Queries on a committed scene, from any thread (while no thread changes
 ** it).  ray_intersect: the nearest hit in (tmin, tmax), with geom_id set
@@ -1289,8 +1321,9 @@ typedef struct ray_closest {
 RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
                               double radius, ray_closest *out);
 
-/* ------------------------------------------- games and tools: the scene
-** as a live, queried world (instances, updates, masks, filters) */
+/* --------------------------------------------------- 12. games and tools:
+** the scene as a live, queried world (instances, updates, masks, filters,
+** batches) */
 
 /*
 ** An affine transform, 3 rows of 4: p' = m[.][0..2] . p + m[.][3], i.e.
@@ -1492,62 +1525,7 @@ RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
 RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
                            size_t n, const ray_query *q, int *results);
 
-/* ---------------------------------------------------------------- tracing */
-
-/*
-** Kinds of primitives, for the intersection-test counters.
-** RAY_PRIM_KINDS is the number in use; ray_stats.tests_by_kind has room
-** for RAY_PRIM_KINDS_MAX, so that a kind added later (numbered after the
-** last, before RAY_PRIM_KINDS) leaves ray_stats' size and layout as they
-** are.  The counters from RAY_PRIM_KINDS up stay 0.
-*/
-enum {
-    RAY_PRIM_SPHERE = 0,
-    RAY_PRIM_PLANE,
-    RAY_PRIM_TRIANGLE,           /* triangles and mesh triangles */
-    RAY_PRIM_POLYGON,
-    RAY_PRIM_TORUS,
-    RAY_PRIM_IMPLICIT,
-    RAY_PRIM_PARAMETRIC,           /* parametric surfaces and Bezier patches */
-    RAY_PRIM_BOX,
-    RAY_PRIM_CAPSULE,
-    RAY_PRIM_INSTANCE,           /* instances entered (ray_scene_add_instance);
-                                    their geometry's tests count by kind */
-    RAY_PRIM_USER,               /* ray_scene_add_user geometry */
-    RAY_PRIM_KINDS
-};
-#define RAY_PRIM_KINDS_MAX 16
-
-/* samples_hist[n] counts the pixels that took n samples (n < 64);
-** samples_hist[64], those that took 64 or more. */
-#define RAY_HIST_BINS 65
-
-/* Counters of one context or one render (summed over its threads). */
-typedef struct ray_stats {
-    unsigned long long rays[RAY_KIND_COUNT];  /* traced, by RAY_KIND_* */
-    unsigned long long tests;       /* ray-primitive intersection tests */
-    unsigned long long tests_by_kind[RAY_PRIM_KINDS_MAX];  /* the same, by
-                                       RAY_PRIM_*; RAY_PRIM_KINDS in use */
-    unsigned long long cut_depth;   /* rays refused by max_depth */
-    unsigned long long cut_weight;  /* rays refused by min_weight */
-    unsigned long long cut_fanout;  /* rays refused by max_fanout */
-    unsigned max_depth;             /* deepest level reached */
-    unsigned long long pixels;      /* pixels rendered (ray_render) */
-    unsigned long long samples_hist[RAY_HIST_BINS];
-    unsigned long long root_failures;  /* implicit, parametric or user
-                                          tests that failed (iteration
-                                          limit, or a callback giving NaN,
-                                          Inf or an invalid hit) and were
-                                          taken as misses */
-    unsigned long long filter_calls;   /* filter callbacks called
-                                          (ray_scene_set_filter) */
-    unsigned long long photons_emitted; /* photons traced from the lights
-                                           (ray_render, caustics) */
-    unsigned long long photons_stored;  /* photon hits stored after >= 1
-                                           specular bounce */
-    unsigned long long photon_lookups;  /* ray_caustics_at density
-                                           estimates over a photon map */
-} ray_stats;
+/* ---------------------------------------------------------- 13. tracing */
 
 /*
 ** ray_ctx_new -- a trace context for tracing outside ray_render (which
@@ -1694,380 +1672,430 @@ RAY_API int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
 ** sequence: deterministic for a given pixel, sample and frame seed. */
 RAY_API double ray_ctx_random(ray_ctx *ctx);
 
-/* ---------------------------------------------------------------- textures */
+/* --------------------------------------------------- 14. secondary rays */
 
 /*
-** Texture coordinates (s, t) reach a material as ray_shade_args.u, v:
-** sphere: longitude and latitude (ray_sphere); plane and polygon: the
-** projected tangent axes (ray_plane); triangle: the barycentrics; mesh:
-** its per-vertex (s, t) interpolated by the barycentrics; torus: its two
-** angles; box: the position on the face (ray_box); capsule: the angle
-** around its axis and the meridian's arc (ray_capsule); Bezier and
-** parametric: (u, v); implicit: the surface's uv callback.
+** ray_spawn -- the ray leaving hit "hit" in direction "dir", with its
+** origin moved off the surface so it cannot hit that surface again
+** ("acne") nor skip geometry thicker than the hit point's own rounding
+** error.  The origin is p offset along the geometric normal, to the side
+** "dir" points to, by the error bound dot(|n|, p_err) times 2, then rounded
+** one more ulp away from p per component (pbrt-v4 OffsetRayOrigin, which
+** follows the same argument).  out->tmin = 0, out->tmax = +Inf.
 **
-** A texture is a function of the shading point, called CONCURRENTLY from
-** the render threads: write the colour at args (usually at args->u, v)
-** into *out.  Materials that take one (ray_phong_params.texture) declare
-** RAY_EFFECT_TEXTURE.
+** ray_spawn_to -- the same for a segment toward the point "target" (a
+** shadow ray): out->dir = target - origin, tmax = 1, so only geometry
+** strictly between the surface and the target blocks it.
+**
+** Both return RAY_OK, or RAY_EINVAL (nothing written) for NULL pointers,
+** non-finite input or a zero direction.  Thread-safe, no state.
 */
-typedef void (*ray_texture_fn)(void *ud, const ray_shade_args *args,
-                               ray_rgb *out);
-
-typedef struct ray_texture {
-    ray_texture_fn fn;           /* NULL: no texture */
-    void *ud;                    /* borrowed */
-} ray_texture;
+RAY_API int ray_spawn(const ray_hit *hit, ray_vec3 dir, ray_ray *out);
+RAY_API int ray_spawn_to(const ray_hit *hit, ray_vec3 target, ray_ray *out);
 
 /*
-** Images for textures.  ray_image_load_png reads a PNG file through libpng
-** (any bit depth and colour type, interlaced or not: palette and grey are
-** expanded, alpha composed on black in linear light) and stores it as
-** linear RGB floats.  An sRGB chunk, or no gamma information in an 8-bit
-** file, means the exact IEC 61966-2-1 curve; a gAMA chunk g means
-** linear = code^(1/g); a 16-bit file without either is linear (as
-** ray_write_png's 16-bit files are).
-** RAY_OK; RAY_EINVAL (NULLs); RAY_EIO (the file cannot be opened or read:
-** errno); RAY_EPNG (not a PNG, corrupt or truncated); RAY_ENOMEM;
-** RAY_ELIMIT (over a load limit, refused from the headers before the
-** image or the chunk is allocated); RAY_ENOTSUP in a library built
-** without libpng (make PNG=0), after the RAY_EINVAL checks.  *out is
-** untouched on failure.
+** Optics helpers for material callbacks.  "d" is the incident direction
+** (toward the surface, any length) and "n" a unit normal on either side.
 **
-** ray_image_load_png_opt -- the same with limits for files from untrusted
-** sources (opt NULL, or a field 0: the default).  Memory grows with the
-** rows decoded, so a file that declares a large image and then fails
-** costs little; a decoded image takes 12 bytes per pixel.
-**
-** Both constructors build the image's mip pyramid when it is made (the
-** exact area-weighted box filter: each level half the one below in each
-** dimension, rounded down, down to 1 x 1; an odd side is reduced with
-** weights by overlap, e.g. 5 texels to 2 with (0.4 0.4 0.2) and (0.2 0.4
-** 0.4), so every level keeps the image's mean colour; a 1 x N image
-** halves only N).  The pyramid takes about 1/3 more memory (a square
-** image: 16 bytes per pixel in all; at most twice the image for a 1 x N
-** strip).
-**
-** ray_image_new -- an image of width x height texels copied from "rgb":
-** linear RGB floats, 3 per texel, rows top to bottom (as ray_write_png
-** takes them), for procedural textures.  RAY_OK; RAY_EINVAL (NULLs, a
-** zero size, a value that is NaN or infinite); RAY_ELIMIT (a side over
-** 16384, ray_image_load_png's default limit); RAY_ENOMEM.  *out is
-** untouched on failure.
-**
-** ray_image_free(NULL) is a no-op.  ray_image_size writes width and
-** height (either pointer may be NULL).
-**
-** ray_image_sample -- the image at texture coordinates (s, t), s from the
-** left edge (0) to the right (1), t from the BOTTOM row (0) to the top (1),
-** repeating outside [0, 1) (wrap), filtered bilinearly between the four
-** nearest texel centres.  RAY_OK, or RAY_EINVAL (NULL, s or t not finite:
-** nothing written).
-**
-** ray_image_sample_footprint -- the image at (s, t) filtered over a
-** footprint "width" wide in texture units (1: the whole image; usually
-** ray_shade_args.footprint): trilinear mip-mapping, level lambda =
-** log2(width * max(image width, height)) blended between the two levels
-** around it; a width of at most one texel (lambda <= 0, width 0
-** included) gives exactly ray_image_sample's answer, a width beyond the
-** image (+Inf included) the 1 x 1 level, the mean colour.  RAY_OK, or
-** RAY_EINVAL (NULL, s or t not finite, width NaN or negative: nothing
-** written).
-**
-** ray_texture_image -- a texture that samples "img" at (args->u, args->v),
-** filtered over args->footprint when it is positive (the ray carried a
-** cone, ray_render_options.cones), else as ray_image_sample.
-** The image is BORROWED: it must outlive every scene that uses it.
-** Loaded images are read-only and may be shared between threads.
+** ray_reflect: the mirror direction d - 2(d.n)n.
+** ray_refract: Snell's law for relative index eta = n_incident /
+**   n_transmitted, with n flipped to face d if needed.  Writes the unit
+**   transmitted direction and returns 1, or returns 0 (nothing written)
+**   on total internal reflection or bad input.
+** ray_fresnel: the unpolarised Fresnel reflectance of a dielectric
+**   interface for cos_i = cosine of the incidence angle (|d.n|/|d|) and
+**   eta = n_incident / n_transmitted; 1 on total internal reflection.
 */
-typedef struct ray_image ray_image;
+RAY_API ray_vec3 ray_reflect(ray_vec3 d, ray_vec3 n);
+RAY_API int ray_refract(ray_vec3 d, ray_vec3 n, double eta, ray_vec3 *out);
+RAY_API double ray_fresnel(double cos_i, double eta);
 
-typedef struct ray_image_load_options {
-    unsigned max_width;      /* pixels; 0: 16384 */
-    unsigned max_height;     /* pixels; 0: 16384 */
-    size_t max_pixels;       /* width * height; 0: 16384 * 16384 */
-    size_t max_chunk_bytes;  /* the largest chunk but IDAT; 0: 64 MiB */
-} ray_image_load_options;
-
-RAY_API int ray_image_load_png(const char *path, ray_image **out);
-RAY_API int ray_image_load_png_opt(const char *path,
-                                   const ray_image_load_options *opt,
-                                   ray_image **out);
-RAY_API int ray_image_new(unsigned width, unsigned height, const float *rgb,
-                          ray_image **out);
-RAY_API void ray_image_free(ray_image *img);
-RAY_API void ray_image_size(const ray_image *img, unsigned *width,
-                            unsigned *height);
-RAY_API int ray_image_sample(const ray_image *img, double s, double t,
-                             ray_rgb *out);
-RAY_API int ray_image_sample_footprint(const ray_image *img, double s,
-                                       double t, double width,
-                                       ray_rgb *out);
-RAY_API ray_texture ray_texture_image(const ray_image *img);
-
-/* ------------------------------------------------------ built-in materials */
+/* ---------------------------------------------------- 15. more surfaces */
 
 /*
-** Written with the public callback API only (src/materials.c): read them
-** as examples.  Each constructor returns a ray_material whose ud is the
-** given parameter block, which is BORROWED and must outlive the scene.
+** ray_implicit -- ray against the implicit surface f(p) = 0, as root
+** finding on g(t) = f(org + t*dir) (the lecture's "ray ∩ implicit").
 **
-** ray_material_phong: ambient*diffuse + sum over lights of diffuse *
-**   max(0, n.l) + specular * max(0, r.v)^shininess (Phong) or
-**   max(0, n.h)^shininess (Blinn-Phong if blinn != 0), each light sample
-**   shadowed; plus a mirror term if reflect is non-zero.  Lambert is
-**   specular = reflect = 0.  With a texture, diffuse is multiplied by
-**   the texture's colour at the hit (and RAY_EFFECT_TEXTURE declared).
-** ray_material_mirror: perfect mirror, reflectance per channel.
-** ray_material_glass: dielectric: Fresnel-weighted reflection and
-**   refraction (Snell; total internal reflection), optional Beer-Lambert
-**   absorption per unit distance inside.
-** ray_material_checker: picks "even" or "odd" by the parity of
-**   floor(u*scale) + floor(v*scale) and shades with it (with the union of
-**   the two materials' effects).
+** f is the user's callback: f < 0 inside, f > 0 outside.  Only roots in
+** the box [lo, hi] are searched: the ray is clipped to it first.  Then:
 **
-** The effects are fixed when the material is made, from the parameter
-** block as it is then (Phong declares RAY_EFFECT_REFLECTION only if
-** reflect is non-zero).  Glass blocks shadow rays like any surface.
+**   * lipschitz = L > 0 promises |f(p) - f(q)| <= L |p - q| in the box, so
+**     no root lies within |f(p)| / L of p: the march steps by that much
+**     (sphere tracing: Hart, "Sphere Tracing", The Visual Computer 12(10),
+**     1996), never less than the tolerance.  A thin feature cannot be
+**     skipped, and a double root (a ray tangent to the surface) is found:
+**     where the step falls to the tolerance the gradient step
+**     p - f grad f / |grad f|^2 is probed, and a surface point of the
+**     other sign within the tolerance of the ray counts as a hit.
+**   * lipschitz = 0 (no bound known): the march samples g every "step"
+**     (world units) and detects sign changes, so features thinner than the
+**     step, and double roots, can be missed.
+**
+** A sign change brackets a root; it is refined by safeguarded Newton (on
+** g'(t) = grad f . dir, when a gradient callback is given) or else the
+** Illinois variant of regula falsi, both falling back to bisection,
+** until the bracket is narrower than "tolerance" (world units along the
+** ray) or no double lies inside it.  The hit is the
+** root of the first bracket along the ray: it is REAL (f changes sign
+** within the tolerance of hit->p), never a guess.
+**
+** On a hit: n = the unit gradient at p (outward: toward f > 0), from the
+** "gradient" callback or central differences; (u, v) from the "uv"
+** callback, else 0; p_err covers the tolerance and p's rounding.
+**
+** Returns 1 (hit), 0 (miss, also for an invalid ray), or a NEGATED status
+** with *hit untouched: -RAY_ELIMIT when max_iterations evaluations of f
+** ran out before the march decided (a grazing ray can need many small
+** steps), -RAY_EINVAL for NULL pointers, an invalid descriptor (NULL f, a
+** box that is not finite or has lo > hi, negative or non-finite settings),
+** or callbacks that misbehave: f NaN or Inf at a point of the box, a zero
+** or non-finite gradient at the hit, a non-finite (u, v).
+**
+** Defaults (a field left 0): step = box diagonal / 128; tolerance =
+** 1e-9 * box diagonal + 64 * DBL_EPSILON * largest |coordinate| of the
+** box (the surface's size, and the coarseness of coordinates far from
+** the origin); max_iterations = 100000 (sphere tracing
+** needs ~3 sqrt(2 R / tolerance) steps to bring a ray tangent to a
+** surface of curvature radius R within the tolerance: 63,000 for a
+** sphere filling its box).
+** Thread-safe if the callbacks are.
 */
-typedef struct ray_phong_params {
-    ray_rgb diffuse;
-    ray_rgb specular;
-    double shininess;
-    int blinn;
-    ray_rgb reflect;
-    ray_texture texture;     /* fn != NULL: diffuse is multiplied by it */
-} ray_phong_params;
+typedef double (*ray_field_fn)(void *ud, ray_vec3 p);
+typedef ray_vec3 (*ray_gradient_fn)(void *ud, ray_vec3 p);
+typedef void (*ray_uv_fn)(void *ud, ray_vec3 p, ray_vec3 n, double *u,
+                          double *v);
 
-typedef struct ray_glass_params {
-    double ior;              /* index of refraction inside, e.g. 1.5 */
-    ray_rgb absorption;      /* Beer-Lambert coefficient per unit length */
-} ray_glass_params;
+typedef struct ray_implicit_surface {
+    ray_field_fn f;              /* f(p): < 0 inside, > 0 outside */
+    ray_gradient_fn gradient;    /* grad f, or NULL: central differences */
+    ray_uv_fn uv;                /* texture coordinates, or NULL: 0, 0 */
+    void *ud;                    /* passed to the three; borrowed */
+    ray_vec3 lo, hi;             /* a box containing the surface */
+    double lipschitz;            /* > 0: a bound on |grad f|; 0: none */
+    double step;                 /* without a bound: the sampling step */
+    double tolerance;            /* of the hit along the ray, world units */
+    unsigned max_iterations;     /* evaluations of f per ray */
+} ray_implicit_surface;
 
-/* ray_phong_params_init -- a grey Lambertian surface: diffuse (0.8, 0.8,
-** 0.8), no specular (shininess 32 if one is set), Phong's lobe, no
-** reflection, no texture.  ray_glass_params_init -- ior 1.5 (window
-** glass), no absorption. */
-RAY_API void ray_phong_params_init(ray_phong_params *p);
-RAY_API void ray_glass_params_init(ray_glass_params *p);
-
-typedef struct ray_checker_params {
-    ray_material even, odd;
-    double scale;
-} ray_checker_params;
-
-RAY_API ray_material ray_material_phong(const ray_phong_params *p);
-RAY_API ray_material ray_material_mirror(const ray_rgb *reflectance);
-RAY_API ray_material ray_material_glass(const ray_glass_params *p);
-RAY_API ray_material ray_material_checker(const ray_checker_params *p);
-
-/* --------------------------------------------------------------- rendering */
+RAY_API int ray_implicit(const ray_ray *r, const ray_implicit_surface *s,
+                         ray_hit *hit);
 
 /*
-** A pinhole camera at "position" looking at "look_at", "up" giving the
-** roll, "vfov" the vertical field of view in degrees.  aperture > 0 makes
-** it a thin lens of that diameter focused at focus_distance (0: the
-** distance to look_at), for depth of field.
+** ray_torus -- ray against the ring torus of "major" radius R (centre to
+** tube centre) and "minor" radius r, 0 < r < R, around the axis through
+** "center" along "axis" (any length).  (A spindle torus, r >= R, crosses
+** itself: its quartic has an inner surface that this contract does not
+** cover, so it is refused.)
+**
+** Exact: the quartic g(t) = (|q|^2 + R^2 - r^2)^2 - 4R^2|q - (q.a)a|^2 = 0
+** in the torus's own frame, with the ray origin first moved to the point
+** of the ray nearest the centre (so far-away rays keep their digits, as in
+** ray_sphere).  Its real roots are isolated by the roots of its
+** derivatives (cubic, then quadratic, solved the same way) and each is
+** refined by safeguarded Newton inside its monotone interval (Yuksel,
+** "High-Performance Polynomial Root Finding for Graphics", HPG 2022): no
+** closed formula, so no catastrophic cancellation of Ferrari's method.
+** Tangent rays (double roots) hit where the polynomial touches zero in
+** floating point.
+**
+** On a hit: n = outward unit normal; u = angle around the axis / 2pi,
+** v = angle around the tube / 2pi, both in [0, 1].  Returns 1 or 0 (*hit
+** untouched); invalid input (NULL, NaN, Inf, zero axis, radii not > 0) is
+** a miss (also r >= R).
+**
+** ray_implicit_torus -- the same torus as a ray_implicit_surface for the
+** generic method: its exact signed distance (Lipschitz constant 1), its
+** gradient and the same (u, v).  The params are BORROWED (they are the
+** surface's ud).  RAY_OK, or RAY_EINVAL (nothing written).
 */
-typedef struct ray_camera {
-    ray_vec3 position, look_at, up;
-    double vfov;
-    double aperture;
-    double focus_distance;
-} ray_camera;
+typedef struct ray_torus_params {
+    ray_vec3 center;
+    ray_vec3 axis;
+    double major, minor;
+} ray_torus_params;
 
-/* ray_camera_init -- a pinhole camera at the origin looking down -z, up
-** (0, 1, 0), vfov 60 degrees, aperture 0, focus distance 0 (the look-at
-** distance). */
-RAY_API void ray_camera_init(ray_camera *c);
-
-/* Called after each finished row: return non-zero to cancel the render. */
-typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
-                               unsigned rows_total);
-
-typedef struct ray_render_options {
-    unsigned width, height;  /* the whole frame, in pixels */
-    unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
-                                height); rows are counted from the top */
-    unsigned threads;        /* 0 = one per online CPU */
-    unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
-                                1 = the pixel centre; a square k*k:
-                                jittered k x k strata; otherwise n-rooks
-                                strata on a rank-1 lattice, jittered */
-    unsigned long long seed; /* frame seed of every pixel's sampler */
-    ray_progress_fn progress;
-    void *progress_ud;
-    /* Adaptive antialiasing (Whitted 1980), used when adaptive_threshold
-    ** > 0 (then "samples" is not used, but must still be valid): the
-    ** pixel's four corners are sampled; where any channel differs between
-    ** them by more than the threshold the square is split in four, down to
-    ** adaptive_depth levels (1 .. 8), so a pixel takes 4 to
-    ** 4 + 5 (4^depth - 1) / 3 samples (samples_hist; a point on an edge
-    ** shared by two split squares counts for each, but a thread traces
-    ** it once, and a row's top edge once with the row above).  +Inf
-    ** samples the corners only.  Samples sit on a fixed lattice of the
-    ** frame and are seeded by their position: any thread count or region
-    ** split gives the same bytes. */
-    double adaptive_threshold;
-    unsigned adaptive_depth;
-    /* Ray cones (ray_ctx_set_cone): non-zero, every camera ray carries a
-    ** cone of width 0 at the eye and spread atan(2 tan(vfov/2) / height)
-    ** (one pixel's angle), divided by sqrt(samples) with several samples
-    ** per pixel (each sample stands for its stratum, 1/sqrt(samples) of
-    ** the pixel across: a sample filtered over the whole pixel would blur
-    ** the image twice); the whole pixel's angle with adaptive
-    ** antialiasing (a lattice point's value does not depend on the square
-    ** it serves).  A textured hit then filters its texture over the
-    ** cone's footprint (ray_texture_image).  0: rays are lines, footprint
-    ** 0, textures sampled as ray_image_sample does.  The cone models the
-    ** pixel, not a lens's defocus.  ray_render_options_init sets 1; a
-    ** zero-filled struct means 0, as for the other fields. */
-    int cones;
-    /* Caustics (ray_caustics_at): photons emitted from the lights before
-    ** the frame, 0 (the default) for none, at most RAY_MAX_PHOTONS; they
-    ** are traced only if ray_scene_effects has RAY_EFFECT_CAUSTICS.  The
-    ** gather radius in world units, 0 for the automatic one (ray(7),
-    ** "Caustics"): r = D / 100 * (photons / 100000)^(-1/6), D the
-    ** diagonal of the box of the geometry whose material scatters
-    ** photons (progressive photon mapping's shrinking radius, alpha =
-    ** 2/3: the estimate converges as photons grow; D is the scene's
-    ** bounded geometry's diagonal when some scattering geometry is a
-    ** plane). */
-    unsigned long long photons;
-    double photon_radius;
-} ray_render_options;
-
-/* Photons per frame: 2^26 (about 67 million), so the photon map (48
-** bytes a stored photon, up to max_depth stores a photon) stays within
-** a few GiB. */
-#define RAY_MAX_PHOTONS (1ull << 26)
-
-/* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
-** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
-** ray cones on, no photons (caustics off), automatic photon radius. */
-RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
-                                     unsigned height);
+RAY_API int ray_torus(const ray_ray *r, const ray_torus_params *t,
+                      ray_hit *hit);
+RAY_API int ray_implicit_torus(const ray_torus_params *t,
+                               ray_implicit_surface *out);
 
 /*
-** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
-** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
-** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
-** from a user material is stored as 0).  Rows are handed to the threads
-** in contiguous bands from a shared counter (guided: each band a quarter
-** of the remaining rows' share per thread, at least one); every pixel's
-** samples are seeded from (seed, x, y, sample), so the bytes are the same
-** whatever the thread count or region split.  "stats", if not NULL,
-** receives the counters summed over the threads.
+** ray_box -- ray against the oriented box of half-extents h =
+** half_extents (each > 0 and finite) about "center", whose local x axis
+** is axis_x and whose local y axis is axis_y, both in world space, of any
+** length and not parallel: the frame is ex = axis_x / |axis_x|, ey =
+** axis_y made orthogonal to ex (Gram-Schmidt) and normalised, ez = ex x
+** ey (right-handed), computed by the same operations on every call.  An
+** axis-aligned box: axis_x = (1, 0, 0), axis_y = (0, 1, 0).  The axes
+** are refused as parallel when axis_y's part orthogonal to axis_x is
+** within the rounding error of computing it (an angle under ~2e-15
+** rad); keep them at a clear angle: the frame's error is about 1e-15 /
+** sin(angle), a few ulps for orthogonal axes.
 **
-** The progress callback is called from the render threads, one call at a
-** time, and never again after it asked to cancel.  Returns RAY_OK;
-** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
-** unspecified); RAY_EINVAL for NULLs, an uncommitted scene (never
-** committed, or changed since), zero sizes, samples outside 1 ..
-** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
-** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
-** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
-** axis, vfov not in (0, 180)), photons above RAY_MAX_PHOTONS or a
-** photon_radius NaN, negative, infinite or whose pi r^2 under- or
-** overflows (ray_caustics_at); RAY_ENOMEM.  If fewer threads than asked
-** can be started, the render goes on with those it has: the image is the
-** same.  A scene that instances a scene changed since its own commit
-** is refused with RAY_ESTATE before anything is rendered: commit the
-** scene after its instanced scenes.
+** The slab method in the box's frame, the ray's origin taken relative to
+** the centre (so a box far from the origin keeps its digits) and its
+** direction scaled by a power of two (any length gives the same hit).
+** The box is closed: a ray through an edge or a corner hits, and so does
+** a ray lying in a face's plane within the face (at the edge where it
+** enters).  A ray starting inside hits the face it leaves through.
+**
+** On a hit: n = the face's OUTWARD unit normal, +-ex, +-ey or +-ez (also
+** from inside); t passes the conservative tmin test of every primitive;
+** (u, v) in [0, 1]^2 on the face: for the face +-e_k, u runs along
+** e_(k+1) (cyclically: x -> y -> z -> x), reversed on the negative face,
+** and v along e_(k+2), from the face's edge at -h to the one at +h, so
+** that (dp/du, dp/dv, n) is right-handed on every face: a texture reads
+** unmirrored from outside.  At an edge or a corner, where two faces'
+** slabs tie, the face of the lower axis (x, then y, then z) is reported.
+** Returns 1 or 0 (*hit untouched); invalid params (NULL, NaN, Inf, a
+** half-extent not > 0, a zero or parallel axis, a box reaching beyond
+** the largest double) are a miss.
+**
+** ray_scene_add_box -- copies the params; hits as ray_box, prim_id 0.
+** RAY_EINVAL (with a message naming the field) for params ray_box
+** refuses, or an unknown material; RAY_ENOMEM.
 */
-RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
-                       const ray_render_options *options, float *rgb,
-                       ray_stats *stats);
+typedef struct ray_box_params {
+    ray_vec3 center;
+    ray_vec3 half_extents;       /* along the local x, y, z; each > 0 */
+    ray_vec3 axis_x;             /* the local x axis, any length */
+    ray_vec3 axis_y;             /* the local y axis, not parallel to x */
+} ray_box_params;
+
+RAY_API int ray_box(const ray_ray *r, const ray_box_params *b,
+                    ray_hit *hit);
 
 /*
-** Caustics: light that reaches a diffuse surface through specular ones
-** (L S+ D E), which tracing from the eye cannot find.  With
-** options->photons > 0 and a scene whose ray_scene_effects has
-** RAY_EFFECT_CAUSTICS (a light, enabled geometry with a scattering
-** material, enabled geometry with a material declaring
-** RAY_EFFECT_CAUSTICS), ray_render first emits that many photons from
-** the lights (chosen in proportion to their power, aimed at the box of
-** the scattering geometry, each photon's power scaled by the fraction of
-** the light's emission it stands for, so the estimate stays unbiased),
-** traces them through the scattering materials (ray_scatter_fn) and
-** stores them where they land on a RAY_EFFECT_CAUSTICS material after
-** at least one specular bounce.  Photon i is seeded from (seed, i) alone
-** and the map is kept in photon order: the same bytes at any thread
-** count.  Other scenes trace no photon (photons_emitted = 0) and render
-** the same bytes as with photons = 0.
+** ray_capsule -- ray against the capsule of radius "radius" around the
+** segment [a, b]: every point at distance radius from the segment, a
+** cylinder around it closed by two hemispheres (the shape games use for
+** characters' collision and picking).  a == b is allowed: a sphere.
 **
-** ray_caustics_at -- called from a material declaring
-** RAY_EFFECT_CAUSTICS: the irradiance the photon map gives at the hit,
-** E = (sum of the power of the photons within the radius r of hit->p
-** that arrive at the front of args->normal) / (pi r^2) (the plain disk
-** kernel), in the units of the direct term of ray_shade_direct
-** (intensity * cos / dist^2), so diffuse * E is the caustic's radiance
-** as Phong's diffuse * n.l * intensity / dist^2 is the direct light's.
-** Writes zero when there is no photon map: no photons asked for, a scene
-** without caustics, outside ray_render without ray_ctx_set_photon_map,
-** or a material that did not declare RAY_EFFECT_CAUSTICS.  RAY_OK, or
-** RAY_EINVAL (NULL ctx, args, args->hit or irradiance; nothing written).
+** Exact, to rounding: the cylinder's quadratic and the caps' are solved
+** as ray_sphere's (closest-approach discriminant, q = b + sign(b) sqrt,
+** roots c/q and q/a) relative to the segment's midpoint, so far-away
+** capsules keep their digits; a ray parallel to the axis meets the caps
+** (no epsilon).  The nearest crossing in (tmin, tmax) whose error bound
+** also lies past tmin is the hit (ray-numerics(7)).
 **
-** ray_photon_map_build -- the same photon pass outside ray_render, for
-** programs that call ray_trace themselves: options->photons (1 ..
-** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
-** are read, the rest ignored.  A scene without caustics gives an empty
-** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
-** above the cap, a radius NaN, negative, infinite or whose pi r^2
-** under- or overflows); RAY_ESTATE (an
-** instanced scene changed since the commit); RAY_ENOMEM.  *out is
-** untouched on failure.
-** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
-** it must outlive the use; NULL: none) in this context.  RAY_OK, or
-** RAY_EINVAL (ctx NULL, or a map built for another scene).
-** ray_photon_map_free -- release it (NULL: no-op), after every context
-** using it is done, before or after its scene (it keeps a copy of the
-** scene's allocator).  A map is read-only once built: any number of
-** contexts on any threads may share it.  The photon pass allocates from
-** its threads (ray_scene_new; threads = 1 keeps it on the caller's).
+** On a hit: n = outward unit normal; p on the surface, within p_err.
+** With w the unit axis from a to b and (t1, t2) ray_plane's tangents for
+** the normal w (a == b: w = +y):
+**   u = atan2(n.t1, -n.t2) / 2pi + 1/2 in [0, 1], the angle around the
+**       axis (1/2 toward -t2, 3/4 toward t1; for w = +y, ray_sphere's u);
+**   v = the arc length along the meridian from a's pole (v = 0) through
+**       the cylinder to b's pole (v = 1) over its length pi radius +
+**       |b - a|: continuous across the seams (a == b: ray_sphere's v).
+** Returns 1 or 0 (*hit untouched); invalid input (NULL, NaN or Inf, a
+** radius not > 0 and finite, a capsule whose box overflows) is a miss.
 */
-typedef struct ray_photon_map ray_photon_map;
+typedef struct ray_capsule_params {
+    ray_vec3 a, b;               /* the segment's ends (a == b: a sphere) */
+    double radius;               /* > 0 */
+} ray_capsule_params;
 
-RAY_API int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
-                            ray_rgb *irradiance);
-RAY_API int ray_photon_map_build(const ray_scene *scene,
-                                 const ray_render_options *options,
-                                 ray_photon_map **out);
-RAY_API int ray_ctx_set_photon_map(ray_ctx *ctx, const ray_photon_map *map);
-RAY_API void ray_photon_map_free(ray_photon_map *map);
-
-/* ------------------------------------------------------------------ images */
+RAY_API int ray_capsule(const ray_ray *r, const ray_capsule_params *c,
+                        ray_hit *hit);
 
 /*
-** ray_image_to_srgb8 -- encode "count" linear RGB float pixels (3 floats
-** each) as 8-bit sRGB (IEC 61966-2-1 transfer curve, rounded to nearest).
-** Values are clamped to [0, 1]; NaN becomes 0.  "out" receives 3*count
-** bytes.  Returns RAY_OK, or RAY_EINVAL for a NULL pointer.
+** ray_implicit_blobs -- metaballs (Blinn's "blobby molecules", with
+** Wyvill's compact falloff): f(p) = threshold - sum of strength_i *
+** (1 - |p - c_i|^2 / radius_i^2)^2 over the blobs whose radius reaches p.
+** Strengths may be negative (a blob that carves).  Fills *out with f, its
+** exact gradient, the box of the positive blobs (where f < threshold is
+** possible), (u, v) = the normal's longitude and latitude as ray_sphere
+** gives them, and the Lipschitz bound
+** sum |strength_i| * 8 / (3 sqrt(3) radius_i) (the falloff's steepest
+** slope), so ray_implicit sphere-traces it.  The params and the blob
+** array are BORROWED.  RAY_OK, or RAY_EINVAL (NULL, no blobs, a
+** non-finite value, a radius not > 0, a threshold not > 0).
 */
-RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
-                               unsigned char *out);
+typedef struct ray_blob {
+    ray_vec3 center;
+    double radius;               /* of influence */
+    double strength;
+} ray_blob;
+
+typedef struct ray_blobs_params {
+    const ray_blob *blobs;
+    size_t count;
+    double threshold;            /* e.g. 0.5 */
+} ray_blobs_params;
+
+RAY_API int ray_implicit_blobs(const ray_blobs_params *p,
+                               ray_implicit_surface *out);
 
 /*
-** ray_write_png -- write a width x height image of linear RGB floats
-** (3 per pixel, rows top to bottom, no padding) to the file "path" through
-** libpng.  bits = 8 writes 8-bit sRGB (with an sRGB chunk); bits = 16
-** writes 16-bit LINEAR samples with gAMA 1.0, for tools that want the
-** unquantised data.  Values are clamped to [0, 1]; NaN becomes 0.
+** ray_parametric -- ray against the parametric surface S(u, v), u in
+** [u0, u1], v in [v0, v1] (the lecture's "ray ∩ parametric"): solve
+** org + t*dir = S(u, v) for (t, u, v) by Newton's method, each step's
+** 3x3 system [dir, -S_u, -S_v] [dt du dv]^T = S(u, v) - org - t*dir solved
+** by Cramer's rule.
 **
-** A regular file (or none yet) is written as "<path>.<pid>-<n>.tmp" beside
-** it and renamed over it only when complete: on failure only that file is
-** removed and an existing file is left as it was (its permission bits are
-** kept on success; a symbolic link is replaced, not followed).  A device
-** or FIFO is written in place and never removed; a directory is RAY_EIO.
+** Starting guesses come from subdividing the (u, v) domain: the "bounds"
+** callback gives a box containing S over a sub-rectangle; sub-rectangles
+** whose box the ray misses (or enters beyond the nearest hit so far) are
+** dropped, the others split in four down to "subdivisions" levels, and
+** Newton starts at the centre of each remaining one, at the t where the
+** ray enters its box.  Iterates stay in that sub-rectangle grown by 1/16
+** of its size (so roots on its border are not lost) and in the domain: a
+** step out is cut at the border, and from the border the iterate slides
+** along it (that parameter held, the others solved by least squares), as
+** it does where S does not move along a parameter (a collapsed edge).  An
+** iterate is accepted when |org + t*dir - S(u, v)| <= tolerance and
+** tmin < t < tmax.  A sub-rectangle whose start finds no root is split
+** again, up to 8 more levels and 4096 boxes per ray; one whose start finds
+** a root is split too, unless the normals at its corners, centre and root
+** all face the ray the same way with a margin larger than their spread
+** (the ray then crosses it once) (Sweeney and Bartels's refinement:
+** smaller boxes prove a miss or give better starts, and a grazing ray's
+** nearer crossing is not lost).  A singular
+** system (a ray parallel to the tangent plane) is a miss.  The nearest
+** accepted root is the hit.
+** For a surface made by ray_bezier_surface over its own domain [0, 1]^2,
+** the bounds callback is called once, for the whole patch: the boxes of
+** sub-rectangles come from the parent's control net halved by de
+** Casteljau, grown by gamma(6L + 2) * (max |cp| + 2 DBL_MIN) per axis at
+** level L, and contain the sub-patch like the callback's (twice as fast).
 **
-** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
-** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
-** created or written (errno tells why); RAY_EPNG if libpng fails;
-** RAY_ENOTSUP in a library built without libpng (make PNG=0), after the
-** RAY_EINVAL checks, with no file created.
-** Thread-safe; the image is only read.
+** On a hit: n = normalize(S_u x S_v) (the parameterisation's orientation),
+** taken 1e-6 (then 1e-4, 1e-2) of the domain's size toward its centre
+** where that cross product vanishes or is rounding noise (the collapsed
+** edges of a Bezier patch), else -dir/|dir|; (u, v) as found, inside the
+** domain; p = S(u, v); p_err = tolerance + gamma(18) * the box's largest
+** |coordinate| per axis (the rounding of a Bezier evaluation).
+**
+** Returns 1, 0 (miss), or -RAY_ELIMIT (*hit untouched) when no root was
+** accepted and some Newton start at the deepest refinement neither
+** converged nor left within max_iterations steps, or the refinement ran
+** out of boxes (non-convergence, reported rather than taken for a miss),
+** or -- whether or not a root was found -- the descent to "subdivisions"
+** levels asked for more than 262,144 boxes (a ray lying in a flat patch
+** of a 12-level tree: its work per ray is bounded);
+** -RAY_EINVAL for NULL r, s or hit, an invalid descriptor (NULL
+** callbacks, an empty or non-finite domain, subdivisions > 12, a negative
+** or non-finite tolerance), or non-finite values or a box with lo > hi
+** from the callbacks.  An invalid ray is a miss, decided before any
+** callback runs.
+** Defaults (a field left 0): the domain [0, 1]^2 when u0 = u1 = v0 = v1 =
+** 0; subdivisions = 4; tolerance = 1e-9 * diagonal + 64 * DBL_EPSILON *
+** largest |coordinate| of the whole surface's box (as ray_implicit);
+** max_iterations = 16.
 */
-RAY_API int ray_write_png(const char *path, const float *rgb,
-                          unsigned width, unsigned height, int bits);
+typedef void (*ray_surface_fn)(void *ud, double u, double v, ray_vec3 *s,
+                               ray_vec3 *s_u, ray_vec3 *s_v);
+typedef void (*ray_surface_bounds_fn)(void *ud, double u0, double u1,
+                                      double v0, double v1, ray_vec3 *lo,
+                                      ray_vec3 *hi);
+
+typedef struct ray_parametric_surface {
+    ray_surface_fn eval;         /* S(u, v) and its partials S_u, S_v */
+    ray_surface_bounds_fn bounds;/* a box containing S over a rectangle */
+    void *ud;                    /* passed to both; borrowed */
+    double u0, u1, v0, v1;       /* the domain */
+    unsigned subdivisions;       /* levels of the domain's quad tree */
+    double tolerance;            /* |e + td - S(u, v)| at a root */
+    unsigned max_iterations;     /* Newton steps per start */
+} ray_parametric_surface;
+
+RAY_API int ray_parametric(const ray_ray *r,
+                           const ray_parametric_surface *s, ray_hit *hit);
+
+/*
+** ray_bezier_surface -- the bicubic Bezier patch with control points
+** cp[4*i + j] (row i along v, column j along u, so cp[0], cp[3], cp[12],
+** cp[15] are the corners at (u, v) = (0,0), (1,0), (0,1), (1,1)) as a
+** ray_parametric_surface over [0, 1]^2.  Its bounds are the boxes of the
+** control points of the sub-patch (de Casteljau subdivision; the convex
+** hull property makes them contain it), grown by gamma(22) * max |cp| for
+** rounding; rectangles are clamped to [0, 1]^2.  The 16 points are BORROWED.
+** RAY_OK, or RAY_EINVAL (NULL, a non-finite point).
+*/
+RAY_API int ray_bezier_surface(const ray_vec3 cp[16],
+                               ray_parametric_surface *out);
+
+/*
+** Curved surfaces in a scene, inside its BVH through their boxes.
+**
+** ray_scene_add_implicit: copies the descriptor (its ud stays BORROWED and
+** must outlive the scene); hits as ray_implicit.  ray_scene_add_torus:
+** copies the params, intersected with the quartic of ray_torus.
+** ray_scene_add_parametric: copies the descriptor (ud borrowed); the box
+** is its bounds over the whole domain.  ray_scene_add_bezier: copies the
+** 16 control points (as ray_bezier_surface lays them out).  Their hits
+** report prim_id 0 and (u, v) as the functions do.  A ray for which
+** ray_implicit or ray_parametric fails (a negative answer) counts as a
+** miss of that surface and adds 1 to ray_stats.root_failures.
+**
+** Errors, with nothing added: RAY_EINVAL (NULLs, an invalid descriptor or
+** torus, a non-finite control point, an unknown material), RAY_ENOMEM.
+*/
+RAY_API int ray_scene_add_implicit(ray_scene *scene,
+                                   const ray_implicit_surface *s,
+                                   unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_torus(ray_scene *scene, const ray_torus_params *t,
+                                unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_parametric(ray_scene *scene,
+                                     const ray_parametric_surface *s,
+                                     unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_bezier(ray_scene *scene, const ray_vec3 cp[16],
+                                 unsigned material, unsigned *geom_id);
+RAY_API int ray_scene_add_box(ray_scene *scene, const ray_box_params *b,
+                              unsigned material, unsigned *geom_id);
+
+/*
+** ray_scene_add_capsule: copies the params; hits as ray_capsule, through
+** the BVH (the box: the segment's grown by radius).  RAY_EINVAL (with a
+** message naming the field: ray_scene_errmsg) for what ray_capsule
+** refuses, RAY_ENOMEM; nothing added.
+*/
+RAY_API int ray_scene_add_capsule(ray_scene *scene,
+                                  const ray_capsule_params *c,
+                                  unsigned material, unsigned *geom_id);
+
+/*
+** ray_scene_add_user -- the caller's own geometry (a character's capsule
+** set, a voxel chunk, a signed distance field) in the scene's BVH like
+** the built-in kinds: a box and an intersection callback.  The
+** descriptor is copied; its ud is BORROWED and must outlive the scene.
+**
+** User geometry: the scene calls these, never concurrently with a
+** building call, but CONCURRENTLY from query threads (intersect).
+** "bounds" is called once, by ray_scene_add_user, and the box kept: it
+** must hold every hit the intersection reports (a hit outside it may be
+** missed).  "intersect" gets the ray in the scene's (world) space, its
+** tmax already shrunk to the nearest hit found so far; it must be
+** reentrant.  It answers 1 with *hit filled (t, p, n, u, v, p_err) for
+** the nearest hit in (r->tmin, r->tmax), 0 for a miss, or a negative
+** status for a failure (ray_implicit's, passed on).  Like the built-in
+** tests it must report a hit only when t minus its rounding error still
+** exceeds tmin (no acne, ray-numerics(7)), and fill p_err (0 leaves
+** ray_spawn nothing to offset by).  The library checks the answer: t
+** outside (tmin, tmax) or NaN, a non-finite p, u or v, a p_err not
+** finite and >= 0, a normal not finite and non-zero, or an answer other
+** than 0 and 1, is a miss counted in ray_stats.root_failures; n is
+** normalised when it is not unit; geom_id and prim_id (0) are the
+** library's, whatever the callback wrote.  Tests count under
+** RAY_PRIM_USER.
+**
+** Errors, with nothing added: RAY_EINVAL (scene, g, bounds or intersect
+** NULL; a box not finite or with lo > hi, the axis named by
+** ray_scene_errmsg; an unknown material), RAY_ENOMEM.  In an instanced
+** scene the callback gets the ray in that scene's own space.
+*/
+typedef void (*ray_user_bounds_fn)(void *ud, ray_vec3 *lo, ray_vec3 *hi);
+typedef int (*ray_user_intersect_fn)(void *ud, const ray_ray *r,
+                                     ray_hit *hit);
+typedef struct ray_user_geometry {
+    ray_user_bounds_fn bounds;       /* the box holding the geometry */
+    ray_user_intersect_fn intersect; /* 1 and *hit filled (t, p, n, u, v,
+                                        p_err) for the nearest hit in
+                                        (r->tmin, r->tmax), else 0 */
+    void *ud;                        /* borrowed: must outlive the scene */
+} ray_user_geometry;
+RAY_API int ray_scene_add_user(ray_scene *scene,
+                               const ray_user_geometry *g,
+                               unsigned material, unsigned *geom_id);
 
 #ifdef __cplusplus
 }
