@@ -15,7 +15,10 @@
 #   trace   the ray tree, lights, materials, photons          -> ... query image
 #   render  camera, rows, progress                            -> ... trace
 #
-# Three checks, each printing every offence it finds:
+# Four checks, each printing every offence it finds:
+#   0. rooms: every source file lives in a layer's folder and has at
+#      most MAX_LINES lines (800: a file is one concept, split by concept
+#      when it grows; include/ray.h, the one public header, is not here);
 #   1. includes: a file includes headers of its own layer or of a layer
 #      it may use ("ray.h" is everyone's), never one above or beside it;
 #   2. calls: every symbol an object of OBJDIR/LAYER/ references that
@@ -38,6 +41,7 @@ obj=${1:-$root/build/obj}
 src=${SRCDIR:-$root/src}
 
 LAYERS="core prim image accel scene query trace render"
+MAX_LINES=${MAX_LINES:-800}
 
 # The layers that layer $1 may use besides itself.
 uses() {
@@ -75,6 +79,14 @@ done
 for d in "$src"/*/; do
     d=$(basename "$d")
     [ "$(uses "$d")" != "?" ] || offence "src/$d/ is not a layer ($LAYERS)"
+done
+biggest=0
+for f in "$src"/*/*.c "$src"/*/*.h; do
+    [ -f "$f" ] || continue
+    n=$(wc -l < "$f")
+    [ "$n" -le "$MAX_LINES" ] ||
+        offence "${f#"$src"/} has $n lines, more than $MAX_LINES: split it by concept"
+    [ "$n" -le "$biggest" ] || biggest=$n
 done
 
 # --------------------------------------------------------- 1. includes
@@ -145,4 +157,5 @@ if [ "$bad" -ne 0 ]; then
 fi
 echo "layers-test: $(echo "$objs" | wc -l | tr -d ' ') objects in 8 layers" \
      "($LAYERS): $n_inc includes and $n_calls calls between objects, none" \
-     "above its layer, no circle"
+     "above its layer, no circle; no file over $MAX_LINES lines (the" \
+     "longest: $biggest)"

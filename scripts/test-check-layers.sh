@@ -106,6 +106,10 @@ new_case stray
 obj core/vec 'int ray__v(void); int ray__v(void) { return 0; }'
 printf '%s\n' '/* x */' > "$t/src/stray.c"
 expect_fail "src/stray.c is in no layer"
+new_case big-room
+obj core/vec 'int ray__v(void); int ray__v(void) { return 0; }'
+i=0; while [ $i -lt 801 ]; do echo "/* line */"; i=$((i + 1)); done >> "$t/src/core/vec.c"
+expect_fail "core/vec.c has 802 lines, more than 800"
 new_case unknown-folder
 obj misc/thing 'int ray__m(void); int ray__m(void) { return 0; }'
 expect_fail "src/misc/ is not a layer"

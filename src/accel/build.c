@@ -1,0 +1,298 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** build.c -- ray__bvh_build: the binary tree of a BVH built depth first
+** from its root by sah.c's splits, its lower subtrees on threads, then
+** collapsed into wide nodes (wide.c); and ray__bvh_free.
+*/
+#include <pthread.h>
+
+#include "accel/build.h"
+#include "core/platform.h"
+
+/*
+** The threaded build.  The top of the tree is split on the calling thread,
+** depth first as ever, until every node left has at most top_limit(n)
+** items; those nodes become subtree tasks, numbered in the order the top
+** phase reaches them, and task j builds into its own run of the node
+** array, from region[j] on (2 m - 2 nodes at most below its root for m
+** items, so the runs fit in the 2 n - 1 a binary tree needs: the top's
+** L leaves take 2 L - 1, their runs 2 n - 2 L).  Each task works on its
+** own items (a contiguous range of refs) and its own nodes, so the
+** threads share nothing but the counter that hands out tasks, and what a
+** task writes does not depend on which thread ran it or when: the tree,
+** its item order and every float are the same at any thread count.  The
+** runs are then closed up in task order (their links moved with them),
+** so the node array shrinks to what the tree uses before the collapse
+** allocates the wide nodes, as in the plain build.
+** The splits are those of the plain depth-first build (the same code on
+** the same items), so the wide tree is too.
+*/
+
+/* Subtrees of at most n / TOP_SHARE items (and at least TOP_MIN): enough
+** tasks for dynamic scheduling to even out, whatever the thread count
+** (the rule must not depend on it), and few enough that the top stays
+** a small part of the work. */
+#define TOP_SHARE 64
+#define TOP_MIN 4096
+
+static size_t top_limit(size_t n)
+{
+    return n / TOP_SHARE > TOP_MIN ? n / TOP_SHARE : TOP_MIN;
+}
+
+typedef struct subtree {
+    task root;               /* its root node (in the top) and its items */
+    size_t region;           /* where its other nodes go */
+    size_t used;             /* how many it made there */
+} subtree;
+
+typedef struct build_job {
+    const ray__bvh_costs *costs;
+    ref *refs;
+    ray__node *nodes;
+    subtree *tasks;
+    const size_t *order;     /* tasks by size, largest first */
+    size_t n_tasks;
+    pthread_mutex_t lock;    /* guards next (threaded runs only) */
+    size_t next;
+} build_job;
+
+/* Build one subtree, depth first, into its region. */
+static void build_subtree(const build_job *job, subtree *st)
+{
+    builder bd;
+    task stack[2 * MAX_DEPTH + 4];
+    int sp = 1;
+
+    bd.costs = job->costs;
+    bd.refs = job->refs;
+    bd.nodes = job->nodes;
+    bd.n_nodes = st->region;
+    stack[0] = st->root;
+    while (sp > 0) {
+        task t = stack[--sp];
+        sp += ray__bvh_split(&bd, &t, stack + sp);
+    }
+    st->used = bd.n_nodes - st->region;
+}
+
+static void *build_worker(void *arg)
+{
+    build_job *job = arg;
+
+    for (;;) {
+        size_t k;
+        pthread_mutex_lock(&job->lock);
+        k = job->next++;
+        pthread_mutex_unlock(&job->lock);
+        if (k >= job->n_tasks)
+            return NULL;
+        build_subtree(job, &job->tasks[job->order[k]]);
+    }
+}
+
+/* Larger subtrees first: the last task to start is then a small one, and
+** the threads finish close together. */
+static void order_by_size(const subtree *tasks, size_t n, size_t *order)
+{
+    size_t i, j;
+
+    for (i = 0; i < n; i++) {
+        size_t m = tasks[i].root.end - tasks[i].root.begin;
+        for (j = i; j > 0; j--) {
+            const task *o = &tasks[order[j - 1]].root;
+            if (o->end - o->begin >= m)
+                break;
+            order[j] = order[j - 1];
+        }
+        order[j] = i;
+    }
+}
+
+/*
+** Run the subtree tasks on "threads" threads (the caller's included):
+** fewer if a thread cannot be started or the job's mutex cannot be made
+** (then the caller builds them all), the same tree either way.  Thread
+** handles live in a small array on the stack, in batches, so that no
+** allocation is needed here.
+*/
+#define THREAD_BATCH 64
+
+static void run_subtrees(build_job *job, unsigned threads)
+{
+    pthread_t tid[THREAD_BATCH];
+    int started[THREAD_BATCH];
+    unsigned i, n = 0;
+
+    job->next = 0;
+    if (threads > THREAD_BATCH)
+        threads = THREAD_BATCH;
+    if (threads > job->n_tasks)
+        threads = (unsigned)job->n_tasks;
+    if (threads > 1 && pthread_mutex_init(&job->lock, NULL) == 0) {
+        n = threads - 1;
+        for (i = 0; i < n; i++)
+            started[i] = pthread_create(&tid[i], NULL, build_worker,
+                                        job) == 0;
+        build_worker(job);
+        for (i = 0; i < n; i++)
+            if (started[i])
+                pthread_join(tid[i], NULL);
+        pthread_mutex_destroy(&job->lock);
+        return;
+    }
+    for (i = 0; i < job->n_tasks; i++)
+        build_subtree(job, &job->tasks[job->order[i]]);
+}
+
+/*
+** Close up the subtrees' runs, in task order, from node "at" on: a run
+** moves down by the gaps before it, and so do the links into it (its
+** inner nodes' and its root's).  Returns the node count.
+*/
+static size_t close_up(ray__node *nodes, const subtree *tasks,
+                       size_t n_tasks, size_t at)
+{
+    size_t j, k;
+
+    for (j = 0; j < n_tasks; j++) {
+        const subtree *st = &tasks[j];
+        unsigned shift = (unsigned)(st->region - at);
+        ray__node *root = &nodes[st->root.node];
+        if (shift != 0 && st->used > 0) {
+            memmove(&nodes[at], &nodes[st->region],
+                    st->used * sizeof *nodes);
+            for (k = at; k < at + st->used; k++)
+                if (nodes[k].count == 0)
+                    nodes[k].first -= shift;
+            if (root->count == 0)
+                root->first -= shift;
+        }
+        at += st->used;
+    }
+    return at;
+}
+
+int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
+                   const void *ud, size_t n, const ray__bvh_costs *costs,
+                   unsigned threads, ray__bvh *out)
+{
+    builder bd;
+    task stack[2 * MAX_DEPTH + 4];
+    size_t cap, i, limit, region, n_tasks = 0, cap_tasks = 0;
+    subtree *tasks = NULL;
+    size_t *order = NULL;
+    unsigned *items;
+    int sp = 0, rc = RAY_OK;
+
+    memset(out, 0, sizeof *out);
+    if (n == 0)
+        return RAY_OK;
+    if (n > 0x7fffffffu)
+        return RAY_ENOMEM;
+    cap = 2 * n - 1;                         /* a binary tree's bound */
+    bd.costs = costs;
+    bd.refs = ray__allocate(a, n * sizeof *bd.refs);
+    bd.nodes = ray__allocate(a, cap * sizeof *bd.nodes);
+    items = ray__allocate(a, n * sizeof *items);
+    if (bd.refs == NULL || bd.nodes == NULL || items == NULL) {
+        rc = RAY_ENOMEM;
+        goto done;
+    }
+    {
+        bounds root;
+        ray__bvh_refs(&bd, box_of, ud, n, &root);
+        bd.n_nodes = 1;
+        child_task(&stack[0], 0, 0, n, 0, &root);
+    }
+    sp = 1;
+    /* The top, depth first: the stack never holds more than two tasks per
+    ** level.  A node small enough becomes a subtree task. */
+    limit = top_limit(n);
+    while (sp > 0) {
+        task t = stack[--sp];
+        if (t.end - t.begin > limit) {
+            sp += ray__bvh_split(&bd, &t, stack + sp);
+            continue;
+        }
+        if (n_tasks == cap_tasks) {
+            size_t more = cap_tasks ? 2 * cap_tasks : 2 * TOP_SHARE;
+            subtree *grown = ray__reallocate(a, tasks,
+                                             cap_tasks * sizeof *tasks,
+                                             more * sizeof *tasks);
+            if (grown == NULL) {
+                rc = RAY_ENOMEM;
+                goto done;
+            }
+            tasks = grown;
+            cap_tasks = more;
+        }
+        tasks[n_tasks++].root = t;
+    }
+    if (n_tasks > 0) {
+        order = ray__allocate(a, n_tasks * sizeof *order);
+        if (order == NULL) {
+            rc = RAY_ENOMEM;
+            goto done;
+        }
+        region = bd.n_nodes;
+        for (i = 0; i < n_tasks; i++) {
+            tasks[i].region = region;
+            region += 2 * (tasks[i].root.end - tasks[i].root.begin) - 2;
+        }
+        order_by_size(tasks, n_tasks, order);
+        {
+            build_job job;
+            job.costs = costs;
+            job.refs = bd.refs;
+            job.nodes = bd.nodes;
+            job.tasks = tasks;
+            job.order = order;
+            job.n_tasks = n_tasks;
+            run_subtrees(&job, threads ? threads : ray__online_cpus());
+        }
+    }
+    for (i = 0; i < n; i++)
+        items[i] = bd.refs[i].id;
+    bd.n_nodes = close_up(bd.nodes, tasks, n_tasks, bd.n_nodes);
+    /* Before the collapse allocates: the peak stays where it was. */
+    ray__release(a, order, n_tasks * sizeof *order);
+    ray__release(a, tasks, cap_tasks * sizeof *tasks);
+    ray__release(a, bd.refs, n * sizeof *bd.refs);
+    order = NULL;
+    tasks = NULL;
+    bd.refs = NULL;
+    out->nodes = ray__reallocate(a, bd.nodes, cap * sizeof *bd.nodes,
+                                 bd.n_nodes * sizeof *bd.nodes);
+    out->cap_nodes = bd.n_nodes;
+    if (out->nodes == NULL) {            /* shrinking failed: keep it all */
+        out->nodes = bd.nodes;
+        out->cap_nodes = cap;
+    }
+    out->n_nodes = bd.n_nodes;
+    out->items = items;
+    out->n_items = n;
+    bd.nodes = NULL;
+    items = NULL;
+    if (ray__bvh_collapse(a, out) != RAY_OK) {
+        ray__bvh_free(a, out);
+        rc = RAY_ENOMEM;
+    }
+done:
+    ray__release(a, order, n_tasks * sizeof *order);
+    ray__release(a, tasks, cap_tasks * sizeof *tasks);
+    ray__release(a, bd.refs, n * sizeof *bd.refs);
+    ray__release(a, bd.nodes, cap * sizeof *bd.nodes);
+    ray__release(a, items, n * sizeof *items);
+    return rc;
+}
+
+
+void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh)
+{
+    ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
+    ray__release(a, bvh->wide, bvh->cap_wide * sizeof *bvh->wide);
+    ray__release(a, bvh->items, bvh->n_items * sizeof *bvh->items);
+    ray__release(a, bvh->leaves, bvh->n_leaves * sizeof *bvh->leaves);
+    memset(bvh, 0, sizeof *bvh);
+}

@@ -1,0 +1,118 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** build.h -- the insides of the BVH builder, private to accel/: the
+** builder's item records and boxes, a node's bounds, the task of a node
+** to build, and the steps its files share: sah.c splits a node, build.c
+** builds the binary tree (on threads), wide.c collapses it into wide
+** nodes, refit.c fits the boxes again.
+*/
+#ifndef RAY_BUILD_H
+#define RAY_BUILD_H
+
+#include <float.h>
+#include <string.h>
+
+#include "accel/bvh.h"
+
+#define MAX_DEPTH 60     /* traversal stacks hold 64 levels */
+
+/*
+** Builder records: an item's box and id, 32 bytes, permuted in place by
+** the partitions so every pass over a node's items reads memory in order.
+** The centroid is not stored: lo + hi (twice the centre) serves, since
+** binning only needs an affine image of it.
+*/
+typedef struct ref {
+    float lo[3];
+    unsigned id;             /* lo and id, hi and pad: one SSE load each */
+    float hi[3];
+    unsigned pad;
+} ref;
+
+typedef struct box {
+    float lo[3], hi[3];
+} box;
+
+static inline float fmin2(float a, float b)
+{
+    return a < b ? a : b;
+}
+
+static inline float fmax2(float a, float b)
+{
+    return a > b ? a : b;
+}
+
+static inline void box_empty(box *b)
+{
+    b->lo[0] = b->lo[1] = b->lo[2] = FLT_MAX;
+    b->hi[0] = b->hi[1] = b->hi[2] = -FLT_MAX;
+}
+
+static inline void box_grow(box *b, const float *lo, const float *hi)
+{
+    b->lo[0] = fmin2(b->lo[0], lo[0]);
+    b->lo[1] = fmin2(b->lo[1], lo[1]);
+    b->lo[2] = fmin2(b->lo[2], lo[2]);
+    b->hi[0] = fmax2(b->hi[0], hi[0]);
+    b->hi[1] = fmax2(b->hi[1], hi[1]);
+    b->hi[2] = fmax2(b->hi[2], hi[2]);
+}
+
+/* Half the surface area (the constant factor cancels in the SAH). */
+static inline float box_area(const box *b)
+{
+    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1],
+          dz = b->hi[2] - b->lo[2];
+    if (!(dx >= 0))
+        return 0;
+    return dx * dy + dy * dz + dz * dx;
+}
+
+typedef struct builder {
+    const ray__bvh_costs *costs;
+    ref *refs;
+    ray__node *nodes;
+    size_t n_nodes;
+} builder;
+
+/* The boxes a node needs before it is split: its items' box and the box
+** of their doubled centroids. */
+typedef struct bounds {
+    box items, centroids;
+} bounds;
+
+typedef struct task {
+    size_t node, begin, end;
+    unsigned depth;
+    bounds b;
+} task;
+
+/* Push the task of a child node over refs[begin, end). */
+static inline void child_task(task *t, size_t node, size_t begin, size_t end,
+                       unsigned depth, const bounds *b)
+{
+    t->node = node;
+    t->begin = begin;
+    t->end = end;
+    t->depth = depth;
+    t->b = *b;
+}
+
+/*
+** ray__bvh_refs -- the records of n items, refs[i] with item i's box from
+** box_of (rounded outward by the caller), and *root, the bounds of them
+** all: the builder's first pass.
+** ray__bvh_split -- split node t.node (items refs[t.begin, t.end), bounds
+** t.b) by the binned SAH, or leave it a leaf; the children's tasks go to
+** stack[0] and stack[1].  Returns how many (0 or 2).
+** ray__bvh_collapse -- the binary nodes of bvh collapsed into
+** RAY__WIDTH-wide nodes (bvh->wide), the binary ones freed: RAY_OK, or
+** RAY_ENOMEM with bvh as it was.
+*/
+void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
+                   size_t n, bounds *root);
+int ray__bvh_split(builder *bd, const task *t, task *stack);
+int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh);
+
+#endif /* RAY_BUILD_H */

@@ -1,0 +1,511 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** sah.c -- splitting a node of a bounding volume hierarchy by the binned
+** surface-area heuristic (Wald, "On fast Construction of SAH-based
+** Bounding Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing
+** 2007): at each node the item centroids are dropped into BINS bins along
+** each axis, and the split between two bins that minimises
+**     C_trav + (A_left * N_left + A_right * N_right) / A_node
+** is taken, unless a leaf (cost N, intersection cost 1) is cheaper.
+** C_trav and the size below which a node is always a leaf are the
+** caller's (ray__bvh_costs: triangles and the costlier curved surfaces
+** differ).
+*/
+#include "accel/build.h"
+
+#define BINS 16
+#define MAX_LEAF 8       /* a node with more items is always split */
+
+typedef struct split {
+    int axis, bin;           /* items with bin index <= bin go left */
+    int bins;                /* how many bins were used */
+    float cost;
+    float cmin, scale;       /* bin of c = (c - cmin) * scale */
+} split;
+
+/* No split found yet among nb bins: any split's cost is lower. */
+static split split_none(int nb)
+{
+    split none;
+
+    none.axis = -1;
+    none.bin = 0;
+    none.bins = nb;
+    none.cost = HUGE_VALF;
+    none.cmin = 0;
+    none.scale = 0;
+    return none;
+}
+
+/* Twice the centroid along "axis". */
+static inline float centroid2(const ref *r, int axis)
+{
+    return r->lo[axis] + r->hi[axis];
+}
+
+/* The scale that maps doubled centroids to nb bins along each axis: nb *
+** (1 - eps) / extent keeps the largest centroid in range; a flat axis
+** gets scale 0 (everything in bin 0, never split). */
+static void bin_scales(const box *cb, int nb, float scale[3])
+{
+    int axis;
+
+    for (axis = 0; axis < 3; axis++) {
+        float extent = cb->hi[axis] - cb->lo[axis];
+        scale[axis] = extent > 0 ? (float)nb * (1.0f - 1e-6f) / extent : 0;
+    }
+}
+
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#include <emmintrin.h>
+
+/* A ref's lo (or hi) in one register, the fourth lane (id, pad) zeroed:
+** never arithmetic on it. */
+static inline __m128 ref_lanes(const ref *r, size_t at)
+{
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+
+    return _mm_and_ps(_mm_loadu_ps((const float *)(const void *)
+                                   ((const char *)r + at)), xyz);
+}
+
+/*
+** The bins with SSE, as registers: one holds a box's lo (or hi) on all
+** three axes.  An item's three bins grow by one min and one max each,
+** where the scalar loop (below, without SSE) does three of each; the bin
+** indices of the three axes come from one subtraction, one product, one
+** clamp and one conversion.  The arithmetic is bin_of's and box_grow's,
+** lane for lane (minps / maxps pick as their "a < b ? a : b").
+*/
+typedef struct bins4 {
+    __m128 lo[3][BINS], hi[3][BINS];
+    int count[3][BINS];
+} bins4;
+
+static void bins4_empty(bins4 *bn, int nb)
+{
+    int axis, b;
+
+    for (axis = 0; axis < 3; axis++)
+        for (b = 0; b < nb; b++) {
+            bn->lo[axis][b] = _mm_set1_ps(FLT_MAX);
+            bn->hi[axis][b] = _mm_set1_ps(-FLT_MAX);
+            bn->count[axis][b] = 0;
+        }
+}
+
+/*
+** Drop refs[begin, end) into the first nb bins of each axis: the build's
+** inner loop.  Items go in turn to two sets of bins, merged at the end:
+** successive items of a mesh tend to fall in the same bin, and one set
+** would chain every update of a bin on the one before (a store, a load
+** and a min each), where two halve the chains -- for nodes of PAIRS_MIN
+** items or more: below, emptying and merging the second set costs more
+** than it saves.  The merge may order two
+** zeros of opposite sign otherwise than one pass would; the boxes only
+** give the bins' areas, whose values (and so the tree) are the same.
+*/
+#define PAIRS_MIN 64
+
+static void bin_items(const builder *bd, size_t begin, size_t end,
+                      const box *cb, const float scale[3], int nb,
+                      bins4 *out)
+{
+    bins4 two;
+    size_t i;
+    const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
+    const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
+    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
+    int axis, b, pairs = end - begin >= PAIRS_MIN;
+
+    bins4_empty(out, nb);
+    if (pairs)
+        bins4_empty(&two, nb);
+    for (i = begin; i < end; i++) {
+        bins4 *bn = pairs && ((i - begin) & 1) ? &two : out;
+        __m128 lo = ref_lanes(&bd->refs[i], offsetof(ref, lo));
+        __m128 hi = ref_lanes(&bd->refs[i], offsetof(ref, hi));
+        __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
+        int k[4];
+        x = _mm_min_ps(_mm_max_ps(x, zero), top);
+        _mm_storeu_si128((__m128i *)(void *)k, _mm_cvttps_epi32(x));
+        bn->lo[0][k[0]] = _mm_min_ps(bn->lo[0][k[0]], lo);
+        bn->hi[0][k[0]] = _mm_max_ps(bn->hi[0][k[0]], hi);
+        bn->count[0][k[0]]++;
+        bn->lo[1][k[1]] = _mm_min_ps(bn->lo[1][k[1]], lo);
+        bn->hi[1][k[1]] = _mm_max_ps(bn->hi[1][k[1]], hi);
+        bn->count[1][k[1]]++;
+        bn->lo[2][k[2]] = _mm_min_ps(bn->lo[2][k[2]], lo);
+        bn->hi[2][k[2]] = _mm_max_ps(bn->hi[2][k[2]], hi);
+        bn->count[2][k[2]]++;
+    }
+    for (axis = 0; axis < 3 && pairs; axis++)
+        for (b = 0; b < nb; b++) {
+            out->lo[axis][b] = _mm_min_ps(out->lo[axis][b], two.lo[axis][b]);
+            out->hi[axis][b] = _mm_max_ps(out->hi[axis][b], two.hi[axis][b]);
+            out->count[axis][b] += two.count[axis][b];
+        }
+}
+
+/*
+** box_area of four boxes at once, lane k of the result for box k (given
+** as registers of lo and hi): the same operations in the same order, so
+** the same floats.
+*/
+static inline __m128 area4(const __m128 *lo, const __m128 *hi)
+{
+    __m128 dx = _mm_sub_ps(hi[0], lo[0]), dy = _mm_sub_ps(hi[1], lo[1]);
+    __m128 dz = _mm_sub_ps(hi[2], lo[2]), dw = _mm_sub_ps(hi[3], lo[3]);
+    __m128 a;
+
+    _MM_TRANSPOSE4_PS(dx, dy, dz, dw);
+    a = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dy), _mm_mul_ps(dy, dz)),
+                   _mm_mul_ps(dz, dx));
+    return _mm_and_ps(a, _mm_cmpge_ps(dx, _mm_setzero_ps()));
+}
+
+/*
+** The best binned split of refs[begin, end), all three axes binned in one
+** pass over the items; cb is the box of the doubled centroids.  A node of
+** few items uses as many bins as items (at least 4): the sweep over 3 x 16
+** bins would otherwise cost more than the items themselves.  The sweep
+** takes the boxes on both sides of each of the nb - 1 candidate planes
+** (running unions, one min and one max a step), then their areas and
+** costs four planes at a time: the scalar sweep's arithmetic (without
+** SSE, below), lane for lane, so the same costs and the same choice.
+*/
+static split best_split(const builder *bd, size_t begin, size_t end,
+                        const box *cb, float node_area)
+{
+    bins4 bins;
+    float scale[3];
+    split best;
+    size_t count = end - begin;
+    int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
+    const __m128 trav = _mm_set1_ps(bd->costs->traversal);
+    const __m128 area = _mm_set1_ps(node_area);
+
+    best = split_none(nb);
+    bin_scales(cb, nb, scale);
+    bin_items(bd, begin, end, cb, scale, nb, &bins);
+    for (axis = 0; axis < 3; axis++) {
+        /* Plane b (0 .. nb - 2) has bins 0 .. b on its left, the rest on
+        ** its right; the entries after nb - 2, up to a multiple of four,
+        ** are padding (empty). */
+        __m128 llo[BINS], lhi[BINS], rlo[BINS], rhi[BINS];
+        __m128 alo = _mm_set1_ps(FLT_MAX), ahi = _mm_set1_ps(-FLT_MAX);
+        int lcount[BINS], rcount[BINS], n = 0;
+        float cost[BINS];
+
+        if (scale[axis] == 0)
+            continue;
+        for (b = nb - 1; b < ((nb + 2) & ~3); b++) {
+            llo[b] = rlo[b] = alo;
+            lhi[b] = rhi[b] = ahi;
+            lcount[b] = rcount[b] = 0;
+        }
+        for (b = nb - 1; b > 0; b--) {
+            alo = _mm_min_ps(alo, bins.lo[axis][b]);
+            ahi = _mm_max_ps(ahi, bins.hi[axis][b]);
+            n += bins.count[axis][b];
+            rlo[b - 1] = alo;
+            rhi[b - 1] = ahi;
+            rcount[b - 1] = n;
+        }
+        alo = _mm_set1_ps(FLT_MAX);
+        ahi = _mm_set1_ps(-FLT_MAX);
+        n = 0;
+        for (b = 0; b < nb - 1; b++) {
+            alo = _mm_min_ps(alo, bins.lo[axis][b]);
+            ahi = _mm_max_ps(ahi, bins.hi[axis][b]);
+            n += bins.count[axis][b];
+            llo[b] = alo;
+            lhi[b] = ahi;
+            lcount[b] = n;
+        }
+        for (b = 0; b < nb - 1; b += 4) {
+            __m128 nl = _mm_cvtepi32_ps(_mm_loadu_si128(
+                            (const __m128i *)(const void *)&lcount[b]));
+            __m128 nr = _mm_cvtepi32_ps(_mm_loadu_si128(
+                            (const __m128i *)(const void *)&rcount[b]));
+            __m128 c = _mm_add_ps(trav, _mm_div_ps(
+                _mm_add_ps(_mm_mul_ps(area4(&llo[b], &lhi[b]), nl),
+                           _mm_mul_ps(area4(&rlo[b], &rhi[b]), nr)), area));
+            _mm_storeu_ps(&cost[b], c);
+        }
+        for (b = 0; b < nb - 1; b++) {
+            if (lcount[b] == 0 || rcount[b] == 0)
+                continue;
+            if (cost[b] < best.cost) {
+                best.cost = cost[b];
+                best.axis = axis;
+                best.bin = b;
+                best.cmin = cb->lo[axis];
+                best.scale = scale[axis];
+            }
+        }
+    }
+    return best;
+}
+#else
+typedef struct bin {
+    box b;
+    size_t count;
+} bin;
+
+/* The bin of doubled centroid c: clamped in float before the conversion
+** (a NaN, from an infinite box, goes to bin 0), as the SSE binning does. */
+static inline int bin_of(float c, float cmin, float scale, int bins)
+{
+    float x = (c - cmin) * scale, top = (float)(bins - 1);
+
+    x = x > 0 ? x : 0;
+    x = x < top ? x : top;
+    return (int)x;
+}
+
+/* Drop refs[begin, end) into the first nb bins of each axis (emptied
+** first): the build's inner loop. */
+static void bin_items(const builder *bd, size_t begin, size_t end,
+                      const box *cb, const float scale[3], int nb,
+                      bin bins[3][BINS])
+{
+    size_t i;
+    int axis, b;
+
+    for (axis = 0; axis < 3; axis++)
+        for (b = 0; b < nb; b++) {
+            box_empty(&bins[axis][b].b);
+            bins[axis][b].count = 0;
+        }
+    for (i = begin; i < end; i++) {
+        const ref *r = &bd->refs[i];
+        for (axis = 0; axis < 3; axis++) {
+            bin *bn = &bins[axis][bin_of(centroid2(r, axis), cb->lo[axis],
+                                         scale[axis], nb)];
+            box_grow(&bn->b, r->lo, r->hi);
+            bn->count++;
+        }
+    }
+}
+
+/* best_split without SSE: the SSE one's rules, one plane at a time. */
+static split best_split(const builder *bd, size_t begin, size_t end,
+                        const box *cb, float node_area)
+{
+    bin bins[3][BINS];
+    float scale[3];
+    split best;
+    size_t count = end - begin;
+    int axis, b, nb = count >= BINS ? BINS : (count < 4 ? 4 : (int)count);
+
+    best = split_none(nb);
+    bin_scales(cb, nb, scale);
+    bin_items(bd, begin, end, cb, scale, nb, bins);
+    for (axis = 0; axis < 3; axis++) {
+        float right_area[BINS];
+        size_t right_count[BINS], n_left = 0;
+        box acc;
+
+        if (scale[axis] == 0)
+            continue;
+        box_empty(&acc);
+        right_count[nb - 1] = 0;
+        for (b = nb - 1; b > 0; b--) {
+            box_grow(&acc, bins[axis][b].b.lo, bins[axis][b].b.hi);
+            right_count[b - 1] = right_count[b] + bins[axis][b].count;
+            right_area[b - 1] = box_area(&acc);
+        }
+        box_empty(&acc);
+        for (b = 0; b < nb - 1; b++) {
+            float cost;
+            box_grow(&acc, bins[axis][b].b.lo, bins[axis][b].b.hi);
+            n_left += bins[axis][b].count;
+            if (n_left == 0 || right_count[b] == 0)
+                continue;
+            cost = bd->costs->traversal +
+                   (box_area(&acc) * (float)n_left +
+                    right_area[b] * (float)right_count[b]) / node_area;
+            if (cost < best.cost) {
+                best.cost = cost;
+                best.axis = axis;
+                best.bin = b;
+                best.cmin = cb->lo[axis];
+                best.scale = scale[axis];
+            }
+        }
+    }
+    return best;
+}
+#endif
+
+#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+/* Bounds as four registers (items' lo and hi, centroids' lo and hi);
+** bounds4_grow is the plain version's box_grow twice, lane for lane. */
+typedef struct bounds4 {
+    __m128 lo, hi, clo, chi;
+} bounds4;
+
+static void bounds4_empty(bounds4 *b)
+{
+    b->lo = b->clo = _mm_set1_ps(FLT_MAX);
+    b->hi = b->chi = _mm_set1_ps(-FLT_MAX);
+}
+
+static inline void bounds4_grow(bounds4 *b, const ref *r)
+{
+    __m128 lo = ref_lanes(r, offsetof(ref, lo));
+    __m128 hi = ref_lanes(r, offsetof(ref, hi));
+    __m128 c = _mm_add_ps(lo, hi);
+
+    b->lo = _mm_min_ps(b->lo, lo);
+    b->hi = _mm_max_ps(b->hi, hi);
+    b->clo = _mm_min_ps(b->clo, c);
+    b->chi = _mm_max_ps(b->chi, c);
+}
+
+static void bounds4_store(const bounds4 *b, bounds *out)
+{
+    float v[4];
+
+    _mm_storeu_ps(v, b->lo);
+    memcpy(out->items.lo, v, sizeof out->items.lo);
+    _mm_storeu_ps(v, b->hi);
+    memcpy(out->items.hi, v, sizeof out->items.hi);
+    _mm_storeu_ps(v, b->clo);
+    memcpy(out->centroids.lo, v, sizeof out->centroids.lo);
+    _mm_storeu_ps(v, b->chi);
+    memcpy(out->centroids.hi, v, sizeof out->centroids.hi);
+}
+#else
+typedef bounds bounds4;
+
+static void bounds4_empty(bounds4 *b)
+{
+    box_empty(&b->items);
+    box_empty(&b->centroids);
+}
+
+static inline void bounds4_grow(bounds4 *b, const ref *r)
+{
+    float c[3];
+
+    c[0] = centroid2(r, 0);
+    c[1] = centroid2(r, 1);
+    c[2] = centroid2(r, 2);
+    box_grow(&b->items, r->lo, r->hi);
+    box_grow(&b->centroids, c, c);
+}
+
+static void bounds4_store(const bounds4 *b, bounds *out)
+{
+    *out = *b;
+}
+#endif
+
+
+void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
+                   size_t n, bounds *root)
+{
+    /* The root's bounds as the records are made (bounds_of's operations
+    ** in its order, without a pass of its own). */
+    bounds4 b;
+    size_t i;
+
+    bounds4_empty(&b);
+    for (i = 0; i < n; i++) {
+        box_of(ud, i, bd->refs[i].lo, bd->refs[i].hi);
+        bd->refs[i].id = (unsigned)i;
+        bd->refs[i].pad = 0;
+        bounds4_grow(&b, &bd->refs[i]);
+    }
+    bounds4_store(&b, root);
+}
+
+/*
+** Move the items of the split's left side to the front, gathering both
+** sides' bounds on the way (so the children need no pass of their own);
+** returns the first index of the right side.  An item goes left when its
+** bin is at most sp->bin, i.e. when its unclamped bin coordinate is not
+** >= sp->bin + 1 (the same test, without bin_of's clamp and conversion:
+** a NaN goes to bin 0 there and left here).
+*/
+static size_t partition(builder *bd, size_t begin, size_t end,
+                        const split *sp, bounds *left, bounds *right)
+{
+    size_t i = begin, j = end;
+    float edge = (float)(sp->bin + 1);
+    bounds4 l, r;
+
+    bounds4_empty(&l);
+    bounds4_empty(&r);
+    while (i < j) {
+        float x = (centroid2(&bd->refs[i], sp->axis) - sp->cmin) * sp->scale;
+        if (!(x >= edge)) {
+            bounds4_grow(&l, &bd->refs[i]);
+            i++;
+        } else {
+            ref t = bd->refs[i];
+            bounds4_grow(&r, &t);
+            bd->refs[i] = bd->refs[--j];
+            bd->refs[j] = t;
+        }
+    }
+    bounds4_store(&l, left);
+    bounds4_store(&r, right);
+    return i;
+}
+
+/* Bounds by a pass over the items (halved runs). */
+static void bounds_of(const builder *bd, size_t begin, size_t end,
+                      bounds *out)
+{
+    size_t i;
+    bounds4 b;
+
+    bounds4_empty(&b);
+    for (i = begin; i < end; i++)
+        bounds4_grow(&b, &bd->refs[i]);
+    bounds4_store(&b, out);
+}
+
+static void node_set_box(ray__node *n, const box *b)
+{
+    memcpy(n->lo, b->lo, sizeof n->lo);
+    memcpy(n->hi, b->hi, sizeof n->hi);
+}
+
+int ray__bvh_split(builder *bd, const task *t, task *stack)
+{
+    ray__node *n = &bd->nodes[t->node];
+    size_t count = t->end - t->begin, mid;
+    bounds left, right;
+    split sp;
+
+    node_set_box(n, &t->b.items);
+    n->first = (unsigned)t->begin;
+    n->count = (unsigned)count;
+    if (count <= bd->costs->leaf_items || t->depth >= MAX_DEPTH)
+        return 0;
+    sp = best_split(bd, t->begin, t->end, &t->b.centroids,
+                    box_area(&t->b.items));
+    if (sp.axis < 0) {
+        /* All centroids coincide: no binned split separates them.  Halve
+        ** the run if it is too long for a leaf, else keep the leaf. */
+        if (count <= MAX_LEAF)
+            return 0;
+        mid = t->begin + count / 2;
+        bounds_of(bd, t->begin, mid, &left);
+        bounds_of(bd, mid, t->end, &right);
+    } else {
+        if (count <= MAX_LEAF && sp.cost >= (float)count)
+            return 0;
+        mid = partition(bd, t->begin, t->end, &sp, &left, &right);
+    }
+    n->first = (unsigned)bd->n_nodes;
+    n->count = 0;
+    child_task(&stack[0], bd->n_nodes, t->begin, mid, t->depth + 1, &left);
+    child_task(&stack[1], bd->n_nodes + 1, mid, t->end, t->depth + 1, &right);
+    bd->n_nodes += 2;
+    return 2;
+}
