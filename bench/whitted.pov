@@ -9,7 +9,7 @@
 // image: libray's camera at (0, 1.5, 5.5) looking toward -z is POV's at
 // <0, 1.5, -5.5> looking toward +z, and the image is the same way round.
 //
-// What matches exactly (from src/materials.c, src/light.c, src/plane.c):
+// What matches exactly (from src/trace/materials.c, src/trace/light.c, src/prim/plane.c):
 //   - camera: vertical field of view 45 degrees; POV's "angle" is the
 //     horizontal one, 2 atan(tan(22.5 deg) * width / height).
 //   - point light at (4, 7, 5), intensity 80, falling off as 1/d^2

@@ -926,7 +926,7 @@ RAY_API ray_texture ray_texture_image(const ray_image *img);
 /* ------------------------------------------------ 7. built-in materials */
 
 /*
-** Written with the public callback API only (src/materials.c): read them
+** Written with the public callback API only (src/trace/materials.c): read them
 ** as examples.  Each constructor returns a ray_material whose ud is the
 ** given parameter block, which is BORROWED and must outlive the scene.
 **

@@ -22,7 +22,7 @@ typedef struct user_sphere {
     int bounds_calls;
 } user_sphere;
 
-/* The box the scene gives its own spheres (src/kinds.c, box_SPHERE), so
+/* The box the scene gives its own spheres (src/scene/kinds.c, box_SPHERE), so
 ** both scenes build the same BVH and traverse it in the same order. */
 static void sphere_bounds(void *ud, ray_vec3 *lo, ray_vec3 *hi)
 {

@@ -1060,7 +1060,7 @@ static long sweep(const workload *w, ray_alloc_fn alloc)
         fail("the clean run failed", w, alloc, "clean", 0, &ref);
         return 0;
     }
-    /* src/image.c or src/png.c calling libpng through other functions
+    /* src/image/image.c or src/image/png.c calling libpng through other functions
     ** than FAULT_WRAPS names would silently leave them out. */
     if (w->uses_png && ref.by_kind[FP_PNG] == 0)
         fail("no wrapped libpng call reached: add the library's libpng "

@@ -6,7 +6,7 @@
 ** reports errors against a higher-precision reference (long double), or
 ** counts of leaks, false hits, misclassifications and self-hits.
 ** Header-only; every function is static.  Uses the library's internal
-** naive variants (src/prim.h); its random inputs come from testkit.h's
+** naive variants (src/prim/prim.h); its random inputs come from testkit.h's
 ** generator (rng, rng_unit, rng_dir).
 */
 #ifndef RAY_HARDCASES_H

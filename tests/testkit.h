@@ -21,7 +21,7 @@
 
 /*
 ** Vector arithmetic, written out here rather than taken from the
-** library's src/vec.h, so that a test's expected value is not computed by
+** library's src/core/vec.h, so that a test's expected value is not computed by
 ** the code under test.
 */
 static inline ray_vec3 vadd(ray_vec3 a, ray_vec3 b)

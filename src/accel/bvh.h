@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bvh.h -- the BVH: its node types and its builder (bvh.c), generic over
+** bvh.h -- the BVH: its node types and its builder (build.c), generic over
 ** the items' boxes and allocating through an allocator of its own, so it
 ** knows nothing of the scene that uses it.
 */

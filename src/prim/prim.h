@@ -192,7 +192,7 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
 /*
 ** The real roots of the polynomial c[0] + c[1] x + ... + c[degree] x^degree
 ** in [lo, hi], ascending, into roots[] (room for degree + 1 needed):
-** src/poly.c, after Yuksel (HPG 2022).  c[degree] must not be 0.
+** src/prim/roots.c, after Yuksel (HPG 2022).  c[degree] must not be 0.
 */
 #define RAY__POLY_MAX_DEGREE 4
 int ray__poly_roots(const double *c, int degree, double lo, double hi,
@@ -412,10 +412,11 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 ** alone (an oriented box, a capsule).  One line each,
 **     S(X, NAME, name, parameter type, counted as)
 ** gives everything of a shape above its own source file: its line in the
-** kind list below, its member of the scene's ray__surface union (scene.h),
-** its box and its intersection in src/kinds.c (the box the check gave,
-** ray_name on the stored parameters), its ray_scene_add_name in
-** src/surfaces.c, and the declaration of its check:
+** kind list below, its member of the scene's ray__surface union
+** (scene.h), its box and its intersection in src/scene/kinds.c (the box
+** the check gave, ray_name on the stored parameters), its
+** ray_scene_add_name in src/scene/surfaces.c, and the declaration of its
+** check:
 **     int ray__name_check(const type *p, ray_vec3 *lo, ray_vec3 *hi,
 **                         char *why, size_t why_size);
 ** which answers 1 with a box containing every hit point ray_name can
@@ -427,8 +428,10 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **   1. include/ray.h: its parameter struct, ray_name(r, params, hit),
 **      ray_scene_add_name(scene, params, material, geom_id), and
 **      RAY_PRIM_NAME just before RAY_PRIM_KINDS (<= RAY_PRIM_KINDS_MAX);
-**   2. src/name.c, including prim.h alone: ray_name and ray__name_check;
-**   3. its line below;
+**   2. src/prim/name.c, including prim/prim.h alone: ray_name and
+**      ray__name_check;
+**   3. its line below, and closest_NAME in src/query/closest.c (its
+**      nearest point, for ray_closest_point), which the compiler asks for;
 **   4. tests/check_name.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_name.3 naming ray_scene_add_name in
 **      its NAME section too (the Makefile links every name it lists), and
@@ -441,19 +444,20 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 /*
 ** The kinds of primitive, one line each: X(NAME, counted as, class).
 ** Everything that depends on the kind is generated from this list: the
-** enum ray__kind below, and in src/kinds.c the box, the class, the
+** enum ray__kind below, and in src/scene/kinds.c the box, the class, the
 ** intersection and the statistics kind of a piece of geometry.
 ** The shapes (above) come last, each as X(NAME, counted as, BOUNDED).
 **   NAME        the constant RAY__KIND_NAME, and the suffix of the kind's
-**               functions in src/kinds.c, box_NAME and hit_NAME;
+**               functions in src/scene/kinds.c, box_NAME and hit_NAME;
 **   counted as  the RAY_PRIM_* of ray.h its tests count under in
 **               ray_stats.tests_by_kind;
 **   class       where a committed scene keeps it (scene.h, ray__class):
-**               TRIANGLES, in the triangle BVH, whose triangles
-**               traverse.h tests inline; BOUNDED, in the BVH over the
-**               other bounded primitives, tested through hit_NAME;
-**               UNBOUNDED, tested on every ray (the plane), through
-**               hit_NAME.
+**               TRIANGLES, in the triangle BVH, whose triangles the
+**               queries test inline (query/leaf.h); BOUNDED, in the
+**               BVH over the other bounded primitives, tested through
+**               hit_NAME (an instance by the queries themselves, which
+**               descend into it: query/instance.h); UNBOUNDED, tested
+**               on every ray (the plane), through hit_NAME.
 ** No switch over ray__kind has a default, and the library is built with
 ** -Wswitch-enum: a kind left out of a switch, or a line here without its
 ** box_NAME and hit_NAME, is a compile error rather than a wrong picture.
@@ -463,14 +467,14 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **   1. include/ray.h: ray_NAME (and its parameter struct), its
 **      ray_scene_add_NAME, and RAY_PRIM_NAME, just before RAY_PRIM_KINDS
 **      (which must stay <= RAY_PRIM_KINDS_MAX);
-**   2. src/NAME.c, including prim.h alone: ray_NAME, and what the scene
-**      needs of it (a validity test and a box, as ray__torus_box),
-**      declared here below the list;
+**   2. src/prim/NAME.c, including prim/prim.h alone: ray_NAME, and what
+**      the scene needs of it (a validity test and a box, as
+**      ray__torus_box), declared here below the list;
 **   3. the line X(NAME, RAY_PRIM_NAME, BOUNDED) below, and a member of
 **      ray__surface (scene.h) if the scene keeps its parameters;
-**   4. src/kinds.c: box_NAME and hit_NAME, a few lines each, which the
-**      compiler asks for;
-**   5. src/surfaces.c: ray_scene_add_NAME, through add_surface;
+**   4. src/scene/kinds.c: box_NAME and hit_NAME, and src/query/closest.c:
+**      closest_NAME, a few lines each, which the compiler asks for;
+**   5. src/scene/surfaces.c: ray_scene_add_NAME, through add_surface;
 **   6. tests/check_NAME.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_NAME.3 (a Makefile MLINKS entry for
 **      each other function it documents), and doc/API.md.

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** poly.c -- the real roots of a polynomial inside an interval, without a
+** roots.c -- the real roots of a polynomial inside an interval, without a
 ** closed formula (used by the torus's quartic).
 **
 ** Yuksel, "High-Performance Polynomial Root Finding for Graphics", Proc.

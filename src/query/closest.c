@@ -461,7 +461,7 @@ typedef struct pending {
 ** all are pushed, insertion-sorted so that the nearest is on top, and
 ** popped while still within the radius, which every nearer point found
 ** shrinks.  At most RAY__WIDTH pushed and one popped a level, and the
-** BVH is at most 64 levels deep (bvh.c), so the stack holds them all.
+** BVH is at most 64 levels deep (accel/build.h), so the stack holds them all.
 */
 static void walk(const ray_scene *s, const ray__bvh *bvh, int leaf,
                  query *qs)

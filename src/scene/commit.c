@@ -33,7 +33,7 @@ static double max3(double a, double b, double c)
 }
 
 /*
-** The BVHs' cost settings (bvh.c).  Triangles: a split costs 1.5 triangle
+** The BVHs' cost settings (accel/sah.c).  Triangles: a split costs 1.5 triangle
 ** tests, and four triangles or fewer always make a leaf, since a wide node
 ** tests all its boxes at once, whatever their number, and so costs more
 ** than the binary SAH prices a split: bench/mesh measured the same ray

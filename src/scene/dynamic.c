@@ -3,7 +3,7 @@
 ** dynamic.c -- changing geometry after it was added, before or after a
 ** commit: enable and disable, remove, masks and filters.  Each change is
 ** staged (ray__touch) for the next commit, which rebuilds only the class
-** of BVH it touched; the queries (traverse.h) honour masks and filters.
+** of BVH it touched; the queries (query/gate.h) honour masks and filters.
 */
 #include "scene/scene.h"
 

@@ -186,7 +186,7 @@ static int hit_PLANE(const ray_scene *s, const ray__prim *p,
     return ray_plane(r, p->a, p->b, hit);
 }
 
-/* Triangles are in the triangle BVH, which traverse.h tests inline, so
+/* Triangles are in the triangle BVH, which the queries test inline, so
 ** their geometry is never asked (and after commit its tris[first ..]
 ** are reordered): a miss. */
 static int in_triangle_bvh(void)

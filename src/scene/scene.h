@@ -316,7 +316,7 @@ int ray__reserve_tris(ray_scene *s, size_t more);
 enum { RAY__HIT_FULL = 1, RAY__HIT_T = 2 };
 
 typedef enum ray__class {
-    RAY__CLASS_TRIANGLES,    /* in tri_bvh: traverse.h tests them inline */
+    RAY__CLASS_TRIANGLES,    /* in tri_bvh: query/leaf.h tests them inline */
     RAY__CLASS_BOUNDED,      /* in prim_bvh */
     RAY__CLASS_UNBOUNDED     /* in planes: tested on every ray */
 } ray__class;
