@@ -6,7 +6,7 @@
 */
 #include <pthread.h>
 
-#include "accel/build.h"
+#include "accel/builder.h"
 #include "core/platform.h"
 
 /*

@@ -3,7 +3,7 @@
 ** refit.c -- a BVH's boxes fitted again, bottom up, to geometry that
 ** moved but kept its items (ray__bvh_refit): the same tree.
 */
-#include "accel/build.h"
+#include "accel/builder.h"
 
 /* Slot k of node q fitted to box b. */
 static void slot_fit(ray__wnode *q, int k, const box *b)

@@ -11,7 +11,7 @@
 ** caller's (ray__bvh_costs: triangles and the costlier curved surfaces
 ** differ).
 */
-#include "accel/build.h"
+#include "accel/builder.h"
 
 #define BINS 16
 #define MAX_LEAF 8       /* a node with more items is always split */

@@ -4,7 +4,7 @@
 ** into RAY__WIDTH-wide nodes (ray__wnode, bvh.h), eight children's boxes
 ** side by side.
 */
-#include "accel/build.h"
+#include "accel/builder.h"
 
 static float node_area(const ray__node *n)
 {

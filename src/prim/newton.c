@@ -6,7 +6,7 @@
 ** of the surface (the cosine between the ray and the normal keeps its
 ** sign), which decides when a start that did not settle is refined.
 */
-#include "prim/parametric.h"
+#include "prim/parametric_search.h"
 
 /* ---------------------------------------------------------------- Newton */
 

@@ -22,7 +22,7 @@
 ** start, gets the far one (on random rays at a paraboloid, 1 in 3000, all
 ** within 3 degrees of tangency).
 */
-#include "prim/parametric.h"
+#include "prim/parametric_search.h"
 /* ------------------------------------------------------------ validation */
 
 /* The domain, [0, 1]^2 when all four are 0; 0 if it is empty or not

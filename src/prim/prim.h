@@ -456,7 +456,7 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **               queries test inline (query/leaf.h); BOUNDED, in the
 **               BVH over the other bounded primitives, tested through
 **               hit_NAME (an instance by the queries themselves, which
-**               descend into it: query/instance.h); UNBOUNDED, tested
+**               descend into it: query/traverse.h); UNBOUNDED, tested
 **               on every ray (the plane), through hit_NAME.
 ** No switch over ray__kind has a default, and the library is built with
 ** -Wswitch-enum: a kind left out of a switch, or a line here without its

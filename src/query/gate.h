@@ -6,7 +6,7 @@
 #ifndef RAY_GATE_H
 #define RAY_GATE_H
 
-#include "query/instance.h"
+#include "query/slab.h"
 
 /*
 ** Gates (ray__gate: masks, filters, all hits), on the gated path only: a
@@ -121,8 +121,6 @@ static int prim_gated(const ray_scene *s, unsigned idx, const ray_ray *r,
 
     if ((p->mask & qc->gate->mask) == 0)
         return 0;
-    if (p->kind == RAY__KIND_INSTANCE)
-        return instance_hit(s, idx, r, h, qc);
     if (!gate_wants(p, qc->gate))
         return ray__prim_intersect(s, idx, r, h, qc);
     for (k = 0; k < GATE_RETRIES; k++) {

@@ -2,8 +2,8 @@
 /*
 ** leaf.h -- part of the query template (traverse.h): what a leaf holds,
 ** tested: the triangles of a triangle leaf (the nearest so far and the
-** tie rule), the other kinds one by one through the kinds' dispatch
-** (scene/kinds.c) or, for an instance, by descending into it.
+** tie rule), the other kinds but instances one by one through the
+** kinds' dispatch (scene/kinds.c).
 */
 #ifndef RAY_LEAF_H
 #define RAY_LEAF_H
@@ -88,8 +88,6 @@ static inline int prim_candidate(const ray_scene *s, unsigned idx,
 {
     if (qc->gate != NULL)
         return prim_gated(s, idx, r, h, qc);
-    if (s->prims[idx].kind == RAY__KIND_INSTANCE)
-        return instance_hit(s, idx, r, h, qc);
     return ray__prim_candidate(s, idx, r, h, qc);
 }
 
@@ -207,19 +205,5 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
     return found;
 }
 
-static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
-                     void *best, ray__counts *qc)
-{
-    unsigned idx = s->prim_bvh.items[item];
-    ray_hit h;
-    int k = prim_candidate(s, idx, r, &h, qc);
-
-    if (!k)
-        return 0;
-    r->tmax = h.t;
-    if (best != NULL)
-        prim_keep(best, idx, k, &h);
-    return 1;
-}
 
 #endif /* RAY_LEAF_H */

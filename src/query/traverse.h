@@ -8,11 +8,11 @@
 ** have it.  Both copies do the same arithmetic, lane for lane, so they
 ** give the same answers.  The template's parts, each included here:
 **   slab.h       a ray's traversal data and the wide nodes' box test;
-**   instance.h   an instance met: the query descends into its child;
 **   gate.h       masks, filters and all hits;
 **   leaf.h       a leaf's triangles (tested inline) and other kinds
 **                (through the kinds' dispatch, scene/kinds.c);
-**   traverse.h   the ordered traversal and the queries themselves.
+**   traverse.h   an instance met (the query descends into its child),
+**                the ordered traversal and the queries themselves.
 */
 #ifndef RAY_TRAVERSE_H
 #define RAY_TRAVERSE_H
@@ -45,6 +45,92 @@ static void add_counts(ray_stats *st, const ray__counts *qc)
 }
 
 #include "query/leaf.h"
+
+/* An instance's child inside a parent's query: nearest or any as the
+** parent's query is, with its counts and gate (below, with the queries
+** it recurses into). */
+static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
+                       ray__counts *qc);
+
+/*
+** Geometry idx of s, an instance, against world ray r: RAY__HIT_FULL
+** with *hit filled -- the child's hit brought back to world space, its
+** error bound grown by the rounding of both transforms
+** (ray__instance_to_world), geom_id and prim_id the child's, inst_id idx;
+** for an any-hit query only t, which is all it reads -- or 0 on a miss.
+** A child changed since s was committed is a miss with qc->stale set (the
+** query then answers -RAY_ESTATE).  Counted as one test of its kind
+** (RAY_PRIM_INSTANCE, its column in RAY__PRIM_KINDS), as every bounded
+** primitive's test is.  Inside, qc names the instance, so that the gate
+** offers the child's candidates in world space.  Here, beside the
+** queries it recurses into, as Embree's instance intersector sits in its
+** traversal kernels; the scene keeps the instance's record, transforms
+** and box (scene/instance.c).
+*/
+static int instance_hit(const ray_scene *s, unsigned idx, const ray_ray *r,
+                        ray_hit *hit, ray__counts *qc)
+{
+    const ray__instance *in = &s->instances[s->prims[idx].surface];
+    const ray__instance *outer_inst = qc->inst;
+    const ray_ray *outer_ray = qc->world_ray;
+    unsigned outer_id = qc->inst_id;
+    ray_ray ro;
+    ray_hit h;
+    int found;
+
+    qc->tests[RAY_PRIM_INSTANCE]++;
+    if (ray__instance_stale(in)) {
+        qc->stale = 1;
+        return 0;
+    }
+    ray__instance_ray_to_object(in, r, &ro);
+    qc->inst = in;
+    qc->inst_id = idx;
+    qc->world_ray = r;
+    found = query_child(in->child, &ro, &h, qc);
+    qc->inst = outer_inst;
+    qc->inst_id = outer_id;
+    qc->world_ray = outer_ray;
+    if (found <= 0)
+        return 0;
+    if (qc->any) {
+        /* Any hit: only that there is one counts; t for the record. */
+        memset(hit, 0, sizeof *hit);
+        hit->t = ro.tmax;
+        return RAY__HIT_FULL;
+    }
+    ray__instance_to_world(in, &h, hit);
+    hit->inst_id = idx;
+    return RAY__HIT_FULL;
+}
+
+/*
+** Item "item" of the BVH over the bounded kinds against r, the interval
+** shrunk to a hit and the nearest kept in *best (NULL for any hit): an
+** instance (its own mask passed on a gated query) by descending into it,
+** every other kind through prim_candidate.
+*/
+static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
+                     void *best, ray__counts *qc)
+{
+    unsigned idx = s->prim_bvh.items[item];
+    const ray__prim *p = &s->prims[idx];
+    ray_hit h;
+    int k;
+
+    if (p->kind != RAY__KIND_INSTANCE)
+        k = prim_candidate(s, idx, r, &h, qc);
+    else if (qc->gate != NULL && (p->mask & qc->gate->mask) == 0)
+        k = 0;
+    else
+        k = instance_hit(s, idx, r, &h, qc);
+    if (!k)
+        return 0;
+    r->tmax = h.t;
+    if (best != NULL)
+        prim_keep(best, idx, k, &h);
+    return 1;
+}
 
 /* A node's slot waiting on the traversal stack: child and count as in
 ** ray__wnode, and where the ray enters its box. */

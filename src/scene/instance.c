@@ -5,7 +5,7 @@
 ** Embree and pbrt-v4: its record, its transforms and its world box,
 ** which the parent's BVH holds.  A query that enters the box moves the
 ** ray into the child's space and descends into the child itself (the
-** query layer's query/instance.h); the hit comes back to world space
+** query layer's query/traverse.h); the hit comes back to world space
 ** here, its error bound grown by the rounding of both transforms.
 */
 #include <string.h>

@@ -252,7 +252,7 @@ static int hit_BEZIER(const ray_scene *s, const ray__prim *p,
 
 /* Instances are the query layer's: meeting one, a query moves the ray
 ** into its child's space and descends into the child's trees itself
-** (query/instance.h), so it never asks here: a miss, as for triangles. */
+** (query/traverse.h), so it never asks here: a miss, as for triangles. */
 static int query_descends(void)
 {
     return 0;

@@ -392,7 +392,7 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 
 /*
 ** An instance's record and transforms (instance.c); the query layer
-** descends into its child (query/instance.h).
+** descends into its child (query/traverse.h).
 ** ray__instance_box -- its world box, from its child's box.
 ** ray__instance_ray_to_object -- world ray r in the child's space: o' =
 ** L^-1 (o - c), d' = L^-1 d, the same interval (an affine map keeps

@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** build.h -- the insides of the BVH builder, private to accel/: the
+** builder.h -- the insides of the BVH builder, private to accel/: the
 ** builder's item records and boxes, a node's bounds, the task of a node
 ** to build, and the steps its files share: sah.c splits a node, build.c
 ** builds the binary tree (on threads), wide.c collapses it into wide
 ** nodes, refit.c fits the boxes again.
 */
-#ifndef RAY_BUILD_H
-#define RAY_BUILD_H
+#ifndef RAY_BUILDER_H
+#define RAY_BUILDER_H
 
 #include <float.h>
 #include <string.h>
@@ -115,4 +115,4 @@ void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
 int ray__bvh_split(builder *bd, const task *t, task *stack);
 int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh);
 
-#endif /* RAY_BUILD_H */
+#endif /* RAY_BUILDER_H */

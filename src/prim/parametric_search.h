@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** parametric.h -- the search of ray_parametric, private to its two files:
+** parametric_search.h -- the search of ray_parametric, private to its two files:
 ** parametric.c walks the (u, v) domain's quad tree and fills the hit;
 ** newton.c runs Newton's method from a leaf and tells whether a
 ** rectangle holds one crossing.  Their settings, a rectangle of the
 ** domain, a node of the quad tree, and the search's state (job).
 */
-#ifndef RAY_PARAMETRIC_H
-#define RAY_PARAMETRIC_H
+#ifndef RAY_PARAMETRIC_SEARCH_H
+#define RAY_PARAMETRIC_SEARCH_H
 
 #include "prim/prim.h"
 
@@ -189,4 +189,4 @@ int ray__param_cosine_range(const job *j, const rect *r, double *lo,
 int ray__param_root_settles(const job *j, const rect *r, double lo,
                             double hi);
 
-#endif /* RAY_PARAMETRIC_H */
+#endif /* RAY_PARAMETRIC_SEARCH_H */
