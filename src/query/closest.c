@@ -403,12 +403,14 @@ static void visit_prim(const ray_scene *s, unsigned i, query *qs)
 ** (b - a) x (c - a) normalised, computed only for a nearer point. */
 static void visit_triangle(const ray_scene *s, unsigned i, query *qs)
 {
-    const ray__tri *t = &s->tris[i];
-    ray_vec3 p = tri_closest(t->a, t->b, t->c, qs->q), n;
-    double d = ray__distance(p, qs->q);
+    ray_vec3 a, b, c, p, n;
+    double d;
 
+    ray__tri_corners(s, i, &a, &b, &c);
+    p = tri_closest(a, b, c, qs->q);
+    d = ray__distance(p, qs->q);
     if (nearer(qs, d) &&
-        v3_normalize(v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a)), &n))
+        v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)), &n))
         record(qs, p, d, n, s->tri_ids[i].geom_id, s->tri_ids[i].prim_id);
 }
 

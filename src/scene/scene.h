@@ -280,6 +280,20 @@ static inline void ray__tri_collapse_unusable(ray__tri *t)
         t->b = t->c = t->a;
 }
 
+/*
+** The corners of triangle slot i of s (leaf order after a commit), in
+** world space of s: what every reader outside the traversal's inner loop
+** (closest points, sweeps, overlaps, surface points) goes through, so
+** that how the scene stores its triangles can change in one place.
+*/
+static inline void ray__tri_corners(const ray_scene *s, size_t i,
+                                    ray_vec3 *a, ray_vec3 *b, ray_vec3 *c)
+{
+    *a = s->tris[i].a;
+    *b = s->tris[i].b;
+    *c = s->tris[i].c;
+}
+
 /* Room for "more" triangles in the scene's tris/tri_ids arrays. */
 int ray__reserve_tris(ray_scene *s, size_t more);
 
