@@ -1364,9 +1364,15 @@ RAY_API void ray_transform_identity(ray_transform *t);
 ** of them is queried.  Errors, with nothing added: RAY_EINVAL for
 ** NULLs, child == scene, a non-finite transform, a singular L (|det L|
 ** below 8 ulps of the product of its row lengths: not invertible to
-** working precision), a child that has instances itself (two levels
-** only) or unbounded planes; RAY_ESTATE for a child not committed;
-** RAY_ENOMEM.
+** working precision; the test is scale-free), an L whose inverse has an
+** entry beyond DBL_MAX (diag(1e-310, 1, 1): its inverse holds 1e310;
+** diag(1e-300, 1, 1) is accepted), a transform that maps the child's
+** box beyond +-2^1016 (about 7e305), where a hit's point or error bound
+** could overflow (refused rather than such hits counted as misses, so
+** that no query hands out a field that is not finite; a commit fails the
+** same way once the child has grown out of range), a child that has
+** instances itself (two levels only) or unbounded planes; RAY_ESTATE
+** for a child not committed; RAY_ENOMEM.
 */
 RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
                                    const ray_transform *xfm,
@@ -1430,7 +1436,10 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 **
 ** A filter is called for every CANDIDATE hit of its geometry, in world
 ** space, before the query accepts it, and answers non-zero (keep) or 0
-** (reject: the query goes on as if that surface were not there): alpha
+** (reject: the query goes on as if that surface were not there), with
+** the query's ray, its tmax lowered to the nearest hit kept so far but
+** always holding the candidate (tmin < candidate->t < tmax: a triangle
+** tying the kept hit comes with tmax the next double above its t): alpha
 ** cut-outs, ignoring the shooter, transparent shadows.  "queries" says
 ** which queries call it: RAY_FILTER_INTERSECT (nearest hit:
 ** ray_intersect, ray_intersect_opt, ray_trace's and ray_render's rays),

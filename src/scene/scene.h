@@ -407,7 +407,10 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 /*
 ** An instance's record and transforms (instance.c); the query layer
 ** descends into its child (query/traverse.h).
-** ray__instance_box -- its world box, from its child's box.
+** ray__instance_box -- its world box, from its child's box: 1, or 0
+** when the transform maps the child beyond +-RAY__INSTANCE_REACH
+** (2^1016), where a hit's point or error bound could overflow (such a
+** transform is refused: ray_scene_add_instance, set_transform, commit).
 ** ray__instance_ray_to_object -- world ray r in the child's space: o' =
 ** L^-1 (o - c), d' = L^-1 d, the same interval (an affine map keeps
 ** ratios: t names the same point on both).
@@ -417,7 +420,8 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 ** ray__instance_normal -- a child's normal (a shading normal) in world
 ** space, unit.
 */
-void ray__instance_box(ray__instance *in);
+#define RAY__INSTANCE_REACH 0x1p1016
+int ray__instance_box(ray__instance *in);
 void ray__instance_ray_to_object(const ray__instance *in, const ray_ray *r,
                                  ray_ray *out);
 void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
