@@ -1290,11 +1290,14 @@ RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
 ** patches and user geometry have no closest-point routine and are
 ** skipped.  Of points at the same distance, which is reported is
 ** unspecified.  Instances are searched through their transform (inst_id
-** names the instance, geom_id and prim_id the child's geometry): exactly
-** for a rotation with a uniform scale (and a translation); through other
-** transforms (a non-uniform scale, a shear) the point is the child's
-** nearest in its own space, a surface point within the radius but not
-** always the world's nearest.  Masks and filters do not apply.
+** names the instance, geom_id and prim_id the child's geometry) and
+** answer the world's nearest point for any transform the scene accepts:
+** the child's boxes are searched within the radius times |L^-1|_2, and
+** every candidate is measured in world space (a sphere through a
+** non-uniform scale or a shear is an ellipsoid, a box a parallelepiped,
+** a capsule an ellipsoid swept along a segment; for a q inside such a
+** capsule, the nearest point of the ellipsoid it is deepest in).
+** Masks and filters do not apply.
 **
 ** geom_id names the geometry as for ray_intersect; prim_id is the
 ** triangle's index within a mesh, 0 for every other kind.  n is the

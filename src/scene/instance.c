@@ -115,6 +115,32 @@ static int invert(const ray_transform *t, double inv[3][3])
 }
 
 /*
+** L's singular value decomposition (ray__svd3: U and the values, the
+** axes a sphere's image has), and |L^-1|_2, the largest singular value
+** of L^-1 (computed from L^-1 itself, where the largest is the one a
+** backward-stable method gets to a relative few ulps, whatever L's
+** conditioning), rounded up by 2^-40 relative so that it bounds how much
+** any distance can grow on its way into the child's space: a world ball
+** of radius r holds no point whose object image lies farther than r
+** |L^-1|_2 from the centre's.  The Frobenius norm stands in where the
+** decomposition fails (it cannot for an L that invert accepted).
+*/
+static void singular_values(ray__instance *in)
+{
+    double l[3][3], u[3][3], s[3];
+    int i, j;
+
+    in->inv_spec = in->inv_norm;
+    if (ray__svd3((const double(*)[3])in->inv, u, s))
+        in->inv_spec = fmin(s[0] * (1 + 0x1p-40), in->inv_norm);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            l[i][j] = in->xfm.m[i][j];
+    if (!ray__svd3((const double(*)[3])l, in->axes, in->sv))
+        in->sv[0] = in->sv[1] = in->sv[2] = 0;
+}
+
+/*
 ** Whether L is a rotation times a uniform scale s (L^T L = s^2 I): then
 ** distances scale by s exactly (to rounding) and a closest-point query
 ** through the instance is exact.  Within 64 ulps of s^2, entry by entry:
@@ -142,6 +168,7 @@ static void similarity(ray__instance *in)
                   64 * DBL_EPSILON * s2;
     in->similarity = ok ? sqrt(s2) : 0.0;
     in->inv_norm = sqrt(f);
+    singular_values(in);
 }
 
 /* RAY_OK and the instance's transform data, or RAY_EINVAL (message). */

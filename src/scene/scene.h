@@ -75,6 +75,11 @@ typedef struct ray__instance {
                                 scale distances take; 0 for other L */
     double inv_norm;         /* |L^-1| (Frobenius): no object distance is
                                 more than this times the world one */
+    double inv_spec;         /* |L^-1|_2 = 1 / L's smallest singular value,
+                                rounded up: the least such factor */
+    double axes[3][3];       /* L = U diag(sv) V^T: U (its columns), what a */
+    double sv[3];            /* sphere's ellipsoid has for axes; sv
+                                descending (sv[0] = 0: none computed) */
     unsigned long long generation;
     ray_vec3 lo, hi;         /* world box, rounded outward */
     int removed;             /* ray_scene_remove: its child may be gone */
