@@ -4,7 +4,7 @@
 */
 #include <stddef.h>
 
-#include "prim/prim.h"
+#include "prim/sweep.h"
 
 /*
 ** Does edge (x0,y0)-(x1,y1) cross the ray from (0,0) toward +x?
@@ -131,7 +131,8 @@ int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
 }
 
 /* Vertex i of the polygon, mapped by xf when it is not NULL. */
-static ray_vec3 vertex_of(const ray_vec3 *v, size_t i, const ray_transform *xf)
+ray_vec3 ray__polygon_vertex(const ray_vec3 *v, size_t i,
+                             const ray_transform *xf)
 {
     const double (*m)[4];
 
@@ -153,11 +154,11 @@ static int mapped_plane(const ray_vec3 *v, size_t n, const ray_transform *xf,
     if (xf == NULL)
         return polygon_plane(v, n, c, normal);
     for (i = 0; i < n; i++)
-        sum = v3_add(sum, vertex_of(v, i, xf));
+        sum = v3_add(sum, ray__polygon_vertex(v, i, xf));
     *c = v3_scale(sum, 1.0 / (double)n);
     for (i = 0; i < n; i++) {
-        ray_vec3 a = v3_sub(vertex_of(v, i, xf), *c);
-        ray_vec3 b = v3_sub(vertex_of(v, (i + 1) % n, xf), *c);
+        ray_vec3 a = v3_sub(ray__polygon_vertex(v, i, xf), *c);
+        ray_vec3 b = v3_sub(ray__polygon_vertex(v, (i + 1) % n, xf), *c);
         area = v3_add(area, v3_cross(a, b));
     }
     *normal = area;
@@ -182,12 +183,12 @@ int ray__polygon_closest_mapped(const ray_vec3 *v, size_t count,
     ray__tangent_frame(nn, &t1, &t2);
     x = v3_dot(rel, t1);
     y = v3_dot(rel, t2);
-    rel = v3_sub(vertex_of(v, count - 1, xf), c);
+    rel = v3_sub(ray__polygon_vertex(v, count - 1, xf), c);
     x0 = v3_dot(rel, t1) - x;
     y0 = v3_dot(rel, t2) - y;
     for (i = 0; i < count; i++) {
         double x1, y1;
-        rel = v3_sub(vertex_of(v, i, xf), c);
+        rel = v3_sub(ray__polygon_vertex(v, i, xf), c);
         x1 = v3_dot(rel, t1) - x;
         y1 = v3_dot(rel, t2) - y;
         inside ^= edge_crosses(x0, y0, x1, y1);
@@ -197,10 +198,10 @@ int ray__polygon_closest_mapped(const ray_vec3 *v, size_t count,
     if (inside)
         pt = v3_add(c, v3_add(v3_scale(t1, x), v3_scale(t2, y)));
     else {
-        best = vertex_of(v, 0, xf);
+        best = ray__polygon_vertex(v, 0, xf);
         for (i = 0; i < count; i++) {
-            ray_vec3 e = ray__segment_closest(q, vertex_of(v, i, xf),
-                                              vertex_of(v, (i + 1) % count,
+            ray_vec3 e = ray__segment_closest(q, ray__polygon_vertex(v, i, xf),
+                                              ray__polygon_vertex(v, (i + 1) % count,
                                                         xf));
             double d = ray__distance(e, q);
             if (d < best_d) {
@@ -215,4 +216,48 @@ int ray__polygon_closest_mapped(const ray_vec3 *v, size_t count,
     *p = pt;
     *n = nn;
     return 1;
+}
+
+int ray__polygon_plane_mapped(const ray_vec3 *v, size_t count,
+                              const ray_transform *xf, ray_vec3 *c,
+                              ray_vec3 *n)
+{
+    ray_vec3 normal;
+
+    return v != NULL && count >= 3 && mapped_plane(v, count, xf, c, &normal) &&
+           v3_normalize(normal, n);
+}
+
+/*
+** Is the foot of x on the (mapped) polygon's plane inside it?  The
+** crossings test of ray__polygon_closest: x's coordinates along the
+** plane's tangents, each vertex relative to them on its own.
+*/
+int ray__polygon_contains(const ray_vec3 *v, size_t count,
+                          const ray_transform *xf, ray_vec3 x)
+{
+    ray_vec3 c, nn, t1, t2, rel;
+    double px, py, x0, y0;
+    int inside = 0;
+    size_t i;
+
+    if (!ray__polygon_plane_mapped(v, count, xf, &c, &nn))
+        return 0;
+    ray__tangent_frame(nn, &t1, &t2);
+    rel = v3_sub(x, c);
+    px = v3_dot(rel, t1);
+    py = v3_dot(rel, t2);
+    rel = v3_sub(ray__polygon_vertex(v, count - 1, xf), c);
+    x0 = v3_dot(rel, t1) - px;
+    y0 = v3_dot(rel, t2) - py;
+    for (i = 0; i < count; i++) {
+        double x1, y1;
+        rel = v3_sub(ray__polygon_vertex(v, i, xf), c);
+        x1 = v3_dot(rel, t1) - px;
+        y1 = v3_dot(rel, t2) - py;
+        inside ^= edge_crosses(x0, y0, x1, y1);
+        x0 = x1;
+        y0 = y1;
+    }
+    return inside;
 }
