@@ -82,7 +82,11 @@ static inline ld ldist(lvec a, lvec b)
 static inline lvec ref_segment(lvec q, lvec a, lvec b)
 {
     lvec ab = lsub(b, a);
-    ld t = ldot(lsub(q, a), ab) / ldot(ab, ab);
+    ld t;
+
+    if (ldot(ab, ab) == 0)
+        return a;
+    t = ldot(lsub(q, a), ab) / ldot(ab, ab);
 
     t = t < 0 ? 0 : (t > 1 ? 1 : t);
     return ladd(a, lscale(ab, t));
@@ -159,6 +163,78 @@ static inline lvec ref_capsule(const ray_capsule_params *c, lvec q)
     if (llen(d) == 0)
         d = lcross(lsub(lv(c->b), lv(c->a)), lv3(1, 0, 0));
     return ladd(s, lscale(lunit(d), (ld)c->radius));
+}
+
+/* t clamped to [0, 1]. */
+static inline ld lclamp01(ld t)
+{
+    return t < 0 ? 0 : (t > 1 ? 1 : t);
+}
+
+/* The distance between segments [p0, p1] and [q0, q1]: the
+** unconstrained nearest pair of their lines (Cramer), clamped, then each
+** parameter again from the other's clamp, and the four ends' distances
+** to the other segment as a check, all in long double. */
+static inline ld ref_segments(lvec p0, lvec p1, lvec q0, lvec q1)
+{
+    lvec d1 = lsub(p1, p0), d2 = lsub(q1, q0), r = lsub(p0, q0);
+    ld a = ldot(d1, d1), e = ldot(d2, d2), b = ldot(d1, d2);
+    ld c = ldot(d1, r), f = ldot(d2, r), den = a * e - b * b, s = 0, t = 0;
+    ld best, d;
+
+    if (a > 0 && e > 0) {
+        if (den > 0)
+            s = lclamp01((b * f - c * e) / den);
+        t = (b * s + f) / e;
+        if (t < 0) {
+            t = 0;
+            s = lclamp01(-c / a);
+        } else if (t > 1) {
+            t = 1;
+            s = lclamp01((b - c) / a);
+        }
+    }
+    best = ldist(ladd(p0, lscale(d1, s)), ladd(q0, lscale(d2, t)));
+    if ((d = ldist(ref_segment(p0, q0, q1), p0)) < best)
+        best = d;
+    if ((d = ldist(ref_segment(p1, q0, q1), p1)) < best)
+        best = d;
+    if ((d = ldist(ref_segment(q0, p0, p1), q0)) < best)
+        best = d;
+    if ((d = ldist(ref_segment(q1, p0, p1), q1)) < best)
+        best = d;
+    return best;
+}
+
+/* The distance between segment [p0, p1] and triangle (a, b, c): 0 where
+** the segment crosses it (its plane crossing inside the triangle), else
+** the least of the ends' distances and the segment's to the edges. */
+static inline ld ref_segment_triangle(lvec p0, lvec p1, lvec a, lvec b,
+                                      lvec c)
+{
+    lvec n = lcross(lsub(b, a), lsub(c, a));
+    ld h0 = ldot(lsub(p0, a), n), h1 = ldot(lsub(p1, a), n), best, d;
+
+    if ((h0 <= 0 && h1 >= 0) || (h0 >= 0 && h1 <= 0)) {
+        if (h0 != h1) {
+            lvec x = ladd(p0, lscale(lsub(p1, p0), h0 / (h0 - h1)));
+            if (ldist(ref_triangle(x, a, b, c), x) == 0 ||
+                (ldot(lcross(lsub(b, a), lsub(x, a)), n) >= 0 &&
+                 ldot(lcross(lsub(c, b), lsub(x, b)), n) >= 0 &&
+                 ldot(lcross(lsub(a, c), lsub(x, c)), n) >= 0))
+                return 0;
+        }
+    }
+    best = ldist(ref_triangle(p0, a, b, c), p0);
+    if ((d = ldist(ref_triangle(p1, a, b, c), p1)) < best)
+        best = d;
+    if ((d = ref_segments(p0, p1, a, b)) < best)
+        best = d;
+    if ((d = ref_segments(p0, p1, b, c)) < best)
+        best = d;
+    if ((d = ref_segments(p0, p1, c, a)) < best)
+        best = d;
+    return best;
 }
 
 #endif
