@@ -54,8 +54,9 @@
 ** Contents, in the order a program meets them: README's first example
 ** tests a ray against a sphere alone (1, 2); its second builds a scene,
 ** renders it and writes a PNG (3 to 10); picking in a game queries a
-** scene (11, 12) and moves shapes through it (13); a material of one's
-** own traces rays (14, 15); the other surfaces come last (16).
+** scene (11, 12); a material of one's own traces rays (13, 14); the
+** other surfaces come next (15), and then the shapes a game moves
+** through its world, which stand on them (16).
 **    1. values              ray_vec3, ray_ray, ray_hit, ids
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
@@ -68,12 +69,12 @@
 **   10. images              PNG output
 **   11. queries             nearest hit, any hit, closest point
 **   12. games and tools     instances, changes, masks, filters, batches
-**   13. shapes in the world sweeps of spheres and capsules, overlaps of
-**                           boxes and spheres, rays from surface points
-**   14. tracing             contexts, ray_trace, lights, direct light
-**   15. secondary rays      ray_spawn, reflection, refraction
-**   16. more surfaces       implicit, torus, box, capsule, blobs,
+**   13. tracing             contexts, ray_trace, lights, direct light
+**   14. secondary rays      ray_spawn, reflection, refraction
+**   15. more surfaces       implicit, torus, box, capsule, blobs,
 **                           parametric, Bezier, the caller's own
+**   16. shapes in the world sweeps of spheres and capsules, overlaps of
+**                           spheres and boxes, rays from surface points
 */
 #ifndef RAY_H
 #define RAY_H
@@ -1539,96 +1540,7 @@ RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
 RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
                            size_t n, const ray_query *q, int *results);
 
-/* ------------------------------------------------ 13. shapes in the world:
-** sweeps of spheres and capsules, overlaps of boxes and spheres, rays
-** from points of the scene's own surfaces */
-/*
-** ray_intersect_sweep -- the first contact of a sphere or a capsule moved
-** along a line through a committed scene: Unity's SphereCast and
-** CapsuleCast, Bullet's convexSweepTest, Jolt's CastShape, on the scene's
-** own BVHs (a character controller sliding along walls, a camera kept
-** out of walls, a thick bullet).  Shape queries are rays with a radius:
-** the same masks, filters (RAY_FILTER_INTERSECT: a sweep is a nearest
-** query), instances and statuses as ray_intersect_opt.
-**
-** The shape at t is the capsule of radius "radius" around the segment
-** [a + t dir, b + t dir] (a == b: a sphere), for t in [tmin, tmax].
-** Returns 1 with *c filled for the first contact, 0 when the shape
-** touches nothing over the interval (*c untouched), or a negated status:
-** -RAY_EINVAL for a NULL scene, sweep or c, a non-finite a, b or dir, a
-** zero dir (no motion), a radius that is negative or not finite, a tmin
-** that is not finite, tmax NaN or not above tmin, or a start tmin dir
-** that overflows; -RAY_ESTATE for a scene not committed (or changed
-** since), or a sweep that meets an instance whose scene was changed.
-**
-**   * radius 0 with a == b is a ray: the answer is ray_intersect_opt's
-**     for the ray (a, dir, tmin, tmax), its t, p, ids as the hit's and n
-**     the hit's normal turned against dir; on the open interval.
-**   * Already touching or overlapping at tmin: an overlap (the shape's
-**     core, its centre or segment, nearer a surface than its radius, or
-**     inside a solid) is a contact at t = tmin with RAY_CONTACT_OVERLAP,
-**     its depth (radius minus the signed distance: how far to move the
-**     shape along n to free it) and n, the direction that frees it
-**     fastest; of several, the deepest.  A shape touching within
-**     rounding is a contact at tmin only if it moves into the surface:
-**     sliding along a wall at exactly the radius is no contact.
-**   * Conservative (ray_intersect_sweep(3) derives the bound): no exact
-**     shape between tmin and the contact's t penetrates any surface,
-**     and at t it is within 2 eps of touching it, eps = gamma(64) (M +
-**     radius + |b - a| + |tmin dir|), M the magnitude of the contact's
-**     coordinates relative to a (gamma(n) = n u / (1 - n u), u =
-**     2^-53): moving the shape to t never puts it inside.  No shape gets
-**     through a closed mesh at its shared edges and vertices (the
-**     sweep's watertightness, tested at 0, 1e5 and 1e6 from the origin).
-**   * Per kind: triangles, meshes, polygons and planes are surfaces;
-**     spheres, boxes and capsules are solids (a shape inside one
-**     overlaps it).  All exact as above, through any transform an
-**     instance has but two: a sphere or capsule through a transform that
-**     is not a similarity (uniform scale, rotation, reflection,
-**     translation) is an ellipsoid or a swept ellipsoid, found by
-**     conservative Newton steps (as exact); a capsule sweep against such
-**     a capsule, and every sweep against tori, implicit, parametric and
-**     Bezier surfaces and user geometry, answers against the
-**     primitive's box instead (the box through the instance's
-**     transform), flagged RAY_CONTACT_BOUNDS: conservative, never a
-**     miss of the surface inside it.
-**   * Ties in t: the deeper overlap, then the lower (inst_id, geom_id,
-**     prim_id).  A filter rejecting a sweep's candidate removes that
-**     primitive from the sweep; it is handed the path (a, dir, tmin,
-**     tmax) as a ray, its tmin lowered to the double below a contact at
-**     tmin so that the open interval holds it.
-** Any number of threads may sweep a committed scene at once; the call
-** allocates nothing.  ray_sweep_init sets a = b = (0, 0, 0), radius 0,
-** dir (0, 0, 0), tmin 0, tmax 1: set the fields after it.
-*/
-typedef struct ray_sweep {
-    ray_vec3 a, b;               /* the segment at t = 0 (a == b: sphere) */
-    double radius;               /* >= 0 */
-    ray_vec3 dir;                /* the motion: at t the shape moved t dir */
-    double tmin, tmax;           /* the part of the motion swept */
-} ray_sweep;
-
-#define RAY_CONTACT_OVERLAP 1u   /* overlapping at tmin: depth > 0 */
-#define RAY_CONTACT_BOUNDS  2u   /* against the primitive's box, not its
-                                    surface (see above) */
-
-typedef struct ray_contact {
-    double t;                    /* the first contact, tmin <= t <= tmax */
-    ray_vec3 p;                  /* the contact point on the scene */
-    ray_vec3 n;                  /* unit normal, from the scene toward the
-                                    shape */
-    double depth;                /* RAY_CONTACT_OVERLAP: how deep, else 0 */
-    unsigned flags;              /* RAY_CONTACT_* */
-    unsigned geom_id, prim_id;   /* as ray_intersect's */
-    unsigned inst_id;            /* the instance, RAY_INVALID_ID if none */
-} ray_contact;
-
-RAY_API void ray_sweep_init(ray_sweep *sweep);
-RAY_API int ray_intersect_sweep(const ray_scene *scene,
-                                const ray_sweep *sweep, const ray_query *q,
-                                ray_contact *c);
-
-/* ---------------------------------------------------------- 14. tracing */
+/* ---------------------------------------------------------- 13. tracing */
 
 /*
 ** ray_ctx_new -- a trace context for tracing outside ray_render (which
@@ -1775,7 +1687,7 @@ RAY_API int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
 ** sequence: deterministic for a given pixel, sample and frame seed. */
 RAY_API double ray_ctx_random(ray_ctx *ctx);
 
-/* --------------------------------------------------- 15. secondary rays */
+/* --------------------------------------------------- 14. secondary rays */
 
 /*
 ** ray_spawn -- the ray leaving hit "hit" in direction "dir", with its
@@ -1813,7 +1725,7 @@ RAY_API ray_vec3 ray_reflect(ray_vec3 d, ray_vec3 n);
 RAY_API int ray_refract(ray_vec3 d, ray_vec3 n, double eta, ray_vec3 *out);
 RAY_API double ray_fresnel(double cos_i, double eta);
 
-/* ---------------------------------------------------- 16. more surfaces */
+/* ---------------------------------------------------- 15. more surfaces */
 
 /*
 ** ray_implicit -- ray against the implicit surface f(p) = 0, as root
@@ -2199,6 +2111,161 @@ typedef struct ray_user_geometry {
 RAY_API int ray_scene_add_user(ray_scene *scene,
                                const ray_user_geometry *g,
                                unsigned material, unsigned *geom_id);
+
+/* ------------------------------------------------ 16. shapes in the world:
+** sweeps of spheres and capsules, overlaps of boxes and spheres, rays
+** from points of the scene's own surfaces */
+/*
+** ray_intersect_sweep -- the first contact of a sphere or a capsule moved
+** along a line through a committed scene: Unity's SphereCast and
+** CapsuleCast, Bullet's convexSweepTest, Jolt's CastShape, on the scene's
+** own BVHs (a character controller sliding along walls, a camera kept
+** out of walls, a thick bullet).  Shape queries are rays with a radius:
+** the same masks, filters (RAY_FILTER_INTERSECT: a sweep is a nearest
+** query), instances and statuses as ray_intersect_opt.
+**
+** The shape at t is the capsule of radius "radius" around the segment
+** [a + t dir, b + t dir] (a == b: a sphere), for t in [tmin, tmax].
+** Returns 1 with *c filled for the first contact, 0 when the shape
+** touches nothing over the interval (*c untouched), or a negated status:
+** -RAY_EINVAL for a NULL scene, sweep or c, a non-finite a, b or dir, a
+** zero dir (no motion), a radius that is negative or not finite, a tmin
+** that is not finite, tmax NaN or not above tmin, or a start tmin dir
+** that overflows; -RAY_ESTATE for a scene not committed (or changed
+** since), or a sweep that meets an instance whose scene was changed.
+**
+**   * radius 0 with a == b is a ray: the answer is ray_intersect_opt's
+**     for the ray (a, dir, tmin, tmax), its t, p, ids as the hit's and n
+**     the hit's normal turned against dir; on the open interval.
+**   * Already touching or overlapping at tmin: an overlap (the shape's
+**     core, its centre or segment, nearer a surface than its radius, or
+**     inside a solid) is a contact at t = tmin with RAY_CONTACT_OVERLAP,
+**     its depth (radius minus the signed distance: how far to move the
+**     shape along n to free it) and n, the direction that frees it
+**     fastest; of several, the deepest.  A shape touching within
+**     rounding is a contact at tmin only if it moves into the surface:
+**     sliding along a wall at exactly the radius is no contact.
+**   * Conservative (ray_intersect_sweep(3) derives the bound): no exact
+**     shape between tmin and the contact's t penetrates any surface,
+**     and at t it is within 2 eps of touching it, eps = gamma(64) (M +
+**     radius + |b - a| + |tmin dir|), M the magnitude of the contact's
+**     coordinates relative to a (gamma(n) = n u / (1 - n u), u =
+**     2^-53): moving the shape to t never puts it inside.  No shape gets
+**     through a closed mesh at its shared edges and vertices (the
+**     sweep's watertightness, tested at 0, 1e5 and 1e6 from the origin).
+**   * Per kind: triangles, meshes, polygons and planes are surfaces;
+**     spheres, boxes and capsules are solids (a shape inside one
+**     overlaps it).  All exact as above, through any transform an
+**     instance has but two: a sphere or capsule through a transform that
+**     is not a similarity (uniform scale, rotation, reflection,
+**     translation) is an ellipsoid or a swept ellipsoid, found by
+**     conservative Newton steps (as exact); a capsule sweep against such
+**     a capsule, and every sweep against tori, implicit, parametric and
+**     Bezier surfaces and user geometry, answers against the
+**     primitive's box instead (the box through the instance's
+**     transform), flagged RAY_CONTACT_BOUNDS: conservative, never a
+**     miss of the surface inside it.
+**   * Ties in t: the deeper overlap, then the lower (inst_id, geom_id,
+**     prim_id).  A filter rejecting a sweep's candidate removes that
+**     primitive from the sweep; it is handed the path (a, dir, tmin,
+**     tmax) as a ray, its tmin lowered to the double below a contact at
+**     tmin so that the open interval holds it.
+** Any number of threads may sweep a committed scene at once; the call
+** allocates nothing.  ray_sweep_init sets a = b = (0, 0, 0), radius 0,
+** dir (0, 0, 0), tmin 0, tmax 1: set the fields after it.
+*/
+typedef struct ray_sweep {
+    ray_vec3 a, b;               /* the segment at t = 0 (a == b: sphere) */
+    double radius;               /* >= 0 */
+    ray_vec3 dir;                /* the motion: at t the shape moved t dir */
+    double tmin, tmax;           /* the part of the motion swept */
+} ray_sweep;
+
+#define RAY_CONTACT_OVERLAP 1u   /* overlapping at tmin: depth > 0 */
+#define RAY_CONTACT_BOUNDS  2u   /* against the primitive's box, not its
+                                    surface (see above) */
+
+typedef struct ray_contact {
+    double t;                    /* the first contact, tmin <= t <= tmax */
+    ray_vec3 p;                  /* the contact point on the scene */
+    ray_vec3 n;                  /* unit normal, from the scene toward the
+                                    shape */
+    double depth;                /* RAY_CONTACT_OVERLAP: how deep, else 0 */
+    unsigned flags;              /* RAY_CONTACT_* */
+    unsigned geom_id, prim_id;   /* as ray_intersect's */
+    unsigned inst_id;            /* the instance, RAY_INVALID_ID if none */
+} ray_contact;
+
+RAY_API void ray_sweep_init(ray_sweep *sweep);
+RAY_API int ray_intersect_sweep(const ray_scene *scene,
+                                const ray_sweep *sweep, const ray_query *q,
+                                ray_contact *c);
+
+/*
+** ray_overlap_sphere, ray_overlap_box -- every primitive of a committed
+** scene that meets a sphere or an oriented box: triggers, AI perception,
+** a broad phase (Unity's OverlapSphere and OverlapBox, Bullet's
+** contactTest, Jolt's CollideShape).  Each one found is handed to "fn"
+** (with "ud" first), once, in no particular order, as a ray_overlap:
+** its geom_id, prim_id (the triangle's index in a mesh, else 0) and
+** inst_id as a ray's hit would name it.  fn returns 0 to go on, non-zero
+** to stop the search.  The functions return how many were handed to fn
+** (>= 0, at most INT_MAX), or a negated status: -RAY_EINVAL for a NULL
+** scene, box or fn, a centre that is not finite, a radius that is
+** negative or not finite, a box ray_box refuses; -RAY_ESTATE for a scene
+** not committed or changed since, or one that instances a scene changed
+** since (checked before fn is first called).  "box" is the oriented box
+** of ray_box_params (an axis-aligned one: axis_x = (1, 0, 0), axis_y =
+** (0, 1, 0)).
+**
+** ray_overlap_sphere_all, ray_overlap_box_all -- the same into the
+** caller's array, like ray_intersect_all: the "cap" first of them in
+** (inst_id, geom_id, prim_id) order into found[] (so the answer does not
+** depend on the BVH), their total into *count (may exceed cap: call
+** again with more room; cap 0 only counts); returns the total (at most
+** INT_MAX) or a negated status as above (-RAY_EINVAL also for a NULL
+** count, or found NULL with cap > 0), writing nothing then.
+**
+** What meets: triangles, meshes (triangle by triangle), polygons (the
+** region inside their outline, even-odd) and planes are surfaces: a
+** sphere or box inside a closed mesh but clear of its triangles does
+** not meet it.  Spheres, boxes and capsules are solids: a query inside
+** one meets it.  All exact to rounding (a pair that touches within a
+** few ulps of their coordinates may be reported either way): distances
+** for the sphere (the nearest point of each primitive, as
+** ray_closest_point finds it, within the radius, inclusive), separating
+** axes for the box; through an instance's transform, whatever it is, in
+** world space (a box through it is a parallelepiped; a sphere an
+** ellipsoid and a capsule a swept ellipsoid, tested by their nearest
+** points or in their own space).  Tori, implicit, parametric and Bezier
+** surfaces and user geometry are found by their boxes (through the
+** transform: the box's image), flagged RAY_CONTACT_BOUNDS: a superset,
+** never a miss.  Masks apply as for ray_intersect_opt (q NULL: all
+** bits); filters do not (fn sees every primitive and may skip it).  Any
+** number of threads may query a committed scene at once; the calls
+** allocate nothing.
+*/
+typedef struct ray_overlap {
+    unsigned geom_id, prim_id;   /* as ray_intersect's */
+    unsigned inst_id;            /* the instance, RAY_INVALID_ID if none */
+    unsigned flags;              /* RAY_CONTACT_BOUNDS: found by its box */
+} ray_overlap;
+
+typedef int (*ray_overlap_fn)(void *ud, const ray_overlap *found);
+
+RAY_API int ray_overlap_sphere(const ray_scene *scene, ray_vec3 center,
+                               double radius, const ray_query *q,
+                               ray_overlap_fn fn, void *ud);
+RAY_API int ray_overlap_box(const ray_scene *scene, const ray_box_params *box,
+                            const ray_query *q, ray_overlap_fn fn, void *ud);
+RAY_API int ray_overlap_sphere_all(const ray_scene *scene, ray_vec3 center,
+                                   double radius, const ray_query *q,
+                                   ray_overlap *found, size_t cap,
+                                   size_t *count);
+RAY_API int ray_overlap_box_all(const ray_scene *scene,
+                                const ray_box_params *box, const ray_query *q,
+                                ray_overlap *found, size_t cap,
+                                size_t *count);
 
 #ifdef __cplusplus
 }
