@@ -206,14 +206,26 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
+# Bullet is optional too: bench/shapes.c compares the sweeps with its
+# convexSweepTest and rayTest where Debian's libbullet-dev is installed.
+# Bullet is C++: bench/bullet.cpp is built with $(CXX), only then.
+BULLET_FLAGS = $(shell test -f /usr/include/bullet/btBulletCollisionCommon.h && \
+                 echo "-DHAVE_BULLET")
+BULLET_OBJ = $(if $(BULLET_FLAGS),$(BUILD)/bench/bullet.o)
+BULLET_LIBS = $(if $(BULLET_FLAGS),-lBulletCollision -lLinearMath -lstdc++)
+$(BUILD)/bench/bullet.o: bench/bullet.cpp bench/shapes.h
+	@mkdir -p $(@D)
+	$(CXX) -O2 -g -Wall -Wextra -I/usr/include/bullet -Ibench -c $< -o $@
+$(BUILD)/bench/shapes: $(BULLET_OBJ)
 # Benchmarks mix float, double and long double on purpose (float variants,
 # long double references), so -Wdouble-promotion, which guards the
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_FLAGS)) \
-	    $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
-	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) $(LIBS)
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
+	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) \
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its

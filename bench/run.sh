@@ -45,6 +45,7 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/mesh" data
     "$build/bench/packets" data
     "$build/bench/game" data
+    "$build/bench/shapes" data
     "$build/bench/whitted" bench/whitted.pov
     "$build/bench/caustics" "$plots"
     # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
@@ -58,7 +59,8 @@ mv "$out.tmp" "$out"
 
 # Tables copied into doc/BENCHMARKS.md between <!-- NAME:begin --> and
 # <!-- NAME:end -->: the primitives (headline), the curved surfaces, the
-# effects, the ray cones, the thread speed-up, the meshes, the live scenes and the
+# effects, the ray cones, the thread speed-up, the meshes, the live scenes, the
+# shape queries and the
 # Whitted scene against POV-Ray.  A marker missing from the
 # page is an error, not a table silently dropped.
 splice() {
@@ -86,8 +88,11 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     splice mesh "$plots/mesh.md"
     awk '/^## Games and tools/{exit} /^## Packets:/{on=1; next} on' "$out" > "$plots/packets.md"
     splice packets "$plots/packets.md"
-    awk '/^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
+    awk '/^## Shape queries/{exit} /^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice game "$plots/game.md"
+    awk '/^## Whitted scene against POV-Ray/{exit} /^## Shape queries/{on=1; next} on' "$out" |
+        sed -e '/./,$!d' > "$plots/shapes.md"
+    splice shapes "$plots/shapes.md"
     awk '/^## MPI: one frame/{exit} /^## Caustics: error/{exit} /^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
     splice whitted "$plots/whitted.md"
     awk '/^## MPI: one frame/{exit} /^## Caustics: error/{on=1; next} on' "$out" |

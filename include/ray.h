@@ -2267,6 +2267,42 @@ RAY_API int ray_overlap_box_all(const ray_scene *scene,
                                 ray_overlap *found, size_t cap,
                                 size_t *count);
 
+/*
+** ray_surface_point -- the hit record of a point of the scene's own
+** geometry, given by its primitive and its own coordinates (u, v) as a
+** ray's hit would report them: for a baker's rays from lightmap texels,
+** ambient occlusion from interpolated points.  p and its error bound
+** p_err are computed from the stored geometry by the formulas of a hit
+** (the box p +- p_err holds a point of the exact surface), n is the
+** geometric normal a hit there reports, t is 0, so ray_spawn (and
+** ray_spawn_to) start rays from it that never meet the surface they
+** leave.  An interpolated point with no offset starts on the wrong side
+** of its triangle about as often as not (bench/selfhit.c measures the
+** self-hits on the 59k bunny: ray-numerics(7)).
+**
+** Ids as ray_hit's: geom_id, and prim_id (a mesh's triangle; 0 for every
+** other kind), of "scene" itself when inst_id is RAY_INVALID_ID; else
+** inst_id is an instance of "scene" and geom_id, prim_id name geometry
+** of its scene, and the record is in world space (p_err grown by the
+** transform's rounding, as a hit through the instance).  (u, v) by
+** kind: a triangle's or a mesh triangle's barycentrics (u, v >= 0, u + v
+** <= 1: p = (1-u-v) a + u b + v c); a sphere's longitude and latitude
+** in [0, 1] (ray_sphere's); a plane's coordinates along ray_plane's
+** tangents from its point; a polygon's the same from its first vertex,
+** inside it.  Returns RAY_OK with *hit filled, else (*hit untouched)
+** RAY_EINVAL for NULLs, ids that name nothing (or removed geometry, or
+** an instance where geometry was asked for), (u, v) not finite or
+** outside the primitive; RAY_ENOTSUP for boxes, capsules, tori,
+** implicit, parametric and Bezier surfaces and user geometry, which have
+** no surface points here; RAY_ESTATE for a scene not committed, or an
+** instance whose scene changed since.  Any number of threads may call
+** it on a committed scene; it allocates nothing (a scene's commit keeps
+** an index of its triangles for it, 4 bytes a triangle).
+*/
+RAY_API int ray_surface_point(const ray_scene *scene, unsigned geom_id,
+                              unsigned prim_id, unsigned inst_id, double u,
+                              double v, ray_hit *hit);
+
 #ifdef __cplusplus
 }
 #endif

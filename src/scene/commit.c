@@ -510,6 +510,7 @@ int ray_scene_commit(ray_scene *s)
             return ray__fail(s, rc, "out of memory building the BVH over "
                              "%zu triangles (not committed: retry)",
                              s->n_tris);
+        ray__tri_index_build(s);
     } else if (s->dirty & RAY__DIRTY_REFIT)
         refit_triangles(s);
     s->dirty = 0;

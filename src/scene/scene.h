@@ -176,6 +176,10 @@ struct ray_scene {
     int gated;
     int has_instances;
     ray_vec3 lo, hi;
+    /* Where each triangle is, by (geom_id, prim_id): tri_index.c. */
+    unsigned *slot_of;
+    size_t *tri_base;
+    size_t n_slot_of, n_tri_base;
     /* ray_scene_errmsg: the building call now running (a function name,
     ** static) and the message of its failure, "" while none.  A fixed
     ** buffer, so that out of memory can be reported too. */
@@ -298,6 +302,17 @@ static inline void ray__tri_corners(const ray_scene *s, size_t i,
     *b = s->tris[i].b;
     *c = s->tris[i].c;
 }
+
+/*
+** The index of the triangles by id (tri_index.c), made by a commit that
+** rebuilt the triangle BVH: ray__tri_slot -- the slot (for
+** ray__tri_corners) of triangle prim_id of triangle geometry geom_id,
+** 1, or 0 when there is none (another kind, removed, out of range).
+*/
+void ray__tri_index_build(ray_scene *s);
+void ray__tri_index_free(ray_scene *s);
+int ray__tri_slot(const ray_scene *s, unsigned geom_id, unsigned prim_id,
+                  size_t *slot);
 
 /* Room for "more" triangles in the scene's tris/tri_ids arrays. */
 int ray__reserve_tris(ray_scene *s, size_t more);

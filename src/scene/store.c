@@ -117,6 +117,7 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->instances, s->cap_instances * sizeof *s->instances);
     ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
+    ray__tri_index_free(s);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
