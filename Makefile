@@ -323,6 +323,7 @@ else
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/picking >/dev/null
 	RAY_GAME_FRAMES=10 $(BUILD)/examples/game >/dev/null
+	RAY_CONTROLLER_FRAMES=600 $(BUILD)/examples/controller
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
@@ -332,7 +333,7 @@ else
 	    echo "$(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2"; \
 	    $(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2 >/dev/null 2>&1; \
 	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
-	scripts/check-examples.sh $(BUILD)
+	RAY_CONTROLLER_FRAMES=60 scripts/check-examples.sh $(BUILD)
 	@$(MAKE) --no-print-directory mpi-check
 endif
 
