@@ -2129,9 +2129,9 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 ** Returns 1 with *c filled for the first contact, 0 when the shape
 ** touches nothing over the interval (*c untouched), or a negated status:
 ** -RAY_EINVAL for a NULL scene, sweep or c, a non-finite a, b or dir, a
-** zero dir (no motion), a radius that is negative or not finite, a tmin
-** that is not finite, tmax NaN or not above tmin, or a start tmin dir
-** that overflows; -RAY_ESTATE for a scene not committed (or changed
+** zero dir (no motion), a b - a or a tmin dir that overflows, a radius
+** that is negative or not finite, a tmin that is not finite, tmax NaN
+** or not above tmin; -RAY_ESTATE for a scene not committed (or changed
 ** since), or a sweep that meets an instance whose scene was changed.
 **
 **   * radius 0 with a == b is a ray: the answer is ray_intersect_opt's

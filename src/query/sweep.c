@@ -581,7 +581,8 @@ static int sweep_misuse(const ray_scene *s, const ray_sweep *sw,
         !(sw->radius >= 0 && sw->radius < HUGE_VAL) ||
         !(sw->tmin > -HUGE_VAL && sw->tmin < HUGE_VAL) ||
         !(sw->tmax > sw->tmin) || max_abs(sw->dir) == 0 ||
-        !v3_isfinite(v3_scale(sw->dir, sw->tmin)))
+        !v3_isfinite(v3_scale(sw->dir, sw->tmin)) ||
+        !v3_isfinite(v3_sub(sw->b, sw->a)))
         return RAY_EINVAL;
     return s->committed ? RAY_OK : RAY_ESTATE;
 }
@@ -630,8 +631,6 @@ int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
     w.o = sw->a;
     ray__sweep_start(&w.sw, sw->dir, v3_sub(sw->b, sw->a), sw->radius,
                      sw->tmin, sw->tmax);
-    if (!v3_isfinite(w.sw.s))
-        return -RAY_EINVAL;
     w.path.org = sw->a;
     w.path.dir = sw->dir;
     w.path.tmin = sw->tmin;
@@ -648,9 +647,19 @@ int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
     search_in(&w, s);
     if (w.stale)
         return -RAY_ESTATE;
-    if (!(w.best.t < HUGE_VAL))
+    /* In the caller's units t may leave the doubles (a tiny motion, a
+    ** contact far along it), or the contact point may (geometry within
+    ** rounding of DBL_MAX): then it is no contact, as a ray's hit whose
+    ** record would not be finite is none (no Inf in a record). */
+    if (!(w.best.t * w.sw.t_unit < HUGE_VAL) ||
+        !v3_isfinite(v3_add(w.best.p, w.o)))
         return 0;
     c->t = w.best.t * w.sw.t_unit;
+    /* A contact at the start is at tmin exactly; and tmin / t_unit may
+    ** have underflowed (a huge motion from a tiny tmin): a contact is
+    ** then within a subnormal of tmin. */
+    if (w.best.t <= w.sw.t0 || c->t < sw->tmin)
+        c->t = sw->tmin;
     c->p = v3_add(w.best.p, w.o);
     c->n = w.best.n;
     c->depth = w.best.depth > 0 ? w.best.depth : 0;
