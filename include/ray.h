@@ -2145,14 +2145,17 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 **     fastest; of several, the deepest.  A shape touching within
 **     rounding is a contact at tmin only if it moves into the surface:
 **     sliding along a wall at exactly the radius is no contact.
-**   * Conservative (ray_intersect_sweep(3) derives the bound): no exact
-**     shape between tmin and the contact's t penetrates any surface,
-**     and at t it is within 2 eps of touching it, eps = gamma(64) (M +
-**     radius + |b - a| + |tmin dir|), M the magnitude of the contact's
-**     coordinates relative to a (gamma(n) = n u / (1 - n u), u =
-**     2^-53): moving the shape to t never puts it inside.  No shape gets
-**     through a closed mesh at its shared edges and vertices (the
-**     sweep's watertightness, tested at 0, 1e5 and 1e6 from the origin).
+**   * Conservative (ray_intersect_sweep(3) derives the bound): the
+**     shape at any t from tmin to the contact's is nowhere more than 2
+**     eps inside a surface, and at t it is within 2 eps of touching the
+**     one it meets, eps = gamma(64) (M + radius + |b - a| + |tmin dir|),
+**     M the largest coordinate of the features met, relative to a
+**     (gamma(n) = n u / (1 - n u), u = 2^-53): moving the shape to t
+**     never puts it inside.  A shape that only grazes an edge or a
+**     vertex (never more than eps into it: sliding over a flat mesh at
+**     its radius) touches nothing there.  No shape gets through a closed
+**     mesh at its shared edges and vertices (the sweep's watertightness,
+**     tested at 0, 1e5 and 1e6 from the origin).
 **   * Per kind: triangles, meshes, polygons and planes are surfaces;
 **     spheres, boxes and capsules are solids (a shape inside one
 **     overlaps it).  All exact as above, through any transform an
@@ -2297,7 +2300,9 @@ RAY_API int ray_overlap_box_all(const ray_scene *scene,
 ** no surface points here; RAY_ESTATE for a scene not committed, or an
 ** instance whose scene changed since.  Any number of threads may call
 ** it on a committed scene; it allocates nothing (a scene's commit keeps
-** an index of its triangles for it, 4 bytes a triangle).
+** an index of its triangles for it, 4 bytes a triangle and 8 a piece of
+** geometry; without it, as when it could not be allocated, a triangle
+** is searched for).
 */
 RAY_API int ray_surface_point(const ray_scene *scene, unsigned geom_id,
                               unsigned prim_id, unsigned inst_id, double u,

@@ -200,9 +200,9 @@ int ray__polygon_closest_mapped(const ray_vec3 *v, size_t count,
     else {
         best = ray__polygon_vertex(v, 0, xf);
         for (i = 0; i < count; i++) {
-            ray_vec3 e = ray__segment_closest(q, ray__polygon_vertex(v, i, xf),
-                                              ray__polygon_vertex(v, (i + 1) % count,
-                                                        xf));
+            ray_vec3 a = ray__polygon_vertex(v, i, xf);
+            ray_vec3 b = ray__polygon_vertex(v, (i + 1) % count, xf);
+            ray_vec3 e = ray__segment_closest(q, a, b);
             double d = ray__distance(e, q);
             if (d < best_d) {
                 best_d = d;

@@ -479,7 +479,10 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **   2. src/prim/name.c, including prim/prim.h alone: ray_name and
 **      ray__name_check;
 **   3. its line below, and closest_NAME in src/query/closest.c (its
-**      nearest point, for ray_closest_point), which the compiler asks for;
+**      nearest point, for ray_closest_point), sweep_NAME in
+**      src/query/sweep.c, meets_NAME in src/query/overlap.c (exact, or
+**      by its box, flagged RAY_CONTACT_BOUNDS) and its case in
+**      src/query/surface_point.c, which the compiler asks for;
 **   4. tests/check_name.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_name.3 naming ray_scene_add_name in
 **      its NAME section too (the Makefile links every name it lists), and
@@ -520,8 +523,10 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **      ray__torus_box), declared here below the list;
 **   3. the line X(NAME, RAY_PRIM_NAME, BOUNDED) below, and a member of
 **      ray__surface (scene.h) if the scene keeps its parameters;
-**   4. src/scene/kinds.c: box_NAME and hit_NAME, and src/query/closest.c:
-**      closest_NAME, a few lines each, which the compiler asks for;
+**   4. src/scene/kinds.c: box_NAME and hit_NAME, and in src/query/
+**      closest_NAME (closest.c), sweep_NAME (sweep.c), meets_NAME
+**      (overlap.c) and a case in surface_point.c, a few lines each, which
+**      the compiler asks for;
 **   5. src/scene/surfaces.c: ray_scene_add_NAME, through add_surface;
 **   6. tests/check_NAME.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_NAME.3 (a Makefile MLINKS entry for

@@ -52,8 +52,10 @@ int ray__sweep_triangle(ray__sweep *sw, ray_vec3 a, ray_vec3 b, ray_vec3 c,
         ray_vec3 e[2];
         e[0] = v[k];
         e[1] = v[(k + 1) % 3];
-        ray__sweep_edge(sw, e[0], e[1], ray__sweep_eps_of(sw, e, 2), capsule, best);
-        ray__sweep_vertex(sw, v[k], ray__sweep_eps_of(sw, &v[k], 1), capsule, best);
+        ray__sweep_edge(sw, e[0], e[1], ray__sweep_eps_of(sw, e, 2), capsule,
+                        best);
+        ray__sweep_vertex(sw, v[k], ray__sweep_eps_of(sw, &v[k], 1), capsule,
+                          best);
     }
     return changed(&before, best);
 }
@@ -76,7 +78,8 @@ int ray__sweep_sphere(ray__sweep *sw, ray_vec3 c, double R,
         q = ray__segment_closest(c, sw->x0, v3_add(sw->x0, sw->s));
     if (!v3_normalize(v3_sub(q, c), &n))
         n = v3(0, 0, 1);
-    if (ray__sweep_overlap(sw, ray__distance(q, c) - R, q, v3_madd(c, R, n), n, eps,
+    if (ray__sweep_overlap(sw, ray__distance(q, c) - R, q, v3_madd(c, R, n), n,
+                           eps,
                 best))
         return 1;
     o.kind = RAY__FROM_PLAIN;
@@ -114,7 +117,8 @@ int ray__sweep_capsule(ray__sweep *sw, ray_vec3 a, ray_vec3 b, double R,
     }
     if (!v3_normalize(v3_sub(q, p), &n))
         n = v3(0, 0, 1);
-    if (ray__sweep_overlap(sw, ray__distance(q, p) - R, q, v3_madd(p, R, n), n, eps,
+    if (ray__sweep_overlap(sw, ray__distance(q, p) - R, q, v3_madd(p, R, n), n,
+                           eps,
                 best))
         return 1;
     o.kind = RAY__FROM_PLAIN;
@@ -124,7 +128,8 @@ int ray__sweep_capsule(ray__sweep *sw, ray_vec3 a, ray_vec3 b, double R,
     if (capsule) {
         ray__face fc;
         o.kind = RAY__FROM_SHIFTED;
-        ray__sweep_cylinder(sw, v3_sub(a, sw->s), v3_sub(b, sw->s), R, eps, &o, best);
+        ray__sweep_cylinder(sw, v3_sub(a, sw->s), v3_sub(b, sw->s), R, eps,
+                            &o, best);
         ray__sweep_ball(sw, v3_sub(a, sw->s), R, eps, &o, best);
         ray__sweep_ball(sw, v3_sub(b, sw->s), R, eps, &o, best);
         o.kind = RAY__FROM_FIXED;
@@ -175,7 +180,9 @@ int ray__sweep_plane(ray__sweep *sw, ray_vec3 point, ray_vec3 nrm,
         if (fabs(h1) < fabs(h0))
             q = v3_add(sw->x0, sw->s);
     }
-    if (ray__sweep_overlap(sw, (h0 < 0) != (h1 < 0) ? 0.0 : fmin(fabs(h0), fabs(h1)), q,
+    if (ray__sweep_overlap(sw, (h0 < 0) != (h1 < 0) ? 0.0
+                                                 : fmin(fabs(h0), fabs(h1)),
+                           q,
                 v3_madd(q, -v3_dot(v3_sub(q, point), nrm), nrm), nrm, eps,
                 best))
         return 1;
@@ -285,7 +292,8 @@ int ray__sweep_polygon(ray__sweep *sw, const ray_vec3 *v, size_t count,
     for (i = 0; i < count; i++) {
         w[0] = ray__polygon_vertex(v, i, xf);
         w[1] = ray__polygon_vertex(v, (i + 1) % count, xf);
-        ray__sweep_edge(sw, w[0], w[1], ray__sweep_eps_of(sw, w, 2), capsule, best);
+        ray__sweep_edge(sw, w[0], w[1], ray__sweep_eps_of(sw, w, 2), capsule,
+                        best);
         ray__sweep_vertex(sw, w[0], ray__sweep_eps_of(sw, w, 1), capsule, best);
     }
     return changed(&before, best);
@@ -426,8 +434,10 @@ static double core_box(const ray__sweep *sw, const ray_vec3 corner[8],
     /* Far from the body (its centre farther from the core than the
     ** corners' reach plus the radius): a lower bound will do, for
     ** overlap() only asks whether it is below r. */
-    reach = fmax(fmax(ray__distance(corner[0], c), ray__distance(corner[1], c)),
-                 fmax(ray__distance(corner[2], c), ray__distance(corner[3], c)));
+    reach = fmax(fmax(ray__distance(corner[0], c),
+                      ray__distance(corner[1], c)),
+                 fmax(ray__distance(corner[2], c),
+                      ray__distance(corner[3], c)));
     d = ray__distance(ray__segment_closest(c, a, b), c) - reach;
     if (d > 2 * sw->r) {
         *q = a;
@@ -489,7 +499,8 @@ int ray__sweep_parallelepiped(ray__sweep *sw, const ray_vec3 corner[8],
     for (k = 0; k < 8; k++) {
         for (j = 0; j < 3; j++)
             if (!(k & 1 << j))
-                ray__sweep_edge(sw, corner[k], corner[k | 1 << j], eps, capsule, best);
+                ray__sweep_edge(sw, corner[k], corner[k | 1 << j], eps,
+                                capsule, best);
         ray__sweep_vertex(sw, corner[k], eps, capsule, best);
     }
     return changed(&before, best);

@@ -141,7 +141,12 @@ ray_vec3 ray__polygon_vertex(const ray_vec3 *v, size_t i,
 ** v); PARALLELOGRAM: y with its part along -s taken off (an edge [at, at
 ** + e] of K swept by -s).
 */
-enum { RAY__FROM_PLAIN, RAY__FROM_SHIFTED, RAY__FROM_FIXED, RAY__FROM_PARALLELOGRAM };
+enum {
+    RAY__FROM_PLAIN,
+    RAY__FROM_SHIFTED,
+    RAY__FROM_FIXED,
+    RAY__FROM_PARALLELOGRAM
+};
 
 typedef struct ray__origin {
     int kind;

@@ -142,7 +142,8 @@ static int moving_in(const ray__sweep *sw, ray_vec3 f, double eps)
 
 /* ------------------------------------------------------------- pieces */
 
-static ray_vec3 scene_point(const ray__sweep *sw, const ray__origin *o, ray_vec3 y)
+static ray_vec3 scene_point(const ray__sweep *sw, const ray__origin *o,
+                            ray_vec3 y)
 {
     switch (o->kind) {
     case RAY__FROM_SHIFTED:
@@ -168,7 +169,8 @@ static ray_vec3 scene_point(const ray__sweep *sw, const ray__origin *o, ray_vec3
 /* Offer a piece's contact at t: y its point on K - [0, s], n the unit
 ** normal toward the shape, rp the primitive's own radius (a sphere's, a
 ** capsule's: the contact point is rp further along n). */
-static int offer(const ray__sweep *sw, const ray__origin *o, double t, ray_vec3 y,
+static int offer(const ray__sweep *sw, const ray__origin *o, double t,
+                 ray_vec3 y,
                  ray_vec3 n, double rp, ray__contact *best)
 {
     return ray__contact_offer(best, t, v3_madd(scene_point(sw, o, y), rp, n),
@@ -297,7 +299,8 @@ static int face_holds(const ray__face *fc, ray_vec3 nrm, ray_vec3 x)
 }
 
 int ray__sweep_slab(const ray__sweep *sw, const ray__face *fc, ray_vec3 nrm,
-                ray_vec3 at, double eps, const ray__origin *o, ray__contact *best)
+                    ray_vec3 at, double eps, const ray__origin *o,
+                    ray__contact *best)
 {
     double R = sw->r + eps, s0, dn, sigma, s;
     ray_vec3 x, foot;
@@ -367,7 +370,8 @@ void ray__sweep_edge(const ray__sweep *sw, ray_vec3 p, ray_vec3 q, double eps,
     if (!capsule)
         return;
     o.kind = RAY__FROM_SHIFTED;
-    ray__sweep_cylinder(sw, v3_sub(p, sw->s), v3_sub(q, sw->s), 0, eps, &o, best);
+    ray__sweep_cylinder(sw, v3_sub(p, sw->s), v3_sub(q, sw->s), 0, eps, &o,
+                        best);
     /* The parallelogram, its corners in the edge's canonical order so
     ** that two triangles sharing the edge test the same one. */
     if (before(q, p)) {
@@ -379,7 +383,8 @@ void ray__sweep_edge(const ray__sweep *sw, ray_vec3 p, ray_vec3 q, double eps,
     quad[1] = q;
     quad[2] = v3_sub(q, sw->s);
     quad[3] = v3_sub(p, sw->s);
-    if (!v3_normalize(ray__cross_exact(v3_sub(q, p), v3_scale(sw->s, -1)), &nrm))
+    if (!v3_normalize(ray__cross_exact(v3_sub(q, p), v3_scale(sw->s, -1)),
+                      &nrm))
         return;                 /* the edge along s: no parallelogram */
     fc.v = quad;
     fc.n = 4;
@@ -392,7 +397,8 @@ void ray__sweep_edge(const ray__sweep *sw, ray_vec3 p, ray_vec3 q, double eps,
 
 /* Vertex v of K: its ball and, for a capsule, the ball of v - s and the
 ** cylinder [v - s, v] between them (the capsule's side against v). */
-void ray__sweep_vertex(const ray__sweep *sw, ray_vec3 v, double eps, int capsule,
+void ray__sweep_vertex(const ray__sweep *sw, ray_vec3 v, double eps,
+                       int capsule,
                    ray__contact *best)
 {
     ray__origin o;
@@ -434,7 +440,8 @@ double ray__sweep_eps_of(const ray__sweep *sw, const ray_vec3 *v, size_t n)
 ** turned against the motion for a core on K's surface).  1 when it
 ** overlaps (*best offered it): the pieces are then not asked.
 */
-int ray__sweep_overlap(const ray__sweep *sw, double dist, ray_vec3 q, ray_vec3 p,
+int ray__sweep_overlap(const ray__sweep *sw, double dist, ray_vec3 q,
+                       ray_vec3 p,
                    ray_vec3 k_normal, double eps, ray__contact *best)
 {
     ray_vec3 n;

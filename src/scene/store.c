@@ -117,7 +117,10 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->instances, s->cap_instances * sizeof *s->instances);
     ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
-    ray__tri_index_free(s);
+    /* The triangles' index (tri_index.c), freed here: that file calls
+    ** this one's allocator, so no call goes back the other way. */
+    ray__free(s, s->slot_of, s->n_slot_of * sizeof *s->slot_of);
+    ray__free(s, s->tri_base, s->n_tri_base * sizeof *s->tri_base);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
