@@ -680,9 +680,10 @@ static void random_affine(rng *g, int k, ray_transform *t, ray_vec3 at)
 static lvec lxfm(const ray_transform *t, ray_vec3 v)
 {
     lvec r;
-    r.x = (ld)t->m[0][0] * v.x + (ld)t->m[0][1] * v.y + (ld)t->m[0][2] * v.z + (ld)t->m[0][3];
-    r.y = (ld)t->m[1][0] * v.x + (ld)t->m[1][1] * v.y + (ld)t->m[1][2] * v.z + (ld)t->m[1][3];
-    r.z = (ld)t->m[2][0] * v.x + (ld)t->m[2][1] * v.y + (ld)t->m[2][2] * v.z + (ld)t->m[2][3];
+    lvec l = lv(v);
+    r.x = (ld)t->m[0][0] * l.x + (ld)t->m[0][1] * l.y + (ld)t->m[0][2] * l.z + (ld)t->m[0][3];
+    r.y = (ld)t->m[1][0] * l.x + (ld)t->m[1][1] * l.y + (ld)t->m[1][2] * l.z + (ld)t->m[1][3];
+    r.z = (ld)t->m[2][0] * l.x + (ld)t->m[2][1] * l.y + (ld)t->m[2][2] * l.z + (ld)t->m[2][3];
     return r;
 }
 
@@ -760,20 +761,24 @@ static int child_triangle(const child_ref *c, unsigned g, size_t k,
 /* The preimage of world point p under xf, in long double. */
 static lvec lxfm_inverse(const ray_transform *xf, ray_vec3 p)
 {
-    const double (*m)[4] = (const double(*)[4])xf->m;
-    ld inv[3][3], det;
-    lvec d = lv3((ld)p.x - (ld)m[0][3], (ld)p.y - (ld)m[1][3],
-                 (ld)p.z - (ld)m[2][3]);
+    ld m[3][4], inv[3][3], det;
+    int i, j;
+    lvec d;
 
-    inv[0][0] = (ld)m[1][1] * m[2][2] - (ld)m[1][2] * m[2][1];
-    inv[0][1] = (ld)m[0][2] * m[2][1] - (ld)m[0][1] * m[2][2];
-    inv[0][2] = (ld)m[0][1] * m[1][2] - (ld)m[0][2] * m[1][1];
-    inv[1][0] = (ld)m[1][2] * m[2][0] - (ld)m[1][0] * m[2][2];
-    inv[1][1] = (ld)m[0][0] * m[2][2] - (ld)m[0][2] * m[2][0];
-    inv[1][2] = (ld)m[0][2] * m[1][0] - (ld)m[0][0] * m[1][2];
-    inv[2][0] = (ld)m[1][0] * m[2][1] - (ld)m[1][1] * m[2][0];
-    inv[2][1] = (ld)m[0][1] * m[2][0] - (ld)m[0][0] * m[2][1];
-    inv[2][2] = (ld)m[0][0] * m[1][1] - (ld)m[0][1] * m[1][0];
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 4; j++)
+            m[i][j] = (ld)xf->m[i][j];
+    d = lv3((ld)p.x - m[0][3], (ld)p.y - m[1][3], (ld)p.z - m[2][3]);
+
+    inv[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    inv[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+    inv[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+    inv[1][0] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    inv[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+    inv[1][2] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+    inv[2][0] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    inv[2][1] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+    inv[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
     det = m[0][0] * inv[0][0] + m[0][1] * inv[1][0] + m[0][2] * inv[2][0];
     return lv3((inv[0][0] * d.x + inv[0][1] * d.y + inv[0][2] * d.z) / det,
                (inv[1][0] * d.x + inv[1][1] * d.y + inv[1][2] * d.z) / det,

@@ -288,7 +288,7 @@ static inline void kit_build(kit *k, ray_vec3 o, int plane)
     p.kind = PIECE_BOX;
     p.box = box;
     p.centre = lv(box.center);
-    p.reach = 1.5;
+    p.reach = 1.5L;
     p.geom_id = id;
     kit_push(k, p);
     cap.a = kit_at(o, -3, -1, -2);

@@ -118,8 +118,10 @@ int ray__sweep_ellipsoid(ray__sweep *sw, const ray__ellipsoid *el,
             dir = n;
         if (g <= 2 * eps)
             return ray__contact_offer(best, t, p, dir, 0);
+        /* The unit vector q - p is off by the points' errors (within
+        ** eps) over their distance: the rate is rounding below that. */
         rate = v3_dot(sw->d, dir);
-        if (!(rate < -sw->d_len * (ray__gamma(8) + 2 * eps / g)))
+        if (!(rate < -sw->d_len * (ray__gamma(8) + 2 * eps / dist)))
             return 0;                   /* moving away: none, by convexity */
         t += (g - eps) / -rate;
         if (!(t <= sw->t1))
