@@ -219,9 +219,8 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
             results[i + (size_t)l] = any && (p.started & ~p.live) >> l & 1;
             if (any || !(p.started >> l & 1) || b->index == TRI_NONE)
                 continue;
-            t = &s->tris[b->index];
-            /* A usable triangle (checked at commit) always fills, as in
-            ** nearest_core. */
+            t = &b->tri;
+            /* A triangle that was hit fills, as in nearest_core. */
             if (!ray__triangle_fill(t->a, t->b, t->c, p.r[l].tmax, b->beta,
                                     b->gamma, &h))
                 continue;
