@@ -1034,6 +1034,10 @@ typedef struct ray_stats {
                                            specular bounce */
     unsigned long long photon_lookups;  /* ray_caustics_at density
                                            estimates over a photon map */
+    unsigned long long batch_packets;   /* rays of ray_intersect_batch and
+                                           ray_occluded_batch traced eight
+                                           together through the BVH */
+    unsigned long long batch_single;    /* and those traced one by one */
 } ray_stats;
 
 /* --------------------------------------------------------- 9. rendering */
@@ -1511,11 +1515,13 @@ RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
 ** and hits[i] what it writes, bit for bit, whatever n and the order of
 ** the rays.  Where the CPU has AVX2 and the scene holds triangles alone
 ** (no planes, other kinds or instances) without masks or filters in the
-** query, the rays are traced eight at a time (rays[0..7], rays[8..15],
-** ...) through the BVH together: much faster when those eight are close
-** in origin and direction (a 4x2 block of pixels, shadow rays from nearby
-** points to one light), somewhat slower when they scatter; other scenes
-** trace them one by one.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
+** query, each group of eight (rays[0..7], rays[8..15], ...) whose
+** directions lie within about 8 degrees of their mean is traced through
+** the BVH together: faster, as such eight (a 4x2 block of pixels, shadow
+** rays from nearby points to one light) visit the same nodes; a group
+** that scatters, and any scene or query the packets do not take, goes
+** one ray at a time, so a batch is never slower than a loop of
+** ray_intersect.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
 ** results or, for ray_intersect_n, hits NULL with n > 0) or RAY_ESTATE
 ** (not committed), writing nothing.
 */
@@ -1524,6 +1530,34 @@ RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
                             int *results);
 RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
                            size_t n, const ray_query *q, int *results);
+
+/*
+** ray_intersect_batch, ray_occluded_batch -- ray_intersect_n and
+** ray_occluded_n with each ray's own options: queries[i] for rays[i]
+** (queries NULL: the defaults for every ray), as AI agents' lines of
+** sight that each hide their own shooter (a mask bit per agent) or hand
+** their own query_ud to a filter; and the batch's counters added to
+** *stats when it is not NULL (its intersection tests, and how many rays
+** went through the BVH in packets of eight, batch_packets, and how many
+** one at a time, batch_single: a group of eight goes in a packet when
+** every ray of it could, as ray_intersect_n says, whatever its options
+** -- a mask or query_ud that no geometry of the scene reads changes
+** nothing).  Answers, statuses and misuse as ray_intersect_n's, bit for
+** bit those of ray_intersect_opt(scene, &rays[i], &queries[i], &hits[i])
+** and ray_occluded_opt (hits is not read by ray_occluded_batch and may be
+** NULL); b NULL is RAY_EINVAL.
+*/
+typedef struct ray_batch {
+    const ray_ray *rays;         /* n rays */
+    const ray_query *queries;    /* n options, or NULL: the defaults */
+    size_t n;
+    ray_hit *hits;               /* n records (ray_intersect_batch) */
+    int *results;                /* n answers */
+    ray_stats *stats;            /* counters added here; may be NULL */
+} ray_batch;
+
+RAY_API int ray_intersect_batch(const ray_scene *scene, const ray_batch *b);
+RAY_API int ray_occluded_batch(const ray_scene *scene, const ray_batch *b);
 
 /* ---------------------------------------------------------- 13. tracing */
 
