@@ -667,15 +667,18 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** flags other than RAY_MESH_BORROW; RAY_ENOMEM (also for more than
 ** 2^31 - 1 triangles in the scene).
 **
-** Memory: each triangle costs 80 bytes (its three vertices, flattened for
-** traversal, and its ids) plus 23 to 31 bytes of BVH after commit (111 in
-** all on a million-triangle grid, 103 to 106 on the Stanford bunny:
-** bench/mesh), plus 12 bytes of indices and the per-vertex attributes
-** when normals or texture coordinates are given (none when borrowed,
+** Memory: the scene keeps a mesh's positions as doubles (24 bytes a
+** vertex, about 12 a triangle in a closed mesh) and its indices (12 bytes
+** a triangle), which the exact triangle test reads; after commit each
+** triangle adds its ids (8 bytes), a float copy of its corners in the
+** BVH's leaves (36 bytes, what the float filter in front of the exact
+** test reads) and about 10 bytes of BVH: 78 bytes in all on a
+** million-triangle grid and on the Stanford bunny (bench/mesh,
+** bench/filter), plus the per-vertex attributes when normals or texture
+** coordinates are given (the caller's own when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
-** triangle BVH keeps 4 bytes a leaf more, about 1 a triangle.
-** ray_scene_commit briefly needs about 187 bytes per triangle (189 to
-** 191 on the bunny).
+** triangle BVH keeps 4 bytes a leaf more, under 1 a triangle.
+** ray_scene_commit briefly needs about 133 bytes per triangle.
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data
 ** (RAY_UINT*); 0 is none of them. */
