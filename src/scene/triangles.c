@@ -77,49 +77,37 @@ static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
 }
 
 /*
-** Coordinate v as the float the filter reads: the nearest float, and
-** *exact cleared where it is not v itself.  A coordinate beyond
-** RAY__LEAF_FLOAT_MAX is NaN: the filter's arithmetic could overflow
-** there, and a NaN lane is never rejected (the exact test decides).
-*/
-static float leaf_float(double v, int *exact)
-{
-    float f;
-
-    if (!(fabs(v) <= RAY__LEAF_FLOAT_MAX)) {
-        *exact = 0;
-        return (float)NAN;
-    }
-    f = (float)v;
-    if ((double)f != v)
-        *exact = 0;
-    return f;
-}
-
-/*
 ** The nine floats of triangle t, corner by corner (a, b, c), axis by
-** axis, at rows[0], rows[stride], ... rows[8 stride]; all NaN when any
-** is (one NaN coordinate would do, nine leave no doubt).
+** axis, at rows[0], rows[stride], ... rows[8 stride]: each the nearest
+** float, *exact cleared where one is not its double itself.  A triangle
+** with a coordinate beyond RAY__LEAF_FLOAT_MAX (where the filter's
+** arithmetic could overflow, and where a conversion to float could be
+** out of range) gets NaN in all nine, which the filter never rejects:
+** the exact test decides it.
 */
 static void leaf_rows(const ray__tri *t, float *rows, size_t stride,
                       int *exact)
 {
-    const ray_vec3 *v[3];
-    float f[RAY__LEAF_ROWS];
-    int k, ok = 1;
+    double d[RAY__LEAF_ROWS];
+    int k, ok = 1, same = 1;
 
-    v[0] = &t->a;
-    v[1] = &t->b;
-    v[2] = &t->c;
-    for (k = 0; k < 3; k++) {
-        f[3 * k] = leaf_float(v[k]->x, exact);
-        f[3 * k + 1] = leaf_float(v[k]->y, exact);
-        f[3 * k + 2] = leaf_float(v[k]->z, exact);
+    d[0] = t->a.x, d[1] = t->a.y, d[2] = t->a.z;
+    d[3] = t->b.x, d[4] = t->b.y, d[5] = t->b.z;
+    d[6] = t->c.x, d[7] = t->c.y, d[8] = t->c.z;
+    for (k = 0; k < RAY__LEAF_ROWS; k++)
+        ok &= fabs(d[k]) <= RAY__LEAF_FLOAT_MAX;
+    if (!ok) {
+        for (k = 0; k < RAY__LEAF_ROWS; k++)
+            rows[(size_t)k * stride] = (float)NAN;
+        *exact = 0;
+        return;
     }
-    for (k = 0; k < RAY__LEAF_ROWS; k++)
-        ok &= f[k] == f[k];
-    for (k = 0; k < RAY__LEAF_ROWS; k++)
-        rows[(size_t)k * stride] = ok ? f[k] : (float)NAN;
+    for (k = 0; k < RAY__LEAF_ROWS; k++) {
+        float f = (float)d[k];
+        same &= (double)f == d[k];
+        rows[(size_t)k * stride] = f;
+    }
+    *exact &= same;
 }
 
 /*
