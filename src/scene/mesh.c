@@ -216,7 +216,7 @@ static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
 /* The positions as doubles, the scene's own copy: what the exact
 ** triangle test reads (through the indices), whatever the input type. */
 static int copy_positions(const ray_scene *s, const ray_mesh *m,
-                          ray_vec3 **dst)
+                          ray_vec3 **dst, int *floats)
 {
     size_t i;
 
@@ -225,8 +225,12 @@ static int copy_positions(const ray_scene *s, const ray_mesh *m,
     *dst = ray__alloc(s, m->vertex_count * sizeof **dst);
     if (*dst == NULL)
         return RAY_ENOMEM;
-    for (i = 0; i < m->vertex_count; i++)
+    *floats = 1;
+    for (i = 0; i < m->vertex_count; i++) {
         (*dst)[i] = mesh_vertex(m, i);
+        *floats &= ray__is_float((*dst)[i].x) & ray__is_float((*dst)[i].y) &
+                   ray__is_float((*dst)[i].z);
+    }
     return RAY_OK;
 }
 
@@ -246,7 +250,7 @@ static int mesh_keep_arrays(const ray_scene *s, const ray_mesh *m,
     memset(out, 0, sizeof *out);
     out->n_vertices = m->vertex_count;
     out->n_tris = m->triangle_count;
-    if (copy_positions(s, m, &out->pos) != RAY_OK)
+    if (copy_positions(s, m, &out->pos, &out->pos_floats) != RAY_OK)
         return RAY_ENOMEM;
     if (borrow && m->indices != NULL)
         out->indices = m->indices;

@@ -116,6 +116,8 @@ typedef struct ray__mesh {
     size_t n_vertices, n_tris;
     int borrowed;                /* the arrays are the caller's */
     int own_indices;             /* indices is the scene's copy */
+    int pos_floats;              /* every coordinate of pos is a float:
+                                    its float copy in the leaves is exact */
     ray_mesh src;                /* borrowed: the caller's descriptor */
     double *uv_scale;            /* with texcoords: per triangle, sqrt(its
                                     (s, t) area / its area), for ray

@@ -78,36 +78,51 @@ static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
 
 /*
 ** The nine floats of triangle t, corner by corner (a, b, c), axis by
-** axis, at rows[0], rows[stride], ... rows[8 stride]: each the nearest
-** float, *exact cleared where one is not its double itself.  A triangle
-** with a coordinate beyond RAY__LEAF_FLOAT_MAX (where the filter's
-** arithmetic could overflow, and where a conversion to float could be
-** out of range) gets NaN in all nine, which the filter never rejects:
-** the exact test decides it.
+** axis, at rows[0], rows[stride], ... rows[8 stride], each the nearest
+** float.  A triangle with a coordinate beyond RAY__LEAF_FLOAT_MAX (where
+** the filter's arithmetic could overflow, and where a conversion to
+** float could be out of range) gets NaN in all nine, which the filter
+** never rejects: the exact test decides it.
 */
-static void leaf_rows(const ray__tri *t, float *rows, size_t stride,
-                      int *exact)
+static void leaf_rows(const ray__tri *t, float *rows, size_t stride)
 {
     double d[RAY__LEAF_ROWS];
-    int k, ok = 1, same = 1;
+    int k, ok = 1;
 
     d[0] = t->a.x, d[1] = t->a.y, d[2] = t->a.z;
     d[3] = t->b.x, d[4] = t->b.y, d[5] = t->b.z;
     d[6] = t->c.x, d[7] = t->c.y, d[8] = t->c.z;
     for (k = 0; k < RAY__LEAF_ROWS; k++)
         ok &= fabs(d[k]) <= RAY__LEAF_FLOAT_MAX;
-    if (!ok) {
-        for (k = 0; k < RAY__LEAF_ROWS; k++)
-            rows[(size_t)k * stride] = (float)NAN;
-        *exact = 0;
-        return;
+    for (k = 0; k < RAY__LEAF_ROWS; k++)
+        rows[(size_t)k * stride] = ok ? (float)d[k] : (float)NAN;
+}
+
+/*
+** Are the float corners of every live triangle exact (the scene's
+** float_exact, which lets the filter's bound drop the vertices'
+** rounding)?  Yes when each live mesh's positions are floats (checked as
+** they were copied) and each live single triangle's corners are.
+*/
+static int corners_are_floats(const ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!p->enabled || p->removed)
+            continue;
+        if (p->kind == RAY__KIND_MESH && !s->meshes[p->mesh].pos_floats)
+            return 0;
+        if (p->kind == RAY__KIND_TRIANGLE &&
+            !(ray__is_float(p->a.x) && ray__is_float(p->a.y) &&
+              ray__is_float(p->a.z) && ray__is_float(p->b.x) &&
+              ray__is_float(p->b.y) && ray__is_float(p->b.z) &&
+              ray__is_float(p->c.x) && ray__is_float(p->c.y) &&
+              ray__is_float(p->c.z)))
+            return 0;
     }
-    for (k = 0; k < RAY__LEAF_ROWS; k++) {
-        float f = (float)d[k];
-        same &= (double)f == d[k];
-        rows[(size_t)k * stride] = f;
-    }
-    *exact &= same;
+    return 1;
 }
 
 /*
@@ -166,7 +181,6 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
     float *by_slot = ray__alloc(s, RAY__LEAF_ROWS * n * sizeof *by_slot);
     float *out;
     leaf_gather g;
-    int exact = 1;
 
     if (by_slot == NULL)
         return RAY_ENOMEM;
@@ -177,7 +191,7 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
     }
     for (i = 0; i < n; i++) {
         ray__tri t = ray__tri_of(s, i);
-        leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1, &exact);
+        leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
     }
     g.out = out;
     g.by_slot = by_slot;
@@ -187,7 +201,7 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
     ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
     s->leaf_f = out;
     s->cap_leaf_f = floats;
-    s->float_exact = exact;
+    s->float_exact = corners_are_floats(s);
     return RAY_OK;
 }
 
@@ -336,37 +350,29 @@ int ray__triangles_rebuild(ray_scene *s)
 /*
 ** A refit's leaf: the box of slots first .. first + n - 1, from the
 ** geometry's vertices as they are now, and their float corners written
-** again in the leaf's rows.  ud: the scene, not const here (refit_ctx).
+** again in the leaf's rows (ud: the scene, whose leaf_f the refit
+** rewrites: each leaf its own rows).
 */
-typedef struct refit_ctx {
-    ray_scene *s;
-    int exact;
-} refit_ctx;
-
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
                        float hi[3])
 {
-    refit_ctx *c = ray__unconst(ud);
-    float *rows = c->s->leaf_f + RAY__LEAF_ROWS * first;
-    ray__tri t = ray__tri_of(c->s, first);
+    ray_scene *s = ray__unconst(ud);
+    float *rows = s->leaf_f + RAY__LEAF_ROWS * first;
+    ray__tri t = ray__tri_of(s, first);
     ray_vec3 a = t.a, b = t.a;
     size_t j;
 
     for (j = 0; j < n; j++) {
         if (j > 0)
-            t = ray__tri_of(c->s, first + j);
+            t = ray__tri_of(s, first + j);
         corners_grow(&t, &a, &b);
-        leaf_rows(&t, rows + j, n, &c->exact);
+        leaf_rows(&t, rows + j, n);
     }
     box_out(a, b, lo, hi);
 }
 
 void ray__triangles_refit(ray_scene *s)
 {
-    refit_ctx c;
-
-    c.s = s;
-    c.exact = 1;
-    ray__bvh_refit(&s->alloc, &s->tri_bvh, refit_leaf, &c, s->n_live_tris);
-    s->float_exact = c.exact;
+    ray__bvh_refit(&s->alloc, &s->tri_bvh, refit_leaf, s, s->n_live_tris);
+    s->float_exact = corners_are_floats(s);
 }
