@@ -9,10 +9,11 @@
 **   * A file's own file-scope names (static functions and variables,
 **     typedefs, struct/union/enum tags, enum constants) that another
 **     source file or any private header also spells are renamed in that
-**     file, prefixed with its path (src/accel/sah.c's "bin" becomes
-**     "accel_sah__bin"): two files' min2 or box_of no longer meet.  An
-**     identifier after "." or "->" (a member) is left alone, and so are
-**     names in the library's namespace (ray_*, RAY_*), which are unique.
+**     file, prefixed with its path (src/query/closest.c's "max2" becomes
+**     "query_closest__max2"): two files' max2 or split no longer meet.  An
+**     identifier after "." or "->" (a member) or "#" (a directive) is
+**     left alone, and so are names in the library's namespace (ray_*,
+**     RAY_*), which are unique.
 **   * The macros a source file defines are #undef'd after it, so that
 **     BINS or CHUNK of one file is not seen by the next; one that a
 **     header also defines (for its own files) is renamed in the file.
@@ -734,8 +735,8 @@ static int renamed(const source *f, size_t i, const name_set *rename)
         return 0;
     if (i == 0)
         return 1;
-    p = i - 1;          /* a member's name stays */
-    return !(tok_is(f, p, ".") || tok_is(f, p, "->"));
+    p = i - 1;          /* a member's name stays, and a directive's */
+    return !(tok_is(f, p, ".") || tok_is(f, p, "->") || f->tok[p].pp_start);
 }
 
 /*
