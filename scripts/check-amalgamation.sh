@@ -16,7 +16,8 @@
 #     whatever the flags.
 #  3. With PNG=1: built with -DRAY_PNG=1 and CFLAGS, the examples linked
 #     against it render the pictures the Makefile's examples render,
-#     compared with cmp (make check's sizes).
+#     compared with cmp (make check's sizes); built with -mavx2 too (on
+#     an x86 CPU with AVX2), whitted's picture again.
 #
 # CC, CFLAGS, LDFLAGS, WARN, ALL_CFLAGS (the examples' flags), PNG_CFLAGS
 # and LIBS come from the environment (the Makefile's).
@@ -94,3 +95,22 @@ for run in "$@"; do
         fail "$name: the picture differs between the Makefile's library and the amalgamation"
 done
 echo "amalgamation-test: $CC -std=c99 $CFLAGS -DRAY_PNG=1: examples hello material primitives whitted cornell implicit textures linked with it; their pictures byte-identical to the Makefile's"
+
+# 4. The documented -mavx2 switch (x86 CPUs with AVX2): the whole library
+#    built for AVX2, packets included, renders the same picture.
+case $($CC -dumpmachine 2>/dev/null) in
+x86_64-*|i?86-*|amd64-*)
+    if grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+        # shellcheck disable=SC2086
+        $CC -std=c99 $CFLAGS -mavx2 -DRAY_PNG=1 $PNG_CFLAGS -c \
+            "$dir/libray.c" -o "$tmp/avx2.o" || fail "libray.c -mavx2 failed"
+        # shellcheck disable=SC2086
+        $CC -I"$dir" $ALL_CFLAGS $LDFLAGS -o "$tmp/whitted-avx2" \
+            "$top/examples/whitted.c" "$tmp/avx2.o" $LIBS
+        "$tmp/whitted-avx2" "$tmp/whitted-avx2.png" 64 48 1 2 >/dev/null 2>&1 ||
+            fail "whitted on the -mavx2 amalgamation failed"
+        cmp "$tmp/make/whitted.png" "$tmp/whitted-avx2.png" ||
+            fail "-mavx2: whitted's picture differs from the Makefile's"
+        echo "amalgamation-test: -mavx2: whitted's picture byte-identical to the Makefile's"
+    fi ;;
+esac
