@@ -93,7 +93,7 @@ endif
 # with make abi-baseline (doc/DESIGN.md, "Versions and ABI": which
 # version and soname it then needs).  The self-test
 # (scripts/test-check-abi.sh) shows the guard failing on a reordered
-# struct, a removed and an added function.
+# struct, a grown struct, a removed and an added function.
 ABI_BASELINE = abi/libray.abi
 # The ray.h the library was compiled with: the amalgamation's copy under
 # AMALGAMATION=1.

@@ -11,6 +11,8 @@
 #   a field reordered  in a scratch copy of ray.h, ray_camera's first two
 #                      member lines swapped (its size unchanged, its
 #                      members' offsets not): fails, naming the fields;
+#   a field appended   to ray_camera: fails (a minor release may do it,
+#                      recording it);
 #   a function removed ray_version_string made local by the version
 #                      script: fails;
 #   a function added   one more ray_* function: fails (it needs its
@@ -61,7 +63,8 @@ expect_fail() {
         grep -qF -e "$text" "$tmp/$name.out" ||
             { cat "$tmp/$name.out" >&2; fail "$what: the report does not say '$text'"; }
     done
-    echo "abi-test: the guard fails on $what: $(grep -m 1 -F -e "$1" "$tmp/$name.out" 2>/dev/null || grep -m 1 'changes summary' "$tmp/$name.out")"
+    # The report's line with the last TEXT, as evidence.
+    echo "abi-test: the guard fails on $what: $(grep -m 1 -F -e "$text" "$tmp/$name.out" | sed 's/^ *//')"
 }
 
 # 1. As it is.
@@ -86,15 +89,31 @@ shared reordered "$top/src/libray.map" "$tmp/reordered/libray.o"
 expect_fail reordered "$tmp/reordered/src" "ray_camera's fields reordered" \
     "struct ray_camera" "offset changed"
 
-# 3. A function removed from the exports.
+# 3. A field appended to ray_camera (what a minor release may do, the
+#    baseline recording it: doc/DESIGN.md).
+mkdir -p "$tmp/appended/src"
+cp "$dir/libray.c" "$tmp/appended/src/"
+awk '
+    /^typedef struct ray_camera \{/ { inside = 1 }
+    inside && /^\} ray_camera;/ {
+        print "    double abi_selftest_appended;"; inside = 0; added = 1 }
+    { print }
+    END { if (!added) exit 1 }' "$dir/ray.h" > "$tmp/appended/src/ray.h" ||
+    fail "no '} ray_camera;' in $dir/ray.h to append to"
+object appended "$tmp/appended/src"
+shared appended "$top/src/libray.map" "$tmp/appended/libray.o"
+expect_fail appended "$tmp/appended/src" "a field appended to ray_camera" \
+    "struct ray_camera" "type size changed"
+
+# 4. A function removed from the exports.
 mkdir -p "$tmp/removed"
 printf 'LIBRAY_0 {\n    global:\n        ray_*;\n    local:\n        ray_version_string;\n        *;\n};\n' \
     > "$tmp/removed.map"
 shared removed "$tmp/removed.map" "$tmp/pristine/libray.o"
 expect_fail removed "$dir" "ray_version_string removed" \
-    "1 Removed function" "ray_version_string"
+    "1 Removed function" "'function const char* ray_version_string()'"
 
-# 4. A function added.
+# 5. A function added.
 mkdir -p "$tmp/added"
 printf '%s\n' 'int ray_abi_selftest_added(void);' \
     'int ray_abi_selftest_added(void) { return 1; }' > "$tmp/added/added.c"
@@ -102,5 +121,5 @@ $CC -std=c99 -O0 -g -fPIC -c "$tmp/added/added.c" -o "$tmp/added/added.o"
 shared added "$top/src/libray.map" "$tmp/pristine/libray.o" \
     "$tmp/added/added.o"
 expect_fail added "$dir" "a function added" \
-    "1 Added function" "ray_abi_selftest_added"
-echo "abi-test: the guard's self-test passed (the amalgamation's library passes; a reordered struct, a removed and an added function fail)"
+    "1 Added function" "'function int ray_abi_selftest_added()'"
+echo "abi-test: the guard's self-test passed (the amalgamation's library passes; a reordered struct, a grown struct, a removed and an added function fail)"
