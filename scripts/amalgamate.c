@@ -578,6 +578,7 @@ typedef struct program {
     name_set header_macros;
     name_set function_macros;
     name_set staticize;         /* ray__ functions defined in a file */
+    int *scanned;               /* includes followed (load_includes) */
     int *emitted;               /* headers written out */
     int *emitted_under_if;      /* ... first inside a file's #if */
     FILE *out;
@@ -603,12 +604,14 @@ static int load(program *pg, const char *path, int header)
         pg->cap = pg->cap * 2 + 64;
         pg->files = xrealloc(pg->files, pg->cap * sizeof *pg->files);
         pg->nm = xrealloc(pg->nm, pg->cap * sizeof *pg->nm);
+        pg->scanned = xrealloc(pg->scanned, pg->cap * sizeof *pg->scanned);
         pg->emitted = xrealloc(pg->emitted, pg->cap * sizeof *pg->emitted);
         pg->emitted_under_if =
             xrealloc(pg->emitted_under_if, pg->cap * sizeof(int));
     }
     pg->files[pg->nfiles] = f;
     memset(&pg->nm[pg->nfiles], 0, sizeof pg->nm[pg->nfiles]);
+    pg->scanned[pg->nfiles] = 0;
     pg->emitted[pg->nfiles] = 0;
     pg->emitted_under_if[pg->nfiles] = 0;
     return (int)pg->nfiles++;
@@ -639,13 +642,12 @@ static void load_includes(program *pg, int fi)
 {
     size_t i;
 
+    pg->scanned[fi] = 1;
     for (i = 0; i < pg->files[fi].ntok; i++)
         if (pg->files[fi].tok[i].pp_start) {
             int h = private_include(pg, fi, i);
-            if (h >= 0 && h != fi && pg->nm[h].locals.cap == 0) {
-                set_add(&pg->nm[h].locals, "", 0);  /* visited */
+            if (h >= 0 && !pg->scanned[h])
                 load_includes(pg, h);
-            }
         }
 }
 
@@ -831,18 +833,116 @@ static void emit_includes_of(program *pg, int fi)
         }
 }
 
+static void set_merge(name_set *to, const name_set *from)
+{
+    size_t i;
+
+    for (i = 0; i < from->cap; i++)
+        if (from->slot[i] != NULL)
+            set_add(to, from->slot[i], strlen(from->slot[i]));
+}
+
+/* Every file's names, the identifiers each spells, and which ray__
+** functions become RAY__STATIC: those a header declares by name (not
+** through a macro, which this cannot make static) and a source defines
+** without static. */
+static void analyse(program *pg, int nsrc)
+{
+    name_set declared;
+    int fi;
+    size_t i;
+
+    memset(&declared, 0, sizeof declared);
+    for (fi = 0; fi < (int)pg->nfiles; fi++) {
+        find_macros(&pg->files[fi], &pg->nm[fi]);
+        set_merge(&pg->function_macros, &pg->nm[fi].function_macros);
+        if (pg->files[fi].header)
+            set_merge(&pg->header_macros, &pg->nm[fi].macros);
+    }
+    for (fi = 0; fi < (int)pg->nfiles; fi++) {
+        find_names(&pg->files[fi], &pg->nm[fi], &pg->function_macros);
+        spell(pg, fi);
+    }
+    for (fi = nsrc; fi < (int)pg->nfiles; fi++)
+        for (i = 0; i < pg->nm[fi].ndecl; i++)
+            set_add(&declared, pg->nm[fi].decl_name[i],
+                    strlen(pg->nm[fi].decl_name[i]));
+    for (fi = 0; fi < nsrc; fi++) {
+        const name_set *ext = &pg->nm[fi].externs;
+        for (i = 0; i < ext->cap; i++)
+            if (ext->slot[i] != NULL &&
+                strncmp(ext->slot[i], "ray__", 5) == 0 &&
+                set_has(&declared, ext->slot[i], strlen(ext->slot[i])))
+                set_add(&pg->staticize, ext->slot[i], strlen(ext->slot[i]));
+    }
+}
+
+/* The names source fi renames: its own that another file spells (but
+** the library's namespace), and its macros that a header defines too. */
+static void names_to_rename(const program *pg, int fi, int nsrc,
+                            name_set *rename)
+{
+    const names *nm = &pg->nm[fi];
+    size_t i;
+
+    for (i = 0; i < nm->locals.cap; i++) {
+        const char *n = nm->locals.slot[i];
+        if (n == NULL || strncmp(n, "ray_", 4) == 0 ||
+            strncmp(n, "RAY_", 4) == 0)
+            continue;
+        if (spelled_elsewhere(pg, fi, n, nsrc))
+            set_add(rename, n, strlen(n));
+    }
+    for (i = 0; i < nm->macros.cap; i++) {
+        const char *m = nm->macros.slot[i];
+        if (m != NULL && set_has(&pg->header_macros, m, strlen(m)))
+            set_add(rename, m, strlen(m));
+    }
+}
+
+/* Source fi, under #if wrap when wrap is not NULL, then the #undef of
+** each macro it defined. */
+static void emit_source(program *pg, int fi, int nsrc, const char *wrap)
+{
+    const names *nm = &pg->nm[fi];
+    char *prefix = prefix_of(pg, pg->files[fi].path);
+    name_set rename;
+    size_t i;
+
+    memset(&rename, 0, sizeof rename);
+    names_to_rename(pg, fi, nsrc, &rename);
+    fprintf(pg->out, "\n/* ======== %s ======== */\n", pg->files[fi].path);
+    if (wrap != NULL) {
+        emit_includes_of(pg, fi);
+        fprintf(pg->out, "#if %s\n", wrap);
+    }
+    emit_file(pg, fi, &rename, prefix, wrap != NULL);
+    for (i = 0; i < nm->macros.cap; i++) {
+        const char *m = nm->macros.slot[i];
+        if (m != NULL)
+            fprintf(pg->out, "#undef %s%s\n",
+                    set_has(&rename, m, strlen(m)) ? prefix : "", m);
+    }
+    if (wrap != NULL)
+        fprintf(pg->out, "#endif /* %s */\n", wrap);
+    free(prefix);
+}
+
+static void usage(void)
+{
+    die("usage: amalgamate -o OUT -I SRCDIR [-p PROLOGUE] "
+        "[-if FILE COND]... FILE.c...");
+}
+
 int main(int argc, char **argv)
 {
     program pg;
-    name_set declared;
     const char *out = NULL, *prologue = NULL;
     const char **cond_file = xmalloc((size_t)argc * sizeof(char *));
     const char **cond = xmalloc((size_t)argc * sizeof(char *));
     int ncond = 0, nsrc = 0, a, fi, k;
-    size_t i;
 
     memset(&pg, 0, sizeof pg);
-    memset(&declared, 0, sizeof declared);
     pg.srcdir = "src";
     for (a = 1; a < argc && argv[a][0] == '-'; a++) {
         if (strcmp(argv[a], "-o") == 0 && a + 1 < argc)
@@ -855,12 +955,10 @@ int main(int argc, char **argv)
             cond_file[ncond] = argv[++a];
             cond[ncond++] = argv[++a];
         } else
-            die("usage: amalgamate -o OUT -I SRCDIR [-p PROLOGUE] "
-                "[-if FILE COND]... FILE.c...");
+            usage();
     }
     if (out == NULL || a == argc)
-        die("usage: amalgamate -o OUT -I SRCDIR [-p PROLOGUE] "
-            "[-if FILE COND]... FILE.c...");
+        usage();
 
     /* The sources first (indices 0 .. nsrc-1), then their headers. */
     for (; a < argc; a++, nsrc++)
@@ -868,38 +966,7 @@ int main(int argc, char **argv)
             die("cannot read %s (or given twice)", argv[a]);
     for (fi = 0; fi < nsrc; fi++)
         load_includes(&pg, fi);
-    for (fi = 0; fi < (int)pg.nfiles; fi++) {
-        memset(&pg.nm[fi], 0, sizeof pg.nm[fi]);
-        find_macros(&pg.files[fi], &pg.nm[fi]);
-        for (i = 0; i < pg.nm[fi].function_macros.cap; i++)
-            if (pg.nm[fi].function_macros.slot[i] != NULL)
-                set_add(&pg.function_macros,
-                        pg.nm[fi].function_macros.slot[i],
-                        strlen(pg.nm[fi].function_macros.slot[i]));
-        if (pg.files[fi].header)
-            for (i = 0; i < pg.nm[fi].macros.cap; i++)
-                if (pg.nm[fi].macros.slot[i] != NULL)
-                    set_add(&pg.header_macros, pg.nm[fi].macros.slot[i],
-                            strlen(pg.nm[fi].macros.slot[i]));
-    }
-    for (fi = 0; fi < (int)pg.nfiles; fi++) {
-        find_names(&pg.files[fi], &pg.nm[fi], &pg.function_macros);
-        spell(&pg, fi);
-    }
-    /* The ray__ functions a header declares by name (not through a
-    ** macro, which this cannot make static) and a source defines. */
-    for (fi = nsrc; fi < (int)pg.nfiles; fi++)
-        for (i = 0; i < pg.nm[fi].ndecl; i++)
-            set_add(&declared, pg.nm[fi].decl_name[i],
-                    strlen(pg.nm[fi].decl_name[i]));
-    for (fi = 0; fi < nsrc; fi++) {
-        const name_set *ext = &pg.nm[fi].externs;
-        for (i = 0; i < ext->cap; i++)
-            if (ext->slot[i] != NULL &&
-                strncmp(ext->slot[i], "ray__", 5) == 0 &&
-                set_has(&declared, ext->slot[i], strlen(ext->slot[i])))
-                set_add(&pg.staticize, ext->slot[i], strlen(ext->slot[i]));
-    }
+    analyse(&pg, nsrc);
 
     pg.out = fopen(out, "w");
     if (pg.out == NULL)
@@ -912,47 +979,11 @@ int main(int argc, char **argv)
         free(text);
     }
     for (fi = 0; fi < nsrc; fi++) {
-        const source *f = &pg.files[fi];
-        const names *nm = &pg.nm[fi];
         const char *wrap = NULL;
-        char *prefix = prefix_of(&pg, f->path);
-        name_set rename;
-
-        memset(&rename, 0, sizeof rename);
-        for (i = 0; i < nm->locals.cap; i++) {
-            const char *n = nm->locals.slot[i];
-            if (n == NULL || *n == '\0' || strncmp(n, "ray_", 4) == 0 ||
-                strncmp(n, "RAY_", 4) == 0)
-                continue;
-            if (spelled_elsewhere(&pg, fi, n, nsrc))
-                set_add(&rename, n, strlen(n));
-        }
-        /* A macro a header defines too (for its own files). */
-        for (i = 0; i < nm->macros.cap; i++) {
-            const char *m = nm->macros.slot[i];
-            if (m != NULL && set_has(&pg.header_macros, m, strlen(m)))
-                set_add(&rename, m, strlen(m));
-        }
         for (k = 0; k < ncond; k++)
-            if (strcmp(cond_file[k], f->path) == 0)
+            if (strcmp(cond_file[k], pg.files[fi].path) == 0)
                 wrap = cond[k];
-        fprintf(pg.out, "\n/* ======== %s ======== */\n", f->path);
-        if (wrap != NULL) {
-            emit_includes_of(&pg, fi);
-            fprintf(pg.out, "#if %s\n", wrap);
-        }
-        emit_file(&pg, fi, &rename, prefix, wrap != NULL);
-        for (i = 0; i < nm->macros.cap; i++)
-            if (nm->macros.slot[i] != NULL)
-                fprintf(pg.out, "#undef %s%s\n",
-                        set_has(&rename, nm->macros.slot[i],
-                                strlen(nm->macros.slot[i]))
-                            ? prefix
-                            : "",
-                        nm->macros.slot[i]);
-        if (wrap != NULL)
-            fprintf(pg.out, "#endif /* %s */\n", wrap);
-        free(prefix);
+        emit_source(&pg, fi, nsrc, wrap);
     }
     if (fclose(pg.out) != 0)
         die("cannot write %s", out);
