@@ -99,7 +99,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test cmake-test abi-test abi-baseline \
-        version-test dist distcheck print-srcs print-version
+        version-test dist distcheck print-srcs print-version deps-embed
 
 all: lib
 

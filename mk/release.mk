@@ -20,6 +20,12 @@
 
 EMBED_CHECK ?= $(if $(filter 1,$(AMALGAMATION)),0,1)
 
+# CMake and libabigail's tools, installed by make check as its other
+# packages are (scripts/deps.sh); after deps-check, so that two apt-get
+# never run at once.
+deps-embed: deps-check
+	@scripts/deps.sh $(DEPS_MODE) cmake abigail
+
 print-srcs:
 	@echo $(SRCS)
 
@@ -69,7 +75,7 @@ ifeq ($(EMBED_CHECK),1)
 # scripts/check-amalgamation.sh: the documented command alone; gcc and
 # clang with the library's warnings, the pragmas doing -ffp-contract=off's
 # work; the examples linked with it, their pictures against the Makefile's.
-amalgamation-test: amalgamation $(EXAMPLES)
+amalgamation-test: amalgamation $(EXAMPLES) | deps-embed
 	@CC="$(CC)" CFLAGS="$(CFLAGS)" LDFLAGS="$(LDFLAGS)" WARN="$(WARN)" \
 	    ALL_CFLAGS="$(ALL_CFLAGS)" PNG_CFLAGS="$(PNG_CFLAGS)" LIBS="$(LIBS)" \
 	    scripts/check-amalgamation.sh $(AMALG_DIR) $(BUILD) $(PNG)
@@ -78,7 +84,7 @@ amalgamation-test: amalgamation $(EXAMPLES)
 # scripts/check-cmake.sh: tests/cmake-consumer through add_subdirectory
 # and FetchContent; the sources and flags against the Makefile's; the
 # picture against the Makefile's.
-cmake-test: $(BUILD)/examples/whitted
+cmake-test: $(BUILD)/examples/whitted | deps-embed
 	@CC="$(CC)" CFLAGS="$(CFLAGS)" LDFLAGS="$(LDFLAGS)" \
 	    AVX2_CFLAGS="$(AVX2_CFLAGS)" VERSION="$(VERSION)" SOMAJOR="$(SOMAJOR)" \
 	    scripts/check-cmake.sh "$(MAKE)" $(BUILD) $(PNG)
@@ -101,14 +107,14 @@ ABI_BASELINE = abi/libray.abi
 # AMALGAMATION=1.
 ABI_HEADERS = $(if $(filter 1,$(AMALGAMATION)),$(AMALG_DIR),include)
 
-abi-test: $(SHARED) $(if $(filter 1,$(EMBED_CHECK)),amalgamation)
+abi-test: $(SHARED) $(if $(filter 1,$(EMBED_CHECK)),amalgamation) | deps-embed
 	@scripts/check-abi.sh compare $(SHARED) $(ABI_HEADERS) $(ABI_BASELINE)
 	@if [ "$(EMBED_CHECK)" = 1 ]; then \
 	    CC="$(CC)" LDFLAGS="$(LDFLAGS)" \
 	    scripts/test-check-abi.sh $(AMALG_DIR) $(ABI_BASELINE) $(SOMAJOR); \
 	fi
 
-abi-baseline: $(SHARED)
+abi-baseline: $(SHARED) | deps-embed
 	@scripts/check-abi.sh record $(SHARED) $(ABI_HEADERS) $(ABI_BASELINE)
 
 # ------------------------------------------------------------ the version
@@ -116,7 +122,7 @@ abi-baseline: $(SHARED)
 # the linked library's, the Makefile's, CMake's, libray.pc's, the CMake
 # package's, the soname, the amalgamation's and CHANGELOG.md's newest
 # release agree.
-version-test: $(STATIC) $(SHARED) $(AMALG_DIR)/libray.c
+version-test: $(STATIC) $(SHARED) $(AMALG_DIR)/libray.c | deps-embed
 	@CC="$(CC)" CFLAGS="$(CFLAGS)" LDFLAGS="$(LDFLAGS)" LIBS="$(LIBS)" \
 	    scripts/check-version.sh "$(MAKE)" $(BUILD)
 
