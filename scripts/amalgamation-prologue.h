@@ -52,9 +52,15 @@
 #pragma GCC diagnostic ignored "-Wshadow"
 #endif
 
-/* What the Makefile gives every source with -D. */
+/* What the Makefile gives every source with -D.  Feature-test macros
+** must come before the first system header, so a source's own ones
+** belong here too: Apple's <unistd.h> hides _SC_NPROCESSORS_ONLN under
+** _POSIX_C_SOURCE alone. */
 #if !defined(_POSIX_C_SOURCE) && !defined(_WIN32)
 #define _POSIX_C_SOURCE 200809L
+#endif
+#if defined(__APPLE__) && !defined(_DARWIN_C_SOURCE)
+#define _DARWIN_C_SOURCE 1
 #endif
 #ifndef RAY_BUILD
 #define RAY_BUILD 1
