@@ -24,8 +24,14 @@ ifeq ($(filter 0 1,$(PNG)),)
 $(error PNG must be 1 (with libpng, the default) or 0 (without), not '$(PNG)')
 endif
 
-VERSION = 0.1.0
-SOMAJOR = 0
+# The version is set in one place, include/ray.h's RAY_VERSION_MAJOR,
+# _MINOR and _PATCH, and read from there here, by CMakeLists.txt and by
+# what they write (libray.pc, the CMake package, the soname, the tarball);
+# make version-test fails when any of them disagrees (mk/release.mk).
+VERSION := $(shell awk '$$1 ~ /^.define$$/ && $$2 ~ /^RAY_VERSION_(MAJOR|MINOR|PATCH)$$/ \
+               { v[$$2] = $$3 } END { print v["RAY_VERSION_MAJOR"] "." \
+               v["RAY_VERSION_MINOR"] "." v["RAY_VERSION_PATCH"] }' include/ray.h)
+SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 
 # Always on, whatever CFLAGS says (they come after it on the command line,
 # so they win): ISO C99 and no floating-point contraction.  gcc fuses a*b+c into an FMA in its GNU modes, which rounds
@@ -59,6 +65,12 @@ LIBS = $(PNG_LIBS) -lm -lpthread
 
 SRCS = $(filter-out $(PNG_SRC_UNUSED),$(wildcard src/*/*.c))
 OBJS = $(SRCS:src/%.c=$(BUILD)/obj/%.o)
+# AMALGAMATION=1 makes both libraries of the one-file build instead
+# (make amalgamation, mk/release.mk), its internal functions left
+# external for the tests: .ci/run runs the whole suite so.
+AMALGAMATION ?= 0
+AMALG_DIR = $(BUILD)/amalgamation
+LIB_OBJS = $(if $(filter 1,$(AMALGAMATION)),$(AMALG_DIR)/libray.o,$(OBJS))
 PRIVATE_HEADERS = $(wildcard src/*/*.h)
 STATIC = $(BUILD)/libray.a
 SHARED = $(BUILD)/libray.so.$(VERSION)
@@ -85,7 +97,9 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
-        png-free-test install-test libray.pc cmake-config FORCE
+        png-free-test install-test libray.pc cmake-config FORCE \
+        amalgamation amalgamation-test cmake-test abi-test abi-baseline \
+        version-test dist distcheck print-srcs print-version deps-embed
 
 all: lib
 
@@ -129,15 +143,15 @@ $(BUILD)/png.config: FORCE
 	@mkdir -p $(@D)
 	@echo "PNG=$(PNG)" | cmp -s - $@ || echo "PNG=$(PNG)" > $@
 
-$(STATIC): $(OBJS) $(BUILD)/png.config
+$(STATIC): $(LIB_OBJS) $(BUILD)/png.config
 	rm -f $@
-	$(AR) rcs $@ $(OBJS)
+	$(AR) rcs $@ $(LIB_OBJS)
 
 # Exports through a version script (src/libray.map): ray_* in node
 # LIBRAY_0, everything else local, whatever -fvisibility says.
-$(SHARED): $(OBJS) src/libray.map $(BUILD)/png.config
+$(SHARED): $(LIB_OBJS) src/libray.map $(BUILD)/png.config
 	$(CC) $(CFLAGS) $(LDFLAGS) -shared -Wl,-soname,libray.so.$(SOMAJOR) \
-	    -Wl,--version-script=src/libray.map -o $@ $(OBJS) $(LIBS)
+	    -Wl,--version-script=src/libray.map -o $@ $(LIB_OBJS) $(LIBS)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so.$(SOMAJOR)
 	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
@@ -306,7 +320,8 @@ layers-test: $(OBJS)
 # Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
 EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh
 check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
-       install-test $(if $(filter 0,$(PNG)),png-free-test)
+       install-test $(if $(filter 0,$(PNG)),png-free-test) \
+       version-test abi-test cmake-test amalgamation-test
 	$(TEST_BIN)
 	$(FAULTSIM)
 	@$(MAKE) --no-print-directory fuzz-replay
@@ -421,17 +436,22 @@ SAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
 # per-test timeout is stretched by CK_TIMEOUT_MULTIPLIER (Check's own
 # variable; a shared or loaded machine needs the room).
 SAN_TIMEOUT_MULTIPLIER ?= 10
+# The float filter's ten million rays (tests/check_filter.c) are a tenth
+# of that under the sanitizers, which find memory errors on fewer.  The
+# embedding checks (EMBED_CHECK, mk/release.mk) test the build, not the
+# code: not repeated under the sanitizers.
+SAN_FILTER_RAYS ?= 1000000
 sanitize:
-	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) \
-	    $(MAKE) check BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_FLAGS)"
+	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) \
+	    $(MAKE) check BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_FLAGS)" EMBED_CHECK=0
 
 # The showcase: the Whitted scene, with a progress bar on stderr.
 # The suite again under ThreadSanitizer (the renderer's threads, the
 # per-thread contexts and the shared row counter; the threaded BVH build).
 TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 tsan:
-	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) \
-	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0
+	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) \
+	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0 EMBED_CHECK=0
 
 demo: deps-build lib $(BUILD)/examples/whitted
 	$(BUILD)/examples/whitted whitted.png
@@ -530,6 +550,10 @@ png-free-test: $(STATIC) $(SHARED)
 	    echo "png-free-test: $(STATIC) refers to libpng"; exit 1; fi
 	@echo "png-free-test: $(SHARED) NEEDED:" \
 	    $$(objdump -p $(SHARED) | awk '$$1 == "NEEDED" {print $$2}')
+
+# The amalgamation, the CMake subproject, the ABI guard, the version,
+# make dist and make distcheck.
+include mk/release.mk
 
 clean:
 	rm -rf $(BUILD) whitted.png hello.png cornell.png primitives.png material.png

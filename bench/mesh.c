@@ -29,6 +29,7 @@
 ** queries with, Embree's from its own verbose output.
 */
 #include <pthread.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "bench.h"
@@ -463,6 +464,75 @@ static void bench_build(const obj_mesh *obj, unsigned cpus)
            (double)peak / (double)obj->triangle_count);
 }
 
+/* The minor page faults of this process so far (pages first touched). */
+static long minor_faults(void)
+{
+    struct rusage u;
+
+    return getrusage(RUSAGE_SELF, &u) == 0 ? u.ru_minflt : 0;
+}
+
+/*
+** The cold build, as a program that loads a level makes it: a fresh
+** scene each time, from ray_scene_new and ray_scene_add_mesh (which
+** copies the mesh) to ray_scene_commit, three in a row, on one thread
+** (Embree: rtcNewScene, a new geometry with its buffers filled, the
+** commit, on a "threads=1" device, RTC_BUILD_QUALITY_MEDIUM), each
+** scene freed before the next, with the minor page faults each side
+** takes (pages touched for the first time: fresh memory from the
+** system).  The build row above times the commit alone, after a
+** warm-up: the difference between the two is the copy and the fresh
+** memory's faults (issue 27).
+*/
+static void bench_cold(const obj_mesh *obj)
+{
+    double ours[9], emb[9], ratio[9];
+    long f_ours = 0, f_emb = 0;
+    int k;
+#ifdef HAVE_EMBREE
+    RTCDevice dev = rtcNewDevice("threads=1");
+#endif
+
+    for (k = 0; k < 3; k++) {
+        ray_mesh mesh = obj_as_ray_mesh(obj);
+        long f0 = minor_faults();
+        double t = now_seconds(), te = 0;
+        ray_scene *s;
+        check(ray_scene_new(&s, NULL, NULL), "ray_scene_new");
+        check(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL), "mesh");
+        check(ray_scene_commit(s), "commit");
+        ours[k] = now_seconds() - t;
+        f_ours += minor_faults() - f0;
+        ray_scene_free(s);
+#ifdef HAVE_EMBREE
+        f0 = minor_faults();
+        t = now_seconds();
+        rtcReleaseScene(embree_scene(dev, obj, &te));
+        emb[k] = now_seconds() - t;
+        f_emb += minor_faults() - f0;
+#endif
+        (void)te;
+        ratio[k] = emb[k] > 0 ? ours[k] / emb[k] : 0;
+    }
+#ifdef HAVE_EMBREE
+    rtcReleaseDevice(dev);
+    printf("\nCold build, one thread, three fresh scenes in a row (new "
+           "scene, add the mesh, commit; freed after): ours %.1f ms, "
+           "Embree %.1f ms (median), ours / Embree %.2f; minor page "
+           "faults, the three together: ours %ld, Embree %ld\n",
+           1e3 * median(ours, 3), 1e3 * median(emb, 3), median(ratio, 3),
+           f_ours, f_emb);
+#else
+    (void)emb;
+    (void)ratio;
+    (void)f_emb;
+    printf("\nCold build, one thread, three fresh scenes in a row (new "
+           "scene, add the mesh, commit; freed after): ours %.1f ms "
+           "(median); minor page faults, the three together: ours %ld\n",
+           1e3 * median(ours, 3), f_ours);
+#endif
+}
+
 static void bench_mesh(const char *path, unsigned res, unsigned cpus)
 {
     obj_mesh obj;
@@ -483,6 +553,7 @@ static void bench_mesh(const char *path, unsigned res, unsigned cpus)
     }
     printf("### %s: %zu triangles\n\n", path, obj.triangle_count);
     bench_build(&obj, cpus);
+    bench_cold(&obj);
     ours = our_scene(&obj, &cnt, &b, 1);
 #ifdef HAVE_EMBREE
     device = rtcNewDevice(NULL);

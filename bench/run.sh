@@ -43,6 +43,7 @@ scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or cur
     "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
     "$build/bench/surfaces"
     "$build/bench/mesh" data
+    "$build/bench/filter" data
     "$build/bench/packets" data
     "$build/bench/game" data
     "$build/bench/shapes" data
@@ -84,8 +85,11 @@ if [ -z "${BENCH_QUICK:-}" ]; then
     splice cones "$plots/cones.md"
     awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
     splice threads "$plots/threads.md"
-    awk '/^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
+    awk '/^## What exactness costs/{exit} /^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
     splice mesh "$plots/mesh.md"
+    awk '/^## Packets:/{exit} /^## What exactness costs/{on=1; next} on' "$out" |
+        sed -e '/./,$!d' > "$plots/filter.md"
+    splice filter "$plots/filter.md"
     awk '/^## Games and tools/{exit} /^## Packets:/{on=1; next} on' "$out" > "$plots/packets.md"
     splice packets "$plots/packets.md"
     awk '/^## Shape queries/{exit} /^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"

@@ -286,11 +286,15 @@ RAY_API const char *ray_strerror(int code);
 
 /* ----------------------------------------------------------- 4. version */
 
+/* The version, set here alone: the Makefile, CMakeLists.txt and what they
+** write read these three lines (make version-test). */
 #define RAY_VERSION_MAJOR 0
 #define RAY_VERSION_MINOR 1
 #define RAY_VERSION_PATCH 0
 /* major*10000 + minor*100 + patch, for compile-time comparisons. */
-#define RAY_VERSION_NUMBER 100
+#define RAY_VERSION_NUMBER \
+    (RAY_VERSION_MAJOR * 10000 + RAY_VERSION_MINOR * 100 + RAY_VERSION_PATCH)
+/* "major.minor.patch" (make version-test holds it to the three). */
 #define RAY_VERSION_STRING "0.1.0"
 
 /*
@@ -670,15 +674,18 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** flags other than RAY_MESH_BORROW; RAY_ENOMEM (also for more than
 ** 2^31 - 1 triangles in the scene).
 **
-** Memory: each triangle costs 80 bytes (its three vertices, flattened for
-** traversal, and its ids) plus 23 to 31 bytes of BVH after commit (111 in
-** all on a million-triangle grid, 103 to 106 on the Stanford bunny:
-** bench/mesh), plus 12 bytes of indices and the per-vertex attributes
-** when normals or texture coordinates are given (none when borrowed,
+** Memory: the scene keeps a mesh's positions as doubles (24 bytes a
+** vertex, about 12 a triangle in a closed mesh) and its indices (12 bytes
+** a triangle), which the exact triangle test reads; after commit each
+** triangle adds its ids (8 bytes), a float copy of its corners in the
+** BVH's leaves (36 bytes, what the float filter in front of the exact
+** test reads) and about 10 bytes of BVH: 78 bytes in all on a
+** million-triangle grid and on the Stanford bunny (bench/mesh,
+** bench/filter), plus the per-vertex attributes when normals or texture
+** coordinates are given (the caller's own when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
-** triangle BVH keeps 4 bytes a leaf more, about 1 a triangle.
-** ray_scene_commit briefly needs about 187 bytes per triangle (189 to
-** 191 on the bunny).
+** triangle BVH keeps 4 bytes a leaf more, under 1 a triangle.
+** ray_scene_commit briefly needs about 133 bytes per triangle.
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data
 ** (RAY_UINT*); 0 is none of them. */
@@ -1037,6 +1044,10 @@ typedef struct ray_stats {
                                            specular bounce */
     unsigned long long photon_lookups;  /* ray_caustics_at density
                                            estimates over a photon map */
+    unsigned long long batch_packets;   /* rays of ray_intersect_batch and
+                                           ray_occluded_batch traced eight
+                                           together through the BVH */
+    unsigned long long batch_single;    /* and those traced one by one */
 } ray_stats;
 
 /* --------------------------------------------------------- 9. rendering */
@@ -1526,11 +1537,13 @@ RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
 ** and hits[i] what it writes, bit for bit, whatever n and the order of
 ** the rays.  Where the CPU has AVX2 and the scene holds triangles alone
 ** (no planes, other kinds or instances) without masks or filters in the
-** query, the rays are traced eight at a time (rays[0..7], rays[8..15],
-** ...) through the BVH together: much faster when those eight are close
-** in origin and direction (a 4x2 block of pixels, shadow rays from nearby
-** points to one light), somewhat slower when they scatter; other scenes
-** trace them one by one.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
+** query, each group of eight (rays[0..7], rays[8..15], ...) whose
+** directions lie within about 8 degrees of their mean is traced through
+** the BVH together: faster, as such eight (a 4x2 block of pixels, shadow
+** rays from nearby points to one light) visit the same nodes; a group
+** that scatters, and any scene or query the packets do not take, goes
+** one ray at a time, so a batch is never slower than a loop of
+** ray_intersect.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
 ** results or, for ray_intersect_n, hits NULL with n > 0) or RAY_ESTATE
 ** (not committed), writing nothing.
 */
@@ -1539,6 +1552,34 @@ RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
                             int *results);
 RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
                            size_t n, const ray_query *q, int *results);
+
+/*
+** ray_intersect_batch, ray_occluded_batch -- ray_intersect_n and
+** ray_occluded_n with each ray's own options: queries[i] for rays[i]
+** (queries NULL: the defaults for every ray), as AI agents' lines of
+** sight that each hide their own shooter (a mask bit per agent) or hand
+** their own query_ud to a filter; and the batch's counters added to
+** *stats when it is not NULL (its intersection tests, and how many rays
+** went through the BVH in packets of eight, batch_packets, and how many
+** one at a time, batch_single: a group of eight goes in a packet when
+** every ray of it could, as ray_intersect_n says, whatever its options
+** -- a mask or query_ud that no geometry of the scene reads changes
+** nothing).  Answers, statuses and misuse as ray_intersect_n's, bit for
+** bit those of ray_intersect_opt(scene, &rays[i], &queries[i], &hits[i])
+** and ray_occluded_opt (hits is not read by ray_occluded_batch and may be
+** NULL); b NULL is RAY_EINVAL.
+*/
+typedef struct ray_batch {
+    const ray_ray *rays;         /* n rays */
+    const ray_query *queries;    /* n options, or NULL: the defaults */
+    size_t n;
+    ray_hit *hits;               /* n records (ray_intersect_batch) */
+    int *results;                /* n answers */
+    ray_stats *stats;            /* counters added here; may be NULL */
+} ray_batch;
+
+RAY_API int ray_intersect_batch(const ray_scene *scene, const ray_batch *b);
+RAY_API int ray_occluded_batch(const ray_scene *scene, const ray_batch *b);
 
 /* ---------------------------------------------------------- 13. tracing */
 
@@ -2299,10 +2340,7 @@ RAY_API int ray_overlap_box_all(const ray_scene *scene,
 ** implicit, parametric and Bezier surfaces and user geometry, which have
 ** no surface points here; RAY_ESTATE for a scene not committed, or an
 ** instance whose scene changed since.  Any number of threads may call
-** it on a committed scene; it allocates nothing (a scene's commit keeps
-** an index of its triangles for it, 4 bytes a triangle and 8 a piece of
-** geometry; without it, as when it could not be allocated, a triangle
-** is searched for).
+** it on a committed scene; it allocates nothing.
 */
 RAY_API int ray_surface_point(const ray_scene *scene, unsigned geom_id,
                               unsigned prim_id, unsigned inst_id, double u,

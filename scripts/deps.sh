@@ -6,6 +6,8 @@
 #   pkg-config  libpng  check  mandoc  gnuplot (make bench's plot)
 #   povray (bench/whitted.c's other side; the Makefile treats it as optional)
 #   mpi (OpenMPI's mpicc and mpirun: make mpi-demo)
+#   cmake, abigail (abidw and abidiff): make check's CMake subproject and
+#   ABI tests (mk/release.mk)
 # Each present dependency costs one quick probe.  With --check (the
 # default; plain make and make install), missing ones are reported with
 # the exact apt-get command and the script fails.  With --install (only
@@ -33,6 +35,9 @@ for need in "$@"; do
     povray)     command -v povray >/dev/null 2>&1 || missing="$missing povray" ;;
     mpi)        { command -v mpicc >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; } \
                     || missing="$missing libopenmpi-dev openmpi-bin" ;;
+    cmake)      command -v cmake >/dev/null 2>&1 || missing="$missing cmake" ;;
+    abigail)    { command -v abidw >/dev/null 2>&1 && command -v abidiff >/dev/null 2>&1; } \
+                    || missing="$missing abigail-tools" ;;
     *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;
     esac
 done

@@ -304,6 +304,185 @@ START_TEST(ties_between_geometries_should_go_to_the_lower_geom_id)
 }
 END_TEST
 
+/* A filter that keeps a hit only when the query's ud (an agent's number)
+** differs from the geometry's (the agent's own body). */
+static int not_my_body(void *ud, const ray_ray *r, const ray_hit *h,
+                       void *query_ud)
+{
+    (void)r;
+    (void)h;
+    return query_ud == NULL || *(const unsigned *)ud !=
+                                   *(const unsigned *)query_ud;
+}
+
+/*
+** Per-ray options (ray_intersect_batch): AI agents' lines of sight, each
+** ray with its own mask (agent k's mask hides the mesh of agent k, a mask
+** bit each) or its own query_ud (a filter that drops the agent's own
+** body): each ray answers as ray_intersect_opt and ray_occluded_opt with
+** its own options, bit for bit, in one batch, its tests counted into the
+** batch's stats.
+*/
+START_TEST(batch_should_take_each_rays_own_options)
+{
+    ray_vec3 c = v3(0, 0, 0);
+    hc_mesh m[4];
+    ray_ray *rays;
+    ray_query *q;
+    ray_hit *hits;
+    int *res;
+    unsigned ids[4], agent[4] = {0, 1, 2, 3};
+    ray_scene *s;
+    ray_batch b;
+    ray_stats st;
+    size_t n = 803, i, hidden = 0;
+    int k;
+
+    for (k = 0; k < 4; k++)
+        m[k] = hc_icosphere(v3(3.0 * k - 4.5, 0, 0), 2);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    for (k = 0; k < 4; k++) {
+        ray_mesh rm = hc_ray_mesh(&m[k]);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &rm, RAY_NO_MATERIAL, &ids[k]),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_set_mask(s, ids[k], 1u << k), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    rays = batch_rays(&m[1], c, n, 4242);
+    q = malloc(n * sizeof *q);
+    hits = calloc(n, sizeof *hits);
+    res = malloc(n * sizeof *res);
+    ck_assert_ptr_nonnull(q);
+    ck_assert_ptr_nonnull(hits);
+    ck_assert_ptr_nonnull(res);
+    for (i = 0; i < n; i++) {
+        ray_query_init(&q[i]);
+        q[i].mask = ~(1u << (i % 4));        /* agent i % 4 sees the others */
+    }
+    memset(&st, 0, sizeof st);
+    b.rays = rays;
+    b.queries = q;
+    b.n = n;
+    b.hits = hits;
+    b.results = res;
+    b.stats = &st;
+    ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+    for (i = 0; i < n; i++) {
+        ray_hit one;
+        int rc = ray_intersect_opt(s, &rays[i], &q[i], &one);
+        ck_assert_int_eq(res[i], rc);
+        if (rc > 0) {
+            ck_assert(hit_same(&hits[i], &one));
+            ck_assert_uint_ne(hits[i].geom_id, ids[i % 4]);
+        }
+        hidden += rc == 0 && ray_intersect(s, &rays[i], &one) > 0;
+    }
+    /* The masks hid something, and every ray went one by one (the scene
+    ** is gated: packets take no masks) and was counted. */
+    ck_assert_uint_gt(hidden, 0);
+    ck_assert_uint_eq(st.batch_single, n);
+    ck_assert_uint_eq(st.batch_packets, 0);
+    ck_assert_uint_gt(st.tests, n);
+    ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+    for (i = 0; i < n; i++)
+        ck_assert_int_eq(res[i], ray_occluded_opt(s, &rays[i], &q[i]));
+    /* A filter reading each ray's own query_ud. */
+    for (k = 0; k < 4; k++) {
+        ck_assert_int_eq(ray_scene_set_mask(s, ids[k], ~0u), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_filter(s, ids[k], not_my_body,
+                                              &agent[k],
+                                              RAY_FILTER_INTERSECT |
+                                                  RAY_FILTER_OCCLUDED),
+                         RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (i = 0; i < n; i++) {
+        ray_query_init(&q[i]);
+        q[i].query_ud = &agent[i % 4];
+    }
+    b.stats = NULL;
+    ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+    for (i = 0; i < n; i++) {
+        ray_hit one;
+        int rc = ray_intersect_opt(s, &rays[i], &q[i], &one);
+        ck_assert_int_eq(res[i], rc);
+        if (rc > 0) {
+            ck_assert(hit_same(&hits[i], &one));
+            ck_assert_uint_ne(hits[i].geom_id, ids[i % 4]);
+        }
+    }
+    free(rays);
+    free(q);
+    free(hits);
+    free(res);
+    ray_scene_free(s);
+    for (k = 0; k < 4; k++)
+        hc_mesh_free(&m[k]);
+}
+END_TEST
+
+/* Camera blocks (each eight within a degree) on a scene of triangles go
+** in packets where the CPU has AVX2; rays scattered in every direction
+** go one by one (packets of such rays were slower than single rays);
+** either way the answers are the single rays'. */
+START_TEST(batch_should_say_which_path_it_took)
+{
+    ray_vec3 c = v3(0, 0, 0), eye = v3(0.3, 0.7, 9);
+    hc_mesh m = hc_icosphere(c, 3);
+    ray_scene *s = mesh_scene(&m, 1);
+    size_t n = 800, i;
+    ray_ray *rays = malloc(n * sizeof *rays);
+    int *res = malloc(n * sizeof *res);
+    ray_hit *hits = calloc(n, sizeof *hits);
+    ray_batch b;
+    ray_stats st;
+    rng g = {99};
+    int avx2 = 0;
+
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(RAY_NO_SIMD) && !defined(RAY_NO_AVX2)
+    avx2 = __builtin_cpu_supports("avx2");
+#endif
+    ck_assert_ptr_nonnull(rays);
+    ck_assert_ptr_nonnull(res);
+    ck_assert_ptr_nonnull(hits);
+    for (i = 0; i < n; i++) {                /* 4 x 2 pixel blocks */
+        double x = (double)(i % 4 + 4 * (i / 8 % 10)) / 40 - 0.5;
+        double y = (double)(i / 4 % 2 + 2 * (i / 80)) / 20 - 0.5;
+        rays[i] = make_ray(eye, v3_sub(v3(3 * x, 3 * y, 0), eye), 0,
+                           HUGE_VAL);
+    }
+    memset(&b, 0, sizeof b);
+    memset(&st, 0, sizeof st);
+    b.rays = rays;
+    b.n = n;
+    b.hits = hits;
+    b.results = res;
+    b.stats = &st;
+    ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+    ck_assert_uint_eq(st.batch_packets + st.batch_single, n);
+    ck_assert_uint_eq(st.batch_packets, avx2 ? n : 0);
+    for (i = 0; i < n; i++) {
+        ray_hit one;
+        ck_assert_int_eq(res[i], ray_intersect(s, &rays[i], &one));
+        if (res[i] > 0)
+            ck_assert(hit_same(&hits[i], &one));
+    }
+    for (i = 0; i < n; i++)                  /* every direction */
+        rays[i] = make_ray(rng_point(&g, -1, 1), rng_dir(&g), 0, HUGE_VAL);
+    memset(&st, 0, sizeof st);
+    ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+    ck_assert_uint_eq(st.batch_single, n);
+    for (i = 0; i < n; i++)
+        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i]));
+    free(rays);
+    free(res);
+    free(hits);
+    ray_scene_free(s);
+    hc_mesh_free(&m);
+}
+END_TEST
+
 START_TEST(batch_should_refuse_misuse)
 {
     hc_mesh m = hc_icosphere(v3(0, 0, 0), 1);
@@ -336,6 +515,30 @@ START_TEST(batch_should_refuse_misuse)
     ck_assert_int_eq(ray_occluded_n(fresh, &r, 1, NULL, &res), RAY_ESTATE);
     ck_assert_int_eq(res, 7);
     ck_assert(memcmp(&h, &before, sizeof h) == 0);
+    /* The batch forms: a NULL batch, and what the arrays' misuse gives
+    ** ray_intersect_n; hits is not read by ray_occluded_batch. */
+    {
+        ray_batch b;
+        memset(&b, 0, sizeof b);
+        b.rays = &r;
+        b.n = 1;
+        b.hits = &h;
+        b.results = &res;
+        ck_assert_int_eq(ray_intersect_batch(s, NULL), RAY_EINVAL);
+        ck_assert_int_eq(ray_occluded_batch(s, NULL), RAY_EINVAL);
+        ck_assert_int_eq(ray_intersect_batch(NULL, &b), RAY_EINVAL);
+        ck_assert_int_eq(ray_intersect_batch(fresh, &b), RAY_ESTATE);
+        b.hits = NULL;
+        ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_EINVAL);
+        b.rays = NULL;
+        ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_EINVAL);
+        ck_assert_int_eq(res, 7);
+        ck_assert(memcmp(&h, &before, sizeof h) == 0);
+        b.rays = &r;
+        ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+        ck_assert_int_eq(res, 1);
+        res = 7;
+    }
     /* And the one ray, for the record. */
     ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, &h, &res), RAY_OK);
     ck_assert_int_eq(res, 1);
@@ -356,6 +559,8 @@ Suite *batch_suite(void)
     tcase_add_test(tc, batch_should_match_single_rays_where_it_goes_ray_by_ray);
     tcase_add_test(tc, ties_should_go_to_the_lower_prim_id);
     tcase_add_test(tc, ties_between_geometries_should_go_to_the_lower_geom_id);
+    tcase_add_test(tc, batch_should_take_each_rays_own_options);
+    tcase_add_test(tc, batch_should_say_which_path_it_took);
     tcase_add_test(tc, batch_should_refuse_misuse);
     suite_add_tcase(s, tc);
     return s;

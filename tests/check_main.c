@@ -48,6 +48,7 @@ int main(void)
     srunner_add_suite(sr, cones_suite());
     srunner_add_suite(sr, caustics_suite());
     srunner_add_suite(sr, cones_caustics_hard_suite());
+    srunner_add_suite(sr, filter_suite());
     srunner_add_suite(sr, sweep_suite());
     srunner_add_suite(sr, overlap_suite());
     srunner_run_all(sr, CK_NORMAL);

@@ -740,12 +740,10 @@ out:
 }
 
 /*
-** The shape queries on the same scene (issue 30), which allocate nothing
-** themselves: a sphere and a capsule swept along r, the primitives a
-** sphere about its origin meets, and a surface point of geometry i, 0 at
-** (0.2, 0.3).  A commit whose index of the triangles could not be
-** allocated (an absorbed fault: ray_surface_point then searches) must
-** give the same answers.
+** The shape queries on the same scene (issue 30), which allocate
+** nothing: a sphere and a capsule swept along r, the primitives a sphere
+** about its origin meets, and a surface point of geometry i, 0 at (0.2,
+** 0.3); after a failed allocation and its retry they answer the same.
 */
 static void digest_shapes(env *e, const ray_scene *s, const ray_ray *r,
                           unsigned i)

@@ -52,6 +52,7 @@ Suite *lazy_suite(void);
 Suite *cones_suite(void);
 Suite *caustics_suite(void);
 Suite *cones_caustics_hard_suite(void);
+Suite *filter_suite(void);
 Suite *sweep_suite(void);
 Suite *overlap_suite(void);
 

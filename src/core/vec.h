@@ -260,6 +260,13 @@ static inline int ray__exponent_of(double x)
     return e < -1022 ? -1022 : e;
 }
 
+/* 1 when x is a float's value (what a mesh that came in as floats holds):
+** within float's range, and its float converts back to x itself. */
+static inline int ray__is_float(double x)
+{
+    return fabs(x) <= (double)FLT_MAX && (double)(float)x == x;
+}
+
 /*
 ** The orthonormal tangents (t1, t2) of unit normal n, so that (t1, t2, n)
 ** is right-handed.  Duff, Burgess, Christensen, Hery, Kensler, Liani,

@@ -94,19 +94,19 @@ static int gate_offer(const ray__prim *p, const ray_ray *r, const ray_hit *h,
 }
 
 /* Triangle i's candidate hit (t, beta, gamma) through the gate. */
-static int tri_gate(const ray_scene *s, unsigned i, double t, double beta,
-                    double gamma, const ray_ray *r, ray__counts *qc)
+static int tri_gate(const ray_scene *s, unsigned i, const ray__tri *tri,
+                    double t, double beta, double gamma, const ray_ray *r,
+                    ray__counts *qc)
 {
     const ray__tri_id *id = &s->tri_ids[i];
     const ray__prim *p = &s->prims[id->geom_id];
-    const ray__tri *tri = &s->tris[i];
     ray_hit h;
 
     if ((p->mask & qc->gate->mask) == 0)
         return 0;
     if (!gate_wants(p, qc->gate))
         return 1;
-    /* A usable triangle (checked at commit) always fills. */
+    /* A triangle that was hit has a normal (ray__tri_of): it fills. */
     if (!ray__triangle_fill(tri->a, tri->b, tri->c, t, beta, gamma, &h))
         return 0;
     h.geom_id = id->geom_id;

@@ -150,51 +150,146 @@ static int packable(const ray_scene *s, const ray__gate *g)
     return g == NULL && s->n_planes == 0 && s->prim_bvh.n_wide == 0;
 }
 
-/* ray_intersect_n and ray_occluded_n ("any"), their arguments checked. */
-static void queries_n(const ray_scene *s, const ray_ray *rays, size_t n,
-                      const ray_query *q, ray_hit *hits, int *results,
-                      int any)
-{
-    ray__gate gs;
-    const ray__gate *g = gate_of(s, q, any ? RAY_FILTER_OCCLUDED
-                                           : RAY_FILTER_INTERSECT, &gs);
-    size_t i;
+/*
+** Do eight rays go the same way, so that tracing them together pays?
+** Their directions lie within PACKET_COS of their mean (about 8 degrees;
+** a 4 x 2 block of camera pixels spans well under one, shadow rays from
+** neighbouring points to one light a few).  Rays that scatter (diffuse
+** bounces, random picks) visit different nodes: together, each node a
+** lane visits would be fetched for the eight and tested eight times
+** where one lane needs it, which made such packets 7 to 9 % slower than
+** one ray at a time (bench/packets, issue 27); they go one by one.
+*/
+#define PACKET_COS 0.99
 
-#if RAY__AVX2_COPY
-    if (packable(s, g) && HAS_AVX2()) {
-        ray__packets_avx2(s, rays, n, hits, results, any);
-        return;
+static int coherent(const ray_ray *r)
+{
+    ray_vec3 u[8], mean = v3(0, 0, 0);
+    int k;
+
+    for (k = 0; k < 8; k++) {
+        if (!v3_normalize(r[k].dir, &u[k]))
+            return 0;
+        mean = v3_add(mean, u[k]);
     }
-#else
-    (void)packable;
+    if (!v3_normalize(mean, &mean))
+        return 0;
+    for (k = 0; k < 8; k++)
+        if (!(v3_dot(u[k], mean) >= PACKET_COS))
+            return 0;
+    return 1;
+}
+
+/* Can rays[i .. i + 7], each with its own gate, go in a packet? */
+static int packet_ok(const ray_scene *s, const ray_ray *rays, size_t i,
+                     const ray_query *queries, const ray_query *q_all,
+                     unsigned kind)
+{
+    ray__gate g;
+    size_t k;
+
+    for (k = i; k < i + 8; k++)
+        if (!packable(s, gate_of(s, queries != NULL ? &queries[k] : q_all,
+                                 kind, &g)))
+            return 0;
+    return coherent(rays + i);
+}
+
+/*
+** A batch, its arguments checked: ray i with options queries[i] (or the
+** one set q_all when queries is NULL), in groups of eight, each group
+** through the BVH together where it is packable and coherent, else ray
+** by ray; answers into results (and hits), counts into *st (may be
+** NULL).
+*/
+static void batch_run(const ray_scene *s, const ray_ray *rays, size_t n,
+                      const ray_query *queries, const ray_query *q_all,
+                      ray_hit *hits, int *results, int any, ray_stats *st)
+{
+    unsigned kind = any ? RAY_FILTER_OCCLUDED : RAY_FILTER_INTERSECT;
+    size_t i, end;
+
+    for (i = 0; i < n; i = end) {
+        end = n - i < 8 ? n : i + 8;
+#if RAY__AVX2_COPY
+        if (end - i == 8 && HAS_AVX2() &&
+            packet_ok(s, rays, i, queries, q_all, kind)) {
+            ray__packets_avx2(s, rays + i, 8, any ? NULL : hits + i,
+                              results + i, any, st);
+            if (st != NULL)
+                st->batch_packets += 8;
+            continue;
+        }
 #endif
-    for (i = 0; i < n; i++)
-        results[i] = any ? ray__occluded_gated(s, &rays[i], g, NULL)
-                         : ray__intersect_gated(s, &rays[i], g, 1,
-                                                &hits[i], NULL);
+        for (; i < end; i++) {
+            ray__gate g;
+            const ray__gate *gp = gate_of(s, queries != NULL ? &queries[i]
+                                                             : q_all,
+                                          kind, &g);
+            results[i] = any ? ray__occluded_gated(s, &rays[i], gp, st)
+                             : ray__intersect_gated(s, &rays[i], gp, 1,
+                                                    &hits[i], st);
+            if (st != NULL)
+                st->batch_single++;
+        }
+    }
+#if !RAY__AVX2_COPY
+    (void)packet_ok;
+#endif
+}
+
+/* A batch's arguments: RAY_OK, RAY_EINVAL or RAY_ESTATE. */
+static int batch_check(const ray_scene *s, const ray_ray *rays, size_t n,
+                       const ray_hit *hits, const int *results, int any)
+{
+    if (s == NULL ||
+        (n > 0 && (rays == NULL || results == NULL || (!any && hits == NULL))))
+        return RAY_EINVAL;
+    return s->committed ? RAY_OK : RAY_ESTATE;
 }
 
 int ray_intersect_n(const ray_scene *s, const ray_ray *rays, size_t n,
                     const ray_query *q, ray_hit *hits, int *results)
 {
-    if (s == NULL ||
-        (n > 0 && (rays == NULL || hits == NULL || results == NULL)))
-        return RAY_EINVAL;
-    if (!s->committed)
-        return RAY_ESTATE;
-    queries_n(s, rays, n, q, hits, results, 0);
-    return RAY_OK;
+    int rc = batch_check(s, rays, n, hits, results, 0);
+
+    if (rc == RAY_OK)
+        batch_run(s, rays, n, NULL, q, hits, results, 0, NULL);
+    return rc;
 }
 
 int ray_occluded_n(const ray_scene *s, const ray_ray *rays, size_t n,
                    const ray_query *q, int *results)
 {
-    if (s == NULL || (n > 0 && (rays == NULL || results == NULL)))
+    int rc = batch_check(s, rays, n, NULL, results, 1);
+
+    if (rc == RAY_OK)
+        batch_run(s, rays, n, NULL, q, NULL, results, 1, NULL);
+    return rc;
+}
+
+/* ray_intersect_batch and ray_occluded_batch ("any"). */
+static int batch_of(const ray_scene *s, const ray_batch *b, int any)
+{
+    int rc;
+
+    if (b == NULL)
         return RAY_EINVAL;
-    if (!s->committed)
-        return RAY_ESTATE;
-    queries_n(s, rays, n, q, NULL, results, 1);
-    return RAY_OK;
+    rc = batch_check(s, b->rays, b->n, b->hits, b->results, any);
+    if (rc == RAY_OK)
+        batch_run(s, b->rays, b->n, b->queries, NULL, any ? NULL : b->hits,
+                  b->results, any, b->stats);
+    return rc;
+}
+
+int ray_intersect_batch(const ray_scene *s, const ray_batch *b)
+{
+    return batch_of(s, b, 0);
+}
+
+int ray_occluded_batch(const ray_scene *s, const ray_batch *b)
+{
+    return batch_of(s, b, 1);
 }
 
 /* Sort the collected hits nearest first (insertion sort: a ray crosses

@@ -25,17 +25,17 @@ int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
 }
 
 void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
-                       ray_hit *hits, int *results, int any)
+                       ray_hit *hits, int *results, int any, ray_stats *st)
 {
 #if RAY__PACKETS
-    packet_queries(s, rays, n, hits, results, any);
+    packet_queries(s, rays, n, hits, results, any, st);
 #else
     /* Built without AVX (see the top of this file): ray by ray. */
     size_t i;
     for (i = 0; i < n; i++)
-        results[i] = any ? query_any_gated(s, &rays[i], NULL, NULL)
+        results[i] = any ? query_any_gated(s, &rays[i], NULL, st)
                          : query_nearest_gated(s, &rays[i], NULL, 1, &hits[i],
-                                               NULL);
+                                               st);
 #endif
 }
 #else

@@ -14,13 +14,15 @@
 ** The nearest triangle so far (index TRI_NONE: none yet), and the
 ** interval's end a new candidate is tested against: r->tmax before the
 ** first triangle hit (the interval is open), the next double above it
-** after one, so that a tie is seen and settled by tri_beats.
+** after one, so that a tie is seen and settled by tri_beats; and its
+** corners, which the exact test read, for the hit record (read once).
 */
 #define TRI_NONE 0xffffffffu
 typedef struct tri_best {
     unsigned index;
     double beta, gamma;
     double limit;
+    ray__tri tri;
 } tri_best;
 
 static inline void tri_best_start(tri_best *b)
@@ -59,14 +61,16 @@ static inline int tri_beats(const ray_scene *s, unsigned i, double t,
                                     : x->prim_id < y->prim_id;
 }
 
-/* Record hit t on triangle i (beta, gamma) as the nearest so far. */
-static inline void tri_hit(unsigned i, double t, double beta, double gamma,
-                           ray_ray *r, void *best)
+/* Record hit t on triangle i (corners *tri; beta, gamma) as the nearest
+** so far. */
+static inline void tri_hit(unsigned i, const ray__tri *tri, double t,
+                           double beta, double gamma, ray_ray *r, void *best)
 {
     r->tmax = t;
     if (best != NULL) {
         tri_best *b = best;
         b->index = i;
+        b->tri = *tri;
         b->beta = beta;
         b->gamma = gamma;
         b->limit = nextafter(t, HUGE_VAL);
@@ -125,85 +129,77 @@ static inline int prim_fill_best(const ray_scene *s, const ray_ray *r,
 }
 
 /*
+** Slot i against r: the exact test (the watertight test, or Cramer's
+** where the scene asks for it), or in the bench's RAY__TRI_FLOAT mode
+** the float test's verdict; then the tie rule and the gate.  1 if it is
+** the nearest so far (or any hit's), r->tmax shrunk to it.
+*/
+static inline int tri_slot(const ray_scene *s, trav *tr, unsigned i,
+                           const float *rows, unsigned n, ray_ray *r,
+                           void *best, ray__counts *qc)
+{
+    double th, beta, gamma, limit = tri_limit(r, best);
+    ray__tri t;
+    int hit;
+
+    if (s->tri_mode == RAY__TRI_FLOAT && tr->flt.on) {
+        hit = tri_float_hit(&tr->flt, rows, n, r->tmin, limit, &th, &beta,
+                            &gamma);
+        if (hit)
+            t = ray__tri_of(s, i);
+    } else {
+        t = ray__tri_of(s, i);
+        if (s->watertight) {
+            hit = ray__triangle_watertight_pre(&tr->wt, r->tmin, limit,
+                                               &t.a, &t.b, &t.c, &th, &beta,
+                                               &gamma);
+        } else {
+            ray_ray rl = *r;
+            rl.tmax = limit;
+            hit = ray__triangle_test(&rl, t.a, t.b, t.c, &th, &beta, &gamma);
+        }
+    }
+    if (!hit || !tri_beats(s, i, th, r, best))
+        return 0;
+    if (qc->gate != NULL && !tri_gate(s, i, &t, th, beta, gamma, r, qc))
+        return 0;
+    tri_hit(i, &t, th, beta, gamma, r, best);
+    return 1;
+}
+
+/*
 ** The triangles first .. end - 1 of a leaf, in order, each hit shrinking
-** r->tmax; "any": stop at the first hit.  Where SSE2 is there the
-** watertight test takes them in pairs (an odd one pairs with itself, its
-** twin lane giving the same answer, which the order below ignores); each
-** pair's lanes are ended in order, so the answers are those of testing
-** one triangle after another.
+** r->tmax; "any": stop at the first hit.  The float filter (filter.h)
+** takes up to eight at a time and keeps those the exact test must see,
+** which it then tests one after another in slot order: the answers are
+** those of testing every triangle with the exact test, as the filter
+** only drops misses (and misses offer nothing to a gate).
 */
 static inline int tri_leaf(const ray_scene *s, trav *tr,
                            unsigned first, unsigned end, ray_ray *r,
                            void *best, int any, ray__counts *qc)
 {
+    const float *rows = s->leaf_f + RAY__LEAF_ROWS * (size_t)first;
+    unsigned n = end - first, j0;
     int found = 0;
-    unsigned i;
-    ray_ray rl;    /* r with the limit of tri_limit as its tmax */
 
-    if (s->watertight && !trav_frame(tr, r))
+    if (s->watertight && !trav_frame(tr, r, s))
         return 0;
-#if RAY__PAIRS
-    if (s->watertight) {
-        for (i = first; i < end; i += 2) {
-            unsigned pair[2];
-            const ray__tri *t0 = &s->tris[i], *t1;
-            int m, lane;
-            pair[0] = i;
-            pair[1] = i + (i + 1 < end);   /* i itself if last; no branch */
-            t1 = &s->tris[pair[1]];
-            m = ray__watertight_pair(&tr->wt2, &t0->a, &t1->a, &t0->b,
-                                     &t1->b, &t0->c, &t1->c);
-            if (m == 0)
-                continue;
-            /* The twin lane of an odd last triangle is that triangle
-            ** again: never offered twice (a gate would see it twice). */
-            for (lane = 0; lane < 1 + (pair[1] != pair[0]); lane++) {
-                const ray__tri *t = lane ? t1 : t0;
-                double th, beta, gamma;
-                /* A lane the pair test keeps is a hit candidate: the
-                ** one-triangle test ends it, with the compensated edge
-                ** functions it computes for candidates (fma, scalar). */
-                int hit = (m < 0 || (m >> lane & 1)) &&
-                          ray__triangle_watertight_pre(
-                              &tr->wt, r->tmin, tri_limit(r, best), &t->a,
-                              &t->b, &t->c, &th, &beta, &gamma) &&
-                          tri_beats(s, pair[lane], th, r, best);
-                if (hit && (qc->gate == NULL ||
-                            tri_gate(s, pair[lane], th, beta, gamma, r,
-                                     qc))) {
-                    tri_hit(pair[lane], th, beta, gamma, r, best);
-                    found = 1;
-                    if (any)
-                        return 1;
-                }
+    for (j0 = 0; j0 < n; j0 += RAY__LEAF_MAX) {
+        unsigned count = n - j0 < RAY__LEAF_MAX ? n - j0 : RAY__LEAF_MAX;
+        unsigned keep = s->watertight && tr->flt.on
+                            ? tri_filter_leaf(&tr->flt, rows + j0, n, count)
+                            : (1u << count) - 1u;
+        for (; keep != 0; keep &= keep - 1) {
+            unsigned j = j0 + (unsigned)lowest_bit(keep);
+            if (tri_slot(s, tr, first + j, rows + j, n, r, best, qc)) {
+                found = 1;
+                if (any)
+                    return 1;
             }
-        }
-        return found;
-    }
-#endif
-    rl = *r;
-    for (i = first; i < end; i++) {
-        const ray__tri *t = &s->tris[i];
-        double th, beta, gamma;
-        int hit;
-        rl.tmax = tri_limit(r, best);
-        hit = (s->watertight
-                   ? ray__triangle_watertight_pre(&tr->wt, rl.tmin, rl.tmax,
-                                                  &t->a, &t->b, &t->c, &th,
-                                                  &beta, &gamma)
-                   : ray__triangle_test(&rl, t->a, t->b, t->c, &th, &beta,
-                                        &gamma)) &&
-              tri_beats(s, i, th, r, best);
-        if (hit && (qc->gate == NULL ||
-                    tri_gate(s, i, th, beta, gamma, r, qc))) {
-            tri_hit(i, th, beta, gamma, r, best);
-            found = 1;
-            if (any)
-                return 1;
         }
     }
     return found;
 }
-
 
 #endif /* RAY_LEAF_H */

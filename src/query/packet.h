@@ -199,7 +199,8 @@ static void packet_traverse(const ray_scene *s, packet *p, int any,
 ** ray_occluded's, hits not used).
 */
 static void packet_queries(const ray_scene *s, const ray_ray *rays,
-                           size_t n, ray_hit *hits, int *results, int any)
+                           size_t n, ray_hit *hits, int *results, int any,
+                           ray_stats *st)
 {
     packet p;
     size_t i;
@@ -211,6 +212,7 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
         counts_start(&qc, NULL, any);
         packet_init(&p, rays + i, m);
         packet_traverse(s, &p, any, &qc);
+        add_counts(st, &qc);
         for (l = 0; l < m; l++) {
             const tri_best *b = &p.best[l];
             const ray__tri *t;
@@ -219,9 +221,8 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
             results[i + (size_t)l] = any && (p.started & ~p.live) >> l & 1;
             if (any || !(p.started >> l & 1) || b->index == TRI_NONE)
                 continue;
-            t = &s->tris[b->index];
-            /* A usable triangle (checked at commit) always fills, as in
-            ** nearest_core. */
+            t = &b->tri;
+            /* A triangle that was hit fills, as in nearest_core. */
             if (!ray__triangle_fill(t->a, t->b, t->c, p.r[l].tmax, b->beta,
                                     b->gamma, &h))
                 continue;

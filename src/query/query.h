@@ -82,6 +82,6 @@ int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
 ** only.
 */
 void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
-                       ray_hit *hits, int *results, int any);
+                       ray_hit *hits, int *results, int any, ray_stats *st);
 
 #endif /* RAY_QUERY_H */

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "query/query.h"
-#include "prim/watertight.h"
+#include "query/filter.h"
 
 /*
 ** The slab test, eight boxes at a time in float, kept conservative: it
@@ -49,9 +49,7 @@ typedef struct trav {
     double t_scale;              /* distance units of the scaled direction */
     int framed;                  /* wt set up: 1; 0 not yet; -1 cannot be */
     ray__watertight wt;          /* the triangle test's frame of the ray */
-#if RAY__PAIRS
-    ray__watertight2 wt2;        /* the same, for two triangles at once */
-#endif
+    tri_filter flt;              /* the float filter in that frame */
 } trav;
 
 /*
@@ -129,22 +127,33 @@ static void trav_init(trav *tr, const ray_ray *r)
 }
 
 /*
-** The triangle test's frame of the ray, set up when the ray first reaches
-** a leaf of triangles: most primary rays of a scene that does not fill
-** the frame reach none, and would pay its three divisions for nothing.
-** 0 if the ray has no frame (a zero or NaN direction: never for a ray
-** that passed ray__ray_usable).
+** The triangle test's frame of the ray, and its float filter in scene s,
+** set up when the ray first reaches a leaf of triangles: most primary
+** rays of a scene that does not fill the frame reach none, and would pay
+** its three divisions for nothing.  0 if the ray has no frame (a zero or
+** NaN direction: never for a ray that passed ray__ray_usable).
 */
-static inline int trav_frame(trav *tr, const ray_ray *r)
+static inline int trav_frame(trav *tr, const ray_ray *r, const ray_scene *s)
 {
     if (tr->framed == 0) {
         tr->framed = ray__watertight_init(&tr->wt, r) ? 1 : -1;
-#if RAY__PAIRS
         if (tr->framed > 0)
-            ray__watertight2_init(&tr->wt2, &tr->wt);
-#endif
+            tri_filter_init(&tr->flt, &tr->wt, s);
     }
     return tr->framed > 0;
+}
+
+/* The lowest set bit of a mask of RAY__WIDTH bits (mask != 0). */
+static inline int lowest_bit(unsigned mask)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(mask);
+#else
+    int k = 0;
+    while (!(mask >> k & 1))
+        k++;
+    return k;
+#endif
 }
 
 /* Node q's bound array at byte offset "at" (one of trav's offsets). */

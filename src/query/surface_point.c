@@ -13,20 +13,19 @@
 
 /* A triangle's point at barycentrics (u, v): ray__triangle_fill, the
 ** hit record's own formulas (pbrt-v4's gamma(7) bound on the
-** interpolation). */
+** interpolation), on the corners the queries read (ray__tri_by_id). */
 static int triangle_point(const ray_scene *s, unsigned geom_id,
                           unsigned prim_id, double u, double v,
                           ray_hit *h)
 {
-    ray_vec3 a, b, c;
-    size_t slot;
+    ray__tri t;
 
     if (!(u >= 0 && v >= 0 && u + v <= 1) ||
-        !ray__tri_slot(s, geom_id, prim_id, &slot))
+        prim_id >= s->prims[geom_id].count)
         return RAY_EINVAL;
-    ray__tri_corners(s, slot, &a, &b, &c);
-    /* A triangle without area (collapsed at commit) has no point. */
-    if (!ray__triangle_fill(a, b, c, 0, u, v, h))
+    t = ray__tri_by_id(s, geom_id, prim_id);
+    /* A triangle without area (read as a point) has no point. */
+    if (!ray__triangle_fill(t.a, t.b, t.c, 0, u, v, h))
         return RAY_EINVAL;
     return RAY_OK;
 }

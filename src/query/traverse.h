@@ -139,18 +139,6 @@ typedef struct pending {
     float t;
 } pending;
 
-/* The lowest set bit of a mask of RAY__WIDTH bits (mask != 0). */
-static inline int lowest_bit(unsigned mask)
-{
-#if defined(__GNUC__)
-    return __builtin_ctz(mask);
-#else
-    int k = 0;
-    while (!(mask >> k & 1))
-        k++;
-    return k;
-#endif
-}
 
 /*
 ** Ordered traversal: of the children a ray enters, the nearest is visited
@@ -361,8 +349,8 @@ static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
     if (prims_along(s, &tr, &ready, rr, &best, 0, qc))
         found = 1;
     if (tris_along(s, &tr, &ready, rr, &tb, 0, qc)) {
-        const ray__tri *t = &s->tris[tb.index];
-        /* A usable triangle (checked at commit) always fills. */
+        const ray__tri *t = &tb.tri;
+        /* A triangle that was hit has a normal (ray__tri_of): it fills. */
         if (ray__triangle_fill(t->a, t->b, t->c, rr->tmax, tb.beta,
                                tb.gamma, &best.h)) {
             best.h.geom_id = s->tri_ids[tb.index].geom_id;

@@ -91,9 +91,6 @@ int ray_scene_add_triangle(ray_scene *s, ray_vec3 a, ray_vec3 b, ray_vec3 c,
     rc = ray__add_prim(s, &p, geom_id);
     if (rc != RAY_OK)
         return rc;
-    s->tris[s->n_tris].a = a;
-    s->tris[s->n_tris].b = b;
-    s->tris[s->n_tris].c = c;
     s->tri_ids[s->n_tris].geom_id = (unsigned)(s->n_prims - 1);
     s->tri_ids[s->n_tris].prim_id = 0;
     s->n_tris++;
@@ -142,9 +139,10 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
 }
 
 /*
-** The geometry record of a mesh whose triangles are tris[first ..
-** first+count-1] (already reserved), with its shading data.  Both arrays
-** are grown first, so a failure changes nothing.
+** The geometry record of a mesh whose triangles are slots first ..
+** first+count-1 (already reserved), with its positions, indices and
+** shading data.  Both arrays are grown first, so a failure changes
+** nothing.
 */
 int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
                        size_t count, const ray__mesh *shading, unsigned *id)

@@ -47,9 +47,9 @@ static void points_box(const ray_vec3 *v, size_t n, ray_vec3 *lo,
     }
 }
 
-/* The box of triangles tris[first ..] (never asked: triangles are boxed
-** one by one for the triangle BVH; and only before commit reorders
-** them). */
+/* The box of triangle slots first .. first + count - 1 (never asked:
+** triangles are boxed one by one for the triangle BVH, and only before
+** commit reorders the slots). */
 static void triangles_box(const ray_scene *s, const ray__prim *p,
                           ray_vec3 *lo, ray_vec3 *hi)
 {
@@ -59,7 +59,8 @@ static void triangles_box(const ray_scene *s, const ray__prim *p,
     *lo = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
     *hi = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
     for (i = p->first; i < p->first + p->count; i++) {
-        points_box(&s->tris[i].a, 3, &tlo, &thi);
+        ray__tri t = ray__tri_of(s, i);
+        points_box(&t.a, 3, &tlo, &thi);
         *lo = v3(fmin(lo->x, tlo.x), fmin(lo->y, tlo.y), fmin(lo->z, tlo.z));
         *hi = v3(fmax(hi->x, thi.x), fmax(hi->y, thi.y), fmax(hi->z, thi.z));
     }
@@ -187,8 +188,8 @@ static int hit_PLANE(const ray_scene *s, const ray__prim *p,
 }
 
 /* Triangles are in the triangle BVH, which the queries test inline, so
-** their geometry is never asked (and after commit its tris[first ..]
-** are reordered): a miss. */
+** their geometry is never asked (and after commit its slots are
+** reordered): a miss. */
 static int in_triangle_bvh(void)
 {
     return 0;

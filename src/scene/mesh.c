@@ -2,9 +2,9 @@
 /*
 ** mesh.c -- indexed triangle meshes (double vertices and unsigned
 ** indices, or strided float or double positions and 16- or 32-bit
-** indices, as games keep them): validated, then copied into the scene's
-** flat triangle array (for traversal) and, when the mesh has normals or
-** texture coordinates, kept indexed for shading.
+** indices, as games keep them): validated, then kept indexed: double
+** positions and unsigned indices (what the exact triangle test reads),
+** and normals and texture coordinates for shading.
 */
 #include <stdint.h>
 #include <string.h>
@@ -213,49 +213,73 @@ static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
     return RAY_OK;
 }
 
-/*
-** The shading data of a mesh: copies of its indices, normals and texture
-** coordinates when it has either of the latter, or for a borrowed mesh
-** the caller's arrays themselves (and its descriptor, to read its indices
-** and, on update, its positions again).
-*/
-static int mesh_shading_copy_arrays(const ray_scene *s, const ray_mesh *m,
-                                    ray__mesh *out)
+/* The positions as doubles, the scene's own copy: what the exact
+** triangle test reads (through the indices), whatever the input type. */
+static int copy_positions(const ray_scene *s, const ray_mesh *m,
+                          ray_vec3 **dst, int *floats)
 {
-    void *idx, *nrm, *tex;
+    size_t i;
+
+    if (m->vertex_count > (size_t)-1 / sizeof **dst)
+        return RAY_ENOMEM;
+    *dst = ray__alloc(s, m->vertex_count * sizeof **dst);
+    if (*dst == NULL)
+        return RAY_ENOMEM;
+    *floats = 1;
+    for (i = 0; i < m->vertex_count; i++) {
+        (*dst)[i] = mesh_vertex(m, i);
+        *floats &= ray__is_float((*dst)[i].x) & ray__is_float((*dst)[i].y) &
+                   ray__is_float((*dst)[i].z);
+    }
+    return RAY_OK;
+}
+
+/*
+** What a mesh keeps (ray__mesh): a double copy of its positions, its
+** index triples (the caller's own for a borrowed mesh with unsigned
+** indices, else a copy), and its normals and texture coordinates (the
+** caller's arrays for a borrowed mesh, else copies), with the caller's
+** descriptor for a borrowed one.  RAY_ENOMEM keeps nothing.
+*/
+static int mesh_keep_arrays(const ray_scene *s, const ray_mesh *m,
+                            ray__mesh *out)
+{
+    void *idx = NULL, *nrm = NULL, *tex = NULL;
+    int borrow = (m->flags & RAY_MESH_BORROW) != 0;
 
     memset(out, 0, sizeof *out);
-    if (m->flags & RAY_MESH_BORROW) {
-        out->borrowed = 1;
-        out->src = *m;
-        out->indices = m->indices;
-        out->normals = m->normals;
-        out->texcoords = m->texcoords;
-        out->n_vertices = m->vertex_count;
-        out->n_tris = m->triangle_count;
-        return RAY_OK;
-    }
-    if (m->normals == NULL && m->texcoords == NULL)
-        return RAY_OK;
-    if (copy_indices(s, m, &idx) != RAY_OK)
-        return RAY_ENOMEM;
-    if (copy_array(s, m->normals, m->vertex_count, sizeof(ray_vec3), &nrm) !=
-        RAY_OK) {
-        ray__free(s, idx, 3 * m->triangle_count * sizeof(unsigned));
-        return RAY_ENOMEM;
-    }
-    if (copy_array(s, m->texcoords, 2 * m->vertex_count, sizeof(double),
-                   &tex) != RAY_OK) {
-        ray__free(s, idx, 3 * m->triangle_count * sizeof(unsigned));
-        ray__free(s, nrm, m->vertex_count * sizeof(ray_vec3));
-        return RAY_ENOMEM;
-    }
-    out->indices = idx;
-    out->normals = nrm;
-    out->texcoords = tex;
     out->n_vertices = m->vertex_count;
     out->n_tris = m->triangle_count;
+    if (copy_positions(s, m, &out->pos, &out->pos_floats) != RAY_OK)
+        return RAY_ENOMEM;
+    if (borrow && m->indices != NULL)
+        out->indices = m->indices;
+    else if (copy_indices(s, m, &idx) != RAY_OK)
+        goto fail;
+    else {
+        out->indices = idx;
+        out->own_indices = 1;
+    }
+    if (borrow) {
+        out->borrowed = 1;
+        out->src = *m;
+        out->normals = m->normals;
+        out->texcoords = m->texcoords;
+        return RAY_OK;
+    }
+    if (copy_array(s, m->normals, m->vertex_count, sizeof(ray_vec3), &nrm) !=
+            RAY_OK ||
+        copy_array(s, m->texcoords, 2 * m->vertex_count, sizeof(double),
+                   &tex) != RAY_OK)
+        goto fail;
+    out->normals = nrm;
+    out->texcoords = tex;
     return RAY_OK;
+fail:
+    ray__free(s, nrm, m->vertex_count * sizeof(ray_vec3));
+    out->normals = NULL;
+    ray__mesh_release(s, out);
+    return RAY_ENOMEM;
 }
 
 /* Triangle i of mesh m, its three corners' positions. */
@@ -297,11 +321,10 @@ static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
     return RAY_OK;
 }
 
-/* The shading data and the (s, t) scales; RAY_ENOMEM keeps nothing. */
-static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
-                             ray__mesh *out)
+/* What the mesh keeps and the (s, t) scales; RAY_ENOMEM keeps nothing. */
+static int mesh_keep(const ray_scene *s, const ray_mesh *m, ray__mesh *out)
 {
-    int rc = mesh_shading_copy_arrays(s, m, out);
+    int rc = mesh_keep_arrays(s, m, out);
 
     if (rc == RAY_OK && mesh_uv_scale(s, m, out) != RAY_OK) {
         ray__mesh_release(s, out);
@@ -312,7 +335,7 @@ static int mesh_shading_copy(const ray_scene *s, const ray_mesh *m,
 
 unsigned ray__mesh_corner(const ray__mesh *m, size_t k)
 {
-    return m->indices != NULL ? m->indices[k] : mesh_index(&m->src, k);
+    return m->indices[k];
 }
 
 int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
@@ -337,11 +360,11 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
         rc = ray__reserve_tris(s, m->triangle_count);
     if (rc != RAY_OK)
         return rc;
-    rc = mesh_shading_copy(s, m, &shading);
+    rc = mesh_keep(s, m, &shading);
     if (rc != RAY_OK)
-        return ray__fail(s, rc, "out of memory (copying the normals or "
-                         "texture coordinates of %zu vertices)",
-                         m->vertex_count);
+        return ray__fail(s, rc, "out of memory (copying the positions, "
+                         "indices, normals or texture coordinates of %zu "
+                         "vertices)", m->vertex_count);
     rc = ray__add_mesh_prim(s, material, s->n_tris, m->triangle_count,
                             &shading, &id);
     if (rc != RAY_OK) {
@@ -349,7 +372,6 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
         return rc;
     }
     for (i = 0; i < m->triangle_count; i++) {
-        mesh_triangle(m, i, &s->tris[s->n_tris + i]);
         s->tri_ids[s->n_tris + i].geom_id = id;
         s->tri_ids[s->n_tris + i].prim_id = (unsigned)i;
     }
@@ -360,18 +382,17 @@ int ray_scene_add_mesh(ray_scene *s, const ray_mesh *m, unsigned material,
 }
 
 /*
-** New positions for a mesh: every slot of its triangles (wherever the
-** last commit put them: tri_ids name them) rewritten from "m" (NULL: the
-** borrowed arrays again, changed in place by the caller), its shading
-** data replaced, and the triangle BVH refitted at the next commit.  The
-** triangle count stays: that is what makes a refit enough.
+** New positions for a mesh (and indices, normals, texture coordinates):
+** what the mesh keeps replaced from "m" (NULL: the borrowed arrays again,
+** changed in place by the caller), and the triangle BVH refitted at the
+** next commit, which reads the new positions through the mesh's slots.
+** The triangle count stays: that is what makes a refit enough.
 */
 int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
 {
     ray__mesh shading;
     ray_mesh again;
     ray__prim *p;
-    size_t i;
     int rc = ray__begin(s, "ray_scene_update_mesh");
 
     if (rc != RAY_OK)
@@ -394,17 +415,12 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
                          "another)", m->triangle_count, p->count);
     if ((rc = mesh_check(s, m)) != RAY_OK)
         return rc;
-    if (mesh_shading_copy(s, m, &shading) != RAY_OK)
+    if (mesh_keep(s, m, &shading) != RAY_OK)
         return ray__fail(s, RAY_ENOMEM, "out of memory (copying the "
-                         "normals or texture coordinates of %zu vertices)",
-                         m->vertex_count);
+                         "positions, indices, normals or texture "
+                         "coordinates of %zu vertices)", m->vertex_count);
     ray__mesh_release(s, &s->meshes[p->mesh]);
     s->meshes[p->mesh] = shading;
-    for (i = 0; i < s->n_tris; i++)
-        if (s->tri_ids[i].geom_id == geom_id) {
-            mesh_triangle(m, s->tri_ids[i].prim_id, &s->tris[i]);
-            ray__tri_collapse_unusable(&s->tris[i]);
-        }
     ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
     return RAY_OK;
 }

@@ -39,9 +39,9 @@ typedef union ray__surface {
 } ray__surface;
 
 /* One piece of geometry (what a geom_id names).  By kind: sphere: a =
-** centre; plane: a = point, b = unit normal; triangle and mesh: tris[first
-** .. first+count-1] of the scene (until commit reorders them), and for a
-** mesh meshes[mesh]; polygon: verts[first .. first+count-1]; torus,
+** centre; plane: a = point, b = unit normal; triangle: its corners a, b,
+** c; triangle and mesh: triangle slots first .. first+count-1 of the
+** scene (until commit reorders them), and for a mesh meshes[mesh]; polygon: verts[first .. first+count-1]; torus,
 ** implicit, parametric, user geometry and the shapes: surfaces[surface],
 ** and Bezier: its 16 control points at verts[first ..]; all of these keep
 ** their box in a (lo), b (hi). */
@@ -85,30 +85,44 @@ typedef struct ray__instance {
     int removed;             /* ray_scene_remove: its child may be gone */
 } ray__instance;
 
-/* Triangles are stored flat, three vertices each, whatever they came
-** from; at commit they are reordered into BVH leaf order, so a leaf is a
-** contiguous run.  Their ids live apart: only the nearest hit needs them. */
-typedef struct ray__tri {
-    ray_vec3 a, b, c;
-} ray__tri;
-
+/*
+** The triangles: a slot each, numbered in the triangle BVH's leaf order
+** after a commit (a leaf is a contiguous run of slots).  A slot keeps its
+** ids, (geom_id, prim_id), which name its corners -- a single triangle's
+** a, b, c in its geometry record, a mesh triangle's through the mesh's
+** own indices and double positions -- and, for slots in the BVH, a float
+** copy of its corners in the leaf's block (ray__leaf_corners), which the
+** queries' float filter reads.  No double copy per slot: the exact test
+** reads the geometry's own vertices (issue 27: memory per triangle).
+*/
 typedef struct ray__tri_id {
     unsigned geom_id, prim_id;
 } ray__tri_id;
 
+/* A triangle's corners, as a value. */
+typedef struct ray__tri {
+    ray_vec3 a, b, c;
+} ray__tri;
+
 /*
-** What a mesh keeps for shading: its index triples, and its per-vertex
-** normals and texture coordinates when it has them (else NULL); copies
-** the scene owns, or for a borrowed mesh (RAY_MESH_BORROW) the caller's
-** own arrays, its indices read through "src" (the caller's descriptor,
-** also what ray_scene_update_mesh(.., NULL) reads again).
+** What a mesh keeps: its positions, as doubles (a copy the scene owns,
+** what the exact triangle test reads), its index triples, and its
+** per-vertex normals and texture coordinates when it has them (else
+** NULL); copies the scene owns, or for a borrowed mesh (RAY_MESH_BORROW)
+** the caller's own arrays (its indices the caller's when they are
+** unsigned, else a copy), its descriptor in "src" (what
+** ray_scene_update_mesh(.., NULL) reads again).
 */
 typedef struct ray__mesh {
-    const unsigned *indices;     /* copied (or the caller's unsigned) */
+    ray_vec3 *pos;               /* n_vertices positions, the scene's */
+    const unsigned *indices;     /* 3 n_tris: copied (or the caller's) */
     const ray_vec3 *normals;
     const double *texcoords;
     size_t n_vertices, n_tris;
     int borrowed;                /* the arrays are the caller's */
+    int own_indices;             /* indices is the scene's copy */
+    int pos_floats;              /* every coordinate of pos is a float:
+                                    its float copy in the leaves is exact */
     ray_mesh src;                /* borrowed: the caller's descriptor */
     double *uv_scale;            /* with texcoords: per triangle, sqrt(its
                                     (s, t) area / its area), for ray
@@ -132,18 +146,25 @@ struct ray_scene {
     ray__allocator alloc;    /* the user's, or libc's */
     ray__prim *prims;
     size_t n_prims, cap_prims;
-    ray__tri *tris;
-    ray__tri_id *tri_ids;
-    size_t n_tris, cap_tris, cap_tri_ids;
-    size_t n_live_tris;      /* tris[0 .. n_live_tris - 1] are in tri_bvh
+    ray__tri_id *tri_ids;    /* the triangle slots (ray__tri_id) */
+    size_t n_tris, cap_tri_ids;
+    size_t n_live_tris;      /* slots 0 .. n_live_tris - 1 are in tri_bvh
                                 (enabled geometry), the rest wait */
+    float *leaf_f;           /* the float corners of the live slots, in
+                                leaf blocks (ray__leaf_corners) */
+    size_t cap_leaf_f;       /* floats allocated there */
+    int float_exact;         /* every live corner is a float: the filter's
+                                vertex rounding is 0 (RAY__LEAF_ROWS) */
+    int tri_mode;            /* RAY__TRI_*: the filter on (default), off,
+                                or its verdict final (bench only) */
+    double filter_scale;     /* the filter's bound times this (1; tests) */
     ray__mesh *meshes;
     size_t n_meshes, cap_meshes;
     ray__surface *surfaces;
     size_t n_surfaces, cap_surfaces;
     ray__instance *instances;
     size_t n_instances, cap_instances;
-    ray__bvh tri_bvh;        /* over tris, reordered to leaf order */
+    ray__bvh tri_bvh;        /* over the live triangle slots */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
     size_t n_planes;
@@ -176,10 +197,6 @@ struct ray_scene {
     int gated;
     int has_instances;
     ray_vec3 lo, hi;
-    /* Where each triangle is, by (geom_id, prim_id): tri_index.c. */
-    unsigned *slot_of;
-    size_t *tri_base;
-    size_t n_slot_of, n_tri_base;
     /* ray_scene_errmsg: the building call now running (a function name,
     ** static) and the message of its failure, "" while none.  A fixed
     ** buffer, so that out of memory can be reported too. */
@@ -252,7 +269,8 @@ int ray__reserve_verts(ray_scene *s, size_t more);
 void *ray__grow(ray_scene *s, void *items, size_t *cap, size_t used,
                 size_t size);
 
-/* The geometry record of a mesh over tris[first .. first+count-1]. */
+/* The geometry record of a mesh over triangle slots first ..
+** first+count-1. */
 int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
                        size_t count, const ray__mesh *shading, unsigned *id);
 
@@ -269,52 +287,113 @@ void ray__mesh_release(const ray_scene *s, ray__mesh *m);
 ** has a non-zero finite component (what v3_normalize in triangle.c
 ** needs).  Comparisons, not fmax (a libm call under -std=c99): a NaN
 ** component (inf - inf) fails both tests, as it should. */
-static inline int ray__tri_usable(const ray__tri *t)
+static inline int ray__corners_usable(ray_vec3 a, ray_vec3 b, ray_vec3 c)
 {
-    ray_vec3 n = v3_cross(v3_sub(t->b, t->a), v3_sub(t->c, t->a));
+    ray_vec3 n = v3_cross(v3_sub(b, a), v3_sub(c, a));
     double x = fabs(n.x), y = fabs(n.y), z = fabs(n.z);
     return (x > 0 || y > 0 || z > 0) && x < HUGE_VAL && y < HUGE_VAL &&
            z < HUGE_VAL;
 }
 
 /*
-** A triangle that has no normal becomes the point at its first vertex:
-** it keeps its slot (a mesh update may give it an area again), and every
-** triangle test misses a point (no edge function is non-zero, so det is
-** 0) while its box stays finite.
+** The corners of triangle prim_id of triangle geometry geom_id of s
+** (ray__tri_by_id: what is handed a primitive rather than a ray, as
+** ray_surface_point; the caller checks the ids), or of triangle slot i
+** (leaf order after a commit: ray__tri_of, ray__tri_corners), in world
+** space of s, from the geometry's own vertices: a single
+** triangle's a, b, c; a mesh triangle's positions through its indices.
+** Every reader goes through it, so that how the scene stores its
+** triangles is written in one place.
+**
+** A triangle that has no normal (ray__corners_usable: a mesh's collinear
+** or overflowing triangle; ray_scene_add_triangle refuses them) keeps
+** its slot (a mesh update may give it an area again) and is read as the
+** point at its first corner, so that every test misses it (no edge
+** function is non-zero, so det is 0), its box stays finite, and no record
+** is filled from it.
 */
-static inline void ray__tri_collapse_unusable(ray__tri *t)
+static inline ray__tri ray__tri_by_id(const ray_scene *s, unsigned geom_id,
+                                      unsigned prim_id)
 {
-    if (!ray__tri_usable(t))
-        t->b = t->c = t->a;
+    const ray__prim *p = &s->prims[geom_id];
+    ray__tri t;
+
+    if (p->kind == RAY__KIND_TRIANGLE) {
+        t.a = p->a;
+        t.b = p->b;
+        t.c = p->c;
+    } else {
+        const ray__mesh *m = &s->meshes[p->mesh];
+        const unsigned *k = m->indices + 3 * (size_t)prim_id;
+        t.a = m->pos[k[0]];
+        t.b = m->pos[k[1]];
+        t.c = m->pos[k[2]];
+        if (!ray__corners_usable(t.a, t.b, t.c))
+            t.b = t.c = t.a;
+    }
+    return t;
 }
 
-/*
-** The corners of triangle slot i of s (leaf order after a commit), in
-** world space of s: what every reader outside the traversal's inner loop
-** (closest points, sweeps, overlaps, surface points) goes through, so
-** that how the scene stores its triangles can change in one place.
-*/
+static inline ray__tri ray__tri_of(const ray_scene *s, size_t i)
+{
+    return ray__tri_by_id(s, s->tri_ids[i].geom_id, s->tri_ids[i].prim_id);
+}
+
 static inline void ray__tri_corners(const ray_scene *s, size_t i,
                                     ray_vec3 *a, ray_vec3 *b, ray_vec3 *c)
 {
-    *a = s->tris[i].a;
-    *b = s->tris[i].b;
-    *c = s->tris[i].c;
+    ray__tri t = ray__tri_of(s, i);
+
+    *a = t.a;
+    *b = t.b;
+    *c = t.c;
 }
 
 /*
-** The index of the triangles by id (tri_index.c), made by a commit that
-** rebuilt the triangle BVH: ray__tri_slot -- the slot (for
-** ray__tri_corners) of triangle prim_id of triangle geometry geom_id,
-** 1, or 0 when there is none (another kind, removed, out of range).
+** The float corners of the live triangle slots (leaf_f), for the
+** queries' float filter (query/filter.h), laid out by the triangle BVH's
+** leaves: a leaf of n slots (n <= RAY__LEAF_MAX) from slot "first" keeps
+** its RAY__LEAF_ROWS n floats at leaf_f + RAY__LEAF_ROWS first, as nine
+** rows of n -- row 3 v + k holds corner v (a, b, c) on axis k (x, y, z)
+** of each slot in order -- so that one eight-lane load of a row takes
+** the leaf's slots (and, past them, floats of the next rows, which the
+** filter masks off; RAY__LEAF_PAD floats of padding after the last leaf
+** keep those loads inside the array).  Each float is its double rounded
+** to nearest; float_exact says whether every one is exact (a mesh that
+** came in as floats).  A slot with a coordinate beyond
+** RAY__LEAF_FLOAT_MAX in magnitude holds NaN in all nine, which the
+** filter never rejects: the exact test decides it.
 */
-void ray__tri_index_build(ray_scene *s);
-void ray__tri_index_free(ray_scene *s);
-int ray__tri_slot(const ray_scene *s, unsigned geom_id, unsigned prim_id,
-                  size_t *slot);
+#define RAY__LEAF_MAX 8
+#define RAY__LEAF_ROWS 9
+#define RAY__LEAF_PAD 8
+#define RAY__LEAF_FLOAT_MAX 0x1p60
 
-/* Room for "more" triangles in the scene's tris/tri_ids arrays. */
+/*
+** At commit (triangles.c): ray__triangles_rebuild builds the triangle
+** BVH over the live slots, puts them in its leaf order and writes their
+** float corners (RAY_OK, or RAY_ENOMEM with no triangle BVH, the scene
+** left uncommitted); ray__triangles_refit fits the boxes and the float
+** corners of the same tree to the vertices as they are now.
+*/
+int ray__triangles_rebuild(ray_scene *s);
+void ray__triangles_refit(ray_scene *s);
+
+/*
+** How the queries test triangles, for the tests and the bench (what
+** accuracy costs): RAY__TRI_FILTERED, the float filter in front of the
+** exact test (the default); RAY__TRI_EXACT, the exact test alone;
+** RAY__TRI_FLOAT, the filter's float test as the verdict, with no bound
+** (a float tracer: it leaks, and the hits are not the exact test's).
+** ray__scene_set_filter_scale multiplies the filter's bound (1), so a
+** test can show that half of it is not enough.  Both are read by the
+** queries: set them before querying, as any setting (ray(7)).
+*/
+enum { RAY__TRI_FILTERED, RAY__TRI_EXACT, RAY__TRI_FLOAT };
+void ray__scene_set_tri_mode(ray_scene *s, int mode);
+void ray__scene_set_filter_scale(ray_scene *s, double scale);
+
+/* Room for "more" triangles in the scene's tri_ids array. */
 int ray__reserve_tris(ray_scene *s, size_t more);
 
 /* ---------------------------------------------------- the kinds' dispatch */

@@ -254,3 +254,13 @@ unsigned ray_scene_light_count(const ray_scene *s)
 {
     return s == NULL ? 0 : (unsigned)s->n_lights;
 }
+
+void ray__scene_set_tri_mode(ray_scene *s, int mode)
+{
+    s->tri_mode = mode;
+}
+
+void ray__scene_set_filter_scale(ray_scene *s, double scale)
+{
+    s->filter_scale = scale;
+}

@@ -80,6 +80,8 @@ int ray_scene_new(ray_scene **out, ray_alloc_fn alloc, void *alloc_ud)
     s->prune = 1;
     s->watertight = 1;
     s->build_threads = 1;
+    s->tri_mode = RAY__TRI_FILTERED;
+    s->filter_scale = 1.0;
     s->dirty = RAY__DIRTY_ALL;
     *out = s;
     return RAY_OK;
@@ -90,9 +92,13 @@ void ray__mesh_release(const ray_scene *s, ray__mesh *m)
     /* The scene's own copies: freed through a cast, as allocated. */
     ray__free(s, m->uv_scale, m->n_tris * sizeof *m->uv_scale);
     m->uv_scale = NULL;
-    if (!m->borrowed) {
+    ray__free(s, m->pos, m->n_vertices * sizeof *m->pos);
+    m->pos = NULL;
+    if (m->own_indices)
         ray__free(s, ray__unconst(m->indices),
                   3 * m->n_tris * sizeof *m->indices);
+    m->own_indices = 0;
+    if (!m->borrowed) {
         ray__free(s, ray__unconst(m->normals),
                   m->n_vertices * sizeof *m->normals);
         ray__free(s, ray__unconst(m->texcoords),
@@ -115,12 +121,8 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->meshes, s->cap_meshes * sizeof *s->meshes);
     ray__free(s, s->surfaces, s->cap_surfaces * sizeof *s->surfaces);
     ray__free(s, s->instances, s->cap_instances * sizeof *s->instances);
-    ray__free(s, s->tris, s->cap_tris * sizeof *s->tris);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
-    /* The triangles' index (tri_index.c), freed here: that file calls
-    ** this one's allocator, so no call goes back the other way. */
-    ray__free(s, s->slot_of, s->n_slot_of * sizeof *s->slot_of);
-    ray__free(s, s->tri_base, s->n_tri_base * sizeof *s->tri_base);
+    ray__free(s, s->leaf_f, s->cap_leaf_f * sizeof *s->leaf_f);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
@@ -165,11 +167,8 @@ int ray__add_prim(ray_scene *s, const ray__prim *prim, unsigned *geom_id)
     return RAY_OK;
 }
 
-/*
-** Room for "more" triangles in the parallel arrays tris and tri_ids, each
-** with its own capacity, so a failure growing the second leaves the first
-** merely larger: the scene is unchanged.
-*/
+/* Room for "more" triangle slots in tri_ids; a failure changes
+** nothing. */
 int ray__reserve_tris(ray_scene *s, size_t more)
 {
     size_t need;
@@ -179,13 +178,6 @@ int ray__reserve_tris(ray_scene *s, size_t more)
         return ray__fail(s, RAY_ENOMEM, "%zu + %zu triangles: more than "
                          "2^31 - 1 in a scene", s->n_tris, more);
     need = s->n_tris + more;
-    while (s->cap_tris < need) {
-        p = ray__grow(s, s->tris, &s->cap_tris, s->cap_tris, sizeof *s->tris);
-        if (p == NULL)
-            return ray__fail(s, RAY_ENOMEM, "out of memory (room for %zu "
-                             "triangles)", need);
-        s->tris = p;
-    }
     while (s->cap_tri_ids < need) {
         p = ray__grow(s, s->tri_ids, &s->cap_tri_ids, s->cap_tri_ids,
                  sizeof *s->tri_ids);

@@ -1,0 +1,116 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# check-amalgamation.sh DIR BUILD PNG -- make amalgamation-test (part of
+# make check): the one-file library DIR/libray.c (with DIR/ray.h), which
+# make amalgamation writes, is the library.
+#
+#  1. It builds with the command doc/EMBEDDING.md gives, and nothing else:
+#     $CC -std=c99 -O2 -c libray.c; tests/cmake-consumer/main.c linked
+#     with that object (and -lm -lpthread) runs, without libpng.
+#  2. With gcc and with clang (each where installed), in GNU C mode
+#     (-std=gnu99, where gcc fuses a*b+c into an FMA by default) and with
+#     FMA instructions available (-mfma on x86), under the library's
+#     warnings (WARN, and -Werror when CFLAGS has it): the object is byte
+#     for byte the one -ffp-contract=off gives, so the file's own pragmas
+#     (scripts/amalgamation-prologue.h) keep the arithmetic uncontracted
+#     whatever the flags.
+#  3. With PNG=1: built with -DRAY_PNG=1 and CFLAGS, the examples linked
+#     against it render the pictures the Makefile's examples render,
+#     compared with cmp (make check's sizes); built with -mavx2 too (on
+#     an x86 CPU with AVX2), whitted's picture again.
+#
+# CC, CFLAGS, LDFLAGS, WARN, ALL_CFLAGS (the examples' flags), PNG_CFLAGS
+# and LIBS come from the environment (the Makefile's).
+set -eu
+dir=$1 build=$2 png=$3
+: "${CC:=cc}" "${CFLAGS:=}" "${LDFLAGS:=}" "${WARN:=}" "${PNG_CFLAGS:=}"
+: "${LIBS:=-lm -lpthread}" "${ALL_CFLAGS:=-std=c99 -Iinclude}"
+top=$(pwd)
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/libray-amalgamation-test.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "amalgamation-test: $*" >&2; exit 1; }
+werror=""
+case " $CFLAGS " in *" -Werror "*) werror=-Werror ;; esac
+
+# 1. The documented command, alone.
+# shellcheck disable=SC2086 # the flags are lists
+$CC -std=c99 -O2 -c "$dir/libray.c" -o "$tmp/plain.o" ||
+    fail "$CC -std=c99 -O2 -c libray.c failed"
+# shellcheck disable=SC2086
+$CC -std=c99 -I"$dir" -DEXPECT_PNG=0 "$top/tests/cmake-consumer/main.c" \
+    "$tmp/plain.o" -o "$tmp/consumer" -lm -lpthread $LDFLAGS ||
+    fail "the consumer does not link with the amalgamation"
+"$tmp/consumer" "$tmp/consumer.png" >/dev/null ||
+    fail "the consumer linked with the amalgamation failed"
+echo "amalgamation-test: $CC -std=c99 -O2 -c libray.c: built; the consumer linked with it ran (no libpng)"
+
+# 2. gcc and clang, GNU mode, FMA available: the pragmas hold.
+for cc in gcc clang; do
+    command -v "$cc" >/dev/null 2>&1 || {
+        echo "amalgamation-test: no $cc here: its compile skipped"; continue; }
+    fma=""
+    case $($cc -dumpmachine 2>/dev/null) in
+    x86_64-*|i?86-*|amd64-*) fma=-mfma ;;
+    esac
+    # shellcheck disable=SC2086
+    $cc -std=gnu99 -O2 $fma $WARN $werror -c "$dir/libray.c" \
+        -o "$tmp/$cc-pragma.o" || fail "$cc $WARN: libray.c does not compile cleanly"
+    # shellcheck disable=SC2086
+    $cc -std=gnu99 -O2 $fma -ffp-contract=off -c "$dir/libray.c" \
+        -o "$tmp/$cc-flag.o" || fail "$cc -ffp-contract=off failed"
+    cmp -s "$tmp/$cc-pragma.o" "$tmp/$cc-flag.o" ||
+        fail "$cc -std=gnu99 -O2 $fma: the object differs from -ffp-contract=off's: the amalgamation's pragma does not stop contraction"
+    echo "amalgamation-test: $cc -std=gnu99 -O2 $fma, the library's warnings${werror:+ as errors}: clean, and byte-identical to -ffp-contract=off"
+done
+
+# 3. The examples on it, against the Makefile's pictures.
+if [ "$png" != 1 ]; then
+    echo "amalgamation-test: PNG=0: no pictures to compare"
+    exit 0
+fi
+# shellcheck disable=SC2086
+$CC -std=c99 $CFLAGS -DRAY_PNG=1 $PNG_CFLAGS -c "$dir/libray.c" \
+    -o "$tmp/libray.o" || fail "libray.c -DRAY_PNG=1 failed"
+mkdir "$tmp/amalg" "$tmp/make"
+# name and arguments (OUT: the picture), as make check runs them.
+set -- "hello" "material" "primitives OUT" "whitted OUT 64 48 1 2" \
+    "cornell OUT 32 32 1 2" "implicit OUT 48 30 1 2" \
+    "textures $top/doc/cornell.png OUT 48 30 1 2"
+for run in "$@"; do
+    name=${run%% *}
+    # shellcheck disable=SC2086
+    $CC $ALL_CFLAGS -I"$dir" $LDFLAGS -o "$tmp/amalg/$name" \
+        "$top/examples/$name.c" "$tmp/libray.o" $LIBS ||
+        fail "examples/$name.c does not link with the amalgamation"
+    for how in make amalg; do
+        exe=$tmp/$how/$name
+        [ "$how" = make ] && exe=$top/$build/examples/$name
+        args=$(echo "$run" | sed "s|OUT|$tmp/$how/$name.png|; s|^$name||")
+        # The examples without arguments write NAME.png where they run.
+        # shellcheck disable=SC2086
+        (cd "$tmp/$how" && "$exe" $args >/dev/null 2>&1) ||
+            fail "$how: $name failed"
+    done
+    cmp "$tmp/make/$name.png" "$tmp/amalg/$name.png" ||
+        fail "$name: the picture differs between the Makefile's library and the amalgamation"
+done
+echo "amalgamation-test: $CC -std=c99 $CFLAGS -DRAY_PNG=1: examples hello material primitives whitted cornell implicit textures linked with it; their pictures byte-identical to the Makefile's"
+
+# 4. The documented -mavx2 switch (x86 CPUs with AVX2): the whole library
+#    built for AVX2, packets included, renders the same picture.
+case $($CC -dumpmachine 2>/dev/null) in
+x86_64-*|i?86-*|amd64-*)
+    if grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+        # shellcheck disable=SC2086
+        $CC -std=c99 $CFLAGS -mavx2 -DRAY_PNG=1 $PNG_CFLAGS -c \
+            "$dir/libray.c" -o "$tmp/avx2.o" || fail "libray.c -mavx2 failed"
+        # shellcheck disable=SC2086
+        $CC -I"$dir" $ALL_CFLAGS $LDFLAGS -o "$tmp/whitted-avx2" \
+            "$top/examples/whitted.c" "$tmp/avx2.o" $LIBS
+        "$tmp/whitted-avx2" "$tmp/whitted-avx2.png" 64 48 1 2 >/dev/null 2>&1 ||
+            fail "whitted on the -mavx2 amalgamation failed"
+        cmp "$tmp/make/whitted.png" "$tmp/whitted-avx2.png" ||
+            fail "-mavx2: whitted's picture differs from the Makefile's"
+        echo "amalgamation-test: -mavx2: whitted's picture byte-identical to the Makefile's"
+    fi ;;
+esac

@@ -1,0 +1,378 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** triangles.c -- the triangle slots at commit: the BVH over the live
+** ones (of enabled geometry), the slots put in its leaf order, and the
+** leaves' float corners (scene.h, RAY__LEAF_ROWS), which the queries'
+** float filter reads in front of the exact double test.  A refit keeps
+** the tree and fits its boxes, and the float corners, again.
+*/
+#include <string.h>
+
+#include "scene/scene.h"
+
+/*
+** The triangle BVH's cost settings (accel/sah.c): a split costs 1.5
+** triangle tests, and eight triangles or fewer always make a leaf.  The
+** float filter (query/filter.h) tests a leaf's triangles eight at a time
+** in one pass, so a leaf of eight costs about what a leaf of one does,
+** and a wide node tests all its boxes at once, whatever their number:
+** bench/mesh measured (issue 27).
+*/
+static const ray__bvh_costs tri_costs = {1.5f, RAY__LEAF_MAX};
+
+/* The smaller and larger of two, of three finite numbers (no libm call:
+** the NaN rules of fmin are not needed here, vertices are finite). */
+static double min2(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
+
+static double min3(double a, double b, double c)
+{
+    return min2(min2(a, b), c);
+}
+
+static double max3(double a, double b, double c)
+{
+    return max2(max2(a, b), c);
+}
+
+/* *lo, *hi grown to hold triangle t. */
+static void corners_grow(const ray__tri *t, ray_vec3 *lo, ray_vec3 *hi)
+{
+    lo->x = min2(lo->x, min3(t->a.x, t->b.x, t->c.x));
+    lo->y = min2(lo->y, min3(t->a.y, t->b.y, t->c.y));
+    lo->z = min2(lo->z, min3(t->a.z, t->b.z, t->c.z));
+    hi->x = max2(hi->x, max3(t->a.x, t->b.x, t->c.x));
+    hi->y = max2(hi->y, max3(t->a.y, t->b.y, t->c.y));
+    hi->z = max2(hi->z, max3(t->a.z, t->b.z, t->c.z));
+}
+
+/* The double box lo, hi rounded outward into float (once per box:
+** rounding outward is monotonic, so the union of rounded boxes is the
+** rounded union, bit for bit). */
+static void box_out(ray_vec3 lo, ray_vec3 hi, float flo[3], float fhi[3])
+{
+    flo[0] = ray__float_down(lo.x);
+    flo[1] = ray__float_down(lo.y);
+    flo[2] = ray__float_down(lo.z);
+    fhi[0] = ray__float_up(hi.x);
+    fhi[1] = ray__float_up(hi.y);
+    fhi[2] = ray__float_up(hi.z);
+}
+
+/* The float box of slot i, rounded outward (the build's box callback). */
+static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
+{
+    ray__tri t = ray__tri_of(ud, i);
+    ray_vec3 a = t.a, b = t.a;
+
+    corners_grow(&t, &a, &b);
+    box_out(a, b, lo, hi);
+}
+
+/*
+** The nine floats of triangle t, corner by corner (a, b, c), axis by
+** axis, at rows[0], rows[stride], ... rows[8 stride], each the nearest
+** float.  A triangle with a coordinate beyond RAY__LEAF_FLOAT_MAX (where
+** the filter's arithmetic could overflow, and where a conversion to
+** float could be out of range) gets NaN in all nine, which the filter
+** never rejects: the exact test decides it.
+*/
+static void leaf_rows(const ray__tri *t, float *rows, size_t stride)
+{
+    double d[RAY__LEAF_ROWS];
+    int k, ok = 1;
+
+    d[0] = t->a.x, d[1] = t->a.y, d[2] = t->a.z;
+    d[3] = t->b.x, d[4] = t->b.y, d[5] = t->b.z;
+    d[6] = t->c.x, d[7] = t->c.y, d[8] = t->c.z;
+    for (k = 0; k < RAY__LEAF_ROWS; k++)
+        ok &= fabs(d[k]) <= RAY__LEAF_FLOAT_MAX;
+    for (k = 0; k < RAY__LEAF_ROWS; k++)
+        rows[(size_t)k * stride] = ok ? (float)d[k] : (float)NAN;
+}
+
+/*
+** Are the float corners of every live triangle exact (the scene's
+** float_exact, which lets the filter's bound drop the vertices'
+** rounding)?  Yes when each live mesh's positions are floats (checked as
+** they were copied) and each live single triangle's corners are.
+*/
+static int corners_are_floats(const ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!p->enabled || p->removed)
+            continue;
+        if (p->kind == RAY__KIND_MESH && !s->meshes[p->mesh].pos_floats)
+            return 0;
+        if (p->kind == RAY__KIND_TRIANGLE &&
+            !(ray__is_float(p->a.x) && ray__is_float(p->a.y) &&
+              ray__is_float(p->a.z) && ray__is_float(p->b.x) &&
+              ray__is_float(p->b.y) && ray__is_float(p->b.z) &&
+              ray__is_float(p->c.x) && ray__is_float(p->c.y) &&
+              ray__is_float(p->c.z)))
+            return 0;
+    }
+    return 1;
+}
+
+/*
+** The leaves of a BVH over slots, each leaf's (first slot, count), in
+** node order: fn(ud, first, n) for each.
+*/
+typedef void (*leaf_fn)(void *ud, unsigned first, unsigned n);
+
+static void each_leaf(const ray__bvh *bvh, leaf_fn fn, void *ud)
+{
+    size_t w;
+    int k;
+
+    for (w = 0; w < bvh->n_wide; w++)
+        for (k = 0; k < RAY__WIDTH; k++) {
+            const ray__wnode *q = &bvh->wide[w];
+            unsigned n = q->count[k] & ~RAY__LEAF;
+            if (q->count[k] != 0 && n > 0)
+                fn(ud, q->child[k], n);
+        }
+}
+
+/* Leaf layout from rows in slot order (before the slots are permuted):
+** a leaf's slot j is slot items[first + j] then. */
+typedef struct leaf_gather {
+    float *out;
+    const float *by_slot;        /* RAY__LEAF_ROWS floats per old slot */
+    const unsigned *items;
+} leaf_gather;
+
+static void gather_leaf(void *ud, unsigned first, unsigned n)
+{
+    const leaf_gather *g = ud;
+    float *rows = g->out + (size_t)RAY__LEAF_ROWS * first;
+    unsigned j;
+    int r;
+
+    for (j = 0; j < n; j++) {
+        const float *src = g->by_slot +
+                           (size_t)RAY__LEAF_ROWS * g->items[first + j];
+        for (r = 0; r < RAY__LEAF_ROWS; r++)
+            rows[(size_t)r * n + j] = src[r];
+    }
+}
+
+/*
+** The float corners of the n live slots in the leaves of the fresh BVH
+** (its items: the old slot of each leaf position), into a new leaf_f:
+** first in slot order, reading the geometry as it lies (a mesh's indices
+** in order), then gathered into leaf order, one random read a slot.
+** RAY_OK or RAY_ENOMEM (nothing changed).
+*/
+static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
+{
+    size_t floats = RAY__LEAF_ROWS * n + RAY__LEAF_PAD, i;
+    float *by_slot = ray__alloc(s, RAY__LEAF_ROWS * n * sizeof *by_slot);
+    float *out;
+    leaf_gather g;
+
+    if (by_slot == NULL)
+        return RAY_ENOMEM;
+    out = ray__alloc(s, floats * sizeof *out);
+    if (out == NULL) {
+        ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
+        return RAY_ENOMEM;
+    }
+    for (i = 0; i < n; i++) {
+        ray__tri t = ray__tri_of(s, i);
+        leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
+    }
+    g.out = out;
+    g.by_slot = by_slot;
+    g.items = fresh->items;
+    each_leaf(fresh, gather_leaf, &g);
+    memset(out + RAY__LEAF_ROWS * n, 0, RAY__LEAF_PAD * sizeof *out);
+    ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
+    s->leaf_f = out;
+    s->cap_leaf_f = floats;
+    s->float_exact = corners_are_floats(s);
+    return RAY_OK;
+}
+
+/*
+** Put the ids of the n live slots in leaf order: gathered into a new
+** array, each read random but none depending on another, where walking
+** the permutation's cycles in place chases one random read after the
+** other (at 940k triangles the walk took about a sixth of the commit,
+** perf on bench/mesh's bunny-4); in place when memory is short for it
+** (the top bit of items[] marks the positions placed: indices are below
+** 2^31).  The same order either way.
+*/
+static void permute_ids(ray_scene *s, unsigned *items, size_t n)
+{
+    const unsigned done = 0x80000000u;
+    size_t start;
+
+    for (start = 0; start < n; start++) {
+        ray__tri_id id;
+        size_t pos = start;
+        if (items[start] & done)
+            continue;
+        id = s->tri_ids[start];
+        for (;;) {
+            size_t src = items[pos];
+            items[pos] |= done;
+            if (src == start) {
+                s->tri_ids[pos] = id;
+                break;
+            }
+            s->tri_ids[pos] = s->tri_ids[src];
+            pos = src;
+        }
+    }
+}
+
+static void gather_ids(ray_scene *s, unsigned *items, size_t n)
+{
+    size_t i, all = s->n_tris;
+    ray__tri_id *id = ray__alloc(s, all * sizeof *id);
+
+    if (id == NULL) {
+        permute_ids(s, items, n);
+        return;
+    }
+    for (i = 0; i < n; i++)
+        id[i] = s->tri_ids[items[i]];
+    memcpy(id + n, s->tri_ids + n, (all - n) * sizeof *id);  /* waiting */
+    ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
+    s->tri_ids = id;
+    s->cap_tri_ids = all;
+}
+
+/* Give back the spare capacity that doubling left in tri_ids (a failed
+** shrink keeps the larger block: harmless). */
+static void trim_ids(ray_scene *s)
+{
+    void *p;
+
+    if (s->n_tris == 0 || s->cap_tri_ids == s->n_tris)
+        return;          /* a zero-size realloc frees: keep the block */
+    p = ray__realloc(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids,
+                     s->n_tris * sizeof *s->tri_ids);
+    if (p != NULL) {
+        s->tri_ids = p;
+        s->cap_tri_ids = s->n_tris;
+    }
+}
+
+/* Is triangle slot i of geometry that queries may see? */
+static int tri_live(const ray_scene *s, size_t i)
+{
+    const ray__prim *p = &s->prims[s->tri_ids[i].geom_id];
+    return p->enabled && !p->removed;
+}
+
+/* Swap triangle slots i and j; nothing to do for i == j, the usual case
+** (every triangle kept, in place). */
+static void tri_swap(ray_scene *s, size_t i, size_t j)
+{
+    ray__tri_id id;
+
+    if (i == j)
+        return;
+    id = s->tri_ids[i];
+    s->tri_ids[i] = s->tri_ids[j];
+    s->tri_ids[j] = id;
+}
+
+/* The triangle BVH and the leaves' float corners, gone. */
+static void leaves_free(ray_scene *s)
+{
+    ray__bvh_free(&s->alloc, &s->tri_bvh);
+    ray__free(s, s->leaf_f, s->cap_leaf_f * sizeof *s->leaf_f);
+    s->leaf_f = NULL;
+    s->cap_leaf_f = 0;
+    s->n_live_tris = 0;
+}
+
+/*
+** The triangle BVH, rebuilt: removed geometry's slots go for good, the
+** slots of enabled geometry are moved to the front (the others wait
+** behind, outside the BVH, until enabled again), the BVH is built over
+** them and they are put in its leaf order, so a leaf is a contiguous run
+** of slots, and its float corners made.  The old tree and corners are
+** freed first, which keeps the peak of a rebuild where a first build's
+** is; a failure (out of memory) leaves the scene without a triangle BVH,
+** uncommitted, its changes staged for the next commit.
+*/
+int ray__triangles_rebuild(ray_scene *s)
+{
+    size_t n = 0, i;
+    ray__bvh fresh;
+    int rc;
+
+    for (i = 0; i < s->n_tris; i++)
+        if (!s->prims[s->tri_ids[i].geom_id].removed)
+            tri_swap(s, n++, i);
+    s->n_tris = n;
+    n = 0;
+    for (i = 0; i < s->n_tris; i++)
+        if (tri_live(s, i))
+            tri_swap(s, n++, i);
+    leaves_free(s);
+    rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
+                        s->build_threads, &fresh);
+    if (rc != RAY_OK)
+        return rc;
+    if (n > 0) {
+        if (leaves_make(s, &fresh, n) != RAY_OK) {
+            ray__bvh_free(&s->alloc, &fresh);
+            return RAY_ENOMEM;
+        }
+        gather_ids(s, fresh.items, n);
+        /* Leaves now index slots directly: the permutation is not kept. */
+        ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
+        fresh.items = NULL;
+        fresh.n_items = 0;
+    }
+    s->tri_bvh = fresh;
+    s->n_live_tris = n;
+    trim_ids(s);
+    return RAY_OK;
+}
+
+/*
+** A refit's leaf: the box of slots first .. first + n - 1, from the
+** geometry's vertices as they are now, and their float corners written
+** again in the leaf's rows (ud: the scene, whose leaf_f the refit
+** rewrites: each leaf its own rows).
+*/
+static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
+                       float hi[3])
+{
+    ray_scene *s = ray__unconst(ud);
+    float *rows = s->leaf_f + RAY__LEAF_ROWS * first;
+    ray__tri t = ray__tri_of(s, first);
+    ray_vec3 a = t.a, b = t.a;
+    size_t j;
+
+    for (j = 0; j < n; j++) {
+        if (j > 0)
+            t = ray__tri_of(s, first + j);
+        corners_grow(&t, &a, &b);
+        leaf_rows(&t, rows + j, n);
+    }
+    box_out(a, b, lo, hi);
+}
+
+void ray__triangles_refit(ray_scene *s)
+{
+    ray__bvh_refit(&s->alloc, &s->tri_bvh, refit_leaf, s, s->n_live_tris);
+    s->float_exact = corners_are_floats(s);
+}
