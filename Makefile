@@ -441,12 +441,38 @@ CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%
 SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
 CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
 
+# A program linked with `pkg-config --libs libray` must find libray.so.0
+# when it runs.  The dynamic loader searches its default directories
+# (/lib, /usr/lib, their lib64 and multiarch forms) by itself; for any
+# other LIBDIR (/usr/local/lib included, which Debian's loader knows only
+# through the ldconfig cache, and /opt or $HOME prefixes, which it does
+# not know at all) libray.pc's Libs carries -Wl,-rpath,${libdir}, so the
+# program runs without LD_LIBRARY_PATH (a moved install through
+# pkg-config --define-prefix too: ${libdir} follows ${prefix}).
+# PC_RPATH=0 leaves it out (a distribution package), PC_RPATH=1 forces it.
+MULTIARCH = $(shell $(CC) -print-multiarch 2>/dev/null)
+LOADER_DIRS = /lib /usr/lib /lib64 /usr/lib64 \
+    $(if $(MULTIARCH),/lib/$(MULTIARCH) /usr/lib/$(MULTIARCH))
+PC_RPATH ?= $(if $(filter $(patsubst %/,%,$(LIBDIR)),$(LOADER_DIRS)),0,1)
+# ldconfig refreshes the loader's cache after install and uninstall when
+# it applies: run as root, into the live system (DESTDIR empty); a
+# package (DESTDIR set) leaves it to its installer, and a user without
+# root relies on the rpath above.
+LDCONFIG ?= ldconfig
+RUN_LDCONFIG = if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && \
+        command -v $(LDCONFIG) >/dev/null 2>&1; then \
+        echo "$(LDCONFIG)"; $(LDCONFIG) || exit 1; \
+    elif [ -z "$(DESTDIR)" ]; then \
+        echo "libray: ldconfig not run (not root, or not found): programs find $(LIBDIR)/libray.so.$(SOMAJOR) through libray.pc's rpath$(if $(filter 0,$(PC_RPATH)), (none: PC_RPATH=0; run ldconfig as root))"; \
+    fi
+
 libray.pc:
 	@mkdir -p $(BUILD)
 	sed -e 's|@PREFIX@|$(PREFIX)|' \
 	    -e 's|@LIBDIR@|$(call rel_to_prefix,$(LIBDIR),$${prefix})|' \
 	    -e 's|@INCLUDEDIR@|$(call rel_to_prefix,$(INCLUDEDIR),$${prefix})|' \
 	    -e 's|@VERSION@|$(VERSION)|' \
+	    -e 's|@RPATH@|$(if $(filter 1,$(PC_RPATH)), -Wl$(comma)-rpath$(comma)$${libdir})|' \
 	    $(if $(filter 1,$(PNG)),-e 's|@PNG_REQUIRES@|libpng|',-e '/@PNG_REQUIRES@/d') \
 	    libray.pc.in > $(BUILD)/libray.pc
 
@@ -486,6 +512,7 @@ install: lib libray.pc cmake-config
 	install -m 644 LICENSE $(DESTDIR)$(DOCDIR)/LICENSE
 	@set -e; for l in $(MLINKS); do \
 	    ln -sf $${l%%:*}.3 $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
+	@$(RUN_LDCONFIG)
 
 uninstall:
 	rm -f $(DESTDIR)$(LIBDIR)/libray.a $(DESTDIR)$(LIBDIR)/libray.so \
@@ -500,6 +527,7 @@ uninstall:
 	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
 	@scripts/install-dirs.sh remove "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
 	    $(DOCDIR) $(CMAKEDIR)
+	@$(RUN_LDCONFIG)
 
 # A staged install moved elsewhere still builds a program through
 # pkg-config --define-prefix and through CMake (when cmake is installed);

@@ -268,7 +268,7 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
         /* A setting after commit is staged: no context until the next
         ** commit. */
         ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
-        ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_EINVAL);
+        ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_ESTATE);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         ck_assert_uint_eq(ray_scene_effects(s), RAY_EFFECT_REFLECTION);
         ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
