@@ -85,7 +85,8 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
-        png-free-test install-test libray.pc cmake-config FORCE
+        png-free-test install-test libray.pc cmake-config FORCE \
+        snippets-test pages-test bench-docs-test
 
 all: lib
 
@@ -217,7 +218,9 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
-# tables into doc/BENCHMARKS.md and draws bench/accuracy.png with gnuplot
+# tables into doc/BENCHMARKS.md and doc/NUMERICS.md (bench/run.sh --splice
+# does only that, from the RESULTS.md there is; make check's
+# bench-docs-test checks it was done) and draws bench/accuracy.png with gnuplot
 # (installed here like the other targets' packages).  BENCH_QUICK=1 for a
 # short run, written to bench/RESULTS-quick.md and accuracy-quick.png
 # (untracked) so that it never replaces the documented figures.
@@ -284,6 +287,22 @@ docs-test:
 links-test:
 	@scripts/check-links.sh
 
+# The pages show what runs (issue 29): every program README.md and
+# doc/*.md show (<!-- program -->) compiles with the library's warnings
+# as errors, links and runs; every output they show (<!-- output -->) is
+# what it prints (scripts/check-snippets.sh).
+snippets-test: $(STATIC) $(EXAMPLES)
+	@CC="$(CC)" CFLAGS="$(ALL_CFLAGS)" LDFLAGS="$(LDFLAGS)" LIBS="$(LIBS)" \
+	    scripts/check-snippets.sh $(BUILD) $(PNG)
+
+# README.md is a landing page of at most 250 lines, and no page types a
+# measured figure by hand (scripts/check-pages.sh); the tables bench/run.sh
+# copies into the pages are those of bench/RESULTS.md (bench/run.sh --check).
+pages-test:
+	@scripts/check-pages.sh
+bench-docs-test:
+	@bench/run.sh --check $(BUILD)
+
 # The layers are src/'s folders: no file includes, and no object calls,
 # above its layer, and no objects call each other round a circle
 # (scripts/check-layers.sh; its self-test shows it fails on each).
@@ -294,7 +313,7 @@ layers-test: $(OBJS)
 # Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
 EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh
 check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
-       install-test $(if $(filter 0,$(PNG)),png-free-test)
+       snippets-test pages-test bench-docs-test install-test $(if $(filter 0,$(PNG)),png-free-test)
 	$(TEST_BIN)
 	$(FAULTSIM)
 	@$(MAKE) --no-print-directory fuzz-replay

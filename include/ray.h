@@ -52,10 +52,10 @@
 */
 /*
 ** Contents, in the order a program meets them: README's first example
-** tests a ray against a sphere alone (1, 2); its second builds a scene,
-** renders it and writes a PNG (3 to 10); picking in a game queries a
-** scene (11, 12); a material of one's own traces rays (13, 14); the
-** other surfaces come last (15).
+** tests a ray against a sphere alone (1, 2); doc/GUIDE.md's first render
+** builds a scene, renders it and writes a PNG (3 to 10); README's second,
+** picking in a game, queries a scene (11, 12); a material of one's own
+** traces rays (13, 14); the other surfaces come last (15).
 **    1. values              ray_vec3, ray_ray, ray_hit, ids
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
