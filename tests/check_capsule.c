@@ -353,7 +353,7 @@ END_TEST
 ** distance is y exactly (sqrt(fl(y * y)) = |y| in binary floating
 ** point) and R - y exact (Sterbenz), so only the roots' own roundings
 ** remain: 8u |t| (the code gives one ulp; the margin was 1e-11 before,
-** wide enough for a squared-first R^2 - y^2).  Touching b's pole (x = half + R): t = 5.
+** wide enough for R^2 - l^2 squared first, which puts t 1.6e-14 off).  Touching b's pole (x = half + R): t = 5.
 ** Along the top line y = R, parallel to the axis: the ray lies in the
 ** surface; it is tangent to a's sphere at the seam: t = 4 (x = -1).
 */

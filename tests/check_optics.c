@@ -260,6 +260,77 @@ START_TEST(spawn_offset_should_follow_the_documented_rule)
 }
 END_TEST
 
+/*
+** The hit records' error bounds are the documented ones, by value (the
+** sizes ray_spawn scales its offset by: a bound a gamma smaller also
+** passes the self-hit tests at most scenes).  Oblique hits 1e5 from the
+** origin, each bound recomputed in long double from the hit's own
+** fields, and held to 4u relative (the library's sums round; a gamma(n)
+** slipped to gamma(n - 1) moves it by 1/n, over 12%):
+**   sphere (sphere.c): gamma(7) (|c_k| + R |n_k|);
+**   triangle (triangle.c, Cramer and watertight): gamma(7) (|alpha a_k|
+**     + |beta b_k| + |gamma c_k|) + 4 * 2^-1074, alpha = 1 - beta - gamma
+**     as computed (u = beta, v = gamma);
+**   plane (plane.c): gamma(8) max_k (|p_k| + |point_k|), every axis.
+*/
+static long double gam_n(int n)
+{
+    long double u = (long double)DBL_EPSILON / 2;
+    return n * u / (1 - n * u);
+}
+
+static void assert_bound(const char *what, double got, long double want)
+{
+    ck_assert_msg(fabsl(got - want) <= 4 * gam_n(1) * want,
+                  "%s: p_err %.17g, the rule gives %.17Lg", what, got, want);
+}
+
+START_TEST(hit_error_bounds_should_be_their_documented_values)
+{
+    const double X = 1e5;
+    ray_vec3 c = vec(X, -0.5 * X, 0.25 * X);
+    ray_vec3 a = vec(X - 3, 1 - X, X + 2), b = vec(X + 4, 2 - X, X - 1),
+             v2 = vec(X + 1, 5 - X, X + 3);
+    ray_vec3 pt = vec(X, 0.5 * X, -X), pn = vscale(vec(1, 2, -2), 1.0 / 3);
+    ray_ray r = ray_from(vadd(c, vec(-7, 3, 5)), vec(7.25, -2.5, -5.5));
+    ray_hit h;
+    double alpha;
+    int k, w;
+
+    ck_assert_int_eq(ray_sphere(&r, c, 1.5, &h), 1);
+    for (k = 0; k < 3; k++)
+        assert_bound("sphere", (&h.p_err.x)[k],
+                     gam_n(7) * (fabsl((long double)(&c.x)[k]) +
+                                 1.5L * fabsl((long double)(&h.n.x)[k])));
+    for (w = 0; w < 2; w++) {
+        ray_vec3 P = vadd(vadd(vscale(a, 0.2), vscale(b, 0.3)), vscale(v2, 0.5));
+        r = ray_from(vadd(P, vec(1, 6, -2)), vec(-1, -6, 2));
+        ck_assert_int_eq(w ? ray_triangle_watertight(&r, a, b, v2, &h)
+                           : ray_triangle(&r, a, b, v2, &h), 1);
+        alpha = 1.0 - h.u - h.v;
+        for (k = 0; k < 3; k++)
+            assert_bound(w ? "watertight triangle" : "triangle",
+                         (&h.p_err.x)[k],
+                         gam_n(7) * (fabsl((long double)alpha * (&a.x)[k]) +
+                                     fabsl((long double)h.u * (&b.x)[k]) +
+                                     fabsl((long double)h.v * (&v2.x)[k])) +
+                             4 * 0x1p-1074L);
+    }
+    r = ray_from(vadd(pt, vec(3, 9, -1)), vec(-0.5, -1.75, 0.25));
+    ck_assert_int_eq(ray_plane(&r, pt, pn, &h), 1);
+    {
+        long double big = 0;
+        for (k = 0; k < 3; k++) {
+            long double m = fabsl((long double)(&h.p.x)[k]) +
+                            fabsl((long double)(&pt.x)[k]);
+            big = m > big ? m : big;
+        }
+        for (k = 0; k < 3; k++)
+            assert_bound("plane", (&h.p_err.x)[k], gam_n(8) * big);
+    }
+}
+END_TEST
+
 Suite *optics_suite(void)
 {
     Suite *s = suite_create("optics");
@@ -273,6 +344,7 @@ Suite *optics_suite(void)
     tcase_add_test(sp, spawn_should_not_rehit_the_surface);
     tcase_add_test(sp, spawn_to_should_end_before_the_target);
     tcase_add_test(sp, spawn_offset_should_follow_the_documented_rule);
+    tcase_add_test(sp, hit_error_bounds_should_be_their_documented_values);
     tcase_add_test(sp, spawn_should_not_skip_thin_gaps);
     suite_add_tcase(s, tc);
     suite_add_tcase(s, sp);

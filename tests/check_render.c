@@ -408,6 +408,43 @@ START_TEST(render_check_should_say_which_option_and_why)
 }
 END_TEST
 
+/*
+** The other side of each range: the last value every option and camera
+** field accepts is accepted (a "<" slipped to "<=" in a check refuses
+** it; the refusals above only catch the first value out).  Checked by
+** ray_render_check, which makes ray_render's very checks, without the
+** cost of rendering 65536 samples a pixel.
+*/
+START_TEST(render_check_should_accept_the_last_value_of_each_range)
+{
+    test_scene t;
+    ray_render_options o;
+    ray_camera cam;
+    char msg[256];
+    int k;
+
+    build(&t);
+    for (k = 0; k < 9; k++) {
+        ray_render_options_init(&o, W, H);
+        cam = t.cam;
+        switch (k) {
+        case 0: o.samples = RAY_MAX_PIXEL_SAMPLES; break;
+        case 1: o.y0 = H - 1; o.y1 = H; break;
+        case 2: o.adaptive_threshold = 0.1; o.adaptive_depth = 8; break;
+        case 3: o.adaptive_threshold = 0.1; o.adaptive_depth = 1; break;
+        case 4: o.adaptive_threshold = HUGE_VAL; break;     /* corners only */
+        case 5: o.photons = RAY_MAX_PHOTONS; break;
+        case 6: cam.vfov = nextafter(180, 0); break;
+        case 7: cam.vfov = nextafter(0, 1); break;
+        default: cam.aperture = 0; cam.focus_distance = 0; break;
+        }
+        ck_assert_msg(ray_render_check(t.scene, &cam, &o, msg, sizeof msg) ==
+                          RAY_OK, "edge %d refused: %s", k, msg);
+    }
+    ray_scene_free(t.scene);
+}
+END_TEST
+
 /* ----------------------------------------- counters summed over threads */
 
 /* A keep-all filter; counts its calls when ud is not NULL (one render
@@ -669,6 +706,7 @@ Suite *render_suite(void)
     tcase_add_test(tc, render_should_reject_bad_options);
     tcase_add_loop_test(tc, render_check_should_say_which_option_and_why, 0,
                         (int)N_REFUSALS);
+    tcase_add_test(tc, render_check_should_accept_the_last_value_of_each_range);
     tcase_add_test(tc, render_stats_should_sum_every_counter_over_threads);
     tcase_add_test(tc, render_samples_should_cover_every_stratum);
     tcase_add_test(tc, render_pixels_should_always_be_finite);

@@ -137,8 +137,9 @@ START_TEST(sphere_should_classify_tangent_rays)
     ** its value and t = c / q within a few roundings of 5: 8u |t| (the
     ** code gives one ulp).  The margin once was 1e-12, a thousand times
     ** that, which also passed R^2 - l^2 formed by squaring first (its
-    ** rounding of l^2, times the factor above: ~1e-12).  The oblique
-    ** rays below, where |l| is rounded, have their own bound. */
+    ** rounding of l^2 through the factor above: t off by 1.2e-14,
+    ** measured with that slip).  The oblique rays below, where |l| is
+    ** rounded, have their own bound. */
     if (o == 0.0) {
         long double x = (long double)inside.org.x;
         ck_assert_double_eq_tol(h.t, (double)(5.0L - sqrtl(1.0L - x * x)),
