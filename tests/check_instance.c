@@ -499,7 +499,7 @@ START_TEST(world_error_bound_should_be_the_documented_one)
 
             for (j = 0; j < 3; j++) {
                 long double back = 0;
-                carried += fabsl((long double)L[k][j]) * ep[j];
+                carried += fabsl((long double)L[k][j]) * (long double)ep[j];
                 fwd += fabsl((long double)L[k][j]) * fabsl((long double)pp[j]);
                 for (jj = 0; jj < 3; jj++)
                     back += fabsl((long double)Linv[j][jj]) *
@@ -509,7 +509,7 @@ START_TEST(world_error_bound_should_be_the_documented_one)
             fwd = gam(4) * (fwd + fabsl((long double)c[k]));
             want = (carried + fwd + ret) * (1 + gam(2));
             /* The margin, and the test's power to see each term. */
-            ck_assert_msg(fabsl(got[k] - want) <= 8 * gam(1) * want,
+            ck_assert_msg(fabsl((long double)got[k] - want) <= 8 * gam(1) * want,
                           "ray %d axis %d: p_err %.17g, the rule gives %.17Lg",
                           i, k, got[k], want);
             ck_assert(carried > 64 * gam(1) * want);

@@ -216,17 +216,19 @@ START_TEST(spawn_offset_should_follow_the_documented_rule)
             h.p_err = vscale(vec(1e-10, 3e-10, 2e-10), scale[o]);
             if (w == 2)
                 ck_assert(vdot(dir, n) == 0);
-            d = fabsl((long double)n.x) * h.p_err.x +
-                fabsl((long double)n.y) * h.p_err.y +
-                fabsl((long double)n.z) * h.p_err.z;
+            d = fabsl((long double)n.x) * (long double)h.p_err.x +
+                fabsl((long double)n.y) * (long double)h.p_err.y +
+                fabsl((long double)n.z) * (long double)h.p_err.z;
             sgn = vdot(dir, n) >= 0 ? 1 : -1;
             ck_assert_int_eq(ray_spawn(&h, dir, &s), RAY_OK);
             for (k = 0; k < 3; k++) {
                 double pk = (&h.p.x)[k], ok = (&s.org.x)[k];
-                long double nk = (&n.x)[k], want = 2 * d * sgn * nk;
+                long double nk = (long double)(&n.x)[k];
+                long double want = 2 * d * (long double)sgn * nk;
                 long double tol = 4 * (long double)DBL_EPSILON *
-                                      fabsl(want) + 1.5L * ulp_at(pk);
-                ck_assert_msg(fabsl((ok - pk) - want) <= tol,
+                                      fabsl(want) +
+                                  1.5L * (long double)ulp_at(pk);
+                ck_assert_msg(fabsl((long double)(ok - pk) - want) <= tol,
                               "scale %g dir %d axis %d: offset %.17g, the "
                               "rule %.17Lg (margin %.3Lg)", scale[o], w, k,
                               ok - pk, want, tol);
@@ -281,7 +283,7 @@ static long double gam_n(int n)
 
 static void assert_bound(const char *what, double got, long double want)
 {
-    ck_assert_msg(fabsl(got - want) <= 4 * gam_n(1) * want,
+    ck_assert_msg(fabsl((long double)got - want) <= 4 * gam_n(1) * want,
                   "%s: p_err %.17g, the rule gives %.17Lg", what, got, want);
 }
 
@@ -311,9 +313,12 @@ START_TEST(hit_error_bounds_should_be_their_documented_values)
         for (k = 0; k < 3; k++)
             assert_bound(w ? "watertight triangle" : "triangle",
                          (&h.p_err.x)[k],
-                         gam_n(7) * (fabsl((long double)alpha * (&a.x)[k]) +
-                                     fabsl((long double)h.u * (&b.x)[k]) +
-                                     fabsl((long double)h.v * (&v2.x)[k])) +
+                         gam_n(7) * (fabsl((long double)alpha *
+                                           (long double)(&a.x)[k]) +
+                                     fabsl((long double)h.u *
+                                           (long double)(&b.x)[k]) +
+                                     fabsl((long double)h.v *
+                                           (long double)(&v2.x)[k])) +
                              4 * 0x1p-1074L);
     }
     r = ray_from(vadd(pt, vec(3, 9, -1)), vec(-0.5, -1.75, 0.25));

@@ -155,12 +155,12 @@ static long double sphere_t_ref(const ray_ray *r, ray_vec3 c, double R)
     long double f[3], d[3], a = 0, b = 0, l2 = 0;
     int k;
 
-    f[0] = (long double)r->org.x - c.x;
-    f[1] = (long double)r->org.y - c.y;
-    f[2] = (long double)r->org.z - c.z;
-    d[0] = r->dir.x;
-    d[1] = r->dir.y;
-    d[2] = r->dir.z;
+    f[0] = (long double)r->org.x - (long double)c.x;
+    f[1] = (long double)r->org.y - (long double)c.y;
+    f[2] = (long double)r->org.z - (long double)c.z;
+    d[0] = (long double)r->dir.x;
+    d[1] = (long double)r->dir.y;
+    d[2] = (long double)r->dir.z;
     for (k = 0; k < 3; k++) {
         a += d[k] * d[k];
         b -= f[k] * d[k];
@@ -169,7 +169,7 @@ static long double sphere_t_ref(const ray_ray *r, ray_vec3 c, double R)
         long double lk = f[k] + b / a * d[k];
         l2 += lk * lk;
     }
-    return (b - sqrtl(a * ((long double)R * R - l2))) / a;
+    return (b - sqrtl(a * ((long double)R * (long double)R - l2))) / a;
 }
 
 /*
@@ -207,13 +207,15 @@ START_TEST(sphere_should_find_oblique_near_tangent_roots_to_its_bound)
                 long double t = sphere_t_ref(&r, c, 1), h, f, bound;
                 ray_hit hit;
 
-                f = vlen(vsub(r.org, c));
-                h = sqrtl(1 - (long double)off * off);
-                bound = 17 * U64 * f / h + 8 * U64 * fabsl(t);
+                f = (long double)vlen(vsub(r.org, c));
+                h = sqrtl(1 - (long double)off * (long double)off);
+                bound = 17 * (long double)U64 * f / h +
+                        8 * (long double)U64 * fabsl(t);
                 ck_assert_int_eq(ray_sphere(&r, c, 1, &hit), 1);
                 if (getenv("SPHERE_TEST_FIGURES") != NULL)
-                    fprintf(stderr, "err/bound %.3Lg\n", fabsl(hit.t - t) / bound);
-                ck_assert_msg(fabsl(hit.t - t) <= bound,
+                    fprintf(stderr, "err/bound %.3Lg\n",
+                            fabsl((long double)hit.t - t) / bound);
+                ck_assert_msg(fabsl((long double)hit.t - t) <= bound,
                               "centre %g, inside %g, from %g: t %.17g, "
                               "reference %.17Lg, bound %.3Lg", centre[k],
                               inside[i], away[j], hit.t, t, bound);
