@@ -99,7 +99,8 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test cmake-test abi-test abi-baseline \
-        version-test dist distcheck print-srcs print-version deps-embed
+        version-test dist distcheck print-srcs print-version deps-embed \
+        snippets-test pages-test bench-docs-test
 
 all: lib
 
@@ -231,7 +232,9 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
-# tables into doc/BENCHMARKS.md and draws bench/accuracy.png with gnuplot
+# tables into doc/BENCHMARKS.md and doc/NUMERICS.md (bench/run.sh --splice
+# does only that, from the RESULTS.md there is; make check's
+# bench-docs-test checks it was done) and draws bench/accuracy.png with gnuplot
 # (installed here like the other targets' packages).  BENCH_QUICK=1 for a
 # short run, written to bench/RESULTS-quick.md and accuracy-quick.png
 # (untracked) so that it never replaces the documented figures.
@@ -298,6 +301,22 @@ docs-test:
 links-test:
 	@scripts/check-links.sh
 
+# The pages show what runs (issue 29): every program README.md and
+# doc/*.md show (<!-- program -->) compiles with the library's warnings
+# as errors, links and runs; every output they show (<!-- output -->) is
+# what it prints (scripts/check-snippets.sh).
+snippets-test: $(STATIC) $(EXAMPLES)
+	@CC="$(CC)" CFLAGS="$(ALL_CFLAGS)" LDFLAGS="$(LDFLAGS)" LIBS="$(LIBS)" \
+	    scripts/check-snippets.sh $(BUILD) $(PNG)
+
+# README.md is a landing page of at most 250 lines, and no page types a
+# measured figure by hand (scripts/check-pages.sh); the tables bench/run.sh
+# copies into the pages are those of bench/RESULTS.md (bench/run.sh --check).
+pages-test:
+	@scripts/check-pages.sh
+bench-docs-test:
+	@bench/run.sh --check $(BUILD)
+
 # The layers are src/'s folders: no file includes, and no object calls,
 # above its layer, and no objects call each other round a circle
 # (scripts/check-layers.sh; its self-test shows it fails on each).
@@ -308,6 +327,7 @@ layers-test: $(OBJS)
 # Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
 EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh
 check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+       snippets-test pages-test bench-docs-test \
        install-test $(if $(filter 0,$(PNG)),png-free-test) \
        version-test abi-test cmake-test amalgamation-test
 	$(TEST_BIN)
@@ -461,12 +481,38 @@ CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%
 SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
 CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
 
+# A program linked with `pkg-config --libs libray` must find libray.so.0
+# when it runs.  The dynamic loader searches its default directories
+# (/lib, /usr/lib, their lib64 and multiarch forms) by itself; for any
+# other LIBDIR (/usr/local/lib included, which Debian's loader knows only
+# through the ldconfig cache, and /opt or $HOME prefixes, which it does
+# not know at all) libray.pc's Libs carries -Wl,-rpath,${libdir}, so the
+# program runs without LD_LIBRARY_PATH (a moved install through
+# pkg-config --define-prefix too: ${libdir} follows ${prefix}).
+# PC_RPATH=0 leaves it out (a distribution package), PC_RPATH=1 forces it.
+MULTIARCH = $(shell $(CC) -print-multiarch 2>/dev/null)
+LOADER_DIRS = /lib /usr/lib /lib64 /usr/lib64 \
+    $(if $(MULTIARCH),/lib/$(MULTIARCH) /usr/lib/$(MULTIARCH))
+PC_RPATH ?= $(if $(filter $(patsubst %/,%,$(LIBDIR)),$(LOADER_DIRS)),0,1)
+# ldconfig refreshes the loader's cache after install and uninstall when
+# it applies: run as root, into the live system (DESTDIR empty); a
+# package (DESTDIR set) leaves it to its installer, and a user without
+# root relies on the rpath above.
+LDCONFIG ?= ldconfig
+RUN_LDCONFIG = if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && \
+        command -v $(LDCONFIG) >/dev/null 2>&1; then \
+        echo "$(LDCONFIG)"; $(LDCONFIG) || exit 1; \
+    elif [ -z "$(DESTDIR)" ]; then \
+        echo "libray: ldconfig not run (not root, or not found): programs find $(LIBDIR)/libray.so.$(SOMAJOR) through libray.pc's rpath$(if $(filter 0,$(PC_RPATH)), (none: PC_RPATH=0; run ldconfig as root))"; \
+    fi
+
 libray.pc:
 	@mkdir -p $(BUILD)
 	sed -e 's|@PREFIX@|$(PREFIX)|' \
 	    -e 's|@LIBDIR@|$(call rel_to_prefix,$(LIBDIR),$${prefix})|' \
 	    -e 's|@INCLUDEDIR@|$(call rel_to_prefix,$(INCLUDEDIR),$${prefix})|' \
 	    -e 's|@VERSION@|$(VERSION)|' \
+	    -e 's|@RPATH@|$(if $(filter 1,$(PC_RPATH)), -Wl$(comma)-rpath$(comma)$${libdir})|' \
 	    $(if $(filter 1,$(PNG)),-e 's|@PNG_REQUIRES@|libpng|',-e '/@PNG_REQUIRES@/d') \
 	    libray.pc.in > $(BUILD)/libray.pc
 
@@ -506,6 +552,7 @@ install: lib libray.pc cmake-config
 	install -m 644 LICENSE $(DESTDIR)$(DOCDIR)/LICENSE
 	@set -e; for l in $(MLINKS); do \
 	    ln -sf $${l%%:*}.3 $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
+	@$(RUN_LDCONFIG)
 
 uninstall:
 	rm -f $(DESTDIR)$(LIBDIR)/libray.a $(DESTDIR)$(LIBDIR)/libray.so \
@@ -520,6 +567,7 @@ uninstall:
 	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
 	@scripts/install-dirs.sh remove "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
 	    $(DOCDIR) $(CMAKEDIR)
+	@$(RUN_LDCONFIG)
 
 # A staged install moved elsewhere still builds a program through
 # pkg-config --define-prefix and through CMake (when cmake is installed);

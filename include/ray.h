@@ -52,10 +52,10 @@
 */
 /*
 ** Contents, in the order a program meets them: README's first example
-** tests a ray against a sphere alone (1, 2); its second builds a scene,
-** renders it and writes a PNG (3 to 10); picking in a game queries a
-** scene (11, 12); a material of one's own traces rays (13, 14); the
-** other surfaces come last (15).
+** tests a ray against a sphere alone (1, 2); doc/GUIDE.md's first render
+** builds a scene, renders it and writes a PNG (3 to 10); README's second,
+** picking in a game, queries a scene (11, 12); a material of one's own
+** traces rays (13, 14); the other surfaces come last (15).
 **    1. values              ray_vec3, ray_ray, ray_hit, ids
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
@@ -278,6 +278,17 @@ enum {
 ** its negation (-RAY_ELIMIT reads as RAY_ELIMIT: the queries and the
 ** iterative intersections return negated statuses); an unknown code gives
 ** "unknown error".  Never NULL; do not free.
+**
+** Statuses are not answers.  A function returns either a status (RAY_OK
+** or a RAY_E* code, all >= 0) or an answer: a query's or intersection's
+** hit (1), miss (0) or hit count, with misuse as a negated status (< 0).
+** Only statuses and negated statuses are codes for ray_strerror: a
+** positive answer is a hit, and ray_strerror(1) reads as RAY_EINVAL's
+** text.  Log an answer n as n < 0 ? ray_strerror(n) : "hit" (or its
+** count).  The codes stay small positive integers, as errno's, rather
+** than moving to a range of their own: a program compares a status with
+** RAY_OK or a named code, never by value, and the sign of a query's
+** result already tells an answer from misuse (ray_strerror(3)).
 */
 RAY_API const char *ray_strerror(int code);
 
@@ -1045,6 +1056,14 @@ typedef struct ray_stats {
                                            ray_occluded_batch traced eight
                                            together through the BVH */
     unsigned long long batch_single;    /* and those traced one by one */
+    unsigned long long shadows_undeclared; /* shadow rays a material asked
+                                           for (ray_light_visible,
+                                           ray_shade_direct) without
+                                           declaring RAY_EFFECT_SHADOW:
+                                           not cast, the light taken as
+                                           unoccluded.  Not 0: a material
+                                           forgot the flag, and the image
+                                           lacks its shadows */
 } ray_stats;
 
 /* --------------------------------------------------------- 9. rendering */
@@ -1148,22 +1167,50 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** The progress callback is called from the render threads, one call at a
 ** time, and never again after it asked to cancel.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
-** unspecified); RAY_EINVAL for NULLs, an uncommitted scene (never
-** committed, or changed since), zero sizes, samples outside 1 ..
-** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
-** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
-** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
-** axis, vfov not in (0, 180)), photons above RAY_MAX_PHOTONS or a
-** photon_radius NaN, negative, infinite or whose pi r^2 under- or
-** overflows (ray_caustics_at); RAY_ENOMEM.  If fewer threads than asked
-** can be started, the render goes on with those it has: the image is the
-** same.  A scene that instances a scene changed since its own commit
-** is refused with RAY_ESTATE before anything is rendered: commit the
-** scene after its instanced scenes.
+** unspecified); RAY_ESTATE, before anything is rendered, for a scene not
+** committed (never, or changed since), as the queries answer, or one
+** that instances a scene changed since its own commit (commit the scene
+** after its instanced scenes); RAY_EINVAL for NULLs, zero sizes,
+** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that
+** is NaN or negative or an adaptive depth outside 1 .. 8, y0 >= y1 or
+** y1 > height, or a degenerate camera (eye at look_at, up within
+** 3.6e-15 rad of the view axis, vfov not in (0, 180)), photons above
+** RAY_MAX_PHOTONS or a photon_radius NaN, negative, infinite or whose
+** pi r^2 under- or overflows (ray_caustics_at): ray_render_check says
+** which and why; RAY_ENOMEM.  If fewer threads than asked can be
+** started, the render goes on with those it has: the image is the same.
 */
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
                        const ray_render_options *options, float *rgb,
                        ray_stats *stats);
+
+/*
+** ray_render_check -- the checks ray_render makes of its arguments before
+** it renders, with the reason in words: returns what ray_render would
+** return for them (RAY_OK, RAY_EINVAL or RAY_ESTATE; a NULL rgb, its one
+** other refusal, is not seen here) and writes into "msg" (at most "size"
+** bytes, NUL-terminated, truncated if need be; msg NULL or size 0: not
+** written) which argument or field failed, with its value and the rule,
+** e.g. "ray_render: options samples 0: must be 1 ..
+** RAY_MAX_PIXEL_SAMPLES (65536), also with adaptive antialiasing"; ""
+** on RAY_OK.  ray_render runs these very checks, so the two cannot
+** disagree; it can still fail later for RAY_ENOMEM, RAY_ECANCELED, or
+** an automatic photon radius that overflows in a scene of extreme size.
+**
+** Why a buffer of the caller's and not ray_scene_errmsg, where the
+** building calls leave their reasons: ray_render takes a const scene
+** that any number of threads may render at once, so a message written
+** into the scene would be a data race between them and one render's
+** reason could overwrite another's; a message buffer in the options
+** would turn an input struct, often shared between threads, into an
+** output.  A pure function of its arguments is reentrant and costs
+** nothing on the render's path: call it after a failed ray_render (or
+** before, to vet options a user typed).  ray_render leaves
+** ray_scene_errmsg as it was.
+*/
+RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
+                             const ray_render_options *options, char *msg,
+                             size_t size);
 
 /*
 ** Caustics: light that reaches a diffuse surface through specular ones
@@ -1198,9 +1245,9 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** programs that call ray_trace themselves: options->photons (1 ..
 ** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
 ** are read, the rest ignored.  A scene without caustics gives an empty
-** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
-** above the cap, a radius NaN, negative, infinite or whose pi r^2
-** under- or overflows); RAY_ESTATE (an
+** map.  RAY_OK; RAY_EINVAL (NULLs, photons 0 or above the cap, a radius
+** NaN, negative, infinite or whose pi r^2 under- or overflows);
+** RAY_ESTATE (the scene not committed, never or since a change, or an
 ** instanced scene changed since the commit); RAY_ENOMEM.  *out is
 ** untouched on failure.
 ** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
@@ -1572,8 +1619,8 @@ RAY_API int ray_occluded_batch(const ray_scene *scene, const ray_batch *b);
 ** ray_ctx_new -- a trace context for tracing outside ray_render (which
 ** makes its own, one per thread).  One context per thread; it holds the
 ** recursion state, the random sequence and the counters.  "seed" seeds
-** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL, or scene not committed:
-** never, or changed since) or RAY_ENOMEM.  A context outlives the
+** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL), RAY_ESTATE (scene not
+** committed: never, or changed since) or RAY_ENOMEM.  A context outlives the
 ** scene's changes and commits (ray_trace).  ray_ctx_free(NULL) is a
 ** no-op.  ray_ctx_stats copies the counters accumulated so far.
 */
@@ -1640,7 +1687,10 @@ RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
 ** ray_light_visible answers whether the sample is unoccluded.  When the
 ** calling material declared RAY_EFFECT_SHADOW it casts one shadow ray
 ** (any-hit, from ray_spawn_to, or ray_spawn toward a directional light); otherwise it casts nothing and answers 1:
-** unshadowed light, a documented no-op (also outside any callback).  So a
+** unshadowed light, a documented no-op (also outside any callback), and
+** counts the request in ray_stats.shadows_undeclared, so that a material
+** that forgot the flag shows in the counters instead of only in an image
+** without shadows.  So a
 ** material asks only for the samples that would contribute (n.l > 0), and
 ** only those cost a ray.
 **

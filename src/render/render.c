@@ -526,22 +526,6 @@ void ray_render_options_init(ray_render_options *o, unsigned width,
     o->cones = 1;
 }
 
-static int options_valid(const ray_render_options *o, unsigned *y1)
-{
-    *y1 = o->y1 ? o->y1 : o->height;
-    if (o->photons > RAY_MAX_PHOTONS ||
-        !ray__photon_radius_valid(o->photon_radius))
-        return 0;
-    if (!(o->adaptive_threshold >= 0) ||
-        (o->adaptive_threshold > 0 &&
-         (o->adaptive_depth < 1 || o->adaptive_depth > 8)))
-        return 0;
-    return o->width > 0 && o->height > 0 && o->samples > 0 &&
-           o->samples <= RAY_MAX_PIXEL_SAMPLES &&
-           o->y0 < *y1 && *y1 <= o->height &&
-           o->width <= (size_t)-1 / 3 / sizeof(float) / o->height;
-}
-
 /* Sum the workers' counters (each thread counted into its own). */
 static void sum_stats(void *workers, unsigned n, ray_stats *out)
 {
@@ -563,6 +547,8 @@ static void sum_stats(void *workers, unsigned n, ray_stats *out)
         out->cut_fanout += s->cut_fanout;
         out->root_failures += s->root_failures;
         out->photon_lookups += s->photon_lookups;
+        out->filter_calls += s->filter_calls;
+        out->shadows_undeclared += s->shadows_undeclared;
         if (s->max_depth > out->max_depth)
             out->max_depth = s->max_depth;
     }
@@ -647,11 +633,14 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     unsigned n, i;
     int rc;
 
-    if (scene == NULL || camera == NULL || opt == NULL || rgb == NULL ||
-        !scene->committed || !options_valid(opt, &job.y1))
+    /* The argument checks, all in ray_render_check (check.c), which
+    ** a caller runs again with a buffer to learn why. */
+    rc = ray_render_check(scene, camera, opt, NULL, 0);
+    if (rc != RAY_OK)
+        return rc;
+    if (rgb == NULL)
         return RAY_EINVAL;
-    if (ray__scene_stale(scene))
-        return RAY_ESTATE;   /* an instanced scene changed: commit this one */
+    job.y1 = opt->y1 ? opt->y1 : opt->height;
     job.scene = scene;
     job.opt = opt;
     job.y0 = opt->y0;

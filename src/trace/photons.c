@@ -672,12 +672,13 @@ void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st)
 int ray_photon_map_build(const ray_scene *scene,
                          const ray_render_options *o, ray_photon_map **out)
 {
-    if (scene == NULL || o == NULL || out == NULL || !scene->committed ||
-        o->photons == 0 || o->photons > RAY_MAX_PHOTONS ||
+    if (scene == NULL || o == NULL || out == NULL)
+        return RAY_EINVAL;
+    if (!scene->committed || ray__scene_stale(scene))
+        return RAY_ESTATE;     /* as the queries and ray_render answer */
+    if (o->photons == 0 || o->photons > RAY_MAX_PHOTONS ||
         !ray__photon_radius_valid(o->photon_radius))
         return RAY_EINVAL;
-    if (ray__scene_stale(scene))
-        return RAY_ESTATE;
     return ray__photon_map_make(scene, o->photons, o->photon_radius, o->seed,
                                 o->threads, out);
 }
