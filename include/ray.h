@@ -60,7 +60,8 @@
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
 **    4. version
-**    5. scene               materials, lights, geometry, settings, commit
+**    5. scene               materials, lights, geometry, settings, the
+**                           program's job system (ray_scheduler), commit
 **    6. textures            images as textures
 **    7. built-in materials  Phong, mirror, glass, checker
 **    8. counters            ray_stats
@@ -82,7 +83,24 @@
 extern "C" {
 #endif
 
-#if defined(RAY_BUILD) && defined(__GNUC__)
+/*
+** RAY_API marks the exported functions.  On Windows (doc/PLATFORMS.md)
+** libray.dll is built with RAY_BUILD and RAY_DLL defined: dllexport, so
+** the DLL exports these and nothing else; a program using the DLL may
+** define RAY_DLL for dllimport (a direct call through the import table;
+** without it the import library's stubs still link); the static library
+** and its programs define neither.  Elsewhere, GCC and Clang build the
+** library with -fvisibility=hidden and export these.
+*/
+#if defined(_WIN32) || defined(__CYGWIN__)
+#if defined(RAY_DLL) && defined(RAY_BUILD)
+#define RAY_API __declspec(dllexport)
+#elif defined(RAY_DLL)
+#define RAY_API __declspec(dllimport)
+#else
+#define RAY_API
+#endif
+#elif defined(RAY_BUILD) && defined(__GNUC__)
 #define RAY_API __attribute__((visibility("default")))
 #else
 #define RAY_API
@@ -797,6 +815,61 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 RAY_API int ray_scene_set_build_threads(ray_scene *scene, unsigned threads);
 
 /*
+** The program's own job system -- a game engine's workers -- to run the
+** library's parallel work instead of threads of its own, as PhysX's CPU
+** dispatcher and Jolt's job system take theirs.  The work comes as
+** tasks: run(ud, count, task, task_ud) must call task(task_ud, i) once
+** for every i in 0 .. count - 1, in any order, on any threads, at once
+** or one after another, and return only when all have returned.  Tasks
+** never wait for one another, so running them all on the calling thread
+** is correct too (what run may do when no worker is free); run may be
+** called from one of its own workers (a render inside a job) and must
+** not then wait for a worker that only this call could free.  Every
+** answer is the same, byte for byte, whichever order and threads run
+** the tasks.  The tasks call the program back only as the built-in
+** threads do: a render's materials, backgrounds, filters and progress
+** callback, the photon pass's materials (and its scene's allocator).
+**
+** "threads": how many tasks the scheduler runs at once (its workers), 0
+** if it does not say: ray_render and the photon pass split their work
+** into that many tasks when their options' threads is 0 (and into one
+** per online CPU if this is 0 too).  A render task runs materials and
+** their ray trees: its workers want the stack the built-in threads get
+** (4 MiB), or what the materials need.
+**
+** ray_scheduler_init -- run NULL, ud NULL, threads 0: a scheduler whose
+** run is NULL means the built-in threads.  Fields added later default to
+** what it sets (doc/DESIGN.md, "Versions and ABI").
+*/
+typedef void (*ray_task_fn)(void *task_ud, unsigned index);
+
+typedef struct ray_scheduler {
+    void (*run)(void *ud, unsigned count, ray_task_fn task, void *task_ud);
+    void *ud;                /* run's first argument */
+    unsigned threads;        /* tasks it runs at once; 0: not said */
+} ray_scheduler;
+
+RAY_API void ray_scheduler_init(ray_scheduler *s);
+
+/*
+** ray_scene_set_scheduler -- run the scene's parallel work on the
+** program's job system: "scheduler" is COPIED (its ud is BORROWED: it
+** must outlive every use), NULL (the default) for the built-in threads.
+** ray_scene_commit's BVH builds then hand it all their subtrees (the
+** build threads setting no longer applies: the scheduler chooses the
+** threads), and ray_render and ray_photon_map_build use it unless their
+** options name one.  Both are needed: a commit has no options to carry
+** one, while a committed scene may be rendered from several threads at
+** once, each render on its own pool, which a setting cannot give (a
+** setting stages a change: the scene answers nothing until the next
+** commit).  The tree and every image are the same bytes with or without
+** a scheduler.  RAY_EINVAL (NULL scene); a change staged like any
+** setting's, which the next commit rebuilds nothing for.
+*/
+RAY_API int ray_scene_set_scheduler(ray_scene *scene,
+                                    const ray_scheduler *scheduler);
+
+/*
 ** ray_scene_commit -- make what was built or changed take effect: the
 ** first commit builds the acceleration structures (on the calling thread,
 ** or on those ray_scene_set_build_threads asks for: the same tree), a
@@ -1064,7 +1137,8 @@ typedef struct ray_render_options {
     unsigned width, height;  /* the whole frame, in pixels */
     unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
                                 height); rows are counted from the top */
-    unsigned threads;        /* 0 = one per online CPU */
+    unsigned threads;        /* tasks to render on; 0 = the scheduler's
+                                threads, or one per online CPU */
     unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
                                 1 = the pixel centre; a square k*k:
                                 jittered k x k strata; otherwise n-rooks
@@ -1110,6 +1184,10 @@ typedef struct ray_render_options {
     ** plane). */
     unsigned long long photons;
     double photon_radius;
+    /* The program's job system (ray_scheduler, BORROWED for the call) for
+    ** this render and its photon pass; NULL: the scene's
+    ** (ray_scene_set_scheduler), or else the built-in threads. */
+    const ray_scheduler *scheduler;
 } ray_render_options;
 
 /* Photons per frame: 2^26 (about 67 million), so the photon map (48
@@ -1119,7 +1197,8 @@ typedef struct ray_render_options {
 
 /* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
 ** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
-** ray cones on, no photons (caustics off), automatic photon radius. */
+** ray cones on, no photons (caustics off), automatic photon radius, no
+** scheduler (the scene's). */
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 
@@ -1127,15 +1206,18 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
 ** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
 ** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
-** from a user material is stored as 0).  Rows are handed to the threads
-** in contiguous bands from a shared counter (guided: each band a quarter
-** of the remaining rows' share per thread, at least one); every pixel's
-** samples are seeded from (seed, x, y, sample), so the bytes are the same
-** whatever the thread count or region split.  "stats", if not NULL,
-** receives the counters summed over the threads.
+** from a user material is stored as 0).  The render runs as "threads"
+** tasks, on the built-in threads (the calling thread and threads - 1
+** started and joined before it returns) or on a scheduler's workers
+** (options->scheduler, else the scene's: ray_scene_set_scheduler); each
+** task takes rows in contiguous bands from a shared counter (guided: each
+** band a quarter of the remaining rows' share per task, at least one);
+** every pixel's samples are seeded from (seed, x, y, sample), so the bytes
+** are the same whatever the thread count, task order or region split.
+** "stats", if not NULL, receives the counters summed over the tasks.
 **
-** The progress callback is called from the render threads, one call at a
-** time, and never again after it asked to cancel.  Returns RAY_OK;
+** The progress callback is called from the render's threads, one call at
+** a time, and never again after it asked to cancel.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
 ** unspecified); RAY_EINVAL for NULLs, an uncommitted scene (never
 ** committed, or changed since), zero sizes, samples outside 1 ..
@@ -1185,8 +1267,8 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 **
 ** ray_photon_map_build -- the same photon pass outside ray_render, for
 ** programs that call ray_trace themselves: options->photons (1 ..
-** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
-** are read, the rest ignored.  A scene without caustics gives an empty
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads and
+** scheduler are read, the rest ignored.  A scene without caustics gives an empty
 ** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
 ** above the cap, a radius NaN, negative, infinite or whose pi r^2
 ** under- or overflows); RAY_ESTATE (an
@@ -1199,7 +1281,8 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** using it is done, before or after its scene (it keeps a copy of the
 ** scene's allocator).  A map is read-only once built: any number of
 ** contexts on any threads may share it.  The photon pass allocates from
-** its threads (ray_scene_new; threads = 1 keeps it on the caller's).
+** its threads (ray_scene_new; threads = 1 and no scheduler keeps it on
+** the caller's).
 */
 typedef struct ray_photon_map ray_photon_map;
 

@@ -48,6 +48,8 @@ int main(void)
     srunner_add_suite(sr, cones_suite());
     srunner_add_suite(sr, caustics_suite());
     srunner_add_suite(sr, cones_caustics_hard_suite());
+    srunner_add_suite(sr, scheduler_suite());
+    srunner_add_suite(sr, platform_suite());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
     srunner_free(sr);

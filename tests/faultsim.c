@@ -62,10 +62,11 @@ void *__real_calloc(size_t n, size_t size);
 void *__real_realloc(void *ptr, size_t size);
 void __real_free(void *ptr);
 #if RAY_TEST_PNG
-int __real_png_image_write_to_stdio(png_imagep image, FILE *file,
-                                    int convert_to_8bit, const void *buffer,
-                                    png_int_32 row_stride,
-                                    const void *colormap);
+int __real_png_image_write_to_memory(png_imagep image, void *memory,
+                                     png_alloc_size_t *memory_bytes,
+                                     int convert_to_8bit, const void *buffer,
+                                     png_int_32 row_stride,
+                                     const void *colormap);
 #endif
 int __real_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg);
@@ -77,10 +78,11 @@ void *__wrap_calloc(size_t n, size_t size);
 void *__wrap_realloc(void *ptr, size_t size);
 void __wrap_free(void *ptr);
 #if RAY_TEST_PNG
-int __wrap_png_image_write_to_stdio(png_imagep image, FILE *file,
-                                    int convert_to_8bit, const void *buffer,
-                                    png_int_32 row_stride,
-                                    const void *colormap);
+int __wrap_png_image_write_to_memory(png_imagep image, void *memory,
+                                     png_alloc_size_t *memory_bytes,
+                                     int convert_to_8bit, const void *buffer,
+                                     png_int_32 row_stride,
+                                     const void *colormap);
 #endif
 int __wrap_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg);
@@ -260,15 +262,17 @@ static int png_fails(png_imagep image)
     return 0;
 }
 
-int __wrap_png_image_write_to_stdio(png_imagep image, FILE *file,
-                                    int convert_to_8bit, const void *buffer,
-                                    png_int_32 row_stride,
-                                    const void *colormap)
+int __wrap_png_image_write_to_memory(png_imagep image, void *memory,
+                                     png_alloc_size_t *memory_bytes,
+                                     int convert_to_8bit, const void *buffer,
+                                     png_int_32 row_stride,
+                                     const void *colormap)
 {
     if (fault_point(FP_PNG))
         return png_fails(image);
-    return __real_png_image_write_to_stdio(image, file, convert_to_8bit,
-                                           buffer, row_stride, colormap);
+    return __real_png_image_write_to_memory(image, memory, memory_bytes,
+                                            convert_to_8bit, buffer,
+                                            row_stride, colormap);
 }
 #endif
 

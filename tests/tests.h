@@ -52,6 +52,8 @@ Suite *lazy_suite(void);
 Suite *cones_suite(void);
 Suite *caustics_suite(void);
 Suite *cones_caustics_hard_suite(void);
+Suite *scheduler_suite(void);
+Suite *platform_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)

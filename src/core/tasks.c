@@ -1,0 +1,122 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** tasks.c -- ray__tasks_run (tasks.h): the program's scheduler, or the
+** built-in threads of platform.h sharing a counter of task numbers.
+*/
+#include <string.h>
+
+#include "core/platform.h"
+#include "core/tasks.h"
+
+void ray_scheduler_init(ray_scheduler *s)
+{
+    if (s != NULL)
+        memset(s, 0, sizeof *s);
+}
+
+const ray_scheduler *ray__scheduler_pick(const ray_scheduler *chosen,
+                                         const ray_scheduler *fallback)
+{
+    if (chosen != NULL && chosen->run != NULL)
+        return chosen;
+    if (fallback != NULL && fallback->run != NULL)
+        return fallback;
+    return NULL;
+}
+
+unsigned ray__task_count(unsigned threads, const ray_scheduler *scheduler)
+{
+    if (threads > 0)
+        return threads;
+    if (scheduler != NULL && scheduler->threads > 0)
+        return scheduler->threads;
+    return ray__online_cpus();
+}
+
+/* What the built-in threads share: the next task number, under "lock". */
+typedef struct tasks_job {
+    ray__mutex *lock;
+    unsigned next, count;
+    ray_task_fn task;
+    void *ud;
+} tasks_job;
+
+/* Take task numbers until none is left. */
+static void take_tasks(void *arg)
+{
+    tasks_job *job = arg;
+
+    for (;;) {
+        unsigned i;
+        ray__mutex_lock(job->lock);
+        i = job->next;
+        if (i < job->count)
+            job->next++;
+        ray__mutex_unlock(job->lock);
+        if (i >= job->count)
+            return;
+        job->task(job->ud, i);
+    }
+}
+
+/* The built-in threads: n - 1 started (n >= 2), the caller the n-th. */
+static void run_threads(const ray__allocator *a, unsigned n, size_t stack,
+                        tasks_job *job)
+{
+    ray__thread *t = NULL;
+    int *started = NULL;
+    unsigned i;
+
+    if ((size_t)n - 1 <= (size_t)-1 / sizeof *t) {
+        t = ray__allocate(a, ((size_t)n - 1) * sizeof *t);
+        started = ray__allocate(a, ((size_t)n - 1) * sizeof *started);
+    }
+    if (t == NULL || started == NULL ||
+        ray__mutex_new(a, &job->lock) != RAY_OK) {
+        ray__release(a, t, ((size_t)n - 1) * sizeof *t);
+        ray__release(a, started, ((size_t)n - 1) * sizeof *started);
+        for (i = 0; i < job->count; i++)   /* all on the calling thread */
+            job->task(job->ud, i);
+        return;
+    }
+    for (i = 0; i + 1 < n; i++) {
+        t[i].fn = take_tasks;
+        t[i].arg = job;
+        started[i] = ray__thread_start(&t[i], stack) == 0;
+    }
+    take_tasks(job);
+    for (i = 0; i + 1 < n; i++)
+        if (started[i])
+            ray__thread_join(&t[i]);
+    ray__mutex_free(a, job->lock);
+    ray__release(a, t, ((size_t)n - 1) * sizeof *t);
+    ray__release(a, started, ((size_t)n - 1) * sizeof *started);
+}
+
+void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
+                    unsigned threads, size_t stack, unsigned count,
+                    ray_task_fn task, void *ud)
+{
+    tasks_job job;
+    unsigned i;
+
+    if (count == 0)
+        return;
+    if (scheduler != NULL && scheduler->run != NULL) {
+        scheduler->run(scheduler->ud, count, task, ud);
+        return;
+    }
+    if (threads > count)
+        threads = count;
+    if (threads <= 1) {
+        for (i = 0; i < count; i++)
+            task(ud, i);
+        return;
+    }
+    job.lock = NULL;
+    job.next = 0;
+    job.count = count;
+    job.task = task;
+    job.ud = ud;
+    run_threads(a, threads, stack, &job);
+}
