@@ -35,7 +35,7 @@ SOMAJOR = 0
 STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
        -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \
-       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum
+       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum -Wvla
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
@@ -85,7 +85,8 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
-        png-free-test install-test libray.pc cmake-config FORCE
+        png-free-test install-test libray.pc cmake-config FORCE \
+        windows-build windows-check
 
 all: lib
 
@@ -426,6 +427,97 @@ demo: deps-build lib $(BUILD)/examples/whitted
 # The README's caustics picture (examples/caustics.c, 4 million photons).
 caustics-png: deps-build lib $(BUILD)/examples/caustics
 	RAY_PHOTONS=4000000 $(BUILD)/examples/caustics doc/caustics.png 640 480 16
+
+# ---------------------------------------------------------------- Windows
+# make windows-check (doc/PLATFORMS.md): the library (static, and a DLL
+# with its import library), the Check suite, the fault sweep and the
+# examples, cross-built with MinGW-w64 and run under Wine
+# (scripts/windows-check.sh; about 6 minutes, most of it the first build
+# of the dependencies).  Check, libpng and zlib for MinGW come from
+# Debian's source packages (scripts/windows-deps.sh), built once into
+# WIN_DEPS.  The same sources and warnings as here, -Werror by default;
+# the library is src/core/platform_win32.c's branch, never winpthreads
+# (only the tests and examples, which use pthreads themselves, link it).
+WIN_HOST   ?= x86_64-w64-mingw32
+WIN_CC     ?= $(WIN_HOST)-gcc
+WIN_AR     ?= $(WIN_HOST)-ar
+WIN_CFLAGS ?= -O2 -g -Werror
+WIN_BUILD  ?= build/windows
+WIN_DEPS   ?= build/windows-deps
+# C99 and no contraction as here; MinGW's C99 printf (core/vec.h).
+WIN_STD = -std=c99 -ffp-contract=off -fno-fast-math -D__USE_MINGW_ANSI_STDIO=1
+WIN_ALL_CFLAGS = $(WARN) -Iinclude $(WIN_CFLAGS) $(WIN_STD) -isystem $(WIN_DEPS)/include
+WIN_SRCS = $(filter-out src/image/png_none.c,$(wildcard src/*/*.c))
+WIN_OBJS = $(WIN_SRCS:src/%.c=$(WIN_BUILD)/obj/%.o)
+WIN_DLL_OBJS = $(WIN_SRCS:src/%.c=$(WIN_BUILD)/dllobj/%.o)
+WIN_STATIC = $(WIN_BUILD)/libray.a
+WIN_DLL = $(WIN_BUILD)/libray.dll
+WIN_IMPLIB = $(WIN_BUILD)/libray.dll.a
+WIN_TEST = $(WIN_BUILD)/tests/check_ray.exe
+WIN_FAULTSIM = $(WIN_BUILD)/tests/faultsim.exe
+WIN_EXAMPLES = $(patsubst examples/%.c,$(WIN_BUILD)/examples/%.exe,$(filter-out examples/mpi_render.c,$(wildcard examples/*.c)))
+WIN_LIBS = -L$(WIN_DEPS)/lib -lpng -lz
+# The tests and examples link everything but the system DLLs statically
+# (libgcc, winpthreads), so Wine needs no MinGW DLL beside them.
+WIN_EXE_LIBS = -static -lpthread
+WIN_FAULT_WRAPS = malloc calloc realloc free png_image_write_to_memory \
+    ray__thread_start
+
+# Check without fork (Windows) does not mark its failure call noreturn (it
+# longjmps back to the runner), so GCC sees a test's variables read after
+# a failed assertion as maybe uninitialised; the Linux build, where it is
+# noreturn, checks the same code.
+WIN_TEST_CFLAGS = -Wno-maybe-uninitialized
+
+$(WIN_DEPS)/stamp: scripts/windows-deps.sh
+	@scripts/windows-deps.sh $(WIN_DEPS)
+
+# Objects of the static library, and of the DLL (RAY_DLL: ray.h's
+# dllexport, so that the DLL exports the API and nothing else).
+$(WIN_BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD \
+	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+$(WIN_BUILD)/dllobj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD -DRAY_DLL \
+	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+
+$(WIN_STATIC): $(WIN_OBJS)
+	rm -f $@
+	$(WIN_AR) rcs $@ $(WIN_OBJS)
+
+# libpng and zlib inside (static), libgcc too: the DLL needs only
+# KERNEL32.dll and msvcrt.dll (windows-check checks it).
+$(WIN_DLL) $(WIN_IMPLIB): $(WIN_DLL_OBJS)
+	$(WIN_CC) $(WIN_CFLAGS) -shared -static-libgcc -o $(WIN_DLL) \
+	    $(WIN_DLL_OBJS) -Wl,--out-implib,$(WIN_IMPLIB) $(WIN_LIBS)
+
+$(WIN_TEST): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(WIN_STATIC)
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) $(WIN_TEST_CFLAGS) -Isrc -Iexamples -Ibench -Itests -DRAY_TEST_PNG=1 \
+	    -o $@ tests/check_main.c $(TEST_SRCS) $(WIN_STATIC) -lcheck $(WIN_LIBS) \
+	    -lpsapi $(WIN_EXE_LIBS) -Wl,--wrap=tcase_fn_start
+
+$(WIN_FAULTSIM): tests/faultsim.c tests/testkit.h tests/tempfiles.h examples/common.h include/ray.h $(WIN_STATIC)
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -Iexamples -DRAY_TEST_PNG=1 -o $@ \
+	    tests/faultsim.c $(WIN_STATIC) $(WIN_LIBS) $(WIN_EXE_LIBS) \
+	    $(patsubst %,-Wl$(comma)--wrap=%,$(WIN_FAULT_WRAPS))
+
+# The examples use the DLL (through its import library, RAY_DLL for
+# dllimport); a copy of it sits beside them, where Windows looks first.
+$(WIN_BUILD)/examples/%.exe: examples/%.c $(wildcard examples/*.h) $(WIN_IMPLIB)
+	@mkdir -p $(@D)
+	cp $(WIN_DLL) $(@D)/
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -DRAY_DLL -o $@ $< $(WIN_IMPLIB) $(WIN_EXE_LIBS)
+
+windows-build: $(WIN_STATIC) $(WIN_DLL) $(WIN_TEST) $(WIN_FAULTSIM) $(WIN_EXAMPLES)
+
+# The native examples render the images the Windows ones must match.
+windows-check: examples
+	@$(MAKE) --no-print-directory windows-build
+	@WIN_HOST=$(WIN_HOST) scripts/windows-check.sh $(WIN_BUILD) $(BUILD)
 
 # ---------------------------------------------------------------- install
 # libray.pc and the CMake package name their paths relative to where they

@@ -7,10 +7,12 @@
 ** calls: replacing, refusing, UTF-8 names.
 */
 #include <dirent.h>
+#include <fenv.h>
 #include <stdlib.h>
 
 #include "core/platform.h"
 #include "core/tasks.h"
+#include "scheduler_kit.h"
 #include "tempfiles.h"
 #include "tests.h"
 
@@ -191,6 +193,55 @@ START_TEST(tasks_should_go_to_the_scheduler)
 }
 END_TEST
 
+/*
+** Every task runs in the floating-point environment of the thread that
+** asked for the work: here rounding upward, set after the threads of a
+** pool (a program's scheduler) were made, and which Windows' threads do
+** not inherit from their creator (POSIX threads do).  Each task records
+** the rounding mode it ran under; the pool's own is its own again after.
+*/
+static void record_rounding(void *ud, unsigned i)
+{
+    int *seen = ud;
+
+    seen[i] = fegetround();
+}
+
+/* A pool task outside the library: the worker's own rounding. */
+static void pool_rounding(void *ud, unsigned i)
+{
+    int *seen = ud;
+
+    seen[i] = fegetround();
+}
+
+START_TEST(tasks_should_run_in_the_callers_floating_point_environment)
+{
+    enum { TASKS = 16 };
+    ray__allocator a = {libc_alloc, NULL};
+    test_pool *pool = pool_new(3);
+    ray_scheduler sched = pool_scheduler(pool);
+    int seen[TASKS], k, i;
+
+    for (k = 0; k < 2; k++) {
+        for (i = 0; i < TASKS; i++)
+            seen[i] = -1;
+        ck_assert_int_eq(fesetround(FE_UPWARD), 0);
+        ray__tasks_run(k == 0 ? NULL : &sched, &a, 4, 0, TASKS,
+                       record_rounding, seen);
+        ck_assert_int_eq(fesetround(FE_TONEAREST), 0);
+        for (i = 0; i < TASKS; i++)
+            ck_assert_msg(seen[i] == FE_UPWARD, "%s, task %d: rounding %d",
+                          k == 0 ? "built-in threads" : "scheduler", i,
+                          seen[i]);
+    }
+    pool_run(pool, TASKS, pool_rounding, seen);
+    for (i = 0; i < TASKS; i++)
+        ck_assert_int_eq(seen[i], FE_TONEAREST);
+    pool_free(pool);
+}
+END_TEST
+
 /* --------------------------------------------------------------- files */
 
 /* The file's bytes (at most size - 1), NUL-terminated; -1 if it cannot
@@ -338,6 +389,7 @@ Suite *platform_suite(void)
     tcase_add_test(tc, threads_should_run_and_share_a_mutex);
     tcase_add_test(tc, built_in_threads_should_run_every_task_once);
     tcase_add_test(tc, tasks_should_go_to_the_scheduler);
+    tcase_add_test(tc, tasks_should_run_in_the_callers_floating_point_environment);
     tcase_add_test(tc, file_write_should_replace_and_leave_no_temporary);
     tcase_add_test(tc, file_write_should_refuse_directories_and_missing_paths);
     tcase_add_test(tc, file_calls_should_take_utf8_names);

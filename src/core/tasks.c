@@ -2,7 +2,20 @@
 /*
 ** tasks.c -- ray__tasks_run (tasks.h): the program's scheduler, or the
 ** built-in threads of platform.h sharing a counter of task numbers.
+**
+** Every task runs in the floating-point environment of the thread that
+** asked for the work (C99 <fenv.h>: rounding mode, flush-to-zero, the
+** x87's precision): a thread starts with its platform's default, not its
+** creator's, on Windows (POSIX threads inherit it), and a program's
+** workers carry whatever the program set there (a game engine's
+** flush-to-zero).  MinGW's pow and exp compute on the x87, whose
+** precision its C runtime sets to 64 bits on the main thread and Windows
+** to 53 on every other: about a third of pow's results differ between
+** the two (make windows-check), and a row rendered on a started thread
+** came out unlike the same row on the caller's.  So each task sets the
+** caller's environment, and gives the worker its own back after.
 */
+#include <fenv.h>
 #include <string.h>
 
 #include "core/platform.h"
@@ -31,6 +44,24 @@ unsigned ray__task_count(unsigned threads, const ray_scheduler *scheduler)
     if (scheduler != NULL && scheduler->threads > 0)
         return scheduler->threads;
     return ray__online_cpus();
+}
+
+/* A task run in the caller's floating-point environment (see above). */
+typedef struct env_task {
+    fenv_t env;               /* the caller's */
+    ray_task_fn task;
+    void *ud;
+} env_task;
+
+static void task_in_env(void *arg, unsigned i)
+{
+    const env_task *t = arg;
+    fenv_t own;
+
+    fegetenv(&own);
+    fesetenv(&t->env);
+    t->task(t->ud, i);
+    fesetenv(&own);
 }
 
 /* What the built-in threads share: the next task number, under "lock". */
@@ -98,25 +129,29 @@ void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
                     ray_task_fn task, void *ud)
 {
     tasks_job job;
+    env_task in_env;
     unsigned i;
 
     if (count == 0)
         return;
-    if (scheduler != NULL && scheduler->run != NULL) {
-        scheduler->run(scheduler->ud, count, task, ud);
-        return;
-    }
     if (threads > count)
         threads = count;
-    if (threads <= 1) {
-        for (i = 0; i < count; i++)
+    if ((scheduler == NULL || scheduler->run == NULL) && threads <= 1) {
+        for (i = 0; i < count; i++)      /* all on the calling thread */
             task(ud, i);
+        return;
+    }
+    fegetenv(&in_env.env);
+    in_env.task = task;
+    in_env.ud = ud;
+    if (scheduler != NULL && scheduler->run != NULL) {
+        scheduler->run(scheduler->ud, count, task_in_env, &in_env);
         return;
     }
     job.lock = NULL;
     job.next = 0;
     job.count = count;
-    job.task = task;
-    job.ud = ud;
+    job.task = task_in_env;
+    job.ud = &in_env;
     run_threads(a, threads, stack, &job);
 }

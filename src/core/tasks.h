@@ -20,7 +20,8 @@
 ** first start first.  A thread that cannot be started, or a counter
 ** lock that cannot be made, only means fewer threads: every task still
 ** runs once.  "a" (the scene's allocator) serves the thread handles and
-** the lock, from the calling thread.
+** the lock, from the calling thread.  Every task runs in the calling
+** thread's floating-point environment (tasks.c says why).
 */
 void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
                     unsigned threads, size_t stack, unsigned count,

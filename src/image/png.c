@@ -489,8 +489,8 @@ int ray_image_load_png_opt(const char *path,
     resolve_limits(opt, &ld.lim);
     ld.status = RAY_EPNG;
     ld.fp = ray__file_open_read(path);
-    if (ld.fp == NULL)
-        return RAY_EIO;
+    if (ld.fp == NULL)            /* no memory for the name or the FILE */
+        return errno == ENOMEM ? RAY_ENOMEM : RAY_EIO;
     status = load_stream(&ld, out);
     saved_errno = errno;        /* fclose() must not hide the cause */
     fclose(ld.fp);

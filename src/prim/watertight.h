@@ -265,7 +265,7 @@ static inline int ray__triangle_watertight_pre(
 ** on i386 the scalar test may run on the x87 unit, in extended precision,
 ** and the lanes would then round differently from it.
 */
-#if defined(__SSE2__) && !defined(RAY_NO_SIMD) && FLT_EVAL_METHOD == 0
+#if RAY__SSE2 && FLT_EVAL_METHOD == 0
 #define RAY__PAIRS 1
 #else
 #define RAY__PAIRS 0

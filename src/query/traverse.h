@@ -19,12 +19,18 @@
 
 #include "query/slab.h"
 
+#if defined(_MSC_VER)
+#include <intrin.h>             /* _BitScanForward (lowest_bit) */
+#endif
+
 enum { LEAF_TRIANGLES, LEAF_PRIMS };
 
 /* traverse() is inlined into each caller, its "leaf" and "any" constant
 ** there, so that each of the four copies keeps only its own branches. */
 #if defined(__GNUC__)
 #define RAY__INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define RAY__INLINE __forceinline
 #else
 #define RAY__INLINE inline
 #endif
@@ -144,6 +150,10 @@ static inline int lowest_bit(unsigned mask)
 {
 #if defined(__GNUC__)
     return __builtin_ctz(mask);
+#elif defined(_MSC_VER)
+    unsigned long k;
+    _BitScanForward(&k, mask);
+    return (int)k;
 #else
     int k = 0;
     while (!(mask >> k & 1))

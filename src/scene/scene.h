@@ -10,8 +10,12 @@
 #include "prim/prim.h"
 
 /* Let gcc and clang check the arguments of printf-like functions
-** (-Wformat); other compilers ignore it. */
-#if defined(__GNUC__)
+** (-Wformat); other compilers ignore it.  MinGW's GCC takes "printf" as
+** msvcrt's rules (no %zu); the library's printf there is C99's, MinGW's
+** own (__USE_MINGW_ANSI_STDIO, which core/vec.h requires): gnu_printf. */
+#if defined(__MINGW32__) && defined(__GNUC__)
+#define RAY__PRINTF(fmt, first) __attribute__((format(gnu_printf, fmt, first)))
+#elif defined(__GNUC__)
 #define RAY__PRINTF(fmt, first) __attribute__((format(printf, fmt, first)))
 #else
 #define RAY__PRINTF(fmt, first)
