@@ -512,10 +512,26 @@ $(WIN_BUILD)/examples/%.exe: examples/%.c $(wildcard examples/*.h) $(WIN_IMPLIB)
 	cp $(WIN_DLL) $(@D)/
 	$(WIN_CC) $(WIN_ALL_CFLAGS) -DRAY_DLL -o $@ $< $(WIN_IMPLIB) $(WIN_EXE_LIBS)
 
-windows-build: $(WIN_STATIC) $(WIN_DLL) $(WIN_TEST) $(WIN_FAULTSIM) $(WIN_EXAMPLES)
+# The C runtime's math, probed on both sides (scripts/libm-probe.c).
+$(WIN_BUILD)/tools/libm-probe.exe: scripts/libm-probe.c | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -o $@ $< $(WIN_EXE_LIBS)
 
-# The native examples render the images the Windows ones must match.
-windows-check: examples
+windows-build: $(WIN_STATIC) $(WIN_DLL) $(WIN_TEST) $(WIN_FAULTSIM) $(WIN_EXAMPLES) \
+    $(WIN_BUILD)/tools/libm-probe.exe
+
+# The native side: the examples render the images the Windows ones must
+# match, the shared library's exports are the DLL's, and two tools
+# (scripts/imgdiff.c measures a difference; scripts/libm-probe.c).
+$(BUILD)/tools/imgdiff: scripts/imgdiff.c | deps-build
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ $< $(PNG_LIBS)
+$(BUILD)/tools/libm-probe: scripts/libm-probe.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< -lm
+
+windows-check: lib examples $(BUILD)/tools/imgdiff $(BUILD)/tools/libm-probe
+	@test "$(PNG)" = 1 || { echo "windows-check: needs the native build with libpng (PNG=1), to compare pictures"; exit 1; }
 	@$(MAKE) --no-print-directory windows-build
 	@WIN_HOST=$(WIN_HOST) scripts/windows-check.sh $(WIN_BUILD) $(BUILD)
 

@@ -806,7 +806,8 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 ** answers; a thread that cannot be started only means fewer threads.
 ** The scene's allocator is still called on the committing thread only,
 ** and the threads call nothing of the program's (user geometry's bounds
-** callback runs when it is added, not at commit).  Like every
+** callback runs when it is added, not at commit).  A scene given the
+** program's scheduler (ray_scene_set_scheduler) builds on it instead.  Like every
 ** ray_scene_set_*, a call after a commit stages a change (the scene
 ** answers no query until it is committed again), but that commit
 ** rebuilds nothing for it: the setting takes effect at the next build.
@@ -1313,10 +1314,14 @@ RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
 ** unquantised data.  Values are clamped to [0, 1]; NaN becomes 0.
 **
 ** A regular file (or none yet) is written as "<path>.<pid>-<n>.tmp" beside
-** it and renamed over it only when complete: on failure only that file is
-** removed and an existing file is left as it was (its permission bits are
-** kept on success; a symbolic link is replaced, not followed).  A device
+** it, flushed to the disk, and renamed over it only when complete: on
+** failure only that file is removed and an existing file is left as it
+** was (its permission bits are kept on success; a symbolic link is
+** replaced, not followed).  A device
 ** or FIFO is written in place and never removed; a directory is RAY_EIO.
+** On Windows "path" is UTF-8 (not UTF-8: RAY_EIO, errno EILSEQ), an
+** existing file is replaced by MoveFileExW, and a device or pipe (NUL,
+** \\.\pipe\name) is written in place (doc/PLATFORMS.md).
 **
 ** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
 ** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
