@@ -125,9 +125,9 @@ START_TEST(hypot_should_be_exact_at_every_scale)
             ck_assert_msg(ray__hypot(x, y) == z, "%a %a", x, y);
             ck_assert(ray__hypot(-y, x) == z);
         }
-    ck_assert(ray__hypot(HUGE_VAL, NAN) == HUGE_VAL);
-    ck_assert(ray__hypot(NAN, -HUGE_VAL) == HUGE_VAL);
-    ck_assert(isnan(ray__hypot(NAN, 1.0)));
+    ck_assert(ray__hypot(HUGE_VAL, (double)NAN) == HUGE_VAL);
+    ck_assert(ray__hypot((double)NAN, -HUGE_VAL) == HUGE_VAL);
+    ck_assert(isnan(ray__hypot((double)NAN, 1.0)));
     ck_assert(ray__hypot(0.0, 0.0) == 0.0);
     ck_assert(ray__hypot(-2.5, 0.0) == 2.5);
     ck_assert(ray__hypot(DBL_MAX, 0.0) == DBL_MAX);
