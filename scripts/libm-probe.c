@@ -10,11 +10,25 @@
 **
 **     libm-probe > results.txt
 **     libm-probe --compare a.txt b.txt     the table of differences
+**     libm-probe --threads                 pow and exp on a new thread
+**
+** --threads: pow and exp on the main thread and on a thread started
+** plainly (pthread_create, or _beginthreadex on Windows), in its default
+** floating-point environment, how many of their results differ: none
+** where threads inherit the environment (POSIX), many where the C
+** runtime computes on the x87 and the main thread's precision is not a
+** new thread's (MinGW; what src/core/tasks.c guards against).
 */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#if defined(_WIN32)
+#include <windows.h>
+#include <process.h>
+#else
+#include <pthread.h>
+#endif
 
 /* xorshift64 (Marsaglia 2003): the same arguments on every platform. */
 static uint64_t state = 88172645463325252ull;
@@ -86,10 +100,71 @@ static int compare(const char *pa, const char *pb)
     return 0;
 }
 
+#define THREAD_ARGS 20000
+
+/* pow and exp of THREAD_ARGS arguments into out[0 .. 2 THREAD_ARGS). */
+static void pow_exp(double *out)
+{
+    uint64_t saved = state;
+    int i;
+
+    state = 88172645463325252ull;
+    for (i = 0; i < THREAD_ARGS; i++) {
+        double a = unit() * 4, b = unit() * 3;
+        out[2 * i] = pow(a, b);
+        out[2 * i + 1] = exp(-a * 4);
+    }
+    state = saved;
+}
+
+static double on_main[2 * THREAD_ARGS], on_thread[2 * THREAD_ARGS];
+
+#if defined(_WIN32)
+static unsigned __stdcall thread_main(void *arg)
+{
+    pow_exp(arg);
+    return 0;
+}
+#else
+static void *thread_main(void *arg)
+{
+    pow_exp(arg);
+    return NULL;
+}
+#endif
+
+static int threads(void)
+{
+    long differ[2] = {0, 0};
+    int i;
+#if defined(_WIN32)
+    HANDLE h = (HANDLE)_beginthreadex(NULL, 0, thread_main, on_thread, 0,
+                                      NULL);
+    if (h == 0)
+        return 2;
+    WaitForSingleObject(h, INFINITE);
+    CloseHandle(h);
+#else
+    pthread_t t;
+    if (pthread_create(&t, NULL, thread_main, on_thread) != 0)
+        return 2;
+    pthread_join(t, NULL);
+#endif
+    pow_exp(on_main);
+    for (i = 0; i < 2 * THREAD_ARGS; i++)
+        differ[i % 2] += memcmp(&on_main[i], &on_thread[i], sizeof(double)) != 0;
+    printf("libm-probe: on a new thread, %ld of %d pow results and %ld of "
+           "%d exp results differ from the main thread's\n", differ[0],
+           THREAD_ARGS, differ[1], THREAD_ARGS);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 4 && strcmp(argv[1], "--compare") == 0)
         return compare(argv[2], argv[3]);
+    if (argc == 2 && strcmp(argv[1], "--threads") == 0)
+        return threads();
     /* The names, in the order of each line's values. */
     printf("sin cos tan acos atan atan2 exp pow log2 cbrt hypot fma\n");
     for (int i = 0; i < 20000; i++) {

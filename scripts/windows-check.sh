@@ -144,8 +144,38 @@ for t in 1 3 4; do
 done
 step "the examples ran; their $same images are the native ones byte for byte (cornell and caustics at 1 to 4 threads too)"
 
+# Larger pictures (WINDOWS_LARGE=1; not in CI, about a minute more): 4
+# samples a pixel, 2 threads, each picture's difference measured.
+if [ "${WINDOWS_LARGE:-0}" = 1 ]; then
+    large() {
+        out=$1 run=$2 ex=$3 x=$4
+        mkdir -p "$out"
+        $run "$ex/whitted$x" "$out/whitted.png" 320 240 4 2 >/dev/null 2>&1
+        $run "$ex/cornell$x" "$out/cornell.png" 200 200 4 2 >/dev/null 2>&1
+        $run "$ex/implicit$x" "$out/implicit.png" 240 150 4 2 >/dev/null 2>&1
+        $run "$ex/textures$x" doc/cornell.png "$out/textures.png" 240 150 4 2 >/dev/null 2>&1
+        RAY_PHOTONS=200000 $run "$ex/caustics$x" "$out/caustics.png" 160 120 4 2 >/dev/null 2>&1
+        if [ -f data/teapot.bpt ]; then
+            $run "$ex/teapot$x" data/teapot.bpt "$out/teapot.png" 240 180 4 2 >/dev/null 2>&1
+        fi
+        if [ -f data/bunny.obj ]; then
+            $run "$ex/mesh$x" data/bunny.obj "$out/mesh.png" 160 120 4 2 >/dev/null 2>&1
+        fi
+    }
+    large "$win/large-native" "" "$native/examples" ""
+    large "$win/large" wine "$win/examples" .exe
+    differ=0
+    for f in "$win/large-native"/*.png; do
+        "$native/tools/imgdiff" "$f" "$win/large/$(basename "$f")" || differ=1
+    done
+    [ "$differ" = 0 ] || { echo "windows-check: a larger picture differs"; exit 1; }
+    step "the larger pictures are the native ones too"
+fi
+
 # ---------------------------------------------- 5. the C runtime's libm
 "$native/tools/libm-probe" > "$win/libm-native.txt"
 wine "$win/tools/libm-probe.exe" > "$win/libm-windows.txt" 2>/dev/null
 "$native/tools/libm-probe" --compare "$win/libm-native.txt" "$win/libm-windows.txt" | tr -d '\r'
+"$native/tools/libm-probe" --threads | sed 's/^libm-probe: /libm-probe (native): /'
+wine "$win/tools/libm-probe.exe" --threads 2>/dev/null | tr -d '\r' | sed 's/^libm-probe: /libm-probe (Windows): /'
 step "all passed"

@@ -10,9 +10,10 @@
 ** workers carry whatever the program set there (a game engine's
 ** flush-to-zero).  MinGW's pow and exp compute on the x87, whose
 ** precision its C runtime sets to 64 bits on the main thread and Windows
-** to 53 on every other: about a third of pow's results differ between
-** the two (make windows-check), and a row rendered on a started thread
-** came out unlike the same row on the caller's.  So each task sets the
+** to 53 on every other: 30% of pow's results and 17% of exp's differ
+** between the two (scripts/libm-probe.c --threads, under Wine), and a
+** row rendered on a started thread came out unlike the same row on the
+** caller's.  So each task sets the
 ** caller's environment, and gives the worker its own back after.
 */
 #include <fenv.h>

@@ -53,7 +53,6 @@ typedef struct render_job {
 } render_job;
 
 typedef struct render_worker {
-    render_job *job;
     ray_ctx ctx;
     unsigned band_next, band_end;  /* the rest of the worker's band */
     /* Adaptive antialiasing's lattice cache (lattice_get): two rows of
@@ -655,7 +654,6 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     job.workers = workers;
     spread = opt->cones ? pixel_spread(&job) : 0.0;
     for (i = 0; i < n; i++) {
-        worker_at(workers, i)->job = &job;
         worker_at(workers, i)->ctx.scene = scene;
         worker_at(workers, i)->ctx.cone_spread = spread;
     }
