@@ -41,7 +41,7 @@ SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
        -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \
-       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum
+       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum -Wvla
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
@@ -100,7 +100,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test cmake-test abi-test abi-baseline \
         version-test dist distcheck print-srcs print-version deps-embed \
-        snippets-test pages-test bench-docs-test
+        snippets-test pages-test bench-docs-test windows-build windows-check
 
 all: lib
 
@@ -171,7 +171,7 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard ex
 FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
-    $(if $(filter 1,$(PNG)),png_image_write_to_stdio)
+    $(if $(filter 1,$(PNG)),png_image_write_to_memory)
 $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
@@ -466,6 +466,114 @@ demo: deps-build lib $(BUILD)/examples/whitted
 # The README's caustics picture (examples/caustics.c, 4 million photons).
 caustics-png: deps-build lib $(BUILD)/examples/caustics
 	RAY_PHOTONS=4000000 $(BUILD)/examples/caustics doc/caustics.png 640 480 16
+
+# ---------------------------------------------------------------- Windows
+# make windows-check (doc/PLATFORMS.md): the library (static, and a DLL
+# with its import library), the Check suite, the fault sweep and the
+# examples, cross-built with MinGW-w64 and run under Wine
+# (scripts/windows-check.sh; about 8 minutes on two cores from a clean
+# build/windows*, 3 of them the runs).  Check, libpng and zlib for MinGW come from
+# Debian's source packages (scripts/windows-deps.sh), built once into
+# WIN_DEPS.  The same sources and warnings as here, -Werror by default;
+# the library is src/core/platform_win32.c's branch, never winpthreads
+# (only the tests and examples, which use pthreads themselves, link it).
+WIN_HOST   ?= x86_64-w64-mingw32
+WIN_CC     ?= $(WIN_HOST)-gcc
+WIN_AR     ?= $(WIN_HOST)-ar
+WIN_CFLAGS ?= -O2 -g -Werror
+WIN_BUILD  ?= build/windows
+WIN_DEPS   ?= build/windows-deps
+# C99 and no contraction as here; MinGW's C99 printf (core/vec.h).
+WIN_STD = -std=c99 -ffp-contract=off -fno-fast-math -D__USE_MINGW_ANSI_STDIO=1
+WIN_ALL_CFLAGS = $(WARN) -Iinclude $(WIN_CFLAGS) $(WIN_STD) -isystem $(WIN_DEPS)/include
+WIN_SRCS = $(filter-out src/image/png_none.c,$(wildcard src/*/*.c))
+WIN_OBJS = $(WIN_SRCS:src/%.c=$(WIN_BUILD)/obj/%.o)
+WIN_DLL_OBJS = $(WIN_SRCS:src/%.c=$(WIN_BUILD)/dllobj/%.o)
+WIN_STATIC = $(WIN_BUILD)/libray.a
+WIN_DLL = $(WIN_BUILD)/libray.dll
+WIN_IMPLIB = $(WIN_BUILD)/libray.dll.a
+WIN_TEST = $(WIN_BUILD)/tests/check_ray.exe
+WIN_FAULTSIM = $(WIN_BUILD)/tests/faultsim.exe
+WIN_EXAMPLES = $(patsubst examples/%.c,$(WIN_BUILD)/examples/%.exe,$(filter-out examples/mpi_render.c,$(wildcard examples/*.c)))
+WIN_LIBS = -L$(WIN_DEPS)/lib -lpng -lz
+# The tests and examples link everything but the system DLLs statically
+# (libgcc, winpthreads), so Wine needs no MinGW DLL beside them.
+WIN_EXE_LIBS = -static -lpthread
+WIN_FAULT_WRAPS = malloc calloc realloc free png_image_write_to_memory \
+    ray__thread_start
+
+# Check without fork (Windows) does not mark its failure call noreturn (it
+# longjmps back to the runner), so GCC sees a test's variables read after
+# a failed assertion as maybe uninitialised; the Linux build, where it is
+# noreturn, checks the same code.
+WIN_TEST_CFLAGS = -Wno-maybe-uninitialized
+
+$(WIN_DEPS)/stamp: scripts/windows-deps.sh
+	@scripts/windows-deps.sh $(WIN_DEPS)
+
+# Objects of the static library, and of the DLL (RAY_DLL: ray.h's
+# dllexport, so that the DLL exports the API and nothing else).
+$(WIN_BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD \
+	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+$(WIN_BUILD)/dllobj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD -DRAY_DLL \
+	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+
+$(WIN_STATIC): $(WIN_OBJS)
+	rm -f $@
+	$(WIN_AR) rcs $@ $(WIN_OBJS)
+
+# libpng and zlib inside (static), libgcc too: the DLL needs only
+# KERNEL32.dll and msvcrt.dll (windows-check checks it).
+$(WIN_DLL) $(WIN_IMPLIB): $(WIN_DLL_OBJS)
+	$(WIN_CC) $(WIN_CFLAGS) -shared -static-libgcc -o $(WIN_DLL) \
+	    $(WIN_DLL_OBJS) -Wl,--out-implib,$(WIN_IMPLIB) $(WIN_LIBS)
+
+$(WIN_TEST): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(WIN_STATIC)
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) $(WIN_TEST_CFLAGS) -Isrc -Iexamples -Ibench -Itests -DRAY_TEST_PNG=1 \
+	    -o $@ tests/check_main.c $(TEST_SRCS) $(WIN_STATIC) -lcheck $(WIN_LIBS) \
+	    -lpsapi $(WIN_EXE_LIBS) -Wl,--wrap=tcase_fn_start
+
+$(WIN_FAULTSIM): tests/faultsim.c tests/testkit.h tests/tempfiles.h examples/common.h include/ray.h $(WIN_STATIC)
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -Iexamples -DRAY_TEST_PNG=1 -o $@ \
+	    tests/faultsim.c $(WIN_STATIC) $(WIN_LIBS) $(WIN_EXE_LIBS) \
+	    $(patsubst %,-Wl$(comma)--wrap=%,$(WIN_FAULT_WRAPS))
+
+# The examples use the DLL (through its import library, RAY_DLL for
+# dllimport); a copy of it sits beside them, where Windows looks first.
+$(WIN_BUILD)/examples/%.exe: examples/%.c $(wildcard examples/*.h) $(WIN_IMPLIB)
+	@mkdir -p $(@D)
+	cp $(WIN_DLL) $(@D)/
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -DRAY_DLL -o $@ $< $(WIN_IMPLIB) $(WIN_EXE_LIBS)
+
+# The C runtime's math, probed on both sides (scripts/libm-probe.c).
+$(WIN_BUILD)/tools/libm-probe.exe: scripts/libm-probe.c | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -o $@ $< $(WIN_EXE_LIBS)
+
+windows-build: $(WIN_STATIC) $(WIN_DLL) $(WIN_TEST) $(WIN_FAULTSIM) $(WIN_EXAMPLES) \
+    $(WIN_BUILD)/tools/libm-probe.exe
+
+# The native side: the examples render the images the Windows ones must
+# match, the shared library's exports are the DLL's, and two tools
+# (scripts/imgdiff.c measures a difference; scripts/libm-probe.c).
+$(BUILD)/tools/imgdiff: scripts/imgdiff.c | deps-build
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ $< $(PNG_LIBS)
+$(BUILD)/tools/libm-probe: scripts/libm-probe.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< -lm -lpthread
+
+windows-check: lib examples $(BUILD)/tools/imgdiff $(BUILD)/tools/libm-probe
+	@test "$(PNG)" = 1 || { echo "windows-check: needs the native build with libpng (PNG=1), to compare pictures"; exit 1; }
+	@$(MAKE) --no-print-directory windows-build
+	@WIN_HOST=$(WIN_HOST) WINDOWS_RECORD=$(WINDOWS_RECORD) \
+	    scripts/windows-check.sh $(WIN_BUILD) $(BUILD)
 
 # ---------------------------------------------------------------- install
 # libray.pc and the CMake package name their paths relative to where they

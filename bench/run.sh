@@ -129,8 +129,15 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     awk '/^### Self-hits per primitive kind/{on=1; next} on&&/^## /{exit} on' "$out" |
         sed -e '/./,$!d' -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/selfhit.md"
     splice doc/NUMERICS.md selfhit "$plots/selfhit.md"
+    # make windows-check WINDOWS_RECORD=1 writes bench/RESULTS-windows.md.
+    if [ -f bench/RESULTS-windows.md ]; then
+        awk '/^## libm:/{on=1; next} on' bench/RESULTS-windows.md |
+            sed -e '/./,$!d' > "$plots/libm.md"
+        splice doc/PLATFORMS.md libm "$plots/libm.md"
+    fi
     stale=0
-    for page in doc/BENCHMARKS.md doc/NUMERICS.md; do
+    for page in doc/BENCHMARKS.md doc/NUMERICS.md doc/PLATFORMS.md; do
+        [ -f "$plots/pages/$page" ] || continue
         if [ "$mode" = check ]; then
             if ! cmp -s "$plots/pages/$page" "$page"; then
                 echo "bench-docs-test: $page: its tables are not those of $out:" >&2
@@ -145,7 +152,7 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
         [ "$stale" = 0 ] || {
             echo "bench-docs-test: the pages' tables are edited by hand or stale: bench/run.sh --splice copies $out's" >&2
             exit 1; }
-        echo "bench-docs-test: every table between markers in doc/BENCHMARKS.md and doc/NUMERICS.md is $out's"
+        echo "bench-docs-test: every table between markers in doc/BENCHMARKS.md, doc/NUMERICS.md and doc/PLATFORMS.md is $out's (bench/RESULTS-windows.md's in PLATFORMS.md)"
         exit 0
     fi
     echo "bench: copied the tables into doc/BENCHMARKS.md and doc/NUMERICS.md" >&2

@@ -60,7 +60,8 @@
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
 **    4. version
-**    5. scene               materials, lights, geometry, settings, commit
+**    5. scene               materials, lights, geometry, settings, the
+**                           program's job system (ray_scheduler), commit
 **    6. textures            images as textures
 **    7. built-in materials  Phong, mirror, glass, checker
 **    8. counters            ray_stats
@@ -82,7 +83,24 @@
 extern "C" {
 #endif
 
-#if defined(RAY_BUILD) && defined(__GNUC__)
+/*
+** RAY_API marks the exported functions.  On Windows (doc/PLATFORMS.md)
+** libray.dll is built with RAY_BUILD and RAY_DLL defined: dllexport, so
+** the DLL exports these and nothing else; a program using the DLL may
+** define RAY_DLL for dllimport (a direct call through the import table;
+** without it the import library's stubs still link); the static library
+** and its programs define neither.  Elsewhere, GCC and Clang build the
+** library with -fvisibility=hidden and export these.
+*/
+#if defined(_WIN32) || defined(__CYGWIN__)
+#if defined(RAY_DLL) && defined(RAY_BUILD)
+#define RAY_API __declspec(dllexport)
+#elif defined(RAY_DLL)
+#define RAY_API __declspec(dllimport)
+#else
+#define RAY_API
+#endif
+#elif defined(RAY_BUILD) && defined(__GNUC__)
 #define RAY_API __attribute__((visibility("default")))
 #else
 #define RAY_API
@@ -598,9 +616,9 @@ RAY_API void ray_limits_init(ray_limits *l);
 ** it is changed.  Every ray_scene_add_* / _set_* (and
 ** ray_scene_update_mesh, ray_scene_remove) is allowed after a commit
 ** too: the change is STAGED, and the scene answers no query until it is
-** committed again (ray_intersect and the other queries -RAY_ESTATE,
-** ray_trace RAY_ESTATE, ray_ctx_new and ray_render RAY_EINVAL, its
-** effects 0).  A change must never overlap a query or a render of the
+** committed again (ray_intersect and the other queries -RAY_ESTATE;
+** ray_trace, ray_ctx_new and ray_render RAY_ESTATE; its effects 0).  A
+** change must never overlap a query or a render of the
 ** scene on another thread: nothing can detect that race ("Changing a
 ** committed scene" below; ray(7), "Dynamic scenes").
 */
@@ -806,13 +824,69 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 ** answers; a thread that cannot be started only means fewer threads.
 ** The scene's allocator is still called on the committing thread only,
 ** and the threads call nothing of the program's (user geometry's bounds
-** callback runs when it is added, not at commit).  Like every
+** callback runs when it is added, not at commit).  A scene given the
+** program's scheduler (ray_scene_set_scheduler) builds on it instead.  Like every
 ** ray_scene_set_*, a call after a commit stages a change (the scene
 ** answers no query until it is committed again), but that commit
 ** rebuilds nothing for it: the setting takes effect at the next build.
 ** RAY_EINVAL (NULL).
 */
 RAY_API int ray_scene_set_build_threads(ray_scene *scene, unsigned threads);
+
+/*
+** The program's own job system -- a game engine's workers -- to run the
+** library's parallel work instead of threads of its own, as PhysX's CPU
+** dispatcher and Jolt's job system take theirs.  The work comes as
+** tasks: run(ud, count, task, task_ud) must call task(task_ud, i) once
+** for every i in 0 .. count - 1, in any order, on any threads, at once
+** or one after another, and return only when all have returned.  Tasks
+** never wait for one another, so running them all on the calling thread
+** is correct too (what run may do when no worker is free); run may be
+** called from one of its own workers (a render inside a job) and must
+** not then wait for a worker that only this call could free.  Every
+** answer is the same, byte for byte, whichever order and threads run
+** the tasks.  The tasks call the program back only as the built-in
+** threads do: a render's materials, backgrounds, filters and progress
+** callback, the photon pass's materials (and its scene's allocator).
+**
+** "threads": how many tasks the scheduler runs at once (its workers), 0
+** if it does not say: ray_render and the photon pass split their work
+** into that many tasks when their options' threads is 0 (and into one
+** per online CPU if this is 0 too).  A render task runs materials and
+** their ray trees: its workers want the stack the built-in threads get
+** (4 MiB), or what the materials need.
+**
+** ray_scheduler_init -- run NULL, ud NULL, threads 0: a scheduler whose
+** run is NULL means the built-in threads.  Fields added later default to
+** what it sets (doc/DESIGN.md, "Versions and ABI").
+*/
+typedef void (*ray_task_fn)(void *task_ud, unsigned index);
+
+typedef struct ray_scheduler {
+    void (*run)(void *ud, unsigned count, ray_task_fn task, void *task_ud);
+    void *ud;                /* run's first argument */
+    unsigned threads;        /* tasks it runs at once; 0: not said */
+} ray_scheduler;
+
+RAY_API void ray_scheduler_init(ray_scheduler *s);
+
+/*
+** ray_scene_set_scheduler -- run the scene's parallel work on the
+** program's job system: "scheduler" is COPIED (its ud is BORROWED: it
+** must outlive every use), NULL (the default) for the built-in threads.
+** ray_scene_commit's BVH builds then hand it all their subtrees (the
+** build threads setting no longer applies: the scheduler chooses the
+** threads), and ray_render and ray_photon_map_build use it unless their
+** options name one.  Both are needed: a commit has no options to carry
+** one, while a committed scene may be rendered from several threads at
+** once, each render on its own pool, which a setting cannot give (a
+** setting stages a change: the scene answers nothing until the next
+** commit).  The tree and every image are the same bytes with or without
+** a scheduler.  RAY_EINVAL (NULL scene); a change staged like any
+** setting's, which the next commit rebuilds nothing for.
+*/
+RAY_API int ray_scene_set_scheduler(ray_scene *scene,
+                                    const ray_scheduler *scheduler);
 
 /*
 ** ray_scene_commit -- make what was built or changed take effect: the
@@ -1094,7 +1168,8 @@ typedef struct ray_render_options {
     unsigned width, height;  /* the whole frame, in pixels */
     unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
                                 height); rows are counted from the top */
-    unsigned threads;        /* 0 = one per online CPU */
+    unsigned threads;        /* tasks to render on; 0 = the scheduler's
+                                threads, or one per online CPU */
     unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
                                 1 = the pixel centre; a square k*k:
                                 jittered k x k strata; otherwise n-rooks
@@ -1140,6 +1215,10 @@ typedef struct ray_render_options {
     ** plane). */
     unsigned long long photons;
     double photon_radius;
+    /* The program's job system (ray_scheduler, BORROWED for the call) for
+    ** this render and its photon pass; NULL: the scene's
+    ** (ray_scene_set_scheduler), or else the built-in threads. */
+    const ray_scheduler *scheduler;
 } ray_render_options;
 
 /* Photons per frame: 2^26 (about 67 million), so the photon map (48
@@ -1149,7 +1228,8 @@ typedef struct ray_render_options {
 
 /* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
 ** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
-** ray cones on, no photons (caustics off), automatic photon radius. */
+** ray cones on, no photons (caustics off), automatic photon radius, no
+** scheduler (the scene's). */
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 
@@ -1157,15 +1237,18 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
 ** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
 ** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
-** from a user material is stored as 0).  Rows are handed to the threads
-** in contiguous bands from a shared counter (guided: each band a quarter
-** of the remaining rows' share per thread, at least one); every pixel's
-** samples are seeded from (seed, x, y, sample), so the bytes are the same
-** whatever the thread count or region split.  "stats", if not NULL,
-** receives the counters summed over the threads.
+** from a user material is stored as 0).  The render runs as "threads"
+** tasks, on the built-in threads (the calling thread and threads - 1
+** started and joined before it returns) or on a scheduler's workers
+** (options->scheduler, else the scene's: ray_scene_set_scheduler); each
+** task takes rows in contiguous bands from a shared counter (guided: each
+** band a quarter of the remaining rows' share per task, at least one);
+** every pixel's samples are seeded from (seed, x, y, sample), so the bytes
+** are the same whatever the thread count, task order or region split.
+** "stats", if not NULL, receives the counters summed over the tasks.
 **
-** The progress callback is called from the render threads, one call at a
-** time, and never again after it asked to cancel.  Returns RAY_OK;
+** The progress callback is called from the render's threads, one call at
+** a time, and never again after it asked to cancel.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
 ** unspecified); RAY_ESTATE, before anything is rendered, for a scene not
 ** committed (never, or changed since), as the queries answer, or one
@@ -1243,10 +1326,10 @@ RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
 **
 ** ray_photon_map_build -- the same photon pass outside ray_render, for
 ** programs that call ray_trace themselves: options->photons (1 ..
-** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
-** are read, the rest ignored.  A scene without caustics gives an empty
-** map.  RAY_OK; RAY_EINVAL (NULLs, photons 0 or above the cap, a radius
-** NaN, negative, infinite or whose pi r^2 under- or overflows);
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads and
+** scheduler are read, the rest ignored.  A scene without caustics gives
+** an empty map.  RAY_OK; RAY_EINVAL (NULLs, photons 0 or above the cap,
+** a radius NaN, negative, infinite or whose pi r^2 under- or overflows);
 ** RAY_ESTATE (the scene not committed, never or since a change, or an
 ** instanced scene changed since the commit); RAY_ENOMEM.  *out is
 ** untouched on failure.
@@ -1257,7 +1340,8 @@ RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
 ** using it is done, before or after its scene (it keeps a copy of the
 ** scene's allocator).  A map is read-only once built: any number of
 ** contexts on any threads may share it.  The photon pass allocates from
-** its threads (ray_scene_new; threads = 1 keeps it on the caller's).
+** its threads (ray_scene_new; threads = 1 and no scheduler keeps it on
+** the caller's).
 */
 typedef struct ray_photon_map ray_photon_map;
 
@@ -1288,10 +1372,14 @@ RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
 ** unquantised data.  Values are clamped to [0, 1]; NaN becomes 0.
 **
 ** A regular file (or none yet) is written as "<path>.<pid>-<n>.tmp" beside
-** it and renamed over it only when complete: on failure only that file is
-** removed and an existing file is left as it was (its permission bits are
-** kept on success; a symbolic link is replaced, not followed).  A device
+** it, flushed to the disk, and renamed over it only when complete: on
+** failure only that file is removed and an existing file is left as it
+** was (its permission bits are kept on success; a symbolic link is
+** replaced, not followed).  A device
 ** or FIFO is written in place and never removed; a directory is RAY_EIO.
+** On Windows "path" is UTF-8 (not UTF-8: RAY_EIO, errno EILSEQ), an
+** existing file is replaced by MoveFileExW, and a device or pipe (NUL,
+** \\.\pipe\name) is written in place (doc/PLATFORMS.md).
 **
 ** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
 ** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
@@ -1444,7 +1532,7 @@ RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
 ** (new boxes, same tree: no rebuild).  Materials, lights, settings,
 ** masks and filters rebuild nothing, but still need the commit.  Between
 ** the change and that commit the scene answers no query (-RAY_ESTATE;
-** ray_trace RAY_ESTATE; ray_ctx_new and ray_render RAY_EINVAL): one
+** ray_trace, ray_ctx_new and ray_render RAY_ESTATE): one
 ** writer at a time, and never while a query or render runs on another
 ** thread (that race cannot be detected).  A failed call changes nothing,
 ** and a committed scene stays committed.
