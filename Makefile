@@ -41,7 +41,7 @@ SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 STD_CFLAGS = -std=c99 -D_POSIX_C_SOURCE=200809L -ffp-contract=off -fno-fast-math
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
        -Wmissing-prototypes -Wwrite-strings -Wcast-qual -Wundef \
-       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum
+       -Wconversion -Wdouble-promotion -Wformat=2 -Wswitch-enum -Wvla
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
@@ -99,7 +99,8 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test cmake-test abi-test abi-baseline \
-        version-test dist distcheck print-srcs print-version deps-embed
+        version-test dist distcheck print-srcs print-version deps-embed \
+        snippets-test pages-test bench-docs-test windows-build windows-check
 
 all: lib
 
@@ -170,7 +171,7 @@ $(TEST_BIN): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard ex
 FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
-    $(if $(filter 1,$(PNG)),png_image_write_to_stdio)
+    $(if $(filter 1,$(PNG)),png_image_write_to_memory)
 $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
@@ -243,7 +244,9 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
-# tables into doc/BENCHMARKS.md and draws bench/accuracy.png with gnuplot
+# tables into doc/BENCHMARKS.md and doc/NUMERICS.md (bench/run.sh --splice
+# does only that, from the RESULTS.md there is; make check's
+# bench-docs-test checks it was done) and draws bench/accuracy.png with gnuplot
 # (installed here like the other targets' packages).  BENCH_QUICK=1 for a
 # short run, written to bench/RESULTS-quick.md and accuracy-quick.png
 # (untracked) so that it never replaces the documented figures.
@@ -310,6 +313,22 @@ docs-test:
 links-test:
 	@scripts/check-links.sh
 
+# The pages show what runs (issue 29): every program README.md and
+# doc/*.md show (<!-- program -->) compiles with the library's warnings
+# as errors, links and runs; every output they show (<!-- output -->) is
+# what it prints (scripts/check-snippets.sh).
+snippets-test: $(STATIC) $(EXAMPLES)
+	@CC="$(CC)" CFLAGS="$(ALL_CFLAGS)" LDFLAGS="$(LDFLAGS)" LIBS="$(LIBS)" \
+	    scripts/check-snippets.sh $(BUILD) $(PNG)
+
+# README.md is a landing page of at most 250 lines, and no page types a
+# measured figure by hand (scripts/check-pages.sh); the tables bench/run.sh
+# copies into the pages are those of bench/RESULTS.md (bench/run.sh --check).
+pages-test:
+	@scripts/check-pages.sh
+bench-docs-test:
+	@bench/run.sh --check $(BUILD)
+
 # The layers are src/'s folders: no file includes, and no object calls,
 # above its layer, and no objects call each other round a circle
 # (scripts/check-layers.sh; its self-test shows it fails on each).
@@ -320,6 +339,7 @@ layers-test: $(OBJS)
 # Runs an example that must fail, under PNG=0, with RAY_ENOTSUP's text.
 EXPECT_ENOTSUP = $(CURDIR)/scripts/expect-enotsup.sh
 check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+       snippets-test pages-test bench-docs-test \
        install-test $(if $(filter 0,$(PNG)),png-free-test) \
        version-test abi-test cmake-test amalgamation-test
 	$(TEST_BIN)
@@ -460,6 +480,114 @@ demo: deps-build lib $(BUILD)/examples/whitted
 caustics-png: deps-build lib $(BUILD)/examples/caustics
 	RAY_PHOTONS=4000000 $(BUILD)/examples/caustics doc/caustics.png 640 480 16
 
+# ---------------------------------------------------------------- Windows
+# make windows-check (doc/PLATFORMS.md): the library (static, and a DLL
+# with its import library), the Check suite, the fault sweep and the
+# examples, cross-built with MinGW-w64 and run under Wine
+# (scripts/windows-check.sh; about 8 minutes on two cores from a clean
+# build/windows*, 3 of them the runs).  Check, libpng and zlib for MinGW come from
+# Debian's source packages (scripts/windows-deps.sh), built once into
+# WIN_DEPS.  The same sources and warnings as here, -Werror by default;
+# the library is src/core/platform_win32.c's branch, never winpthreads
+# (only the tests and examples, which use pthreads themselves, link it).
+WIN_HOST   ?= x86_64-w64-mingw32
+WIN_CC     ?= $(WIN_HOST)-gcc
+WIN_AR     ?= $(WIN_HOST)-ar
+WIN_CFLAGS ?= -O2 -g -Werror
+WIN_BUILD  ?= build/windows
+WIN_DEPS   ?= build/windows-deps
+# C99 and no contraction as here; MinGW's C99 printf (core/vec.h).
+WIN_STD = -std=c99 -ffp-contract=off -fno-fast-math -D__USE_MINGW_ANSI_STDIO=1
+WIN_ALL_CFLAGS = $(WARN) -Iinclude $(WIN_CFLAGS) $(WIN_STD) -isystem $(WIN_DEPS)/include
+WIN_SRCS = $(filter-out src/image/png_none.c,$(wildcard src/*/*.c))
+WIN_OBJS = $(WIN_SRCS:src/%.c=$(WIN_BUILD)/obj/%.o)
+WIN_DLL_OBJS = $(WIN_SRCS:src/%.c=$(WIN_BUILD)/dllobj/%.o)
+WIN_STATIC = $(WIN_BUILD)/libray.a
+WIN_DLL = $(WIN_BUILD)/libray.dll
+WIN_IMPLIB = $(WIN_BUILD)/libray.dll.a
+WIN_TEST = $(WIN_BUILD)/tests/check_ray.exe
+WIN_FAULTSIM = $(WIN_BUILD)/tests/faultsim.exe
+WIN_EXAMPLES = $(patsubst examples/%.c,$(WIN_BUILD)/examples/%.exe,$(filter-out examples/mpi_render.c,$(wildcard examples/*.c)))
+WIN_LIBS = -L$(WIN_DEPS)/lib -lpng -lz
+# The tests and examples link everything but the system DLLs statically
+# (libgcc, winpthreads), so Wine needs no MinGW DLL beside them.
+WIN_EXE_LIBS = -static -lpthread
+WIN_FAULT_WRAPS = malloc calloc realloc free png_image_write_to_memory \
+    ray__thread_start
+
+# Check without fork (Windows) does not mark its failure call noreturn (it
+# longjmps back to the runner), so GCC sees a test's variables read after
+# a failed assertion as maybe uninitialised; the Linux build, where it is
+# noreturn, checks the same code.
+WIN_TEST_CFLAGS = -Wno-maybe-uninitialized
+
+$(WIN_DEPS)/stamp: scripts/windows-deps.sh
+	@scripts/windows-deps.sh $(WIN_DEPS)
+
+# Objects of the static library, and of the DLL (RAY_DLL: ray.h's
+# dllexport, so that the DLL exports the API and nothing else).
+$(WIN_BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD \
+	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+$(WIN_BUILD)/dllobj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD -DRAY_DLL \
+	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+
+$(WIN_STATIC): $(WIN_OBJS)
+	rm -f $@
+	$(WIN_AR) rcs $@ $(WIN_OBJS)
+
+# libpng and zlib inside (static), libgcc too: the DLL needs only
+# KERNEL32.dll and msvcrt.dll (windows-check checks it).
+$(WIN_DLL) $(WIN_IMPLIB): $(WIN_DLL_OBJS)
+	$(WIN_CC) $(WIN_CFLAGS) -shared -static-libgcc -o $(WIN_DLL) \
+	    $(WIN_DLL_OBJS) -Wl,--out-implib,$(WIN_IMPLIB) $(WIN_LIBS)
+
+$(WIN_TEST): $(TEST_SRCS) tests/check_main.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h $(WIN_STATIC)
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) $(WIN_TEST_CFLAGS) -Isrc -Iexamples -Ibench -Itests -DRAY_TEST_PNG=1 \
+	    -o $@ tests/check_main.c $(TEST_SRCS) $(WIN_STATIC) -lcheck $(WIN_LIBS) \
+	    -lpsapi $(WIN_EXE_LIBS) -Wl,--wrap=tcase_fn_start
+
+$(WIN_FAULTSIM): tests/faultsim.c tests/testkit.h tests/tempfiles.h examples/common.h include/ray.h $(WIN_STATIC)
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -Iexamples -DRAY_TEST_PNG=1 -o $@ \
+	    tests/faultsim.c $(WIN_STATIC) $(WIN_LIBS) $(WIN_EXE_LIBS) \
+	    $(patsubst %,-Wl$(comma)--wrap=%,$(WIN_FAULT_WRAPS))
+
+# The examples use the DLL (through its import library, RAY_DLL for
+# dllimport); a copy of it sits beside them, where Windows looks first.
+$(WIN_BUILD)/examples/%.exe: examples/%.c $(wildcard examples/*.h) $(WIN_IMPLIB)
+	@mkdir -p $(@D)
+	cp $(WIN_DLL) $(@D)/
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -DRAY_DLL -o $@ $< $(WIN_IMPLIB) $(WIN_EXE_LIBS)
+
+# The C runtime's math, probed on both sides (scripts/libm-probe.c).
+$(WIN_BUILD)/tools/libm-probe.exe: scripts/libm-probe.c | $(WIN_DEPS)/stamp
+	@mkdir -p $(@D)
+	$(WIN_CC) $(WIN_ALL_CFLAGS) -o $@ $< $(WIN_EXE_LIBS)
+
+windows-build: $(WIN_STATIC) $(WIN_DLL) $(WIN_TEST) $(WIN_FAULTSIM) $(WIN_EXAMPLES) \
+    $(WIN_BUILD)/tools/libm-probe.exe
+
+# The native side: the examples render the images the Windows ones must
+# match, the shared library's exports are the DLL's, and two tools
+# (scripts/imgdiff.c measures a difference; scripts/libm-probe.c).
+$(BUILD)/tools/imgdiff: scripts/imgdiff.c | deps-build
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(PNG_CFLAGS) $(LDFLAGS) -o $@ $< $(PNG_LIBS)
+$(BUILD)/tools/libm-probe: scripts/libm-probe.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< -lm -lpthread
+
+windows-check: lib examples $(BUILD)/tools/imgdiff $(BUILD)/tools/libm-probe
+	@test "$(PNG)" = 1 || { echo "windows-check: needs the native build with libpng (PNG=1), to compare pictures"; exit 1; }
+	@$(MAKE) --no-print-directory windows-build
+	@WIN_HOST=$(WIN_HOST) WINDOWS_RECORD=$(WINDOWS_RECORD) \
+	    scripts/windows-check.sh $(WIN_BUILD) $(BUILD)
+
 # ---------------------------------------------------------------- install
 # libray.pc and the CMake package name their paths relative to where they
 # are installed (pkg-config's ${prefix}, CMake's CMAKE_CURRENT_LIST_DIR),
@@ -474,12 +602,38 @@ CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%
 SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
 CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
 
+# A program linked with `pkg-config --libs libray` must find libray.so.0
+# when it runs.  The dynamic loader searches its default directories
+# (/lib, /usr/lib, their lib64 and multiarch forms) by itself; for any
+# other LIBDIR (/usr/local/lib included, which Debian's loader knows only
+# through the ldconfig cache, and /opt or $HOME prefixes, which it does
+# not know at all) libray.pc's Libs carries -Wl,-rpath,${libdir}, so the
+# program runs without LD_LIBRARY_PATH (a moved install through
+# pkg-config --define-prefix too: ${libdir} follows ${prefix}).
+# PC_RPATH=0 leaves it out (a distribution package), PC_RPATH=1 forces it.
+MULTIARCH = $(shell $(CC) -print-multiarch 2>/dev/null)
+LOADER_DIRS = /lib /usr/lib /lib64 /usr/lib64 \
+    $(if $(MULTIARCH),/lib/$(MULTIARCH) /usr/lib/$(MULTIARCH))
+PC_RPATH ?= $(if $(filter $(patsubst %/,%,$(LIBDIR)),$(LOADER_DIRS)),0,1)
+# ldconfig refreshes the loader's cache after install and uninstall when
+# it applies: run as root, into the live system (DESTDIR empty); a
+# package (DESTDIR set) leaves it to its installer, and a user without
+# root relies on the rpath above.
+LDCONFIG ?= ldconfig
+RUN_LDCONFIG = if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && \
+        command -v $(LDCONFIG) >/dev/null 2>&1; then \
+        echo "$(LDCONFIG)"; $(LDCONFIG) || exit 1; \
+    elif [ -z "$(DESTDIR)" ]; then \
+        echo "libray: ldconfig not run (not root, or not found): programs find $(LIBDIR)/libray.so.$(SOMAJOR) through libray.pc's rpath$(if $(filter 0,$(PC_RPATH)), (none: PC_RPATH=0; run ldconfig as root))"; \
+    fi
+
 libray.pc:
 	@mkdir -p $(BUILD)
 	sed -e 's|@PREFIX@|$(PREFIX)|' \
 	    -e 's|@LIBDIR@|$(call rel_to_prefix,$(LIBDIR),$${prefix})|' \
 	    -e 's|@INCLUDEDIR@|$(call rel_to_prefix,$(INCLUDEDIR),$${prefix})|' \
 	    -e 's|@VERSION@|$(VERSION)|' \
+	    -e 's|@RPATH@|$(if $(filter 1,$(PC_RPATH)), -Wl$(comma)-rpath$(comma)$${libdir})|' \
 	    $(if $(filter 1,$(PNG)),-e 's|@PNG_REQUIRES@|libpng|',-e '/@PNG_REQUIRES@/d') \
 	    libray.pc.in > $(BUILD)/libray.pc
 
@@ -519,6 +673,7 @@ install: lib libray.pc cmake-config
 	install -m 644 LICENSE $(DESTDIR)$(DOCDIR)/LICENSE
 	@set -e; for l in $(MLINKS); do \
 	    ln -sf $${l%%:*}.3 $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
+	@$(RUN_LDCONFIG)
 
 uninstall:
 	rm -f $(DESTDIR)$(LIBDIR)/libray.a $(DESTDIR)$(LIBDIR)/libray.so \
@@ -533,6 +688,7 @@ uninstall:
 	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
 	@scripts/install-dirs.sh remove "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
 	    $(DOCDIR) $(CMAKEDIR)
+	@$(RUN_LDCONFIG)
 
 # A staged install moved elsewhere still builds a program through
 # pkg-config --define-prefix and through CMake (when cmake is installed);

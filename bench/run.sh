@@ -1,20 +1,31 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# run.sh BUILD_DIR -- run every benchmark, write bench/RESULTS.md, copy
-# its tables into doc/BENCHMARKS.md (between the <!-- NAME:begin --> and
-# <!-- NAME:end --> markers) and draw bench/accuracy.png with gnuplot
-# (make bench installs it).  Prints the results as it goes.
+# run.sh [--splice | --check] BUILD_DIR -- run every benchmark, write
+# bench/RESULTS.md, copy its tables into the pages that show them
+# (between the <!-- NAME:begin --> and <!-- NAME:end --> markers: doc/
+# BENCHMARKS.md and doc/NUMERICS.md) and draw bench/accuracy.png with
+# gnuplot (make bench installs it).  Prints the results as it goes.
+#
+# --splice: run nothing; copy the tables of the bench/RESULTS.md there
+# is into the pages (after editing a page's prose around its markers).
+# --check: run nothing; fail if a page's tables differ from what
+# --splice would write (make check, bench-docs-test: every figure
+# between markers is the last full run's, none typed by hand).
 #
 # BENCH_QUICK=1: a short run (under a minute) whose figures are not those
 # of the documentation: it writes bench/RESULTS-quick.md and
 # bench/accuracy-quick.png (both ignored by git) and copies nothing into
 # doc/, so the last full run's figures stay where they are.
 set -eu
+mode=run
+case ${1:-} in
+--splice) mode=splice; shift ;;
+--check) mode=check; shift ;;
+esac
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-doc=doc/BENCHMARKS.md
-if [ -n "${BENCH_QUICK:-}" ]; then
+if [ -n "${BENCH_QUICK:-}" ] && [ "$mode" = run ]; then
     out=bench/RESULTS-quick.md
     plot=bench/accuracy-quick.png
     cplot=bench/caustics-quick.png
@@ -26,88 +37,131 @@ fi
 plots=$(mktemp -d)
 trap 'rm -rf "$plots"' EXIT
 
-scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or curl needed): mesh rows skipped" >&2
-{
-    echo "<!-- SPDX-License-Identifier: MIT -->"   # scripts/check-spdx.sh
-    echo "# libray benchmark results"
-    echo
-    echo "Command: \`${BENCH_QUICK:+BENCH_QUICK=1 }make bench\`; machine: $(uname -m),"
-    echo "$(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //' || echo unknown)),"
-    echo "$(${CC:-cc} --version | head -1); $(date -u +%Y-%m-%d)."
-    echo
-    "$build/bench/accuracy" data "$plots"
-    "$build/bench/numerics"
-    "$build/bench/selfhit"
-    "$build/bench/effects" data
-    "$build/bench/threads"
-    "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
-    "$build/bench/surfaces"
-    "$build/bench/mesh" data
-    "$build/bench/filter" data
-    "$build/bench/packets" data
-    "$build/bench/game" data
-    "$build/bench/shapes" data
-    "$build/bench/whitted" bench/whitted.pov
-    "$build/bench/caustics" "$plots"
-    # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
-    if command -v mpirun >/dev/null 2>&1 && [ -x "$build/mpi/mpi_render" ]; then
-        bench/mpi.sh "$build"
-    else
-        echo "bench: no mpirun or $build/mpi/mpi_render: MPI rows skipped" >&2
-    fi
-} | tee "$out.tmp"
-mv "$out.tmp" "$out"
+if [ "$mode" = run ]; then
+    scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or curl needed): mesh rows skipped" >&2
+    {
+        echo "<!-- SPDX-License-Identifier: MIT -->"   # scripts/check-spdx.sh
+        echo "# libray benchmark results"
+        echo
+        echo "Command: \`${BENCH_QUICK:+BENCH_QUICK=1 }make bench\`; machine: $(uname -m),"
+        echo "$(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //' || echo unknown)),"
+        echo "$(${CC:-cc} --version | head -1); $(date -u +%Y-%m-%d)."
+        echo
+        "$build/bench/accuracy" data "$plots"
+        "$build/bench/numerics"
+        "$build/bench/selfhit"
+        "$build/bench/effects" data
+        "$build/bench/threads"
+        "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
+        "$build/bench/surfaces"
+        "$build/bench/mesh" data
+        "$build/bench/filter" data
+        "$build/bench/packets" data
+        "$build/bench/game" data
+        "$build/bench/shapes" data
+        "$build/bench/whitted" bench/whitted.pov
+        "$build/bench/caustics" "$plots"
+        # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
+        if command -v mpirun >/dev/null 2>&1 && [ -x "$build/mpi/mpi_render" ]; then
+            bench/mpi.sh "$build"
+        else
+            echo "bench: no mpirun or $build/mpi/mpi_render: MPI rows skipped" >&2
+        fi
+    } | tee "$out.tmp"
+    mv "$out.tmp" "$out"
+fi
 
-# Tables copied into doc/BENCHMARKS.md between <!-- NAME:begin --> and
-# <!-- NAME:end -->: the primitives (headline), the curved surfaces, the
-# effects, the ray cones, the thread speed-up, the meshes, the live scenes, the
-# shape queries and the
-# Whitted scene against POV-Ray.  A marker missing from the
-# page is an error, not a table silently dropped.
+# Tables copied into the pages between <!-- NAME:begin --> and
+# <!-- NAME:end -->: into doc/BENCHMARKS.md the primitives (headline),
+# the curved surfaces, the effects, the ray cones, the thread speed-up,
+# the meshes, the live scenes, the shape queries and the Whitted scene
+# against POV-Ray;
+# into doc/NUMERICS.md the hard cases and the self-hits.  A marker
+# missing from its page is an error, not a table silently dropped.
+# splice PAGE NAME FILE: the copy goes to $plots/pages/PAGE, which
+# --check compares with PAGE and the other modes copy over it.
+mkdir -p "$plots/pages/doc"
 splice() {
-    grep -qx "<!-- $1:begin -->" "$doc" && grep -qx "<!-- $1:end -->" "$doc" || {
-        echo "bench: no <!-- $1:begin/end --> markers in $doc" >&2; exit 1; }
-    awk -v f="$2" -v b="<!-- $1:begin -->" -v e="<!-- $1:end -->" '
+    page=$1
+    [ -f "$plots/pages/$page" ] || cp "$page" "$plots/pages/$page"
+    grep -qx "<!-- $2:begin -->" "$page" && grep -qx "<!-- $2:end -->" "$page" || {
+        echo "bench: no <!-- $2:begin/end --> markers in $page" >&2; exit 1; }
+    awk -v f="$3" -v b="<!-- $2:begin -->" -v e="<!-- $2:end -->" '
         $0 == b { print; while ((getline l < f) > 0) print l; skip=1; next }
         $0 == e { skip=0 }
-        !skip' "$doc" > "$plots/doc.md" && cp "$plots/doc.md" "$doc"
+        !skip' "$plots/pages/$page" > "$plots/page.md" &&
+        cp "$plots/page.md" "$plots/pages/$page"
 }
-if [ -z "${BENCH_QUICK:-}" ]; then
+if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
+    doc=doc/BENCHMARKS.md
     awk '/^### Primitives/{on=1} on&&/^### Images/{exit} on' "$out" > "$plots/headline.md"
-    splice accuracy "$plots/headline.md"
+    splice "$doc" accuracy "$plots/headline.md"
     awk '/^\| surface \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/surfaces.md"
-    splice surfaces "$plots/surfaces.md"
+    splice "$doc" surfaces "$plots/surfaces.md"
     awk '/^Pruned \(effect analysis/{on=1} /^## Whitted scene/{exit} on' "$out" |
         sed -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/effects.md"
-    splice effects "$plots/effects.md"
+    splice "$doc" effects "$plots/effects.md"
     awk '/^## Ray cones/{on=1; next} on&&/^## /{exit} on' "$out" |
         sed -e '/./,$!d' -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/cones.md"
-    splice cones "$plots/cones.md"
+    splice "$doc" cones "$plots/cones.md"
     awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
-    splice threads "$plots/threads.md"
+    splice "$doc" threads "$plots/threads.md"
     awk '/^## What exactness costs/{exit} /^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
-    splice mesh "$plots/mesh.md"
+    splice "$doc" mesh "$plots/mesh.md"
     awk '/^## Packets:/{exit} /^## What exactness costs/{on=1; next} on' "$out" |
         sed -e '/./,$!d' > "$plots/filter.md"
-    splice filter "$plots/filter.md"
+    splice "$doc" filter "$plots/filter.md"
     awk '/^## Games and tools/{exit} /^## Packets:/{on=1; next} on' "$out" > "$plots/packets.md"
-    splice packets "$plots/packets.md"
+    splice "$doc" packets "$plots/packets.md"
     awk '/^## Shape queries/{exit} /^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
-    splice game "$plots/game.md"
+    splice "$doc" game "$plots/game.md"
     awk '/^## Whitted scene against POV-Ray/{exit} /^## Shape queries/{on=1; next} on' "$out" |
         sed -e '/./,$!d' > "$plots/shapes.md"
-    splice shapes "$plots/shapes.md"
+    splice "$doc" shapes "$plots/shapes.md"
     awk '/^## MPI: one frame/{exit} /^## Caustics: error/{exit} /^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
-    splice whitted "$plots/whitted.md"
+    splice "$doc" whitted "$plots/whitted.md"
     awk '/^## MPI: one frame/{exit} /^## Caustics: error/{on=1; next} on' "$out" |
         sed -e '/./,$!d' > "$plots/caustics.md"
-    splice caustics "$plots/caustics.md"
+    splice "$doc" caustics "$plots/caustics.md"
     if grep -q '^## MPI: one frame' "$out"; then
         awk '/^## MPI: one frame/{on=1; next} on' "$out" |
             sed -e '/./,$!d' > "$plots/mpi.md"
-        splice mpi "$plots/mpi.md"
+        splice "$doc" mpi "$plots/mpi.md"
     fi
-    echo "bench: copied the tables into $doc" >&2
+    awk '/^## Hard cases: naive against robust/{on=1; next} on&&/^### Self-hits/{exit} on' "$out" |
+        sed -e '/./,$!d' -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/numerics.md"
+    splice doc/NUMERICS.md numerics "$plots/numerics.md"
+    awk '/^### Self-hits per primitive kind/{on=1; next} on&&/^## /{exit} on' "$out" |
+        sed -e '/./,$!d' -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/selfhit.md"
+    splice doc/NUMERICS.md selfhit "$plots/selfhit.md"
+    # make windows-check WINDOWS_RECORD=1 writes bench/RESULTS-windows.md.
+    if [ -f bench/RESULTS-windows.md ]; then
+        awk '/^## libm:/{on=1; next} on' bench/RESULTS-windows.md |
+            sed -e '/./,$!d' > "$plots/libm.md"
+        splice doc/PLATFORMS.md libm "$plots/libm.md"
+    fi
+    stale=0
+    for page in doc/BENCHMARKS.md doc/NUMERICS.md doc/PLATFORMS.md; do
+        [ -f "$plots/pages/$page" ] || continue
+        if [ "$mode" = check ]; then
+            if ! cmp -s "$plots/pages/$page" "$page"; then
+                echo "bench-docs-test: $page: its tables are not those of $out:" >&2
+                diff "$page" "$plots/pages/$page" | head -20 >&2
+                stale=1
+            fi
+        else
+            cp "$plots/pages/$page" "$page"
+        fi
+    done
+    if [ "$mode" = check ]; then
+        [ "$stale" = 0 ] || {
+            echo "bench-docs-test: the pages' tables are edited by hand or stale: bench/run.sh --splice copies $out's" >&2
+            exit 1; }
+        echo "bench-docs-test: every table between markers in doc/BENCHMARKS.md, doc/NUMERICS.md and doc/PLATFORMS.md is $out's (bench/RESULTS-windows.md's in PLATFORMS.md)"
+        exit 0
+    fi
+    echo "bench: copied the tables into doc/BENCHMARKS.md and doc/NUMERICS.md" >&2
+    [ "$mode" = run ] || exit 0
 else
     echo "bench: quick run: $doc and bench/RESULTS.md left as they were" >&2
 fi

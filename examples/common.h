@@ -130,6 +130,12 @@ static inline void print_stats(const char *name, const ray_scene *scene,
     if (s->root_failures > 0)
         printf("%s: %llu implicit or parametric tests ran out of iterations "
                "(taken as misses)\n", name, s->root_failures);
+    /* A material that shades with ray_shade_direct or ray_light_visible
+    ** but forgot RAY_EFFECT_SHADOW renders without shadows: say so. */
+    if (s->shadows_undeclared > 0)
+        printf("%s: %llu shadow rays not cast: a material asked for them "
+               "without declaring RAY_EFFECT_SHADOW (its light is "
+               "unshadowed)\n", name, s->shadows_undeclared);
     printf("%s: deepest level %u, rays cut by depth %llu, weight %llu, "
            "fan-out %llu\n", name, s->max_depth, s->cut_depth, s->cut_weight,
            s->cut_fanout);
@@ -571,7 +577,17 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
         return 1;
     }
     t = now_seconds();
-    check(ray_render(scene, cam, &opt, image, &stats), "ray_render");
+    rc = ray_render(scene, cam, &opt, image, &stats);
+    if (rc != RAY_OK) {
+        /* Which argument and why: ray_render_check, not the scene's
+        ** message (ray_render's scene is const and shared). */
+        char why[256];
+        if (ray_render_check(scene, cam, &opt, why, sizeof why) == RAY_OK)
+            snprintf(why, sizeof why, "ray_render: %s", ray_strerror(rc));
+        fprintf(stderr, "%s: %s\n", a->name, why);
+        free(image);
+        return 1;
+    }
     t = now_seconds() - t;
     rc = example_write_png(a, image);
     free(image);

@@ -10,14 +10,36 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+/* MinGW's isfinite, isnan, isinf and signbit choose a branch by the
+** argument's type, and the float branch converts a double argument to
+** float: -Wfloat-conversion at every use, for a branch never taken.
+** GCC's builtins are the same tests (the library does the same in its
+** src/core/vec.h).  Every example reaches this header (through common.h,
+** obj.h or bpt.h) after <math.h>. */
+#if defined(__MINGW32__) && defined(__GNUC__)
+#undef isfinite
+#define isfinite(x) __builtin_isfinite(x)
+#undef isnan
+#define isnan(x) __builtin_isnan(x)
+#undef isinf
+#define isinf(x) __builtin_isinf(x)
+#undef signbit
+#define signbit(x) __builtin_signbit(x)
+#endif
+
 /* Argument "f" is a printf format whose arguments start at "a" (0: a
 ** va_list), for the compiler to check; clang's -Wformat-nonliteral wants
-** the va_list function marked too. */
-#if defined(__GNUC__)
+** the va_list function marked too.  MinGW: by the rules of the printf its
+** stdio.h chose (C99's with __USE_MINGW_ANSI_STDIO, else msvcrt's). */
+#if defined(__MINGW32__) && defined(__GNUC__)
+#define PARSE_PRINTF_LIKE(f, a) \
+    __attribute__((format(__MINGW_PRINTF_FORMAT, f, a)))
+#elif defined(__GNUC__)
 #define PARSE_PRINTF_LIKE(f, a) __attribute__((format(printf, f, a)))
 #else
 #define PARSE_PRINTF_LIKE(f, a)

@@ -676,7 +676,7 @@ static void op_trace(prog *p)
     int rc = ray_ctx_new(p->scene, 7, &ctx);
 
     if (!p->committed) {
-        FUZZ_CHECK(rc == RAY_EINVAL, "ray_ctx_new: uncommitted scene");
+        FUZZ_CHECK(rc == RAY_ESTATE, "ray_ctx_new: uncommitted scene");
         return;
     }
     FUZZ_CHECK(rc == RAY_OK || rc == RAY_ENOMEM, "ray_ctx_new: status");
@@ -800,11 +800,24 @@ static void op_render(prog *p)
     fuzz_sentinel(rgb, sizeof rgb);
     fuzz_sentinel(&st, sizeof st);
     rc = ray_render(p->scene, &cam, &o, rgb, &st);
-    FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL || rc == RAY_ENOMEM ||
-                   rc == RAY_ECANCELED, "ray_render: status");
+    FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL || rc == RAY_ESTATE ||
+                   rc == RAY_ENOMEM || rc == RAY_ECANCELED,
+               "ray_render: status");
     if (!p->committed)
-        FUZZ_CHECK(rc == RAY_EINVAL, "ray_render: uncommitted scene");
-    if (rc == RAY_EINVAL || rc == RAY_ENOMEM) {
+        FUZZ_CHECK(rc == RAY_ESTATE, "ray_render: uncommitted scene");
+    {
+        /* ray_render_check makes ray_render's checks: the same refusal,
+        ** with a reason; no refusal where the render went ahead. */
+        char why[160];
+        int check = ray_render_check(p->scene, &cam, &o, why, sizeof why);
+        if (rc == RAY_EINVAL || rc == RAY_ESTATE)
+            FUZZ_CHECK(check == rc && why[0] != '\0',
+                       "ray_render_check: the render's refusal, with a reason");
+        else
+            FUZZ_CHECK(check == RAY_OK && why[0] == '\0',
+                       "ray_render_check: no refusal where the render ran");
+    }
+    if (rc == RAY_EINVAL || rc == RAY_ESTATE || rc == RAY_ENOMEM) {
         FUZZ_CHECK(fuzz_untouched(rgb, sizeof rgb) &&
                        fuzz_untouched(&st, sizeof st),
                    "ray_render: outputs untouched on error");

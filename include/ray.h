@@ -52,16 +52,17 @@
 */
 /*
 ** Contents, in the order a program meets them: README's first example
-** tests a ray against a sphere alone (1, 2); its second builds a scene,
-** renders it and writes a PNG (3 to 10); picking in a game queries a
-** scene (11, 12); a material of one's own traces rays (13, 14); the
-** other surfaces come next (15), and then the shapes a game moves
-** through its world, which stand on them (16).
+** tests a ray against a sphere alone (1, 2); doc/GUIDE.md's first render
+** builds a scene, renders it and writes a PNG (3 to 10); README's second,
+** picking in a game, queries a scene (11, 12); a material of one's own
+** traces rays (13, 14); the other surfaces come next (15), and then the
+** shapes a game moves through its world, which stand on them (16).
 **    1. values              ray_vec3, ray_ray, ray_hit, ids
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
 **    4. version
-**    5. scene               materials, lights, geometry, settings, commit
+**    5. scene               materials, lights, geometry, settings, the
+**                           program's job system (ray_scheduler), commit
 **    6. textures            images as textures
 **    7. built-in materials  Phong, mirror, glass, checker
 **    8. counters            ray_stats
@@ -85,7 +86,24 @@
 extern "C" {
 #endif
 
-#if defined(RAY_BUILD) && defined(__GNUC__)
+/*
+** RAY_API marks the exported functions.  On Windows (doc/PLATFORMS.md)
+** libray.dll is built with RAY_BUILD and RAY_DLL defined: dllexport, so
+** the DLL exports these and nothing else; a program using the DLL may
+** define RAY_DLL for dllimport (a direct call through the import table;
+** without it the import library's stubs still link); the static library
+** and its programs define neither.  Elsewhere, GCC and Clang build the
+** library with -fvisibility=hidden and export these.
+*/
+#if defined(_WIN32) || defined(__CYGWIN__)
+#if defined(RAY_DLL) && defined(RAY_BUILD)
+#define RAY_API __declspec(dllexport)
+#elif defined(RAY_DLL)
+#define RAY_API __declspec(dllimport)
+#else
+#define RAY_API
+#endif
+#elif defined(RAY_BUILD) && defined(__GNUC__)
 #define RAY_API __attribute__((visibility("default")))
 #else
 #define RAY_API
@@ -281,6 +299,17 @@ enum {
 ** its negation (-RAY_ELIMIT reads as RAY_ELIMIT: the queries and the
 ** iterative intersections return negated statuses); an unknown code gives
 ** "unknown error".  Never NULL; do not free.
+**
+** Statuses are not answers.  A function returns either a status (RAY_OK
+** or a RAY_E* code, all >= 0) or an answer: a query's or intersection's
+** hit (1), miss (0) or hit count, with misuse as a negated status (< 0).
+** Only statuses and negated statuses are codes for ray_strerror: a
+** positive answer is a hit, and ray_strerror(1) reads as RAY_EINVAL's
+** text.  Log an answer n as n < 0 ? ray_strerror(n) : "hit" (or its
+** count).  The codes stay small positive integers, as errno's, rather
+** than moving to a range of their own: a program compares a status with
+** RAY_OK or a named code, never by value, and the sign of a query's
+** result already tells an answer from misuse (ray_strerror(3)).
 */
 RAY_API const char *ray_strerror(int code);
 
@@ -590,9 +619,9 @@ RAY_API void ray_limits_init(ray_limits *l);
 ** it is changed.  Every ray_scene_add_* / _set_* (and
 ** ray_scene_update_mesh, ray_scene_remove) is allowed after a commit
 ** too: the change is STAGED, and the scene answers no query until it is
-** committed again (ray_intersect and the other queries -RAY_ESTATE,
-** ray_trace RAY_ESTATE, ray_ctx_new and ray_render RAY_EINVAL, its
-** effects 0).  A change must never overlap a query or a render of the
+** committed again (ray_intersect and the other queries -RAY_ESTATE;
+** ray_trace, ray_ctx_new and ray_render RAY_ESTATE; its effects 0).  A
+** change must never overlap a query or a render of the
 ** scene on another thread: nothing can detect that race ("Changing a
 ** committed scene" below; ray(7), "Dynamic scenes").
 */
@@ -798,13 +827,69 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 ** answers; a thread that cannot be started only means fewer threads.
 ** The scene's allocator is still called on the committing thread only,
 ** and the threads call nothing of the program's (user geometry's bounds
-** callback runs when it is added, not at commit).  Like every
+** callback runs when it is added, not at commit).  A scene given the
+** program's scheduler (ray_scene_set_scheduler) builds on it instead.  Like every
 ** ray_scene_set_*, a call after a commit stages a change (the scene
 ** answers no query until it is committed again), but that commit
 ** rebuilds nothing for it: the setting takes effect at the next build.
 ** RAY_EINVAL (NULL).
 */
 RAY_API int ray_scene_set_build_threads(ray_scene *scene, unsigned threads);
+
+/*
+** The program's own job system -- a game engine's workers -- to run the
+** library's parallel work instead of threads of its own, as PhysX's CPU
+** dispatcher and Jolt's job system take theirs.  The work comes as
+** tasks: run(ud, count, task, task_ud) must call task(task_ud, i) once
+** for every i in 0 .. count - 1, in any order, on any threads, at once
+** or one after another, and return only when all have returned.  Tasks
+** never wait for one another, so running them all on the calling thread
+** is correct too (what run may do when no worker is free); run may be
+** called from one of its own workers (a render inside a job) and must
+** not then wait for a worker that only this call could free.  Every
+** answer is the same, byte for byte, whichever order and threads run
+** the tasks.  The tasks call the program back only as the built-in
+** threads do: a render's materials, backgrounds, filters and progress
+** callback, the photon pass's materials (and its scene's allocator).
+**
+** "threads": how many tasks the scheduler runs at once (its workers), 0
+** if it does not say: ray_render and the photon pass split their work
+** into that many tasks when their options' threads is 0 (and into one
+** per online CPU if this is 0 too).  A render task runs materials and
+** their ray trees: its workers want the stack the built-in threads get
+** (4 MiB), or what the materials need.
+**
+** ray_scheduler_init -- run NULL, ud NULL, threads 0: a scheduler whose
+** run is NULL means the built-in threads.  Fields added later default to
+** what it sets (doc/DESIGN.md, "Versions and ABI").
+*/
+typedef void (*ray_task_fn)(void *task_ud, unsigned index);
+
+typedef struct ray_scheduler {
+    void (*run)(void *ud, unsigned count, ray_task_fn task, void *task_ud);
+    void *ud;                /* run's first argument */
+    unsigned threads;        /* tasks it runs at once; 0: not said */
+} ray_scheduler;
+
+RAY_API void ray_scheduler_init(ray_scheduler *s);
+
+/*
+** ray_scene_set_scheduler -- run the scene's parallel work on the
+** program's job system: "scheduler" is COPIED (its ud is BORROWED: it
+** must outlive every use), NULL (the default) for the built-in threads.
+** ray_scene_commit's BVH builds then hand it all their subtrees (the
+** build threads setting no longer applies: the scheduler chooses the
+** threads), and ray_render and ray_photon_map_build use it unless their
+** options name one.  Both are needed: a commit has no options to carry
+** one, while a committed scene may be rendered from several threads at
+** once, each render on its own pool, which a setting cannot give (a
+** setting stages a change: the scene answers nothing until the next
+** commit).  The tree and every image are the same bytes with or without
+** a scheduler.  RAY_EINVAL (NULL scene); a change staged like any
+** setting's, which the next commit rebuilds nothing for.
+*/
+RAY_API int ray_scene_set_scheduler(ray_scene *scene,
+                                    const ray_scheduler *scheduler);
 
 /*
 ** ray_scene_commit -- make what was built or changed take effect: the
@@ -1048,6 +1133,14 @@ typedef struct ray_stats {
                                            ray_occluded_batch traced eight
                                            together through the BVH */
     unsigned long long batch_single;    /* and those traced one by one */
+    unsigned long long shadows_undeclared; /* shadow rays a material asked
+                                           for (ray_light_visible,
+                                           ray_shade_direct) without
+                                           declaring RAY_EFFECT_SHADOW:
+                                           not cast, the light taken as
+                                           unoccluded.  Not 0: a material
+                                           forgot the flag, and the image
+                                           lacks its shadows */
 } ray_stats;
 
 /* --------------------------------------------------------- 9. rendering */
@@ -1078,7 +1171,8 @@ typedef struct ray_render_options {
     unsigned width, height;  /* the whole frame, in pixels */
     unsigned y0, y1;         /* render rows y0 <= y < y1 only (y1 = 0:
                                 height); rows are counted from the top */
-    unsigned threads;        /* 0 = one per online CPU */
+    unsigned threads;        /* tasks to render on; 0 = the scheduler's
+                                threads, or one per online CPU */
     unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
                                 1 = the pixel centre; a square k*k:
                                 jittered k x k strata; otherwise n-rooks
@@ -1124,6 +1218,10 @@ typedef struct ray_render_options {
     ** plane). */
     unsigned long long photons;
     double photon_radius;
+    /* The program's job system (ray_scheduler, BORROWED for the call) for
+    ** this render and its photon pass; NULL: the scene's
+    ** (ray_scene_set_scheduler), or else the built-in threads. */
+    const ray_scheduler *scheduler;
 } ray_render_options;
 
 /* Photons per frame: 2^26 (about 67 million), so the photon map (48
@@ -1133,7 +1231,8 @@ typedef struct ray_render_options {
 
 /* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
 ** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
-** ray cones on, no photons (caustics off), automatic photon radius. */
+** ray cones on, no photons (caustics off), automatic photon radius, no
+** scheduler (the scene's). */
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 
@@ -1141,32 +1240,63 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
 ** RGB, 3 floats per pixel, width pixels per row, row y0 first; always
 ** finite (values beyond float's range are clamped to +-FLT_MAX, a NaN
-** from a user material is stored as 0).  Rows are handed to the threads
-** in contiguous bands from a shared counter (guided: each band a quarter
-** of the remaining rows' share per thread, at least one); every pixel's
-** samples are seeded from (seed, x, y, sample), so the bytes are the same
-** whatever the thread count or region split.  "stats", if not NULL,
-** receives the counters summed over the threads.
+** from a user material is stored as 0).  The render runs as "threads"
+** tasks, on the built-in threads (the calling thread and threads - 1
+** started and joined before it returns) or on a scheduler's workers
+** (options->scheduler, else the scene's: ray_scene_set_scheduler); each
+** task takes rows in contiguous bands from a shared counter (guided: each
+** band a quarter of the remaining rows' share per task, at least one);
+** every pixel's samples are seeded from (seed, x, y, sample), so the bytes
+** are the same whatever the thread count, task order or region split.
+** "stats", if not NULL, receives the counters summed over the tasks.
 **
-** The progress callback is called from the render threads, one call at a
-** time, and never again after it asked to cancel.  Returns RAY_OK;
+** The progress callback is called from the render's threads, one call at
+** a time, and never again after it asked to cancel.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
-** unspecified); RAY_EINVAL for NULLs, an uncommitted scene (never
-** committed, or changed since), zero sizes, samples outside 1 ..
-** RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is NaN or negative or
-** an adaptive depth outside 1 .. 8, y0 >= y1 or y1 > height, or a
-** degenerate camera (eye at look_at, up within 3.6e-15 rad of the view
-** axis, vfov not in (0, 180)), photons above RAY_MAX_PHOTONS or a
-** photon_radius NaN, negative, infinite or whose pi r^2 under- or
-** overflows (ray_caustics_at); RAY_ENOMEM.  If fewer threads than asked
-** can be started, the render goes on with those it has: the image is the
-** same.  A scene that instances a scene changed since its own commit
-** is refused with RAY_ESTATE before anything is rendered: commit the
-** scene after its instanced scenes.
+** unspecified); RAY_ESTATE, before anything is rendered, for a scene not
+** committed (never, or changed since), as the queries answer, or one
+** that instances a scene changed since its own commit (commit the scene
+** after its instanced scenes); RAY_EINVAL for NULLs, zero sizes,
+** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that
+** is NaN or negative or an adaptive depth outside 1 .. 8, y0 >= y1 or
+** y1 > height, or a degenerate camera (eye at look_at, up within
+** 3.6e-15 rad of the view axis, vfov not in (0, 180)), photons above
+** RAY_MAX_PHOTONS or a photon_radius NaN, negative, infinite or whose
+** pi r^2 under- or overflows (ray_caustics_at): ray_render_check says
+** which and why; RAY_ENOMEM.  If fewer threads than asked can be
+** started, the render goes on with those it has: the image is the same.
 */
 RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
                        const ray_render_options *options, float *rgb,
                        ray_stats *stats);
+
+/*
+** ray_render_check -- the checks ray_render makes of its arguments before
+** it renders, with the reason in words: returns what ray_render would
+** return for them (RAY_OK, RAY_EINVAL or RAY_ESTATE; a NULL rgb, its one
+** other refusal, is not seen here) and writes into "msg" (at most "size"
+** bytes, NUL-terminated, truncated if need be; msg NULL or size 0: not
+** written) which argument or field failed, with its value and the rule,
+** e.g. "ray_render: options samples 0: must be 1 ..
+** RAY_MAX_PIXEL_SAMPLES (65536), also with adaptive antialiasing"; ""
+** on RAY_OK.  ray_render runs these very checks, so the two cannot
+** disagree; it can still fail later for RAY_ENOMEM, RAY_ECANCELED, or
+** an automatic photon radius that overflows in a scene of extreme size.
+**
+** Why a buffer of the caller's and not ray_scene_errmsg, where the
+** building calls leave their reasons: ray_render takes a const scene
+** that any number of threads may render at once, so a message written
+** into the scene would be a data race between them and one render's
+** reason could overwrite another's; a message buffer in the options
+** would turn an input struct, often shared between threads, into an
+** output.  A pure function of its arguments is reentrant and costs
+** nothing on the render's path: call it after a failed ray_render (or
+** before, to vet options a user typed).  ray_render leaves
+** ray_scene_errmsg as it was.
+*/
+RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
+                             const ray_render_options *options, char *msg,
+                             size_t size);
 
 /*
 ** Caustics: light that reaches a diffuse surface through specular ones
@@ -1199,11 +1329,11 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 **
 ** ray_photon_map_build -- the same photon pass outside ray_render, for
 ** programs that call ray_trace themselves: options->photons (1 ..
-** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed and threads
-** are read, the rest ignored.  A scene without caustics gives an empty
-** map.  RAY_OK; RAY_EINVAL (NULLs, scene not committed, photons 0 or
-** above the cap, a radius NaN, negative, infinite or whose pi r^2
-** under- or overflows); RAY_ESTATE (an
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads and
+** scheduler are read, the rest ignored.  A scene without caustics gives
+** an empty map.  RAY_OK; RAY_EINVAL (NULLs, photons 0 or above the cap,
+** a radius NaN, negative, infinite or whose pi r^2 under- or overflows);
+** RAY_ESTATE (the scene not committed, never or since a change, or an
 ** instanced scene changed since the commit); RAY_ENOMEM.  *out is
 ** untouched on failure.
 ** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
@@ -1213,7 +1343,8 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** using it is done, before or after its scene (it keeps a copy of the
 ** scene's allocator).  A map is read-only once built: any number of
 ** contexts on any threads may share it.  The photon pass allocates from
-** its threads (ray_scene_new; threads = 1 keeps it on the caller's).
+** its threads (ray_scene_new; threads = 1 and no scheduler keeps it on
+** the caller's).
 */
 typedef struct ray_photon_map ray_photon_map;
 
@@ -1244,10 +1375,14 @@ RAY_API int ray_image_to_srgb8(const float *rgb, size_t count,
 ** unquantised data.  Values are clamped to [0, 1]; NaN becomes 0.
 **
 ** A regular file (or none yet) is written as "<path>.<pid>-<n>.tmp" beside
-** it and renamed over it only when complete: on failure only that file is
-** removed and an existing file is left as it was (its permission bits are
-** kept on success; a symbolic link is replaced, not followed).  A device
+** it, flushed to the disk, and renamed over it only when complete: on
+** failure only that file is removed and an existing file is left as it
+** was (its permission bits are kept on success; a symbolic link is
+** replaced, not followed).  A device
 ** or FIFO is written in place and never removed; a directory is RAY_EIO.
+** On Windows "path" is UTF-8 (not UTF-8: RAY_EIO, errno EILSEQ), an
+** existing file is replaced by MoveFileExW, and a device or pipe (NUL,
+** \\.\pipe\name) is written in place (doc/PLATFORMS.md).
 **
 ** Returns RAY_OK; RAY_EINVAL for NULL arguments, a zero or too large size
 ** or bits other than 8 and 16; RAY_ENOMEM; RAY_EIO if the file cannot be
@@ -1409,7 +1544,7 @@ RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
 ** (new boxes, same tree: no rebuild).  Materials, lights, settings,
 ** masks and filters rebuild nothing, but still need the commit.  Between
 ** the change and that commit the scene answers no query (-RAY_ESTATE;
-** ray_trace RAY_ESTATE; ray_ctx_new and ray_render RAY_EINVAL): one
+** ray_trace, ray_ctx_new and ray_render RAY_ESTATE): one
 ** writer at a time, and never while a query or render runs on another
 ** thread (that race cannot be detected).  A failed call changes nothing,
 ** and a committed scene stays committed.
@@ -1587,8 +1722,8 @@ RAY_API int ray_occluded_batch(const ray_scene *scene, const ray_batch *b);
 ** ray_ctx_new -- a trace context for tracing outside ray_render (which
 ** makes its own, one per thread).  One context per thread; it holds the
 ** recursion state, the random sequence and the counters.  "seed" seeds
-** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL, or scene not committed:
-** never, or changed since) or RAY_ENOMEM.  A context outlives the
+** its sampler.  Returns RAY_OK, RAY_EINVAL (NULL), RAY_ESTATE (scene not
+** committed: never, or changed since) or RAY_ENOMEM.  A context outlives the
 ** scene's changes and commits (ray_trace).  ray_ctx_free(NULL) is a
 ** no-op.  ray_ctx_stats copies the counters accumulated so far.
 */
@@ -1655,7 +1790,10 @@ RAY_API int ray_trace(ray_ctx *ctx, const ray_ray *r, unsigned kind,
 ** ray_light_visible answers whether the sample is unoccluded.  When the
 ** calling material declared RAY_EFFECT_SHADOW it casts one shadow ray
 ** (any-hit, from ray_spawn_to, or ray_spawn toward a directional light); otherwise it casts nothing and answers 1:
-** unshadowed light, a documented no-op (also outside any callback).  So a
+** unshadowed light, a documented no-op (also outside any callback), and
+** counts the request in ray_stats.shadows_undeclared, so that a material
+** that forgot the flag shows in the counters instead of only in an image
+** without shadows.  So a
 ** material asks only for the samples that would contribute (n.l > 0), and
 ** only those cost a ray.
 **

@@ -12,6 +12,14 @@
 #  2. make install then make uninstall into an empty prefix leave it
 #     empty; into a prefix that already has directories (some empty, one
 #     with another package's file), those stay as they were.
+#  3. What a user types (doc/BUILDING.md): make install into a prefix
+#     outside the loader's path (no DESTDIR), then
+#     cc app.c $(pkg-config --cflags --libs libray), nothing else: the
+#     program RUNS (libray.pc's rpath; it used to exit 127, "libray.so.0:
+#     cannot open shared object file"); install and uninstall ran ldconfig
+#     exactly when it applies (root, DESTDIR empty: a stand-in LDCONFIG
+#     records the calls), and libray.pc has no rpath for the loader's own
+#     directories (PREFIX=/usr).
 #
 # CC, CFLAGS and LDFLAGS come from the environment (the Makefile's).
 set -eu
@@ -44,13 +52,15 @@ esac
 case "$png:$static" in
 0:*png*) fail "PNG=0, yet pkg-config --static --libs libray gave '$static'" ;;
 esac
+# No -Wl,-rpath of our own: libray.pc's Libs carries it (PREFIX /opt).
 # shellcheck disable=SC2086 # the flags are lists
 $CC $CFLAGS -DEXPECT_PNG="$png" "$top/tests/cmake-consumer/main.c" \
-    -o "$tmp/pc-consumer" $flags -Wl,-rpath,"$moved/lib" $LDFLAGS
+    -o "$tmp/pc-consumer" $flags $LDFLAGS
 ldd "$tmp/pc-consumer" | grep -q "$moved/lib/libray.so" ||
     fail "the pkg-config consumer does not load $moved/lib/libray.so"
-"$tmp/pc-consumer" "$tmp/pc.png"
-echo "install-test: pkg-config --define-prefix: built and ran against a moved install"
+"$tmp/pc-consumer" "$tmp/pc.png" ||
+    fail "the pkg-config consumer, linked with libray.pc's flags alone, did not run"
+echo "install-test: pkg-config --define-prefix: built and ran against a moved install, with libray.pc's flags alone"
 
 if command -v cmake >/dev/null 2>&1; then
     # Not the outer make's jobserver: cmake runs its own make.
@@ -88,3 +98,38 @@ after=$(cd "$kept" && find . | sort)
 [ "$before" = "$after" ] ||
     fail "uninstall changed a prefix's own directories: before: $before; after: $after"
 echo "install-test: uninstall leaves an empty prefix empty and another prefix's directories as they were"
+
+# 3. A live install (DESTDIR empty) into a prefix the loader does not
+# search, built as doc/BUILDING.md says and run with no LD_LIBRARY_PATH.
+# The stand-in ldconfig appends a line per call: as root, install and
+# uninstall call it once each; otherwise never (the rpath serves); and
+# never with DESTDIR set (parts 1 and 2 used it: no log yet).
+printf '%s\n' '#!/bin/sh' 'echo called >> "${0%/*}/ldconfig.log"' \
+    > "$tmp/ldconfig"
+chmod +x "$tmp/ldconfig"
+live=$tmp/live
+mk install PREFIX="$live" LDCONFIG="$tmp/ldconfig" DESTDIR="$tmp/staged"
+[ ! -e "$tmp/ldconfig.log" ] ||
+    fail "ldconfig ran for an install with DESTDIR set"
+mk install PREFIX="$live" LDCONFIG="$tmp/ldconfig"
+grep -q -- '^Libs:.*-Wl,-rpath,${libdir}' "$live/lib/pkgconfig/libray.pc" ||
+    fail "libray.pc for PREFIX=$live has no rpath: $(grep '^Libs:' "$live/lib/pkgconfig/libray.pc")"
+flags=$(PKG_CONFIG_PATH="$live/lib/pkgconfig" pkg-config --cflags --libs libray)
+# shellcheck disable=SC2086 # the flags are lists
+$CC $CFLAGS -DEXPECT_PNG="$png" "$top/tests/cmake-consumer/main.c" \
+    -o "$tmp/live-consumer" $flags $LDFLAGS
+rc=0
+env -u LD_LIBRARY_PATH "$tmp/live-consumer" "$tmp/live.png" || rc=$?
+[ "$rc" -eq 0 ] ||
+    fail "cc app.c \$(pkg-config --cflags --libs libray) for PREFIX=$live built a program that exits $rc"
+mk uninstall PREFIX="$live" LDCONFIG="$tmp/ldconfig"
+calls=0
+[ ! -e "$tmp/ldconfig.log" ] || calls=$(wc -l < "$tmp/ldconfig.log")
+if [ "$(id -u)" = 0 ]; then want=2; else want=0; fi
+[ "$calls" -eq "$want" ] ||
+    fail "ldconfig ran $calls times for install and uninstall as uid $(id -u), not $want"
+mk libray.pc BUILD="$tmp/pc-usr" PREFIX=/usr
+if grep -q -- '^Libs:.*-rpath' "$tmp/pc-usr/libray.pc"; then
+    fail "libray.pc for PREFIX=/usr has an rpath: $(grep '^Libs:' "$tmp/pc-usr/libray.pc")"
+fi
+echo "install-test: cc app.c \$(pkg-config --cflags --libs libray) ran against PREFIX=$live (rpath from libray.pc; none for /usr); ldconfig ran $calls times as uid $(id -u), 0 with DESTDIR"

@@ -15,7 +15,7 @@
 #   trace   the ray tree, lights, materials, photons          -> ... query image
 #   render  camera, rows, progress                            -> ... trace
 #
-# Four checks, each printing every offence it finds:
+# Five checks, each printing every offence it finds:
 #   0. rooms: every source file lives in a layer's folder and has at
 #      most MAX_LINES lines (800: a file is one concept, split by concept
 #      when it grows; include/ray.h, the one public header, is not here);
@@ -27,7 +27,13 @@
 #      copied into each object, so only real calls count);
 #   3. circles: the objects' call graph has no loop at all, within a
 #      layer too (tsort), so that every object can be read, and tested,
-#      knowing only those below it.
+#      knowing only those below it;
+#   4. the platform: outside src/core/platform*, a file includes only ISO
+#      C's headers and the compiler's intrinsics (emmintrin.h,
+#      immintrin.h, intrin.h), and libpng's <png.h> in src/image/png.c
+#      alone -- no <pthread.h>, <unistd.h>, <sys/...>, <windows.h>: what
+#      the library asks of the operating system is in one place, with a
+#      POSIX and a Win32 branch (doc/PLATFORMS.md, issue 28).
 # OBJDIR defaults to build/obj; the objects are OBJDIR/LAYER/NAME.o, those
 # given (the Makefile names the library's) or else all there.  The
 # sources are those of the tree the script is in, unless SRCDIR is set
@@ -108,6 +114,25 @@ for f in "$src"/*/*.c "$src"/*/*.h; do
     done
 done
 
+# ------------------------------------------------ 4. system headers
+# ISO C99's headers, and the compilers' intrinsics (not the OS's).
+ISO_HEADERS="assert.h complex.h ctype.h errno.h fenv.h float.h inttypes.h
+iso646.h limits.h locale.h math.h setjmp.h signal.h stdarg.h stdbool.h
+stddef.h stdint.h stdio.h stdlib.h string.h tgmath.h time.h wchar.h
+wctype.h emmintrin.h immintrin.h intrin.h"
+n_sys=0
+for f in "$src"/*/*.c "$src"/*/*.h; do
+    [ -f "$f" ] || continue
+    rel=${f#"$src"/}
+    case "$rel" in core/platform*) continue ;; esac
+    for h in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*<\([^>]*\)>.*/\1/p' "$f"); do
+        n_sys=$((n_sys + 1))
+        case " $(echo $ISO_HEADERS) " in *" $h "*) continue ;; esac
+        [ "$h" = png.h ] && [ "$rel" = image/png.c ] && continue
+        offence "$rel includes <$h>: a platform header outside src/core/platform* (platform.h asks the system)"
+    done
+done
+
 # ------------------------------------------------------------ 2. calls
 if [ $# -gt 0 ]; then
     objs=$(for o in "$@"; do echo "${o#"$obj"/}"; done | sort)
@@ -158,4 +183,5 @@ fi
 echo "layers-test: $(echo "$objs" | wc -l | tr -d ' ') objects in 8 layers" \
      "($LAYERS): $n_inc includes and $n_calls calls between objects, none" \
      "above its layer, no circle; no file over $MAX_LINES lines (the" \
-     "longest: $biggest)"
+     "longest: $biggest); $n_sys system includes, no platform header" \
+     "outside src/core/platform*"

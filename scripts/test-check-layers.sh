@@ -114,6 +114,26 @@ new_case unknown-folder
 obj misc/thing 'int ray__m(void); int ray__m(void) { return 0; }'
 expect_fail "src/misc/ is not a layer"
 
+# A platform header outside src/core/platform* (issue 28): <pthread.h>
+# in the renderer, <windows.h> in a scene file, <png.h> beside png.c; the
+# platform's own files may include them, ISO C's and intrinsics pass.
+new_case platform-header
+obj core/vec 'int ray__v(void); int ray__v(void) { return 0; }'
+printf '%s\n' '#include <stdio.h>' '#include <emmintrin.h>' >> "$t/src/core/vec.c"
+printf '%s\n' '#include <pthread.h>' '#include <windows.h>' > "$t/src/core/platform_x.c"
+mkdir -p "$t/src/render" "$t/src/scene" "$t/src/image"
+printf '%s\n' '#include <string.h>' '#include <pthread.h>' > "$t/src/render/render.c"
+printf '%s\n' '#  include <windows.h>' > "$t/src/scene/store.c"
+printf '%s\n' '#include <png.h>' > "$t/src/image/image.c"
+expect_fail "render/render.c includes <pthread.h>: a platform header outside src/core/platform*"
+expect_fail "scene/store.c includes <windows.h>"
+expect_fail "image/image.c includes <png.h>"
+if grep -q "core/\(vec\|platform_x\)" "$t/out"; then
+    echo "test-check-layers: platform-header: ISO C's headers, intrinsics or the platform's own files refused:"
+    cat "$t/out"
+    exit 1
+fi
+
 # The real library passes, and fails with one more object that calls
 # upward: a scene file calling the query layer's ray_intersect.
 if [ $# -gt 0 ]; then

@@ -433,7 +433,7 @@ START_TEST(rotated_boxes_should_match_the_long_double_reference)
         for (grazing = 0; grazing < 2; grazing++)
             against_reference(offsets[o], &g, grazing, &w);
     /* Keep the figures honest: the measured worst case, in tolerances,
-    ** is printed when CK_VERBOSITY=verbose (README quotes it). */
+    ** is printed when BOX_TEST_FIGURES is set. */
     if (getenv("BOX_TEST_FIGURES") != NULL)
         fprintf(stderr, "box worst/tol: t %.3g p %.3g n %.3g uv %.3g "
                 "off %.3g\n", w.t, w.p, w.n, w.uv, w.off);

@@ -9,7 +9,9 @@
 #include <stdlib.h>
 
 #include "bench.h"
+#include "core/platform.h"
 #include "query/query.h"
+#include "scheduler_kit.h"
 #include "tests.h"
 
 /* A scene whose material *mat (0) shades nothing. */
@@ -353,7 +355,7 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
     size_t n = 3000, i, j;
     int mode;
 
-    if (!__builtin_cpu_supports("avx2"))
+    if (!ray__cpu_has_avx2())
         return;
     for (mode = 0; mode < 2; mode++) {
         ray_vec3 *v;
@@ -414,7 +416,7 @@ START_TEST(gated_and_instanced_queries_should_be_the_same_with_and_without_avx2)
     ray_transform a, b;
     size_t j;
 
-    if (!__builtin_cpu_supports("avx2"))
+    if (!ray__cpu_has_avx2())
         return;
     child = soup_scene(&g, 2000, &v, &idx, &mat, &id);
     ck_assert_int_eq(ray_scene_add_sphere(child, vec(1, 1, 1), 2, mat, NULL), RAY_OK);
@@ -909,6 +911,56 @@ START_TEST(threaded_build_should_make_the_same_tree_at_every_thread_count)
 END_TEST
 
 /*
+** The build on the program's scheduler (ray_scene_set_scheduler): the
+** same tree as the one-thread build, its subtrees run last first, in a
+** random order, and on a pool of 3 threads of the test's own; the
+** scheduler got every subtree of both BVHs as a task (two runs, the
+** triangles' with several tasks).
+*/
+START_TEST(threaded_build_should_make_the_same_tree_on_a_scheduler)
+{
+    threaded_input *in = threaded_input_new();
+    test_pool *pool = pool_new(3);
+    sched_log reverse_log, random_log;
+    ray_scheduler sched[3];
+    ray_scene *one, *s;
+    ray_mesh mesh;
+    size_t k, i;
+    int rc;
+
+    one = threaded_scene(in, 1, NULL, NULL, &rc);
+    ck_assert_int_eq(rc, RAY_OK);
+    sched[0] = test_scheduler(reverse_run, &reverse_log);
+    sched[1] = test_scheduler(random_run, &random_log);
+    sched[2] = pool_scheduler(pool);
+    for (k = 0; k < 3; k++) {
+        sched_log *log = k == 0 ? &reverse_log
+                                : k == 1 ? &random_log : &pool->log;
+        ck_assert_int_eq(nop_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_scheduler(s, &sched[k]), RAY_OK);
+        memset(&mesh, 0, sizeof mesh);
+        mesh.vertices = in->v;
+        mesh.vertex_count = 3 * T_TRIS;
+        mesh.indices = in->idx;
+        mesh.triangle_count = T_TRIS;
+        ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_OK);
+        for (i = 0; i < T_SPHERES; i++)
+            ck_assert_int_eq(ray_scene_add_sphere(s, in->centre[i],
+                                                  in->radius[i], 0, NULL),
+                             RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        assert_same_trees(one, s);
+        ck_assert_uint_eq(log->runs, 2);
+        ck_assert_uint_gt(log->tasks, 4);
+        ray_scene_free(s);
+    }
+    pool_free(pool);
+    ray_scene_free(one);
+    threaded_input_free(in);
+}
+END_TEST
+
+/*
 ** Out of memory in a threaded commit: every allocation it makes fails in
 ** turn (an allocator that fails after "left" more); each failure is
 ** RAY_ENOMEM with the scene uncommitted, and the commit retried with
@@ -990,6 +1042,7 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, mesh_should_build_a_million_triangles_in_bounded_memory);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_at_every_thread_count);
     tcase_add_test(mesh, threaded_build_should_fail_cleanly_and_stage_its_setting);
+    tcase_add_test(mesh, threaded_build_should_make_the_same_tree_on_a_scheduler);
     suite_add_tcase(s, eq);
     suite_add_tcase(s, mesh);
     return s;

@@ -334,7 +334,11 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
 ** Shadow rays, counted: a light in front with a positive BRDF costs one
 ** per pixel; a light behind the surface, or a BRDF of zero, costs none
 ** with pruning and one per pixel in the naive mode; without
-** RAY_EFFECT_SHADOW none is ever cast.  Pruning never changes the image.
+** RAY_EFFECT_SHADOW none is ever cast, and each request that was
+** dropped is counted in shadows_undeclared instead (one per pixel where
+** ray_shade_direct asks: a contributing sample, or any in the naive
+** mode), exactly, summed over the render's 2 threads; declared, that
+** counter stays 0.  Pruning never changes the image.
 */
 START_TEST(direct_should_cast_shadow_rays_only_where_they_count)
 {
@@ -344,14 +348,21 @@ START_TEST(direct_should_cast_shadow_rays_only_where_they_count)
         {-5, 1, RAY_EFFECT_SHADOW},      /* 0, 1: behind the surface */
         {5, 0, RAY_EFFECT_SHADOW},       /* 0, 1: zero contribution */
         {5, 1, 0},                       /* 0, 0: shadows not declared */
+        {-5, 1, 0},                      /* 0, 0: not declared, behind */
     };
-    static const unsigned pruned[] = {1, 0, 0, 0}, naive[] = {1, 1, 1, 0};
+    static const unsigned pruned[] = {1, 0, 0, 0, 0},
+                          naive[] = {1, 1, 1, 0, 0};
+    /* Requests dropped for want of RAY_EFFECT_SHADOW, per pixel. */
+    static const unsigned dropped_pruned[] = {0, 0, 0, 1, 0},
+                          dropped_naive[] = {0, 0, 0, 1, 1};
     static float a[3 * W * H], b[3 * W * H];
     const prune_case *c = &cases[_i];
     ray_stats sa = render_plane(c, 1, a), sb = render_plane(c, 0, b);
 
     ck_assert_uint_eq(sa.rays[RAY_KIND_SHADOW], pruned[_i] * W * H);
     ck_assert_uint_eq(sb.rays[RAY_KIND_SHADOW], naive[_i] * W * H);
+    ck_assert_uint_eq(sa.shadows_undeclared, dropped_pruned[_i] * W * H);
+    ck_assert_uint_eq(sb.shadows_undeclared, dropped_naive[_i] * W * H);
     ck_assert(memcmp(a, b, sizeof a) == 0);
 }
 END_TEST
@@ -464,10 +475,12 @@ START_TEST(undeclared_shadows_should_leave_the_light_unblocked)
     memset(&p, 0, sizeof p);
     c = trace_one(&p, vec(3, 0, 4), 1, RAY_EFFECT_SHADOW, &st);
     ck_assert_uint_eq(st.rays[RAY_KIND_SHADOW], 1);
+    ck_assert_uint_eq(st.shadows_undeclared, 0);
     ck_assert_double_eq(c.r, 0);
     memset(&p, 0, sizeof p);
     c = trace_one(&p, vec(3, 0, 4), 1, 0, &st);
     ck_assert_uint_eq(st.rays[RAY_KIND_SHADOW], 0);
+    ck_assert_uint_eq(st.shadows_undeclared, 1);   /* the sign it left */
     ck_assert_double_eq_tol(c.r, 0.4, tol);
 }
 END_TEST
@@ -585,7 +598,7 @@ Suite *direct_suite(void)
     tcase_add_loop_test(tc, phong_should_render_the_bits_of_its_former_loop,
                         0, 4);
     tcase_add_loop_test(tc, direct_should_cast_shadow_rays_only_where_they_count,
-                        0, 4);
+                        0, 5);
     suite_add_tcase(s, tc);
     tc = tcase_create("hit");
     tcase_add_test(tc, brdf_should_get_unit_directions_and_the_cosine);

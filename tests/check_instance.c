@@ -420,6 +420,107 @@ START_TEST(spawned_rays_should_not_self_hit_through_an_instance)
 }
 END_TEST
 
+/*
+** The size of the world error bound, not only its effect (issue 29: a
+** looser or tighter bound passes the self-hit test above).  A sphere of
+** radius 1 at the child's origin, instanced by L = a cyclic permutation
+** with the non-uniform scales 2, 1/4 and 4 (x' = 2y, y' = z/4, z' = 4x;
+** not symmetric, so a transposed index shows) and a large translation
+** c = (1e5, -3e4, 7e4).  Powers of two make L^-1 exact, so the library's
+** object-space ray is the test's bit for bit and the child's own hit
+** (ray_intersect on the child) is the instance's: t equal, p = L p' + c.
+** The bound must then be instance.c's formula (pbrt-v4's ApplyError,
+** ray.h "p_err"), per axis k:
+**   B_k = (1 + gamma(2)) * ( |L| e' + gamma(4) (|L| |p'| + |c|)
+**                           + |L| gamma(5) |L^-1| (|w| + |c|) )_k,
+** computed here in long double from the hits' own fields.  Margin: the
+** library sums in double, so B_k within 8 ulps of B_k (8 u relative);
+** any slip of a gamma's index moves it by u / 14 u or more of the
+** dominant terms (gamma(5) -> gamma(4) in the return term: 2u |c| of
+** 14u |c|, some 14%), dropping the carried term moves it by e' / B ~
+** 1e-5, and a transposed |L| or |L^-1| by a factor of the scales.  The
+** test checks its own margin: each term it could lose is above it.
+*/
+static long double gam(int n)
+{
+    long double u = (long double)DBL_EPSILON / 2;
+    return n * u / (1 - n * u);
+}
+
+START_TEST(world_error_bound_should_be_the_documented_one)
+{
+    static const double L[3][3] = {{0, 2, 0}, {0, 0, 0.25}, {4, 0, 0}};
+    static const double Linv[3][3] = {{0, 0, 0.25}, {0.5, 0, 0}, {0, 4, 0}};
+    const double c[3] = {1e5, -3e4, 7e4};
+    /* Object-space rays (origin, direction): oblique, from outside. */
+    static const double rays[3][6] = {{3, 0.25, -0.5, -1, 0.125, 0.1875},
+                                      {-0.75, 2.5, 1.25, 0.25, -1, -0.375},
+                                      {0.5, -0.5, 3.5, -0.0625, 0.125, -1}};
+    ray_transform xf;
+    ray_scene *child, *top;
+    int i, j, k;
+
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++)
+            xf.m[i][j] = L[i][j];
+        xf.m[i][3] = c[i];
+    }
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (i = 0; i < 3; i++) {
+        double o[3], d[3];
+        ray_ray ro, rw;
+        ray_hit ho, hw;
+
+        ro = ray_from(vec(rays[i][0], rays[i][1], rays[i][2]),
+                      vec(rays[i][3], rays[i][4], rays[i][5]));
+        /* World ray: o = L o' + c, d = L d', exact (powers of two, one
+        ** non-zero term a row, c's last bits free). */
+        for (k = 0; k < 3; k++) {
+            o[k] = L[k][0] * ro.org.x + L[k][1] * ro.org.y +
+                   L[k][2] * ro.org.z + c[k];
+            d[k] = L[k][0] * ro.dir.x + L[k][1] * ro.dir.y +
+                   L[k][2] * ro.dir.z;
+        }
+        rw = ray_from(vec(o[0], o[1], o[2]), vec(d[0], d[1], d[2]));
+        ck_assert_int_eq(ray_intersect(child, &ro, &ho), 1);
+        ck_assert_int_eq(ray_intersect(top, &rw, &hw), 1);
+        ck_assert_double_eq(hw.t, ho.t);           /* the same object ray */
+        for (k = 0; k < 3; k++) {
+            const double *pp = &ho.p.x, *ep = &ho.p_err.x, *wp = &hw.p.x,
+                         *got = &hw.p_err.x;
+            long double carried = 0, fwd = 0, ret = 0, want;
+            int jj;
+
+            for (j = 0; j < 3; j++) {
+                long double back = 0;
+                carried += fabsl((long double)L[k][j]) * (long double)ep[j];
+                fwd += fabsl((long double)L[k][j]) * fabsl((long double)pp[j]);
+                for (jj = 0; jj < 3; jj++)
+                    back += fabsl((long double)Linv[j][jj]) *
+                            (fabsl((long double)wp[jj]) + fabsl((long double)c[jj]));
+                ret += fabsl((long double)L[k][j]) * gam(5) * back;
+            }
+            fwd = gam(4) * (fwd + fabsl((long double)c[k]));
+            want = (carried + fwd + ret) * (1 + gam(2));
+            /* The margin, and the test's power to see each term. */
+            ck_assert_msg(fabsl((long double)got[k] - want) <= 8 * gam(1) * want,
+                          "ray %d axis %d: p_err %.17g, the rule gives %.17Lg",
+                          i, k, got[k], want);
+            ck_assert(carried > 64 * gam(1) * want);
+            ck_assert(gam(1) * fabsl((long double)c[k]) > 64 * gam(1) * want);
+        }
+    }
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
 /* A material that shades its ud's colour. */
 static void flat_colour(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                         ray_rgb *out)
@@ -863,6 +964,7 @@ Suite *instance_suite(void)
     tcase_add_test(tc, normals_should_follow_the_inverse_transpose);
     tcase_add_loop_test(tc, closed_mesh_should_not_leak_through_an_instance, 0, N_OFFSETS);
     tcase_add_loop_test(tc, spawned_rays_should_not_self_hit_through_an_instance, 0, N_OFFSETS);
+    tcase_add_test(tc, world_error_bound_should_be_the_documented_one);
     tcase_add_test(tc, instances_should_shade_with_their_child_materials);
     tcase_add_test(tc, instances_should_move_and_follow_their_child);
     tcase_add_test(tc, failed_commit_should_leave_every_instance_stale);

@@ -166,6 +166,176 @@ START_TEST(spawn_should_not_skip_thin_gaps)
 }
 END_TEST
 
+/* The spacing of doubles at x's binade and the next one up: a bound on
+** one rounding of a value near x (and of x plus a tiny offset). */
+static double ulp_at(double x)
+{
+    double a = fabs(x);
+    return nextafter(nextafter(a, HUGE_VAL), HUGE_VAL) -
+           nextafter(a, HUGE_VAL);
+}
+
+/*
+** ray_spawn's offset is the documented rule (ray_spawn(3), "The offset
+** rule"), by its size and not only by its effect: o = p + 2 d s n, d =
+** |n.x| e.x + |n.y| e.y + |n.z| e.z, s the side the new ray points to
+** (+1 when w.n >= 0), then each component stepped one ulp away from p.
+** A looser or tighter offset also lets the spawned rays of the tests
+** above escape; here, for an oblique normal with a negative component
+** (so |n| and n differ in d), an error box of unequal sides and p at 1
+** and at 1e5, each component of o - p (exact: Sterbenz) must equal 2 d s
+** n_k to within gamma(4) of it (d's dot product, the doubling and the
+** product with n_k) plus 1.5 ulps of p_k (the sum's rounding, half an
+** ulp, and the step, one).  The test asserts that d |n_k| itself is
+** above 4 times that margin: an offset of d (half the rule) or 4 d
+** fails it.  Then, with an error box far below an ulp of p, the offset
+** is the step alone: o_k is exactly the next double after p_k away from
+** the surface, and p_k itself where n_k = 0.
+*/
+START_TEST(spawn_offset_should_follow_the_documented_rule)
+{
+    static const double scale[2] = {1, 1e5};
+    ray_vec3 n = vscale(vec(2, -3, 6), 1 / vlen(vec(2, -3, 6)));
+    /* w.n > 0, < 0 and = 0 (s = +1, -1, +1; the last exactly 0, the
+    ** products commuting). */
+    const double dirs[3][3] = {{0.3, 0.1, 1}, {-0.2, 0.5, -1},
+                               {n.y, -n.x, 0}};
+    int o, k, w;
+
+    for (o = 0; o < 2; o++)
+        for (w = 0; w < 3; w++) {
+            ray_hit h;
+            ray_ray s;
+            ray_vec3 dir = vec(dirs[w][0], dirs[w][1], dirs[w][2]);
+            long double d;
+            double sgn;
+
+            memset(&h, 0, sizeof h);
+            h.p = vscale(vec(1.5, -2.25, 3), scale[o]);
+            h.n = n;
+            h.p_err = vscale(vec(1e-10, 3e-10, 2e-10), scale[o]);
+            if (w == 2)
+                ck_assert(vdot(dir, n) == 0);
+            d = fabsl((long double)n.x) * (long double)h.p_err.x +
+                fabsl((long double)n.y) * (long double)h.p_err.y +
+                fabsl((long double)n.z) * (long double)h.p_err.z;
+            sgn = vdot(dir, n) >= 0 ? 1 : -1;
+            ck_assert_int_eq(ray_spawn(&h, dir, &s), RAY_OK);
+            for (k = 0; k < 3; k++) {
+                double pk = (&h.p.x)[k], ok = (&s.org.x)[k];
+                long double nk = (long double)(&n.x)[k];
+                long double want = 2 * d * (long double)sgn * nk;
+                long double tol = 4 * (long double)DBL_EPSILON *
+                                      fabsl(want) +
+                                  1.5L * (long double)ulp_at(pk);
+                ck_assert_msg(fabsl((long double)(ok - pk) - want) <= tol,
+                              "scale %g dir %d axis %d: offset %.17g, the "
+                              "rule %.17Lg (margin %.3Lg)", scale[o], w, k,
+                              ok - pk, want, tol);
+                ck_assert(d * fabsl(nk) > 4 * tol);   /* d alone fails */
+            }
+            ck_assert_vec_eq(s.dir, dir);
+            ck_assert(s.tmin == 0 && s.tmax == HUGE_VAL);
+        }
+    /* An error box far below an ulp: the one-ulp step alone. */
+    {
+        ray_hit h;
+        ray_ray s;
+
+        memset(&h, 0, sizeof h);
+        h.p = vec(1.5, -2.25, 3);
+        h.n = vec(0.6, 0, -0.8);
+        h.p_err = vec(1e-30, 1e-30, 1e-30);
+        ck_assert_int_eq(ray_spawn(&h, vec(1, 1, 0), &s), RAY_OK);
+        ck_assert(s.org.x == nextafter(1.5, HUGE_VAL));
+        ck_assert(s.org.y == -2.25);
+        ck_assert(s.org.z == nextafter(3.0, -HUGE_VAL));
+        /* The other side, through ray_spawn_to: the same origin rule,
+        ** then the segment to the target (tmax 1). */
+        ck_assert_int_eq(ray_spawn_to(&h, vec(-5, 0, 9), &s), RAY_OK);
+        ck_assert(s.org.x == nextafter(1.5, -HUGE_VAL));
+        ck_assert(s.org.y == -2.25);
+        ck_assert(s.org.z == nextafter(3.0, HUGE_VAL));
+        ck_assert(s.tmax == 1);
+        ck_assert_vec_eq(s.dir, vsub(vec(-5, 0, 9), s.org));
+    }
+}
+END_TEST
+
+/*
+** The hit records' error bounds are the documented ones, by value (the
+** sizes ray_spawn scales its offset by: a bound a gamma smaller also
+** passes the self-hit tests at most scenes).  Oblique hits 1e5 from the
+** origin, each bound recomputed in long double from the hit's own
+** fields, and held to 4u relative (the library's sums round; a gamma(n)
+** slipped to gamma(n - 1) moves it by 1/n, over 12%):
+**   sphere (sphere.c): gamma(7) (|c_k| + R |n_k|);
+**   triangle (triangle.c, Cramer and watertight): gamma(7) (|alpha a_k|
+**     + |beta b_k| + |gamma c_k|) + 4 * 2^-1074, alpha = 1 - beta - gamma
+**     as computed (u = beta, v = gamma);
+**   plane (plane.c): gamma(8) max_k (|p_k| + |point_k|), every axis.
+*/
+static long double gam_n(int n)
+{
+    long double u = (long double)DBL_EPSILON / 2;
+    return n * u / (1 - n * u);
+}
+
+static void assert_bound(const char *what, double got, long double want)
+{
+    ck_assert_msg(fabsl((long double)got - want) <= 4 * gam_n(1) * want,
+                  "%s: p_err %.17g, the rule gives %.17Lg", what, got, want);
+}
+
+START_TEST(hit_error_bounds_should_be_their_documented_values)
+{
+    const double X = 1e5;
+    ray_vec3 c = vec(X, -0.5 * X, 0.25 * X);
+    ray_vec3 a = vec(X - 3, 1 - X, X + 2), b = vec(X + 4, 2 - X, X - 1),
+             v2 = vec(X + 1, 5 - X, X + 3);
+    ray_vec3 pt = vec(X, 0.5 * X, -X), pn = vscale(vec(1, 2, -2), 1.0 / 3);
+    ray_ray r = ray_from(vadd(c, vec(-7, 3, 5)), vec(7.25, -2.5, -5.5));
+    ray_hit h;
+    double alpha;
+    int k, w;
+
+    ck_assert_int_eq(ray_sphere(&r, c, 1.5, &h), 1);
+    for (k = 0; k < 3; k++)
+        assert_bound("sphere", (&h.p_err.x)[k],
+                     gam_n(7) * (fabsl((long double)(&c.x)[k]) +
+                                 1.5L * fabsl((long double)(&h.n.x)[k])));
+    for (w = 0; w < 2; w++) {
+        ray_vec3 P = vadd(vadd(vscale(a, 0.2), vscale(b, 0.3)), vscale(v2, 0.5));
+        r = ray_from(vadd(P, vec(1, 6, -2)), vec(-1, -6, 2));
+        ck_assert_int_eq(w ? ray_triangle_watertight(&r, a, b, v2, &h)
+                           : ray_triangle(&r, a, b, v2, &h), 1);
+        alpha = 1.0 - h.u - h.v;
+        for (k = 0; k < 3; k++)
+            assert_bound(w ? "watertight triangle" : "triangle",
+                         (&h.p_err.x)[k],
+                         gam_n(7) * (fabsl((long double)alpha *
+                                           (long double)(&a.x)[k]) +
+                                     fabsl((long double)h.u *
+                                           (long double)(&b.x)[k]) +
+                                     fabsl((long double)h.v *
+                                           (long double)(&v2.x)[k])) +
+                             4 * 0x1p-1074L);
+    }
+    r = ray_from(vadd(pt, vec(3, 9, -1)), vec(-0.5, -1.75, 0.25));
+    ck_assert_int_eq(ray_plane(&r, pt, pn, &h), 1);
+    {
+        long double big = 0;
+        for (k = 0; k < 3; k++) {
+            long double m = fabsl((long double)(&h.p.x)[k]) +
+                            fabsl((long double)(&pt.x)[k]);
+            big = m > big ? m : big;
+        }
+        for (k = 0; k < 3; k++)
+            assert_bound("plane", (&h.p_err.x)[k], gam_n(8) * big);
+    }
+}
+END_TEST
+
 Suite *optics_suite(void)
 {
     Suite *s = suite_create("optics");
@@ -178,6 +348,8 @@ Suite *optics_suite(void)
     tcase_add_test(tc, reflect_should_mirror_about_the_normal);
     tcase_add_test(sp, spawn_should_not_rehit_the_surface);
     tcase_add_test(sp, spawn_to_should_end_before_the_target);
+    tcase_add_test(sp, spawn_offset_should_follow_the_documented_rule);
+    tcase_add_test(sp, hit_error_bounds_should_be_their_documented_values);
     tcase_add_test(sp, spawn_should_not_skip_thin_gaps);
     suite_add_tcase(s, tc);
     suite_add_tcase(s, sp);

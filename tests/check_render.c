@@ -299,10 +299,251 @@ START_TEST(render_should_reject_bad_options)
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
     cam.vfov = (double)NAN;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
+    /* Not committed: RAY_ESTATE, as the queries answer (-RAY_ESTATE). */
     ck_assert_int_eq(ray_scene_new(&open_scene, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_render(open_scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(open_scene, &t.cam, &opt, img, NULL), RAY_ESTATE);
     ray_scene_free(open_scene);
     ray_scene_free(t.scene);
+}
+END_TEST
+
+/* One refusal: a change to good options or camera, the code ray_render
+** returns for it, and a word its reason must name. */
+typedef struct refusal {
+    const char *what;
+    int code;
+} refusal;
+
+static const refusal refusals[] = {
+    {"width", RAY_EINVAL},            /* 0: width 0 */
+    {"height", RAY_EINVAL},           /* 1: height 0 */
+    {"y1 24 is beyond", RAY_EINVAL},  /* 2: y1 > height */
+    {"y0 5 is not below", RAY_EINVAL},   /* 3: y0 = y1 */
+    {"samples 0", RAY_EINVAL},        /* 4 */
+    {"samples 65537", RAY_EINVAL},    /* 5 */
+    {"adaptive_threshold -1", RAY_EINVAL},  /* 6 */
+    {"adaptive_depth 9", RAY_EINVAL}, /* 7 */
+    {"photons", RAY_EINVAL},          /* 8: above the cap */
+    {"photon_radius -1", RAY_EINVAL}, /* 9 */
+    {"vfov 180", RAY_EINVAL},         /* 10 */
+    {"coincide", RAY_EINVAL},         /* 11: eye at look_at */
+    {"up (0, 0, -1)", RAY_EINVAL},    /* 12: up along the view */
+    {"aperture -1", RAY_EINVAL},      /* 13 */
+    {"not committed", RAY_ESTATE},    /* 14: changed since the commit */
+    {"camera is NULL", RAY_EINVAL},   /* 15 */
+};
+#define N_REFUSALS (sizeof refusals / sizeof refusals[0])
+
+static void break_one(int k, ray_render_options *o, ray_camera *c,
+                      ray_scene *s)
+{
+    switch (k) {
+    case 0: o->width = 0; break;
+    case 1: o->height = 0; break;
+    case 2: o->y1 = H + 1; break;
+    case 3: o->y0 = 5; o->y1 = 5; break;
+    case 4: o->samples = 0; break;
+    case 5: o->samples = RAY_MAX_PIXEL_SAMPLES + 1; break;
+    case 6: o->adaptive_threshold = -1; break;
+    case 7: o->adaptive_threshold = 0.1; o->adaptive_depth = 9; break;
+    case 8: o->photons = RAY_MAX_PHOTONS + 1; break;
+    case 9: o->photon_radius = -1; break;
+    case 10: c->vfov = 180; break;
+    case 11: c->look_at = c->position; break;
+    case 12: c->look_at = vec(c->position.x, c->position.y, 0);
+             c->up = vec(0, 0, -1); break;
+    case 13: c->aperture = -1; break;
+    case 14: ck_assert_int_eq(ray_scene_set_pruning(s, 1), RAY_OK); break;
+    default: break;
+    }
+}
+
+/*
+** Issue 29: a refused render says which argument or field and why, as
+** the building calls do, through ray_render_check, which returns the
+** very code ray_render returned and names the field with its value; the
+** scene's own message (ray_scene_errmsg) is left alone, for ray_render's
+** scene is const and shared between threads.  The message is always
+** NUL-terminated: cut to size - 1 bytes in a short buffer, nothing
+** written with size 0, "" for good arguments.
+*/
+START_TEST(render_check_should_say_which_option_and_why)
+{
+    const refusal *f = &refusals[_i];
+    test_scene t;
+    ray_render_options o;
+    ray_camera cam;
+    char msg[256], small[16];
+    float img[3 * W * H];
+    int rc;
+
+    build(&t);
+    ray_render_options_init(&o, W, H);
+    cam = t.cam;
+    ck_assert_int_eq(ray_render_check(t.scene, &cam, &o, msg, sizeof msg), RAY_OK);
+    ck_assert_str_eq(msg, "");
+    break_one(_i, &o, &cam, t.scene);
+    rc = ray_render(t.scene, _i == 15 ? NULL : &cam, &o, img, NULL);
+    ck_assert_int_eq(rc, f->code);
+    memset(msg, 'x', sizeof msg);
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+                                      msg, sizeof msg), rc);
+    ck_assert_msg(strncmp(msg, "ray_render: ", 12) == 0 &&
+                  strstr(msg, f->what) != NULL,
+                  "refusal %d: \"%s\" does not name \"%s\"", _i, msg,
+                  f->what);
+    ck_assert_str_eq(ray_scene_errmsg(t.scene), "");
+    /* Short buffer: cut, terminated; no buffer: the code alone. */
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+                                      small, sizeof small), rc);
+    ck_assert_uint_eq(strlen(small), sizeof small - 1);
+    ck_assert(strncmp(small, msg, sizeof small - 1) == 0);
+    small[0] = 'x';
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+                                      small, 0), rc);
+    ck_assert_int_eq(small[0], 'x');
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+                                      NULL, 64), rc);
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+/*
+** The other side of each range: the last value every option and camera
+** field accepts is accepted (a "<" slipped to "<=" in a check refuses
+** it; the refusals above only catch the first value out).  Checked by
+** ray_render_check, which makes ray_render's very checks, without the
+** cost of rendering 65536 samples a pixel.
+*/
+START_TEST(render_check_should_accept_the_last_value_of_each_range)
+{
+    test_scene t;
+    ray_render_options o;
+    ray_camera cam;
+    char msg[256];
+    int k;
+
+    build(&t);
+    for (k = 0; k < 9; k++) {
+        ray_render_options_init(&o, W, H);
+        cam = t.cam;
+        switch (k) {
+        case 0: o.samples = RAY_MAX_PIXEL_SAMPLES; break;
+        case 1: o.y0 = H - 1; o.y1 = H; break;
+        case 2: o.adaptive_threshold = 0.1; o.adaptive_depth = 8; break;
+        case 3: o.adaptive_threshold = 0.1; o.adaptive_depth = 1; break;
+        case 4: o.adaptive_threshold = HUGE_VAL; break;     /* corners only */
+        case 5: o.photons = RAY_MAX_PHOTONS; break;
+        case 6: cam.vfov = nextafter(180, 0); break;
+        case 7: cam.vfov = nextafter(0, 1); break;
+        default: cam.aperture = 0; cam.focus_distance = 0; break;
+        }
+        ck_assert_msg(ray_render_check(t.scene, &cam, &o, msg, sizeof msg) ==
+                          RAY_OK, "edge %d refused: %s", k, msg);
+    }
+    ray_scene_free(t.scene);
+}
+END_TEST
+
+/* ----------------------------------------- counters summed over threads */
+
+/* A keep-all filter; counts its calls when ud is not NULL (one render
+** thread only: no two calls overlap). */
+static int keep_and_count(void *ud, const ray_ray *r,
+                          const ray_hit *candidate, void *query_ud)
+{
+    (void)r;
+    (void)candidate;
+    (void)query_ud;
+    if (ud != NULL)
+        ++*(unsigned long long *)ud;
+    return 1;
+}
+
+/* A material that asks for one shadow ray per shade without declaring
+** RAY_EFFECT_SHADOW (the slip the counter exposes), counting its calls
+** when ud is not NULL. */
+static void forgetful_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                            ray_rgb *out)
+{
+    ray_light_sample ls;
+
+    if (ud != NULL)
+        ++*(unsigned long long *)ud;
+    *out = rgb(0.5, 0.5, 0.5);
+    if (ray_light_sample_at(ctx, a, 0, 0, &ls) == RAY_OK &&
+        !ray_light_visible(ctx, a, &ls))
+        *out = rgb(0, 0, 0);
+}
+
+static ray_stats render_counted(unsigned threads, unsigned long long *filters,
+                                unsigned long long *shades)
+{
+    ray_material m;
+    ray_light l;
+    ray_camera cam;
+    ray_render_options o;
+    ray_scene *s;
+    ray_stats st;
+    float img[3 * W * H];
+    unsigned mat, ball;
+
+    m.shade = forgetful_shade;
+    m.ud = shades;
+    m.effects = 0;
+    m.scatter = NULL;
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(2, 5, 3);
+    ray_camera_init(&cam);
+    cam.position = vec(0, 2, 6);
+    cam.look_at = vec(0, 0.5, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 1, mat, &ball), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_filter(s, ball, keep_and_count, filters,
+                                          RAY_FILTER_INTERSECT), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_render_options_init(&o, W, H);
+    o.threads = threads;
+    o.samples = 4;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
+    ray_scene_free(s);
+    return st;
+}
+
+/*
+** ray_render's counters are its threads' counters summed, every one of
+** them: on one thread they equal what the callbacks counted themselves
+** (filter calls; shadow requests dropped for want of RAY_EFFECT_SHADOW,
+** one per shade), exactly, and on three threads they are the same
+** numbers (the work does not depend on the split).  A counter the sum
+** forgot reads 0 on three threads, or on one.
+*/
+START_TEST(render_stats_should_sum_every_counter_over_threads)
+{
+    unsigned long long filters = 0, shades = 0;
+    ray_stats one = render_counted(1, &filters, &shades);
+    ray_stats three = render_counted(3, NULL, NULL);
+    int k;
+
+    ck_assert_uint_gt(filters, 0);
+    ck_assert_uint_gt(shades, 0);
+    ck_assert_uint_eq(one.filter_calls, filters);
+    ck_assert_uint_eq(one.shadows_undeclared, shades);
+    ck_assert_uint_eq(one.rays[RAY_KIND_SHADOW], 0);
+    ck_assert_uint_eq(three.filter_calls, one.filter_calls);
+    ck_assert_uint_eq(three.shadows_undeclared, one.shadows_undeclared);
+    for (k = 0; k < RAY_KIND_COUNT; k++)
+        ck_assert_uint_eq(three.rays[k], one.rays[k]);
+    ck_assert_uint_eq(three.tests, one.tests);
+    for (k = 0; k < RAY_PRIM_KINDS; k++)
+        ck_assert_uint_eq(three.tests_by_kind[k], one.tests_by_kind[k]);
+    for (k = 0; k < RAY_HIST_BINS; k++)
+        ck_assert_uint_eq(three.samples_hist[k], one.samples_hist[k]);
+    ck_assert_uint_eq(three.pixels, (unsigned long long)W * H);
+    ck_assert_uint_eq(one.pixels, three.pixels);
 }
 END_TEST
 
@@ -463,6 +704,10 @@ Suite *render_suite(void)
     tcase_add_test(tc, render_should_cancel_from_progress);
     tcase_add_test(tc, render_should_put_colours_where_the_scene_is);
     tcase_add_test(tc, render_should_reject_bad_options);
+    tcase_add_loop_test(tc, render_check_should_say_which_option_and_why, 0,
+                        (int)N_REFUSALS);
+    tcase_add_test(tc, render_check_should_accept_the_last_value_of_each_range);
+    tcase_add_test(tc, render_stats_should_sum_every_counter_over_threads);
     tcase_add_test(tc, render_samples_should_cover_every_stratum);
     tcase_add_test(tc, render_pixels_should_always_be_finite);
     suite_add_tcase(s, tc);

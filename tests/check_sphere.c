@@ -129,13 +129,97 @@ START_TEST(sphere_should_classify_tangent_rays)
     /* The chord half-length is sqrt(1 - x^2) ~ 4.5e-5, taken in long
     ** double from the x actually stored (1 - 1e-9 rounded): near the
     ** tangent t depends on x with a factor x/sqrt(1 - x^2) ~ 2e4, so the
-    ** reference must use the same input.  Tolerance: 1e-12, about ten ulps
-    ** of t = 5 times that factor's share of one rounding of |l|. */
+    ** reference must use the same input.  That factor multiplies the
+    ** error of |l|, the distance of the line from the centre; along this
+    ** axis-aligned ray |l| = sqrt(fl(x^2)) is x exactly (in binary
+    ** floating point, sqrt(fl(x * x)) = |x|), (1 - |l|) is exact
+    ** (Sterbenz) and (1 + |l|) one rounding, so the chord is within 2u of
+    ** its value and t = c / q within a few roundings of 5: 8u |t| (the
+    ** code gives one ulp).  The margin once was 1e-12, a thousand times
+    ** that, which also passed R^2 - l^2 formed by squaring first (its
+    ** rounding of l^2 through the factor above: t off by 1.2e-14,
+    ** measured with that slip).  The oblique rays below, where |l| is
+    ** rounded, have their own bound. */
     if (o == 0.0) {
         long double x = (long double)inside.org.x;
         ck_assert_double_eq_tol(h.t, (double)(5.0L - sqrtl(1.0L - x * x)),
-                                1e-12);
+                                8 * U64 * 5);
     }
+}
+END_TEST
+
+/* The near root of ray r against the sphere (c, R) in long double, from
+** the stored inputs: the reference of the oblique tangent test. */
+static long double sphere_t_ref(const ray_ray *r, ray_vec3 c, double R)
+{
+    long double f[3], d[3], a = 0, b = 0, l2 = 0;
+    int k;
+
+    f[0] = (long double)r->org.x - (long double)c.x;
+    f[1] = (long double)r->org.y - (long double)c.y;
+    f[2] = (long double)r->org.z - (long double)c.z;
+    d[0] = (long double)r->dir.x;
+    d[1] = (long double)r->dir.y;
+    d[2] = (long double)r->dir.z;
+    for (k = 0; k < 3; k++) {
+        a += d[k] * d[k];
+        b -= f[k] * d[k];
+    }
+    for (k = 0; k < 3; k++) {
+        long double lk = f[k] + b / a * d[k];
+        l2 += lk * lk;
+    }
+    return (b - sqrtl(a * ((long double)R * (long double)R - l2))) / a;
+}
+
+/*
+** Near-tangent rays in oblique directions, where |l| (the line's distance
+** from the centre) is rounded, unlike along an axis: inside the
+** silhouette by 1e-3, 1e-6 and 1e-9 of R = 1, from 5, 1e3 and 1e5 away,
+** around a centre at 0 and at 1e5.  The margin is sphere.c's own error
+** analysis: |l| within dl = 17u |f| (gamma(8) (|f| + |b'/a| |d|)), which
+** moves the root by dl R / h (h = sqrt(R^2 - l^2), the half chord: dt/dl
+** = l / h), plus 8u |t| for the roots' own roundings.  Far from the
+** sphere (|f| = 1e5) the lecture's b'^2 - ac loses the chord entirely
+** (its rounding, u |f|^2, is a thousand times the chord's square), and
+** forming R^2 - l^2 or l without the cancellation-free order exceeds it
+** too; the code stays within 3% of it (SPHERE_TEST_FIGURES=1 prints
+** each ratio).
+*/
+START_TEST(sphere_should_find_oblique_near_tangent_roots_to_its_bound)
+{
+    static const double inside[3] = {1e-3, 1e-6, 1e-9};
+    static const double away[3] = {5, 1e3, 1e5};
+    static const double centre[2] = {0, 1e5};
+    /* An oblique unit direction, and a unit vector across it. */
+    ray_vec3 d = vscale(vec(0.3, -0.5, 0.7), 1 / vlen(vec(0.3, -0.5, 0.7)));
+    ray_vec3 side = vsub(vec(0.8, 0.6, 0), vscale(d, vdot(vec(0.8, 0.6, 0), d)));
+    int i, j, k;
+
+    side = vscale(side, 1 / vlen(side));
+    for (k = 0; k < 2; k++)
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                ray_vec3 c = vec(centre[k], -centre[k], 0.5 * centre[k]);
+                double off = 1 - inside[i];
+                ray_ray r = ray_from(vadd(vadd(c, vscale(side, off)),
+                                          vscale(d, -away[j])), d);
+                long double t = sphere_t_ref(&r, c, 1), h, f, bound;
+                ray_hit hit;
+
+                f = (long double)vlen(vsub(r.org, c));
+                h = sqrtl(1 - (long double)off * (long double)off);
+                bound = 17 * (long double)U64 * f / h +
+                        8 * (long double)U64 * fabsl(t);
+                ck_assert_int_eq(ray_sphere(&r, c, 1, &hit), 1);
+                if (getenv("SPHERE_TEST_FIGURES") != NULL)
+                    fprintf(stderr, "err/bound %.3Lg\n",
+                            fabsl((long double)hit.t - t) / bound);
+                ck_assert_msg(fabsl((long double)hit.t - t) <= bound,
+                              "centre %g, inside %g, from %g: t %.17g, "
+                              "reference %.17Lg, bound %.3Lg", centre[k],
+                              inside[i], away[j], hit.t, t, bound);
+            }
 }
 END_TEST
 
@@ -354,6 +438,7 @@ Suite *sphere_suite(void)
     tcase_add_test(hard, sphere_should_hit_huge_ground_near_origin);
     tcase_add_test(hard, sphere_should_beat_naive_formula_when_far);
     tcase_add_test(hard, sphere_should_decide_near_tangent_rays_at_every_scale);
+    tcase_add_test(hard, sphere_should_find_oblique_near_tangent_roots_to_its_bound);
     tcase_add_test(prop, sphere_should_reproduce_aimed_points);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);

@@ -9,9 +9,16 @@
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <sys/resource.h>
 #include <unistd.h>
+#if defined(_WIN32)
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+#include <psapi.h>
+#else
+#include <sys/resource.h>
+#endif
 
+#include "tempfiles.h"
 #include "tests.h"
 
 #ifndef RAY_TEST_PNG
@@ -26,9 +33,11 @@
 #if RAY_TEST_PNG
 static char *temp_path(const char *tag)
 {
-    static char buf[80];
-    snprintf(buf, sizeof buf, "/tmp/libray-check-tex-%s-%ld.png", tag,
+    static char buf[512];
+    char name[80];
+    snprintf(name, sizeof name, "libray-check-tex-%s-%ld.png", tag,
              (long)getpid());
+    test_tmp_path(buf, sizeof buf, name);
     return buf;
 }
 #endif
@@ -541,11 +550,22 @@ static void write_bytes(const char *path, const unsigned char *p, size_t n)
 }
 
 /* The process's peak resident size, in KiB (Linux: ru_maxrss). */
+/* The process's peak memory in KiB: its resident set (ru_maxrss) on
+** POSIX; on Windows its peak commit (PeakPagefileUsage: every page
+** allocated and touched or not, so it sees at least what ru_maxrss does). */
 static long peak_kib(void)
 {
+#if defined(_WIN32)
+    PROCESS_MEMORY_COUNTERS pmc;
+    memset(&pmc, 0, sizeof pmc);
+    pmc.cb = sizeof pmc;
+    ck_assert(GetProcessMemoryInfo(GetCurrentProcess(), &pmc, sizeof pmc));
+    return (long)(pmc.PeakPagefileUsage / 1024);
+#else
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     return ru.ru_maxrss;
+#endif
 }
 
 /* A hostile file may cost this much at most: the defaults' 64 MiB chunk
@@ -713,11 +733,12 @@ END_TEST
 */
 START_TEST(png_calls_should_be_unsupported_without_libpng)
 {
-    static const char path[] = "/tmp/libray-check-nopng.png";
+    char path[512];
     float rgb[4 * 2 * 3];
     ray_image *img = (ray_image *)&img;    /* any non-NULL marker */
     ray_image_load_options opt;
 
+    test_tmp_path(path, sizeof path, "libray-check-nopng.png");
     memset(&opt, 0, sizeof opt);
     test_texels(rgb);
     remove(path);

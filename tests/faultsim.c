@@ -6,7 +6,9 @@
 **
 ** The program is linked with -Wl,--wrap for malloc, calloc, realloc,
 ** free, the libpng simplified-API call the PNG writer makes, and
-** pthread_create / pthread_mutex_init (the Makefile's FAULT_WRAPS): the
+** pthread_create / pthread_mutex_init (the Makefile's FAULT_WRAPS; on
+** Windows, whose threads are platform_win32.c's, the platform layer's
+** ray__thread_start, and no mutex can fail there: WIN_FAULT_WRAPS): the
 ** library's calls in libray.a then land in the __wrap_* functions below,
 ** each a "fault point".  The PNG loader gives libpng its own allocator
 ** (png_create_read_struct_2 with malloc from libray.a), so libpng's
@@ -36,7 +38,9 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#if !defined(_WIN32)
 #include <pthread.h>
+#endif
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -44,7 +48,13 @@
 #include <unistd.h>
 
 #include "ray.h"
+#include "tempfiles.h"
 #include "testkit.h"
+#if defined(_WIN32)
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+#include "core/platform.h"
+#endif
 
 /* RAY_TEST_PNG 0 (make PNG=0): a library without libpng, whose PNG calls
 ** return RAY_ENOTSUP; the PNG workloads and libpng's wrap are left out. */
@@ -62,30 +72,40 @@ void *__real_calloc(size_t n, size_t size);
 void *__real_realloc(void *ptr, size_t size);
 void __real_free(void *ptr);
 #if RAY_TEST_PNG
-int __real_png_image_write_to_stdio(png_imagep image, FILE *file,
-                                    int convert_to_8bit, const void *buffer,
-                                    png_int_32 row_stride,
-                                    const void *colormap);
+int __real_png_image_write_to_memory(png_imagep image, void *memory,
+                                     png_alloc_size_t *memory_bytes,
+                                     int convert_to_8bit, const void *buffer,
+                                     png_int_32 row_stride,
+                                     const void *colormap);
 #endif
+#if defined(_WIN32)
+int __real_ray__thread_start(ray__thread *t, size_t stack);
+#else
 int __real_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg);
 int __real_pthread_mutex_init(pthread_mutex_t *m,
                               const pthread_mutexattr_t *attr);
+#endif
 
 void *__wrap_malloc(size_t size);
 void *__wrap_calloc(size_t n, size_t size);
 void *__wrap_realloc(void *ptr, size_t size);
 void __wrap_free(void *ptr);
 #if RAY_TEST_PNG
-int __wrap_png_image_write_to_stdio(png_imagep image, FILE *file,
-                                    int convert_to_8bit, const void *buffer,
-                                    png_int_32 row_stride,
-                                    const void *colormap);
+int __wrap_png_image_write_to_memory(png_imagep image, void *memory,
+                                     png_alloc_size_t *memory_bytes,
+                                     int convert_to_8bit, const void *buffer,
+                                     png_int_32 row_stride,
+                                     const void *colormap);
 #endif
+#if defined(_WIN32)
+int __wrap_ray__thread_start(ray__thread *t, size_t stack);
+#else
 int __wrap_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg);
 int __wrap_pthread_mutex_init(pthread_mutex_t *m,
                               const pthread_mutexattr_t *attr);
+#endif
 
 /* Kinds of fault point, and the status a failure of each must give. */
 enum { FP_MEMORY, FP_PNG, FP_THREAD, FP_MUTEX, FP_KINDS };
@@ -104,10 +124,23 @@ typedef struct live_block {
 
 static live_block live_table[LIVE_SLOTS];
 
+/* The lock behind the run's state.  Windows: a slim lock, which needs no
+** initialisation call and allocates nothing -- winpthreads' mutex
+** allocates through calloc, which the link wraps too, into this lock
+** again. */
+#if defined(_WIN32)
+static SRWLOCK fs_lock = SRWLOCK_INIT;
+#define FS_LOCK() AcquireSRWLockExclusive(&fs_lock)
+#define FS_UNLOCK() ReleaseSRWLockExclusive(&fs_lock)
+#else
+static pthread_mutex_t fs_lock = PTHREAD_MUTEX_INITIALIZER;
+#define FS_LOCK() pthread_mutex_lock(&fs_lock)
+#define FS_UNLOCK() pthread_mutex_unlock(&fs_lock)
+#endif
+
 /* The state of the current run, behind one lock: the render's threads
 ** may reach a fault point (a material's libc call, say) while others do. */
 static struct {
-    pthread_mutex_t lock;
     int armed;                 /* counting and failing: a run is going */
     long events;               /* fault points passed in this run */
     long by_kind[FP_KINDS];    /* the same, by kind */
@@ -117,8 +150,8 @@ static struct {
                                   thread's only if no other kind failed) */
     long live, live_peak;      /* blocks allocated in the run, not freed */
     long size_errors;          /* frees through the hook with a wrong size */
-} fs = {PTHREAD_MUTEX_INITIALIZER, 0, 0, {0, 0, 0, 0}, 0, 0, 0, -1, 0, 0,
-        0};
+    int in_png_write;          /* inside the wrapped libpng write call */
+} fs = {0, 0, {0, 0, 0, 0}, 0, 0, 0, -1, 0, 0, 0, 0};
 
 static size_t slot_of(const void *p)
 {
@@ -128,7 +161,7 @@ static size_t slot_of(const void *p)
     return (size_t)(h >> 7) % LIVE_SLOTS;
 }
 
-/* Called with fs.lock held. */
+/* Called with the lock held. */
 static void live_add(void *p, size_t size)
 {
     size_t i = slot_of(p), k;
@@ -168,8 +201,13 @@ static int fault_point(int kind)
 {
     int fail;
 
-    pthread_mutex_lock(&fs.lock);
+    FS_LOCK();
     fail = 0;
+    /* An allocation inside libpng's write call (a static libpng, whose
+    ** own malloc calls the link wraps too: the Windows build) fails that
+    ** call as its libpng fault point does. */
+    if (kind == FP_MEMORY && fs.in_png_write)
+        kind = FP_PNG;
     if (fs.armed) {
         fs.events++;
         fs.by_kind[kind]++;
@@ -181,7 +219,7 @@ static int fault_point(int kind)
             fs.first_kind = kind;
         fs.injected += fail;
     }
-    pthread_mutex_unlock(&fs.lock);
+    FS_UNLOCK();
     return fail;
 }
 
@@ -189,19 +227,19 @@ static void track(void *p, size_t size)
 {
     if (p == NULL)
         return;
-    pthread_mutex_lock(&fs.lock);
+    FS_LOCK();
     if (fs.armed)
         live_add(p, size);
-    pthread_mutex_unlock(&fs.lock);
+    FS_UNLOCK();
 }
 
 static void untrack(const void *p)
 {
     if (p == NULL)
         return;
-    pthread_mutex_lock(&fs.lock);
+    FS_LOCK();
     live_remove(p, NULL);
-    pthread_mutex_unlock(&fs.lock);
+    FS_UNLOCK();
 }
 
 void *__wrap_malloc(size_t size)
@@ -260,18 +298,37 @@ static int png_fails(png_imagep image)
     return 0;
 }
 
-int __wrap_png_image_write_to_stdio(png_imagep image, FILE *file,
-                                    int convert_to_8bit, const void *buffer,
-                                    png_int_32 row_stride,
-                                    const void *colormap)
+int __wrap_png_image_write_to_memory(png_imagep image, void *memory,
+                                     png_alloc_size_t *memory_bytes,
+                                     int convert_to_8bit, const void *buffer,
+                                     png_int_32 row_stride,
+                                     const void *colormap)
 {
+    int ok;
+
     if (fault_point(FP_PNG))
         return png_fails(image);
-    return __real_png_image_write_to_stdio(image, file, convert_to_8bit,
-                                           buffer, row_stride, colormap);
+    FS_LOCK();
+    fs.in_png_write = 1;
+    FS_UNLOCK();
+    ok = __real_png_image_write_to_memory(image, memory, memory_bytes,
+                                          convert_to_8bit, buffer,
+                                          row_stride, colormap);
+    FS_LOCK();
+    fs.in_png_write = 0;
+    FS_UNLOCK();
+    return ok;
 }
 #endif
 
+#if defined(_WIN32)
+int __wrap_ray__thread_start(ray__thread *t, size_t stack)
+{
+    if (fault_point(FP_THREAD))
+        return -1;              /* _beginthreadex failed: no thread */
+    return __real_ray__thread_start(t, stack);
+}
+#else
 int __wrap_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg)
 {
@@ -287,6 +344,7 @@ int __wrap_pthread_mutex_init(pthread_mutex_t *m,
         return ENOMEM;          /* POSIX: no memory for the mutex */
     return __real_pthread_mutex_init(m, attr);
 }
+#endif
 
 /* The scene allocator hook: its own fault point, the sizes checked. */
 static void *hook_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
@@ -296,10 +354,10 @@ static void *hook_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 
     (void)ud;
     if (ptr != NULL && nsize == 0) {
-        pthread_mutex_lock(&fs.lock);
+        FS_LOCK();
         if (live_remove(ptr, &had) && had != osize)
             fs.size_errors++;
-        pthread_mutex_unlock(&fs.lock);
+        FS_UNLOCK();
         __real_free(ptr);
         return NULL;
     }
@@ -307,12 +365,12 @@ static void *hook_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
         return NULL;
     p = __real_realloc(ptr, nsize);
     if (p != NULL) {
-        pthread_mutex_lock(&fs.lock);
+        FS_LOCK();
         if (ptr != NULL && live_remove(ptr, &had) && had != osize)
             fs.size_errors++;
         if (fs.armed)
             live_add(p, nsize);
-        pthread_mutex_unlock(&fs.lock);
+        FS_UNLOCK();
     }
     return p;
 }
@@ -332,9 +390,9 @@ static long injected_so_far(void)
 {
     long n;
 
-    pthread_mutex_lock(&fs.lock);
+    FS_LOCK();
     n = fs.injected;
-    pthread_mutex_unlock(&fs.lock);
+    FS_UNLOCK();
     return n;
 }
 
@@ -1017,7 +1075,7 @@ static outcome run_once(const workload *w, ray_alloc_fn alloc, int retry,
     e.alloc = alloc;
     e.retry = retry;
     e.digest = 0xcbf29ce484222325u;    /* FNV-1a 64-bit offset basis */
-    pthread_mutex_lock(&fs.lock);
+    FS_LOCK();
     memset(live_table, 0, sizeof live_table);
     fs.events = fs.injected = fs.live = fs.live_peak = fs.size_errors = 0;
     memset(fs.by_kind, 0, sizeof fs.by_kind);
@@ -1025,11 +1083,11 @@ static outcome run_once(const workload *w, ray_alloc_fn alloc, int retry,
     fs.fail_to = fail_to;
     fs.first_kind = -1;
     fs.armed = 1;
-    pthread_mutex_unlock(&fs.lock);
+    FS_UNLOCK();
 
     o.rc = w->run(&e);
 
-    pthread_mutex_lock(&fs.lock);
+    FS_LOCK();
     fs.armed = 0;
     o.events = fs.events;
     memcpy(o.by_kind, fs.by_kind, sizeof o.by_kind);
@@ -1038,7 +1096,7 @@ static outcome run_once(const workload *w, ray_alloc_fn alloc, int retry,
     o.peak = fs.live_peak;
     o.size_errors = fs.size_errors;
     o.first_kind = fs.first_kind;
-    pthread_mutex_unlock(&fs.lock);
+    FS_UNLOCK();
     o.digest = e.digest;
     o.first_status = e.first_status;
     return o;
@@ -1128,7 +1186,7 @@ static int setup(char *dir)
     float rgb[5 * 4 * 3];
 
     test_card(rgb, 5, 4);
-    if (mkdtemp(dir) == NULL)
+    if (!test_make_dir(dir, 512, "faultsim"))
         return 0;
     snprintf(texture_path, sizeof texture_path, "%s/texture.png", dir);
     snprintf(output_path, sizeof output_path, "%s/out.png", dir);
@@ -1142,12 +1200,13 @@ static int setup(char *dir)
 
 int main(void)
 {
-    char dir[] = "/tmp/faultsim.XXXXXX";
+    char dir[512];
     long total = 0;
     size_t i;
 
     if (!setup(dir)) {
-        fprintf(stderr, "faultsim: cannot make the test files in /tmp\n");
+        fprintf(stderr, "faultsim: cannot make the test files in %s\n",
+                test_tmpdir());
         return EXIT_FAILURE;
     }
     for (i = 0; i < sizeof workloads / sizeof *workloads; i++) {

@@ -10,6 +10,7 @@
 #include <check.h>
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "ray.h"
@@ -53,6 +54,9 @@ Suite *cones_suite(void);
 Suite *caustics_suite(void);
 Suite *cones_caustics_hard_suite(void);
 Suite *filter_suite(void);
+Suite *scheduler_suite(void);
+Suite *platform_suite(void);
+Suite *exact_suite(void);
 Suite *sweep_suite(void);
 Suite *overlap_suite(void);
 
@@ -87,6 +91,15 @@ static inline ray_ray make_ray(ray_vec3 org, ray_vec3 dir, double tmin,
     r.tmin = tmin;
     r.tmax = tmax;
     return r;
+}
+
+/* A case, or a part of one, that cannot run on this platform (a POSIX
+** device on Windows, say): said on stdout, never dropped silently; the
+** Windows run lists these lines (doc/PLATFORMS.md). */
+static inline void test_skip(const char *test, const char *why)
+{
+    printf("SKIP %s: %s\n", test, why);
+    fflush(stdout);
 }
 
 /* A ray on (0, +Inf): the usual primary ray. */

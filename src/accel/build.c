@@ -4,10 +4,9 @@
 ** from its root by sah.c's splits, its lower subtrees on threads, then
 ** collapsed into wide nodes (wide.c); and ray__bvh_free.
 */
-#include <pthread.h>
-
 #include "accel/builder.h"
 #include "core/platform.h"
+#include "core/tasks.h"
 
 /*
 ** The threaded build.  The top of the tree is split on the calling thread,
@@ -18,9 +17,10 @@
 ** items, so the runs fit in the 2 n - 1 a binary tree needs: the top's
 ** L leaves take 2 L - 1, their runs 2 n - 2 L).  Each task works on its
 ** own items (a contiguous range of refs) and its own nodes, so the
-** threads share nothing but the counter that hands out tasks, and what a
-** task writes does not depend on which thread ran it or when: the tree,
-** its item order and every float are the same at any thread count.  The
+** tasks share nothing (the built-in threads only the counter that hands
+** them out: core/tasks.c), and what a task writes does not depend on
+** which thread ran it or when: the tree, its item order and every float
+** are the same at any thread count, in any task order.  The
 ** runs are then closed up in task order (their links moved with them),
 ** so the node array shrinks to what the tree uses before the collapse
 ** allocates the wide nodes, as in the plain build.
@@ -52,9 +52,6 @@ typedef struct build_job {
     ray__node *nodes;
     subtree *tasks;
     const size_t *order;     /* tasks by size, largest first */
-    size_t n_tasks;
-    pthread_mutex_t lock;    /* guards next (threaded runs only) */
-    size_t next;
 } build_job;
 
 /* Build one subtree, depth first, into its region. */
@@ -76,19 +73,13 @@ static void build_subtree(const build_job *job, subtree *st)
     st->used = bd.n_nodes - st->region;
 }
 
-static void *build_worker(void *arg)
+/* Task k: the k-th largest subtree (the built-in threads take tasks in
+** number order, so the largest start first). */
+static void build_task(void *ud, unsigned k)
 {
-    build_job *job = arg;
+    const build_job *job = ud;
 
-    for (;;) {
-        size_t k;
-        pthread_mutex_lock(&job->lock);
-        k = job->next++;
-        pthread_mutex_unlock(&job->lock);
-        if (k >= job->n_tasks)
-            return NULL;
-        build_subtree(job, &job->tasks[job->order[k]]);
-    }
+    build_subtree(job, &job->tasks[job->order[k]]);
 }
 
 /* Larger subtrees first: the last task to start is then a small one, and
@@ -109,41 +100,8 @@ static void order_by_size(const subtree *tasks, size_t n, size_t *order)
     }
 }
 
-/*
-** Run the subtree tasks on "threads" threads (the caller's included):
-** fewer if a thread cannot be started or the job's mutex cannot be made
-** (then the caller builds them all), the same tree either way.  Thread
-** handles live in a small array on the stack, in batches, so that no
-** allocation is needed here.
-*/
-#define THREAD_BATCH 64
-
-static void run_subtrees(build_job *job, unsigned threads)
-{
-    pthread_t tid[THREAD_BATCH];
-    int started[THREAD_BATCH];
-    unsigned i, n = 0;
-
-    job->next = 0;
-    if (threads > THREAD_BATCH)
-        threads = THREAD_BATCH;
-    if (threads > job->n_tasks)
-        threads = (unsigned)job->n_tasks;
-    if (threads > 1 && pthread_mutex_init(&job->lock, NULL) == 0) {
-        n = threads - 1;
-        for (i = 0; i < n; i++)
-            started[i] = pthread_create(&tid[i], NULL, build_worker,
-                                        job) == 0;
-        build_worker(job);
-        for (i = 0; i < n; i++)
-            if (started[i])
-                pthread_join(tid[i], NULL);
-        pthread_mutex_destroy(&job->lock);
-        return;
-    }
-    for (i = 0; i < job->n_tasks; i++)
-        build_subtree(job, &job->tasks[job->order[i]]);
-}
+/* The most threads a build starts (ray_scene_set_build_threads). */
+#define MAX_BUILD_THREADS 64
 
 /*
 ** Close up the subtrees' runs, in task order, from node "at" on: a run
@@ -175,7 +133,8 @@ static size_t close_up(ray__node *nodes, const subtree *tasks,
 
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
-                   unsigned threads, ray__bvh *out)
+                   const ray_scheduler *sched, unsigned threads,
+                   ray__bvh *out)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
@@ -248,8 +207,17 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
             job.nodes = bd.nodes;
             job.tasks = tasks;
             job.order = order;
-            job.n_tasks = n_tasks;
-            run_subtrees(&job, threads ? threads : ray__online_cpus());
+            if (threads == 0)
+                threads = ray__online_cpus();
+            if (threads > MAX_BUILD_THREADS)
+                threads = MAX_BUILD_THREADS;
+            /* On the scheduler, or the calling thread and threads - 1
+            ** started ones: fewer if a thread cannot be started, or if the
+            ** runner's lock cannot be made (the caller builds them all),
+            ** the same tree either way.  n_tasks <= n < 2^31 (checked
+            ** above) fits an unsigned. */
+            ray__tasks_run(sched, a, threads, 0, (unsigned)n_tasks,
+                           build_task, &job);
         }
     }
     for (i = 0; i < n; i++)

@@ -56,10 +56,12 @@ typedef struct ray__bvh {
 /*
 ** Build a BVH over n items whose float boxes box(ud, i, lo, hi) writes
 ** (rounded outward), with the binned surface-area heuristic, collapsed to
-** RAY__WIDTH-wide nodes, on up to "threads" threads (0: one per online
-** CPU; the calling thread is one of them, the others are started and
-** joined inside).  The tree is the same, bit for bit, at every thread
-** count.  box and the allocator are called on the calling thread only.
+** RAY__WIDTH-wide nodes; its lower subtrees are tasks (core/tasks.h) for
+** "sched" if it has a run, else for up to "threads" threads (0: one per
+** online CPU; the calling thread is one of them, the others are started
+** and joined inside).  The tree is the same, bit for bit, at every
+** thread count and in every task order.  box and the allocator are
+** called on the calling thread only.
 ** On success *out holds the nodes and the item permutation (through
 ** allocator a).  RAY_OK or RAY_ENOMEM (nothing kept); a thread that
 ** cannot be started only means fewer threads.  ray__bvh_free gives them
@@ -73,7 +75,8 @@ typedef struct ray__bvh_costs {
 } ray__bvh_costs;
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
-                   unsigned threads, ray__bvh *out);
+                   const ray_scheduler *sched, unsigned threads,
+                   ray__bvh *out);
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
 /*

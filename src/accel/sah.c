@@ -56,7 +56,7 @@ static void bin_scales(const box *cb, int nb, float scale[3])
     }
 }
 
-#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#if RAY__SSE2
 #include <emmintrin.h>
 
 /* A ref's lo (or hi) in one register, the fourth lane (id, pad) zeroed:
@@ -339,7 +339,7 @@ static split best_split(const builder *bd, size_t begin, size_t end,
 }
 #endif
 
-#if defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#if RAY__SSE2
 /* Bounds as four registers (items' lo and hi, centroids' lo and hi);
 ** bounds4_grow is the plain version's box_grow twice, lane for lane. */
 typedef struct bounds4 {

@@ -16,6 +16,39 @@
 
 #include "ray.h"
 
+/*
+** MinGW (doc/PLATFORMS.md).  Its isfinite and signbit choose a branch by
+** the argument's type, and the float branch converts a double argument to
+** float: a -Wfloat-conversion warning at every use, for a branch never
+** taken.  GCC's builtins are the same tests without it.  And the library's messages (ray__fail, the
+** shapes' checks) need C99's printf -- %zu, %g's two-digit exponents and
+** "inf" -- which MinGW gives only with __USE_MINGW_ANSI_STDIO (msvcrt's
+** own has none of them; MSVC's UCRT has all): the build must set it.
+*/
+#if defined(__MINGW32__) && defined(__GNUC__)
+#undef isfinite
+#define isfinite(x) __builtin_isfinite(x)
+#undef signbit
+#define signbit(x) __builtin_signbit(x)
+#if !defined(__USE_MINGW_ANSI_STDIO) || !__USE_MINGW_ANSI_STDIO
+#error "MinGW: build libray with -D__USE_MINGW_ANSI_STDIO=1 (C99 printf)"
+#endif
+#endif
+
+/*
+** SSE2, which the SIMD paths test (slab.h, watertight.h, sah.c): GCC and
+** Clang say __SSE2__; MSVC does not, though every x64 CPU has SSE2 (on
+** x86, /arch:SSE2 or above sets _M_IX86_FP to 2).  RAY_NO_SIMD turns the
+** paths off: the portable C that other CPUs take.
+*/
+#if !defined(RAY_NO_SIMD) && \
+    (defined(__SSE2__) || defined(_M_X64) || defined(_M_AMD64) || \
+     (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
+#define RAY__SSE2 1
+#else
+#define RAY__SSE2 0
+#endif
+
 /* pi, which strict C99 <math.h> does not define. */
 #define RAY__PI 3.14159265358979323846
 
@@ -139,12 +172,50 @@ static inline double ray__gamma(int n)
 }
 
 /*
+** The rounding error of p = fl(a*b): a*b - p, exactly, from the four
+** products of a's and b's 26-bit halves (Dekker, "A floating-point
+** technique for extending the available precision", Numer. Math. 18,
+** 1971: TwoProduct with Veltkamp's split, 2^27 + 1), in plain double
+** arithmetic, so the same bits on every platform.  Not fma: C99 asks it
+** to be correctly rounded, but MinGW's libm rounds it through the x87's
+** 64-bit products and got about 1 in 10 wrong on random operands (doc/
+** PLATFORMS.md); where fma is right the two agree bit for bit.  Exact
+** while the product neither overflows nor underflows (Boldo, "Pitfalls
+** of a full floating-point proof", IJCAR 2006: the exponents sum to at
+** least -969); the split itself would overflow past 2^995, so a larger
+** factor hands 2^512 to the other, which leaves the product as it was.
+** The factors are taken larger first (then by value), so that b*a is
+** computed as a*b, also where the error rounds (subnormal products).
+*/
+static inline double ray__product_error(double a, double b, double p)
+{
+    const double split = 134217729.0;              /* 2^27 + 1 */
+    double ca, cb, ah, al, bh, bl;
+
+    if (fabs(a) < fabs(b) || (fabs(a) == fabs(b) && a < b)) {
+        double t = a;
+        a = b;
+        b = t;
+    }
+    if (fabs(a) > 0x1p995) {                      /* |a| >= |b| */
+        a *= 0x1p-512;
+        b *= 0x1p512;
+    }
+    ca = split * a;
+    ah = ca - (ca - a);
+    al = a - ah;
+    cb = split * b;
+    bh = cb - (cb - b);
+    bl = b - bh;
+    return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+}
+
+/*
 ** a*b - c*d with one rounding's worth of error: the products' rounding
-** errors e1 = a*b - p1 and e2 = c*d - p2 are exact doubles, computed by
-** fma (correctly rounded on every C99 platform, hardware FMA or not, so
-** the result is the same everywhere), and added back:
+** errors e1 = a*b - p1 and e2 = c*d - p2 are exact doubles
+** (ray__product_error above: the same everywhere), and added back:
 **
-**     p1 = fl(a*b), p2 = fl(c*d), e1 = fma(a, b, -p1), e2 = fma(c, d, -p2),
+**     p1 = fl(a*b), p2 = fl(c*d), e1 = a*b - p1, e2 = c*d - p2,
 **     result = fl(fl(p1 - p2) + fl(e1 - e2)).
 **
 ** This is the symmetric form of Cornea, Harrison and Tang ("Scientific
@@ -171,16 +242,16 @@ static inline double ray__gamma(int n)
 ** Exactly antisymmetric: ray__diff_of_products(c, d, a, b) swaps p1 with
 ** p2 and e1 with e2, and fl(x - y) = -fl(y - x), fl(-x + -y) = -fl(x + y)
 ** under round-to-nearest-even, so it returns exactly -result; and a*b =
-** b*a, fma(a, b, z) = fma(b, a, z).  So two triangles sharing an edge
-** still get opposite values for it -- and, the products being explicit
-** statements and fma an explicit call, that holds even where a compiler
-** would contract a*b - c*d into an FMA of its own choosing.
+** b*a, and ray__product_error takes b, a as a, b.  So two triangles
+** sharing an edge still get opposite values for it -- and, every product
+** being an explicit statement, that holds even where a compiler would
+** contract a*b - c*d into an FMA of its own choosing.
 */
 static inline double ray__diff_of_products(double a, double b, double c,
                                            double d)
 {
     double p1 = a * b, p2 = c * d;
-    double e1 = fma(a, b, -p1), e2 = fma(c, d, -p2);
+    double e1 = ray__product_error(a, b, p1), e2 = ray__product_error(c, d, p2);
 
     return (p1 - p2) + (e1 - e2);
 }

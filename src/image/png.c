@@ -3,8 +3,11 @@
 ** png.c -- PNG files, the only file that includes <png.h>.
 **
 ** Output goes through libpng's simplified API (libpng 1.6, png.h section
-** 5): no setjmp, no callbacks.  It is written to a temporary file beside
-** the target and renamed over it only once complete (write_file).
+** 5): no setjmp, no callbacks.  The PNG is encoded in memory
+** (png_image_write_to_memory: no FILE handed across to libpng, whose C
+** runtime may not be ours on Windows) and written by the platform layer's
+** safe write (core/platform.h: a temporary file beside the target,
+** renamed over it only once complete).
 **
 ** Input (ray_image_load_png) goes through the full read API, because the
 ** simplified one cannot bound what a hostile file costs: it reads every
@@ -16,16 +19,14 @@
 ** grows with the rows actually decoded.  setjmp is confined to decode().
 */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <png.h>
 
+#include "core/platform.h"
 #include "image/image.h"
 
 static void to_linear16(const float *rgb, size_t count, png_uint_16 *out)
@@ -37,132 +38,45 @@ static void to_linear16(const float *rgb, size_t count, png_uint_16 *out)
 }
 
 /*
-** The encoded image into fp, then a checked flush (and fsync when "sync"),
-** and fclose: a full disk often shows only when the buffered data are
-** written out, and a file renamed over another must be on the disk first
-** or a crash could leave an empty file where the old one was.
+** The PNG of img in a buffer of *size bytes (malloc'd), or NULL with
+** *status.  Its room is libpng's bound on the encoded size
+** (PNG_IMAGE_PNG_SIZE_MAX: the pixels, deflate's worst case, the chunks),
+** so one encoding is enough; should that bound wrap around (a size_t of
+** 32 bits), libpng says what it needs and the second try has it.
 */
-static int write_stream(FILE *fp, png_image *img, const void *pixels,
-                        int sync)
+static void *encode(png_image *img, const void *pixels, size_t *size,
+                    int *status)
 {
-    int ok = png_image_write_to_stdio(img, fp, 0, pixels, 0, NULL);
-    int io_failed = fflush(fp) != 0 || ferror(fp);
+    png_alloc_size_t room = PNG_IMAGE_PNG_SIZE_MAX(*img), need;
+    int attempt;
 
-    if (!io_failed && sync)
-        io_failed = fsync(fileno(fp)) != 0;
-    io_failed |= fclose(fp) != 0;
-    if (io_failed)
-        return RAY_EIO;
-    return ok ? RAY_OK : RAY_EPNG;
-}
-
-/*
-** A device or a FIFO (/dev/stdout into a pipe, /dev/null) is written in
-** place: it cannot be replaced, and on failure nothing is removed.
-*/
-static int write_in_place(const char *path, png_image *img,
-                          const void *pixels)
-{
-    FILE *fp = fopen(path, "wb");
-
-    if (fp == NULL)
-        return RAY_EIO;
-    return write_stream(fp, img, pixels, 0);
-}
-
-/* Tries at a free temporary name: each EEXIST is another writer of the
-** same path in this process, or the leftover of a crashed one. */
-#define TEMP_ATTEMPTS 100
-/* ".<pid>-<attempt>.tmp": a long's and an int's digits, signs, ".tmp". */
-#define TEMP_SUFFIX_SIZE 48
-
-/*
-** A temporary file beside the target, "<path>.<pid>-<n>.tmp", created
-** with O_EXCL (so two threads, or a planted file, never share it) and mode
-** 0666 less the umask, as fopen would create the target itself; this
-** avoids reading the umask, which only umask() can, by changing it for
-** every thread.  Returns the descriptor, or -1 (errno set).
-*/
-static int create_temp(const char *target, char *temp, size_t size)
-{
-    int attempt, fd = -1;
-
-    for (attempt = 0; attempt < TEMP_ATTEMPTS; attempt++) {
-        snprintf(temp, size, "%s.%ld-%d.tmp", target, (long)getpid(),
-                 attempt);
-        fd = open(temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST)
+    for (attempt = 0; attempt < 2; attempt++) {
+        void *buf = malloc(room);
+        if (buf == NULL) {
+            *status = RAY_ENOMEM;
+            return NULL;
+        }
+        need = room;
+        if (png_image_write_to_memory(img, buf, &need, 0, pixels, 0, NULL)) {
+            *size = need;
+            return buf;
+        }
+        free(buf);
+        if (need <= room)     /* a failure of libpng's own, not the room */
             break;
+        room = need;
     }
-    return fd;
-}
-
-/*
-** A regular file, or none yet: write a temporary file and rename it over
-** the target only once it is complete, so a failure leaves the old file
-** as it was (rename is atomic, POSIX.1-2008 rename()).  An existing file's
-** permission bits are kept (owner and group become the caller's).  On any
-** failure only the temporary file is removed, with errno kept.
-*/
-static int write_replacing(const char *path, const struct stat *old,
-                           png_image *img, const void *pixels)
-{
-    size_t size = strlen(path) + TEMP_SUFFIX_SIZE;
-    char *temp = malloc(size);
-    FILE *fp = NULL;
-    int fd, rc, saved_errno;
-
-    if (temp == NULL)
-        return RAY_ENOMEM;
-    fd = create_temp(path, temp, size);
-    if (fd < 0) {
-        free(temp);
-        return RAY_EIO;
-    }
-    if (old == NULL || fchmod(fd, old->st_mode & 0777) == 0)
-        fp = fdopen(fd, "wb");
-    if (fp == NULL) {
-        rc = RAY_EIO;
-        saved_errno = errno;
-        close(fd);
-        errno = saved_errno;
-    } else {
-        rc = write_stream(fp, img, pixels, 1);
-    }
-    if (rc == RAY_OK && rename(temp, path) != 0)
-        rc = RAY_EIO;
-    if (rc != RAY_OK) {
-        saved_errno = errno;        /* unlink() must not hide the cause */
-        unlink(temp);
-        errno = saved_errno;
-    }
-    free(temp);
-    return rc;
-}
-
-/*
-** stat follows symbolic links: a link to a device is written through, a
-** link to a regular file is replaced by the new file (the file it named
-** is left as it was).  A directory fails at fopen (EISDIR).
-*/
-static int write_file(const char *path, png_image *img, const void *pixels)
-{
-    struct stat st;
-
-    if (stat(path, &st) != 0)
-        return write_replacing(path, NULL, img, pixels);
-    if (S_ISREG(st.st_mode))
-        return write_replacing(path, &st, img, pixels);
-    return write_in_place(path, img, pixels);
+    *status = RAY_EPNG;
+    return NULL;
 }
 
 int ray_write_png(const char *path, const float *rgb, unsigned width,
                   unsigned height, int bits)
 {
     png_image img;
-    size_t count, bytes;
-    void *pixels;
-    int rc;
+    size_t count, bytes, size = 0;
+    void *pixels, *file;
+    int rc, saved_errno;
 
     if (path == NULL || rgb == NULL || width == 0 || height == 0 ||
         (bits != 8 && bits != 16))
@@ -185,9 +99,15 @@ int ray_write_png(const char *path, const float *rgb, unsigned width,
     img.width = width;
     img.height = height;
     img.format = bits == 8 ? PNG_FORMAT_RGB : PNG_FORMAT_LINEAR_RGB;
-    rc = write_file(path, &img, pixels);
+    file = encode(&img, pixels, &size, &rc);
     png_image_free(&img);
     free(pixels);
+    if (file == NULL)
+        return rc;
+    rc = ray__file_write(path, file, size);
+    saved_errno = errno;        /* free() must not hide the cause */
+    free(file);
+    errno = saved_errno;
     return rc;
 }
 
@@ -568,9 +488,9 @@ int ray_image_load_png_opt(const char *path,
     memset(&ld, 0, sizeof ld);
     resolve_limits(opt, &ld.lim);
     ld.status = RAY_EPNG;
-    ld.fp = fopen(path, "rb");
-    if (ld.fp == NULL)
-        return RAY_EIO;
+    ld.fp = ray__file_open_read(path);
+    if (ld.fp == NULL)            /* no memory for the name or the FILE */
+        return errno == ENOMEM ? RAY_ENOMEM : RAY_EIO;
     status = load_stream(&ld, out);
     saved_errno = errno;        /* fclose() must not hide the cause */
     fclose(ld.fp);

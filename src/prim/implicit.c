@@ -96,6 +96,12 @@ static double job_eval(implicit_job *j, double t)
 ** (Press et al., Numerical Recipes, 3rd ed., 5.7).  "scale" is that of
 ** the box, so h follows the surface's size.
 */
+/* cbrt(DBL_EPSILON) = 2^(-52/3), correctly rounded (60-digit decimal
+** arithmetic), written out rather than asked of the C runtime's cbrt,
+** which differs between C libraries (doc/PLATFORMS.md): the step, and so
+** the hit, must be the same bits everywhere. */
+#define CBRT_EPSILON 0x1.965fea53d6e3dp-18
+
 static ray_vec3 job_gradient(implicit_job *j, ray_vec3 p)
 {
     const ray_implicit_surface *s = j->s;
@@ -109,7 +115,7 @@ static ray_vec3 job_gradient(implicit_job *j, ray_vec3 p)
     j->evals_left -= j->evals_left < cost ? j->evals_left : cost;
     if (s->gradient != NULL)
         return s->gradient(s->ud, p);
-    h = cbrt(DBL_EPSILON) *
+    h = CBRT_EPSILON *
         fmax(v3_length(v3_sub(s->hi, s->lo)), DBL_MIN);
     for (k = 0; k < 3; k++) {
         ray_vec3 e = v3(k == 0, k == 1, k == 2);

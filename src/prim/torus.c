@@ -4,6 +4,7 @@
 ** formula; and the same torus as an implicit surface (its signed
 ** distance) for ray_implicit, so the two methods can check each other.
 */
+#include "core/exact.h"
 #include "prim/prim.h"
 
 /* The torus in its own frame: a unit axis "a" (local z) with the
@@ -85,8 +86,8 @@ static void torus_quartic(ray_vec3 o, ray_vec3 d, double major, double minor,
                           double c[5])
 {
     double a = v3_dot(d, d), b = v3_dot(o, d);
-    double rho = hypot(o.x, o.y);
-    double dist = hypot(rho - major, o.z);
+    double rho = ray__hypot(o.x, o.y);
+    double dist = ray__hypot(rho - major, o.z);
     double k = v3_dot(o, o) + (major - minor) * (major + minor);
     double r2 = 4.0 * major * major;
 
@@ -108,7 +109,7 @@ static void torus_quartic(ray_vec3 o, ray_vec3 d, double major, double minor,
 static int torus_fill(const torus_frame *f, ray_vec3 q, double scale,
                       double t, ray_hit *hit)
 {
-    double rho = hypot(q.x, q.y), big = f->major * scale;
+    double rho = ray__hypot(q.x, q.y), big = f->major * scale;
     ray_vec3 ring, w, nl, p, n, err;
 
     /* On the axis (never on a ring torus's surface, but rounding may put
@@ -286,7 +287,7 @@ static double torus_field(void *ud, ray_vec3 p)
     ray_vec3 e;
 
     torus_cylindrical(t, torus_axis(t), p, &z, &rho, &e);
-    return hypot(rho - t->major, z) - t->minor;
+    return ray__hypot(rho - t->major, z) - t->minor;
 }
 
 static ray_vec3 torus_gradient(void *ud, ray_vec3 p)

@@ -69,7 +69,7 @@
 
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
 #include <immintrin.h>
-#elif defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#elif RAY__SSE2
 #include <emmintrin.h>
 #endif
 
@@ -220,7 +220,7 @@ static inline unsigned tri_filter_leaf(const tri_filter *f,
         _mm256_cmp_ps(hi, b, _CMP_GT_OQ)));
     return ~(unsigned)c & ((1u << count) - 1u);
 }
-#elif defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#elif RAY__SSE2
 /* Four lanes a register, the same arithmetic lane for lane; a leaf of
 ** more than four takes two passes. */
 static inline __m128 filter_abs4(__m128 x)

@@ -9,10 +9,11 @@
 #include "query/traverse.h"
 
 /* The queries of traverse.h for the baseline instruction set, and the
-** choice of the AVX2 copy (intersect_avx2.c) where the CPU has it:
-** __builtin_cpu_supports reads what libgcc found at start-up (a load and
-** a test), and also checks that the OS saves the AVX registers.  A NULL
-** gate is the plain queries' path (traverse.h never reaches a gate). */
+** choice of the AVX2 copy (intersect_avx2.c) where the CPU has it: the
+** scene's avx2, which its commit asked of the CPU (ray__cpu_has_avx2:
+** cpuid, and whether the OS saves the AVX registers), so a query pays a
+** load and a test.  A NULL gate is the plain queries' path (traverse.h
+** never reaches a gate). */
 int ray__intersect_gated_base(const ray_scene *s, const ray_ray *r,
                               const ray__gate *g, int uv, ray_hit *hit,
                               ray_stats *st)
@@ -27,11 +28,7 @@ int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
 }
 
 /* The AVX2 copy where the CPU has it (see above). */
-#if RAY__AVX2_COPY
-#define HAS_AVX2() __builtin_cpu_supports("avx2")
-#else
-#define HAS_AVX2() 0
-#endif
+#define HAS_AVX2(s) ((s)->avx2)
 
 /*
 ** The gate of a query with options q (NULL: the plain queries' every
@@ -74,7 +71,7 @@ int ray__intersect_gated(const ray_scene *s, const ray_ray *r,
                          ray_stats *st)
 {
 #if RAY__AVX2_COPY
-    if (HAS_AVX2())
+    if (HAS_AVX2(s))
         return ray__intersect_gated_avx2(s, r, g, uv, hit, st);
 #endif
     return query_nearest_gated(s, r, g, uv, hit, st);
@@ -84,7 +81,7 @@ int ray__occluded_gated(const ray_scene *s, const ray_ray *r,
                         const ray__gate *g, ray_stats *st)
 {
 #if RAY__AVX2_COPY
-    if (HAS_AVX2())
+    if (HAS_AVX2(s))
         return ray__occluded_gated_avx2(s, r, g, st);
 #endif
     return query_any_gated(s, r, g, st);
@@ -212,7 +209,7 @@ static void batch_run(const ray_scene *s, const ray_ray *rays, size_t n,
     for (i = 0; i < n; i = end) {
         end = n - i < 8 ? n : i + 8;
 #if RAY__AVX2_COPY
-        if (end - i == 8 && HAS_AVX2() &&
+        if (end - i == 8 && HAS_AVX2(s) &&
             packet_ok(s, rays, i, queries, q_all, kind)) {
             ray__packets_avx2(s, rays + i, 8, any ? NULL : hits + i,
                               results + i, any, st);

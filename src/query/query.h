@@ -43,10 +43,11 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
 /* The queries come in two copies, for the baseline instruction set and
-** for AVX2 (x86 with GCC or Clang only, intersect_avx2.c:
-** RAY__AVX2_COPY), which ray__intersect and ray__occluded choose between
-** (below); the tests compare the two. */
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+** for AVX2 (x86 with GCC, Clang or MSVC, intersect_avx2.c built with
+** -mavx2 or /arch:AVX2: RAY__AVX2_COPY), which ray__intersect and
+** ray__occluded choose between (below); the tests compare the two. */
+#if ((defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))) || \
+     (defined(_MSC_VER) && (defined(_M_X64) || defined(_M_IX86)))) && \
     !defined(RAY_NO_SIMD) && !defined(RAY_NO_AVX2)
 #define RAY__AVX2_COPY 1
 #else

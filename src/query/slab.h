@@ -8,6 +8,10 @@
 
 #include <string.h>
 
+#if defined(_MSC_VER)
+#include <intrin.h>             /* _BitScanForward (lowest_bit) */
+#endif
+
 #include "query/query.h"
 #include "query/filter.h"
 
@@ -148,6 +152,10 @@ static inline int lowest_bit(unsigned mask)
 {
 #if defined(__GNUC__)
     return __builtin_ctz(mask);
+#elif defined(_MSC_VER)
+    unsigned long k;
+    _BitScanForward(&k, mask);
+    return (int)k;
 #else
     int k = 0;
     while (!(mask >> k & 1))
@@ -168,7 +176,7 @@ static inline const float *bound_at(const ray__wnode *q, size_t at)
 ** ray's quantities are first spread over the lanes ("lanes", once per
 ** traversal), so a node costs only its loads and the arithmetic.
 */
-#if !defined(RAY_NO_SIMD) && (defined(__AVX__) || defined(__SSE2__))
+#if !defined(RAY_NO_SIMD) && (defined(__AVX__) || RAY__SSE2)
 #if RAY__WIDTH != 8
 #error "boxes_hit below tests eight lanes, or two halves of four"
 #endif
@@ -242,7 +250,7 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
     _mm256_storeu_ps(entry, t0);
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
 }
-#elif defined(__SSE2__) && !defined(RAY_NO_SIMD)
+#elif RAY__SSE2
 /*
 ** SSE: four lanes a register, the same arithmetic as the plain loop below
 ** lane for lane; a node's two halves are independent, so their latencies

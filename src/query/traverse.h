@@ -25,6 +25,8 @@ enum { LEAF_TRIANGLES, LEAF_PRIMS };
 ** there, so that each of the four copies keeps only its own branches. */
 #if defined(__GNUC__)
 #define RAY__INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define RAY__INLINE __forceinline
 #else
 #define RAY__INLINE inline
 #endif

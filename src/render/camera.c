@@ -4,36 +4,16 @@
 */
 #include "render/camera.h"
 
-/*
-** Is the up vector usable with view axis w (unit): not parallel to it?
-** Decided by the angle, scale-free: the sine of the angle between the
-** unit up vector and w is the length of their cross product, computed to
-** within a few roundings of 1 (unit factors: each component is within
-** gamma(3) of the exact one).  A sine below 16 ulps (3.6e-15 rad) is
-** rounding noise, not a direction: eye (0, 1, 5), look-at (0, 0, 0), up
-** (0, -1, -5) gives |up x w| ~ 1e-16 |up|, which the previous test (the
-** rounded cross product's length > 0) took for a frame.
-*/
-static int up_usable(ray_vec3 up, ray_vec3 w)
-{
-    ray_vec3 unit_up;
-
-    return v3_normalize(up, &unit_up) &&
-           v3_length(v3_cross(unit_up, w)) > 16 * DBL_EPSILON;
-}
-
 int ray__camera_setup(ray__cam *c, const ray_camera *cam, unsigned width,
                       unsigned height)
 {
     ray_vec3 w, u, v;
     double half, focus;
 
-    if (!v3_isfinite(cam->position) || !v3_isfinite(cam->look_at) ||
-        !v3_isfinite(cam->up) || !(cam->vfov > 0 && cam->vfov < 180) ||
-        !(cam->aperture >= 0 && cam->aperture < HUGE_VAL) ||
-        !(cam->focus_distance >= 0 && cam->focus_distance < HUGE_VAL) ||
-        !v3_normalize(v3_sub(cam->position, cam->look_at), &w) ||
-        !up_usable(cam->up, w) || !v3_normalize(v3_cross(cam->up, w), &u))
+    /* ray_render_check (check.c) has refused any camera for which these
+    ** normalisations fail: the frame is well defined here. */
+    if (!v3_normalize(v3_sub(cam->position, cam->look_at), &w) ||
+        !v3_normalize(v3_cross(cam->up, w), &u))
         return RAY_EINVAL;
     v = v3_cross(w, u);
     half = tan(cam->vfov * RAY__PI / 360.0);

@@ -14,6 +14,8 @@ typedef struct ray__cam {
     double inv_w, inv_h;
 } ray__cam;
 
+/* The frame of a camera that ray_render_check accepted (RAY_EINVAL for
+** one whose view axis or roll cannot be normalised). */
 int ray__camera_setup(ray__cam *c, const ray_camera *cam, unsigned width,
                       unsigned height);
 void ray__camera_ray(const ray__cam *c, double x, double y, double lx,

@@ -1,13 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** render.c -- the image: rows handed to pthreads in contiguous bands from
-** a shared counter (dynamic scheduling: rows of a Whitted scene differ in
-** cost by orders of magnitude), supersampled, deterministic.
+** render.c -- the image: rows handed to tasks (core/tasks.h: the built-in
+** threads or the program's scheduler) in contiguous bands from a shared
+** counter (dynamic scheduling: rows of a Whitted scene differ in cost by
+** orders of magnitude), supersampled, deterministic.
 */
-#include <pthread.h>
 #include <string.h>
 
 #include "core/platform.h"
+#include "core/tasks.h"
 #include "render/camera.h"
 
 /*
@@ -44,17 +45,15 @@ typedef struct render_job {
     unsigned side;           /* k if samples = k*k, else 0 */
     unsigned lattice;        /* n-rooks lattice generator (side == 0) */
     float *rgb;
-    pthread_mutex_t lock, progress_lock;
-    unsigned threads;        /* workers, for next_row's band size */
+    void *workers;           /* one per task (worker_at) */
+    ray__mutex *lock, *progress_lock;
+    unsigned threads;        /* tasks, for next_row's band size */
     unsigned next_row, rows_done;
     int cancelled, stopped;
 } render_job;
 
 typedef struct render_worker {
-    render_job *job;
     ray_ctx ctx;
-    pthread_t thread;
-    int started;
     unsigned band_next, band_end;  /* the rest of the worker's band */
     /* Adaptive antialiasing's lattice cache (lattice_get): two rows of
     ** lattice points at the finest level, width * 2^depth + 1 each, one
@@ -395,7 +394,7 @@ static int next_row(render_job *job, render_worker *w, unsigned *row)
 {
     int ok;
 
-    pthread_mutex_lock(&job->lock);
+    ray__mutex_lock(job->lock);
     ok = !job->cancelled;
     if (ok && w->band_next == w->band_end) {
         unsigned left = job->y1 - job->next_row;
@@ -408,7 +407,7 @@ static int next_row(render_job *job, render_worker *w, unsigned *row)
     ok = ok && w->band_next < w->band_end;
     if (ok)
         *row = w->band_next++;
-    pthread_mutex_unlock(&job->lock);
+    ray__mutex_unlock(job->lock);
     return ok;
 }
 
@@ -417,23 +416,25 @@ static void row_finished(render_job *job)
     const ray_render_options *o = job->opt;
     int cancel = 0;
 
-    pthread_mutex_lock(&job->progress_lock);
+    ray__mutex_lock(job->progress_lock);
     job->rows_done++;
     if (o->progress != NULL && !job->stopped &&
         o->progress(o->progress_ud, job->rows_done, job->y1 - job->y0) != 0)
         cancel = job->stopped = 1;
-    pthread_mutex_unlock(&job->progress_lock);
+    ray__mutex_unlock(job->progress_lock);
     if (cancel) {
-        pthread_mutex_lock(&job->lock);
+        ray__mutex_lock(job->lock);
         job->cancelled = 1;
-        pthread_mutex_unlock(&job->lock);
+        ray__mutex_unlock(job->lock);
     }
 }
 
-static void *worker_main(void *arg)
+/* Task "index": its worker takes rows until none is left.  Each worker
+** is one task's, so no two threads share one. */
+static void render_task(void *ud, unsigned index)
 {
-    render_worker *w = arg;
-    render_job *job = w->job;
+    render_job *job = ud;
+    render_worker *w = worker_at(job->workers, index);
     unsigned row, x;
 
     while (next_row(job, w, &row)) {
@@ -445,7 +446,6 @@ static void *worker_main(void *arg)
                 render_pixel(job, &w->ctx, x, row, out + 3 * (size_t)x);
         row_finished(job);
     }
-    return NULL;
 }
 
 /* The lattice cache's sizes (render_worker): entries in a row, 0 if a
@@ -526,22 +526,6 @@ void ray_render_options_init(ray_render_options *o, unsigned width,
     o->cones = 1;
 }
 
-static int options_valid(const ray_render_options *o, unsigned *y1)
-{
-    *y1 = o->y1 ? o->y1 : o->height;
-    if (o->photons > RAY_MAX_PHOTONS ||
-        !ray__photon_radius_valid(o->photon_radius))
-        return 0;
-    if (!(o->adaptive_threshold >= 0) ||
-        (o->adaptive_threshold > 0 &&
-         (o->adaptive_depth < 1 || o->adaptive_depth > 8)))
-        return 0;
-    return o->width > 0 && o->height > 0 && o->samples > 0 &&
-           o->samples <= RAY_MAX_PIXEL_SAMPLES &&
-           o->y0 < *y1 && *y1 <= o->height &&
-           o->width <= (size_t)-1 / 3 / sizeof(float) / o->height;
-}
-
 /* Sum the workers' counters (each thread counted into its own). */
 static void sum_stats(void *workers, unsigned n, ray_stats *out)
 {
@@ -563,61 +547,40 @@ static void sum_stats(void *workers, unsigned n, ray_stats *out)
         out->cut_fanout += s->cut_fanout;
         out->root_failures += s->root_failures;
         out->photon_lookups += s->photon_lookups;
+        out->filter_calls += s->filter_calls;
+        out->shadows_undeclared += s->shadows_undeclared;
         if (s->max_depth > out->max_depth)
             out->max_depth = s->max_depth;
     }
 }
 
 /*
-** The calling thread is worker 0; threads - 1 more are started.  If one
-** cannot be created, the render goes on with fewer: the image is the same.
+** Make the job's two mutexes, run its n tasks over its rows (on the
+** scheduler, or the calling thread and n - 1 started ones: if one cannot
+** be started the render goes on with fewer, the image the same), sum
+** their counters into *stats (if any).  RAY_ENOMEM if a mutex cannot be
+** made, RAY_ECANCELED if the progress callback cancelled, else RAY_OK.
 */
-static void run_workers(void *workers, unsigned n)
-{
-    pthread_attr_t attr;
-    size_t stack = 0;
-    int have_attr = pthread_attr_init(&attr) == 0;
-    unsigned i;
-
-    if (have_attr && pthread_attr_getstacksize(&attr, &stack) == 0 &&
-        stack < WORKER_STACK)
-        pthread_attr_setstacksize(&attr, WORKER_STACK);
-    for (i = 1; i < n; i++) {
-        render_worker *w = worker_at(workers, i);
-        w->started = pthread_create(&w->thread, have_attr ? &attr : NULL,
-                                    worker_main, w) == 0;
-    }
-    worker_main(worker_at(workers, 0));
-    for (i = 1; i < n; i++)
-        if (worker_at(workers, i)->started)
-            pthread_join(worker_at(workers, i)->thread, NULL);
-    if (have_attr)
-        pthread_attr_destroy(&attr);
-}
-
-/*
-** Make the job's two mutexes, run the workers over its rows, sum their
-** counters into *stats (if any).  RAY_ENOMEM if a mutex cannot be made,
-** RAY_ECANCELED if the progress callback cancelled, else RAY_OK.
-*/
-static int run_job(render_job *job, void *workers, unsigned n,
+static int run_job(render_job *job, const ray_scheduler *sched, unsigned n,
                    ray_stats *stats)
 {
-    if (pthread_mutex_init(&job->lock, NULL) != 0)
+    const ray__allocator *a = &job->scene->alloc;
+
+    if (ray__mutex_new(a, &job->lock) != RAY_OK)
         return RAY_ENOMEM;
-    if (pthread_mutex_init(&job->progress_lock, NULL) != 0) {
-        pthread_mutex_destroy(&job->lock);
+    if (ray__mutex_new(a, &job->progress_lock) != RAY_OK) {
+        ray__mutex_free(a, job->lock);
         return RAY_ENOMEM;
     }
     job->next_row = job->y0;
     job->rows_done = 0;
     job->cancelled = 0;
     job->stopped = 0;
-    run_workers(workers, n);
-    pthread_mutex_destroy(&job->progress_lock);
-    pthread_mutex_destroy(&job->lock);
+    ray__tasks_run(sched, a, n, WORKER_STACK, n, render_task, job);
+    ray__mutex_free(a, job->progress_lock);
+    ray__mutex_free(a, job->lock);
     if (stats != NULL)
-        sum_stats(workers, n, stats);
+        sum_stats(job->workers, n, stats);
     return job->cancelled ? RAY_ECANCELED : RAY_OK;
 }
 
@@ -642,16 +605,20 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
 {
     render_job job;
     ray_photon_map *map = NULL;
+    const ray_scheduler *sched;
     double spread;
     void *workers;
     unsigned n, i;
     int rc;
 
-    if (scene == NULL || camera == NULL || opt == NULL || rgb == NULL ||
-        !scene->committed || !options_valid(opt, &job.y1))
+    /* The argument checks, all in ray_render_check (check.c), which
+    ** a caller runs again with a buffer to learn why. */
+    rc = ray_render_check(scene, camera, opt, NULL, 0);
+    if (rc != RAY_OK)
+        return rc;
+    if (rgb == NULL)
         return RAY_EINVAL;
-    if (ray__scene_stale(scene))
-        return RAY_ESTATE;   /* an instanced scene changed: commit this one */
+    job.y1 = opt->y1 ? opt->y1 : opt->height;
     job.scene = scene;
     job.opt = opt;
     job.y0 = opt->y0;
@@ -662,7 +629,8 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     if (job.side * job.side != opt->samples)
         job.side = 0;
     job.lattice = lattice_generator(opt->samples);
-    n = opt->threads ? opt->threads : ray__online_cpus();
+    sched = ray__scheduler_pick(opt->scheduler, &scene->scheduler);
+    n = ray__task_count(opt->threads, sched);
     if (n > job.y1 - job.y0)
         n = job.y1 - job.y0;
     if (WORKER_STRIDE > (size_t)-1 / n)        /* n >= 1 here */
@@ -672,9 +640,9 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     if (workers == NULL)
         return RAY_ENOMEM;
     memset(workers, 0, n * WORKER_STRIDE);
+    job.workers = workers;
     spread = opt->cones ? pixel_spread(&job) : 0.0;
     for (i = 0; i < n; i++) {
-        worker_at(workers, i)->job = &job;
         worker_at(workers, i)->ctx.scene = scene;
         worker_at(workers, i)->ctx.cone_spread = spread;
     }
@@ -682,8 +650,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     /* Caustics: the photon pass first, on as many threads as asked for
     ** (not capped by the rows), and only where a caustic can exist. */
     if (opt->photons > 0 && (scene->effects & RAY_EFFECT_CAUSTICS)) {
-        rc = ray__photon_map_make(scene, opt->photons, opt->photon_radius,
-                                  opt->seed, opt->threads, &map);
+        rc = ray__photon_map_make(scene, opt, &map);
         if (rc != RAY_OK) {
             ray__free(scene, workers, n * WORKER_STRIDE);
             return rc;
@@ -693,10 +660,10 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
     }
     rc = RAY_ENOMEM;
     if (opt->adaptive_threshold <= 0)
-        rc = run_job(&job, workers, n, stats);
+        rc = run_job(&job, sched, n, stats);
     else {
         if (alloc_caches(scene, workers, n, opt) == RAY_OK)
-            rc = run_job(&job, workers, n, stats);
+            rc = run_job(&job, sched, n, stats);
         free_caches(scene, workers, n, opt);
     }
     if (map != NULL) {

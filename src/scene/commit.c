@@ -8,6 +8,7 @@
 */
 #include <string.h>
 
+#include "core/platform.h"
 #include "scene/scene.h"
 
 /*
@@ -81,7 +82,7 @@ static int rebuild_prims(ray_scene *s)
         pl.s = s;
         pl.ids = ids;
         rc = ray__bvh_build(&s->alloc, prim_box, &pl, n_bounded, &prim_costs,
-                            s->build_threads, &fresh);
+                            &s->scheduler, s->build_threads, &fresh);
     }
     if (rc == RAY_OK) {
         /* Items become prim indices. */
@@ -246,6 +247,7 @@ int ray_scene_commit(ray_scene *s)
     scene_summary(s);
     scene_box(s);
     s->generation++;
+    s->avx2 = ray__cpu_has_avx2();
     s->committed = 1;
     return RAY_OK;
 }

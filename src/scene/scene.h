@@ -10,8 +10,12 @@
 #include "prim/prim.h"
 
 /* Let gcc and clang check the arguments of printf-like functions
-** (-Wformat); other compilers ignore it. */
-#if defined(__GNUC__)
+** (-Wformat); other compilers ignore it.  MinGW's GCC takes "printf" as
+** msvcrt's rules (no %zu); the library's printf there is C99's, MinGW's
+** own (__USE_MINGW_ANSI_STDIO, which core/vec.h requires): gnu_printf. */
+#if defined(__MINGW32__) && defined(__GNUC__)
+#define RAY__PRINTF(fmt, first) __attribute__((format(gnu_printf, fmt, first)))
+#elif defined(__GNUC__)
 #define RAY__PRINTF(fmt, first) __attribute__((format(printf, fmt, first)))
 #else
 #define RAY__PRINTF(fmt, first)
@@ -182,11 +186,16 @@ struct ray_scene {
     int watertight;          /* ray_scene_set_watertight; 1 by default */
     unsigned build_threads;  /* ray_scene_set_build_threads; 1 by default,
                                 0: one per online CPU */
+    ray_scheduler scheduler; /* ray_scene_set_scheduler; run NULL: the
+                                built-in threads */
     unsigned effects;        /* what the scene can need, set by commit */
     unsigned material_effects; /* the effects of the materials its
                                   enabled geometry uses (what an instance
                                   of it adds to its parent's) */
     int committed;
+    int avx2;                /* the queries take their AVX2 copy: the
+                                CPU's answer (ray__cpu_has_avx2), asked
+                                at commit rather than per query */
     /* Dynamic scenes (ray(7)): what the next commit must redo
     ** (RAY__DIRTY_*), the commits made so far (instances of this scene
     ** compare it with theirs), whether any geometry has a mask or a

@@ -245,6 +245,22 @@ int ray_scene_set_build_threads(ray_scene *s, unsigned threads)
     return RAY_OK;
 }
 
+/* The program's scheduler, copied (NULL: the built-in threads); staged
+** like the build threads: the next build and render use it. */
+int ray_scene_set_scheduler(ray_scene *s, const ray_scheduler *scheduler)
+{
+    int rc = ray__begin(s, "ray_scene_set_scheduler");
+
+    if (rc != RAY_OK)
+        return rc;
+    if (scheduler != NULL)
+        s->scheduler = *scheduler;
+    else
+        ray_scheduler_init(&s->scheduler);
+    ray__touch(s, 0);
+    return RAY_OK;
+}
+
 unsigned ray_scene_effects(const ray_scene *s)
 {
     return s != NULL && s->committed ? s->effects : 0u;

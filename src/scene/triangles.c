@@ -327,7 +327,7 @@ int ray__triangles_rebuild(ray_scene *s)
             tri_swap(s, n++, i);
     leaves_free(s);
     rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
-                        s->build_threads, &fresh);
+                        &s->scheduler, s->build_threads, &fresh);
     if (rc != RAY_OK)
         return rc;
     if (n > 0) {

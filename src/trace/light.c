@@ -123,8 +123,12 @@ int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
 
     if (ctx == NULL || args == NULL || args->hit == NULL || sample == NULL)
         return 0;
-    if ((ctx->effects & RAY_EFFECT_SHADOW) == 0)
-        return 1;            /* undeclared: unshadowed, and no ray cast */
+    if ((ctx->effects & RAY_EFFECT_SHADOW) == 0) {
+        /* Undeclared: unshadowed, and no ray cast; counted, so that a
+        ** forgotten flag shows (ray_stats.shadows_undeclared). */
+        ctx->stats.shadows_undeclared++;
+        return 1;
+    }
     if (sample->dist < HUGE_VAL)
         rc = ray_spawn_to(args->hit, sample->point, &shadow);
     else

@@ -10,17 +10,18 @@
 **
 ** Determinism: photon i draws its random numbers from a sequence seeded
 ** by (seed, i) alone; the photons are traced in fixed chunks of CHUNK
-** indices, chunk c by thread c mod threads, each into its own buffer, and
-** the buffers are joined in chunk order: the same map, bit for bit, at
-** any thread count.  The grid's cells list their photons in that order,
+** indices, chunk c by task c mod tasks (core/tasks.h: the built-in
+** threads or the program's scheduler), each into its own buffer, and the
+** buffers are joined in chunk order: the same map, bit for bit, at any
+** thread count, in any task order.  The grid's cells list their photons in that order,
 ** so a gather sums them in the same order every time.
 */
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <string.h>
 
 #include "core/platform.h"
+#include "core/tasks.h"
 #include "trace/trace.h"
 
 /* A stored photon: where it landed, its power (in the units of
@@ -327,15 +328,12 @@ typedef struct pass {
     unsigned long long photons, seed;
     chunk *chunks;
     size_t n_chunks;
-    unsigned threads;
+    unsigned threads;            /* tasks */
+    struct pass_worker *workers; /* one per task */
 } pass;
 
 typedef struct pass_worker {
-    pass *job;
-    unsigned index;
     ray_ctx ctx;
-    pthread_t thread;
-    int started;
 } pass_worker;
 
 /* A photon's power (finite, >= 0) as a float: clamped to FLT_MAX, since
@@ -447,26 +445,28 @@ static void trace_photon(pass *job, ray_ctx *ctx, unsigned long long i,
     }
 }
 
-static void *pass_main(void *arg)
+/* Task "index": chunks index, index + tasks, ..., with its own context
+** (its counters); no two tasks share a chunk or a context. */
+static void pass_task(void *ud, unsigned index)
 {
-    pass_worker *w = arg;
-    pass *job = w->job;
+    pass *job = ud;
+    pass_worker *w = &job->workers[index];
     size_t k;
 
-    for (k = w->index; k < job->n_chunks; k += job->threads) {
+    for (k = index; k < job->n_chunks; k += job->threads) {
         unsigned long long i = (unsigned long long)k * CHUNK;
         unsigned long long end = i + CHUNK < job->photons ? i + CHUNK
                                                           : job->photons;
         for (; i < end && !job->chunks[k].failed; i++)
             trace_photon(job, &w->ctx, i, &job->chunks[k]);
     }
-    return NULL;
 }
 
-/* Trace every chunk on "threads" threads (the caller is one; a chunk
-** whose thread could not start is traced by the caller afterwards). */
+/* Trace every chunk as job->threads tasks: on the scheduler, or on as
+** many threads, the caller's one of them (a task whose thread could not
+** start is run by the caller too). */
 static int run_pass(pass *job, const ray_scene *s,
-                    unsigned long long *tests)
+                    const ray_scheduler *sched, unsigned long long *tests)
 {
     pass_worker *w;
     unsigned n = job->threads, i;
@@ -477,21 +477,10 @@ static int run_pass(pass *job, const ray_scene *s,
     if (w == NULL)
         return RAY_ENOMEM;
     memset(w, 0, n * sizeof *w);
-    for (i = 0; i < n; i++) {
-        w[i].job = job;
-        w[i].index = i;
+    for (i = 0; i < n; i++)
         w[i].ctx.scene = s;
-    }
-    for (i = 1; i < n; i++)
-        w[i].started = pthread_create(&w[i].thread, NULL, pass_main,
-                                      &w[i]) == 0;
-    pass_main(&w[0]);
-    for (i = 1; i < n; i++) {
-        if (w[i].started)
-            pthread_join(w[i].thread, NULL);
-        else
-            pass_main(&w[i]);
-    }
+    job->workers = w;
+    ray__tasks_run(sched, &s->alloc, n, 0, n, pass_task, job);
     for (i = 0; i < n; i++)
         *tests += w[i].ctx.stats.tests;
     for (k = 0; k < job->n_chunks; k++)
@@ -586,10 +575,13 @@ static void free_map(ray_photon_map *m)
     ray__release(&a, m, sizeof *m);
 }
 
-int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
-                         double radius, unsigned long long seed,
-                         unsigned threads, ray_photon_map **out)
+int ray__photon_map_make(const ray_scene *s, const ray_render_options *o,
+                         ray_photon_map **out)
 {
+    const ray_scheduler *sched = ray__scheduler_pick(o->scheduler,
+                                                     &s->scheduler);
+    unsigned long long photons = o->photons, seed = o->seed;
+    double radius = o->photon_radius;
     ray_photon_map *m;
     pass job;
     size_t k, i;
@@ -625,7 +617,7 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
     job.seed = seed;
     job.e.per_photon = 1.0 / (double)photons;
     job.n_chunks = (size_t)((photons + CHUNK - 1) / CHUNK);
-    job.threads = threads ? threads : ray__online_cpus();
+    job.threads = ray__task_count(o->threads, sched);
     if (job.threads > job.n_chunks)
         job.threads = (unsigned)job.n_chunks;
     job.e.cdf = ray__alloc(s, s->n_lights * sizeof *job.e.cdf);
@@ -640,7 +632,7 @@ int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
             job.e.cdf[i] = job.e.total;
         }
         if (job.e.total > 0 && job.e.total < HUGE_VAL) {
-            rc = run_pass(&job, s, &m->tests);
+            rc = run_pass(&job, s, sched, &m->tests);
             m->emitted = photons;
         }
         if (rc == RAY_OK)
@@ -672,14 +664,14 @@ void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st)
 int ray_photon_map_build(const ray_scene *scene,
                          const ray_render_options *o, ray_photon_map **out)
 {
-    if (scene == NULL || o == NULL || out == NULL || !scene->committed ||
-        o->photons == 0 || o->photons > RAY_MAX_PHOTONS ||
+    if (scene == NULL || o == NULL || out == NULL)
+        return RAY_EINVAL;
+    if (!scene->committed || ray__scene_stale(scene))
+        return RAY_ESTATE;     /* as the queries and ray_render answer */
+    if (o->photons == 0 || o->photons > RAY_MAX_PHOTONS ||
         !ray__photon_radius_valid(o->photon_radius))
         return RAY_EINVAL;
-    if (ray__scene_stale(scene))
-        return RAY_ESTATE;
-    return ray__photon_map_make(scene, o->photons, o->photon_radius, o->seed,
-                                o->threads, out);
+    return ray__photon_map_make(scene, o, out);
 }
 
 void ray_photon_map_free(ray_photon_map *map)

@@ -25,8 +25,10 @@ int ray_ctx_new(const ray_scene *scene, unsigned long long seed,
 {
     ray_ctx *ctx;
 
-    if (scene == NULL || out == NULL || !scene->committed)
+    if (scene == NULL || out == NULL)
         return RAY_EINVAL;
+    if (!scene->committed)
+        return RAY_ESTATE;     /* as the queries and ray_render answer */
     ctx = ray__alloc(scene, sizeof *ctx);
     if (ctx == NULL)
         return RAY_ENOMEM;

@@ -80,14 +80,15 @@ void ray__shade_args(const ray_scene *s, const ray_ray *r,
                      ray_shade_args *args);
 
 /*
-** The photon pass (photons.c): ray_photon_map_build's work on "threads"
-** threads (0: one per online CPU), "photons" photons, options already
-** checked; ray__photon_map_counts adds the map's counters (photons
-** emitted and stored, the photon rays' intersection tests) to *st.
+** The photon pass (photons.c): ray_photon_map_build's work, options
+** already checked: o->photons photons, as o->threads tasks (0: the
+** scheduler's threads, or one per online CPU) on o->scheduler, else the
+** scene's, else the built-in threads; ray__photon_map_counts adds the
+** map's counters (photons emitted and stored, the photon rays'
+** intersection tests) to *st.
 */
-int ray__photon_map_make(const ray_scene *s, unsigned long long photons,
-                         double radius, unsigned long long seed,
-                         unsigned threads, ray_photon_map **out);
+int ray__photon_map_make(const ray_scene *s, const ray_render_options *o,
+                         ray_photon_map **out);
 void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st);
 
 /* Is a photon radius acceptable (0: automatic, else finite and > 0)? */

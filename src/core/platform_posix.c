@@ -1,0 +1,269 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** platform_posix.c -- platform.h on POSIX.1-2008: pthreads, sysconf,
+** and open/write/fsync/rename for the safe write.  Only calls macOS has
+** too (it is POSIX-certified); _SC_NPROCESSORS_ONLN, not in POSIX.1-2008
+** but on every POSIX system in use, is asked for where the headers show
+** it (macOS hides it under _POSIX_C_SOURCE unless _DARWIN_C_SOURCE).
+** The Win32 branch is platform_win32.c; MinGW takes that one.
+*/
+#if !defined(_WIN32)
+
+#if !defined(_POSIX_C_SOURCE)
+#define _POSIX_C_SOURCE 200809L
+#endif
+#if defined(__APPLE__) && !defined(_DARWIN_C_SOURCE)
+#define _DARWIN_C_SOURCE 1        /* _SC_NPROCESSORS_ONLN (see above) */
+#endif
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/platform.h"
+
+unsigned ray__online_cpus(void)
+{
+#if defined(_SC_NPROCESSORS_ONLN)
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 && n <= (long)UINT_MAX ? (unsigned)n : 1u;
+#else
+    return 1u;                    /* unknown: the calling thread alone */
+#endif
+}
+
+/* ------------------------------------------------------------ threads */
+
+/* A pthread_t is copied in and out of ray__thread.handle as bytes: a
+** negative array size stops the build where it would not fit. */
+typedef char ray__pthread_fits[
+    sizeof(pthread_t) <= sizeof(((ray__thread *)0)->handle) ? 1 : -1];
+
+static void *thread_main(void *arg)
+{
+    ray__thread *t = arg;
+
+    t->fn(t->arg);
+    return NULL;
+}
+
+int ray__thread_start(ray__thread *t, size_t stack)
+{
+    pthread_attr_t attr;
+    pthread_t id;
+    size_t have = 0;
+    int rc;
+
+    if (pthread_attr_init(&attr) != 0)
+        return -1;
+    /* A larger stack if the default is smaller (musl: 128 KiB); a failure
+    ** to set it leaves the default, which only risks what it risked. */
+    if (stack > 0 && pthread_attr_getstacksize(&attr, &have) == 0 &&
+        have < stack)
+        pthread_attr_setstacksize(&attr, stack);
+    rc = pthread_create(&id, &attr, thread_main, t);
+    pthread_attr_destroy(&attr);
+    if (rc == 0)
+        memcpy(t->handle.bytes, &id, sizeof id);
+    return rc;
+}
+
+void ray__thread_join(ray__thread *t)
+{
+    pthread_t id;
+
+    memcpy(&id, t->handle.bytes, sizeof id);
+    pthread_join(id, NULL);
+}
+
+/* ------------------------------------------------------------ mutexes */
+
+struct ray__mutex {
+    pthread_mutex_t m;
+};
+
+int ray__mutex_new(const ray__allocator *a, ray__mutex **out)
+{
+    ray__mutex *m = ray__allocate(a, sizeof *m);
+
+    if (m == NULL)
+        return RAY_ENOMEM;
+    if (pthread_mutex_init(&m->m, NULL) != 0) {
+        ray__release(a, m, sizeof *m);
+        return RAY_ENOMEM;        /* EAGAIN or ENOMEM: out of resources */
+    }
+    *out = m;
+    return RAY_OK;
+}
+
+void ray__mutex_free(const ray__allocator *a, ray__mutex *m)
+{
+    if (m == NULL)
+        return;
+    pthread_mutex_destroy(&m->m);
+    ray__release(a, m, sizeof *m);
+}
+
+void ray__mutex_lock(ray__mutex *m)
+{
+    pthread_mutex_lock(&m->m);
+}
+
+void ray__mutex_unlock(ray__mutex *m)
+{
+    pthread_mutex_unlock(&m->m);
+}
+
+/* -------------------------------------------------------------- files */
+
+FILE *ray__file_open_read(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    FILE *fp;
+    int saved_errno;
+
+    if (fd < 0)
+        return NULL;
+    fp = fdopen(fd, "rb");
+    if (fp == NULL) {
+        saved_errno = errno;
+        close(fd);
+        errno = saved_errno;
+    }
+    return fp;
+}
+
+/* All of data to fd, through short writes and interruptions. */
+static int write_all(int fd, const void *data, size_t size)
+{
+    const unsigned char *p = data;
+
+    while (size > 0) {
+        ssize_t n = write(fd, p, size);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;            /* write() sets errno (0 bytes: none) */
+        p += n;
+        size -= (size_t)n;
+    }
+    return 0;
+}
+
+/* close(), keeping an earlier failure's errno ("failed"), else
+** reporting its own: -1 if either failed. */
+static int close_keeping(int fd, int failed)
+{
+    int saved_errno = errno;
+    int closed = close(fd) == 0;
+
+    if (failed) {
+        errno = saved_errno;
+        return -1;
+    }
+    return closed ? 0 : -1;
+}
+
+/*
+** A device or a FIFO (/dev/stdout into a pipe, /dev/null) is written in
+** place: it cannot be replaced, and on failure nothing is removed.
+** (A directory fails here too, at open: EISDIR.)
+*/
+static int write_in_place(const char *path, const void *data, size_t size)
+{
+    int fd = open(path, O_WRONLY | O_TRUNC | O_CLOEXEC);
+
+    if (fd < 0)
+        return RAY_EIO;
+    if (close_keeping(fd, write_all(fd, data, size) != 0) != 0)
+        return RAY_EIO;
+    return RAY_OK;
+}
+
+/* Tries at a free temporary name: each EEXIST is another writer of the
+** same path in this process, or the leftover of a crashed one. */
+#define TEMP_ATTEMPTS 100
+/* ".<pid>-<attempt>.tmp": a long's and an int's digits, signs, ".tmp". */
+#define TEMP_SUFFIX_SIZE 48
+
+/*
+** A temporary file beside the target, "<path>.<pid>-<n>.tmp", created
+** with O_EXCL (so two threads, or a planted file, never share it) and mode
+** 0666 less the umask, as open would create the target itself; this
+** avoids reading the umask, which only umask() can, by changing it for
+** every thread.  Returns the descriptor, or -1 (errno set).
+*/
+static int create_temp(const char *target, char *temp, size_t size)
+{
+    int attempt, fd = -1;
+
+    for (attempt = 0; attempt < TEMP_ATTEMPTS; attempt++) {
+        snprintf(temp, size, "%s.%ld-%d.tmp", target, (long)getpid(),
+                 attempt);
+        fd = open(temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0 || errno != EEXIST)
+            break;
+    }
+    return fd;
+}
+
+/*
+** A regular file, or none yet: write a temporary file, fsync it (a file
+** renamed over another must be on the disk first, or a crash could leave
+** an empty file where the old one was), and rename it over the target
+** only then, so a failure leaves the old file as it was (rename is
+** atomic, POSIX.1-2008 rename()).  An existing file's permission bits are
+** kept (owner and group become the caller's).  On any failure only the
+** temporary file is removed, with errno kept.
+*/
+static int write_replacing(const char *path, const struct stat *old,
+                           const void *data, size_t size)
+{
+    size_t temp_size = strlen(path) + TEMP_SUFFIX_SIZE;
+    char *temp = malloc(temp_size);
+    int fd, failed, saved_errno;
+
+    if (temp == NULL)
+        return RAY_ENOMEM;
+    fd = create_temp(path, temp, temp_size);
+    if (fd < 0) {
+        free(temp);
+        return RAY_EIO;
+    }
+    failed = (old != NULL && fchmod(fd, old->st_mode & 0777) != 0) ||
+             write_all(fd, data, size) != 0 || fsync(fd) != 0;
+    failed = close_keeping(fd, failed) != 0 || rename(temp, path) != 0;
+    if (failed) {
+        saved_errno = errno;        /* unlink() must not hide the cause */
+        unlink(temp);
+        errno = saved_errno;
+    }
+    free(temp);
+    return failed ? RAY_EIO : RAY_OK;
+}
+
+/*
+** stat follows symbolic links: a link to a device is written through, a
+** link to a regular file is replaced by the new file (the file it named
+** is left as it was).
+*/
+int ray__file_write(const char *path, const void *data, size_t size)
+{
+    struct stat st;
+
+    if (stat(path, &st) != 0)
+        return write_replacing(path, NULL, data, size);
+    if (S_ISREG(st.st_mode))
+        return write_replacing(path, &st, data, size);
+    return write_in_place(path, data, size);
+}
+
+#else
+/* ISO C wants a translation unit to declare something. */
+typedef int ray__platform_posix_unused;
+#endif /* !_WIN32 */

@@ -1,0 +1,158 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** tasks.c -- ray__tasks_run (tasks.h): the program's scheduler, or the
+** built-in threads of platform.h sharing a counter of task numbers.
+**
+** Every task runs in the floating-point environment of the thread that
+** asked for the work (C99 <fenv.h>: rounding mode, flush-to-zero, the
+** x87's precision): a thread starts with its platform's default, not its
+** creator's, on Windows (POSIX threads inherit it), and a program's
+** workers carry whatever the program set there (a game engine's
+** flush-to-zero).  MinGW's pow and exp compute on the x87, whose
+** precision its C runtime sets to 64 bits on the main thread and Windows
+** to 53 on every other: 30% of pow's results and 17% of exp's differ
+** between the two (scripts/libm-probe.c --threads, under Wine), and a
+** row rendered on a started thread came out unlike the same row on the
+** caller's.  So each task sets the
+** caller's environment, and gives the worker its own back after.
+*/
+#include <fenv.h>
+#include <string.h>
+
+#include "core/platform.h"
+#include "core/tasks.h"
+
+void ray_scheduler_init(ray_scheduler *s)
+{
+    if (s != NULL)
+        memset(s, 0, sizeof *s);
+}
+
+const ray_scheduler *ray__scheduler_pick(const ray_scheduler *chosen,
+                                         const ray_scheduler *fallback)
+{
+    if (chosen != NULL && chosen->run != NULL)
+        return chosen;
+    if (fallback != NULL && fallback->run != NULL)
+        return fallback;
+    return NULL;
+}
+
+unsigned ray__task_count(unsigned threads, const ray_scheduler *scheduler)
+{
+    if (threads > 0)
+        return threads;
+    if (scheduler != NULL && scheduler->threads > 0)
+        return scheduler->threads;
+    return ray__online_cpus();
+}
+
+/* A task run in the caller's floating-point environment (see above). */
+typedef struct env_task {
+    fenv_t env;               /* the caller's */
+    ray_task_fn task;
+    void *ud;
+} env_task;
+
+static void task_in_env(void *arg, unsigned i)
+{
+    const env_task *t = arg;
+    fenv_t own;
+
+    fegetenv(&own);
+    fesetenv(&t->env);
+    t->task(t->ud, i);
+    fesetenv(&own);
+}
+
+/* What the built-in threads share: the next task number, under "lock". */
+typedef struct tasks_job {
+    ray__mutex *lock;
+    unsigned next, count;
+    ray_task_fn task;
+    void *ud;
+} tasks_job;
+
+/* Take task numbers until none is left. */
+static void take_tasks(void *arg)
+{
+    tasks_job *job = arg;
+
+    for (;;) {
+        unsigned i;
+        ray__mutex_lock(job->lock);
+        i = job->next;
+        if (i < job->count)
+            job->next++;
+        ray__mutex_unlock(job->lock);
+        if (i >= job->count)
+            return;
+        job->task(job->ud, i);
+    }
+}
+
+/* The built-in threads: n - 1 started (n >= 2), the caller the n-th. */
+static void run_threads(const ray__allocator *a, unsigned n, size_t stack,
+                        tasks_job *job)
+{
+    ray__thread *t = NULL;
+    int *started = NULL;
+    unsigned i;
+
+    if ((size_t)n - 1 <= (size_t)-1 / sizeof *t) {
+        t = ray__allocate(a, ((size_t)n - 1) * sizeof *t);
+        started = ray__allocate(a, ((size_t)n - 1) * sizeof *started);
+    }
+    if (t == NULL || started == NULL ||
+        ray__mutex_new(a, &job->lock) != RAY_OK) {
+        ray__release(a, t, ((size_t)n - 1) * sizeof *t);
+        ray__release(a, started, ((size_t)n - 1) * sizeof *started);
+        for (i = 0; i < job->count; i++)   /* all on the calling thread */
+            job->task(job->ud, i);
+        return;
+    }
+    for (i = 0; i + 1 < n; i++) {
+        t[i].fn = take_tasks;
+        t[i].arg = job;
+        started[i] = ray__thread_start(&t[i], stack) == 0;
+    }
+    take_tasks(job);
+    for (i = 0; i + 1 < n; i++)
+        if (started[i])
+            ray__thread_join(&t[i]);
+    ray__mutex_free(a, job->lock);
+    ray__release(a, t, ((size_t)n - 1) * sizeof *t);
+    ray__release(a, started, ((size_t)n - 1) * sizeof *started);
+}
+
+void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
+                    unsigned threads, size_t stack, unsigned count,
+                    ray_task_fn task, void *ud)
+{
+    tasks_job job;
+    env_task in_env;
+    unsigned i;
+
+    if (count == 0)
+        return;
+    if (threads > count)
+        threads = count;
+    if ((scheduler == NULL || scheduler->run == NULL) && threads <= 1) {
+        for (i = 0; i < count; i++)      /* all on the calling thread */
+            task(ud, i);
+        return;
+    }
+    fegetenv(&in_env.env);
+    in_env.task = task;
+    in_env.ud = ud;
+    if (scheduler != NULL && scheduler->run != NULL) {
+        scheduler->run(scheduler->ud, count, task_in_env, &in_env);
+        return;
+    }
+    job.lock = NULL;
+    job.next = 0;
+    job.count = count;
+    job.task = task_in_env;
+    job.ud = &in_env;
+    run_threads(a, threads, stack, &job);
+}

@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** tasks.h -- the library's parallel work, as tasks (ray.h's ray_task_fn)
+** run by the program's scheduler (ray_scheduler) or by the built-in
+** threads (tasks.c): what the render, the threaded BVH build and the
+** photon pass hand their work to.
+*/
+#ifndef RAY_TASKS_H
+#define RAY_TASKS_H
+
+#include "core/alloc.h"
+
+/*
+** Run task(ud, i) for every i in 0 .. count - 1 and return when all have
+** returned.  With a scheduler whose run is set, run does it (on the
+** program's threads).  Otherwise the built-in threads: the calling
+** thread and up to threads - 1 started ones (no more than count), with
+** at least "stack" bytes of stack (0: the platform's default), take the
+** task numbers in order from a shared counter, so larger tasks numbered
+** first start first.  A thread that cannot be started, or a counter
+** lock that cannot be made, only means fewer threads: every task still
+** runs once.  "a" (the scene's allocator) serves the thread handles and
+** the lock, from the calling thread.  Every task runs in the calling
+** thread's floating-point environment (tasks.c says why).
+*/
+void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
+                    unsigned threads, size_t stack, unsigned count,
+                    ray_task_fn task, void *ud);
+
+/* How many tasks a render or photon pass makes: "threads" (its options')
+** if not 0, else the scheduler's threads if it says, else one per online
+** CPU. */
+unsigned ray__task_count(unsigned threads, const ray_scheduler *scheduler);
+
+/* The scheduler to use: "chosen" (a render's options) if it has a run,
+** else "fallback" (the scene's) if that has one, else NULL: the built-in
+** threads. */
+const ray_scheduler *ray__scheduler_pick(const ray_scheduler *chosen,
+                                         const ray_scheduler *fallback);
+
+#endif /* RAY_TASKS_H */
