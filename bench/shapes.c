@@ -22,6 +22,7 @@
 #include "obj.h"
 #include "prim/overlap.h"
 #include "shapes.h"
+#include "terrain.h"
 
 #if !defined(HAVE_BULLET)
 /* Without Bullet: no rows of it (bench/bullet.cpp is not built). */
@@ -200,19 +201,11 @@ static row overlap_row(const char *scene, const char *what,
 
 /* ------------------------------------------------------------ scenes */
 
-/* The game example's terrain height (examples/game.c). */
-static double height(double x, double z)
-{
-    return sin(0.3 * x) * cos(0.25 * z);
-}
-
 /* The game example's scene at its first frame: the 48 x 48 terrain (4,608
 ** triangles) and 200 instances of a 12-triangle crate; and its triangles
 ** in world space. */
 static ray_scene *game_scene(soup *sp, ray_scene **crate)
 {
-    static ray_vec3 v[49 * 49];
-    static unsigned idx[6 * 48 * 48];
     static const unsigned box[36] = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5,
                                      0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3,
                                      0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
@@ -220,20 +213,13 @@ static ray_scene *game_scene(soup *sp, ray_scene **crate)
     ray_scene *s;
     ray_mesh m;
     unsigned i, j, k;
+    size_t tri;
 
-    for (j = 0; j <= 48; j++)
-        for (i = 0; i <= 48; i++) {
-            double x = (double)i - 24, z = (double)j - 24;
-            v[j * 49 + i] = vec(x, height(x, z), z);
-        }
-    for (j = 0; j < 48; j++)
-        for (i = 0; i < 48; i++) {
-            unsigned a = j * 49 + i, *t = idx + 6 * (j * 48 + i);
-            t[0] = a, t[1] = a + 49, t[2] = a + 1;
-            t[3] = a + 1, t[4] = a + 49, t[5] = a + 50;
-        }
-    for (k = 0; k < 2 * 48 * 48; k++)
-        soup_add(sp, v[idx[3 * k]], v[idx[3 * k + 1]], v[idx[3 * k + 2]]);
+    terrain_mesh(&m);
+    for (tri = 0; tri < m.triangle_count; tri++)
+        soup_add(sp, m.vertices[m.indices[3 * tri]],
+                 m.vertices[m.indices[3 * tri + 1]],
+                 m.vertices[m.indices[3 * tri + 2]]);
     for (i = 0; i < 8; i++)
         cv[i] = vec(i & 1 ? 0.4 : -0.4, i & 2 ? 0.8 : 0, i & 4 ? 0.4 : -0.4);
     if (ray_scene_new(crate, NULL, NULL) != RAY_OK ||
@@ -241,17 +227,12 @@ static ray_scene *game_scene(soup *sp, ray_scene **crate)
                              RAY_NO_MATERIAL, NULL) != RAY_OK ||
         ray_scene_commit(*crate) != RAY_OK || ray_scene_new(&s, NULL, NULL))
         exit(1);
-    ray_mesh_init(&m);
-    m.vertices = v;
-    m.vertex_count = 49 * 49;
-    m.indices = idx;
-    m.triangle_count = 2 * 48 * 48;
     if (ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL) != RAY_OK)
         exit(1);
     for (k = 0; k < 200; k++) {
         double a = k, x = -22 + 2.2 * (k % 20) + 0.5 * cos(a);
         double z = -11 + 2.2 * (double)(k / 20) + 0.5 * sin(a);
-        double c = cos(a), sn = sin(a), y = height(x, z) + 1.2;
+        double c = cos(a), sn = sin(a), y = terrain_height(x, z) + 1.2;
         ray_transform t;
         ray_transform_identity(&t);
         t.m[0][0] = c, t.m[0][2] = sn, t.m[2][0] = -sn, t.m[2][2] = c;
@@ -525,7 +506,7 @@ int main(int argc, char **argv)
             return 1;
         for (i = 0; i < n; i++) {
             double x = rng_range(&g, -23, 23), z = rng_range(&g, -23, 23);
-            ray_vec3 from = vec(x, height(x, z) + rng_range(&g, 1, 3), z);
+            ray_vec3 from = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3), z);
             ray_vec3 step = vscale(rng_dir(&g), rng_range(&g, 0.2, 2));
             ray_sweep_init(&gw[i]);
             gw[i].a = gw[i].b = from;
@@ -584,7 +565,7 @@ int main(int argc, char **argv)
             do {
                 double x = rng_range(&g, -23, 23), z = rng_range(&g, -23, 23);
                 ray_sweep_init(&gw[i]);
-                gw[i].a = gw[i].b = vec(x, height(x, z) + rng_range(&g, 1, 3),
+                gw[i].a = gw[i].b = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3),
                                         z);
                 gw[i].radius = 0.3;
                 gw[i].dir = vscale(rng_dir(&g), rng_range(&g, 0.2, 4));

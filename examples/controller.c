@@ -17,8 +17,8 @@
 ** RAY_CONTROLLER_FRAMES sets the number of frames (default 10000).
 */
 #include "common.h"
+#include "terrain.h"
 
-#define GRID 48                   /* the terrain: GRID x GRID cells */
 #define CRATES 200
 #define LEDGES 24
 #define TERRAIN_MASK 1u
@@ -33,35 +33,12 @@
 #define SPEED 4.0
 #define JUMP 5.0
 
-/* The terrain's height at (x, z): examples/game.c's hills. */
-static double height(double x, double z)
-{
-    return sin(0.3 * x) * cos(0.25 * z);
-}
-
+/* The terrain (examples/terrain.h) as one mesh. */
 static int add_terrain(ray_scene *s, unsigned *id)
 {
-    static ray_vec3 v[(GRID + 1) * (GRID + 1)];
-    static unsigned idx[6 * GRID * GRID];
-    unsigned i, j;
     ray_mesh m;
 
-    for (j = 0; j <= GRID; j++)
-        for (i = 0; i <= GRID; i++) {
-            double x = (double)i - GRID / 2, z = (double)j - GRID / 2;
-            v[j * (GRID + 1) + i] = vec(x, height(x, z), z);
-        }
-    for (j = 0; j < GRID; j++)
-        for (i = 0; i < GRID; i++) {
-            unsigned a = j * (GRID + 1) + i, *t = idx + 6 * (j * GRID + i);
-            t[0] = a; t[1] = a + GRID + 1; t[2] = a + 1;
-            t[3] = a + 1; t[4] = a + GRID + 1; t[5] = a + GRID + 2;
-        }
-    ray_mesh_init(&m);
-    m.vertices = v;
-    m.vertex_count = (GRID + 1) * (GRID + 1);
-    m.indices = idx;
-    m.triangle_count = 2 * GRID * GRID;
+    terrain_mesh(&m);
     return ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, id);
 }
 
@@ -104,13 +81,13 @@ static ray_scene *build_world(ray_scene **crate)
         ray_transform_identity(&t);
         t.m[0][0] = cos(a), t.m[0][2] = sin(a);
         t.m[2][0] = -sin(a), t.m[2][2] = cos(a);
-        t.m[0][3] = x, t.m[1][3] = height(x, z) - 0.1, t.m[2][3] = z;
+        t.m[0][3] = x, t.m[1][3] = terrain_height(x, z) - 0.1, t.m[2][3] = z;
         check(ray_scene_add_instance(w, *crate, &t, &id), "crate");
         check(ray_scene_set_mask(w, id, 2u), "crate mask");
     }
     for (k = 0; k < LEDGES; k++) {
         double x = -20 + 40.0 * (k % 6) / 5, z = 14 + 3.0 * (double)(k / 6);
-        double y = height(x, z);
+        double y = terrain_height(x, z);
         check(add_block(w, vec(x - 1, y - 1, z - 1),
                         vec(x + 1, y + 0.3, z + 1)), "ledge");
     }
@@ -340,7 +317,7 @@ int main(int argc, char **argv)
     if (frames == 0 || frames > 10000000)
         frames = 10000;
     world = build_world(&crate);
-    b.p = vec(0.5, height(0.5, 8) + HALF + RADIUS + 0.5, 8);
+    b.p = vec(0.5, terrain_height(0.5, 8) + HALF + RADIUS + 0.5, 8);
     b.v = vec(0, 0, 0);
     b.grounded = 0;
     for (f = 0; f < frames; f++) {

@@ -285,126 +285,17 @@ END_TEST
 /*
 ** Through instances: the child of a mesh, a box and the L polygon under 8
 ** random affine maps, the sphere-and-capsule child under 4 similarities
-** (the pieces taken to world space in long double, as check_sweep.c's
-** instance test builds them), 200 spheres and 200 boxes.
+** (shapekit.h's kit_build_instanced, the world the sweeps' instance test
+** uses too), 200 spheres and 200 boxes.
 */
 START_TEST(overlaps_should_be_exact_through_instances)
 {
-    hc_mesh ico = hc_icosphere(vec(0, 0, 0), 0);
-    ray_scene *poly, *round;
-    ray_box_params box;
-    ray_capsule_params cap;
-    ray_vec3 l[6];
-    ray_mesh m = hc_ray_mesh(&ico);
+    ray_scene *child[2];
     kit k;
     rng g = {909};
     int i;
-    size_t t;
 
-    box.center = vec(3, 0, 0);
-    box.half_extents = vec(0.5, 0.8, 0.3);
-    box.axis_x = vec(1, 0.5, 0);
-    box.axis_y = vec(0, 1, 1);
-    for (i = 0; i < 6; i++)
-        l[i] = vec(-4 + kit_l_uv[i][0], kit_l_uv[i][1], 0.5 * kit_l_uv[i][1]);
-    cap.a = vec(2, -1, 0);
-    cap.b = vec(3, 1, 0.5);
-    cap.radius = 0.4;
-    ck_assert_int_eq(ray_scene_new(&poly, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_mesh(poly, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_box(poly, &box, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_polygon(poly, l, 6, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(poly), RAY_OK);
-    ck_assert_int_eq(ray_scene_new(&round, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_sphere(round, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_capsule(round, &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(round), RAY_OK);
-    memset(&k, 0, sizeof k);
-    ck_assert_int_eq(ray_scene_new(&k.s, NULL, NULL), RAY_OK);
-    for (i = 0; i < 12; i++) {
-        ray_transform xf;
-        unsigned id;
-        piece p;
-        lvec e[3];
-        ld h[3], sc = 1;
-        int c, j;
-        double s[3] = {1, 1, 1};
-        ray_vec3 at = rng_point(&g, -12, 12), ax = rng_dir(&g);
-        double th = rng_range(&g, 0, 6.283185307179586);
-        double cs = cos(th), sn = sin(th), v = 1 - cs, q[3][3];
-        q[0][0] = cs + ax.x * ax.x * v;
-        q[0][1] = ax.x * ax.y * v - ax.z * sn;
-        q[0][2] = ax.x * ax.z * v + ax.y * sn;
-        q[1][0] = ax.y * ax.x * v + ax.z * sn;
-        q[1][1] = cs + ax.y * ax.y * v;
-        q[1][2] = ax.y * ax.z * v - ax.x * sn;
-        q[2][0] = ax.z * ax.x * v - ax.y * sn;
-        q[2][1] = ax.z * ax.y * v + ax.x * sn;
-        q[2][2] = cs + ax.z * ax.z * v;
-        if (i < 8)
-            for (j = 0; j < 3; j++)
-                s[j] = rng_range(&g, 0.4, 2.5);
-        else
-            s[0] = s[1] = s[2] = (double)(sc = (ld)rng_range(&g, 0.5, 2));
-        if (i % 3 == 0)
-            s[0] = -s[0];
-        ray_transform_identity(&xf);
-        for (c = 0; c < 3; c++)
-            for (j = 0; j < 3; j++)
-                xf.m[c][j] = q[c][j] * s[j];
-        if (i < 8)
-            xf.m[0][1] += rng_range(&g, -0.4, 0.4);
-        xf.m[0][3] = at.x;
-        xf.m[1][3] = at.y;
-        xf.m[2][3] = at.z;
-        ck_assert_int_eq(ray_scene_add_instance(k.s, i < 8 ? poly : round, &xf, &id), RAY_OK);
-#define MAP(P_) lv3((ld)xf.m[0][0] * (P_).x + (ld)xf.m[0][1] * (P_).y + (ld)xf.m[0][2] * (P_).z + (ld)xf.m[0][3], \
-                   (ld)xf.m[1][0] * (P_).x + (ld)xf.m[1][1] * (P_).y + (ld)xf.m[1][2] * (P_).z + (ld)xf.m[1][3], \
-                   (ld)xf.m[2][0] * (P_).x + (ld)xf.m[2][1] * (P_).y + (ld)xf.m[2][2] * (P_).z + (ld)xf.m[2][3])
-        if (i >= 8) {
-            memset(&p, 0, sizeof p);
-            p.kind = PIECE_SPHERE;
-            p.a = p.centre = MAP(lv3(0, 0, 0));
-            p.R = p.reach = sc;
-            p.geom_id = 0;
-            p.inst_id = id;
-            kit_push(&k, p);
-            p.kind = PIECE_CAPSULE;
-            p.a = MAP(lv(cap.a));
-            p.b = MAP(lv(cap.b));
-            p.R = sc * (ld)cap.radius;
-            p.geom_id = 1;
-            kit_push(&k, p);
-            continue;
-        }
-        for (t = 0; t < ico.nt; t++) {
-            p = kit_tri(MAP(lv(ico.v[ico.idx[3 * t]])), MAP(lv(ico.v[ico.idx[3 * t + 1]])),
-                        MAP(lv(ico.v[ico.idx[3 * t + 2]])), 0, (unsigned)t);
-            p.inst_id = id;
-            kit_push(&k, p);
-        }
-        memset(&p, 0, sizeof p);
-        p.kind = PIECE_PARA;
-        kit_box_frame(&box, e, h);
-        for (c = 0; c < 8; c++) {
-            lvec x = lv(box.center);
-            x = ladd(x, lscale(e[0], c & 1 ? h[0] : -h[0]));
-            x = ladd(x, lscale(e[1], c & 2 ? h[1] : -h[1]));
-            x = ladd(x, lscale(e[2], c & 4 ? h[2] : -h[2]));
-            p.corner[c] = MAP(x);
-        }
-        p.geom_id = 1;
-        p.inst_id = id;
-        kit_push(&k, p);
-        for (c = 0; c < 4; c++) {
-            p = kit_tri(MAP(lv(l[kit_l_tris[c][0]])), MAP(lv(l[kit_l_tris[c][1]])),
-                        MAP(lv(l[kit_l_tris[c][2]])), 2, 0);
-            p.inst_id = id;
-            kit_push(&k, p);
-        }
-#undef MAP
-    }
-    ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
+    kit_build_instanced(&k, &g, child);
     for (i = 0; i < 200; i++)
         check_query(&k, 0, NULL, rng_point(&g, -14, 14), rng_range(&g, 0.1, 3),
                     0x1p-40L * 60, i);
@@ -413,9 +304,8 @@ START_TEST(overlaps_should_be_exact_through_instances)
         check_query(&k, 1, &b, vec(0, 0, 0), 0, 0x1p-40L * 60, 1000 + i);
     }
     kit_free(&k);
-    ray_scene_free(poly);
-    ray_scene_free(round);
-    hc_mesh_free(&ico);
+    ray_scene_free(child[0]);
+    ray_scene_free(child[1]);
 }
 END_TEST
 

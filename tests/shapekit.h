@@ -345,6 +345,161 @@ static inline void kit_build(kit *k, ray_vec3 o, int plane)
     hc_mesh_free(&cube);
 }
 
+/* Point v through t, in long double. */
+static inline lvec kit_map_point(const ray_transform *t, lvec v)
+{
+    return lv3((ld)t->m[0][0] * v.x + (ld)t->m[0][1] * v.y +
+                   (ld)t->m[0][2] * v.z + (ld)t->m[0][3],
+               (ld)t->m[1][0] * v.x + (ld)t->m[1][1] * v.y +
+                   (ld)t->m[1][2] * v.z + (ld)t->m[1][3],
+               (ld)t->m[2][0] * v.x + (ld)t->m[2][1] * v.y +
+                   (ld)t->m[2][2] * v.z + (ld)t->m[2][3]);
+}
+
+/* A rotation about a random axis times diag(s), with a shear of up to
+** "shear" and a reflection every third time; at "at". */
+static inline void kit_affine(rng *g, int k, double shear, ray_vec3 s, ray_vec3 at,
+                   ray_transform *t)
+{
+    ray_vec3 ax = rng_dir(g);
+    double th = rng_range(g, 0, 6.283185307179586), c = cos(th), sn = sin(th);
+    double v = 1 - c, q[3][3], sc[3];
+    int i, j;
+
+    q[0][0] = c + ax.x * ax.x * v;
+    q[0][1] = ax.x * ax.y * v - ax.z * sn;
+    q[0][2] = ax.x * ax.z * v + ax.y * sn;
+    q[1][0] = ax.y * ax.x * v + ax.z * sn;
+    q[1][1] = c + ax.y * ax.y * v;
+    q[1][2] = ax.y * ax.z * v - ax.x * sn;
+    q[2][0] = ax.z * ax.x * v - ax.y * sn;
+    q[2][1] = ax.z * ax.y * v + ax.x * sn;
+    q[2][2] = c + ax.z * ax.z * v;
+    sc[0] = s.x;
+    sc[1] = s.y;
+    sc[2] = s.z;
+    if (k % 3 == 0)
+        sc[0] = -sc[0];
+    ray_transform_identity(t);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            t->m[i][j] = q[i][j] * sc[j];
+    t->m[0][1] += shear * rng_range(g, -1, 1);
+    t->m[2][0] += shear * rng_range(g, -1, 1);
+    t->m[0][3] = at.x;
+    t->m[1][3] = at.y;
+    t->m[2][3] = at.z;
+}
+
+/*
+** The instanced world of both suites' instance tests: 8 placements of a
+** child of a mesh (an icosahedron), a box and the L polygon under random
+** affine maps (scales 0.4 to 2.5 per axis, shears, reflections), and 4
+** of a child of a sphere and a capsule under similarities (a rotation, a
+** uniform scale, a reflection); k gets every piece taken to world space
+** in long double.  child[0] and child[1] are the two children, for the
+** caller to free after kit_free(k).
+*/
+static inline void kit_build_instanced(kit *k, rng *g, ray_scene *child[2])
+{
+    hc_mesh ico = hc_icosphere(vec(0, 0, 0), 0);
+    ray_box_params box;
+    ray_capsule_params cap;
+    ray_vec3 l[6];
+    ray_mesh m = hc_ray_mesh(&ico);
+    int i;
+    size_t t;
+
+    box.center = vec(3, 0, 0);
+    box.half_extents = vec(0.5, 0.8, 0.3);
+    box.axis_x = vec(1, 0.5, 0);
+    box.axis_y = vec(0, 1, 1);
+    for (i = 0; i < 6; i++)
+        l[i] = vec(-4 + kit_l_uv[i][0], kit_l_uv[i][1], 0.5 * kit_l_uv[i][1]);
+    cap.a = vec(2, -1, 0);
+    cap.b = vec(3, 1, 0.5);
+    cap.radius = 0.4;
+    ck_assert_int_eq(ray_scene_new(&child[0], NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(child[0], &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(child[0], &box, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_polygon(child[0], l, 6, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child[0]), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&child[1], NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child[1], vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_capsule(child[1], &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child[1]), RAY_OK);
+    memset(k, 0, sizeof *k);
+    ck_assert_int_eq(ray_scene_new(&k->s, NULL, NULL), RAY_OK);
+    for (i = 0; i < 12; i++) {
+        ray_transform xf;
+        unsigned id;
+        piece p;
+        lvec e[3];
+        ld h[3], sc = 1;
+        int c;
+        ray_vec3 at = rng_point(g, -12, 12);
+        if (i < 8)
+            kit_affine(g, i, 0.4, rng_point(g, 0.4, 2.5), at, &xf);
+        else {
+            sc = (ld)rng_range(g, 0.5, 2);
+            kit_affine(g, i, 0, vec((double)sc, (double)sc, (double)sc), at, &xf);
+        }
+        ck_assert_int_eq(ray_scene_add_instance(k->s, child[i < 8 ? 0 : 1], &xf, &id), RAY_OK);
+        if (i >= 8) {
+            memset(&p, 0, sizeof p);
+            p.kind = PIECE_SPHERE;
+            p.a = p.centre = kit_map_point(&xf, lv3(0, 0, 0));
+            p.R = p.reach = sc;
+            p.geom_id = 0;
+            p.inst_id = id;
+            kit_push(k, p);
+            p.kind = PIECE_CAPSULE;
+            p.a = kit_map_point(&xf, lv(cap.a));
+            p.b = kit_map_point(&xf, lv(cap.b));
+            p.R = sc * (ld)cap.radius;
+            p.centre = lscale(ladd(p.a, p.b), 0.5L);
+            p.reach = ldist(p.a, p.b) / 2 + p.R;
+            p.geom_id = 1;
+            kit_push(k, p);
+            continue;
+        }
+        for (t = 0; t < ico.nt; t++) {
+            p = kit_tri(kit_map_point(&xf, lv(ico.v[ico.idx[3 * t]])),
+                        kit_map_point(&xf, lv(ico.v[ico.idx[3 * t + 1]])),
+                        kit_map_point(&xf, lv(ico.v[ico.idx[3 * t + 2]])), 0,
+                        (unsigned)t);
+            p.inst_id = id;
+            kit_push(k, p);
+        }
+        memset(&p, 0, sizeof p);
+        p.kind = PIECE_PARA;
+        kit_box_frame(&box, e, h);
+        for (c = 0; c < 8; c++) {
+            lvec x = lv(box.center);
+            x = ladd(x, lscale(e[0], c & 1 ? h[0] : -h[0]));
+            x = ladd(x, lscale(e[1], c & 2 ? h[1] : -h[1]));
+            x = ladd(x, lscale(e[2], c & 4 ? h[2] : -h[2]));
+            p.corner[c] = kit_map_point(&xf, x);
+        }
+        p.centre = lscale(ladd(p.corner[0], p.corner[7]), 0.5L);
+        p.reach = 0;
+        for (c = 0; c < 8; c++)
+            p.reach = fmaxl(p.reach, ldist(p.corner[c], p.centre));
+        p.geom_id = 1;
+        p.inst_id = id;
+        kit_push(k, p);
+        for (c = 0; c < 4; c++) {
+            p = kit_tri(kit_map_point(&xf, lv(l[kit_l_tris[c][0]])),
+                        kit_map_point(&xf, lv(l[kit_l_tris[c][1]])),
+                        kit_map_point(&xf, lv(l[kit_l_tris[c][2]])), 2, 0);
+            p.inst_id = id;
+            kit_push(k, p);
+        }
+    }
+    ck_assert_int_eq(ray_scene_commit(k->s), RAY_OK);
+    hc_mesh_free(&ico);
+}
+
 static inline void kit_free(kit *k)
 {
     ray_scene_free(k->s);
