@@ -221,14 +221,26 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
+# Bullet is optional too: bench/shapes.c compares the sweeps with its
+# convexSweepTest and rayTest where Debian's libbullet-dev is installed.
+# Bullet is C++: bench/bullet.cpp is built with $(CXX), only then.
+BULLET_FLAGS = $(shell test -f /usr/include/bullet/btBulletCollisionCommon.h && \
+                 echo "-DHAVE_BULLET")
+BULLET_OBJ = $(if $(BULLET_FLAGS),$(BUILD)/bench/bullet.o)
+BULLET_LIBS = $(if $(BULLET_FLAGS),-lBulletCollision -lLinearMath -lstdc++)
+$(BUILD)/bench/bullet.o: bench/bullet.cpp bench/shapes.h
+	@mkdir -p $(@D)
+	$(CXX) -O2 -g -Wall -Wextra -I/usr/include/bullet -Ibench -c $< -o $@
+$(BUILD)/bench/shapes: $(BULLET_OBJ)
 # Benchmarks mix float, double and long double on purpose (float variants,
 # long double references), so -Wdouble-promotion, which guards the
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_FLAGS)) \
-	    $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
-	    $(LDFLAGS) -o $@ $< $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) $(LIBS)
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
+	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) \
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its
@@ -346,6 +358,7 @@ else
 	cd $(BUILD) && examples/hello >/dev/null && examples/material >/dev/null
 	$(BUILD)/examples/picking >/dev/null
 	RAY_GAME_FRAMES=10 $(BUILD)/examples/game >/dev/null
+	RAY_CONTROLLER_FRAMES=600 $(BUILD)/examples/controller
 	$(BUILD)/examples/primitives $(BUILD)/primitives.png >/dev/null
 	$(BUILD)/examples/whitted $(BUILD)/whitted.png 64 48 1 2 >/dev/null 2>&1
 	$(BUILD)/examples/cornell $(BUILD)/cornell.png 32 32 1 2 >/dev/null 2>&1
@@ -355,7 +368,7 @@ else
 	    echo "$(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2"; \
 	    $(BUILD)/examples/teapot data/teapot.bpt $(BUILD)/teapot.png 48 36 1 2 >/dev/null 2>&1; \
 	else echo "check: no data/teapot.bpt (scripts/fetch-teapot.sh): teapot example built, not run"; fi
-	scripts/check-examples.sh $(BUILD)
+	RAY_CONTROLLER_FRAMES=60 scripts/check-examples.sh $(BUILD)
 	@$(MAKE) --no-print-directory mpi-check
 endif
 

@@ -58,6 +58,7 @@ if [ "$mode" = run ]; then
         "$build/bench/filter" data
         "$build/bench/packets" data
         "$build/bench/game" data
+        "$build/bench/shapes" data
         "$build/bench/whitted" bench/whitted.pov
         "$build/bench/caustics" "$plots"
         # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
@@ -73,7 +74,8 @@ fi
 # Tables copied into the pages between <!-- NAME:begin --> and
 # <!-- NAME:end -->: into doc/BENCHMARKS.md the primitives (headline),
 # the curved surfaces, the effects, the ray cones, the thread speed-up,
-# the meshes, the live scenes and the Whitted scene against POV-Ray;
+# the meshes, the live scenes, the shape queries and the Whitted scene
+# against POV-Ray;
 # into doc/NUMERICS.md the hard cases and the self-hits.  A marker
 # missing from its page is an error, not a table silently dropped.
 # splice PAGE NAME FILE: the copy goes to $plots/pages/PAGE, which
@@ -111,8 +113,11 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     splice "$doc" filter "$plots/filter.md"
     awk '/^## Games and tools/{exit} /^## Packets:/{on=1; next} on' "$out" > "$plots/packets.md"
     splice "$doc" packets "$plots/packets.md"
-    awk '/^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
+    awk '/^## Shape queries/{exit} /^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice "$doc" game "$plots/game.md"
+    awk '/^## Whitted scene against POV-Ray/{exit} /^## Shape queries/{on=1; next} on' "$out" |
+        sed -e '/./,$!d' > "$plots/shapes.md"
+    splice "$doc" shapes "$plots/shapes.md"
     awk '/^## MPI: one frame/{exit} /^## Caustics: error/{exit} /^## Whitted scene against POV-Ray/{on=1; next} on' "$out" > "$plots/whitted.md"
     splice "$doc" whitted "$plots/whitted.md"
     awk '/^## MPI: one frame/{exit} /^## Caustics: error/{on=1; next} on' "$out" |

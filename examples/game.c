@@ -15,44 +15,20 @@
 #include <pthread.h>
 
 #include "common.h"
+#include "terrain.h"
 
 #define OBJECTS 200
 #define THREADS 2
 #define QUERIES 4000          /* per thread and frame: half picks, half LOS */
-#define GRID 48               /* the terrain: GRID x GRID cells, 2 each */
 #define LEVEL_MASK 1u
 #define OBJECT_MASK 2u
 
-/* The terrain's height at (x, z): gentle hills, y in [-1, 1]. */
-static double height(double x, double z)
-{
-    return sin(0.3 * x) * cos(0.25 * z);
-}
-
-/* The GRID x GRID terrain over [-24, 24]^2 as one mesh. */
+/* The terrain (examples/terrain.h) as one mesh. */
 static int add_terrain(ray_scene *s)
 {
-    static ray_vec3 v[(GRID + 1) * (GRID + 1)];
-    static unsigned idx[6 * GRID * GRID];
-    unsigned i, j;
     ray_mesh m;
 
-    for (j = 0; j <= GRID; j++)
-        for (i = 0; i <= GRID; i++) {
-            double x = (double)i - GRID / 2, z = (double)j - GRID / 2;
-            v[j * (GRID + 1) + i] = vec(x, height(x, z), z);
-        }
-    for (j = 0; j < GRID; j++)
-        for (i = 0; i < GRID; i++) {
-            unsigned a = j * (GRID + 1) + i, *t = idx + 6 * (j * GRID + i);
-            t[0] = a; t[1] = a + GRID + 1; t[2] = a + 1;
-            t[3] = a + 1; t[4] = a + GRID + 1; t[5] = a + GRID + 2;
-        }
-    ray_mesh_init(&m);
-    m.vertices = v;
-    m.vertex_count = (GRID + 1) * (GRID + 1);
-    m.indices = idx;
-    m.triangle_count = 2 * GRID * GRID;
+    terrain_mesh(&m);
     return ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL);
 }
 
@@ -77,7 +53,7 @@ static ray_vec3 object_at(unsigned k, unsigned f)
 {
     double a = 0.05 * f + k, x = -22 + 2.2 * (k % 20) + 0.5 * cos(a);
     double z = -11 + 2.2 * (double)(k / 20) + 0.5 * sin(a);
-    return vec(x, height(x, z) + 1.2, z);
+    return vec(x, terrain_height(x, z) + 1.2, z);
 }
 
 static void object_xfm(unsigned k, unsigned f, ray_transform *t)
@@ -227,7 +203,7 @@ int main(int argc, char **argv)
     qsort(commit_s, frames, sizeof *commit_s, median_cmp);
     printf("%u frames, %d objects (instances of a %u-triangle crate) over "
            "a %d-triangle terrain\n", frames, OBJECTS, 12u,
-           2 * GRID * GRID);
+           2 * TERRAIN_GRID * TERRAIN_GRID);
     printf("commit per frame: median %.3f ms, worst %.3f ms\n",
            1e3 * commit_s[frames / 2], 1e3 * commit_s[frames - 1]);
     printf("queries: %llu picks, %llu lines of sight (%llu blocked) from %d "

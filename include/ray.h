@@ -55,7 +55,8 @@
 ** tests a ray against a sphere alone (1, 2); doc/GUIDE.md's first render
 ** builds a scene, renders it and writes a PNG (3 to 10); README's second,
 ** picking in a game, queries a scene (11, 12); a material of one's own
-** traces rays (13, 14); the other surfaces come last (15).
+** traces rays (13, 14); the other surfaces come next (15), and then the
+** shapes a game moves through its world, which stand on them (16).
 **    1. values              ray_vec3, ray_ray, ray_hit, ids
 **    2. primitives          the lecture's ray / object tests
 **    3. errors              status codes, ray_strerror
@@ -73,6 +74,8 @@
 **   14. secondary rays      ray_spawn, reflection, refraction
 **   15. more surfaces       implicit, torus, box, capsule, blobs,
 **                           parametric, Bezier, the caller's own
+**   16. shapes in the world sweeps of spheres and capsules, overlaps of
+**                           spheres and boxes, rays from surface points
 */
 #ifndef RAY_H
 #define RAY_H
@@ -1436,11 +1439,14 @@ RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
 ** patches and user geometry have no closest-point routine and are
 ** skipped.  Of points at the same distance, which is reported is
 ** unspecified.  Instances are searched through their transform (inst_id
-** names the instance, geom_id and prim_id the child's geometry): exactly
-** for a rotation with a uniform scale (and a translation); through other
-** transforms (a non-uniform scale, a shear) the point is the child's
-** nearest in its own space, a surface point within the radius but not
-** always the world's nearest.  Masks and filters do not apply.
+** names the instance, geom_id and prim_id the child's geometry) and
+** answer the world's nearest point for any transform the scene accepts:
+** the child's boxes are searched within the radius times |L^-1|_2, and
+** every candidate is measured in world space (a sphere through a
+** non-uniform scale or a shear is an ellipsoid, a box a parallelepiped,
+** a capsule an ellipsoid swept along a segment; for a q inside such a
+** capsule, the nearest point of the ellipsoid it is deepest in).
+** Masks and filters do not apply.
 **
 ** geom_id names the geometry as for ray_intersect; prim_id is the
 ** triangle's index within a mesh, 0 for every other kind.  n is the
@@ -1510,9 +1516,15 @@ RAY_API void ray_transform_identity(ray_transform *t);
 ** of them is queried.  Errors, with nothing added: RAY_EINVAL for
 ** NULLs, child == scene, a non-finite transform, a singular L (|det L|
 ** below 8 ulps of the product of its row lengths: not invertible to
-** working precision), a child that has instances itself (two levels
-** only) or unbounded planes; RAY_ESTATE for a child not committed;
-** RAY_ENOMEM.
+** working precision; the test is scale-free), an L whose inverse has an
+** entry beyond DBL_MAX (diag(1e-310, 1, 1): its inverse holds 1e310;
+** diag(1e-300, 1, 1) is accepted), a transform that maps the child's
+** box beyond +-2^1016 (about 7e305), where a hit's point or error bound
+** could overflow (refused rather than such hits counted as misses, so
+** that no query hands out a field that is not finite; a commit fails the
+** same way once the child has grown out of range), a child that has
+** instances itself (two levels only) or unbounded planes; RAY_ESTATE
+** for a child not committed; RAY_ENOMEM.
 */
 RAY_API int ray_scene_add_instance(ray_scene *scene, const ray_scene *child,
                                    const ray_transform *xfm,
@@ -1576,7 +1588,10 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 **
 ** A filter is called for every CANDIDATE hit of its geometry, in world
 ** space, before the query accepts it, and answers non-zero (keep) or 0
-** (reject: the query goes on as if that surface were not there): alpha
+** (reject: the query goes on as if that surface were not there), with
+** the query's ray, its tmax lowered to the nearest hit kept so far but
+** always holding the candidate (tmin < candidate->t < tmax: a triangle
+** tying the kept hit comes with tmax the next double above its t): alpha
 ** cut-outs, ignoring the shooter, transparent shadows.  "queries" says
 ** which queries call it: RAY_FILTER_INTERSECT (nearest hit:
 ** ray_intersect, ray_intersect_opt, ray_trace's and ray_render's rays),
@@ -2275,6 +2290,199 @@ typedef struct ray_user_geometry {
 RAY_API int ray_scene_add_user(ray_scene *scene,
                                const ray_user_geometry *g,
                                unsigned material, unsigned *geom_id);
+
+/* ------------------------------------------------ 16. shapes in the world:
+** sweeps of spheres and capsules, overlaps of boxes and spheres, rays
+** from points of the scene's own surfaces */
+/*
+** ray_intersect_sweep -- the first contact of a sphere or a capsule moved
+** along a line through a committed scene: Unity's SphereCast and
+** CapsuleCast, Bullet's convexSweepTest, Jolt's CastShape, on the scene's
+** own BVHs (a character controller sliding along walls, a camera kept
+** out of walls, a thick bullet).  Shape queries are rays with a radius:
+** the same masks, filters (RAY_FILTER_INTERSECT: a sweep is a nearest
+** query), instances and statuses as ray_intersect_opt.
+**
+** The shape at t is the capsule of radius "radius" around the segment
+** [a + t dir, b + t dir] (a == b: a sphere), for t in [tmin, tmax].
+** Returns 1 with *c filled for the first contact, 0 when the shape
+** touches nothing over the interval (*c untouched), or a negated status:
+** -RAY_EINVAL for a NULL scene, sweep or c, a non-finite a, b or dir, a
+** zero dir (no motion), a b - a or a tmin dir that overflows, a radius
+** that is negative or not finite, a tmin that is not finite, tmax NaN
+** or not above tmin; -RAY_ESTATE for a scene not committed (or changed
+** since), or a sweep that meets an instance whose scene was changed.
+**
+**   * radius 0 with a == b is a ray: the answer is ray_intersect_opt's
+**     for the ray (a, dir, tmin, tmax), its t, p, ids as the hit's and n
+**     the hit's normal turned against dir; on the open interval.
+**   * Already touching or overlapping at tmin: an overlap (the shape's
+**     core, its centre or segment, nearer a surface than its radius, or
+**     inside a solid) is a contact at t = tmin with RAY_CONTACT_OVERLAP,
+**     its depth (radius minus the signed distance: how far to move the
+**     shape along n to free it) and n, the direction that frees it
+**     fastest; of several, the deepest.  A shape touching within
+**     rounding is a contact at tmin only if it moves into the surface:
+**     sliding along a wall at exactly the radius is no contact.
+**   * Conservative (ray_intersect_sweep(3) derives the bound): the
+**     shape at any t from tmin to the contact's is nowhere more than 2
+**     eps inside a surface, and at t it is within 2 eps of touching the
+**     one it meets, eps = gamma(64) (M + radius + |b - a| + |tmin dir|),
+**     M the largest coordinate of the features met, relative to a
+**     (gamma(n) = n u / (1 - n u), u = 2^-53): moving the shape to t
+**     never puts it inside.  A shape that only grazes an edge or a
+**     vertex (never more than eps into it: sliding over a flat mesh at
+**     its radius) touches nothing there.  No shape gets through a closed
+**     mesh at its shared edges and vertices (the sweep's watertightness,
+**     tested at 0, 1e5 and 1e6 from the origin).
+**   * Per kind: triangles, meshes, polygons and planes are surfaces;
+**     spheres, boxes and capsules are solids (a shape inside one
+**     overlaps it).  All exact as above, through any transform an
+**     instance has but two: a sphere or capsule through a transform that
+**     is not a similarity (uniform scale, rotation, reflection,
+**     translation) is an ellipsoid or a swept ellipsoid, found by
+**     conservative Newton steps (as exact); a capsule sweep against such
+**     a capsule, and every sweep against tori, implicit, parametric and
+**     Bezier surfaces and user geometry, answers against the
+**     primitive's box instead (the box through the instance's
+**     transform), flagged RAY_CONTACT_BOUNDS: conservative, never a
+**     miss of the surface inside it.
+**   * Ties in t: the deeper overlap, then the lower (inst_id, geom_id,
+**     prim_id).  A filter rejecting a sweep's candidate removes that
+**     primitive from the sweep; it is handed the path (a, dir, tmin,
+**     tmax) as a ray, its tmin lowered to the double below a contact at
+**     tmin so that the open interval holds it.
+** Any number of threads may sweep a committed scene at once; the call
+** allocates nothing.  ray_sweep_init sets a = b = (0, 0, 0), radius 0,
+** dir (0, 0, 0), tmin 0, tmax 1: set the fields after it.
+*/
+typedef struct ray_sweep {
+    ray_vec3 a, b;               /* the segment at t = 0 (a == b: sphere) */
+    double radius;               /* >= 0 */
+    ray_vec3 dir;                /* the motion: at t the shape moved t dir */
+    double tmin, tmax;           /* the part of the motion swept */
+} ray_sweep;
+
+#define RAY_CONTACT_OVERLAP 1u   /* overlapping at tmin: depth > 0 */
+#define RAY_CONTACT_BOUNDS  2u   /* against the primitive's box, not its
+                                    surface (see above) */
+
+typedef struct ray_contact {
+    double t;                    /* the first contact, tmin <= t <= tmax */
+    ray_vec3 p;                  /* the contact point on the scene */
+    ray_vec3 n;                  /* unit normal, from the scene toward the
+                                    shape */
+    double depth;                /* RAY_CONTACT_OVERLAP: how deep, else 0 */
+    unsigned flags;              /* RAY_CONTACT_* */
+    unsigned geom_id, prim_id;   /* as ray_intersect's */
+    unsigned inst_id;            /* the instance, RAY_INVALID_ID if none */
+} ray_contact;
+
+RAY_API void ray_sweep_init(ray_sweep *sweep);
+RAY_API int ray_intersect_sweep(const ray_scene *scene,
+                                const ray_sweep *sweep, const ray_query *q,
+                                ray_contact *c);
+
+/*
+** ray_overlap_sphere, ray_overlap_box -- every primitive of a committed
+** scene that meets a sphere or an oriented box: triggers, AI perception,
+** a broad phase (Unity's OverlapSphere and OverlapBox, Bullet's
+** contactTest, Jolt's CollideShape).  Each one found is handed to "fn"
+** (with "ud" first), once, in no particular order, as a ray_overlap:
+** its geom_id, prim_id (the triangle's index in a mesh, else 0) and
+** inst_id as a ray's hit would name it.  fn returns 0 to go on, non-zero
+** to stop the search.  The functions return how many were handed to fn
+** (>= 0, at most INT_MAX), or a negated status: -RAY_EINVAL for a NULL
+** scene, box or fn, a centre that is not finite, a radius that is
+** negative or not finite, a box ray_box refuses; -RAY_ESTATE for a scene
+** not committed or changed since, or one that instances a scene changed
+** since (checked before fn is first called).  "box" is the oriented box
+** of ray_box_params (an axis-aligned one: axis_x = (1, 0, 0), axis_y =
+** (0, 1, 0)).
+**
+** ray_overlap_sphere_all, ray_overlap_box_all -- the same into the
+** caller's array, like ray_intersect_all: the "cap" first of them in
+** (inst_id, geom_id, prim_id) order into found[] (so the answer does not
+** depend on the BVH), their total into *count (may exceed cap: call
+** again with more room; cap 0 only counts); returns the total (at most
+** INT_MAX) or a negated status as above (-RAY_EINVAL also for a NULL
+** count, or found NULL with cap > 0), writing nothing then.
+**
+** What meets: triangles, meshes (triangle by triangle), polygons (the
+** region inside their outline, even-odd) and planes are surfaces: a
+** sphere or box inside a closed mesh but clear of its triangles does
+** not meet it.  Spheres, boxes and capsules are solids: a query inside
+** one meets it.  All exact to rounding (a pair that touches within a
+** few ulps of their coordinates may be reported either way): distances
+** for the sphere (the nearest point of each primitive, as
+** ray_closest_point finds it, within the radius, inclusive), separating
+** axes for the box; through an instance's transform, whatever it is, in
+** world space (a box through it is a parallelepiped; a sphere an
+** ellipsoid and a capsule a swept ellipsoid, tested by their nearest
+** points or in their own space).  Tori, implicit, parametric and Bezier
+** surfaces and user geometry are found by their boxes (through the
+** transform: the box's image), flagged RAY_CONTACT_BOUNDS: a superset,
+** never a miss.  Masks apply as for ray_intersect_opt (q NULL: all
+** bits); filters do not (fn sees every primitive and may skip it).  Any
+** number of threads may query a committed scene at once; the calls
+** allocate nothing.
+*/
+typedef struct ray_overlap {
+    unsigned geom_id, prim_id;   /* as ray_intersect's */
+    unsigned inst_id;            /* the instance, RAY_INVALID_ID if none */
+    unsigned flags;              /* RAY_CONTACT_BOUNDS: found by its box */
+} ray_overlap;
+
+typedef int (*ray_overlap_fn)(void *ud, const ray_overlap *found);
+
+RAY_API int ray_overlap_sphere(const ray_scene *scene, ray_vec3 center,
+                               double radius, const ray_query *q,
+                               ray_overlap_fn fn, void *ud);
+RAY_API int ray_overlap_box(const ray_scene *scene, const ray_box_params *box,
+                            const ray_query *q, ray_overlap_fn fn, void *ud);
+RAY_API int ray_overlap_sphere_all(const ray_scene *scene, ray_vec3 center,
+                                   double radius, const ray_query *q,
+                                   ray_overlap *found, size_t cap,
+                                   size_t *count);
+RAY_API int ray_overlap_box_all(const ray_scene *scene,
+                                const ray_box_params *box, const ray_query *q,
+                                ray_overlap *found, size_t cap,
+                                size_t *count);
+
+/*
+** ray_surface_point -- the hit record of a point of the scene's own
+** geometry, given by its primitive and its own coordinates (u, v) as a
+** ray's hit would report them: for a baker's rays from lightmap texels,
+** ambient occlusion from interpolated points.  p and its error bound
+** p_err are computed from the stored geometry by the formulas of a hit
+** (the box p +- p_err holds a point of the exact surface), n is the
+** geometric normal a hit there reports, t is 0, so ray_spawn (and
+** ray_spawn_to) start rays from it that never meet the surface they
+** leave.  An interpolated point with no offset starts on the wrong side
+** of its triangle about as often as not (bench/selfhit.c measures the
+** self-hits on the 59k bunny: ray-numerics(7)).
+**
+** Ids as ray_hit's: geom_id, and prim_id (a mesh's triangle; 0 for every
+** other kind), of "scene" itself when inst_id is RAY_INVALID_ID; else
+** inst_id is an instance of "scene" and geom_id, prim_id name geometry
+** of its scene, and the record is in world space (p_err grown by the
+** transform's rounding, as a hit through the instance).  (u, v) by
+** kind: a triangle's or a mesh triangle's barycentrics (u, v >= 0, u + v
+** <= 1: p = (1-u-v) a + u b + v c); a sphere's longitude and latitude
+** in [0, 1] (ray_sphere's); a plane's coordinates along ray_plane's
+** tangents from its point; a polygon's the same from its first vertex,
+** inside it.  Returns RAY_OK with *hit filled, else (*hit untouched)
+** RAY_EINVAL for NULLs, ids that name nothing (or removed geometry, or
+** an instance where geometry was asked for), (u, v) not finite or
+** outside the primitive; RAY_ENOTSUP for boxes, capsules, tori,
+** implicit, parametric and Bezier surfaces and user geometry, which have
+** no surface points here; RAY_ESTATE for a scene not committed, or an
+** instance whose scene changed since.  Any number of threads may call
+** it on a committed scene; it allocates nothing.
+*/
+RAY_API int ray_surface_point(const ray_scene *scene, unsigned geom_id,
+                              unsigned prim_id, unsigned inst_id, double u,
+                              double v, ray_hit *hit);
 
 #ifdef __cplusplus
 }

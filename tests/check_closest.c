@@ -14,104 +14,7 @@
 #include "tests.h"
 #include "hardcases.h"
 
-/* ------------------------------------------------- long double reference */
-
-typedef long double ld;
-typedef struct lvec {
-    ld x, y, z;
-} lvec;
-
-static lvec lv(ray_vec3 a)
-{
-    lvec r;
-    r.x = (ld)a.x;
-    r.y = (ld)a.y;
-    r.z = (ld)a.z;
-    return r;
-}
-
-static lvec lv3(ld x, ld y, ld z)
-{
-    lvec r;
-    r.x = x;
-    r.y = y;
-    r.z = z;
-    return r;
-}
-
-static lvec lsub(lvec a, lvec b)
-{
-    return lv3(a.x - b.x, a.y - b.y, a.z - b.z);
-}
-
-static lvec ladd(lvec a, lvec b)
-{
-    return lv3(a.x + b.x, a.y + b.y, a.z + b.z);
-}
-
-static lvec lscale(lvec a, ld s)
-{
-    return lv3(a.x * s, a.y * s, a.z * s);
-}
-
-static ld ldot(lvec a, lvec b)
-{
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
-static lvec lcross(lvec a, lvec b)
-{
-    return lv3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z,
-               a.x * b.y - a.y * b.x);
-}
-
-static ld llen(lvec a)
-{
-    return sqrtl(ldot(a, a));
-}
-
-static lvec lunit(lvec a)
-{
-    return lscale(a, 1 / llen(a));
-}
-
-static ld ldist(lvec a, lvec b)
-{
-    return llen(lsub(a, b));
-}
-
-/* The nearest point of segment [a, b] to q. */
-static lvec ref_segment(lvec q, lvec a, lvec b)
-{
-    lvec ab = lsub(b, a);
-    ld t = ldot(lsub(q, a), ab) / ldot(ab, ab);
-
-    t = t < 0 ? 0 : (t > 1 ? 1 : t);
-    return ladd(a, lscale(ab, t));
-}
-
-/* The nearest point of triangle (a, b, c) to q: q's foot on the plane
-** if the three edge tests put it inside, else the nearest edge point
-** (not Ericson's region walk, which the library uses). */
-static lvec ref_triangle(lvec q, lvec a, lvec b, lvec c)
-{
-    lvec n = lcross(lsub(b, a), lsub(c, a));
-    lvec f = lsub(q, lscale(n, ldot(lsub(q, a), n) / ldot(n, n)));
-    lvec e[3];
-    int k, best = 0;
-
-    if (ldot(lcross(lsub(b, a), lsub(f, a)), n) >= 0 &&
-        ldot(lcross(lsub(c, b), lsub(f, b)), n) >= 0 &&
-        ldot(lcross(lsub(a, c), lsub(f, c)), n) >= 0)
-        return f;
-    e[0] = ref_segment(q, a, b);
-    e[1] = ref_segment(q, b, c);
-    e[2] = ref_segment(q, c, a);
-    for (k = 1; k < 3; k++)
-        if (ldist(e[k], q) < ldist(e[best], q))
-            best = k;
-    return e[best];
-}
+#include "ldgeom.h"
 
 /* --------------------------------------------------------------- scene */
 
@@ -234,56 +137,6 @@ static void mixed_free(mixed *m)
     ray_scene_free(m->s);
     hc_mesh_free(&m->ball);
     hc_mesh_free(&m->cube);
-}
-
-/* The box's frame as ray_box(3) defines it, in long double. */
-static void ref_box_frame(const ray_box_params *b, lvec e[3])
-{
-    lvec x = lunit(lv(b->axis_x)), y = lv(b->axis_y);
-
-    e[0] = x;
-    e[1] = lunit(lsub(y, lscale(x, ldot(y, x))));
-    e[2] = lcross(e[0], e[1]);
-}
-
-/* The nearest point of the box's surface: outside, q clamped to it;
-** inside, q moved onto the nearest face.  *face: the face's axis. */
-static lvec ref_box(const ray_box_params *b, lvec q, int *face)
-{
-    lvec e[3], rel = lsub(q, lv(b->center)), p = lv(b->center);
-    ld o[3], h[3], l[3], excess = -HUGE_VALL;
-    int k, axis = 0;
-
-    ref_box_frame(b, e);
-    h[0] = (ld)b->half_extents.x;
-    h[1] = (ld)b->half_extents.y;
-    h[2] = (ld)b->half_extents.z;
-    for (k = 0; k < 3; k++) {
-        o[k] = ldot(rel, e[k]);
-        if (fabsl(o[k]) - h[k] > excess) {
-            excess = fabsl(o[k]) - h[k];
-            axis = k;
-        }
-    }
-    for (k = 0; k < 3; k++)
-        l[k] = excess > 0 ? fminl(fmaxl(o[k], -h[k]), h[k]) : o[k];
-    l[axis] = o[axis] < 0 ? -h[axis] : h[axis];
-    for (k = 0; k < 3; k++)
-        p = ladd(p, lscale(e[k], l[k]));
-    if (face != NULL)
-        *face = axis;
-    return p;
-}
-
-/* The nearest point of the capsule's surface: radius away from the
-** segment's nearest point (q on the segment: any such point). */
-static lvec ref_capsule(const ray_capsule_params *c, lvec q)
-{
-    lvec s = ref_segment(q, lv(c->a), lv(c->b)), d = lsub(q, s);
-
-    if (llen(d) == 0)
-        d = lcross(lsub(lv(c->b), lv(c->a)), lv3(1, 0, 0));
-    return ladd(s, lscale(lunit(d), (ld)c->radius));
 }
 
 /* Geometry g's (triangle i's, for a mesh) nearest point to q; *n its
@@ -776,6 +629,349 @@ START_TEST(misuse_should_be_refused)
 }
 END_TEST
 
+/* ------------------------------------------- through any affine transform */
+
+/* A random linear part: a rotation about a random axis, a scale of 0.3
+** to 3 per axis (one of them negated every third time: a reflection),
+** another rotation and a shear of up to 0.5: every kind of invertible
+** affine map but the singular ones. */
+static void random_affine(rng *g, int k, ray_transform *t, ray_vec3 at)
+{
+    double a[3][3], b[3][3], s[3], m[3][3];
+    int i, j, l, r;
+
+    for (r = 0; r < 2; r++) {
+        ray_vec3 ax = rng_dir(g);
+        double th = rng_range(g, 0, 6.283185307179586), c = cos(th),
+               sn = sin(th), v = 1 - c;
+        double (*q)[3] = r == 0 ? a : b;
+        q[0][0] = c + ax.x * ax.x * v;
+        q[0][1] = ax.x * ax.y * v - ax.z * sn;
+        q[0][2] = ax.x * ax.z * v + ax.y * sn;
+        q[1][0] = ax.y * ax.x * v + ax.z * sn;
+        q[1][1] = c + ax.y * ax.y * v;
+        q[1][2] = ax.y * ax.z * v - ax.x * sn;
+        q[2][0] = ax.z * ax.x * v - ax.y * sn;
+        q[2][1] = ax.z * ax.y * v + ax.x * sn;
+        q[2][2] = c + ax.z * ax.z * v;
+    }
+    for (i = 0; i < 3; i++)
+        s[i] = rng_range(g, 0.3, 3);
+    if (k % 3 == 0)
+        s[k % 2] = -s[k % 2];
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            m[i][j] = 0;
+            for (l = 0; l < 3; l++)
+                m[i][j] += a[i][l] * s[l] * b[l][j];
+        }
+    m[0][1] += rng_range(g, -0.5, 0.5);
+    m[1][2] += rng_range(g, -0.5, 0.5);
+    ray_transform_identity(t);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            t->m[i][j] = m[i][j];
+    t->m[0][3] = at.x;
+    t->m[1][3] = at.y;
+    t->m[2][3] = at.z;
+}
+
+/* Point v through t, in long double. */
+static lvec lxfm(const ray_transform *t, ray_vec3 v)
+{
+    lvec r;
+    lvec l = lv(v);
+    r.x = (ld)t->m[0][0] * l.x + (ld)t->m[0][1] * l.y + (ld)t->m[0][2] * l.z + (ld)t->m[0][3];
+    r.y = (ld)t->m[1][0] * l.x + (ld)t->m[1][1] * l.y + (ld)t->m[1][2] * l.z + (ld)t->m[1][3];
+    r.z = (ld)t->m[2][0] * l.x + (ld)t->m[2][1] * l.y + (ld)t->m[2][2] * l.z + (ld)t->m[2][3];
+    return r;
+}
+
+/* The child: an icosphere (geometry 0, 80 triangles), a cube mesh
+** (geometry 1), an oriented box (2) and the L-shaped hexagon (3): the
+** kinds a world-space brute force can take as triangles. */
+typedef struct child_ref {
+    hc_mesh ball, cube;
+    ray_box_params box;
+    ray_vec3 poly[6];
+} child_ref;
+
+/* Triangle k of geometry g of the child (box: 12, polygon: 4), corners
+** in the child's space; 0 when g has no triangle k. */
+static int child_triangle(const child_ref *c, unsigned g, size_t k,
+                          ray_vec3 v[3])
+{
+    if (g <= 1) {
+        const hc_mesh *h = g == 0 ? &c->ball : &c->cube;
+        if (k >= h->nt)
+            return 0;
+        v[0] = h->v[h->idx[3 * k]];
+        v[1] = h->v[h->idx[3 * k + 1]];
+        v[2] = h->v[h->idx[3 * k + 2]];
+        return 1;
+    }
+    if (g == 2) {
+        lvec e[3], ctr = lv(c->box.center);
+        ld h[3];
+        int axis = (int)k / 4, side = (int)(k / 2) % 2, t = (int)k % 2, i;
+        int sgn[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+        if (k >= 12)
+            return 0;
+        ref_box_frame(&c->box, e);
+        h[0] = (ld)c->box.half_extents.x;
+        h[1] = (ld)c->box.half_extents.y;
+        h[2] = (ld)c->box.half_extents.z;
+        for (i = 0; i < 3; i++) {
+            int corner = i == 0 ? 0 : i + t;
+            lvec p = ladd(ctr, lscale(e[axis], side ? h[axis] : -h[axis]));
+            int j = (axis + 1) % 3, l = (axis + 2) % 3;
+            p = ladd(p, lscale(e[j], sgn[corner][0] * h[j]));
+            p = ladd(p, lscale(e[l], sgn[corner][1] * h[l]));
+            v[i] = vec((double)p.x, (double)p.y, (double)p.z);
+        }
+        return 1;
+    }
+    if (g == 3 && k < 4) {
+        v[0] = c->poly[l_tris[k][0]];
+        v[1] = c->poly[l_tris[k][1]];
+        v[2] = c->poly[l_tris[k][2]];
+        return 1;
+    }
+    return 0;
+}
+
+/*
+** A sphere and a capsule through a non-uniform scale with a shear are an
+** ellipsoid and an ellipsoid swept along a segment, whose nearest points
+** have no formula: the library finds them by Eberly's bisection and a
+** golden-section search (src/prim/ellipsoid.c).  Checked for 100 points
+** kind, near and far, without a reference of the same kind: the answer
+** lies on the surface (its preimage is at the radius from the centre or
+** the segment, within 1e-12 relative: a few dozen roundings), it is a
+** stationary point of the distance (q - p along the normal reported, to
+** 1e-9 in angle: the bisection's last bit and the map's rounding,
+** divided by the distance), and no point of a dense sample of the
+** surface (180 x 360 directions of the preimage, mapped) is nearer by
+** more than rounding (90 x 180 directions of the preimage sphere, 9
+** spheres along the capsule's axis: points of the body, none nearer an
+** outside q than its nearest point).  A point inside the swept
+** ellipsoid gets the nearest point of the ellipsoid it lies deepest in
+** (ray_closest_point(3)), which is only checked to be stationary.
+*/
+/* The preimage of world point p under xf, in long double. */
+static lvec lxfm_inverse(const ray_transform *xf, ray_vec3 p)
+{
+    ld m[3][4], inv[3][3], det;
+    int i, j;
+    lvec d;
+
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 4; j++)
+            m[i][j] = (ld)xf->m[i][j];
+    d = lv3((ld)p.x - m[0][3], (ld)p.y - m[1][3], (ld)p.z - m[2][3]);
+
+    inv[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    inv[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+    inv[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+    inv[1][0] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    inv[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+    inv[1][2] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+    inv[2][0] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    inv[2][1] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+    inv[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    det = m[0][0] * inv[0][0] + m[0][1] * inv[1][0] + m[0][2] * inv[2][0];
+    return lv3((inv[0][0] * d.x + inv[0][1] * d.y + inv[0][2] * d.z) / det,
+               (inv[1][0] * d.x + inv[1][1] * d.y + inv[1][2] * d.z) / det,
+               (inv[2][0] * d.x + inv[2][1] * d.y + inv[2][2] * d.z) / det);
+}
+
+START_TEST(closest_points_should_find_ellipsoids)
+{
+    const ld pi = 3.14159265358979323846L;
+    ray_transform xf;
+    ray_scene *child[2], *top[2];
+    ray_capsule_params cap;
+    rng g = {77};
+    int kind, i;
+
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 3;
+    xf.m[0][1] = 0.8;
+    xf.m[1][1] = 0.5;
+    xf.m[1][2] = -0.3;
+    xf.m[2][0] = 0.4;
+    xf.m[2][2] = 1.5;
+    xf.m[0][3] = 1;
+    xf.m[1][3] = -2;
+    xf.m[2][3] = 0.5;
+    cap.a = vec(-1, 0.5, 0);
+    cap.b = vec(1, -0.5, 1);
+    cap.radius = 0.7;
+    for (kind = 0; kind < 2; kind++) {
+        unsigned id;
+        ck_assert_int_eq(ray_scene_new(&child[kind], NULL, NULL), RAY_OK);
+        if (kind == 0)
+            ck_assert_int_eq(ray_scene_add_sphere(child[kind], vec(0.5, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+        else
+            ck_assert_int_eq(ray_scene_add_capsule(child[kind], &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(child[kind]), RAY_OK);
+        ck_assert_int_eq(ray_scene_new(&top[kind], NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(top[kind], child[kind], &xf, &id), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top[kind]), RAY_OK);
+    }
+    for (kind = 0; kind < 2; kind++)
+        for (i = 0; i < 100; i++) {
+            ray_vec3 q = rng_point(&g, -8, 8);
+            ray_closest r;
+            lvec y, seg;
+            ld sample = HUGE_VALL, radius;
+            int a, b, k, inside;
+            if (kind == 1 && i % 2 == 0)
+                q = vscale(q, 0.3);
+            ck_assert_int_eq(ray_closest_point(top[kind], q, HUGE_VAL, &r), 1);
+            y = lxfm_inverse(&xf, q);
+            radius = kind == 0 ? 1 : (ld)cap.radius;
+            inside = kind == 1 &&
+                     ldist(y, ref_segment(y, lv(cap.a), lv(cap.b))) < radius;
+            /* Inside a swept ellipsoid: the deepest ellipsoid's point,
+            ** on its own surface (the sphere at the segment's point). */
+            y = lxfm_inverse(&xf, r.p);
+            seg = kind == 0 ? lv(vec(0.5, 0, 0))
+                            : ref_segment(y, lv(cap.a), lv(cap.b));
+            if (r.distance > 1e-3) {
+                lvec c = lcross(lunit(lsub(lv(q), lv(r.p))), lv(r.n));
+                ck_assert_msg(llen(c) <= 1e-9L, "kind %d query %d: q - p "
+                              "off the normal by %Lg", kind, i, llen(c));
+            }
+            if (inside)
+                continue;
+            ck_assert_msg(fabsl(ldist(y, seg) - radius) <= 1e-12L,
+                          "kind %d query %d: preimage at %Lg from the axis",
+                          kind, i, ldist(y, seg));
+            /* Sample the surface (for the capsule, 11 spheres along its
+            ** axis: points of the body, none nearer an outside q than
+            ** the body's nearest point). */
+            for (k = 0; k <= (kind == 0 ? 0 : 8); k++) {
+                lvec o = kind == 0 ? seg
+                                   : ladd(lv(cap.a), lscale(lsub(lv(cap.b), lv(cap.a)), (ld)k / 8));
+                for (a = 0; a < 90; a++)
+                    for (b = 0; b < 180; b++) {
+                        ld th = pi * (a + 0.5L) / 90, ph = 2 * pi * b / 180;
+                        lvec w = lv3(sinl(th) * cosl(ph), sinl(th) * sinl(ph), cosl(th));
+                        lvec e = ladd(o, lscale(w, radius));
+                        lvec wp = lxfm(&xf, vec((double)e.x, (double)e.y, (double)e.z));
+                        if (ldist(wp, lv(q)) < sample)
+                            sample = ldist(wp, lv(q));
+                    }
+            }
+            ck_assert_msg((ld)r.distance <= sample + 1e-12L,
+                          "kind %d query %d: distance %.17g, a sample "
+                          "%.17Lg", kind, i, r.distance, sample);
+        }
+    for (kind = 0; kind < 2; kind++) {
+        ray_scene_free(top[kind]);
+        ray_scene_free(child[kind]);
+    }
+}
+END_TEST
+
+/*
+** The defect of issue 30, found from outside: through a non-uniform
+** scale, a shear or a reflection, ray_closest_point answered the
+** child's nearest point in its own space (47 of 1,500 distances off,
+** 72 wrong triangles in the reporter's test).  Now: 60 instances of a
+** child of meshes, a box and a polygon under random affine maps
+** (random_affine), 1,500 query points among them, against brute force
+** over every world-space triangle in long double (the box and the
+** polygon as their triangles, the box's corners from ref_box_frame in
+** long double: they round a little differently from the library's, by
+** a few ulps of the box's size).  The distance must agree within
+** 2^12 ulps of the coordinates' magnitude (40: the library's world
+** corners round once more per product of the map, a few dozen ulps),
+** and the primitive named must be the brute force's unless another
+** primitive (of another instance, geometry or triangle: the box's and
+** the polygon's triangles are one primitive) is as near within twice
+** that (a tie: a shared edge or vertex, or two surfaces alike).  A radius 1e-9 short of the answer finds nothing.
+*/
+START_TEST(closest_points_should_be_exact_through_any_transform)
+{
+    child_ref c;
+    ray_scene *child, *top;
+    ray_transform xf[60];
+    unsigned ids[60];
+    ray_mesh m;
+    rng g = {3017};
+    const double tol = 4096 * DBL_EPSILON * 40;
+    int k, i, wrong = 0;
+
+    c.ball = hc_icosphere(vec(0, 0, 0), 1);
+    c.cube = hc_cube(vec(2.5, 0, 0));
+    c.box.center = vec(0, 2.5, 0);
+    c.box.half_extents = vec(0.5, 0.3, 0.8);
+    c.box.axis_x = vec(1, 1, 0);
+    c.box.axis_y = vec(-1, 1, 1);
+    for (i = 0; i < 6; i++)
+        c.poly[i] = vec(-3 + l_uv[i][0], l_uv[i][1], 0.5 * l_uv[i][0]);
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    m = hc_ray_mesh(&c.ball);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    m = hc_ray_mesh(&c.cube);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(child, &c.box, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_polygon(child, c.poly, 6, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    for (k = 0; k < 60; k++) {
+        random_affine(&g, k, &xf[k], rng_point(&g, -15, 15));
+        ck_assert_int_eq(ray_scene_add_instance(top, child, &xf[k], &ids[k]), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (i = 0; i < 1500; i++) {
+        ray_vec3 q = rng_point(&g, -18, 18);
+        ld best = HUGE_VALL, second = HUGE_VALL;
+        unsigned bi = 0, bg = 0, bk = 0, gg;
+        ray_closest r;
+        for (k = 0; k < 60; k++)
+            for (gg = 0; gg < 4; gg++) {
+                size_t t;
+                ray_vec3 v[3];
+                for (t = 0; child_triangle(&c, gg, t, v); t++) {
+                    lvec x = ref_triangle(lv(q), lxfm(&xf[k], v[0]),
+                                          lxfm(&xf[k], v[1]),
+                                          lxfm(&xf[k], v[2]));
+                    ld d = ldist(x, lv(q));
+                    unsigned pk = (unsigned)(gg >= 2 ? 0 : t);
+                    if (d < best) {
+                        if (bi != (unsigned)k || bg != gg || bk != pk)
+                            second = best;
+                        best = d;
+                        bi = (unsigned)k;
+                        bg = gg;
+                        bk = pk;
+                    } else if (d < second &&
+                               (bi != (unsigned)k || bg != gg || bk != pk))
+                        second = d;
+                }
+            }
+        ck_assert_int_eq(ray_closest_point(top, q, HUGE_VAL, &r), 1);
+        ck_assert_msg(fabsl((ld)r.distance - best) <= (ld)tol,
+                      "query %d: distance %.17g, brute force %.17Lg", i,
+                      r.distance, best);
+        ck_assert_double_eq_tol(vdist(r.p, q), r.distance, tol);
+        if (second - best > 2 * (ld)tol &&
+            (r.inst_id != ids[bi] || r.geom_id != bg || r.prim_id != bk))
+            wrong++;
+        if (r.distance > 1e-6)
+            ck_assert_int_eq(ray_closest_point(top, q, r.distance * (1 - 1e-9), &r), 0);
+    }
+    ck_assert_int_eq(wrong, 0);
+    ray_scene_free(top);
+    ray_scene_free(child);
+    hc_mesh_free(&c.ball);
+    hc_mesh_free(&c.cube);
+}
+END_TEST
+
 /*
 ** Threads and memory: one committed scene queried from four threads at
 ** once, each getting the answers a lone thread got, bit for bit (under
@@ -879,6 +1075,8 @@ Suite *closest_suite(void)
     tcase_add_test(tc, should_answer_inside_and_far_beyond);
     tcase_add_test(tc, empty_scenes_should_find_nothing);
     tcase_add_test(tc, misuse_should_be_refused);
+    tcase_add_test(tc, closest_points_should_be_exact_through_any_transform);
+    tcase_add_test(tc, closest_points_should_find_ellipsoids);
     tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
     suite_add_tcase(s, tc);
     return s;

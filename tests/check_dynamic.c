@@ -422,6 +422,67 @@ static int no_front(void *ud, const ray_ray *r, const ray_hit *c, void *q)
 }
 
 /*
+** Issue 30, defect 2: of two triangles hit at the same t through their
+** shared edge, the one with the lower id wins the tie (ray_intersect(3));
+** when the other was met first, the winner was offered to its filter
+** with the ray's tmax already lowered to its own t, so the candidate
+** lay outside the open interval it came with.  The filter must always
+** see tmin < t < tmax.  Two triangles share the edge y = 0 and a
+** filler of 40 triangles (raised toward one side) varies the BVH's
+** leaves, so that either triangle is met first over the 300 scenes;
+** every ray goes through the edge.  Before the fix 149 candidates came
+** with a ray that did not hold them.
+*/
+typedef struct interval_log {
+    int calls, outside;
+} interval_log;
+
+static int filter_checks_interval(void *ud, const ray_ray *r,
+                                  const ray_hit *c, void *q)
+{
+    interval_log *log = ud;
+    (void)q;
+    log->calls++;
+    log->outside += !(c->t > r->tmin && c->t < r->tmax);
+    return 1;
+}
+
+START_TEST(filters_should_see_their_candidate_inside_the_ray)
+{
+    interval_log log = {0, 0};
+    rng g = {30};
+    int it, k, ties = 0;
+
+    for (it = 0; it < 300; it++) {
+        ray_scene *s;
+        unsigned g0, g1;
+        ray_ray r;
+        ray_hit h;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 0, 0), vec(0, -1, 0), vec(1, 0, 0), RAY_NO_MATERIAL, &g0), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, 0, 0), vec(1, 0, 0), vec(0, 1, 0), RAY_NO_MATERIAL, &g1), RAY_OK);
+        for (k = 0; k < 40; k++) {
+            double x = rng_range(&g, -3, 3), y = rng_range(&g, 0.5, 2.5) - (k & 1 ? 0 : 4);
+            double z = rng_range(&g, -2, 0);
+            ck_assert_int_eq(ray_scene_add_triangle(s, vec(x, y, z), vec(x + 0.3, y, z), vec(x, y + 0.3, z + it % 3), RAY_NO_MATERIAL, NULL), RAY_OK);
+        }
+        ck_assert_int_eq(ray_scene_set_filter(s, g0, filter_checks_interval, &log, RAY_FILTER_INTERSECT), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_filter(s, g1, filter_checks_interval, &log, RAY_FILTER_INTERSECT), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        r = ray_from(vec(rng_range(&g, -0.9, 0.9), 0, 5), vec(0, 0, -1));
+        k = log.calls;
+        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        /* t = 5 within the watertight test's rounding: a few ulps. */
+        ck_assert_double_eq_tol(h.t, 5.0, 8 * DBL_EPSILON * 5);
+        ties += log.calls - k == 2;
+        ray_scene_free(s);
+    }
+    ck_assert_int_gt(ties, 50);         /* both orders were met */
+    ck_assert_int_eq(log.outside, 0);
+}
+END_TEST
+
+/*
 ** Filters, exact counts: a cut-out quad (two triangles, filter rejects
 ** x < 0) under a 20 x 20 grid of rays: exactly the 200 with x > 0 hit,
 ** and every ray over the quad is offered once (one triangle each: the
@@ -641,6 +702,7 @@ Suite *dynamic_suite(void)
     tcase_add_test(tc, updates_should_refuse_bad_input);
     tcase_add_test(tc, masks_should_pick_geometry_by_shared_bits);
     tcase_add_test(tc, filters_should_reject_candidates_exactly);
+    tcase_add_test(tc, filters_should_see_their_candidate_inside_the_ray);
     tcase_add_test(tc, filter_calls_should_be_counted_and_absent_without_filters);
     tcase_add_test(tc, all_hits_should_match_brute_force);
     suite_add_tcase(s, tc);

@@ -791,6 +791,90 @@ START_TEST(instances_should_take_any_scale)
 END_TEST
 
 /*
+** Issue 30, defect 1: a finite transform that maps its child near
+** DBL_MAX gave hits with p.z = -Inf and p_err NaN (found by fuzzing).
+** Such a transform is refused (ray_scene_add_instance(3)), by add, by
+** set_transform and by a commit after the child grew out of range;
+** transforms just within the limit (2^1016) give finite hits.
+*/
+START_TEST(instances_should_refuse_transforms_beyond_the_doubles)
+{
+    ray_scene *child, *top;
+    ray_transform xf, far;
+    unsigned id;
+    ray_ray r = ray_from(vec(0, 0, 0), vec(0, 0, -1));
+    ray_hit h, all[4];
+    size_t n;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    /* The fuzzer's case: z in [-2.5e308, -0.5e308]. */
+    ray_transform_identity(&far);
+    far.m[2][2] = 1e308;
+    far.m[2][3] = -1.5e308;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &far, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "2^1016"));
+    /* Within range: a scale 2^1012 at 2^1014 below: every field finite. */
+    ray_transform_identity(&xf);
+    xf.m[0][0] = xf.m[1][1] = xf.m[2][2] = 0x1p1012;
+    xf.m[2][3] = -0x1p1014;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+    ck_assert(hit_is_finite(&h));
+    ck_assert_double_eq_tol(h.p.z, -0x1p1014 + 0x1p1012, 0x1p1012 * 1e-14);
+    ck_assert_int_eq(ray_intersect_all(top, &r, NULL, all, 4, &n), 2);
+    ck_assert(hit_is_finite(&all[0]) && hit_is_finite(&all[1]));
+    /* Moved out of range: refused, the scene still committed as it was. */
+    ck_assert_int_eq(ray_scene_set_transform(top, id, &far), RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+    /* The child grows (a sphere at 100): 2^1012 * 101 + 2^1014 is beyond
+    ** 2^1016, so the parent's next commit refuses. */
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 100), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "2^1016"));
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Issue 30, the unstated rule: the singularity test is scale-free, but
+** an inverse with an entry beyond DBL_MAX cannot be stored.
+** diag(1e-310, 1, 1) is refused for that reason, and says so (it used to
+** be called "singular"); diag(1e-300, 1, 1) is accepted and hit where
+** it is (the unit sphere squashed to x in [-1e-300, 1e-300]).
+*/
+START_TEST(instances_should_say_why_a_tiny_scale_is_refused)
+{
+    ray_scene *child, *top;
+    ray_transform xf;
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 1e-310;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(top), "inverse"));
+    ck_assert_ptr_null(strstr(ray_scene_errmsg(top), "singular"));
+    xf.m[0][0] = 1e-300;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+    ck_assert_double_eq_tol(h.t, 4, 8 * DBL_EPSILON * 4);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
 ** Bad input: an error with a message, nothing added (the id untouched,
 ** the next instance still gets id 0) and a committed scene stays so.
 */
@@ -887,6 +971,8 @@ Suite *instance_suite(void)
     tcase_add_test(tc, instances_should_take_any_scale);
     tcase_add_test(tc, trace_should_report_a_stale_instance_met_by_a_shadow_ray);
     tcase_add_test(tc, instances_should_refuse_bad_input);
+    tcase_add_test(tc, instances_should_refuse_transforms_beyond_the_doubles);
+    tcase_add_test(tc, instances_should_say_why_a_tiny_scale_is_refused);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -35,7 +35,8 @@
     X(surfaces) X(selfhit) X(null) X(defaults) X(errmsg) X(box)         \
     X(direct) X(capsule) X(games) X(instance) X(dynamic) X(user)        \
     X(closest) X(batch) X(lazy) X(cones) X(caustics)                    \
-    X(cones_caustics_hard) X(filter) X(scheduler) X(platform) X(exact)
+    X(cones_caustics_hard) X(filter) X(scheduler) X(platform) X(exact)  \
+    X(sweep) X(overlap)
 
 typedef struct named_suite {
     const char *name;

@@ -797,6 +797,47 @@ out:
     return rc;
 }
 
+/*
+** The shape queries on the same scene (issue 30), which allocate
+** nothing: a sphere and a capsule swept along r, the primitives a sphere
+** about its origin meets, and a surface point of geometry i, 0 at (0.2,
+** 0.3); after a failed allocation and its retry they answer the same.
+*/
+static void digest_shapes(env *e, const ray_scene *s, const ray_ray *r,
+                          unsigned i)
+{
+    ray_sweep w;
+    ray_contact c;
+    ray_overlap o[8];
+    ray_hit h;
+    size_t n = 0;
+    int rc;
+
+    ray_sweep_init(&w);
+    w.a = w.b = r->org;
+    w.radius = 0.3;
+    w.dir = r->dir;
+    w.tmax = 20;
+    memset(&c, 0, sizeof c);
+    rc = ray_intersect_sweep(s, &w, NULL, &c);
+    digest_bytes(e, &rc, sizeof rc);
+    digest_bytes(e, &c, sizeof c);
+    w.b = vec(r->org.x + 0.5, r->org.y, r->org.z);
+    memset(&c, 0, sizeof c);
+    rc = ray_intersect_sweep(s, &w, NULL, &c);
+    digest_bytes(e, &rc, sizeof rc);
+    digest_bytes(e, &c, sizeof c);
+    memset(o, 0, sizeof o);
+    rc = ray_overlap_sphere_all(s, vec(r->org.x, 0, r->org.z), 1.5, NULL, o,
+                                8, &n);
+    digest_bytes(e, &rc, sizeof rc);
+    digest_bytes(e, o, sizeof o);
+    memset(&h, 0, sizeof h);
+    rc = ray_surface_point(s, i, 0, RAY_INVALID_ID, 0.2, 0.3, &h);
+    digest_bytes(e, &rc, sizeof rc);
+    digest_bytes(e, &h, sizeof h);
+}
+
 /* A scene of everything, queried; two contexts tracing. */
 static int w_scene_and_ctx(env *e)
 {
@@ -825,6 +866,7 @@ static int w_scene_and_ctx(env *e)
         digest_bytes(e, &(int){ray_occluded(s, &r)}, sizeof(int));
         CALL(e, ray_trace(i % 2 ? a : b, &r, RAY_KIND_PRIMARY, 1, &c));
         digest_bytes(e, &c, sizeof c);
+        digest_shapes(e, s, &r, (unsigned)i);
     }
 out:
     ray_ctx_free(a);

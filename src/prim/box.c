@@ -471,6 +471,20 @@ int ray__box_closest(const ray_box_params *b, ray_vec3 q, ray_vec3 *p,
     return 1;
 }
 
+/* The box's unit axes as ray_box computes them (frame_of), for the
+** queries that read its corners: 1, or 0 for params ray_box refuses. */
+int ray__box_frame(const ray_box_params *b, ray_vec3 e[3])
+{
+    box_frame f;
+
+    if (frame_of(b, &f) != BOX_VALID)
+        return 0;
+    e[0] = f.e[0];
+    e[1] = f.e[1];
+    e[2] = f.e[2];
+    return 1;
+}
+
 /* ------------------------------------------------------ the scene's check */
 
 int ray__box_check(const ray_box_params *p, ray_vec3 *lo, ray_vec3 *hi,

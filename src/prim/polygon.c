@@ -4,7 +4,7 @@
 */
 #include <stddef.h>
 
-#include "prim/prim.h"
+#include "prim/sweep.h"
 
 /*
 ** Does edge (x0,y0)-(x1,y1) cross the ray from (0,0) toward +x?
@@ -127,12 +127,54 @@ int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
 int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
                          ray_vec3 *p, ray_vec3 *n)
 {
+    return ray__polygon_closest_mapped(v, count, NULL, q, p, n);
+}
+
+/* Vertex i of the polygon, mapped by xf when it is not NULL. */
+ray_vec3 ray__polygon_vertex(const ray_vec3 *v, size_t i,
+                             const ray_transform *xf)
+{
+    const double (*m)[4];
+
+    if (xf == NULL)
+        return v[i];
+    m = (const double (*)[4])xf->m;
+    return v3(m[0][0] * v[i].x + m[0][1] * v[i].y + m[0][2] * v[i].z + m[0][3],
+              m[1][0] * v[i].x + m[1][1] * v[i].y + m[1][2] * v[i].z + m[1][3],
+              m[2][0] * v[i].x + m[2][1] * v[i].y + m[2][2] * v[i].z + m[2][3]);
+}
+
+/* polygon_plane of the mapped vertices. */
+static int mapped_plane(const ray_vec3 *v, size_t n, const ray_transform *xf,
+                        ray_vec3 *c, ray_vec3 *normal)
+{
+    ray_vec3 sum = v3(0, 0, 0), area = v3(0, 0, 0);
+    size_t i;
+
+    if (xf == NULL)
+        return polygon_plane(v, n, c, normal);
+    for (i = 0; i < n; i++)
+        sum = v3_add(sum, ray__polygon_vertex(v, i, xf));
+    *c = v3_scale(sum, 1.0 / (double)n);
+    for (i = 0; i < n; i++) {
+        ray_vec3 a = v3_sub(ray__polygon_vertex(v, i, xf), *c);
+        ray_vec3 b = v3_sub(ray__polygon_vertex(v, (i + 1) % n, xf), *c);
+        area = v3_add(area, v3_cross(a, b));
+    }
+    *normal = area;
+    return area.x != 0 || area.y != 0 || area.z != 0;
+}
+
+int ray__polygon_closest_mapped(const ray_vec3 *v, size_t count,
+                                const ray_transform *xf, ray_vec3 q,
+                                ray_vec3 *p, ray_vec3 *n)
+{
     ray_vec3 c, normal, nn, t1, t2, rel, best, pt;
     double x, y, x0, y0, best_d = HUGE_VAL;
     int inside = 0;
     size_t i;
 
-    if (v == NULL || count < 3 || !polygon_plane(v, count, &c, &normal) ||
+    if (v == NULL || count < 3 || !mapped_plane(v, count, xf, &c, &normal) ||
         !v3_normalize(normal, &nn))
         return 0;
     rel = v3_sub(q, c);
@@ -141,12 +183,12 @@ int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
     ray__tangent_frame(nn, &t1, &t2);
     x = v3_dot(rel, t1);
     y = v3_dot(rel, t2);
-    rel = v3_sub(v[count - 1], c);
+    rel = v3_sub(ray__polygon_vertex(v, count - 1, xf), c);
     x0 = v3_dot(rel, t1) - x;
     y0 = v3_dot(rel, t2) - y;
     for (i = 0; i < count; i++) {
         double x1, y1;
-        rel = v3_sub(v[i], c);
+        rel = v3_sub(ray__polygon_vertex(v, i, xf), c);
         x1 = v3_dot(rel, t1) - x;
         y1 = v3_dot(rel, t2) - y;
         inside ^= edge_crosses(x0, y0, x1, y1);
@@ -156,9 +198,11 @@ int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
     if (inside)
         pt = v3_add(c, v3_add(v3_scale(t1, x), v3_scale(t2, y)));
     else {
-        best = v[0];
+        best = ray__polygon_vertex(v, 0, xf);
         for (i = 0; i < count; i++) {
-            ray_vec3 e = ray__segment_closest(q, v[i], v[(i + 1) % count]);
+            ray_vec3 a = ray__polygon_vertex(v, i, xf);
+            ray_vec3 b = ray__polygon_vertex(v, (i + 1) % count, xf);
+            ray_vec3 e = ray__segment_closest(q, a, b);
             double d = ray__distance(e, q);
             if (d < best_d) {
                 best_d = d;
@@ -172,4 +216,48 @@ int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
     *p = pt;
     *n = nn;
     return 1;
+}
+
+int ray__polygon_plane_mapped(const ray_vec3 *v, size_t count,
+                              const ray_transform *xf, ray_vec3 *c,
+                              ray_vec3 *n)
+{
+    ray_vec3 normal;
+
+    return v != NULL && count >= 3 && mapped_plane(v, count, xf, c, &normal) &&
+           v3_normalize(normal, n);
+}
+
+/*
+** Is the foot of x on the (mapped) polygon's plane inside it?  The
+** crossings test of ray__polygon_closest: x's coordinates along the
+** plane's tangents, each vertex relative to them on its own.
+*/
+int ray__polygon_contains(const ray_vec3 *v, size_t count,
+                          const ray_transform *xf, ray_vec3 x)
+{
+    ray_vec3 c, nn, t1, t2, rel;
+    double px, py, x0, y0;
+    int inside = 0;
+    size_t i;
+
+    if (!ray__polygon_plane_mapped(v, count, xf, &c, &nn))
+        return 0;
+    ray__tangent_frame(nn, &t1, &t2);
+    rel = v3_sub(x, c);
+    px = v3_dot(rel, t1);
+    py = v3_dot(rel, t2);
+    rel = v3_sub(ray__polygon_vertex(v, count - 1, xf), c);
+    x0 = v3_dot(rel, t1) - px;
+    y0 = v3_dot(rel, t2) - py;
+    for (i = 0; i < count; i++) {
+        double x1, y1;
+        rel = v3_sub(ray__polygon_vertex(v, i, xf), c);
+        x1 = v3_dot(rel, t1) - px;
+        y1 = v3_dot(rel, t2) - py;
+        inside ^= edge_crosses(x0, y0, x1, y1);
+        x0 = x1;
+        y0 = y1;
+    }
+    return inside;
 }

@@ -370,6 +370,43 @@ static inline ray_vec3 ray__segment_closest(ray_vec3 q, ray_vec3 a,
 }
 
 /*
+** Nearest points between pieces (nearest.c):
+** ray__triangle_closest -- the point of triangle (a, b, c) nearest q
+** (Ericson's region walk; its accuracy where it is defined);
+** ray__segments_closest -- the nearest points *ps on [p0, p1] and *qs on
+** [q0, q1] (parallel and zero-length segments included);
+** ray__segment_triangle_closest -- the nearest points *ps on [p0, p1]
+** and *pt on triangle (a, b, c) (a crossing: the same point, distance 0).
+*/
+ray_vec3 ray__triangle_closest(ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                               ray_vec3 q);
+void ray__segments_closest(ray_vec3 p0, ray_vec3 p1, ray_vec3 q0,
+                           ray_vec3 q1, ray_vec3 *ps, ray_vec3 *qs);
+void ray__segment_triangle_closest(ray_vec3 p0, ray_vec3 p1, ray_vec3 a,
+                                   ray_vec3 b, ray_vec3 c, ray_vec3 *ps,
+                                   ray_vec3 *pt);
+
+/*
+** Affine images of spheres and capsules (ellipsoid.c).
+** ray__svd3 -- L = U diag(s) V^T, s descending (U's columns the left
+** singular vectors): 1, or 0 for a zero or non-finite L.
+** ray__ellipsoid_closest -- the point *p of the ellipsoid {c + U diag(e)
+** w : |w| = 1} (e descending, > 0) nearest q, inside or out, and the
+** outward unit normal *n there; 1, or 0 (nothing written) for a result
+** that is not finite.
+** ray__ellipsoid_sweep_closest -- the same for that ellipsoid swept along
+** c + s w, s in [0, 1], for q outside it; *inside set when q is inside
+** (the nearest point of the ellipsoid q is deepest in, then).
+*/
+int ray__svd3(const double l[3][3], double u[3][3], double s[3]);
+int ray__ellipsoid_closest(ray_vec3 c, const double u[3][3],
+                           const double e[3], ray_vec3 q, ray_vec3 *p,
+                           ray_vec3 *n);
+int ray__ellipsoid_sweep_closest(ray_vec3 c, ray_vec3 w, const double u[3][3],
+                                 const double e[3], ray_vec3 q, ray_vec3 *p,
+                                 ray_vec3 *n, int *inside);
+
+/*
 ** The nearest point *p of a primitive's SURFACE to q, for
 ** ray_closest_point (closest.c), and the unit normal *n there: a box's
 ** outward face normal (at an edge or a corner, the face whose plane q
@@ -381,6 +418,17 @@ static inline ray_vec3 ray__segment_closest(ray_vec3 q, ray_vec3 a,
 */
 int ray__box_closest(const ray_box_params *b, ray_vec3 q, ray_vec3 *p,
                      ray_vec3 *n);
+/* The unit axes e[0..2] of box b as ray_box builds them (Gram-Schmidt
+** twice): 1, or 0 for params ray_box refuses. */
+int ray__box_frame(const ray_box_params *b, ray_vec3 e[3]);
+/* ray__polygon_closest for the polygon whose vertices are v[i] mapped by
+** the affine map xf (NULL: not mapped), read one at a time: the nearest
+** point in the mapped space, where the mapped polygon is the region
+** inside the mapped outline; *n is the mapped polygon's unit Newell
+** normal. */
+int ray__polygon_closest_mapped(const ray_vec3 *v, size_t count,
+                                const ray_transform *xf, ray_vec3 q,
+                                ray_vec3 *p, ray_vec3 *n);
 int ray__capsule_closest(const ray_capsule_params *c, ray_vec3 q,
                          ray_vec3 *p, ray_vec3 *n);
 int ray__polygon_closest(const ray_vec3 *v, size_t count, ray_vec3 q,
@@ -431,7 +479,10 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **   2. src/prim/name.c, including prim/prim.h alone: ray_name and
 **      ray__name_check;
 **   3. its line below, and closest_NAME in src/query/closest.c (its
-**      nearest point, for ray_closest_point), which the compiler asks for;
+**      nearest point, for ray_closest_point), sweep_NAME in
+**      src/query/sweep.c, meets_NAME in src/query/overlap.c (exact, or
+**      by its box, flagged RAY_CONTACT_BOUNDS) and its case in
+**      src/query/surface_point.c, which the compiler asks for;
 **   4. tests/check_name.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_name.3 naming ray_scene_add_name in
 **      its NAME section too (the Makefile links every name it lists), and
@@ -472,8 +523,10 @@ static inline void ray__hit_store(ray_hit *dst, const ray_hit *src)
 **      ray__torus_box), declared here below the list;
 **   3. the line X(NAME, RAY_PRIM_NAME, BOUNDED) below, and a member of
 **      ray__surface (scene.h) if the scene keeps its parameters;
-**   4. src/scene/kinds.c: box_NAME and hit_NAME, and src/query/closest.c:
-**      closest_NAME, a few lines each, which the compiler asks for;
+**   4. src/scene/kinds.c: box_NAME and hit_NAME, and in src/query/
+**      closest_NAME (closest.c), sweep_NAME (sweep.c), meets_NAME
+**      (overlap.c) and a case in surface_point.c, a few lines each, which
+**      the compiler asks for;
 **   5. src/scene/surfaces.c: ray_scene_add_NAME, through add_surface;
 **   6. tests/check_NAME.c (registered in tests/check_main.c and
 **      tests/tests.h), man/man3/ray_NAME.3 (a Makefile MLINKS entry for

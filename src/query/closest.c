@@ -20,161 +20,152 @@ static inline double max2(double a, double b)
     return a > b ? a : b;
 }
 
-/* ------------------------------------------------------------ triangles */
-
-/* t clamped to [0, 1]; a NaN t (0/0) gives 0. */
-static inline double unit_clamp(double t)
-{
-    return t > 0 ? (t < 1 ? t : 1.0) : 0.0;
-}
-
-/* The nearest of the three edges' nearest points: the face's fallback
-** when its determinants cannot be divided by (below). */
-static ray_vec3 nearest_edge_point(ray_vec3 a, ray_vec3 b, ray_vec3 c,
-                                   ray_vec3 q)
-{
-    ray_vec3 e[3];
-    double d[3];
-    int k, best = 0;
-
-    e[0] = ray__segment_closest(q, a, b);
-    e[1] = ray__segment_closest(q, b, c);
-    e[2] = ray__segment_closest(q, c, a);
-    for (k = 0; k < 3; k++) {
-        d[k] = ray__distance(e[k], q);
-        if (d[k] < d[best])
-            best = k;
-    }
-    return e[best];
-}
+/* ------------------------------------------------------------ the search */
 
 /*
-** The point of triangle (a, b, c) nearest q: Ericson, "Real-Time
-** Collision Detection", Morgan Kaufmann 2005, section 5.1.5
-** (ClosestPtPointTriangle).  The Voronoi region of the triangle that q
-** lies in -- a vertex, an edge or the face -- is found from the dot
-** products d1 .. d6 of the edges ab, ac with q's offsets from the
-** vertices and from the barycentric determinants va, vb, vc formed of
-** them, each test needing none of the later ones; the point is the
-** vertex itself (exactly), a + t ab on an edge, or a + v ab + w ac on
-** the face, with (t, v, w) from the same quantities.
+** The search's state.  Box distances are compared squared, in units
+** scaled by 2^-k so that no square overflows: a box's float bounds are
+** at most FLT_MAX ~ 2^128 in magnitude (or infinite on the far side), so
+** an offset from q is below |q| + 2^128, and |q| is brought below 2^510
+** (the sum of three squares then below 2^1022).  For |q| < 2^510, k = 0.
 **
-** ab, ac and q's offsets are scaled by 2^-e (exactly), e the exponent
-** of their largest component, so that the dot products and the
-** determinants (products of four coordinates) neither overflow nor
-** underflow for a triangle of any size and a q at any distance from it;
-** the region and (t, v, w) do not depend on the scale, and the point is
-** formed from the unscaled vertices.
-**
-** Rounding: the edge and face points are a + t ab (+ w ac) with t, v, w
-** in [0, 1] (clamped: rounding may carry a quotient an ulp past an end),
-** so p lies on the triangle within gamma(3) (|a| + |ab| + |ac|) per
-** component whatever q.  Where p lies along the triangle is off by the
-** rounding of the dot products, gamma(3) |ab| |q - a| and the like,
-** divided by the conditioning of the determinants: about 10 u |q - a| /
-** sin^2 of the triangle's smallest angle.  That moves p along the
-** surface; the distance |p - q| changes by it only to second order when
-** q is off the plane, and to first order when q lies in the plane.
-** A triangle whose determinants cannot be divided by (their sum is not
-** positive: a sliver within rounding of a segment) falls back to the
-** nearest of its edges' points, which is then as near as any.
+** Inside an instance the boxes are the child's, in its space, and q is
+** the query point taken there, but every candidate is measured in world
+** space, from qw: "best" is a world distance, and an object-space box
+** at distance d from q holds no point nearer qw than d / |L^-1|_2 (L's
+** smallest singular value times d), so the boxes face best |L^-1|_2
+** ("widen").  That makes the answer the world's nearest point for any
+** invertible affine transform (issue 30), where searching the child in
+** its own metric and mapping its answer back is right only for a
+** similarity.
 */
-static ray_vec3 tri_closest(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q)
+typedef struct query {
+    ray_vec3 q;              /* in the space of the scene searched */
+    ray_vec3 qw;             /* in world space (q itself at the top) */
+    const ray__instance *in; /* the instance searched through, or NULL */
+    unsigned inst_id;        /* its geometry id in the top scene */
+    double widen;            /* |L^-1|_2 inside an instance, else 1 */
+    double scale;            /* 2^-k */
+    double best;             /* the search radius: radius, then nearest */
+    double best2;            /* >= (best widen scale)^2, what boxes face */
+    int found;
+    int stale;               /* met an instance whose child changed */
+    ray_closest out;
+} query;
+
+/*
+** best2 from best: an upper bound on (best widen scale)^2: best widen
+** rounds once (relative u) and its scaling is exact but where it
+** underflows (off by at most 2^-1075), the square rounds once more
+** (relative u, or 2^-1075 where it underflows), so the rounded square
+** times 1 + gamma(4) (its own rounding included) plus two subnormals
+** covers it.  +Inf stays +Inf: nothing is pruned.
+*/
+static void set_best(query *qs, double best)
 {
-    ray_vec3 ab = v3_sub(b, a), ac = v3_sub(c, a), ap = v3_sub(q, a);
-    ray_vec3 bp, cp;
-    double m, s, d1, d2, d3, d4, d5, d6, va, vb, vc, sum, v, w;
+    double b = best * qs->widen * qs->scale;
 
-    /* Differences of finite doubles: +-Inf where they overflow, never
-    ** NaN, so the comparisons of max2 see every one. */
-    m = max2(max2(max2(fabs(ab.x), fabs(ab.y)), max2(fabs(ab.z), fabs(ac.x))),
-             max2(max2(fabs(ac.y), fabs(ac.z)),
-                  max2(max2(fabs(ap.x), fabs(ap.y)), fabs(ap.z))));
-    if (!(m > 0 && m < HUGE_VAL))
-        return a;   /* q == a on a point (not a usable triangle), or overflow */
-    s = ray__pow2(-ray__exponent_of(m));
-    bp = v3_scale(v3_sub(q, b), s);
-    cp = v3_scale(v3_sub(q, c), s);
-    ab = v3_scale(ab, s);
-    ac = v3_scale(ac, s);
-    ap = v3_scale(ap, s);
+    qs->best = best;
+    qs->best2 = b * b * (1 + ray__gamma(4)) + 2 * RAY__TINY;
+}
 
-    d1 = v3_dot(ab, ap);
-    d2 = v3_dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0)
-        return a;                                       /* vertex a */
-    d3 = v3_dot(ab, bp);
-    d4 = v3_dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3)
-        return b;                                       /* vertex b */
-    vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)                  /* edge ab */
-        return v3_madd(a, unit_clamp(d1 / (d1 - d3)), v3_sub(b, a));
-    d5 = v3_dot(ab, cp);
-    d6 = v3_dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6)
-        return c;                                       /* vertex c */
-    vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0)                  /* edge ac */
-        return v3_madd(a, unit_clamp(d2 / (d2 - d6)), v3_sub(c, a));
-    va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)        /* edge bc */
-        return v3_madd(b, unit_clamp((d4 - d3) / ((d4 - d3) + (d5 - d6))),
-                       v3_sub(c, b));
-    sum = va + vb + vc;                                 /* the face */
-    if (!(sum > 0 && sum < HUGE_VAL))
-        return nearest_edge_point(a, b, c, q);
-    v = unit_clamp(vb / sum);
-    w = unit_clamp(vc / sum);
-    return v3_add(a, v3_add(v3_scale(v3_sub(b, a), v),
-                            v3_scale(v3_sub(c, a), w)));
+/* Keep surface point p at computed distance d from q if it is nearer than
+** the best so far (or, before the first, within the radius, inclusive);
+** a non-finite distance (p and q farther apart than DBL_MAX) is no answer. */
+static int nearer(const query *qs, double d)
+{
+    return d < HUGE_VAL && (qs->found ? d < qs->best : d <= qs->best);
+}
+
+/* Keep world point p at world distance d (nearer() said so). */
+static void record(query *qs, ray_vec3 p, double d, ray_vec3 n,
+                   unsigned geom_id, unsigned prim_id)
+{
+    qs->out.p = p;
+    qs->out.distance = d;
+    qs->out.n = n;
+    qs->out.geom_id = geom_id;
+    qs->out.prim_id = prim_id;
+    qs->out.inst_id = qs->in != NULL ? qs->inst_id : RAY_INVALID_ID;
+    qs->found = 1;
+    set_best(qs, d);
 }
 
 /* ------------------------------------------------------------ the kinds */
 
 /*
-** The nearest surface point *pt of primitive p to q and the unit normal
-** *n there, by kind: 1, or 0 for a kind that has no closest-point
-** routine (or a result that is not finite).  The dispatch below is a
-** switch generated from the list of kinds (RAY__PRIM_KINDS, prim.h)
-** with no default, as in kinds.c: a kind added to the list without its
-** closest_NAME does not compile.
+** The nearest world-space surface point *pt of primitive p to qs->qw
+** and the unit normal *n there, by kind: 1, or 0 for a kind that has no
+** closest-point routine (or a result that is not finite).  At the top
+** (qs->in NULL) world space is p's own; inside an instance each kind
+** takes the shape its primitive has in the world: a sphere, box or
+** capsule through a similarity is a sphere, box or capsule again (its
+** params mapped, distances scaled alike), through any other transform
+** an ellipsoid, a parallelepiped (its 12 world triangles) or an
+** ellipsoid swept along a segment (ellipsoid.c); a polygon has its
+** vertices mapped.  Normals are the child's normals as the world sees
+** them (ray__instance_normal, as a ray's hit through the instance has
+** them).  The dispatch below is a switch generated from the list of
+** kinds (RAY__PRIM_KINDS, prim.h) with no default, as in kinds.c: a kind
+** added to the list without its closest_NAME does not compile.
 */
 
 /* The sphere's point along q - c: c + r (q - c)/|q - c|, within a few
 ** ulps of |c| + r of the sphere (the unit vector's 4 roundings, the
 ** product and the sum).  q at the centre exactly: every point is as
 ** near, and the +z pole is taken. */
-static int closest_SPHERE(const ray_scene *s, const ray__prim *p,
-                          ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+static int sphere_point(ray_vec3 c, double r, ray_vec3 q, ray_vec3 *pt,
+                        ray_vec3 *n)
 {
-    ray_vec3 rel = v3_sub(q, p->a), dir;
+    ray_vec3 rel = v3_sub(q, c), dir;
 
-    (void)s;
     if (!v3_isfinite(rel))
         return 0;
     if (!v3_normalize(rel, &dir))
         dir = v3(0, 0, 1);
-    *pt = v3_madd(p->a, p->radius, dir);
+    *pt = v3_madd(c, r, dir);
     *n = dir;
     return v3_isfinite(*pt);
 }
 
-/* q's foot on the plane, q - ((q - point).n) n with the scene's unit n:
-** on the plane within a few ulps of |q| + |q - point|.  The normal as
-** the plane was given (normalised), not turned toward q, as ray_plane's. */
-static int closest_PLANE(const ray_scene *s, const ray__prim *p,
-                         ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+static int closest_SPHERE(const ray_scene *s, const ray__prim *p,
+                          const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    double h = v3_dot(v3_sub(q, p->a), p->b);
+    const ray__instance *in = qs->in;
+    double e[3];
 
     (void)s;
-    *pt = v3_madd(q, -h, p->b);
-    *n = p->b;
-    return v3_isfinite(*pt);
+    if (in == NULL)
+        return sphere_point(p->a, p->radius, qs->qw, pt, n);
+    if (in->similarity > 0)
+        return sphere_point(ray__instance_point_to_world(in, p->a),
+                            p->radius * in->similarity, qs->qw, pt, n);
+    if (!(in->sv[0] > 0))
+        return 0;
+    e[0] = p->radius * in->sv[0];
+    e[1] = p->radius * in->sv[1];
+    e[2] = p->radius * in->sv[2];
+    return ray__ellipsoid_closest(ray__instance_point_to_world(in, p->a),
+                                  (const double(*)[3])in->axes, e, qs->qw,
+                                  pt, n);
 }
 
-/* Triangles are in the triangle BVH, walked with tri_closest inline, so
+/* q's foot on the plane, q - ((q - point).n) n with the scene's unit n:
+** on the plane within a few ulps of |q| + |q - point|.  The normal as
+** the plane was given (normalised), not turned toward q, as ray_plane's.
+** (An instance's child has no planes.) */
+static int closest_PLANE(const ray_scene *s, const ray__prim *p,
+                         const query *qs, ray_vec3 *pt, ray_vec3 *n)
+{
+    double h = v3_dot(v3_sub(qs->q, p->a), p->b);
+
+    (void)s;
+    *pt = v3_madd(qs->q, -h, p->b);
+    *n = p->b;
+    return qs->in == NULL && v3_isfinite(*pt);
+}
+
+/* Triangles are in the triangle BVH, walked with visit_triangle, so
 ** their geometry is never asked here (and after commit tris[first ..]
 ** are reordered): nothing. */
 static int in_triangle_bvh(void)
@@ -183,35 +174,140 @@ static int in_triangle_bvh(void)
 }
 
 static int closest_TRIANGLE(const ray_scene *s, const ray__prim *p,
-                            ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                            const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return in_triangle_bvh();
 }
 
-static int closest_MESH(const ray_scene *s, const ray__prim *p, ray_vec3 q,
-                        ray_vec3 *pt, ray_vec3 *n)
+static int closest_MESH(const ray_scene *s, const ray__prim *p,
+                        const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return in_triangle_bvh();
+}
+
+/* The sign of det L: a reflection turns the Newell normal of mapped
+** vertices against the normal the instance's hits report. */
+static double det_sign(const ray__instance *in)
+{
+    const double (*m)[4] = in->xfm.m;
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+
+    return det < 0 ? -1.0 : 1.0;
 }
 
 static int closest_POLYGON(const ray_scene *s, const ray__prim *p,
-                           ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                           const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    return ray__polygon_closest(s->verts + p->first, p->count, q, pt, n);
+    if (!ray__polygon_closest_mapped(s->verts + p->first, p->count,
+                                     qs->in != NULL ? &qs->in->xfm : NULL,
+                                     qs->qw, pt, n))
+        return 0;
+    if (qs->in != NULL)
+        *n = v3_scale(*n, det_sign(qs->in));
+    return 1;
 }
 
-static int closest_BOX(const ray_scene *s, const ray__prim *p, ray_vec3 q,
-                       ray_vec3 *pt, ray_vec3 *n)
+/* The nearest point of the parallelepiped that box b is through the
+** instance: the nearest of its 12 world triangles' (inside or out: the
+** nearest boundary point of a convex body from inside lies on its
+** nearest face plane, within that face), with the face's normal. */
+static int parallelepiped_closest(const ray_box_params *b,
+                                  const ray__instance *in, ray_vec3 q,
+                                  ray_vec3 *pt, ray_vec3 *n)
 {
-    return ray__box_closest(&s->surfaces[p->surface].box, q, pt, n);
+    ray_vec3 e[3], corner[8], best = q, best_n = q;
+    double h[3], best_d = HUGE_VAL;
+    int k, axis;
+
+    if (!ray__box_frame(b, e))
+        return 0;
+    h[0] = b->half_extents.x;
+    h[1] = b->half_extents.y;
+    h[2] = b->half_extents.z;
+    for (k = 0; k < 8; k++) {
+        ray_vec3 c = b->center;
+        c = v3_madd(c, k & 1 ? h[0] : -h[0], e[0]);
+        c = v3_madd(c, k & 2 ? h[1] : -h[1], e[1]);
+        c = v3_madd(c, k & 4 ? h[2] : -h[2], e[2]);
+        corner[k] = ray__instance_point_to_world(in, c);
+    }
+    for (axis = 0; axis < 3; axis++) {
+        int side, j = 1 << ((axis + 1) % 3), l = 1 << ((axis + 2) % 3);
+        for (side = 0; side < 2; side++) {
+            int base = side ? 1 << axis : 0, t;
+            ray_vec3 quad[4];
+            quad[0] = corner[base];
+            quad[1] = corner[base | j];
+            quad[2] = corner[base | j | l];
+            quad[3] = corner[base | l];
+            for (t = 0; t < 2; t++) {
+                ray_vec3 x = ray__triangle_closest(quad[0], quad[1 + t],
+                                                   quad[2 + t], q);
+                double d = ray__distance(x, q);
+                if (d < best_d) {
+                    best_d = d;
+                    best = x;
+                    best_n = v3_scale(e[axis], side ? 1.0 : -1.0);
+                }
+            }
+        }
+    }
+    if (!(best_d < HUGE_VAL))
+        return 0;
+    *pt = best;
+    *n = ray__instance_normal(in, best_n);
+    return 1;
+}
+
+static int closest_BOX(const ray_scene *s, const ray__prim *p,
+                       const query *qs, ray_vec3 *pt, ray_vec3 *n)
+{
+    const ray_box_params *b = &s->surfaces[p->surface].box;
+    const ray__instance *in = qs->in;
+
+    if (in == NULL)
+        return ray__box_closest(b, qs->qw, pt, n);
+    if (in->similarity > 0) {
+        /* Distances scale alike: the child's nearest point, mapped. */
+        ray_vec3 po, no;
+        if (!ray__box_closest(b, qs->q, &po, &no))
+            return 0;
+        *pt = ray__instance_point_to_world(in, po);
+        *n = ray__instance_normal(in, no);
+        return v3_isfinite(*pt);
+    }
+    return parallelepiped_closest(b, in, qs->qw, pt, n);
 }
 
 static int closest_CAPSULE(const ray_scene *s, const ray__prim *p,
-                           ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                           const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    return ray__capsule_closest(&s->surfaces[p->surface].capsule, q, pt, n);
+    const ray_capsule_params *c = &s->surfaces[p->surface].capsule;
+    const ray__instance *in = qs->in;
+    ray_capsule_params w;
+    double e[3];
+    int inside;
+
+    if (in == NULL)
+        return ray__capsule_closest(c, qs->qw, pt, n);
+    w.a = ray__instance_point_to_world(in, c->a);
+    w.b = ray__instance_point_to_world(in, c->b);
+    if (in->similarity > 0) {
+        w.radius = c->radius * in->similarity;
+        return ray__capsule_closest(&w, qs->qw, pt, n);
+    }
+    if (!(in->sv[0] > 0))
+        return 0;
+    e[0] = c->radius * in->sv[0];
+    e[1] = c->radius * in->sv[1];
+    e[2] = c->radius * in->sv[2];
+    return ray__ellipsoid_sweep_closest(w.a, v3_sub(w.b, w.a),
+                                        (const double(*)[3])in->axes, e,
+                                        qs->qw, pt, n, &inside);
 }
 
 /*
@@ -226,53 +322,53 @@ static int no_closest_point(void)
     return 0;
 }
 
-static int closest_TORUS(const ray_scene *s, const ray__prim *p, ray_vec3 q,
-                         ray_vec3 *pt, ray_vec3 *n)
+static int closest_TORUS(const ray_scene *s, const ray__prim *p,
+                         const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return no_closest_point();
 }
 
 static int closest_IMPLICIT(const ray_scene *s, const ray__prim *p,
-                            ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                            const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return no_closest_point();
 }
 
 static int closest_PARAMETRIC(const ray_scene *s, const ray__prim *p,
-                              ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                              const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return no_closest_point();
 }
 
 static int closest_BEZIER(const ray_scene *s, const ray__prim *p,
-                          ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                          const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return no_closest_point();
 }
 
 /* User geometry has only the callbacks its program gave it, and no
 ** closest-point one: skipped, as the surfaces above. */
-static int closest_USER(const ray_scene *s, const ray__prim *p, ray_vec3 q,
-                        ray_vec3 *pt, ray_vec3 *n)
+static int closest_USER(const ray_scene *s, const ray__prim *p,
+                        const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return no_closest_point();
 }
 
 /* Instances are searched by visit_instance below (their child's own
 ** search, with the ids it finds): never asked here. */
 static int closest_INSTANCE(const ray_scene *s, const ray__prim *p,
-                            ray_vec3 q, ray_vec3 *pt, ray_vec3 *n)
+                            const query *qs, ray_vec3 *pt, ray_vec3 *n)
 {
-    (void)s, (void)p, (void)q, (void)pt, (void)n;
+    (void)s, (void)p, (void)qs, (void)pt, (void)n;
     return 0;
 }
 
-static int prim_closest(const ray_scene *s, unsigned i, ray_vec3 q,
+static int prim_closest(const ray_scene *s, unsigned i, const query *qs,
                         ray_vec3 *pt, ray_vec3 *n)
 {
     const ray__prim *p = &s->prims[i];
@@ -280,105 +376,46 @@ static int prim_closest(const ray_scene *s, unsigned i, ray_vec3 q,
     switch (p->kind) {
 #define CLOSEST_OF(name, counted_as, class)                                \
     case RAY__KIND_##name:                                                 \
-        return closest_##name(s, p, q, pt, n);
+        return closest_##name(s, p, qs, pt, n);
         RAY__PRIM_KINDS(CLOSEST_OF)
 #undef CLOSEST_OF
     }
     return 0;                       /* not a ray__kind: cannot happen */
 }
 
-/* ------------------------------------------------------------ the search */
+/* ------------------------------------------------------------ visiting */
+
+static void search_in(const ray_scene *s, query *qs);
 
 /*
-** The search's state.  Box distances are compared squared, in units
-** scaled by 2^-k so that no square overflows: a box's float bounds are
-** at most FLT_MAX ~ 2^128 in magnitude (or infinite on the far side), so
-** an offset from q is below |q| + 2^128, and |q| is brought below 2^510
-** (the sum of three squares then below 2^1022).  For |q| < 2^510, k = 0.
-*/
-typedef struct query {
-    ray_vec3 q;
-    double scale;            /* 2^-k */
-    double best;             /* the search radius: radius, then nearest */
-    double best2;            /* >= (best scale)^2, what boxes face */
-    int found;
-    int stale;               /* met an instance whose child changed */
-    ray_closest out;
-} query;
-
-/*
-** best2 from best: an upper bound on (best scale)^2: best scale is
-** exact but where it underflows (off by at most 2^-1075), the square
-** rounds once (relative u, or 2^-1075 where it underflows), so the
-** rounded square times 1 + gamma(3) (its own rounding included) plus two
-** subnormals covers it.  +Inf stays +Inf: nothing is pruned.
-*/
-static void set_best(query *qs, double best)
-{
-    double b = best * qs->scale;
-
-    qs->best = best;
-    qs->best2 = b * b * (1 + ray__gamma(3)) + 2 * RAY__TINY;
-}
-
-/* Keep surface point p at computed distance d from q if it is nearer than
-** the best so far (or, before the first, within the radius, inclusive);
-** a non-finite distance (p and q farther apart than DBL_MAX) is no answer. */
-static int nearer(const query *qs, double d)
-{
-    return d < HUGE_VAL && (qs->found ? d < qs->best : d <= qs->best);
-}
-
-static void record(query *qs, ray_vec3 p, double d, ray_vec3 n,
-                   unsigned geom_id, unsigned prim_id)
-{
-    qs->out.p = p;
-    qs->out.distance = d;
-    qs->out.n = n;
-    qs->out.geom_id = geom_id;
-    qs->out.prim_id = prim_id;
-    qs->out.inst_id = RAY_INVALID_ID;
-    qs->found = 1;
-    set_best(qs, d);
-}
-
-static int search(const ray_scene *s, ray_vec3 q, double radius,
-                  query *qs);
-
-/*
-** Instance i: the child searched with q in its space, within the radius
-** that the world's search radius becomes there (divided by the scale of
-** a similarity, else times |L^-1|, which holds every object point whose
-** image is within it), its answer brought back to world space and kept
-** if nearer there.  Exact for rotations with a uniform scale (distances
-** all scale alike); for other transforms the child's nearest point in
-** its own metric, which need not be the world's nearest (ray.h).
+** Instance i: its child searched with q taken into its space and the
+** world's search radius widened by |L^-1|_2 for its boxes, every
+** candidate measured in world space (see query), so that the answer is
+** exact for any invertible affine transform.  The child's search starts
+** from the world search's state (its best so far) and hands back what
+** it found nearer.
 */
 static void visit_instance(const ray_scene *s, unsigned i, query *qs)
 {
     const ray__instance *in = &s->instances[s->prims[i].surface];
-    ray_vec3 qo = ray__instance_point_to_object(in, qs->q);
-    double r = in->similarity > 0 ? qs->best / in->similarity
-                                  : qs->best * in->inv_norm;
-    ray_vec3 p, n;
-    query child;
-    double d;
+    query child = *qs;
 
     if (!in->child->committed || in->child->generation != in->generation) {
         qs->stale = 1;
         return;
     }
-    /* Rounding: the radius grown by 2^-40 relative, far above the few
-    ** ulps of the map, so no point within the world radius is cut. */
-    r += r * 0x1p-40;
-    if (!v3_isfinite(qo) || !search(in->child, qo, r, &child))
+    child.q = ray__instance_point_to_object(in, qs->qw);
+    if (!v3_isfinite(child.q))
         return;
-    p = ray__instance_point_to_world(in, child.out.p);
-    n = ray__instance_normal(in, child.out.n);
-    d = ray__distance(p, qs->q);
-    if (nearer(qs, d)) {
-        record(qs, p, d, n, child.out.geom_id, child.out.prim_id);
-        qs->out.inst_id = i;
+    child.in = in;
+    child.inst_id = i;
+    child.widen = in->inv_spec;
+    search_in(in->child, &child);
+    qs->stale |= child.stale;
+    if (child.found && (!qs->found || child.out.distance < qs->best)) {
+        qs->out = child.out;
+        qs->found = 1;
+        set_best(qs, child.out.distance);
     }
 }
 
@@ -392,26 +429,37 @@ static void visit_prim(const ray_scene *s, unsigned i, query *qs)
         visit_instance(s, i, qs);
         return;
     }
-    if (!prim_closest(s, i, qs->q, &p, &n))
+    if (!prim_closest(s, i, qs, &p, &n))
         return;
-    d = ray__distance(p, qs->q);
+    d = ray__distance(p, qs->qw);
     if (nearer(qs, d))
         record(qs, p, d, n, i, 0);
 }
 
-/* Triangle i of the scene (leaf order); its normal as ray_triangle's,
-** (b - a) x (c - a) normalised, computed only for a nearer point. */
+/* Triangle i of the scene (leaf order), through the instance's transform
+** when searched inside one (the world triangle's nearest point); its
+** normal as ray_triangle's, (b - a) x (c - a) normalised (through an
+** instance, as its hits have it), computed only for a nearer point. */
 static void visit_triangle(const ray_scene *s, unsigned i, query *qs)
 {
     ray_vec3 a, b, c, p, n;
     double d;
 
     ray__tri_corners(s, i, &a, &b, &c);
-    p = tri_closest(a, b, c, qs->q);
-    d = ray__distance(p, qs->q);
+    if (qs->in == NULL)
+        p = ray__triangle_closest(a, b, c, qs->qw);
+    else
+        p = ray__triangle_closest(ray__instance_point_to_world(qs->in, a),
+                                  ray__instance_point_to_world(qs->in, b),
+                                  ray__instance_point_to_world(qs->in, c),
+                                  qs->qw);
+    d = ray__distance(p, qs->qw);
     if (nearer(qs, d) &&
-        v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)), &n))
+        v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a)), &n)) {
+        if (qs->in != NULL)
+            n = ray__instance_normal(qs->in, n);
         record(qs, p, d, n, s->tri_ids[i].geom_id, s->tri_ids[i].prim_id);
+    }
 }
 
 /*
@@ -512,24 +560,19 @@ static void walk(const ray_scene *s, const ray__bvh *bvh, int leaf,
     }
 }
 
-/* The search of scene s for the nearest point to q within radius: 1 and
-** qs->out, or 0; qs->stale when an instance's child changed. */
-static int search(const ray_scene *s, ray_vec3 q, double radius, query *qs)
+/* The search of scene s (the top scene, or an instance's child) from
+** qs's state: its planes, then its two BVHs. */
+static void search_in(const ray_scene *s, query *qs)
 {
-    double m;
+    double m = fmax(fabs(qs->q.x), fmax(fabs(qs->q.y), fabs(qs->q.z)));
     size_t i;
 
-    qs->q = q;
-    m = fmax(fabs(q.x), fmax(fabs(q.y), fabs(q.z)));
     qs->scale = m < 0x1p510 ? 1.0 : ray__pow2(509 - ray__exponent_of(m));
-    qs->found = 0;
-    qs->stale = 0;
-    set_best(qs, radius);
+    set_best(qs, qs->best);
     for (i = 0; i < s->n_planes; i++)
         visit_prim(s, s->planes[i], qs);
     walk(s, &s->prim_bvh, LEAF_PRIMS, qs);
     walk(s, &s->tri_bvh, LEAF_TRIANGLES, qs);
-    return qs->found;
 }
 
 int ray_closest_point(const ray_scene *s, ray_vec3 q, double radius,
@@ -541,10 +584,18 @@ int ray_closest_point(const ray_scene *s, ray_vec3 q, double radius,
         return -RAY_EINVAL;
     if (!s->committed)
         return -RAY_ESTATE;
-    if (!search(s, q, radius, &qs))
-        return qs.stale ? -RAY_ESTATE : 0;
+    qs.q = qs.qw = q;
+    qs.in = NULL;
+    qs.inst_id = RAY_INVALID_ID;
+    qs.widen = 1;
+    qs.best = radius;
+    qs.found = 0;
+    qs.stale = 0;
+    search_in(s, &qs);
     if (qs.stale)
         return -RAY_ESTATE;
+    if (!qs.found)
+        return 0;
     /* Field by field: no indeterminate padding for the caller's bytes. */
     out->p = qs.out.p;
     out->distance = qs.out.distance;

@@ -55,6 +55,15 @@ static void collect(ray__collect *c, const ray_hit *h)
     c->count++;
 }
 
+/*
+** The filter is handed the query's ray with tmax shrunk to the nearest
+** hit kept so far, which a candidate may tie (two triangles of a shared
+** edge hit at the same t: leaf.h's tri_limit lets the tie through to be
+** settled by ids).  A ray is the open interval, so such a candidate
+** would lie outside the ray it comes with: its tmax is then moved to the
+** next double above t, as tri_limit does, and the filter always sees
+** tmin < candidate->t < tmax (ray_scene_set_filter(3)).
+*/
 static int gate_offer(const ray__prim *p, const ray_ray *r, const ray_hit *h,
                       ray__counts *qc)
 {
@@ -67,6 +76,12 @@ static int gate_offer(const ray__prim *p, const ray_ray *r, const ray_hit *h,
         w.inst_id = qc->inst_id;
     }
     if (p->filter != NULL && (p->filter_queries & g->query) != 0) {
+        ray_ray tie;
+        if (!(w.t < wr->tmax)) {
+            tie = *wr;
+            tie.tmax = nextafter(w.t, HUGE_VAL);
+            wr = &tie;
+        }
         qc->filter_calls++;
         if (!p->filter(p->filter_ud, wr, &w, g->query_ud))
             return 0;

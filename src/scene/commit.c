@@ -188,7 +188,7 @@ static ray__instance *instance_behind(ray_scene *s, size_t i)
 */
 static int refresh_instances(ray_scene *s)
 {
-    ray__instance *in;
+    ray__instance *in, next;
     size_t i;
 
     for (i = 0; i < s->n_prims; i++) {
@@ -200,11 +200,15 @@ static int refresh_instances(ray_scene *s)
         if (in->child->n_planes > 0 || in->child->has_instances)
             return ray__fail(s, RAY_EINVAL, "instance %zu: its scene now "
                              "has planes or instances", i);
+        next = *in;
+        if (!ray__instance_box(&next))
+            return ray__fail(s, RAY_EINVAL, "instance %zu: its transform "
+                             "now maps its scene beyond +-2^1016", i);
     }
     for (i = 0; i < s->n_prims; i++) {
         if ((in = instance_behind(s, i)) == NULL)
             continue;
-        ray__instance_box(in);
+        (void)ray__instance_box(in);    /* in range: checked above */
         in->generation = in->child->generation;
         ray__touch(s, RAY__DIRTY_PRIMS);
     }

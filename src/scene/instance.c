@@ -20,6 +20,12 @@ void ray_transform_identity(ray_transform *t)
     t->m[0][0] = t->m[1][1] = t->m[2][2] = 1.0;
 }
 
+/* Every component of v within [-limit, limit] (NaN fails). */
+static int v3_within(ray_vec3 v, double limit)
+{
+    return fabs(v.x) <= limit && fabs(v.y) <= limit && fabs(v.z) <= limit;
+}
+
 /* Row k of the linear part applied to v (no translation). */
 static double row_dot(const double m[3][4], int k, ray_vec3 v)
 {
@@ -50,8 +56,9 @@ ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q)
 }
 
 /*
-** The inverse of the linear part by its adjugate, or 0 if L is singular
-** to working precision: |det L| at most 8 ulps of the product of its row
+** The inverse of the linear part by its adjugate: INVERTED, or SINGULAR
+** if L is singular to working precision: |det L| at most 8 ulps of the
+** product of its row
 ** lengths (Hadamard's inequality bounds |det| by that product, reached by
 ** orthogonal rows; a ratio that small means the rows are parallel to
 ** within the rounding of the cofactors, and the inverse would be noise).
@@ -60,7 +67,14 @@ ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q)
 ** determinant nor the row lengths overflow or underflow whatever the
 ** transform's scale: L = D S with D = diag(2^e_i), so L^-1 = S^-1 D^-1,
 ** column j of S^-1 times 2^-e_j (exact again).  A zero row is singular.
+** The test is scale-free: diag(1e-300, 1, 1) passes it, and so does
+** diag(1e-310, 1, 1) -- but that one's inverse has an entry 1e310,
+** beyond DBL_MAX: INVERSE_OVERFLOWS, refused too (issue 30), as is any L
+** with an entry of L^-1 beyond DBL_MAX (a row of L whose largest entry is
+** below about 1 / DBL_MAX = 5.6e-309 times the rest's conditioning).
 */
+enum { INVERTED, SINGULAR, INVERSE_OVERFLOWS };
+
 static int invert(const ray_transform *t, double inv[3][3])
 {
     double m[3][3], c[3][3], det, rows = 1.0;
@@ -70,7 +84,7 @@ static int invert(const ray_transform *t, double inv[3][3])
         double big = fmax(fabs(t->m[i][0]),
                           fmax(fabs(t->m[i][1]), fabs(t->m[i][2])));
         if (!(big > 0))
-            return 0;
+            return SINGULAR;
         (void)frexp(big, &e[i]);            /* big in [2^(e-1), 2^e) */
         e[i] -= 1;
         for (j = 0; j < 3; j++)
@@ -90,14 +104,40 @@ static int invert(const ray_transform *t, double inv[3][3])
         rows *= sqrt(m[i][0] * m[i][0] + m[i][1] * m[i][1] +
                      m[i][2] * m[i][2]);
     if (!(fabs(det) > 8.0 * DBL_EPSILON * rows))
-        return 0;
+        return SINGULAR;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) {
             inv[i][j] = ldexp(c[i][j] / det, -e[j]);
             if (!isfinite(inv[i][j]))
-                return 0;
+                return INVERSE_OVERFLOWS;
         }
-    return 1;
+    return INVERTED;
+}
+
+/*
+** L's singular value decomposition (ray__svd3: U and the values, the
+** axes a sphere's image has), and |L^-1|_2, the largest singular value
+** of L^-1 (computed from L^-1 itself, where the largest is the one a
+** backward-stable method gets to a relative few ulps, whatever L's
+** conditioning), rounded up by 2^-40 relative so that it bounds how much
+** any distance can grow on its way into the child's space: a world ball
+** of radius r holds no point whose object image lies farther than r
+** |L^-1|_2 from the centre's.  The Frobenius norm stands in where the
+** decomposition fails (it cannot for an L that invert accepted).
+*/
+static void singular_values(ray__instance *in)
+{
+    double l[3][3], u[3][3], s[3];
+    int i, j;
+
+    in->inv_spec = in->inv_norm;
+    if (ray__svd3((const double(*)[3])in->inv, u, s))
+        in->inv_spec = fmin(s[0] * (1 + 0x1p-40), in->inv_norm);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            l[i][j] = in->xfm.m[i][j];
+    if (!ray__svd3((const double(*)[3])l, in->axes, in->sv))
+        in->sv[0] = in->sv[1] = in->sv[2] = 0;
 }
 
 /*
@@ -128,6 +168,7 @@ static void similarity(ray__instance *in)
                   64 * DBL_EPSILON * s2;
     in->similarity = ok ? sqrt(s2) : 0.0;
     in->inv_norm = sqrt(f);
+    singular_values(in);
 }
 
 /* RAY_OK and the instance's transform data, or RAY_EINVAL (message). */
@@ -143,9 +184,17 @@ static int transform_set(ray_scene *s, ray__instance *in,
             if (!isfinite(t->m[i][j]))
                 return ray__fail(s, RAY_EINVAL, "xfm m[%d][%d] is not "
                                  "finite (%g)", i, j, t->m[i][j]);
-    if (!invert(t, in->inv))
+    switch (invert(t, in->inv)) {
+    case SINGULAR:
         return ray__fail(s, RAY_EINVAL, "xfm is singular: its linear part "
                          "cannot be inverted to working precision");
+    case INVERSE_OVERFLOWS:
+        return ray__fail(s, RAY_EINVAL, "xfm's linear part has an inverse "
+                         "beyond the largest double (a row of size "
+                         "below about 1/DBL_MAX)");
+    default:
+        break;
+    }
     in->xfm = *t;
     similarity(in);
     in->linear_identity = 1;
@@ -180,18 +229,31 @@ static int child_check(ray_scene *s, const ray_scene *child)
 ** child's space (see ray__instance_to_world: the box must hold every
 ** point whose object-space image the child can hit).  An empty child
 ** gets the point at the translation: nothing there can be hit.
+**
+** Returns 0 when the transform takes the child out of range: a bound of
+** the box, or one of the sums sum_j |m_kj| max |child_j| + |m_k3| that
+** bound |L p' + c| for every point p' of the child, beyond
+** RAY__INSTANCE_REACH (2^1016).  Within it a hit's p = L p' + c cannot
+** overflow, and neither can its p_err (ray__instance_to_world): its
+** terms are gamma(n) times sums no larger than this function's reach,
+** fwd and back, formed from the same magnitudes at the box's largest
+** (the box was grown by them, so they are within 2^1017 too), plus the
+** child's own bound carried through L (below gamma(8) of the reach).  A
+** transform accepted by the finiteness and singularity tests alone could
+** map a child near DBL_MAX and give hits with p.z = -Inf and p_err NaN
+** (issue 30): such a transform is refused instead.
 */
-void ray__instance_box(ray__instance *in)
+int ray__instance_box(ray__instance *in)
 {
     const ray_scene *c = in->child;
     const double (*m)[4] = (const double (*)[4])in->xfm.m;
     ray_vec3 lo, hi;
     double big[3], g = ray__gamma(6);
-    int k, corner;
+    int k, corner, in_range = 1;
 
     if (!(c->lo.x <= c->hi.x)) {
         in->lo = in->hi = v3(m[0][3], m[1][3], m[2][3]);
-        return;
+        return 1;
     }
     lo = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
     hi = v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
@@ -210,12 +272,15 @@ void ray__instance_box(ray__instance *in)
     for (k = 0; k < 3; k++) {
         /* Forward rounding of a corner, and the inverse's rounding of a
         ** world point mapped back (both gamma(6) bounds, generous). */
-        double fwd = g * (fabs(m[k][0]) * fmax(fabs(c->lo.x), fabs(c->hi.x)) +
-                          fabs(m[k][1]) * fmax(fabs(c->lo.y), fabs(c->hi.y)) +
-                          fabs(m[k][2]) * fmax(fabs(c->lo.z), fabs(c->hi.z)) +
-                          fabs(m[k][3]));
+        double reach = fabs(m[k][0]) * fmax(fabs(c->lo.x), fabs(c->hi.x)) +
+                       fabs(m[k][1]) * fmax(fabs(c->lo.y), fabs(c->hi.y)) +
+                       fabs(m[k][2]) * fmax(fabs(c->lo.z), fabs(c->hi.z)) +
+                       fabs(m[k][3]);
+        double fwd = g * reach;
         double back = 0;
         int j;
+        if (!(reach <= RAY__INSTANCE_REACH))
+            in_range = 0;
         for (j = 0; j < 3; j++) {
             double d = g * (fabs(in->inv[j][0]) * (big[0] + fabs(m[0][3])) +
                             fabs(in->inv[j][1]) * (big[1] + fabs(m[1][3])) +
@@ -235,6 +300,8 @@ void ray__instance_box(ray__instance *in)
     }
     in->lo = lo;
     in->hi = hi;
+    return in_range && v3_within(lo, RAY__INSTANCE_REACH) &&
+           v3_within(hi, RAY__INSTANCE_REACH);
 }
 
 int ray_scene_add_instance(ray_scene *s, const ray_scene *child,
@@ -253,7 +320,10 @@ int ray_scene_add_instance(ray_scene *s, const ray_scene *child,
         return rc;
     in.child = child;
     in.generation = child->generation;
-    ray__instance_box(&in);
+    if (!ray__instance_box(&in))
+        return ray__fail(s, RAY_EINVAL, "xfm maps the child scene beyond "
+                         "+-2^1016 (about 7e305), where hits could not be "
+                         "represented");
     grown = ray__grow(s, s->instances, &s->cap_instances, s->n_instances,
                       sizeof *s->instances);
     if (grown == NULL)
@@ -297,7 +367,10 @@ int ray_scene_set_transform(ray_scene *s, unsigned geom_id,
     next = *in;
     if ((rc = transform_set(s, &next, xfm)) != RAY_OK)
         return rc;
-    ray__instance_box(&next);
+    if (!ray__instance_box(&next))
+        return ray__fail(s, RAY_EINVAL, "xfm maps the child scene beyond "
+                         "+-2^1016 (about 7e305), where hits could not be "
+                         "represented");
     *in = next;
     ray__touch(s, RAY__DIRTY_PRIMS);
     return RAY_OK;

@@ -79,6 +79,11 @@ typedef struct ray__instance {
                                 scale distances take; 0 for other L */
     double inv_norm;         /* |L^-1| (Frobenius): no object distance is
                                 more than this times the world one */
+    double inv_spec;         /* |L^-1|_2 = 1 / L's smallest singular value,
+                                rounded up: the least such factor */
+    double axes[3][3];       /* L = U diag(sv) V^T: U (its columns), what a */
+    double sv[3];            /* sphere's ellipsoid has for axes; sv
+                                descending (sv[0] = 0: none computed) */
     unsigned long long generation;
     ray_vec3 lo, hi;         /* world box, rounded outward */
     int removed;             /* ray_scene_remove: its child may be gone */
@@ -300,8 +305,11 @@ static inline int ray__corners_usable(ray_vec3 a, ray_vec3 b, ray_vec3 c)
 }
 
 /*
-** The corners of triangle slot i of s (leaf order after a commit), in
-** world space of s, from the geometry's own vertices: a single
+** The corners of triangle prim_id of triangle geometry geom_id of s
+** (ray__tri_by_id: what is handed a primitive rather than a ray, as
+** ray_surface_point; the caller checks the ids), or of triangle slot i
+** (leaf order after a commit: ray__tri_of, ray__tri_corners), in world
+** space of s, from the geometry's own vertices: a single
 ** triangle's a, b, c; a mesh triangle's positions through its indices.
 ** Every reader goes through it, so that how the scene stores its
 ** triangles is written in one place.
@@ -313,10 +321,10 @@ static inline int ray__corners_usable(ray_vec3 a, ray_vec3 b, ray_vec3 c)
 ** function is non-zero, so det is 0), its box stays finite, and no record
 ** is filled from it.
 */
-static inline ray__tri ray__tri_of(const ray_scene *s, size_t i)
+static inline ray__tri ray__tri_by_id(const ray_scene *s, unsigned geom_id,
+                                      unsigned prim_id)
 {
-    const ray__tri_id *id = &s->tri_ids[i];
-    const ray__prim *p = &s->prims[id->geom_id];
+    const ray__prim *p = &s->prims[geom_id];
     ray__tri t;
 
     if (p->kind == RAY__KIND_TRIANGLE) {
@@ -325,7 +333,7 @@ static inline ray__tri ray__tri_of(const ray_scene *s, size_t i)
         t.c = p->c;
     } else {
         const ray__mesh *m = &s->meshes[p->mesh];
-        const unsigned *k = m->indices + 3 * (size_t)id->prim_id;
+        const unsigned *k = m->indices + 3 * (size_t)prim_id;
         t.a = m->pos[k[0]];
         t.b = m->pos[k[1]];
         t.c = m->pos[k[2]];
@@ -333,6 +341,11 @@ static inline ray__tri ray__tri_of(const ray_scene *s, size_t i)
             t.b = t.c = t.a;
     }
     return t;
+}
+
+static inline ray__tri ray__tri_of(const ray_scene *s, size_t i)
+{
+    return ray__tri_by_id(s, s->tri_ids[i].geom_id, s->tri_ids[i].prim_id);
 }
 
 static inline void ray__tri_corners(const ray_scene *s, size_t i,
@@ -502,7 +515,10 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 /*
 ** An instance's record and transforms (instance.c); the query layer
 ** descends into its child (query/traverse.h).
-** ray__instance_box -- its world box, from its child's box.
+** ray__instance_box -- its world box, from its child's box: 1, or 0
+** when the transform maps the child beyond +-RAY__INSTANCE_REACH
+** (2^1016), where a hit's point or error bound could overflow (such a
+** transform is refused: ray_scene_add_instance, set_transform, commit).
 ** ray__instance_ray_to_object -- world ray r in the child's space: o' =
 ** L^-1 (o - c), d' = L^-1 d, the same interval (an affine map keeps
 ** ratios: t names the same point on both).
@@ -512,7 +528,8 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 ** ray__instance_normal -- a child's normal (a shading normal) in world
 ** space, unit.
 */
-void ray__instance_box(ray__instance *in);
+#define RAY__INSTANCE_REACH 0x1p1016
+int ray__instance_box(ray__instance *in);
 void ray__instance_ray_to_object(const ray__instance *in, const ray_ray *r,
                                  ray_ray *out);
 void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,

@@ -1,0 +1,472 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_overlap.c -- ray_overlap_sphere, ray_overlap_box and their _all
+** forms: every primitive of the mixed scene (shapekit.h) that meets a
+** sphere or an oriented box, against brute force over every piece in
+** long double (distances for the sphere; separating axes computed by the
+** test for the box), at the origin and at 1e5; instances through affine
+** maps; ellipsoids; the kinds found by their boxes; masks; stopping;
+** the array form's order, cap and count; misuse.
+*/
+#include "shapekit.h"
+
+/* ------------------------------------------------------- reference */
+
+/* A convex polytope for separating axes: its vertices, edge directions
+** and face normals, in long double. */
+typedef struct lpoly {
+    lvec v[8], d[3], f[3];
+    int nv, nd, nf;
+} lpoly;
+
+static lpoly lpoly_box(const ray_box_params *b)
+{
+    lpoly p;
+    lvec e[3];
+    ld h[3];
+    int k;
+
+    kit_box_frame(b, e, h);
+    for (k = 0; k < 8; k++) {
+        lvec x = lv(b->center);
+        x = ladd(x, lscale(e[0], k & 1 ? h[0] : -h[0]));
+        x = ladd(x, lscale(e[1], k & 2 ? h[1] : -h[1]));
+        p.v[k] = ladd(x, lscale(e[2], k & 4 ? h[2] : -h[2]));
+    }
+    for (k = 0; k < 3; k++)
+        p.d[k] = p.f[k] = e[k];
+    p.nv = 8;
+    p.nd = p.nf = 3;
+    return p;
+}
+
+static lpoly lpoly_para(const lvec corner[8])
+{
+    lpoly p;
+    int k;
+
+    for (k = 0; k < 8; k++)
+        p.v[k] = corner[k];
+    p.d[0] = lsub(corner[1], corner[0]);
+    p.d[1] = lsub(corner[2], corner[0]);
+    p.d[2] = lsub(corner[4], corner[0]);
+    for (k = 0; k < 3; k++)
+        p.f[k] = lcross(p.d[(k + 1) % 3], p.d[(k + 2) % 3]);
+    p.nv = 8;
+    p.nd = p.nf = 3;
+    return p;
+}
+
+static lpoly lpoly_tri(lvec a, lvec b, lvec c)
+{
+    lpoly p;
+
+    p.v[0] = a;
+    p.v[1] = b;
+    p.v[2] = c;
+    p.d[0] = lsub(b, a);
+    p.d[1] = lsub(c, b);
+    p.d[2] = lsub(a, c);
+    p.f[0] = lcross(p.d[0], p.d[1]);
+    p.nv = 3;
+    p.nd = 3;
+    p.nf = 1;
+    return p;
+}
+
+/* The gap of the two on axis x (normalised): > 0 separated. */
+static ld gap_on(const lpoly *a, const lpoly *b, lvec x)
+{
+    ld alo = HUGE_VALL, ahi = -HUGE_VALL, blo = HUGE_VALL, bhi = -HUGE_VALL;
+    ld len = llen(x);
+    int i;
+
+    if (!(len > 1e-30L))
+        return -HUGE_VALL;
+    for (i = 0; i < a->nv; i++) {
+        ld t = ldot(a->v[i], x) / len;
+        alo = fminl(alo, t);
+        ahi = fmaxl(ahi, t);
+    }
+    for (i = 0; i < b->nv; i++) {
+        ld t = ldot(b->v[i], x) / len;
+        blo = fminl(blo, t);
+        bhi = fmaxl(bhi, t);
+    }
+    return fmaxl(blo - ahi, alo - bhi);
+}
+
+/* The largest gap over every candidate axis: > 0 disjoint, <= 0 they
+** meet (a lower bound of how far apart, or minus how deep). */
+static ld separation(const lpoly *a, const lpoly *b)
+{
+    ld best = -HUGE_VALL;
+    int i, j;
+
+    for (i = 0; i < a->nf; i++)
+        best = fmaxl(best, gap_on(a, b, a->f[i]));
+    for (i = 0; i < b->nf; i++)
+        best = fmaxl(best, gap_on(a, b, b->f[i]));
+    for (i = 0; i < a->nd; i++)
+        for (j = 0; j < b->nd; j++)
+            best = fmaxl(best, gap_on(a, b, lcross(a->d[i], b->d[j])));
+    return best;
+}
+
+/* How far piece p is from the query (> 0: apart; <= 0: they meet): a
+** distance less the radius for the sphere, a separation for the box. */
+static ld apart(const piece *p, int is_box, const ray_box_params *box,
+                lvec c, ld r)
+{
+    if (!is_box)
+        return kit_distance(p, c, c) - r;
+    {
+        lpoly q = lpoly_box(box), t;
+        piece qb;
+        memset(&qb, 0, sizeof qb);
+        qb.kind = PIECE_BOX;
+        qb.box = *box;
+        switch (p->kind) {
+        case PIECE_TRI:
+            t = lpoly_tri(p->a, p->b, p->c);
+            return separation(&q, &t);
+        case PIECE_PARA:
+            t = lpoly_para(p->corner);
+            return separation(&q, &t);
+        case PIECE_BOX:
+            t = lpoly_box(&p->box);
+            return separation(&q, &t);
+        case PIECE_SPHERE:
+            return kit_box_signed(box, p->a) - p->R;
+        case PIECE_CAPSULE:
+            return kit_distance(&qb, p->a, p->b) - p->R;
+        default: {
+            ld lo = HUGE_VALL, hi = -HUGE_VALL;
+            int k;
+            for (k = 0; k < 8; k++) {
+                ld h = ldot(lsub(q.v[k], p->a), p->b);
+                lo = fminl(lo, h);
+                hi = fmaxl(hi, h);
+            }
+            return fmaxl(lo, -hi);
+        }
+        }
+    }
+}
+
+/* What a query found, by (inst, geom, prim), sorted as the library
+** sorts them. */
+typedef struct catch_list {
+    ray_overlap o[512];
+    size_t n;
+} catch_list;
+
+static int catch_one(void *ud, const ray_overlap *o)
+{
+    catch_list *c = ud;
+    ck_assert_uint_lt(c->n, 512);
+    c->o[c->n++] = *o;
+    return 0;
+}
+
+static int found_in(const ray_overlap *o, size_t n, unsigned g, unsigned i,
+                    unsigned in)
+{
+    size_t k;
+
+    for (k = 0; k < n; k++)
+        if (o[k].geom_id == g && o[k].prim_id == i && o[k].inst_id == in)
+            return 1;
+    return 0;
+}
+
+/*
+** One query checked: the callback form and the _all form find the same
+** primitives, each once; every piece the brute force puts more than tol
+** inside the query is found, none more than tol outside is (pieces of
+** one primitive -- the L polygon's triangles -- count as one: the
+** nearest decides).
+*/
+static void check_query(const kit *k, int is_box, const ray_box_params *box,
+                        ray_vec3 c, double r, ld tol, int n)
+{
+    catch_list got;
+    ray_overlap all[512];
+    size_t count, i, j;
+    int rc;
+
+    got.n = 0;
+    rc = is_box ? ray_overlap_box(k->s, box, NULL, catch_one, &got)
+                : ray_overlap_sphere(k->s, c, r, NULL, catch_one, &got);
+    ck_assert_int_eq(rc, (int)got.n);
+    rc = is_box ? ray_overlap_box_all(k->s, box, NULL, all, 512, &count)
+                : ray_overlap_sphere_all(k->s, c, r, NULL, all, 512, &count);
+    ck_assert_int_eq(rc, (int)count);
+    ck_assert_uint_eq(count, got.n);
+    for (i = 0; i < count; i++) {
+        ck_assert(found_in(got.o, got.n, all[i].geom_id, all[i].prim_id,
+                           all[i].inst_id));
+        for (j = 0; j < i; j++)
+            ck_assert_msg(!(all[j].geom_id == all[i].geom_id &&
+                            all[j].prim_id == all[i].prim_id &&
+                            all[j].inst_id == all[i].inst_id),
+                          "query %d: found twice", n);
+        if (i > 0)
+            ck_assert(all[i - 1].inst_id < all[i].inst_id ||
+                      (all[i - 1].inst_id == all[i].inst_id &&
+                       (all[i - 1].geom_id < all[i].geom_id ||
+                        (all[i - 1].geom_id == all[i].geom_id &&
+                         all[i - 1].prim_id < all[i].prim_id))));
+    }
+    for (i = 0; i < k->n; i++) {
+        const piece *p = &k->p[i];
+        ld d = HUGE_VALL;
+        for (j = 0; j < k->n; j++)
+            if (k->p[j].geom_id == p->geom_id &&
+                k->p[j].prim_id == p->prim_id &&
+                k->p[j].inst_id == p->inst_id)
+                d = fminl(d, apart(&k->p[j], is_box, box, lv(c), (ld)r));
+        if (d < -tol)
+            ck_assert_msg(found_in(all, count, p->geom_id, p->prim_id,
+                                   p->inst_id),
+                          "query %d: geometry %u, %u (instance %u) %Lg "
+                          "inside, not found", n, p->geom_id, p->prim_id,
+                          p->inst_id, -d);
+        if (d > tol)
+            ck_assert_msg(!found_in(all, count, p->geom_id, p->prim_id,
+                                    p->inst_id),
+                          "query %d: geometry %u, %u (instance %u) %Lg "
+                          "apart, found", n, p->geom_id, p->prim_id,
+                          p->inst_id, d);
+    }
+}
+
+/* A random oriented box within "spread" of o, half-extents up to "h". */
+static ray_box_params random_box(rng *g, ray_vec3 o, double spread, double h)
+{
+    ray_box_params b;
+
+    b.center = vadd(o, rng_point(g, -spread, spread));
+    b.half_extents = vec(rng_range(g, 0.05, h), rng_range(g, 0.05, h),
+                         rng_range(g, 0.05, h));
+    b.axis_x = rng_dir(g);
+    b.axis_y = rng_dir(g);
+    return b;
+}
+
+/*
+** Brute force: 300 spheres (radius 0.05 to 4) and 300 boxes (half
+** extents up to 3, random orientations) among the mixed scene, at the
+** origin and at 1e5; tolerance 2^-40 of 40 (the separations and
+** distances are computed to a few ulps of coordinates below 20 relative
+** to o, and o itself at 1e5 adds its ulp, 1.5e-11).
+*/
+START_TEST(overlaps_should_match_brute_force)
+{
+    kit k;
+    rng g = {31 + (uint64_t)_i};
+    ray_vec3 o = vec(test_offset(_i), test_offset(_i) / 3, -test_offset(_i));
+    ld tol = 0x1p-40L * 40 + (ld)test_offset(_i) * 1e-15L;
+    int i;
+
+    kit_build(&k, o, 1);
+    for (i = 0; i < 300; i++) {
+        ray_vec3 c = vadd(o, rng_point(&g, -10, 10));
+        check_query(&k, 0, NULL, c, rng_range(&g, 0.05, 4), tol, i);
+    }
+    for (i = 0; i < 300; i++) {
+        ray_box_params b = random_box(&g, o, 10, 3);
+        check_query(&k, 1, &b, vec(0, 0, 0), 0, tol, 1000 + i);
+    }
+    kit_free(&k);
+}
+END_TEST
+
+/*
+** Through instances: the child of a mesh, a box and the L polygon under 8
+** random affine maps, the sphere-and-capsule child under 4 similarities
+** (shapekit.h's kit_build_instanced, the world the sweeps' instance test
+** uses too), 200 spheres and 200 boxes.
+*/
+START_TEST(overlaps_should_be_exact_through_instances)
+{
+    ray_scene *child[2];
+    kit k;
+    rng g = {909};
+    int i;
+
+    kit_build_instanced(&k, &g, child);
+    for (i = 0; i < 200; i++)
+        check_query(&k, 0, NULL, rng_point(&g, -14, 14), rng_range(&g, 0.1, 3),
+                    0x1p-40L * 60, i);
+    for (i = 0; i < 200; i++) {
+        ray_box_params b = random_box(&g, vec(0, 0, 0), 14, 3);
+        check_query(&k, 1, &b, vec(0, 0, 0), 0, 0x1p-40L * 60, 1000 + i);
+    }
+    kit_free(&k);
+    ray_scene_free(child[0]);
+    ray_scene_free(child[1]);
+}
+END_TEST
+
+/*
+** Ellipsoids: a unit sphere through diag(3, 1, 0.5) (rotated by 90
+** degrees about z, moved to (10, 0, 0)) is the ellipsoid whose tips lie
+** at (10, +-3, 0), (10 +- 1, 0, 0), (10, 0, +-0.5): a sphere of radius 1
+** whose centre is 1 +- 1e-9 beyond a tip meets it or not; a box whose
+** face is 1e-9 short of a tip or beyond it likewise; a capsule
+** (a == b: the same sphere) through the same map, found as its swept
+** ellipsoid.
+*/
+START_TEST(overlaps_should_meet_ellipsoids)
+{
+    static const double tip[3][3] = {{10, 3, 0}, {11, 0, 0}, {10, 0, 0.5}};
+    static const double out[3][3] = {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}};
+    ray_scene *child[2], *top[2];
+    ray_capsule_params cap;
+    ray_transform xf;
+    int kind, k;
+
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 0;
+    xf.m[0][1] = -1;
+    xf.m[1][0] = 3;
+    xf.m[1][1] = 0;
+    xf.m[2][2] = 0.5;
+    xf.m[0][3] = 10;
+    cap.a = cap.b = vec(0, 0, 0);
+    cap.radius = 1;
+    for (kind = 0; kind < 2; kind++) {
+        ck_assert_int_eq(ray_scene_new(&child[kind], NULL, NULL), RAY_OK);
+        if (kind == 0)
+            ck_assert_int_eq(ray_scene_add_sphere(child[kind], vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+        else
+            ck_assert_int_eq(ray_scene_add_capsule(child[kind], &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(child[kind]), RAY_OK);
+        ck_assert_int_eq(ray_scene_new(&top[kind], NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(top[kind], child[kind], &xf, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top[kind]), RAY_OK);
+        for (k = 0; k < 3; k++) {
+            ray_vec3 t = vec(tip[k][0], tip[k][1], tip[k][2]);
+            ray_vec3 o = vec(out[k][0], out[k][1], out[k][2]);
+            ray_box_params b;
+            size_t n;
+            ck_assert_int_eq(ray_overlap_sphere_all(top[kind], vadd(t, vscale(o, 1 - 1e-9)), 1, NULL, NULL, 0, &n), 1);
+            ck_assert_int_eq(ray_overlap_sphere_all(top[kind], vadd(t, vscale(o, 1 + 1e-9)), 1, NULL, NULL, 0, &n), 0);
+            b.axis_x = vec(1, 0, 0);
+            b.axis_y = vec(0, 1, 0);
+            b.half_extents = vec(1, 1, 1);
+            b.center = vadd(t, vscale(o, 1 - 1e-9));
+            ck_assert_int_eq(ray_overlap_box_all(top[kind], &b, NULL, NULL, 0, &n), 1);
+            b.center = vadd(t, vscale(o, 1 + 1e-9));
+            ck_assert_int_eq(ray_overlap_box_all(top[kind], &b, NULL, NULL, 0, &n), 0);
+        }
+    }
+    for (kind = 0; kind < 2; kind++) {
+        ray_scene_free(top[kind]);
+        ray_scene_free(child[kind]);
+    }
+}
+END_TEST
+
+/*
+** The rest: a torus found by its box (flagged); masks; a callback that
+** stops the search after the first; the array form's cap (the first in
+** id order) and count; misuse (negated statuses, nothing written).
+*/
+static int stop_now(void *ud, const ray_overlap *o)
+{
+    (void)o;
+    (*(int *)ud)++;
+    return 1;
+}
+
+START_TEST(overlaps_should_keep_their_rules)
+{
+    kit k;
+    ray_torus_params tor;
+    ray_overlap o[4], ref[4], big[256];
+    ray_box_params b;
+    ray_query q;
+    size_t n = 77, m;
+    ray_scene *loose;
+    int calls = 0;
+    unsigned id;
+
+    kit_build(&k, vec(0, 0, 0), 0);
+    tor.center = vec(0, 0, 20);
+    tor.axis = vec(0, 0, 1);
+    tor.major = 1;
+    tor.minor = 0.3;
+    ck_assert_int_eq(ray_scene_add_torus(k.s, &tor, RAY_NO_MATERIAL, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
+    /* The hole of the torus is inside its box. */
+    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 20), 0.1, NULL, o, 4, &n), 1);
+    ck_assert_uint_eq(o[0].geom_id, id);
+    ck_assert_uint_eq(o[0].flags, RAY_CONTACT_BOUNDS);
+    /* A sphere about the box (2) that reaches the icosphere (0): the
+    ** box found, then hidden by a mask. */
+    ck_assert_int_ge(ray_overlap_sphere_all(k.s, vec(0, 4, -3), 3.2, NULL, big, 256, &n), 2);
+    ck_assert(found_in(big, n, 2, 0, RAY_INVALID_ID));
+    ck_assert(big[0].geom_id == 0);
+    ck_assert_int_eq(ray_scene_set_mask(k.s, 2, 4), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
+    ray_query_init(&q);
+    q.mask = 3;
+    ck_assert_int_ge(ray_overlap_sphere_all(k.s, vec(0, 4, -3), 3.2, &q, big, 256, &n), 1);
+    ck_assert(!found_in(big, n, 2, 0, RAY_INVALID_ID));
+    /* Stop after the first. */
+    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), 30, NULL, stop_now, &calls), 1);
+    ck_assert_int_eq(calls, 1);
+    /* The cap keeps the first in id order. */
+    ck_assert_int_gt(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 30, NULL, ref, 0, &n), 4);
+    m = n;
+    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 30, NULL, o, 4, &n), (int)m);
+    ck_assert_uint_eq(o[0].geom_id, 0);
+    ck_assert_uint_eq(o[0].prim_id, 0);
+    ck_assert_uint_eq(o[3].prim_id, 3);
+    /* Misuse. */
+    n = 77;
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(1, 0, 0);                  /* parallel: refused */
+    ck_assert_int_eq(ray_overlap_sphere(NULL, vec(0, 0, 0), 1, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), 1, NULL, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere(k.s, vec((double)NAN, 0, 0), 1, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), -1, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), HUGE_VAL, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box(k.s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box(k.s, NULL, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, NULL, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, o, 4, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 1, NULL, NULL, 4, &n), -RAY_EINVAL);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_int_eq(calls, 1);
+    ck_assert_int_eq(ray_scene_new(&loose, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_overlap_sphere_all(loose, vec(0, 0, 0), 1, NULL, o, 4, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(loose), RAY_OK);
+    ck_assert_int_eq(ray_overlap_box_all(loose, &b, NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    ray_scene_free(loose);
+    ck_assert_int_eq(ray_scene_add_sphere(k.s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_overlap_box(k.s, &b, NULL, stop_now, &calls), -RAY_ESTATE);
+    kit_free(&k);
+}
+END_TEST
+
+Suite *overlap_suite(void)
+{
+    Suite *s = suite_create("overlap");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 300);
+    tcase_add_loop_test(tc, overlaps_should_match_brute_force, 0, N_OFFSETS);
+    tcase_add_test(tc, overlaps_should_be_exact_through_instances);
+    tcase_add_test(tc, overlaps_should_meet_ellipsoids);
+    tcase_add_test(tc, overlaps_should_keep_their_rules);
+    suite_add_tcase(s, tc);
+    return s;
+}

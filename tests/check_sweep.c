@@ -1,0 +1,843 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_sweep.c -- ray_intersect_sweep: spheres and capsules swept
+** through the mixed scene (shapekit.h) against a brute force over every
+** convex piece of it in long double (the first t at which the shape
+** comes within its radius of the piece, found by the tests' own ternary
+** search and bisection on the piece's convex distance, not by the
+** library's pieces), at the origin and at 1e5; grazing sweeps along a
+** wall, sweeps that start in contact, radii from 1e-6 to 1e3 of the
+** scene, radius 0 against ray_intersect, the no-tunnelling set (closed
+** meshes' vertices and edges at 0, 1e5 and 1e6), instances, masks and
+** filters, the kinds answered by their boxes, misuse.
+*/
+#include "shapekit.h"
+
+/* ---------------------------------------------------------- reference */
+
+/* A sweep in long double: the core [a + t d, b + t d] at t. */
+typedef struct lsweep {
+    lvec a, b, d;
+    ld r, t0, t1;
+} lsweep;
+
+static lsweep lsweep_of(const ray_sweep *w)
+{
+    lsweep l;
+
+    l.a = lv(w->a);
+    l.b = lv(w->b);
+    l.d = lv(w->dir);
+    l.r = (ld)w->radius;
+    l.t0 = (ld)w->tmin;
+    l.t1 = (ld)w->tmax;
+    return l;
+}
+
+/* Piece p's clearance at t: its signed distance to the core, less r. */
+static ld clearance(const piece *p, const lsweep *l, ld t)
+{
+    return kit_distance(p, ladd(l->a, lscale(l->d, t)),
+                        ladd(l->b, lscale(l->d, t))) - l->r;
+}
+
+/* Can piece p come within the radius of the core over the sweep?  (Its
+** bounding sphere against the path of a, grown by |b - a|.) */
+static int reachable(const piece *p, const lsweep *l)
+{
+    lvec a0 = ladd(l->a, lscale(l->d, l->t0));
+    lvec a1 = ladd(l->a, lscale(l->d, l->t1));
+
+    if (!(p->reach < HUGE_VALL))
+        return 1;
+    return ldist(ref_segment(p->centre, a0, a1), p->centre) <=
+           p->reach + l->r + ldist(l->a, l->b) + 1e-9L;
+}
+
+/* The first t in [t0, t1] at which piece p's clearance is <= thr, or
+** +Inf: the clearance is convex in t, so its minimum by ternary search,
+** then bisection on the part before it. */
+static ld first_at(const piece *p, const lsweep *l, ld thr)
+{
+    ld lo = l->t0, hi = l->t1, tmin, a, b;
+    int k;
+
+    if (clearance(p, l, l->t0) <= thr)
+        return l->t0;
+    for (k = 0; k < 120; k++) {
+        ld m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+        if (clearance(p, l, m1) < clearance(p, l, m2))
+            hi = m2;
+        else
+            lo = m1;
+    }
+    tmin = (lo + hi) / 2;
+    if (clearance(p, l, tmin) > thr)
+        return HUGE_VALL;
+    a = l->t0;
+    b = tmin;
+    for (k = 0; k < 120; k++) {
+        ld m = (a + b) / 2;
+        if (clearance(p, l, m) <= thr)
+            b = m;
+        else
+            a = m;
+    }
+    return b;
+}
+
+/* The least clearance of every reachable piece at t (its signed
+** distance less r); *which: the piece. */
+static ld clearance_all(const kit *k, const lsweep *l, ld t, size_t *which)
+{
+    ld best = HUGE_VALL;
+    size_t i;
+
+    for (i = 0; i < k->n; i++) {
+        ld c;
+        if (!reachable(&k->p[i], l))
+            continue;
+        c = clearance(&k->p[i], l, t);
+        if (c < best) {
+            best = c;
+            if (which != NULL)
+                *which = i;
+        }
+    }
+    return best;
+}
+
+/* The first t at which some piece's clearance is <= thr (+Inf: none). */
+static ld first_all(const kit *k, const lsweep *l, ld thr)
+{
+    ld best = HUGE_VALL;
+    size_t i;
+
+    for (i = 0; i < k->n; i++)
+        if (reachable(&k->p[i], l)) {
+            ld t = first_at(&k->p[i], l, thr);
+            if (t < best)
+                best = t;
+        }
+    return best;
+}
+
+/* The least distance from x to the pieces named (geom_id, prim_id),
+** unsigned (a contact point lies on the surface). */
+static ld distance_to_named(const kit *k, unsigned g, unsigned i,
+                            unsigned in, lvec x)
+{
+    ld best = HUGE_VALL;
+    size_t j;
+
+    for (j = 0; j < k->n; j++)
+        if (k->p[j].geom_id == g && k->p[j].prim_id == i &&
+            k->p[j].inst_id == in) {
+            ld d = fabsl(kit_distance(&k->p[j], x, x));
+            if (d < best)
+                best = d;
+        }
+    return best;
+}
+
+/*
+** One sweep checked against the reference, with tolerance tol (a
+** distance):
+**   - overlapping at tmin by more than tol: an overlap reported, at
+**     tmin, its depth the deepest piece's within tol;
+**   - else no contact reported: no piece is entered by more than tol
+**     over the interval (a graze within tol may go either way);
+**   - else a contact at t: no piece was entered by more than tol before
+**     it (conservative), the shape is within tol of touching some piece
+**     at t, the contact point lies on the piece named, at the radius
+**     from the core (a sphere's centre), the normal along that offset.
+** Returns 1 for a contact, 0 for none.
+*/
+static int check_sweep(const kit *k, const ray_sweep *w, ld tol,
+                       const char *what, int n)
+{
+    lsweep l = lsweep_of(w);
+    ray_contact c;
+    ld start = clearance_all(k, &l, l.t0, NULL);
+    int rc = ray_intersect_sweep(k->s, w, NULL, &c);
+
+    ck_assert_msg(rc == 0 || rc == 1, "%s %d: rc %d", what, n, rc);
+    if (start < -tol) {
+        ck_assert_msg(rc == 1 && (c.flags & RAY_CONTACT_OVERLAP) &&
+                          c.t == w->tmin,
+                      "%s %d: overlap by %Lg not reported (rc %d, flags %u)",
+                      what, n, -start, rc, rc == 1 ? c.flags : 0u);
+        ck_assert_msg(fabsl((ld)c.depth + start) <= tol, "%s %d: depth %.17g,"
+                      " reference %.17Lg", what, n, c.depth, -start);
+        return 1;
+    }
+    if (rc == 0) {
+        ld pen = first_all(k, &l, -tol);
+        ck_assert_msg(!(pen < HUGE_VALL), "%s %d: no contact, but the shape "
+                      "goes %Lg deep at t = %.17Lg", what, n,
+                      -clearance_all(k, &l, pen, NULL), pen);
+        return 0;
+    }
+    {
+        ld pen = first_all(k, &l, -tol), at = clearance_all(k, &l, (ld)c.t,
+                                                             NULL);
+        lvec x0 = ladd(l.a, lscale(l.d, (ld)c.t));
+        lvec x1 = ladd(l.b, lscale(l.d, (ld)c.t)), core, off;
+        ck_assert_msg(c.t >= w->tmin && c.t <= w->tmax, "%s %d: t %.17g "
+                      "outside the interval", what, n, c.t);
+        ck_assert_msg((ld)c.t <= pen, "%s %d: contact at %.17g, but the shape "
+                      "is %Lg inside at %.17Lg", what, n, c.t, tol, pen);
+        ck_assert_msg(at <= tol, "%s %d: contact at %.17g with the shape %Lg "
+                      "from everything", what, n, c.t, at);
+        if (c.flags & RAY_CONTACT_OVERLAP)
+            return 1;
+        ck_assert_msg(distance_to_named(k, c.geom_id, c.prim_id, c.inst_id,
+                                        lv(c.p)) <= tol,
+                      "%s %d: p %Lg off geometry %u, %u (instance %u)", what,
+                      n, distance_to_named(k, c.geom_id, c.prim_id,
+                                           c.inst_id, lv(c.p)),
+                      c.geom_id, c.prim_id, c.inst_id);
+        core = ref_segment(lv(c.p), x0, x1);
+        off = lsub(core, lv(c.p));
+        ck_assert_msg(fabsl(llen(off) - l.r) <= tol, "%s %d: p at %Lg from "
+                      "the core, radius %Lg", what, n, llen(off), l.r);
+        if (l.r > 1e3L * tol)
+            ck_assert_msg(ldot(lunit(off), lv(c.n)) >= 1 - 1e-9L,
+                          "%s %d: normal off the offset", what, n);
+        ck_assert_msg(fabsl(llen(lv(c.n)) - 1) <= 1e-12L, "%s %d: n not "
+                      "unit", what, n);
+    }
+    return 1;
+}
+
+/* ------------------------------------------------------------- tests */
+
+/*
+** The tolerance of a check, a distance: 2^-40 (9e-13) of the magnitudes
+** in the library's bound, 20 (the scene's size) + r + |b - a| + |tmin
+** dir|: the library's bound is 2 eps, eps = gamma(64) (M + r + |s| +
+** |x0|) (ray_intersect_sweep(3)), 1.4e-14 of those magnitudes; the
+** tests leave a factor 32 for the reference's own rounding (long double
+** bisections, to 2^-64 relative) and M's reach.
+*/
+static ld tol_of(const ray_sweep *w)
+{
+    return 0x1p-40L * (20 + (ld)w->radius + (ld)vdist(w->a, w->b) +
+                       (ld)vlen(vscale(w->dir, w->tmin)));
+}
+
+/*
+** Brute force: 240 sphere sweeps and 120 capsule sweeps from random
+** points within 12 of the scene, toward random points of it (so most
+** meet something), radii 0.05 to 3, over [0, 1] and [0.3, 1.5], at the
+** origin and at 1e5.  Every check of check_sweep holds, and a good part
+** of the sweeps have contacts (at least a third).
+*/
+START_TEST(sweeps_should_match_brute_force)
+{
+    kit k;
+    rng g = {1234 + (uint64_t)_i};
+    int i, contacts = 0;
+    ray_vec3 o = vec(test_offset(_i), -test_offset(_i), test_offset(_i) / 2);
+
+    kit_build(&k, o, 1);
+    for (i = 0; i < 360; i++) {
+        ray_sweep w;
+        ray_vec3 from = vadd(o, rng_point(&g, -12, 12));
+        ray_vec3 to = vadd(o, rng_point(&g, -6, 6));
+        ray_sweep_init(&w);
+        w.a = w.b = from;
+        if (i >= 240)
+            w.b = vadd(from, vscale(rng_dir(&g), rng_range(&g, 0.2, 3)));
+        w.radius = rng_range(&g, 0.05, 3);
+        w.dir = vsub(to, from);
+        if (i % 3 == 1) {
+            w.tmin = 0.3;
+            w.tmax = 1.5;
+        }
+        contacts += check_sweep(&k, &w, tol_of(&w), "sweep", i);
+    }
+    ck_assert_int_ge(contacts, 120);
+    kit_free(&k);
+}
+END_TEST
+
+/*
+** Radii from 1e-6 to 1e3 of the scene (its size 20: 2e-5 to 2e4), 40
+** sweeps each, sphere and capsule, against the reference.
+*/
+START_TEST(sweeps_should_take_any_radius)
+{
+    static const double radius[6] = {2e-5, 2e-3, 0.2, 20, 2e3, 2e4};
+    kit k;
+    rng g = {99};
+    int i, r;
+
+    kit_build(&k, vec(0, 0, 0), 0);
+    for (r = 0; r < 6; r++)
+        for (i = 0; i < 40; i++) {
+            ray_sweep w;
+            ray_vec3 from = vscale(rng_dir(&g), 15 + 2 * radius[r]);
+            ray_sweep_init(&w);
+            w.a = w.b = from;
+            if (i % 2)
+                w.b = vadd(from, vscale(rng_dir(&g), 0.5));
+            w.radius = radius[r];
+            w.dir = vsub(rng_point(&g, -4, 4), from);
+            check_sweep(&k, &w, tol_of(&w), "radius", r * 100 + i);
+        }
+    kit_free(&k);
+}
+END_TEST
+
+/* A flat wall of 10 x 10 quads (200 triangles, inner edges and
+** vertices everywhere) in the plane z = 0 over [-5, 5]^2. */
+static ray_scene *wall(void)
+{
+    ray_vec3 v[121];
+    unsigned idx[600];
+    ray_mesh m;
+    ray_scene *s;
+    int i, j;
+
+    for (j = 0; j <= 10; j++)
+        for (i = 0; i <= 10; i++)
+            v[j * 11 + i] = vec(i - 5, j - 5, 0);
+    for (j = 0; j < 10; j++)
+        for (i = 0; i < 10; i++) {
+            unsigned a = (unsigned)(j * 11 + i), *t = idx + 6 * (j * 10 + i);
+            t[0] = a, t[1] = a + 1, t[2] = a + 12;
+            t[3] = a, t[4] = a + 12, t[5] = a + 11;
+        }
+    ray_mesh_init(&m);
+    m.vertices = v;
+    m.vertex_count = 121;
+    m.indices = idx;
+    m.triangle_count = 200;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+/*
+** Grazing: a sphere (or a lying capsule) sliding along the wall at
+** exactly its radius, across the wall's inner edges and vertices, in 50
+** directions, touches nothing (no "ghost" contact at an inner edge); a
+** hair (1e-9 r) above, nothing; a hair below, an overlap of that depth;
+** a path that sinks by 1e-3 over its length touches the face at the t
+** where its centre is r above it, within the bound.
+*/
+START_TEST(sweeps_should_slide_along_a_wall)
+{
+    ray_scene *s = wall();
+    rng g = {5};
+    int i;
+
+    for (i = 0; i < 50; i++) {
+        double r = rng_range(&g, 0.1, 1), a = rng_range(&g, 0, 6.283185307179586);
+        ray_vec3 from = vec(rng_range(&g, -2, 2), rng_range(&g, -2, 2), r);
+        ray_sweep w;
+        ray_contact c;
+        ray_sweep_init(&w);
+        w.a = w.b = from;
+        if (i % 2)
+            w.b = vadd(from, vec(0.3 * sin(a), 0.3 * cos(a), 0));
+        w.radius = r;
+        w.dir = vec(2 * cos(a), 2 * sin(a), 0);
+        ck_assert_msg(ray_intersect_sweep(s, &w, NULL, &c) == 0,
+                      "slide %d: a contact at t %.17g, n (%g, %g, %g)", i,
+                      c.t, c.n.x, c.n.y, c.n.z);
+        w.a.z = w.b.z = r * (1 + 1e-9);
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+        w.a.z = w.b.z = r * (1 - 1e-9);
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert(c.flags & RAY_CONTACT_OVERLAP);
+        ck_assert_double_eq_tol(c.depth, r * 1e-9, r * 1e-12);
+        ck_assert_double_eq_tol(c.n.z, 1, 1e-12);
+        /* Sinking: z = r + 1e-3 - 1e-3 t: the face at t = 1. */
+        w.a.z = w.b.z = r + 1e-3;
+        w.dir.z = -1e-3;
+        w.tmax = 2;
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert_msg(c.t <= 1 && c.t >= 1 - 1e-9, "sink %d: t %.17g", i, c.t);
+        ck_assert_double_eq_tol(c.n.z, 1, 1e-12);
+        ck_assert_double_eq_tol(c.p.z, 0, 1e-15);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Starting in contact: a sphere at exactly its radius from the wall's
+** face, from one of its inner edges and from one of its vertices (off
+** the face's side, so that the edge or the vertex is the nearest
+** feature: the sphere beyond the wall's border at x = 5), moving into
+** it: a contact at tmin, depth 0, not an overlap; moving away or along:
+** none.
+*/
+START_TEST(sweeps_should_start_in_contact)
+{
+    ray_scene *s = wall();
+    ray_sweep w;
+    ray_contact c;
+    int k;
+
+    for (k = 0; k < 3; k++) {
+        /* Face: above (0.3, 0.2); the border edge x = 5 from beside it;
+        ** the corner (5, 5, 0) from off its diagonal. */
+        ray_vec3 from[3] = {{0.3, 0.2, 0.5}, {5.4, 0.3, 0.3}, {5.3, 5.4, 0}};
+        ray_vec3 into[3] = {{0.1, 0, -1}, {-1, 0.2, -0.5}, {-0.3, -0.4, 0.1}};
+        double r = k == 0 ? 0.5 : k == 1 ? 0.5 : 0.5;
+        ray_sweep_init(&w);
+        w.a = w.b = from[k];
+        w.radius = r;
+        w.dir = into[k];
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert_msg(c.t == 0, "start %d: t %.17g", k, c.t);
+        ck_assert_uint_eq(c.flags & RAY_CONTACT_OVERLAP, 0);
+        ck_assert(c.depth == 0);
+        w.dir = vscale(into[k], -1);
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Radius 0 with a == b is ray_intersect: on the mixed scene, 500 random
+** rays, the same answer bit for bit (t, p, ids; n the hit's normal
+** turned against the ray) and the same misses.
+*/
+START_TEST(radius_zero_should_be_the_ray)
+{
+    kit k;
+    rng g = {17};
+    int i, hits = 0;
+
+    kit_build(&k, vec(0, 0, 0), 1);
+    for (i = 0; i < 500; i++) {
+        ray_vec3 from = rng_point(&g, -12, 12);
+        ray_ray r = ray_from(from, vsub(rng_point(&g, -6, 6), from));
+        ray_sweep w;
+        ray_contact c;
+        ray_hit h;
+        int a, b;
+        ray_sweep_init(&w);
+        w.a = w.b = r.org;
+        w.dir = r.dir;
+        w.tmin = 0;
+        w.tmax = HUGE_VAL;
+        a = ray_intersect(k.s, &r, &h);
+        b = ray_intersect_sweep(k.s, &w, NULL, &c);
+        ck_assert_int_eq(a, b);
+        if (!a)
+            continue;
+        hits++;
+        ck_assert(memcmp(&c.t, &h.t, sizeof h.t) == 0);
+        ck_assert(memcmp(&c.p, &h.p, sizeof h.p) == 0);
+        ck_assert_uint_eq(c.geom_id, h.geom_id);
+        ck_assert_uint_eq(c.prim_id, h.prim_id);
+        ck_assert(vdot(c.n, r.dir) <= 0);
+        ck_assert_double_eq_tol(fabs(vdot(c.n, h.n)), 1, 1e-15);
+    }
+    ck_assert_int_gt(hits, 100);
+    kit_free(&k);
+}
+END_TEST
+
+/*
+** No tunnelling: spheres and capsules swept into closed meshes (an
+** icosphere of 1280 triangles, the cube) aimed exactly at their
+** vertices and at points of their edges, from outside toward the
+** centre, radii from 1e-9 to 0.5, at 0, 1e5 and 1e6 from the origin:
+** every sweep reports a contact no later than the t at which its core
+** reaches the point aimed at (a shape there would be inside the mesh).
+*/
+START_TEST(sweeps_should_not_tunnel_through_closed_meshes)
+{
+    static const double offset[3] = {0, 1e5, 1e6};
+    static const double radius[4] = {1e-9, 1e-5, 0.01, 0.5};
+    rng g = {2024};
+    int m, oi, misses = 0, total = 0;
+
+    for (oi = 0; oi < 3; oi++)
+        for (m = 0; m < 2; m++) {
+            ray_vec3 o = vec(offset[oi], offset[oi] * 0.7, -offset[oi] * 0.3);
+            hc_mesh h = m == 0 ? hc_icosphere(o, 3) : hc_cube(o);
+            ray_mesh mesh = hc_ray_mesh(&h);
+            ray_scene *s;
+            size_t t;
+            ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+            for (t = 0; t < h.nt; t += m == 0 ? 7 : 1) {
+                int e;
+                for (e = 0; e < 4; e++) {
+                    ray_vec3 p0 = h.v[h.idx[3 * t + (size_t)(e % 3)]];
+                    ray_vec3 p1 = h.v[h.idx[3 * t + (size_t)((e + 1) % 3)]];
+                    ray_vec3 aim = e == 3 ? p0 : vadd(p0, vscale(vsub(p1, p0), rng_unit(&g)));
+                    ray_vec3 out = vsub(aim, o), from;
+                    ray_sweep w;
+                    ray_contact c;
+                    double r = radius[(t + (size_t)e) % 4];
+                    int rc;
+                    /* From 3 units out, along a direction tilted up to
+                    ** 30 degrees off the radial one. */
+                    out = vscale(out, 1 / vlen(out));
+                    out = vadd(out, vscale(rng_dir(&g), 0.5));
+                    from = vadd(aim, vscale(out, 3 / vlen(out)));
+                    ray_sweep_init(&w);
+                    w.a = w.b = from;
+                    if (e % 2)
+                        w.b = vadd(from, vscale(out, 0.5 / vlen(out)));
+                    w.radius = r;
+                    w.dir = vsub(aim, from);
+                    w.tmax = 2;
+                    rc = ray_intersect_sweep(s, &w, NULL, &c);
+                    total++;
+                    if (rc != 1 || !(c.t <= 1))
+                        misses++;
+                }
+            }
+            ray_scene_free(s);
+            hc_mesh_free(&h);
+        }
+    ck_assert_int_gt(total, 2000);
+    ck_assert_int_eq(misses, 0);
+}
+END_TEST
+
+/* ------------------------------------------------------- instances */
+
+/*
+** Instances: 8 placements of a child of a mesh (an icosahedron), a box
+** and the L polygon under random affine maps (scales 0.4 to 2.5 per
+** axis, shears, reflections), and 4 of a child of a sphere and a capsule
+** under similarities (a rotation, a uniform scale, a reflection), swept
+** by 200 spheres and capsules against the brute force over every piece
+** taken to world space in long double: exact through any transform for
+** the polytopes, through similarities for the round kinds.
+*/
+START_TEST(sweeps_should_be_exact_through_instances)
+{
+    ray_scene *child[2];
+    kit k;
+    rng g = {808};
+    int i, contacts = 0;
+
+    kit_build_instanced(&k, &g, child);
+    for (i = 0; i < 200; i++) {
+        ray_sweep w;
+        ray_vec3 from = rng_point(&g, -18, 18), to = rng_point(&g, -12, 12);
+        ray_sweep_init(&w);
+        w.a = w.b = from;
+        if (i % 2)
+            w.b = vadd(from, vscale(rng_dir(&g), rng_range(&g, 0.2, 2)));
+        w.radius = rng_range(&g, 0.05, 1.5);
+        w.dir = vsub(to, from);
+        contacts += check_sweep(&k, &w, tol_of(&w), "instance", i);
+    }
+    ck_assert_int_ge(contacts, 50);
+    kit_free(&k);
+    ray_scene_free(child[0]);
+    ray_scene_free(child[1]);
+}
+END_TEST
+
+/*
+** Through a transform that is not a similarity a sphere is an ellipsoid
+** and a capsule an ellipsoid swept along a segment: spheres and
+** capsules swept toward them (40 each) meet them, the contact point's
+** preimage lies on the sphere or capsule (within 1e-12), at the radius
+** from the core, and no point of a sample of the surface (40 x 80
+** directions of the preimage, mapped) comes within the radius less the
+** tolerance of the core at 5 times up to the contact (conservative).
+** A capsule swept against such a capsule answers by its box, flagged.
+*/
+START_TEST(sweeps_should_meet_ellipsoids)
+{
+    const ld pi = 3.14159265358979323846L;
+    ray_scene *child[2], *top[2];
+    ray_capsule_params cap;
+    ray_transform xf;
+    rng g = {4242};
+    int kind, i, bounds = 0;
+
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 2.5;
+    xf.m[0][1] = 0.7;
+    xf.m[1][1] = 0.6;
+    xf.m[2][2] = 1.3;
+    xf.m[2][0] = -0.4;
+    xf.m[0][3] = 1;
+    cap.a = vec(-0.5, 0, 0);
+    cap.b = vec(0.5, 0.5, 0.5);
+    cap.radius = 0.5;
+    for (kind = 0; kind < 2; kind++) {
+        ck_assert_int_eq(ray_scene_new(&child[kind], NULL, NULL), RAY_OK);
+        if (kind == 0)
+            ck_assert_int_eq(ray_scene_add_sphere(child[kind], vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+        else
+            ck_assert_int_eq(ray_scene_add_capsule(child[kind], &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(child[kind]), RAY_OK);
+        ck_assert_int_eq(ray_scene_new(&top[kind], NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(top[kind], child[kind], &xf, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top[kind]), RAY_OK);
+    }
+    for (kind = 0; kind < 2; kind++)
+        for (i = 0; i < 40; i++) {
+            ray_sweep w;
+            ray_contact c;
+            lvec y, e;
+            ld tol, rr;
+            int a, b, j, rc;
+            ray_sweep_init(&w);
+            w.a = w.b = vadd(vec(1, 0, 0), vscale(rng_dir(&g), 6));
+            if (i % 2)
+                w.b = vadd(w.a, vscale(rng_dir(&g), 0.8));
+            w.radius = rng_range(&g, 0.1, 1);
+            /* Toward the image of the centre (the segment's midpoint),
+            ** within 0.1: inside (|L^-1|_2 < 2 keeps it within 0.2). */
+            w.dir = vsub(vadd(kind == 0 ? vec(1, 0, 0) : vec(1.175, 0.15, 0.325),
+                              rng_point(&g, -0.1, 0.1)), w.a);
+            tol = tol_of(&w);
+            rc = ray_intersect_sweep(top[kind], &w, NULL, &c);
+            ck_assert_int_eq(rc, 1);
+            if (kind == 1 && i % 2) {
+                ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
+                bounds++;
+                continue;
+            }
+            ck_assert_uint_eq(c.flags, 0);
+            /* The preimage of p, on the surface. */
+            {
+                /* L = [[2.5, .7, 0], [0, .6, 0], [-.4, 0, 1.3]]: solved. */
+                lvec q = lsub(lv(c.p), lv3(1, 0, 0));
+                ld yy = q.y / 0.6L, xx = (q.x - 0.7L * yy) / 2.5L;
+                ld zz = (q.z + 0.4L * xx) / 1.3L;
+                y = lv3(xx, yy, zz);
+            }
+            rr = kind == 0 ? llen(y) - 1
+                           : ldist(y, ref_segment(y, lv(cap.a), lv(cap.b))) - (ld)cap.radius;
+            ck_assert_msg(fabsl(rr) <= 1e-12L, "kind %d sweep %d: preimage off by %Lg", kind, i, rr);
+            {
+                lvec x0 = ladd(lv(w.a), lscale(lv(w.dir), (ld)c.t));
+                lvec x1 = ladd(lv(w.b), lscale(lv(w.dir), (ld)c.t));
+                ld d = ldist(ref_segment(lv(c.p), x0, x1), lv(c.p));
+                ck_assert_msg(fabsl(d - (ld)w.radius) <= tol, "kind %d sweep %d: p at %Lg", kind, i, d);
+            }
+            for (j = 0; j <= 4; j++) {
+                ld t = (ld)c.t * j / 4;
+                lvec x0 = ladd(lv(w.a), lscale(lv(w.dir), t));
+                lvec x1 = ladd(lv(w.b), lscale(lv(w.dir), t));
+                int k2;
+                for (k2 = 0; k2 <= (kind == 0 ? 0 : 4); k2++) {
+                    lvec o = kind == 0 ? lv3(0, 0, 0)
+                                       : ladd(lv(cap.a), lscale(lsub(lv(cap.b), lv(cap.a)), (ld)k2 / 4));
+                    ld R = kind == 0 ? 1 : (ld)cap.radius;
+                    for (a = 0; a < 40; a++)
+                        for (b = 0; b < 80; b++) {
+                            ld th = pi * (a + 0.5L) / 40, ph = 2 * pi * b / 80;
+                            lvec wp;
+                            e = ladd(o, lscale(lv3(sinl(th) * cosl(ph), sinl(th) * sinl(ph), cosl(th)), R));
+                            wp = lv3(2.5L * e.x + 0.7L * e.y + 1, 0.6L * e.y, -0.4L * e.x + 1.3L * e.z);
+                            ck_assert_msg(ldist(ref_segment(wp, x0, x1), wp) >= (ld)w.radius - tol,
+                                          "kind %d sweep %d: inside at t %Lg", kind, i, t);
+                        }
+                }
+            }
+        }
+    ck_assert_int_eq(bounds, 20);
+    for (kind = 0; kind < 2; kind++) {
+        ray_scene_free(top[kind]);
+        ray_scene_free(child[kind]);
+    }
+}
+END_TEST
+
+/*
+** Masks and filters as for rays: a sweep with a mask that the icosphere
+** does not share passes through it to the sphere behind; a filter that
+** rejects the icosphere (ignore the shooter, by query_ud) does the same,
+** and is handed the path with the candidate inside its interval.
+*/
+static int reject_named(void *ud, const ray_ray *r, const ray_hit *h, void *q)
+{
+    int *calls = ud;
+    (*calls)++;
+    ck_assert(h->t > r->tmin && h->t < r->tmax);
+    return q == NULL || h->geom_id != *(const unsigned *)q;
+}
+
+START_TEST(sweeps_should_follow_masks_and_filters)
+{
+    kit k;
+    ray_sweep w;
+    ray_contact c;
+    ray_query q;
+    unsigned shooter = 0;
+    int calls = 0;
+
+    kit_build(&k, vec(0, 0, 0), 0);
+    ray_sweep_init(&w);
+    w.a = w.b = vec(-6, 0.2, 0);
+    w.radius = 0.3;
+    w.dir = vec(20, 0, 0);
+    ck_assert_int_eq(ray_intersect_sweep(k.s, &w, NULL, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 0);
+    ck_assert_int_eq(ray_scene_set_mask(k.s, 0, 2), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
+    ray_query_init(&q);
+    q.mask = 1;
+    ck_assert_int_eq(ray_intersect_sweep(k.s, &w, &q, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 1);                  /* the sphere behind */
+    ck_assert_int_eq(ray_scene_set_mask(k.s, 0, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_filter(k.s, 0, reject_named, &calls,
+                                          RAY_FILTER_INTERSECT), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
+    q.mask = ~0u;
+    q.query_ud = &shooter;
+    ck_assert_int_eq(ray_intersect_sweep(k.s, &w, &q, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 1);
+    ck_assert_int_gt(calls, 0);
+    q.query_ud = NULL;
+    ck_assert_int_eq(ray_intersect_sweep(k.s, &w, &q, &c), 1);
+    ck_assert_uint_eq(c.geom_id, 0);
+    kit_free(&k);
+}
+END_TEST
+
+/*
+** The kinds with no sweep of their own answer against their box,
+** flagged: a torus of major radius 1, minor 0.3 about z at the origin
+** (box [-1.3, 1.3]^2 x [-0.3, 0.3]): a sphere of radius 0.2 falling
+** from z = 2 onto its hole touches the box's top at t = (2 - 0.5) / 4,
+** RAY_CONTACT_BOUNDS, and never gets through.
+*/
+START_TEST(other_kinds_should_answer_by_their_boxes)
+{
+    ray_scene *s;
+    ray_torus_params tor;
+    ray_sweep w;
+    ray_contact c;
+
+    tor.center = vec(0, 0, 0);
+    tor.axis = vec(0, 0, 1);
+    tor.major = 1;
+    tor.minor = 0.3;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(s, &tor, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_sweep_init(&w);
+    w.a = w.b = vec(0, 0, 2);
+    w.radius = 0.2;
+    w.dir = vec(0, 0, -4);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+    ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
+    /* The box is the torus's, rounded outward: within 1e-9 of 0.3. */
+    ck_assert_double_eq_tol(c.t, (2 - 0.5) / 4, 1e-9);
+    ck_assert_double_eq_tol(c.n.z, 1, 1e-12);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Misuse is a negated status, *c untouched: NULLs, NaN in any input, a
+** negative or infinite radius, no motion, an empty or reversed interval,
+** an uncommitted scene, a scene changed since its commit, an instance
+** whose scene changed.
+*/
+START_TEST(sweeps_should_refuse_misuse)
+{
+    ray_scene *s, *child, *top;
+    ray_sweep w, bad;
+    ray_contact c, ref;
+    ray_transform xf;
+
+    memset(&ref, 0xA5, sizeof ref);
+    c = ref;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ray_sweep_init(&w);
+    w.a = w.b = vec(0, 0, 5);
+    w.radius = 0.5;
+    w.dir = vec(0, 0, -5);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect_sweep(NULL, &w, NULL, &c), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_sweep(s, NULL, NULL, &c), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, NULL), -RAY_EINVAL);
+    bad = w, bad.a.x = (double)NAN;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.b.y = HUGE_VAL;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.dir.z = (double)NAN;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.radius = -1;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.radius = (double)NAN;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.radius = HUGE_VAL;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.dir = vec(0, 0, 0);
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.tmin = 1, bad.tmax = 1;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.tmin = 2, bad.tmax = 1;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.tmax = (double)NAN;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.tmin = -HUGE_VAL;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    ck_assert(memcmp(&c, &ref, sizeof c) == 0);
+    /* tmax = +Inf is the usual unbounded sweep. */
+    bad = w, bad.tmax = HUGE_VAL;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), 1);
+    ck_assert_double_eq_tol(c.t, 3.5 / 5, 1e-13);
+    /* Changed since the commit. */
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(9, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), -RAY_ESTATE);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* A stale instance. */
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&xf);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect_sweep(top, &w, NULL, &c), 1);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(3, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_intersect_sweep(top, &w, NULL, &c), -RAY_ESTATE);
+    ray_scene_free(top);
+    ray_scene_free(child);
+    ray_scene_free(s);
+    /* ray_sweep_init(NULL) is a no-op; its defaults. */
+    ray_sweep_init(NULL);
+    ray_sweep_init(&w);
+    ck_assert(w.radius == 0 && w.tmin == 0 && w.tmax == 1 && w.dir.x == 0);
+}
+END_TEST
+
+Suite *sweep_suite(void)
+{
+    Suite *s = suite_create("sweep");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 300);
+    tcase_add_loop_test(tc, sweeps_should_match_brute_force, 0, N_OFFSETS);
+    tcase_add_test(tc, sweeps_should_take_any_radius);
+    tcase_add_test(tc, sweeps_should_slide_along_a_wall);
+    tcase_add_test(tc, sweeps_should_start_in_contact);
+    tcase_add_test(tc, radius_zero_should_be_the_ray);
+    tcase_add_test(tc, sweeps_should_not_tunnel_through_closed_meshes);
+    tcase_add_test(tc, sweeps_should_be_exact_through_instances);
+    tcase_add_test(tc, sweeps_should_meet_ellipsoids);
+    tcase_add_test(tc, sweeps_should_follow_masks_and_filters);
+    tcase_add_test(tc, other_kinds_should_answer_by_their_boxes);
+    tcase_add_test(tc, sweeps_should_refuse_misuse);
+    suite_add_tcase(s, tc);
+    return s;
+}
