@@ -95,7 +95,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
 
 .PHONY: all lib check test demo caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
-        deps-bench numerics links-test mpi-check mpi-demo deps-mpi \
+        deps-bench profile numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test cmake-test abi-test abi-baseline \
@@ -253,6 +253,20 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 bench: deps-bench lib $(BENCHES)
 	@if command -v $(MPICC) >/dev/null 2>&1; then $(MAKE) --no-print-directory $(MPI_RENDER); fi
 	bench/run.sh $(BUILD)
+
+# Where a query's time goes (issue 27): perf's samples of bench/filter's
+# camera rays and cosine rays alone (filter --profile), one thread, by
+# function.  Needs perf (Debian's linux-perf); prints, asserts nothing.
+PROFILE_MESH ?= data/bunny-2.obj
+profile: $(BUILD)/bench/filter
+	@scripts/fetch-bunny.sh data >/dev/null
+	@command -v perf >/dev/null || { echo "profile: no perf (apt-get install linux-perf)" >&2; exit 1; }
+	@for kind in primary incoherent; do \
+	    perf record -q -o $(BUILD)/perf.$$kind.data \
+	        $(BUILD)/bench/filter --profile $(PROFILE_MESH) $$kind || exit 1; \
+	    perf report -i $(BUILD)/perf.$$kind.data --stdio --sort symbol 2>/dev/null | \
+	        grep '%' | head -12; \
+	done
 
 # The stability suite alone (doc/NUMERICS.md): the table of hard cases,
 # naive against robust (bench/numerics.c), then the Check suite's numerics

@@ -13,6 +13,8 @@
 ** asserts nothing.
 **
 **     filter DATA_DIR          (bunny.obj, bunny-2.obj, bunny-4.obj)
+**     filter --profile MESH primary|incoherent
+**                              (one row's rays alone, 20 times: make profile)
 **
 ** Method: medians of REPS runs, the three modes in turn within each run
 ** so that a noisy neighbour slows all three; each ratio is the median of
@@ -133,42 +135,57 @@ static ray_ray *rays_of(ray_scene *s, ray_vec3 c, double diag,
     return r;
 }
 
-static void bench_bunny(const char *path, unsigned res)
+/* The mesh at path in a scene of its own (nop_scene_new, counting its
+** bytes into *bytes per triangle), with the centre and the diagonal of
+** its box; 0 where it cannot be read (a row says why). */
+static int load(const char *path, obj_mesh *obj, ray_scene **s, ray_vec3 *c,
+                double *diag, double *bytes)
 {
     counting cnt = {0, 0};
-    obj_mesh obj;
     ray_mesh mesh;
-    ray_scene *s;
-    ray_ray *r;
-    ray_vec3 lo, hi, c;
+    ray_vec3 lo, hi;
     char err[1200];
-    size_t np, na, i;
-    double diag, bytes;
+    size_t i;
 
-    if (obj_load(path, &obj, err, sizeof err) != 0) {
+    if (obj_load(path, obj, err, sizeof err) != 0) {
         printf("| %s | (skipped: %s) |\n", path, err);
-        return;
+        return 0;
     }
-    mesh = obj_as_ray_mesh(&obj);
-    if (nop_scene_new(&s, counting_alloc, &cnt) != RAY_OK ||
-        ray_scene_add_mesh(s, &mesh, 0, NULL) != RAY_OK ||
-        ray_scene_commit(s) != RAY_OK) {
+    mesh = obj_as_ray_mesh(obj);
+    if (nop_scene_new(s, counting_alloc, &cnt) != RAY_OK ||
+        ray_scene_add_mesh(*s, &mesh, 0, NULL) != RAY_OK ||
+        ray_scene_commit(*s) != RAY_OK) {
         printf("| %s | (scene failed) |\n", path);
         exit(1);
     }
-    bytes = (double)cnt.now / (double)obj.triangle_count;
-    lo = hi = obj.vertices[0];
-    for (i = 1; i < obj.vertex_count; i++) {
-        ray_vec3 v = obj.vertices[i];
+    *bytes = (double)cnt.now / (double)obj->triangle_count;
+    lo = hi = obj->vertices[0];
+    for (i = 1; i < obj->vertex_count; i++) {
+        ray_vec3 v = obj->vertices[i];
         lo = ray_vec3_make(v.x < lo.x ? v.x : lo.x, v.y < lo.y ? v.y : lo.y,
                            v.z < lo.z ? v.z : lo.z);
         hi = ray_vec3_make(v.x > hi.x ? v.x : hi.x, v.y > hi.y ? v.y : hi.y,
                            v.z > hi.z ? v.z : hi.z);
     }
-    c = ray_vec3_make((lo.x + hi.x) / 2, (lo.y + hi.y) / 2,
-                      (lo.z + hi.z) / 2);
-    diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) + (hi.y - lo.y) * (hi.y - lo.y) +
-                (hi.z - lo.z) * (hi.z - lo.z));
+    *c = ray_vec3_make((lo.x + hi.x) / 2, (lo.y + hi.y) / 2,
+                       (lo.z + hi.z) / 2);
+    *diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) +
+                 (hi.y - lo.y) * (hi.y - lo.y) +
+                 (hi.z - lo.z) * (hi.z - lo.z));
+    return 1;
+}
+
+static void bench_bunny(const char *path, unsigned res)
+{
+    obj_mesh obj;
+    ray_scene *s;
+    ray_ray *r;
+    ray_vec3 c;
+    size_t np, na;
+    double diag, bytes;
+
+    if (!load(path, &obj, &s, &c, &diag, &bytes))
+        return;
     r = rays_of(s, c, diag, res, &np, &na);
     if (r == NULL)
         exit(1);
@@ -178,6 +195,48 @@ static void bench_bunny(const char *path, unsigned res)
     free(r);
     ray_scene_free(s);
     obj_free(&obj);
+}
+
+/*
+** The rays of one row alone, in the default mode, "times" times over: a
+** process for a profiler to watch (make profile), which spends its time
+** on nothing else.  Prints the Mrays/s of the fastest pass.
+*/
+static int profile(const char *path, const char *kind, int times)
+{
+    obj_mesh obj;
+    ray_scene *s;
+    ray_ray *r;
+    ray_hit *h;
+    ray_vec3 c;
+    size_t np, na, n, i;
+    double diag, bytes, best = HUGE_VAL;
+    int incoherent = strcmp(kind, "incoherent") == 0, k;
+
+    if (!incoherent && strcmp(kind, "primary") != 0)
+        return 2;
+    if (!load(path, &obj, &s, &c, &diag, &bytes))
+        return 1;
+    r = rays_of(s, c, diag, 512, &np, &na);
+    n = incoherent ? na - np : np;
+    h = malloc(n * sizeof *h);
+    if (r == NULL || h == NULL)
+        exit(1);
+    for (k = 0; k < times; k++) {
+        const ray_ray *q = incoherent ? r + np : r;
+        double t = now_seconds();
+        for (i = 0; i < n; i++)
+            (void)ray_intersect(s, &q[i], &h[i]);
+        t = now_seconds() - t;
+        best = t < best ? t : best;
+    }
+    printf("profile: %s, %zu %s rays, %d passes: %.2f Mrays/s (fastest)\n",
+           path, n, kind, times, (double)n / best / 1e6);
+    free(h);
+    free(r);
+    ray_scene_free(s);
+    obj_free(&obj);
+    return 0;
 }
 
 /* The icosphere's leaks, by mode: rays from its centre at each vertex and
@@ -244,6 +303,8 @@ int main(int argc, char **argv)
     size_t k;
     char path[1024];
 
+    if (argc == 4 && strcmp(argv[1], "--profile") == 0)
+        return profile(argv[2], argv[3], 20);
     if (quick)
         reps = 3;
     printf("## What exactness costs: the float filter\n\n");
