@@ -255,13 +255,13 @@ bench: deps-bench lib $(BENCHES)
 	bench/run.sh $(BUILD)
 
 # Where a query's time goes (issue 27): perf's samples of bench/filter's
-# camera rays and cosine rays alone (filter --profile), one thread, by
-# function.  Needs perf (Debian's linux-perf); prints, asserts nothing.
+# camera rays and cosine rays alone, and of its refits (filter --profile),
+# one thread, by function.  Needs perf (Debian's linux-perf); prints, asserts nothing.
 PROFILE_MESH ?= data/bunny-2.obj
 profile: $(BUILD)/bench/filter
 	@scripts/fetch-bunny.sh data >/dev/null
 	@command -v perf >/dev/null || { echo "profile: no perf (apt-get install linux-perf)" >&2; exit 1; }
-	@for kind in primary incoherent; do \
+	@for kind in primary incoherent refit; do \
 	    perf record -q -o $(BUILD)/perf.$$kind.data \
 	        $(BUILD)/bench/filter --profile $(PROFILE_MESH) $$kind || exit 1; \
 	    perf report -i $(BUILD)/perf.$$kind.data --stdio --sort symbol 2>/dev/null | \

@@ -13,8 +13,9 @@
 ** asserts nothing.
 **
 **     filter DATA_DIR          (bunny.obj, bunny-2.obj, bunny-4.obj)
-**     filter --profile MESH primary|incoherent
-**                              (one row's rays alone, 20 times: make profile)
+**     filter --profile MESH primary|incoherent|refit
+**                              (one row's rays alone, 20 times, or 200
+**                              refits: make profile)
 **
 ** Method: medians of REPS runs, the three modes in turn within each run
 ** so that a noisy neighbour slows all three; each ratio is the median of
@@ -198,9 +199,38 @@ static void bench_bunny(const char *path, unsigned res)
 }
 
 /*
-** The rays of one row alone, in the default mode, "times" times over: a
-** process for a profiler to watch (make profile), which spends its time
-** on nothing else.  Prints the Mrays/s of the fastest pass.
+** A refit, "times" times over: every vertex of the mesh (geometry 0 of s)
+** moved up by a thousandth of the diagonal, ray_scene_update_mesh, and
+** the commit that refits the tree.  Prints the fastest in ms.
+*/
+static void profile_refit(ray_scene *s, obj_mesh *obj, double diag,
+                          int times)
+{
+    ray_mesh mesh = obj_as_ray_mesh(obj);
+    double best = HUGE_VAL;
+    size_t i;
+    int k;
+
+    for (k = 0; k < times; k++) {
+        double t;
+        for (i = 0; i < obj->vertex_count; i++)
+            obj->vertices[i].y += 1e-3 * diag;
+        t = now_seconds();
+        if (ray_scene_update_mesh(s, 0, &mesh) != RAY_OK ||
+            ray_scene_commit(s) != RAY_OK)
+            exit(1);
+        t = now_seconds() - t;
+        best = t < best ? t : best;
+    }
+    printf("profile: %zu triangles, %d refits: %.2f ms (fastest)\n",
+           obj->triangle_count, times, best * 1e3);
+}
+
+/*
+** The rays of one row alone, in the default mode, "times" times over (or
+** a refit, ten times as many): a process for a profiler to watch (make
+** profile), which spends its time on nothing else.  Prints the Mrays/s of
+** the fastest pass.
 */
 static int profile(const char *path, const char *kind, int times)
 {
@@ -212,11 +242,18 @@ static int profile(const char *path, const char *kind, int times)
     size_t np, na, n, i;
     double diag, bytes, best = HUGE_VAL;
     int incoherent = strcmp(kind, "incoherent") == 0, k;
+    int refit = strcmp(kind, "refit") == 0;
 
-    if (!incoherent && strcmp(kind, "primary") != 0)
+    if (!incoherent && !refit && strcmp(kind, "primary") != 0)
         return 2;
     if (!load(path, &obj, &s, &c, &diag, &bytes))
         return 1;
+    if (refit) {
+        profile_refit(s, &obj, diag, 10 * times);
+        ray_scene_free(s);
+        obj_free(&obj);
+        return 0;
+    }
     r = rays_of(s, c, diag, 512, &np, &na);
     n = incoherent ? na - np : np;
     h = malloc(n * sizeof *h);
