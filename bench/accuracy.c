@@ -324,7 +324,7 @@ static void primitive_row(int v, const work *w, const char *failures,
     double ns = ns_per_test(v, w);
 
     for (i = 0; i < w->n; i++) {
-        long double tr;
+        long double tr = 0;   /* set where reference() answers 1 */
         double t;
         ray_vec3 p;
         int hit = run_variant(v, w, i, &t, &p), ref = reference(v, w, i, &tr);

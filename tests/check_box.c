@@ -373,6 +373,7 @@ static void against_reference(double o, rng *g, int grazing, worst *w)
         ref_hit ref;
         int got, want, k;
 
+        memset(&ref, 0, sizeof ref);  /* -O1 cannot see ref_box fill it */
         ref_frame(&b, e);
         /* A point in the box (local coordinates in 0.98 of the extents). */
         target = b.center;

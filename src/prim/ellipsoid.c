@@ -164,7 +164,7 @@ static double ellipse_root(const double *r, const double *z, int n, double g)
 static void ellipse_nearest(const double *e, const double *y, int n,
                             double *x)
 {
-    double z[3], r[3], g = -1;
+    double z[3] = {0, 0, 0}, r[3], g = -1;   /* z: gcc -O1 warns, n >= 2 */
     int i, zero = -1;
 
     for (i = 0; i < n; i++)
