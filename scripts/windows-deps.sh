@@ -133,7 +133,12 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
 EOF
 mkdir -p "$deps/obj/check"
-(cd "$deps/obj/check" &&
+# CMake takes CFLAGS and LDFLAGS from the environment, where make puts a
+# command line's (CI's CFLAGS="-O2 -g -Werror", in MAKEFLAGS too): Check
+# is built with its own flags, not held to libray's warnings (its check.c
+# warns under gcc 12).
+(unset CFLAGS CPPFLAGS LDFLAGS MAKEFLAGS MFLAGS &&
+ cd "$deps/obj/check" &&
  cmake -DCMAKE_TOOLCHAIN_FILE="$deps/mingw.cmake" -DCMAKE_BUILD_TYPE=Release \
        -DCHECK_ENABLE_TESTS=OFF -DBUILD_TESTING=OFF \
        "$deps/src/check" >cmake.log 2>&1 &&
