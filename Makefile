@@ -221,6 +221,7 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
+EMBREE_BENCHES = bench/mesh.c bench/game.c bench/packets.c bench/raycost.c
 # Bullet is optional too: bench/shapes.c compares the sweeps with its
 # convexSweepTest and rayTest where Debian's libbullet-dev is installed.
 # Bullet is C++: bench/bullet.cpp is built with $(CXX), only then.
@@ -232,15 +233,26 @@ $(BUILD)/bench/bullet.o: bench/bullet.cpp bench/shapes.h
 	@mkdir -p $(@D)
 	$(CXX) -O2 -g -Wall -Wextra -I/usr/include/bullet -Ibench -c $< -o $@
 $(BUILD)/bench/shapes: $(BULLET_OBJ)
+# tinybvh (../shared/ext/tiny_bvh.h, MIT) is the fastest float BVH set
+# beside Embree by bench/raycost.c, when the header is there: C++, built
+# with $(CXX) and AVX2 + FMA as its README asks, never part of the library.
+TINYBVH_DIR ?= ../shared/ext
+TINYBVH_FLAGS = $(shell test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH")
+TINYBVH_OBJ = $(if $(TINYBVH_FLAGS),$(BUILD)/bench/tinybvh.o)
+TINYBVH_LIBS = $(if $(TINYBVH_FLAGS),-lstdc++)
+$(BUILD)/bench/tinybvh.o: bench/tinybvh.cpp bench/tinybvh.h
+	@mkdir -p $(@D)
+	$(CXX) -O2 -mavx2 -mfma -w -I$(TINYBVH_DIR) -Ibench -c $< -o $@
+$(BUILD)/bench/raycost: $(TINYBVH_OBJ)
 # Benchmarks mix float, double and long double on purpose (float variants,
 # long double references), so -Wdouble-promotion, which guards the
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_FLAGS)) \
-	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
-	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(STATIC) $(if $(filter bench/mesh.c bench/game.c bench/packets.c,$<),$(EMBREE_LIBS)) \
-	    $(if $(filter bench/shapes.c,$<),$(BULLET_LIBS)) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_FLAGS)) \
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
+	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_OBJ)) $(STATIC) $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_LIBS)) \
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_LIBS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its

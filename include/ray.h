@@ -710,7 +710,12 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** BVH's leaves (36 bytes, what the float filter in front of the exact
 ** test reads) and about 10 bytes of BVH: 78 bytes in all on a
 ** million-triangle grid and on the Stanford bunny (bench/mesh,
-** bench/filter), plus the per-vertex attributes when normals or texture
+** bench/filter) when every position is a float (RAY_FLOAT32 input, or
+** doubles that are floats): the exact test then reads the leaves' floats
+** too.  Positions that are not floats add a double copy of each
+** triangle's corners in leaf order (72 bytes), which the exact test reads
+** instead of the positions through the indices: 150 bytes in all.
+** Plus the per-vertex attributes when normals or texture
 ** coordinates are given (the caller's own when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
 ** triangle BVH keeps 4 bytes a leaf more, under 1 a triangle.

@@ -146,9 +146,9 @@ static inline int tri_slot(const ray_scene *s, trav *tr, unsigned i,
         hit = tri_float_hit(&tr->flt, rows, n, r->tmin, limit, &th, &beta,
                             &gamma);
         if (hit)
-            t = ray__tri_of(s, i);
+            t = ray__leaf_tri(s, i, rows, n);
     } else {
-        t = ray__tri_of(s, i);
+        t = ray__leaf_tri(s, i, rows, n);
         if (s->watertight) {
             hit = ray__triangle_watertight_pre(&tr->wt, r->tmin, limit,
                                                &t.a, &t.b, &t.c, &th, &beta,

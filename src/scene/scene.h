@@ -159,6 +159,9 @@ struct ray_scene {
     size_t cap_leaf_f;       /* floats allocated there */
     int float_exact;         /* every live corner is a float: the filter's
                                 vertex rounding is 0 (RAY__LEAF_ROWS) */
+    ray__tri *leaf_tri;      /* the double corners of the live slots, in
+                                leaf order, where they are not all floats
+                                (NULL otherwise: ray__leaf_tri) */
     int tri_mode;            /* RAY__TRI_*: the filter on (default), off,
                                 or its verdict final (bench only) */
     double filter_scale;     /* the filter's bound times this (1; tests) */
@@ -377,6 +380,37 @@ static inline void ray__tri_corners(const ray_scene *s, size_t i,
 #define RAY__LEAF_ROWS 9
 #define RAY__LEAF_PAD 8
 #define RAY__LEAF_FLOAT_MAX 0x1p60
+
+/*
+** The corners of live slot i, which the exact test reads, from the
+** leaf's own data rather than through the geometry (ray__tri_of: the
+** slot's ids, its geometry, a mesh's indices, then its positions, four
+** dependent reads that missed the cache in the ground query's profile,
+** a third of its time, issue 34): the leaf's floats themselves when every
+** live corner is a float (float_exact: each converts back to its double
+** exactly, so these are ray__tri_of's bits; rows, stride n, as the
+** filter reads them; NaN marks a slot whose floats were not kept), else
+** the copy in leaf order (leaf_tri, made where the corners are not all
+** floats, kept by refits); ray__tri_of where neither holds (a refit that
+** turned float corners into doubles: leaf_tri is made at rebuilds).
+*/
+static inline ray__tri ray__leaf_tri(const ray_scene *s, size_t i,
+                                     const float *rows, size_t n)
+{
+    if (s->float_exact && !isnan(rows[0])) {
+        ray__tri t;
+        t.a = ray_vec3_make((double)rows[0], (double)rows[n],
+                            (double)rows[2 * n]);
+        t.b = ray_vec3_make((double)rows[3 * n], (double)rows[4 * n],
+                            (double)rows[5 * n]);
+        t.c = ray_vec3_make((double)rows[6 * n], (double)rows[7 * n],
+                            (double)rows[8 * n]);
+        return t;
+    }
+    if (s->leaf_tri != NULL)
+        return s->leaf_tri[i];
+    return ray__tri_of(s, i);
+}
 
 /*
 ** At commit (triangles.c): ray__triangles_rebuild builds the triangle

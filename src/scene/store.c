@@ -123,6 +123,7 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->instances, s->cap_instances * sizeof *s->instances);
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
     ray__free(s, s->leaf_f, s->cap_leaf_f * sizeof *s->leaf_f);
+    ray__free(s, s->leaf_tri, s->n_live_tris * sizeof *s->leaf_tri);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);

@@ -291,14 +291,36 @@ static void tri_swap(ray_scene *s, size_t i, size_t j)
     s->tri_ids[j] = id;
 }
 
-/* The triangle BVH and the leaves' float corners, gone. */
+/* The triangle BVH and the leaves' corners, gone. */
 static void leaves_free(ray_scene *s)
 {
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__free(s, s->leaf_f, s->cap_leaf_f * sizeof *s->leaf_f);
+    ray__free(s, s->leaf_tri, s->n_live_tris * sizeof *s->leaf_tri);
     s->leaf_f = NULL;
     s->cap_leaf_f = 0;
+    s->leaf_tri = NULL;
     s->n_live_tris = 0;
+}
+
+/*
+** The double corners of the n live slots, in leaf order (the slots are
+** in it already), for the exact test (ray__leaf_tri): only where they
+** are not all floats, as the leaves' floats are those corners otherwise.
+** 72 bytes a triangle; out of memory, none: the queries then read the
+** corners through the geometry, the same bits, slower.
+*/
+static void leaf_tris_make(ray_scene *s, size_t n)
+{
+    size_t i;
+
+    if (s->float_exact)
+        return;
+    s->leaf_tri = ray__alloc(s, n * sizeof *s->leaf_tri);
+    if (s->leaf_tri == NULL)
+        return;
+    for (i = 0; i < n; i++)
+        s->leaf_tri[i] = ray__tri_of(s, i);
 }
 
 /*
@@ -336,6 +358,7 @@ int ray__triangles_rebuild(ray_scene *s)
             return RAY_ENOMEM;
         }
         gather_ids(s, fresh.items, n);
+        leaf_tris_make(s, n);
         /* Leaves now index slots directly: the permutation is not kept. */
         ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
         fresh.items = NULL;
@@ -367,6 +390,8 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
             t = ray__tri_of(s, first + j);
         corners_grow(&t, &a, &b);
         leaf_rows(&t, rows + j, n);
+        if (s->leaf_tri != NULL)
+            s->leaf_tri[first + j] = t;
     }
     box_out(a, b, lo, hi);
 }

@@ -1,0 +1,395 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** raycost.c -- what one query costs, in nanoseconds a ray, for libray's
+** ray_intersect and ray_occluded, Embree's rtcIntersect1 / rtcOccluded1
+** (HAVE_EMBREE) and tinybvh's BVH8_CPU (HAVE_TINYBVH: bench/tinybvh.cpp),
+** on the same rays, one thread (issue 34's cost-per-ray table):
+**
+**   miss box    rays that pass beside the mesh's box: the fixed cost of
+**               a query (set-up and the root node alone);
+**   enter+miss  camera rays that enter the box and miss the mesh;
+**   hit         camera rays that hit it;
+**   ground      a game's ground query: rays straight down onto a
+**               100 x 100 grid of 20,000 triangles, every one a hit;
+**   shadow      any-hit rays from points on the mesh towards a light
+**               above it (ray_occluded).
+**
+**     raycost DATA_DIR          (bunny-2.obj, the 59k bunny)
+**
+** Method as bench/mesh.c: each repetition times every tool on the whole
+** ray set one after the other, so a noisy neighbour hits all; the figure
+** is the median over REPS repetitions after a warm-up, and the ratios are
+** medians of the repetitions' own ratios.  Directions are unit, so every
+** tool reports the same t; the hit counts are printed to show that the
+** tools agree.  Prints Markdown; asserts nothing.  BENCH_QUICK=1: fewer
+** rays and repetitions.
+*/
+#include <time.h>
+
+#include "bench.h"
+#include "obj.h"
+#include "embree.h"
+#ifdef HAVE_TINYBVH
+#include "tinybvh.h"
+#endif
+
+enum { TOOL_OURS, TOOL_EMBREE, TOOL_TINY, TOOLS };
+
+typedef struct ray_set {
+    const char *name;
+    ray_ray *rays;
+    size_t n;
+    int any;                 /* any-hit queries */
+} ray_set;
+
+/* One mesh as every tool holds it. */
+typedef struct tools {
+    ray_scene *ours;
+#ifdef HAVE_EMBREE
+    RTCDevice dev;
+    RTCScene embree;
+#endif
+#ifdef HAVE_TINYBVH
+    tbvh *tiny;
+#endif
+} tools;
+
+static double now(void)
+{
+    struct timespec ts;
+
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void die(const char *what)
+{
+    fprintf(stderr, "raycost: %s\n", what);
+    exit(1);
+}
+
+static ray_vec3 unit(ray_vec3 v)
+{
+    double l = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+
+    return ray_vec3_make(v.x / l, v.y / l, v.z / l);
+}
+
+static void tools_build(tools *t, const ray_mesh *m)
+{
+    double *xyz;
+    size_t i;
+
+    if (nop_scene_new(&t->ours, NULL, NULL) != RAY_OK ||
+        ray_scene_add_mesh(t->ours, m, 0, NULL) != RAY_OK ||
+        ray_scene_commit(t->ours) != RAY_OK)
+        die("libray's scene");
+    xyz = malloc(3 * m->vertex_count * sizeof *xyz);
+    if (xyz == NULL)
+        die("out of memory");
+    for (i = 0; i < m->vertex_count; i++) {
+        xyz[3 * i] = m->vertices[i].x;
+        xyz[3 * i + 1] = m->vertices[i].y;
+        xyz[3 * i + 2] = m->vertices[i].z;
+    }
+#ifdef HAVE_EMBREE
+    t->dev = rtcNewDevice("threads=1");
+    t->embree = rtcNewScene(t->dev);
+    {
+        RTCGeometry g = embree_triangles(t->dev, m->vertices, m->vertex_count,
+                                         m->indices, m->triangle_count, NULL);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(t->embree, g);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(t->embree);
+#endif
+#ifdef HAVE_TINYBVH
+    t->tiny = tbvh_build(xyz, m->indices, m->triangle_count);
+#endif
+    free(xyz);
+}
+
+static void tools_free(tools *t)
+{
+    ray_scene_free(t->ours);
+#ifdef HAVE_EMBREE
+    rtcReleaseScene(t->embree);
+    rtcReleaseDevice(t->dev);
+#endif
+#ifdef HAVE_TINYBVH
+    tbvh_free(t->tiny);
+#endif
+}
+
+/* Is the tool built in and asked for?  RAYCOST_TOOLS=0 (ours alone),
+** =01, ... picks tools by their column (for A/B runs of two builds of
+** libray and for profiles); all by default. */
+static int have(int tool)
+{
+    const char *pick = getenv("RAYCOST_TOOLS");
+
+    if (pick != NULL && strchr(pick, '0' + tool) == NULL)
+        return 0;
+#ifndef HAVE_EMBREE
+    if (tool == TOOL_EMBREE)
+        return 0;
+#endif
+#ifndef HAVE_TINYBVH
+    if (tool == TOOL_TINY)
+        return 0;
+#endif
+    (void)tool;
+    return 1;
+}
+
+/* One pass of a tool over a set: the number of hits. */
+static size_t pass(const tools *t, int tool, const ray_set *rs)
+{
+    size_t i, hits = 0;
+
+    for (i = 0; i < rs->n; i++) {
+        const ray_ray *r = &rs->rays[i];
+        if (tool == TOOL_OURS) {
+            ray_hit h;
+            hits += (size_t)(rs->any ? ray_occluded(t->ours, r)
+                                     : ray_intersect(t->ours, r, &h));
+        }
+#ifdef HAVE_EMBREE
+        else if (tool == TOOL_EMBREE)
+            hits += (size_t)(rs->any ? embree_occluded(t->embree, r)
+                                     : embree_hit(t->embree, r, NULL, NULL));
+#endif
+#ifdef HAVE_TINYBVH
+        else {
+            float o[3], d[3], tt;
+            unsigned prim;
+            o[0] = (float)r->org.x; o[1] = (float)r->org.y; o[2] = (float)r->org.z;
+            d[0] = (float)r->dir.x; d[1] = (float)r->dir.y; d[2] = (float)r->dir.z;
+            hits += (size_t)(rs->any ? tbvh_occluded(t->tiny, o, d, 1e30f)
+                                     : tbvh_intersect(t->tiny, o, d, 1e30f,
+                                                      &tt, &prim));
+        }
+#endif
+    }
+    return hits;
+}
+
+/* One row: ns a ray for each tool, medians of reps interleaved passes. */
+static void row(const tools *t, const ray_set *rs, int reps)
+{
+
+    double ns[TOOLS][16], ratio[TOOLS][16], med[TOOLS];
+    size_t hits[TOOLS] = {0, 0, 0};
+    int k, tool;
+
+    for (k = -1; k < reps; k++)                       /* k = -1: warm-up */
+        for (tool = 0; tool < TOOLS; tool++) {
+            double t0;
+            if (!have(tool))
+                continue;
+            t0 = now();
+            hits[tool] = pass(t, tool, rs);
+            if (k >= 0)
+                ns[tool][k] = 1e9 * (now() - t0) / (double)rs->n;
+        }
+    for (tool = 0; tool < TOOLS; tool++) {
+        if (!have(tool))
+            continue;
+        for (k = 0; k < reps; k++)
+            ratio[tool][k] = have(TOOL_OURS) ? ns[tool][k] / ns[TOOL_OURS][k]
+                                          : 0;
+        med[tool] = median(ns[tool], reps);
+    }
+    printf("| %s | %zu |", rs->name, rs->n);
+    for (tool = 0; tool < TOOLS; tool++)
+        if (have(tool))
+            printf(" %.1f (%zu hits) |", med[tool], hits[tool]);
+        else
+            printf(" - |");
+    for (tool = 1; tool < TOOLS; tool++)
+        if (have(tool) && have(TOOL_OURS))
+            printf(" %.2f |", median(ratio[tool], reps));
+        else
+            printf(" - |");
+    printf("\n");
+}
+
+static ray_ray ray_from(ray_vec3 o, ray_vec3 d)
+{
+    ray_ray r;
+
+    r.org = o;
+    r.dir = unit(d);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    return r;
+}
+
+/* Does r enter the box [lo, hi] (a plain slab test in double)? */
+static int enters_box(const ray_ray *r, ray_vec3 lo, ray_vec3 hi)
+{
+    double o[3], d[3], a[3], b[3], t0 = 0, t1 = HUGE_VAL;
+    int k;
+
+    o[0] = r->org.x; o[1] = r->org.y; o[2] = r->org.z;
+    d[0] = r->dir.x; d[1] = r->dir.y; d[2] = r->dir.z;
+    a[0] = lo.x; a[1] = lo.y; a[2] = lo.z;
+    b[0] = hi.x; b[1] = hi.y; b[2] = hi.z;
+    for (k = 0; k < 3; k++) {
+        double n = (a[k] - o[k]) / d[k], f = (b[k] - o[k]) / d[k];
+        if (n > f) {
+            double x = n;
+            n = f;
+            f = x;
+        }
+        t0 = n > t0 ? n : t0;
+        t1 = f < t1 ? f : t1;
+    }
+    return t0 <= t1;
+}
+
+/* Camera rays at 1.0 diagonals, sorted by what libray answers into those
+** that hit and those that enter the box and miss. */
+static void camera_sets(const tools *t, ray_vec3 lo, ray_vec3 hi,
+                        unsigned res, ray_set *hit, ray_set *miss)
+{
+    ray_vec3 c = ray_vec3_make(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y),
+                               0.5 * (lo.z + hi.z));
+    double diag = sqrt((hi.x - lo.x) * (hi.x - lo.x) +
+                       (hi.y - lo.y) * (hi.y - lo.y) +
+                       (hi.z - lo.z) * (hi.z - lo.z));
+    unsigned x, y;
+
+    hit->rays = malloc((size_t)res * res * sizeof *hit->rays);
+    miss->rays = malloc((size_t)res * res * sizeof *miss->rays);
+    if (hit->rays == NULL || miss->rays == NULL)
+        die("out of memory");
+    hit->n = miss->n = 0;
+    for (y = 0; y < res; y++)
+        for (x = 0; x < res; x++) {
+            ray_ray r = bench_camera_ray(c, diag, 1.0, res, x, y);
+            ray_hit h;
+            r = ray_from(r.org, r.dir);
+            if (ray_intersect(t->ours, &r, &h) == 1) {
+                hit->rays[hit->n++] = r;
+            } else if (enters_box(&r, lo, hi)) {
+                miss->rays[miss->n++] = r;
+            }
+        }
+}
+
+int main(int argc, char **argv)
+{
+    const int quick = getenv("BENCH_QUICK") != NULL;
+    const int reps = quick ? 3 : 7;
+    const size_t n = quick ? 100000 : 1000000;
+    const unsigned res = quick ? 400 : 1024;
+    char path[1024], err[2048];
+    obj_mesh om;
+    ray_mesh m, gm;
+    ray_vec3 lo, hi, centre, *gv;
+    unsigned *gi;
+    tools bunny, ground;
+    ray_set miss_box, enter_miss, hit, down, shadow;
+    rng g = {34};
+    size_t i;
+    double diag;
+
+    if (argc != 2) {
+        fprintf(stderr, "usage: raycost DATA_DIR\n");
+        return 2;
+    }
+    snprintf(path, sizeof path, "%s/bunny-2.obj", argv[1]);
+    if (obj_load(path, &om, err, sizeof err) != 0) {
+        printf("raycost: no %s (scripts/fetch-bunny.sh): skipped\n", path);
+        return 0;
+    }
+    m = obj_as_ray_mesh(&om);
+    obj_bounds(&om, &lo, &hi, &centre, &diag);
+    tools_build(&bunny, &m);
+
+    /* Rays from a sphere of 2 diagonals round the box, pointing away
+    ** from it: they miss its box. */
+    miss_box.name = "miss the box";
+    miss_box.any = 0;
+    miss_box.n = n;
+    miss_box.rays = malloc(n * sizeof *miss_box.rays);
+    if (miss_box.rays == NULL)
+        die("out of memory");
+    for (i = 0; i < n; i++) {
+        ray_vec3 d = unit(ray_vec3_make(rng_range(&g, -1, 1),
+                                        rng_range(&g, -1, 1),
+                                        rng_range(&g, -1, 1)));
+        ray_vec3 o = ray_vec3_make(0.5 * (lo.x + hi.x) + 2 * diag * d.x,
+                                   0.5 * (lo.y + hi.y) + 2 * diag * d.y,
+                                   0.5 * (lo.z + hi.z) + 2 * diag * d.z);
+        miss_box.rays[i] = ray_from(o, d);
+    }
+    camera_sets(&bunny, lo, hi, res, &hit, &enter_miss);
+    hit.name = "camera, hit";
+    hit.any = 0;
+    enter_miss.name = "camera, enter the box and miss";
+    enter_miss.any = 0;
+
+    /* Shadow rays: from just off each hit towards a light above. */
+    shadow.name = "shadow (any hit)";
+    shadow.any = 1;
+    shadow.n = hit.n;
+    shadow.rays = malloc(hit.n * sizeof *shadow.rays);
+    if (shadow.rays == NULL)
+        die("out of memory");
+    for (i = 0; i < hit.n; i++) {
+        ray_hit h;
+        ray_vec3 light = ray_vec3_make(hi.x + diag, hi.y + diag, hi.z + diag);
+        if (ray_intersect(bunny.ours, &hit.rays[i], &h) != 1)
+            die("a hit ray missed");
+        ray_vec3 d = unit(ray_vec3_make(light.x - h.p.x, light.y - h.p.y,
+                                        light.z - h.p.z));
+        /* Started 1e-6 diagonals off the surface, past its rounding
+        ** error, rather than at tmin > 0, which tinybvh has not. */
+        shadow.rays[i] = ray_from(
+            ray_vec3_make(h.p.x + 1e-6 * diag * d.x, h.p.y + 1e-6 * diag * d.y,
+                          h.p.z + 1e-6 * diag * d.z), d);
+    }
+
+    if (grid_mesh(100, &gm, &gv, &gi) != 0)
+        die("out of memory");
+    tools_build(&ground, &gm);
+    down.name = "ground query (down onto a 100 x 100 grid)";
+    down.any = 0;
+    down.n = n;
+    down.rays = malloc(n * sizeof *down.rays);
+    if (down.rays == NULL)
+        die("out of memory");
+    for (i = 0; i < n; i++)
+        down.rays[i] = ray_from(
+            ray_vec3_make(0.5 + 99 * rng_unit(&g),
+                          0.5 + 99 * rng_unit(&g), 10),
+            ray_vec3_make(0, 0, -1));
+
+    printf("## What a query costs\n\n");
+    printf("ns a ray, one thread, median of %d interleaved passes; 59k "
+           "bunny and a 20k-triangle grid; ratios are theirs / ours in "
+           "time (above 1: ours is faster).\n\n", reps);
+    printf("| rays | n | libray | Embree | tinybvh | Embree / libray "
+           "| tinybvh / libray |\n|---|---|---|---|---|---|---|\n");
+    row(&bunny, &miss_box, reps);
+    row(&bunny, &enter_miss, reps);
+    row(&bunny, &hit, reps);
+    row(&bunny, &shadow, reps);
+    row(&ground, &down, reps);
+    printf("\n");
+
+    tools_free(&bunny);
+    tools_free(&ground);
+    free(miss_box.rays);
+    free(enter_miss.rays);
+    free(hit.rays);
+    free(shadow.rays);
+    free(down.rays);
+    free(gv);
+    free(gi);
+    obj_free(&om);
+    return 0;
+}
