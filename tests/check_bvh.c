@@ -389,6 +389,61 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
 }
 END_TEST
 
+/*
+** The AVX copy sets a ray's traversal data up with the three axes in one
+** register (slab.h's trav_init); the baseline one axis at a time.  The
+** same bits, on rays whose origins lie on floats, between two floats, at
+** halfway points, at +-0, tiny, subnormal and huge, with directions that
+** have zero (+-0), subnormal and tiny components beside large ones (the
+** reciprocals ignored as NaN), and random ones.
+*/
+START_TEST(traversal_setup_should_be_the_same_with_and_without_avx2)
+{
+#if RAY__AVX2_COPY
+    static const double coords[] = {
+        0.0, -0.0, 1.0, -1.0, 0.1, -0.1, 1.0 + 0x1p-24, -(1.0 + 0x1p-24),
+        1.0 + 0x1p-30, 1e-300, -1e-300, 0x1p-1074, 3.4028234663852886e38,
+        -3.5e38, 1e300, -1e300, 12345.678901234, 0x1.000001p0,
+        0x1.0000008p0, -0x1.0000018p0};
+    static const double dirs[] = {
+        1.0, -1.0, 0.0, -0.0, 0x1p-1074, -0x1p-1074, 1e-40, -1e-40,
+        0x1p-127, 0x1p-125, 0.3, -0.7, 1e300, -1e-300};
+    const size_t nc = sizeof coords / sizeof *coords;
+    const size_t nd = sizeof dirs / sizeof *dirs;
+    rng g = {34};
+    size_t i, n = 0;
+
+    if (!ray__cpu_has_avx2())
+        return;
+    for (i = 0; i < 200000; i++) {
+        ray_ray r;
+        uint32_t fa[10], fb[10];
+        size_t aa[6], ab[6];
+        if (i < 100000) {
+            r.org = vec(coords[rng_next(&g) % nc], coords[rng_next(&g) % nc],
+                        coords[rng_next(&g) % nc]);
+            r.dir = vec(dirs[rng_next(&g) % nd], dirs[rng_next(&g) % nd],
+                        dirs[rng_next(&g) % nd]);
+        } else {
+            r = random_ray(&g);
+        }
+        r.tmin = i % 3 == 0 ? 0.0 : rng_range(&g, -1, 1);
+        r.tmax = HUGE_VAL;
+        if (!ray__ray_usable(&r))
+            continue;
+        ray__trav_data_base(&r, fa, aa);
+        ray__trav_data_avx2(&r, fb, ab);
+        ck_assert_msg(memcmp(fa, fb, sizeof fa) == 0 &&
+                          memcmp(aa, ab, sizeof aa) == 0,
+                      "ray %zu: (%a %a %a) (%a %a %a)", i, r.org.x, r.org.y,
+                      r.org.z, r.dir.x, r.dir.y, r.dir.z);
+        n++;
+    }
+    ck_assert_uint_gt(n, 150000);
+#endif
+}
+END_TEST
+
 #if RAY__AVX2_COPY
 /* A filter that keeps hits whose p.x is not in (0, 1): deterministic. */
 static int drop_slab(void *ud, const ray_ray *r, const ray_hit *c, void *q)
@@ -1175,6 +1230,7 @@ Suite *bvh_suite(void)
     tcase_add_loop_test(eq, bvh_should_not_lose_hits_on_flat_boxes, 0, N_OFFSETS);
     tcase_add_test(eq, queries_should_refuse_unusable_rays);
     tcase_add_test(eq, queries_should_be_the_same_with_and_without_avx2);
+    tcase_add_test(eq, traversal_setup_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);

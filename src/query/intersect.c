@@ -27,6 +27,11 @@ int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
     return query_any_gated(s, r, g, st);
 }
 
+void ray__trav_data_base(const ray_ray *r, uint32_t f[10], size_t at[6])
+{
+    trav_data(r, f, at);
+}
+
 /* The AVX2 copy where the CPU has it (see above). */
 #define HAS_AVX2(s) ((s)->avx2)
 
