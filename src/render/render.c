@@ -221,7 +221,8 @@ static ray_rgb lattice_sample(render_job *job, ray_ctx *ctx,
     return c;
 }
 
-/* Do the four corners differ, in any channel, by more than the threshold? */
+/* Do the four corners differ, in any channel, by more than the threshold?
+** ray__fmin and ray__fmax: libm's bits without its calls (core/vec.h). */
 static int corners_differ(const ray_rgb c[4], double threshold)
 {
     double lo[3], hi[3];
@@ -231,12 +232,12 @@ static int corners_differ(const ray_rgb c[4], double threshold)
     lo[1] = hi[1] = c[0].g;
     lo[2] = hi[2] = c[0].b;
     for (k = 1; k < 4; k++) {
-        lo[0] = fmin(lo[0], c[k].r);
-        hi[0] = fmax(hi[0], c[k].r);
-        lo[1] = fmin(lo[1], c[k].g);
-        hi[1] = fmax(hi[1], c[k].g);
-        lo[2] = fmin(lo[2], c[k].b);
-        hi[2] = fmax(hi[2], c[k].b);
+        lo[0] = ray__fmin(lo[0], c[k].r);
+        hi[0] = ray__fmax(hi[0], c[k].r);
+        lo[1] = ray__fmin(lo[1], c[k].g);
+        hi[1] = ray__fmax(hi[1], c[k].g);
+        lo[2] = ray__fmin(lo[2], c[k].b);
+        hi[2] = ray__fmax(hi[2], c[k].b);
     }
     return hi[0] - lo[0] > threshold || hi[1] - lo[1] > threshold ||
            hi[2] - lo[2] > threshold;
