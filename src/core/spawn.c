@@ -6,7 +6,7 @@
 
 /* x moved one ulp further in the direction of "dir" (not at all if 0):
 ** nextafter(x, +-HUGE_VAL), inline (vec.h says why the bits are the same). */
-static double step_away(double x, double dir)
+static inline double step_away(double x, double dir)
 {
     if (dir > 0)
         return ray__next_up(x);

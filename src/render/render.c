@@ -178,9 +178,21 @@ static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
             sum.b += c.b;
         }
     }
-    out[0] = to_pixel(sum.r / o->samples);
-    out[1] = to_pixel(sum.g / o->samples);
-    out[2] = to_pixel(sum.b / o->samples);
+    /* The mean: sum / samples, or sum * 2^-k where samples = 2^k (one
+    ** sample: 1), the same bits without the three divisions (issue 35):
+    ** x / 2^k and x * 2^-k are both the exact x 2^-k rounded once (IEEE
+    ** 754, 4.3: every operation is the exact result rounded), whether
+    ** or not it is subnormal, since 2^-k >= 2^-16 is exact. */
+    if ((o->samples & (o->samples - 1)) == 0) {
+        double inv = 1.0 / o->samples;
+        out[0] = to_pixel(sum.r * inv);
+        out[1] = to_pixel(sum.g * inv);
+        out[2] = to_pixel(sum.b * inv);
+    } else {
+        out[0] = to_pixel(sum.r / o->samples);
+        out[1] = to_pixel(sum.g / o->samples);
+        out[2] = to_pixel(sum.b / o->samples);
+    }
     count_pixel(&ctx->stats, o->samples);
 }
 
