@@ -302,6 +302,72 @@ static inline float ray__float_up(double x)
 }
 
 /*
+** nextafter(x, HUGE_VAL) and nextafter(x, -HUGE_VAL), inline: libm's are
+** calls in the hot path (ray_spawn steps every origin component; 1.1 % of
+** the Whitted render, issue 35).  The same bits for every input (C99
+** 7.12.11.3 and F.9.8.3; glibc's s_nextafter.c step the bit pattern as
+** here): a finite non-zero x is one step of its IEEE-754 bit pattern away
+** (the pattern orders like the magnitude within a sign, so +1 moves away
+** from zero, -1 toward it: -2^-1074 up is -0, as in glibc, and DBL_MAX up
+** is +Inf, -Inf up is -DBL_MAX); a zero of either sign goes to the
+** smallest subnormal of the direction's sign; +Inf up (and -Inf down)
+** stays, nextafter's x == y case; a NaN is x + y, as glibc returns it.
+** tests/check_numerics.c compares both with libm's on the edge cases and
+** on random bit patterns.
+*/
+static inline double ray__next_up(double x)
+{
+    uint64_t bits;
+
+    if (x != x)
+        return x + HUGE_VAL;
+    if (x == HUGE_VAL)
+        return x;
+    if (x == 0)
+        return 0x1p-1074;
+    memcpy(&bits, &x, sizeof bits);
+    bits += x > 0 ? 1 : (uint64_t)-1;
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+static inline double ray__next_down(double x)
+{
+    uint64_t bits;
+
+    if (x != x)
+        return x + -HUGE_VAL;
+    if (x == -HUGE_VAL)
+        return x;
+    if (x == 0)
+        return -0x1p-1074;
+    memcpy(&bits, &x, sizeof bits);
+    bits += x < 0 ? 1 : (uint64_t)-1;
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+/*
+** fmax(a, b) and fmin(a, b), inline (libm's are calls: 1.4 % of the
+** Whitted render, issue 35).  A NaN operand gives the other one (C99
+** F.9.9.2), two NaNs the first; otherwise the larger (smaller).  Two
+** equal operands give b, so +0 and -0 give b, as glibc's x86-64 fmax and
+** fmin do (sysdeps/x86_64/fpu/s_fmax.S: maxsd keeps its second operand
+** on a tie); C99 leaves the sign of that zero open.  Used only where
+** the operands cannot be zeros of opposite signs or where the sign of a
+** zero result is not seen, so the answers are libm's on every platform.
+*/
+static inline double ray__fmax(double a, double b)
+{
+    return a > b || b != b ? a : b;
+}
+
+static inline double ray__fmin(double a, double b)
+{
+    return a < b || b != b ? a : b;
+}
+
+/*
 ** 2^k for k in [-1074, 1023] (a subnormal below -1022), from its bits.
 ** x * ray__pow2(k) is ldexp(x, k), bit for bit: the exact x 2^k rounded
 ** once (exact unless it leaves the normal range), where ldexp is a libm

@@ -23,7 +23,7 @@ int ray__plane_fill(const ray_ray *r, ray_vec3 point, ray_vec3 n,
 
     p = v3_madd(p, -v3_dot(v3_sub(p, point), n), n);
     mag = v3_add(v3_abs(p), v3_abs(point));
-    bound = ray__gamma(8) * fmax(mag.x, fmax(mag.y, mag.z));
+    bound = ray__gamma(8) * ray__fmax(mag.x, ray__fmax(mag.y, mag.z));
     if (!v3_isfinite(p) || !(bound < HUGE_VAL))
         return 0;
     /* (u, v) = ((p - origin).t1, (p - origin).t2), in halves: p - origin

@@ -118,11 +118,11 @@ static double sphere_t_error(const sphere_quadratic *k, double t)
     double dg = sphere_dg(k, at);
     double s = k->s, s_low, ds, simple, twofold;
 
-    s_low = sqrt(k->a * fmax(k->disc - ddisc, 0.0)) * (1 - ray__gamma(4));
+    s_low = sqrt(k->a * ray__fmax(k->disc - ddisc, 0.0)) * (1 - ray__gamma(4));
     ds = s - s_low;
     twofold = 2 * sqrt(dg / k->a);
     simple = s_low > 0 ? dg / s_low : HUGE_VAL;
-    return fmin(simple, twofold) * (1 + ray__gamma(4)) +
+    return ray__fmin(simple, twofold) * (1 + ray__gamma(4)) +
            (s > 0 ? at * ds / s : 0) + ray__gamma(4) * at;
 }
 

@@ -178,9 +178,21 @@ static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
             sum.b += c.b;
         }
     }
-    out[0] = to_pixel(sum.r / o->samples);
-    out[1] = to_pixel(sum.g / o->samples);
-    out[2] = to_pixel(sum.b / o->samples);
+    /* The mean: sum / samples, or sum * 2^-k where samples = 2^k (one
+    ** sample: 1), the same bits without the three divisions (issue 35):
+    ** x / 2^k and x * 2^-k are both the exact x 2^-k rounded once (IEEE
+    ** 754, 4.3: every operation is the exact result rounded), whether
+    ** or not it is subnormal, since 2^-k >= 2^-16 is exact. */
+    if ((o->samples & (o->samples - 1)) == 0) {
+        double inv = 1.0 / o->samples;
+        out[0] = to_pixel(sum.r * inv);
+        out[1] = to_pixel(sum.g * inv);
+        out[2] = to_pixel(sum.b * inv);
+    } else {
+        out[0] = to_pixel(sum.r / o->samples);
+        out[1] = to_pixel(sum.g / o->samples);
+        out[2] = to_pixel(sum.b / o->samples);
+    }
     count_pixel(&ctx->stats, o->samples);
 }
 
@@ -221,7 +233,8 @@ static ray_rgb lattice_sample(render_job *job, ray_ctx *ctx,
     return c;
 }
 
-/* Do the four corners differ, in any channel, by more than the threshold? */
+/* Do the four corners differ, in any channel, by more than the threshold?
+** ray__fmin and ray__fmax: libm's bits without its calls (core/vec.h). */
 static int corners_differ(const ray_rgb c[4], double threshold)
 {
     double lo[3], hi[3];
@@ -231,12 +244,12 @@ static int corners_differ(const ray_rgb c[4], double threshold)
     lo[1] = hi[1] = c[0].g;
     lo[2] = hi[2] = c[0].b;
     for (k = 1; k < 4; k++) {
-        lo[0] = fmin(lo[0], c[k].r);
-        hi[0] = fmax(hi[0], c[k].r);
-        lo[1] = fmin(lo[1], c[k].g);
-        hi[1] = fmax(hi[1], c[k].g);
-        lo[2] = fmin(lo[2], c[k].b);
-        hi[2] = fmax(hi[2], c[k].b);
+        lo[0] = ray__fmin(lo[0], c[k].r);
+        hi[0] = ray__fmax(hi[0], c[k].r);
+        lo[1] = ray__fmin(lo[1], c[k].g);
+        hi[1] = ray__fmax(hi[1], c[k].g);
+        lo[2] = ray__fmin(lo[2], c[k].b);
+        hi[2] = ray__fmax(hi[2], c[k].b);
     }
     return hi[0] - lo[0] > threshold || hi[1] - lo[1] > threshold ||
            hi[2] - lo[2] > threshold;

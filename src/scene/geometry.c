@@ -52,6 +52,11 @@ int ray_scene_add_plane(ray_scene *s, ray_vec3 point, ray_vec3 normal,
     if (!v3_isfinite(normal) || !v3_normalize(normal, &p.b))
         return ray__fail(s, RAY_EINVAL, "normal " RAY__V3FMT " is zero or "
                          "not finite", RAY__V3ARGS(normal));
+    /* c: the unit normal of the hit records, b normalised once more, as
+    ** ray_plane normalises whatever normal it is given (kinds.c
+    ** plane_fill): made once here, not once per hit (issue 35).  b is
+    ** unit, finite and non-zero, so this cannot fail. */
+    (void)v3_normalize(p.b, &p.c);
     p.a = point;
     return ray__add_prim(s, &p, geom_id);
 }

@@ -307,15 +307,12 @@ static int fill_SPHERE(const ray_scene *s, const ray__prim *p,
     return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv), hit);
 }
 
-/* The plane's record, as ray_plane fills it (its normal made unit). */
+/* The plane's record, as ray_plane fills it (its normal made unit: p->c,
+** v3_normalize(p->b) made when the plane was added, geometry.c). */
 static int plane_fill(const ray__prim *p, const ray_ray *r, double t,
                       ray_hit *hit)
 {
-    ray_vec3 n;
-
-    if (!v3_normalize(p->b, &n))
-        return 0;
-    return ray__plane_fill(r, p->a, n, p->a, t, hit);
+    return ray__plane_fill(r, p->a, p->c, p->a, t, hit);
 }
 
 static int cand_PLANE(const ray_scene *s, const ray__prim *p,

@@ -43,7 +43,8 @@ typedef union ray__surface {
 } ray__surface;
 
 /* One piece of geometry (what a geom_id names).  By kind: sphere: a =
-** centre; plane: a = point, b = unit normal; triangle: its corners a, b,
+** centre; plane: a = point, b = unit normal, c = b normalised again (the
+** hit records' normal: kinds.c plane_fill); triangle: its corners a, b,
 ** c; triangle and mesh: triangle slots first .. first+count-1 of the
 ** scene (until commit reorders them), and for a mesh meshes[mesh]; polygon: verts[first .. first+count-1]; torus,
 ** implicit, parametric, user geometry and the shapes: surfaces[surface],

@@ -34,9 +34,19 @@ static void *unconst(const void *p)
     return u.m;
 }
 
+/* fmax(c.r, fmax(c.g, c.b)), inline: libm's fmax is a call (issue 35).
+** a > b || b != b ? a : b is fmax's answer bit for bit: a NaN gives the
+** other operand, two NaNs the first, a tie (+0 and -0 included) the
+** second, as glibc's x86-64 fmax (maxsd) answers (src/core/vec.h's
+** ray__fmax; this file keeps to the public header). */
+static double max2(double a, double b)
+{
+    return a > b || b != b ? a : b;
+}
+
 static double max3(ray_rgb c)
 {
-    return fmax(c.r, fmax(c.g, c.b));
+    return max2(c.r, max2(c.g, c.b));
 }
 
 /* out += k * c (component-wise). */

@@ -206,10 +206,10 @@ typedef struct cone {
 /* x clamped to [-DBL_MAX, DBL_MAX], NaN to DBL_MAX: a cone that grew
 ** beyond every length (a spread near pi over 1e300) is as wide as can be
 ** (a texture's coarsest level), never NaN or infinite in the sums that
-** carry it on. */
+** carry it on.  ray__fmax and ray__fmin: libm's bits, inline (vec.h). */
 static double finite_or_max(double x)
 {
-    return fmax(fmin(x, DBL_MAX), -DBL_MAX);
+    return ray__fmax(ray__fmin(x, DBL_MAX), -DBL_MAX);
 }
 
 /*
