@@ -532,12 +532,14 @@ SAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
 # variable; a shared or loaded machine needs the room).
 SAN_TIMEOUT_MULTIPLIER ?= 10
 # The float filter's ten million rays (tests/check_filter.c) are a tenth
-# of that under the sanitizers, which find memory errors on fewer.  The
+# of that under the sanitizers, which find memory errors on fewer; the
+# other long loops run at make check-long's counts (RAY_CHECK_LONG=1), as
+# they did before make check reduced them.  The
 # embedding checks (EMBED_CHECK, mk/release.mk) test the build, not the
 # code: not repeated under the sanitizers.
 SAN_FILTER_RAYS ?= 1000000
 sanitize:
-	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) \
+	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) RAY_CHECK_LONG=1 \
 	    $(MAKE) check BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_FLAGS)" EMBED_CHECK=0
 
 # The showcase: the Whitted scene, with a progress bar on stderr.
@@ -545,7 +547,7 @@ sanitize:
 # per-thread contexts and the shared row counter; the threaded BVH build).
 TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 tsan:
-	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) \
+	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) RAY_CHECK_LONG=1 \
 	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0 EMBED_CHECK=0
 
 demo: deps-build lib $(BUILD)/examples/whitted
