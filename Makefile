@@ -370,10 +370,22 @@ CHECK_SUMMARY = $(BUILD)/tests/summary
 CHECK_RUNS = check-suite check-faultsim fuzz-replay check-examples-run $(if $(filter 1,$(PNG)),mpi-check) \
     $(if $(filter 1,$(BENCH_SMOKE)),bench-smoke)
 
-check: layers-test deps-check lib $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+# The suite is the longest step, so it must not start last: make -j hands
+# a free slot to the next ready prerequisite in the order it meets them,
+# not to the longest, and the suite is ready only once its program is
+# linked.  Under make check the other steps wait for that program
+# (order-only), so the suite starts as soon as it is built.
+CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test license-test \
+    links-test snippets-test pages-test bench-docs-test install-test png-free-test \
+    version-test abi-test cmake-test amalgamation-test check-faultsim fuzz-replay \
+    check-examples-run mpi-check bench-smoke
+ifneq ($(filter check test,$(MAKECMDGOALS)),)
+$(CHECK_AFTER_SUITE): | $(TEST_BIN)
+endif
+check: deps-check lib check-suite layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        snippets-test pages-test bench-docs-test \
        install-test $(if $(filter 0,$(PNG)),png-free-test) \
-       version-test abi-test cmake-test amalgamation-test $(CHECK_RUNS)
+       version-test abi-test cmake-test amalgamation-test $(filter-out check-suite,$(CHECK_RUNS))
 	@t=$$(( $$(date +%s) - $(CHECK_T0) )); \
 	echo "check: all passed in $$((t / 60))m$$((t % 60))s on $$(nproc 2>/dev/null || echo ?) CPUs$(if $(filter -j%,$(MAKEFLAGS)),, (make -j$(CHECK_JOBS) check runs its steps side by side))"; \
 	cat $(CHECK_SUMMARY)
