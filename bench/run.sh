@@ -163,7 +163,7 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     echo "bench: copied the tables into doc/BENCHMARKS.md and doc/NUMERICS.md" >&2
     [ "$mode" = run ] || exit 0
 else
-    echo "bench: quick run: $doc and bench/RESULTS.md left as they were" >&2
+    echo "bench: quick run: doc/*.md and bench/RESULTS.md left as they were" >&2
 fi
 
 if command -v gnuplot >/dev/null 2>&1; then

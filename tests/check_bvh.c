@@ -352,7 +352,9 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
 {
 #if RAY__AVX2_COPY
     rng g = {77};
-    size_t n = 3000, i, j;
+    /* 20000 rays a mode under make check-long, 4000 under make check
+    ** (tests.h's test_count). */
+    size_t n = 3000, i, j, rays = test_count(NULL, 20000, 4000);
     int mode;
 
     if (!ray__cpu_has_avx2())
@@ -368,7 +370,7 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
                                                   NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_set_watertight(s, mode), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        for (j = 0; j < 20000; j++) {
+        for (j = 0; j < rays; j++) {
             ray_ray r = random_ray(&g);
             ray_hit a, b;
             int ha, hb;
@@ -665,7 +667,7 @@ START_TEST(floats_should_bracket_doubles)
         -(double)FLT_MAX * (1 + 0x1p-30), 1e300, -1e300, DBL_MAX, -DBL_MAX,
         HUGE_VAL, -HUGE_VAL};
     rng g = {77};
-    size_t i;
+    size_t i, n = test_count(NULL, 200000, 20000);
 
     for (i = 0; i < sizeof edges / sizeof edges[0]; i++) {
         double x = edges[i];
@@ -676,7 +678,9 @@ START_TEST(floats_should_bracket_doubles)
             check_float_bracket(x);
         }
     }
-    for (i = 0; i < 200000; i++) {
+    /* 200000 random values under make check-long, 20000 under make
+    ** check (tests.h's test_count): each check costs Check a message. */
+    for (i = 0; i < n; i++) {
         double x = ldexp(rng_range(&g, -1, 1), (int)(rng_next(&g) % 600) - 300);
         check_float_bracket(x);
     }

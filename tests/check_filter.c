@@ -61,13 +61,12 @@ static size_t differences(ray_scene *s, const hc_mesh *m, double dist,
     return diff;
 }
 
-/* The test's ray count: ten million, or RAY_FILTER_RAYS (the sanitizer
-** builds run fewer: they are 3 to 15 times slower). */
+/* The test's ray count: ten million under make check-long, a million
+** under make check (the sanitizer builds' count too: they are 3 to 15
+** times slower), or RAY_FILTER_RAYS. */
 static size_t filter_rays(void)
 {
-    const char *env = getenv("RAY_FILTER_RAYS");
-
-    return env != NULL ? (size_t)strtod(env, NULL) : (size_t)10000000;
+    return test_count("RAY_FILTER_RAYS", 10000000, 1000000);
 }
 
 /*

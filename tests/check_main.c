@@ -13,6 +13,20 @@
 ** RAY_CHECK_CRASH=1 runs instead a suite whose test crashes, then the
 ** version suite, to show that report and that the run goes on (make
 ** windows-check runs it).
+**
+** Elsewhere (POSIX) the suites are shared out among RAY_CHECK_JOBS worker
+** processes (default: the number of CPUs online), so that make check
+** takes the time of its longest suites rather than of all of them (issue
+** 38).  Each worker is a fork of this program that runs one suite at a
+** time, handed out longest first (the static estimates in slow_suites
+** below), its output held in a temporary file and printed whole when the
+** suite ends, so that two suites' lines never interleave; its counts come
+** back in a second file.  RAY_CHECK_JOBS=1, CK_RUN_SUITE or CK_FORK=no
+** run every suite in this process, one after the other, as before.
+**
+** Either way the run ends with the line "checks: N passed, N failed"
+** alone (the line CI's reader looks for), also written to the file named
+** by RAY_CHECK_SUMMARY where that is set (make check prints it last).
 */
 #include <stdlib.h>
 
@@ -24,6 +38,11 @@
 #include <process.h>
 #define CHECK_ISOLATED 1
 #else
+#include <errno.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 #define CHECK_ISOLATED 0
 #endif
 
@@ -203,7 +222,240 @@ static int run_isolated(const char *self)
     remove(current);
     printf("check_ray: %d checks in %u suites: %d failed, %d suites "
            "crashed\n", checks, (unsigned)n, failed, crashed);
+    printf("checks: %d passed, %d failed\n", checks - failed,
+           failed + crashed);
     return failed == 0 && crashed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+#endif
+
+/* The summary line, on stdout and in RAY_CHECK_SUMMARY's file. */
+static void summary(int passed, int failed)
+{
+    const char *path = getenv("RAY_CHECK_SUMMARY");
+    FILE *fp = path != NULL && path[0] != '\0' ? fopen(path, "w") : NULL;
+
+    printf("checks: %d passed, %d failed\n", passed, failed);
+    fflush(stdout);
+    if (fp != NULL) {
+        fprintf(fp, "checks: %d passed, %d failed\n", passed, failed);
+        fclose(fp);
+    }
+}
+
+#if !CHECK_ISOLATED
+/* ---------------------------------------- suites over worker processes */
+
+/*
+** The suites that take longest (seconds of one core, make check's counts,
+** measured with RAY_CHECK_JOBS=1 CK_RUN_SUITE=name; doc/TESTING.md):
+** handed out first, so that no long suite starts last and leaves the
+** other workers idle (longest processing time first, Graham 1969).  The
+** rest follow in SUITES order.  An estimate that is off costs balance,
+** never coverage.
+*/
+static const char *const slow_suites[] = {
+    "bvh", "sweep", "closest", "exact", "numerics", "filter", "games"
+};
+#define N_SLOW (sizeof slow_suites / sizeof *slow_suites)
+
+/* Is suite i asked for?  RAY_CHECK_SUITES: a list of names (make
+** check-long's), or every suite when unset. */
+static int wanted(size_t i)
+{
+    const char *list = getenv("RAY_CHECK_SUITES");
+    size_t len = strlen(suites[i].name);
+    const char *p;
+
+    if (list == NULL || list[0] == '\0')
+        return 1;
+    for (p = list; (p = strstr(p, suites[i].name)) != NULL; p += len)
+        if ((p == list || p[-1] == ' ' || p[-1] == ',') &&
+            (p[len] == '\0' || p[len] == ' ' || p[len] == ','))
+            return 1;
+    return 0;
+}
+
+/* Order: the slow suites first, then every other in SUITES order; only
+** those asked for.  Returns how many. */
+static size_t hand_out_order(size_t *order)
+{
+    size_t i, j, n = 0;
+
+    for (j = 0; j < N_SLOW; j++)
+        for (i = 0; i < N_SUITES; i++)
+            if (strcmp(slow_suites[j], suites[i].name) == 0 && wanted(i))
+                order[n++] = i;
+    for (i = 0; i < N_SUITES; i++) {
+        int slow = 0;
+        for (j = 0; j < N_SLOW; j++)
+            slow |= strcmp(slow_suites[j], suites[i].name) == 0;
+        if (!slow && wanted(i))
+            order[n++] = i;
+    }
+    return n;
+}
+
+typedef struct worker {
+    pid_t pid;         /* 0: idle */
+    size_t suite;
+    FILE *out, *counts;
+    double start;
+} worker;
+
+/* The child: suite i, its output to out, "run failed" to counts. */
+static void run_in_child(size_t i, FILE *out, FILE *counts)
+{
+    SRunner *sr;
+    int run, failed;
+
+    fflush(stdout);
+    fflush(stderr);
+    if (dup2(fileno(out), STDOUT_FILENO) < 0 ||
+        dup2(fileno(out), STDERR_FILENO) < 0)
+        _exit(3);
+    sr = srunner_create(suites[i].make());
+    srunner_run_all(sr, CK_NORMAL);
+    run = srunner_ntests_run(sr);
+    failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    fprintf(counts, "%d %d\n", run, failed);
+    fflush(counts);
+    fflush(stdout);
+    _exit(failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE);
+}
+
+/* Copies what a finished suite printed to stdout. */
+static void print_output(FILE *out)
+{
+    char buf[4096];
+    size_t n;
+
+    rewind(out);
+    while ((n = fread(buf, 1, sizeof buf, out)) > 0)
+        fwrite(buf, 1, n, stdout);
+    fflush(stdout);
+}
+
+/*
+** Every suite in at most `jobs` workers at once; the totals.  A suite
+** whose process ends other than by exit 0 or 1 (a crash outside Check's
+** own forked tests, a worker killed) counts as one failed check more, and
+** is named.
+*/
+static int run_sharded(int jobs)
+{
+    size_t order[N_SUITES], next = 0, done = 0, i, n;
+    worker w[64];
+    double t0 = now_seconds(), took[N_SUITES];
+    int checks = 0, failed = 0, crashed = 0, k;
+
+    n = hand_out_order(order);
+    if (n == 0) {
+        fprintf(stderr, "check_ray: no suite named in RAY_CHECK_SUITES\n");
+        return EXIT_FAILURE;
+    }
+    if (jobs > (int)(sizeof w / sizeof *w))
+        jobs = (int)(sizeof w / sizeof *w);
+    if (jobs > (int)n)
+        jobs = (int)n;
+    memset(w, 0, sizeof w);
+    memset(took, 0, sizeof took);
+    printf("check_ray: %u suites over %d processes (RAY_CHECK_JOBS)\n",
+           (unsigned)n, jobs);
+    fflush(stdout);
+    while (done < n) {
+        int status, r, f;
+        pid_t pid;
+        /* Start suites while a worker slot is free. */
+        for (k = 0; k < jobs && next < n; k++) {
+            if (w[k].pid != 0)
+                continue;
+            w[k].suite = order[next++];
+            w[k].out = tmpfile();
+            w[k].counts = tmpfile();
+            if (w[k].out == NULL || w[k].counts == NULL) {
+                perror("check_ray: tmpfile");
+                exit(EXIT_FAILURE);
+            }
+            w[k].start = now_seconds();
+            fflush(stdout);
+            pid = fork();
+            if (pid < 0) {
+                perror("check_ray: fork");
+                exit(EXIT_FAILURE);
+            }
+            if (pid == 0)
+                run_in_child(w[k].suite, w[k].out, w[k].counts);
+            w[k].pid = pid;
+        }
+        pid = waitpid(-1, &status, 0);
+        if (pid < 0) {
+            if (errno == EINTR)
+                continue;
+            perror("check_ray: waitpid");
+            exit(EXIT_FAILURE);
+        }
+        for (k = 0; k < jobs && w[k].pid != pid; k++)
+            ;
+        if (k == jobs)
+            continue;    /* not a worker of ours */
+        i = w[k].suite;
+        took[i] = now_seconds() - w[k].start;
+        print_output(w[k].out);
+        rewind(w[k].counts);
+        if (fscanf(w[k].counts, "%d %d", &r, &f) == 2 && WIFEXITED(status) &&
+            (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 1)) {
+            checks += r;
+            failed += f;
+        } else {
+            printf("check_ray: suite %s CRASHED (%s %d)\n", suites[i].name,
+                   WIFSIGNALED(status) ? "signal" : "exit status",
+                   WIFSIGNALED(status) ? WTERMSIG(status)
+                                       : WEXITSTATUS(status));
+            crashed++;
+        }
+        fclose(w[k].out);
+        fclose(w[k].counts);
+        w[k].pid = 0;
+        done++;
+    }
+    /* The three longest suites, for whoever balances the shards. */
+    printf("check_ray: %d checks in %.1f s over %d processes; longest:",
+           checks, now_seconds() - t0, jobs);
+    for (k = 0; k < 3; k++) {
+        size_t top = N_SUITES;
+        for (i = 0; i < N_SUITES; i++)
+            if (took[i] > 0 && (top == N_SUITES || took[i] > took[top]))
+                top = i;
+        if (top == N_SUITES)
+            break;
+        printf(" %s %.1f s", suites[top].name, took[top]);
+        took[top] = 0;
+    }
+    printf("\n");
+    summary(checks - failed, failed + crashed);
+    return failed == 0 && crashed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+
+/* RAY_CHECK_JOBS, or the CPUs online; 1 when Check's fork mode is off or
+** one suite was asked for (CK_RUN_SUITE: it runs alone anyway). */
+static int check_jobs(void)
+{
+    const char *env = getenv("RAY_CHECK_JOBS");
+    const char *fork_mode = getenv("CK_FORK");
+    const char *one = getenv("CK_RUN_SUITE");
+    long n = 0;
+
+    if ((fork_mode != NULL && strcmp(fork_mode, "no") == 0) ||
+        (one != NULL && one[0] != '\0'))
+        return 1;
+    if (env != NULL && env[0] != '\0')
+        n = strtol(env, NULL, 10);
+#ifdef _SC_NPROCESSORS_ONLN
+    else
+        n = sysconf(_SC_NPROCESSORS_ONLN);
+#endif
+    return n < 1 ? 1 : n > 64 ? 64 : (int)n;
 }
 #endif
 
@@ -211,7 +463,7 @@ int main(int argc, char **argv)
 {
     SRunner *sr;
     size_t i;
-    int failed;
+    int failed, run;
 
 #if CHECK_ISOLATED
     {
@@ -233,12 +485,20 @@ int main(int argc, char **argv)
 #else
     (void)argc;
     (void)argv;
+    {
+        int jobs = check_jobs();
+        const char *some = getenv("RAY_CHECK_SUITES");
+        if (jobs > 1 || (some != NULL && some[0] != '\0'))
+            return run_sharded(jobs);
+    }
 #endif
     sr = srunner_create(suites[0].make());
     for (i = 1; i < N_SUITES; i++)
         srunner_add_suite(sr, suites[i].make());
     srunner_run_all(sr, CK_NORMAL);
     failed = srunner_ntests_failed(sr);
+    run = srunner_ntests_run(sr);
     srunner_free(sr);
+    summary(run - failed, failed);
     return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
