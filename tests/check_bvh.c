@@ -392,6 +392,60 @@ START_TEST(queries_should_be_the_same_with_and_without_avx2)
 END_TEST
 
 /*
+** ray_intersect and ray_occluded take a scene of triangles alone, with no
+** masks or filters, straight to the triangle walk (intersect.c's
+** plain_tris); the general queries, asked for counts, take the long way
+** (planes, bounded kinds, the deferred record): the same answers, bit for
+** bit, in both copies and both triangle modes, on hostile soups.
+*/
+START_TEST(plain_queries_should_answer_as_the_general_ones)
+{
+    rng g = {35};
+    size_t n = 3000, j;
+    int mode;
+
+    for (mode = 0; mode < 2; mode++) {
+        ray_vec3 *v;
+        unsigned *idx, mat, id;
+        ray_scene *s = soup_scene(&g, n, &v, &idx, &mat, &id);
+
+        ck_assert_int_eq(ray_scene_set_watertight(s, mode), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (j = 0; j < test_count("RAY_CHECK_LONG", 20000, 4000); j++) {
+            ray_ray r = random_ray(&g);
+            ray_stats st;
+            ray_hit a, b;
+            int ha, hb;
+            memset(&a, 0, sizeof a);
+            memset(&b, 0, sizeof b);
+            memset(&st, 0, sizeof st);
+            ha = ray_intersect(s, &r, &a);
+            hb = ray__intersect_gated_base(s, &r, NULL, 1, &b, &st);
+            ck_assert_int_eq(ha, hb);
+            ck_assert_msg(hit_same(&a, &b), "ray %zu", j);
+            ck_assert_int_eq(ray_occluded(s, &r),
+                             ray__occluded_gated_base(s, &r, NULL, &st));
+            ck_assert_int_eq(ray__intersect_tris_base(s, &r, &b), ha);
+            ck_assert_msg(!ha || hit_same(&a, &b), "ray %zu", j);
+#if RAY__AVX2_COPY
+            if (ray__cpu_has_avx2()) {
+                memset(&b, 0, sizeof b);
+                ck_assert_int_eq(ray__intersect_gated_avx2(s, &r, NULL, 1, &b,
+                                                           &st), ha);
+                ck_assert_msg(hit_same(&a, &b), "ray %zu", j);
+                ck_assert_int_eq(ray__occluded_tris_avx2(s, &r),
+                                 ray__occluded_gated_avx2(s, &r, NULL, &st));
+            }
+#endif
+        }
+        ray_scene_free(s);
+        free(v);
+        free(idx);
+    }
+}
+END_TEST
+
+/*
 ** The AVX copy sets a ray's traversal data up with the three axes in one
 ** register (slab.h's trav_init); the baseline one axis at a time.  The
 ** same bits, on rays whose origins lie on floats, between two floats, at
@@ -1235,6 +1289,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, queries_should_refuse_unusable_rays);
     tcase_add_test(eq, queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, traversal_setup_should_be_the_same_with_and_without_avx2);
+    tcase_add_test(eq, plain_queries_should_answer_as_the_general_ones);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);

@@ -32,6 +32,17 @@ void ray__trav_data_base(const ray_ray *r, uint32_t f[10], size_t at[6])
     trav_data(r, f, at);
 }
 
+int ray__intersect_tris_base(const ray_scene *s, const ray_ray *r,
+                             ray_hit *hit)
+{
+    return query_nearest_tris(s, r, hit);
+}
+
+int ray__occluded_tris_base(const ray_scene *s, const ray_ray *r)
+{
+    return query_any_tris(s, r);
+}
+
 /* The AVX2 copy where the CPU has it (see above). */
 #define HAS_AVX2(s) ((s)->avx2)
 
@@ -135,13 +146,40 @@ int ray_occluded_opt(const ray_scene *s, const ray_ray *r,
                                NULL);
 }
 
+/*
+** A plain query of a committed scene of triangles alone, with no masks or
+** filters (nothing can gate it): straight to the copy's triangle walk
+** (traverse.h's query_nearest_tris), past the options, the gate and the
+** general query's set-up, which are nothing for it: a game's or a tool's
+** most common query, at the fixed cost it needs (issue 34).
+*/
+static int plain_tris(const ray_scene *s, const ray_ray *r)
+{
+    return s != NULL && r != NULL && s->committed && !s->gated &&
+           tris_only(s);
+}
+
 int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)
 {
+    if (hit != NULL && plain_tris(s, r)) {
+#if RAY__AVX2_COPY
+        if (HAS_AVX2(s))
+            return ray__intersect_tris_avx2(s, r, hit);
+#endif
+        return query_nearest_tris(s, r, hit);
+    }
     return ray_intersect_opt(s, r, NULL, hit);
 }
 
 int ray_occluded(const ray_scene *s, const ray_ray *r)
 {
+    if (plain_tris(s, r)) {
+#if RAY__AVX2_COPY
+        if (HAS_AVX2(s))
+            return ray__occluded_tris_avx2(s, r);
+#endif
+        return query_any_tris(s, r);
+    }
     return ray_occluded_opt(s, r, NULL);
 }
 

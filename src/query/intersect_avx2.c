@@ -29,6 +29,17 @@ void ray__trav_data_avx2(const ray_ray *r, uint32_t f[10], size_t at[6])
     trav_data(r, f, at);
 }
 
+int ray__intersect_tris_avx2(const ray_scene *s, const ray_ray *r,
+                             ray_hit *hit)
+{
+    return query_nearest_tris(s, r, hit);
+}
+
+int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r)
+{
+    return query_any_tris(s, r);
+}
+
 void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
                        ray_hit *hits, int *results, int any, ray_stats *st)
 {

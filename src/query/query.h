@@ -77,6 +77,19 @@ int ray__occluded_gated_avx2(const ray_scene *s, const ray_ray *r,
                              const ray__gate *g, ray_stats *st);
 
 /*
+** The plain queries of a scene of triangles alone (no planes, no bounded
+** kinds, no masks or filters: traverse.h's query_nearest_tris), in both
+** copies: ray_intersect's and ray_occluded's fast path, the same answers
+** as the general queries'.
+*/
+int ray__intersect_tris_base(const ray_scene *s, const ray_ray *r,
+                             ray_hit *hit);
+int ray__occluded_tris_base(const ray_scene *s, const ray_ray *r);
+int ray__intersect_tris_avx2(const ray_scene *s, const ray_ray *r,
+                             ray_hit *hit);
+int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r);
+
+/*
 ** A ray's traversal data (slab.h's trav_init) as each copy computes it,
 ** for the tests (the AVX set-up against the baseline's, bit for bit):
 ** f[0..2] the origin's near ends, f[3..5] its far ends, f[6..8] the

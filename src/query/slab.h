@@ -78,18 +78,23 @@ static inline float with_slack(float t)
     return t + fabsf(t) * FAR_SLACK;
 }
 
-/* Axis k's offsets of the near and far bound arrays in a node, for
-** direction component d. */
-static inline void trav_offsets(trav *tr, int k, double d)
+/* The offsets of the near and far bound arrays in a node for the ray's
+** octant: bit k of "signs" is direction component k's sign bit (1/d < 0
+** exactly when it is set, d = -0 included: -Inf), which swaps lo[k] and
+** hi[k], hi[k] lying a fixed span after lo[k]. */
+static inline void trav_octant(trav *tr, int signs)
 {
-    /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
-    int neg = signbit(d) != 0;
-    size_t at[2];
+    const size_t span = offsetof(ray__wnode, hi[0]) -
+                        offsetof(ray__wnode, lo[0]);
+    int k;
 
-    at[0] = offsetof(ray__wnode, lo[k]);
-    at[1] = offsetof(ray__wnode, hi[k]);
-    tr->near_at[k] = at[neg];
-    tr->far_at[k] = at[!neg];
+    for (k = 0; k < 3; k++) {
+        size_t neg = (size_t)(signs >> k & 1);
+        size_t lo = offsetof(ray__wnode, lo[0]) + (size_t)k * sizeof(float) *
+                                                      RAY__WIDTH;
+        tr->near_at[k] = lo + neg * span;
+        tr->far_at[k] = lo + (1 - neg) * span;
+    }
 }
 
 /* Axis k of the traversal data: origin component o, direction component
@@ -201,9 +206,7 @@ static void trav_init(trav *tr, const ray_ray *r)
         /* inv >= 0 (sign clear): near from o_hi, far from o_lo. */
         _mm_storeu_ps(tr->o_near, _mm_blendv_ps(hi, lo, sign));
         _mm_storeu_ps(tr->o_far, _mm_blendv_ps(lo, hi, sign));
-        trav_offsets(tr, 0, r->dir.x);
-        trav_offsets(tr, 1, r->dir.y);
-        trav_offsets(tr, 2, r->dir.z);
+        trav_octant(tr, _mm256_movemask_pd(d));
     }
 #else
     trav_axis(tr, 0, r->org.x, r->dir.x, r->dir.x * down);
