@@ -457,6 +457,70 @@ START_TEST(overlaps_should_keep_their_rules)
 }
 END_TEST
 
+/*
+** Issue 38, defect 2: geometry and instances whose mask is 0 are hidden
+** from every query (ray.h, "Masks and filters"), the default options'
+** all-bits mask included: ray_intersect and the sweeps hide them, and so
+** must the overlaps.  A sphere, a triangle and an instance (of a visible
+** sphere) all at the origin, each with mask 0; with NULL options and with
+** ray_query_init's, nothing is found.  The same scene with the masks back
+** to all bits finds all three (so the queries do reach them).
+*/
+START_TEST(overlaps_should_hide_mask_zero_by_default)
+{
+    ray_scene *s, *child;
+    ray_transform id;
+    ray_overlap o[4];
+    ray_box_params b;
+    ray_query q;
+    ray_hit h;
+    ray_ray r;
+    size_t n = 77;
+    unsigned sph, tri, inst;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, &sph), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, -1, 0.5), vec(1, -1, 0.5), vec(0, 1, 0.5), RAY_NO_MATERIAL, &tri), RAY_OK);
+    ray_transform_identity(&id);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &id, &inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, sph, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, tri, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, inst, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(2, 2, 2);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ray_query_init(&q);
+    /* The ray queries hide them all. */
+    r = make_ray(vec(0, 0, 10), vec(0, 0, -1), 0, HUGE_VAL);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, &q, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, &q, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    /* Masks back: all three found. */
+    ck_assert_int_eq(ray_scene_set_mask(s, sph, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, tri, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, inst, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 3);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -467,6 +531,7 @@ Suite *overlap_suite(void)
     tcase_add_test(tc, overlaps_should_be_exact_through_instances);
     tcase_add_test(tc, overlaps_should_meet_ellipsoids);
     tcase_add_test(tc, overlaps_should_keep_their_rules);
+    tcase_add_test(tc, overlaps_should_hide_mask_zero_by_default);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -514,7 +514,11 @@ static int overlap_run(const ray_scene *s, const region *q,
     g.query = 0;
     g.all = NULL;
     w.q = *q;
-    w.gate = g.mask == ~0u ? NULL : &g;
+    /* As the ray queries' gate_of (intersect.c): no gate only where the
+    ** scene has no mask to read (s->gated, which covers the instances'
+    ** children); with the default all-bits mask a geometry of mask 0 is
+    ** still hidden (issue 38, defect 2). */
+    w.gate = !s->gated && g.mask == ~0u ? NULL : &g;
     w.found = f;
     w.in = NULL;
     w.in_id = RAY_INVALID_ID;
