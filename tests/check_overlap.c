@@ -521,6 +521,42 @@ START_TEST(overlaps_should_hide_mask_zero_by_default)
 }
 END_TEST
 
+/*
+** Issue 38, defect 1: a box region is refused where ray_box and
+** ray_scene_add_box refuse the same params: here a centre of 1e308 and a
+** half extent of 1e308 along x, whose far side (2e308) is past DBL_MAX.
+** Both overlap calls return -RAY_EINVAL and leave *count and the
+** callback alone.  The same box moved to the origin (1e308 each side,
+** inside DBL_MAX with the scene's rounding margin) is accepted by all.
+*/
+START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
+{
+    ray_scene *s;
+    ray_overlap o[4];
+    ray_box_params b;
+    size_t n = 77;
+    int calls = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    b.center = vec(1e308, 0, 0);
+    b.half_extents = vec(1e308, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box(s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_int_eq(calls, 0);
+    /* At the origin: accepted, and it holds the sphere. */
+    b.center = vec(0, 0, 0);
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 1);
+    ck_assert_uint_eq(n, 1);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -532,6 +568,7 @@ Suite *overlap_suite(void)
     tcase_add_test(tc, overlaps_should_meet_ellipsoids);
     tcase_add_test(tc, overlaps_should_keep_their_rules);
     tcase_add_test(tc, overlaps_should_hide_mask_zero_by_default);
+    tcase_add_test(tc, overlap_boxes_should_be_refused_as_ray_box_refuses_them);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -537,9 +537,17 @@ static int sphere_region(ray_vec3 c, double r, region *q)
     return 1;
 }
 
+/* A box region: refused as ray_box and ray_scene_add_box refuse the same
+** params (ray__box_check: also a box whose world bounds, with their
+** rounding margin, pass DBL_MAX; issue 38, defect 1), so that no query
+** answers for a box no other call accepts. */
 static int box_region(const ray_box_params *b, region *q)
 {
-    if (b == NULL || !ray__pped_of_box(b, &q->box))
+    ray_vec3 lo, hi;
+    char why[8];
+
+    if (b == NULL || !ray__box_check(b, &lo, &hi, why, sizeof why) ||
+        !ray__pped_of_box(b, &q->box))
         return 0;
     q->is_box = 1;
     q->c = b->center;
