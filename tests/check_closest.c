@@ -1012,6 +1012,69 @@ static void *counted(void *ud, void *ptr, size_t osize, size_t nsize)
     return realloc(ptr, nsize);
 }
 
+/*
+** Issue 38, defect 5: a zero-area mesh triangle (collinear vertices: the
+** segment (0,0,0)-(2,0,0)) has no normal, and the scene reads it as no
+** surface at all (scene.h, ray__tri_by_id: every ray misses it, no record
+** is filled from it; ray_scene_add_mesh(3)).  Every query must agree: the
+** overlaps reported it (as the point at its first corner) while
+** ray_closest_point never found it; now none of ray_intersect,
+** ray_closest_point, ray_overlap_sphere, ray_overlap_box and a sphere
+** sweep through its corners finds it.  A second, proper triangle of the
+** same mesh is found by all, so the queries do reach the mesh.
+*/
+START_TEST(zero_area_triangles_should_be_skipped_by_every_query)
+{
+    static const ray_vec3 v[6] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0},
+                                  {10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    static const unsigned idx[6] = {0, 1, 2, 3, 4, 5};
+    ray_scene *s;
+    ray_mesh m;
+    ray_overlap o[2];
+    ray_box_params b;
+    ray_closest c;
+    ray_sweep sw;
+    ray_contact k;
+    ray_hit h;
+    ray_ray r;
+    size_t n = 77;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 6;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* Near the degenerate one (its first corner included), far from the
+    ** other (9 away): nothing. */
+    r = make_ray(vec(0, 0, 5), vec(0, 0, -1), 0, HUGE_VAL);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_closest_point(s, vec(1, 1, 0), 2, &c), 0);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 2, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(2, 2, 2);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 2, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    ray_sweep_init(&sw);
+    sw.a = sw.b = vec(0, 0, 5);
+    sw.radius = 0.5;
+    sw.dir = vec(0, 0, -10);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &k), 0);
+    /* The proper triangle: found by each. */
+    ck_assert_int_eq(ray_closest_point(s, vec(10.25, 0.25, 1), 2, &c), 1);
+    ck_assert_uint_eq(c.prim_id, 1);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(10.25, 0.25, 1), 2, NULL, o, 2, &n), 1);
+    ck_assert_uint_eq(o[0].prim_id, 1);
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1078,6 +1141,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_points_should_be_exact_through_any_transform);
     tcase_add_test(tc, closest_points_should_find_ellipsoids);
     tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
+    tcase_add_test(tc, zero_area_triangles_should_be_skipped_by_every_query);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -426,6 +426,11 @@ static void visit_triangle(searcher *w, const ray_scene *s, unsigned i)
     if (hidden(w, &s->prims[id->geom_id]))
         return;
     ray__tri_corners(s, i, &a, &b, &c);
+    /* A triangle without a normal (zero area, read as the point at its
+    ** first corner: scene.h) is no surface, as for the rays and
+    ** ray_closest_point (issue 38, defect 5). */
+    if (!ray__corners_usable(a, b, c))
+        return;
     a = world(w, a);
     b = world(w, b);
     c = world(w, c);
