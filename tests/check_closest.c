@@ -1075,6 +1075,65 @@ START_TEST(zero_area_triangles_should_be_skipped_by_every_query)
 }
 END_TEST
 
+/*
+** Issue 38, defect 7: an accepted transform with a row of about 2e-307
+** (diag(1, 1, 2e-307): the child flattened onto z = 0) maps a query point
+** 1e10 above it to an object-space z of 5e316, past DBL_MAX, and
+** ray_closest_point with an infinite radius found nothing.  The world
+** answer is plain: the triangle (-1,-1)-(1,-1)-(0,1) flattened stays
+** where it is in x and y, so the nearest point to (0.2, 0.1, 1e10) is
+** (0.2, 0.1, 0) (exactly: its z is 0 in the child), 1e10 away.  The same
+** through a uniform scale of 2e-307 (a similarity) of a unit box: its
+** image is the box of half-extent 2e-307, 1e10 from (0, 0, 1e10).  Tolerance: a few roundings of the mapped
+** corners and of the distance, 8 ulps of the magnitudes (1e10, and 1).
+*/
+START_TEST(closest_points_should_be_found_where_q_maps_beyond_the_doubles)
+{
+    ray_scene *child, *boxes, *s;
+    ray_transform flat = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 2e-307, 0}}};
+    ray_transform tiny = {{{2e-307, 0, 0, 0}, {0, 2e-307, 0, 0},
+                           {0, 0, 2e-307, 0}}};
+    ray_box_params b;
+    ray_closest c;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, vec(-1, -1, 0), vec(1, -1, 0), vec(0, 1, 0), RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &flat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, vec(0.2, 0.1, 1e10), HUGE_VAL, &c), 1);
+    ck_assert_double_eq_tol(c.distance, 1e10, 8 * DBL_EPSILON * 1e10);
+    ck_assert_double_eq_tol(c.p.x, 0.2, 8 * DBL_EPSILON);
+    ck_assert_double_eq_tol(c.p.y, 0.1, 8 * DBL_EPSILON);
+    ck_assert_double_eq_tol(c.p.z, 0, 8 * DBL_EPSILON);
+    ck_assert_uint_eq(c.inst_id, 0);
+    /* A finite radius that reaches it, and one that does not. */
+    ck_assert_int_eq(ray_closest_point(s, vec(0.2, 0.1, 1e10), 2e10, &c), 1);
+    ck_assert_int_eq(ray_closest_point(s, vec(0.2, 0.1, 1e10), 1e9, &c), 0);
+    ray_scene_free(s);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&boxes, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(boxes, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(boxes), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(s, boxes, &tiny, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 1e10), HUGE_VAL, &c), 1);
+    ck_assert_double_eq_tol(c.distance, 1e10, 8 * DBL_EPSILON * 1e10);
+    /* The top and bottom faces are 4e-307 apart, 1e10 away: their
+    ** distances round alike, so either may be reported (a tie). */
+    ck_assert_double_eq_tol(fabs(c.p.z), 2e-307, 8 * DBL_EPSILON * 2e-307);
+    ck_assert(fabs(c.p.x) <= 2e-307 && fabs(c.p.y) <= 2e-307);
+    ray_scene_free(s);
+    ray_scene_free(boxes);
+    ray_scene_free(child);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1142,6 +1201,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_points_should_find_ellipsoids);
     tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
     tcase_add_test(tc, zero_area_triangles_should_be_skipped_by_every_query);
+    tcase_add_test(tc, closest_points_should_be_found_where_q_maps_beyond_the_doubles);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -41,6 +41,7 @@ static inline double max2(double a, double b)
 */
 typedef struct query {
     ray_vec3 q;              /* in the space of the scene searched */
+    int q_ok;                /* q is qw's image (0: it overflowed) */
     ray_vec3 qw;             /* in world space (q itself at the top) */
     const ray__instance *in; /* the instance searched through, or NULL */
     unsigned inst_id;        /* its geometry id in the top scene */
@@ -67,6 +68,8 @@ static void set_best(query *qs, double best)
 
     qs->best = best;
     qs->best2 = b * b * (1 + ray__gamma(4)) + 2 * RAY__TINY;
+    if (!(qs->best2 >= 0))      /* 0 times an infinite widen: prune nothing */
+        qs->best2 = HUGE_VAL;
 }
 
 /* Keep surface point p at computed distance d from q if it is nearer than
@@ -271,7 +274,7 @@ static int closest_BOX(const ray_scene *s, const ray__prim *p,
 
     if (in == NULL)
         return ray__box_closest(b, qs->qw, pt, n);
-    if (in->similarity > 0) {
+    if (in->similarity > 0 && qs->q_ok) {
         /* Distances scale alike: the child's nearest point, mapped. */
         ray_vec3 po, no;
         if (!ray__box_closest(b, qs->q, &po, &no))
@@ -405,11 +408,22 @@ static void visit_instance(const ray_scene *s, unsigned i, query *qs)
         return;
     }
     child.q = ray__instance_point_to_object(in, qs->qw);
-    if (!v3_isfinite(child.q))
-        return;
+    child.q_ok = v3_isfinite(child.q);
     child.in = in;
     child.inst_id = i;
     child.widen = in->inv_spec;
+    if (!child.q_ok) {
+        /* q's image is past DBL_MAX (a transform with a row near 1e-307
+        ** flattens the child, and q lies far off it: issue 38, defect 7),
+        ** but the child's world points may well be near q.  Candidates
+        ** are measured in world space from qw anyway; only the boxes'
+        ** pruning reads q, so it is turned off (an infinite widen: every
+        ** box is within reach) and the child searched whole, and the
+        ** box's similarity path, which reads q, takes the
+        ** parallelepiped's. */
+        child.q = v3(0, 0, 0);
+        child.widen = HUGE_VAL;
+    }
     search_in(in->child, &child);
     qs->stale |= child.stale;
     if (child.found && (!qs->found || child.out.distance < qs->best)) {
@@ -585,6 +599,7 @@ int ray_closest_point(const ray_scene *s, ray_vec3 q, double radius,
     if (!s->committed)
         return -RAY_ESTATE;
     qs.q = qs.qw = q;
+    qs.q_ok = 1;
     qs.in = NULL;
     qs.inst_id = RAY_INVALID_ID;
     qs.widen = 1;
