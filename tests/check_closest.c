@@ -1134,6 +1134,92 @@ START_TEST(closest_points_should_be_found_where_q_maps_beyond_the_doubles)
 }
 END_TEST
 
+/*
+** Issue 38, defect 3: through a transform that is not a similarity the
+** closest point's normal at a box corner must be that of a face whose
+** plane the query point lies outside of (ray_closest_point(3): "the face
+** whose plane q lies farthest outside of"), so that a push along n
+** leaves the box.  A unit box through a shear with unequal scales (its
+** faces meet at obtuse and acute angles); for each of the 8 corners C,
+** query points q = C + sum_f l_f N_f with the three world normals N_f
+** of its faces and weights l_f in {0.2, 1, 2.5}: q - C lies in the
+** corner's normal cone, so C is q's nearest point and
+** |q - C|^2 = sum_f l_f N_f.(q - C) > 0: some face has q outside it.
+** Asserted: p is C (to 64 ulps of the coordinates, a few roundings of
+** the mapped corner and of the triangle's nearest point) and
+** n.(q - p) > 0.
+*/
+START_TEST(closest_normals_at_corners_should_face_the_query_point)
+{
+    static const double L[3][3] = {{1, 0.9, 0}, {0, 1, 0.7}, {0.3, 0, 2}};
+    static const double w[3] = {0.2, 1, 2.5};
+    ray_transform x = {{{1, 0.9, 0, 3}, {0, 1, 0.7, -2}, {0.3, 0, 2, 1}}};
+    ray_box_params b;
+    ray_scene *child, *s;
+    double inv[3][3], det;
+    int corner, i, j, k, l, bad = 0;
+
+    /* L^-1 by cofactors: its columns are the world face normals
+    ** (L^-T e_k). */
+    det = L[0][0] * (L[1][1] * L[2][2] - L[1][2] * L[2][1]) -
+          L[0][1] * (L[1][0] * L[2][2] - L[1][2] * L[2][0]) +
+          L[0][2] * (L[1][0] * L[2][1] - L[1][1] * L[2][0]);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            inv[j][i] = (L[(i + 1) % 3][(j + 1) % 3] * L[(i + 2) % 3][(j + 2) % 3] -
+                         L[(i + 1) % 3][(j + 2) % 3] * L[(i + 2) % 3][(j + 1) % 3]) / det;
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(child, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (corner = 0; corner < 8; corner++) {
+        double c[3] = {corner & 1 ? 1 : -1, corner & 2 ? 1 : -1,
+                       corner & 4 ? 1 : -1};
+        double C[3], N[3][3];
+        for (i = 0; i < 3; i++) {
+            double len = 0;
+            C[i] = x.m[i][3];
+            for (j = 0; j < 3; j++)
+                C[i] += L[i][j] * c[j];
+            /* Face i's outward normal: sign c_i times column i of L^-1
+            ** (row i of L^-T), normalised. */
+            for (j = 0; j < 3; j++)
+                N[i][j] = c[i] * inv[i][j];
+            for (j = 0; j < 3; j++)
+                len += N[i][j] * N[i][j];
+            for (j = 0; j < 3; j++)
+                N[i][j] /= sqrt(len);
+        }
+        for (k = 0; k < 27; k++) {
+            double q[3], along = 0;
+            ray_closest r;
+            for (j = 0; j < 3; j++) {
+                q[j] = C[j];
+                for (l = 0; l < 3; l++)
+                    q[j] += w[(k / (l == 0 ? 1 : l == 1 ? 3 : 9)) % 3] * N[l][j];
+            }
+            ck_assert_int_eq(ray_closest_point(s, vec(q[0], q[1], q[2]), HUGE_VAL, &r), 1);
+            ck_assert_double_eq_tol(r.p.x, C[0], 64 * DBL_EPSILON * 8);
+            ck_assert_double_eq_tol(r.p.y, C[1], 64 * DBL_EPSILON * 8);
+            ck_assert_double_eq_tol(r.p.z, C[2], 64 * DBL_EPSILON * 8);
+            along = r.n.x * (q[0] - r.p.x) + r.n.y * (q[1] - r.p.y) +
+                    r.n.z * (q[2] - r.p.z);
+            if (!(along > 0))
+                bad++;
+        }
+    }
+    ck_assert_msg(bad == 0, "%d of 216 normals face away from q", bad);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1202,6 +1288,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
     tcase_add_test(tc, zero_area_triangles_should_be_skipped_by_every_query);
     tcase_add_test(tc, closest_points_should_be_found_where_q_maps_beyond_the_doubles);
+    tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -214,55 +214,94 @@ static int closest_POLYGON(const ray_scene *s, const ray__prim *p,
     return 1;
 }
 
-/* The nearest point of the parallelepiped that box b is through the
+/*
+** The nearest point of the parallelepiped that box b is through the
 ** instance: the nearest of its 12 world triangles' (inside or out: the
 ** nearest boundary point of a convex body from inside lies on its
-** nearest face plane, within that face), with the face's normal. */
+** nearest face plane, within that face), with the face's normal.
+**
+** At an edge or a corner several faces hold that point, and their
+** computed distances differ only by rounding: the normal is that of the
+** face, among those within the rounding of the nearest, whose plane q
+** lies farthest outside of (ray_closest_point(3); issue 38, defect 3:
+** the first face in loop order could have q behind its plane, and a
+** push along its normal went into the box).  "Within the rounding": each
+** distance is within 32 DBL_EPSILON (M + d) of its exact value
+** (ray_closest_point(3), Accuracy; M the largest coordinate magnitude of
+** q and the corners), so two faces whose computed distances differ by
+** up to twice that may both hold the exact nearest point.  q's height
+** over a face plane is n.(q - x), x the face's nearest point, n its unit
+** world normal (by the inverse transpose, outward through reflections
+** too).
+*/
 static int parallelepiped_closest(const ray_box_params *b,
                                   const ray__instance *in, ray_vec3 q,
                                   ray_vec3 *pt, ray_vec3 *n)
 {
-    ray_vec3 e[3], corner[8], best = q, best_n = q;
-    double h[3], best_d = HUGE_VAL;
-    int k, axis;
+    ray_vec3 e[3], corner[8], best = q, face_x[6], face_n[6];
+    double h[3], best_d = HUGE_VAL, face_d[6], m, tie, height = -HUGE_VAL;
+    int k, axis, f, best_f = -1;
 
     if (!ray__box_frame(b, e))
         return 0;
     h[0] = b->half_extents.x;
     h[1] = b->half_extents.y;
     h[2] = b->half_extents.z;
+    m = fmax(fabs(q.x), fmax(fabs(q.y), fabs(q.z)));
     for (k = 0; k < 8; k++) {
         ray_vec3 c = b->center;
         c = v3_madd(c, k & 1 ? h[0] : -h[0], e[0]);
         c = v3_madd(c, k & 2 ? h[1] : -h[1], e[1]);
         c = v3_madd(c, k & 4 ? h[2] : -h[2], e[2]);
         corner[k] = ray__instance_point_to_world(in, c);
+        m = fmax(m, fmax(fabs(corner[k].x),
+                         fmax(fabs(corner[k].y), fabs(corner[k].z))));
     }
     for (axis = 0; axis < 3; axis++) {
         int side, j = 1 << ((axis + 1) % 3), l = 1 << ((axis + 2) % 3);
         for (side = 0; side < 2; side++) {
             int base = side ? 1 << axis : 0, t;
             ray_vec3 quad[4];
+            f = 2 * axis + side;
             quad[0] = corner[base];
             quad[1] = corner[base | j];
             quad[2] = corner[base | j | l];
             quad[3] = corner[base | l];
+            face_d[f] = HUGE_VAL;
+            face_x[f] = q;
             for (t = 0; t < 2; t++) {
                 ray_vec3 x = ray__triangle_closest(quad[0], quad[1 + t],
                                                    quad[2 + t], q);
                 double d = ray__distance(x, q);
-                if (d < best_d) {
-                    best_d = d;
-                    best = x;
-                    best_n = v3_scale(e[axis], side ? 1.0 : -1.0);
+                if (d < face_d[f]) {
+                    face_d[f] = d;
+                    face_x[f] = x;
                 }
+            }
+            face_n[f] = ray__instance_normal(
+                in, v3_scale(e[axis], side ? 1.0 : -1.0));
+            if (face_d[f] < best_d) {
+                best_d = face_d[f];
+                best = face_x[f];
+                best_f = f;
             }
         }
     }
     if (!(best_d < HUGE_VAL))
         return 0;
+    tie = 64 * DBL_EPSILON * (m + best_d);
+    for (f = 0; f < 6; f++) {
+        double above;
+        if (!(face_d[f] <= best_d + tie))
+            continue;
+        above = v3_dot(face_n[f], v3_sub(q, face_x[f]));
+        if (above > height) {
+            height = above;
+            best_f = f;
+        }
+    }
     *pt = best;
-    *n = ray__instance_normal(in, best_n);
+    *n = face_n[best_f];
     return 1;
 }
 
