@@ -220,26 +220,28 @@ static int closest_POLYGON(const ray_scene *s, const ray__prim *p,
 ** nearest boundary point of a convex body from inside lies on its
 ** nearest face plane, within that face), with the face's normal.
 **
-** At an edge or a corner several faces hold that point, and their
-** computed distances differ only by rounding: the normal is that of the
-** face, among those within the rounding of the nearest, whose plane q
-** lies farthest outside of (ray_closest_point(3); issue 38, defect 3:
-** the first face in loop order could have q behind its plane, and a
-** push along its normal went into the box).  "Within the rounding": each
-** distance is within 32 DBL_EPSILON (M + d) of its exact value
-** (ray_closest_point(3), Accuracy; M the largest coordinate magnitude of
-** q and the corners), so two faces whose computed distances differ by
-** up to twice that may both hold the exact nearest point.  q's height
-** over a face plane is n.(q - x), x the face's nearest point, n its unit
-** world normal (by the inverse transpose, outward through reflections
-** too).
+** At an edge or a corner several faces hold that point p: the normal is
+** that of the face, among those whose plane holds p, over whose plane q
+** lies highest (ray_closest_point(3): at an edge or a corner "the face
+** whose plane q lies farthest outside of"; issue 38, defect 3: the first
+** face in loop order could have q behind its plane, and a push along
+** its normal went into the box).  A face's plane holds p when p's
+** height over it, n.(p - x0) (x0 a corner of the face, n its unit world
+** normal, by the inverse transpose: outward through reflections too),
+** is within 64 DBL_EPSILON (M + d), M the largest coordinate magnitude of
+** q and the corners: p is off its own face's plane by at most gamma(3)
+** of such magnitudes (ray_closest_point(3), Accuracy), the normal and
+** the dot product add a few roundings more, and a face not through p
+** (at an edge of a thin face, say) stands off by far more.  Heights, not
+** the faces' computed distances, decide: on a sliver face (a strongly
+** stretched box) those distances err by more than their differences.
 */
 static int parallelepiped_closest(const ray_box_params *b,
                                   const ray__instance *in, ray_vec3 q,
                                   ray_vec3 *pt, ray_vec3 *n)
 {
-    ray_vec3 e[3], corner[8], best = q, face_x[6], face_n[6];
-    double h[3], best_d = HUGE_VAL, face_d[6], m, tie, height = -HUGE_VAL;
+    ray_vec3 e[3], corner[8], best = q, face_o[6], face_n[6];
+    double h[3], best_d = HUGE_VAL, face_d[6], m, tie, height;
     int k, axis, f, best_f = -1;
 
     if (!ray__box_frame(b, e))
@@ -268,33 +270,33 @@ static int parallelepiped_closest(const ray_box_params *b,
             quad[2] = corner[base | j | l];
             quad[3] = corner[base | l];
             face_d[f] = HUGE_VAL;
-            face_x[f] = q;
+            face_o[f] = quad[0];
             for (t = 0; t < 2; t++) {
                 ray_vec3 x = ray__triangle_closest(quad[0], quad[1 + t],
                                                    quad[2 + t], q);
                 double d = ray__distance(x, q);
                 if (d < face_d[f]) {
                     face_d[f] = d;
-                    face_x[f] = x;
+                    if (d < best_d) {
+                        best_d = d;
+                        best = x;
+                        best_f = f;
+                    }
                 }
             }
             face_n[f] = ray__instance_normal(
                 in, v3_scale(e[axis], side ? 1.0 : -1.0));
-            if (face_d[f] < best_d) {
-                best_d = face_d[f];
-                best = face_x[f];
-                best_f = f;
-            }
         }
     }
     if (!(best_d < HUGE_VAL))
         return 0;
     tie = 64 * DBL_EPSILON * (m + best_d);
+    height = v3_dot(face_n[best_f], v3_sub(q, best));
     for (f = 0; f < 6; f++) {
         double above;
-        if (!(face_d[f] <= best_d + tie))
+        if (!(fabs(v3_dot(face_n[f], v3_sub(best, face_o[f]))) <= tie))
             continue;
-        above = v3_dot(face_n[f], v3_sub(q, face_x[f]));
+        above = v3_dot(face_n[f], v3_sub(q, best));
         if (above > height) {
             height = above;
             best_f = f;
