@@ -523,10 +523,11 @@ END_TEST
 
 /*
 ** Issue 38, defect 1: a box region is refused where ray_box and
-** ray_scene_add_box refuse the same params: here a centre of 1e308 and a
-** half extent of 1e308 along x, whose far side (2e308) is past DBL_MAX.
+** ray_scene_add_box refuse the same params: here a centre of 1.7e308 and a
+** half extent of 2^1021 (2.2e307, the largest ray_box takes) along x,
+** whose far side (1.9e308) is past DBL_MAX.
 ** Both overlap calls return -RAY_EINVAL and leave *count and the
-** callback alone.  The same box moved to the origin (1e308 each side,
+** callback alone.  The same box moved to the origin (2^1021 each side,
 ** inside DBL_MAX with the scene's rounding margin) is accepted by all.
 */
 START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
@@ -540,8 +541,8 @@ START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    b.center = vec(1e308, 0, 0);
-    b.half_extents = vec(1e308, 1, 1);
+    b.center = vec(1.7e308, 0, 0);
+    b.half_extents = vec(0x1p1021, 1, 1);
     b.axis_x = vec(1, 0, 0);
     b.axis_y = vec(0, 1, 0);
     ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_EINVAL);
