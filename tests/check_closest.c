@@ -1220,6 +1220,59 @@ START_TEST(closest_normals_at_corners_should_face_the_query_point)
 }
 END_TEST
 
+/*
+** Issue 38, defect 6: ray_closest_point on slivers.  Ericson's region
+** walk divides determinants that cancel as sin^2 of the smallest angle:
+** on a cap sliver 4e4 long and 0.003 wide its distance was off by 24.
+** Needle slivers (c near b) and cap slivers (c near the middle of ab),
+** 10 to 1e5 long and 1e-3 to 1e2 wide, 20,000 query points within 3 of
+** them, against the long-double brute force (ldgeom.h's ref_triangle on
+** the same doubles): the distance within 32 DBL_EPSILON (M + d), M the
+** largest coordinate magnitude, the bound ray_closest_point(3) states
+** for every triangle (the largest error measured is below 1).
+*/
+START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
+{
+    rng g = {0x51173u};
+    double worst = 0;
+    int it, k;
+
+    for (it = 0; it < 400; it++) {
+        double L = pow(10, 1 + 4 * rng_unit(&g)), w = pow(10, -3 + 5 * rng_unit(&g));
+        ray_vec3 a = vec(rng_range(&g, -1, 1), rng_range(&g, -1, 1), rng_range(&g, -1, 1)), b, c;
+        ray_scene *s;
+
+        if (w > L / 16)
+            w = L / 100;       /* keep it a sliver */
+        b = vec(a.x + L * 0.8, a.y + L * 0.6, a.z + rng_range(&g, -1, 1));
+        if (it % 2)             /* a cap: c beside the middle of ab */
+            c = vec(a.x + L * 0.4 - w * 0.6, a.y + L * 0.3 + w * 0.8,
+                    a.z + 0.5 * rng_range(&g, -1, 1));
+        else                    /* a needle: c beside b */
+            c = vec(b.x - w * 0.6, b.y + w * 0.8, b.z);
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (k = 0; k < 50; k++) {
+            double t = rng_unit(&g), M, err;
+            ray_vec3 q = vec(a.x + t * (b.x - a.x) + 3 * rng_range(&g, -1, 1),
+                             a.y + t * (b.y - a.y) + 3 * rng_range(&g, -1, 1),
+                             a.z + 3 * rng_range(&g, -1, 1));
+            ray_closest cl;
+            lvec r = ref_triangle(lv(q), lv(a), lv(b), lv(c));
+            ld d = ldist(lv(q), r);
+            ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
+            M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
+            M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
+            err = (double)fabsl(cl.distance - d) / (DBL_EPSILON * (M + (double)d));
+            worst = fmax(worst, err);
+        }
+        ray_scene_free(s);
+    }
+    ck_assert_msg(worst <= 32, "worst %g DBL_EPSILON (M + d)", worst);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1289,6 +1342,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, zero_area_triangles_should_be_skipped_by_every_query);
     tcase_add_test(tc, closest_points_should_be_found_where_q_maps_beyond_the_doubles);
     tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
+    tcase_add_test(tc, closest_points_on_slivers_should_keep_the_documented_bound);
     suite_add_tcase(s, tc);
     return s;
 }
