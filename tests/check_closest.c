@@ -1273,6 +1273,51 @@ START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
 }
 END_TEST
 
+/*
+** Issue 38, documented answers of ray_surface_point (its page): a mesh
+** triangle of zero area has no surface point (RAY_EINVAL: no ray hits
+** it, and no query finds it), and a plane's point whose p or error bound
+** would not be finite (u = v = DBL_MAX along its tangents) is refused
+** with RAY_EINVAL too; *hit is left untouched by both.  A plane point
+** at (3, 4) from the plane's point lies on the plane (z = 0 within its
+** p_err) 5 from it.
+*/
+START_TEST(surface_points_should_refuse_what_has_no_point)
+{
+    static const ray_vec3 v[6] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0},
+                                  {10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    static const unsigned idx[6] = {0, 1, 2, 3, 4, 5};
+    ray_scene *s;
+    ray_mesh m;
+    ray_hit h, keep;
+    unsigned mesh, plane;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 6;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &mesh), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), RAY_NO_MATERIAL, &plane), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&keep, 0x5a, sizeof keep);
+    h = keep;
+    ck_assert_int_eq(ray_surface_point(s, mesh, 0, RAY_INVALID_ID, 0.25, 0.25, &h), RAY_EINVAL);
+    ck_assert(memcmp(&h, &keep, sizeof h) == 0);
+    ck_assert_int_eq(ray_surface_point(s, plane, 0, RAY_INVALID_ID, DBL_MAX, DBL_MAX, &h), RAY_EINVAL);
+    ck_assert(memcmp(&h, &keep, sizeof h) == 0);
+    /* The proper ones. */
+    ck_assert_int_eq(ray_surface_point(s, mesh, 1, RAY_INVALID_ID, 0.25, 0.25, &h), RAY_OK);
+    ck_assert_int_eq(ray_surface_point(s, plane, 0, RAY_INVALID_ID, 3, 4, &h), RAY_OK);
+    ck_assert(fabs(h.p.z) <= h.p_err.z);
+    /* 5 from the plane's point: the tangents are unit within a few ulps
+    ** (8 DBL_EPSILON of 5). */
+    ck_assert_double_eq_tol(sqrt(h.p.x * h.p.x + h.p.y * h.p.y), 5, 8 * DBL_EPSILON * 5);
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1343,6 +1388,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_points_should_be_found_where_q_maps_beyond_the_doubles);
     tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
     tcase_add_test(tc, closest_points_on_slivers_should_keep_the_documented_bound);
+    tcase_add_test(tc, surface_points_should_refuse_what_has_no_point);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -558,6 +558,57 @@ START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
 }
 END_TEST
 
+/*
+** Issue 38, documented answer: which status wins when two apply (ray.h,
+** "Shape queries" and each page's ERRORS).  The arguments are checked
+** before the scene's state: a call with bad arguments on a scene that
+** is not committed gets -RAY_EINVAL (RAY_EINVAL for ray_surface_point),
+** and a call with good arguments -RAY_ESTATE.  ray_surface_point checks
+** its pointers, then the state, then the ids and coordinates: an
+** uncommitted scene answers RAY_ESTATE whatever the ids, and a kind
+** without surface points answers RAY_ENOTSUP only for finite (u, v).
+*/
+START_TEST(statuses_should_follow_the_documented_order)
+{
+    ray_scene *s;
+    ray_box_params b;
+    ray_sweep sw;
+    ray_contact c;
+    ray_closest cl;
+    ray_overlap o[1];
+    ray_hit h;
+    size_t n = 77;
+    unsigned box;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &box), RAY_OK);
+    /* Not committed: bad arguments win. */
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec((double)NAN, 0, 0), 1, NULL, o, 1, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 1, NULL, o, 1, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), -1, &cl), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), 1, &cl), -RAY_ESTATE);
+    ray_sweep_init(&sw);
+    sw.dir = vec(0, 0, 0);                    /* no motion */
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_EINVAL);
+    sw.dir = vec(0, 0, 1);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ESTATE);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0, 0, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_ESTATE);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* Committed: the ids before the kind, finite coordinates before
+    ** the kind. */
+    ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, (double)NAN, 0, &h), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_ENOTSUP);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -570,6 +621,7 @@ Suite *overlap_suite(void)
     tcase_add_test(tc, overlaps_should_keep_their_rules);
     tcase_add_test(tc, overlaps_should_hide_mask_zero_by_default);
     tcase_add_test(tc, overlap_boxes_should_be_refused_as_ray_box_refuses_them);
+    tcase_add_test(tc, statuses_should_follow_the_documented_order);
     suite_add_tcase(s, tc);
     return s;
 }
