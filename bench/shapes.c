@@ -256,6 +256,10 @@ static ray_scene *game_scene(soup *sp, ray_scene **crate)
 
 /* ------------------------------------------------------------ Bullet */
 
+/* Only with Bullet (its rows are printed only then): without it these
+** would be unused, an error under -Werror. */
+#if defined(HAVE_BULLET)
+
 /* Bullet on the sweeps w (radius r, or rays: r 0) of a scene of triangle
 ** soup sp; the reference's t[i] (HUGE_VAL: no contact).  Prints a row:
 ** Bullet's time per query, its misses (the reference has a contact,
@@ -328,6 +332,7 @@ static void bullet_row(const char *scene, const ray_scene *sc,
            late, extra, near_extra);
     free(v), free(idx), free(p);
 }
+#endif
 
 /* ---------------------------------------------------------- self-hits */
 
