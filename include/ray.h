@@ -2047,8 +2047,9 @@ RAY_API int ray_implicit_torus(const ray_torus_params *t,
 ** unmirrored from outside.  At an edge or a corner, where two faces'
 ** slabs tie, the face of the lower axis (x, then y, then z) is reported.
 ** Returns 1 or 0 (*hit untouched); invalid params (NULL, NaN, Inf, a
-** half-extent not > 0, a zero or parallel axis, a box reaching beyond
-** the largest double) are a miss.
+** half-extent not > 0 or above 2^1021, about 2.2e307, where a ray's t
+** across the box could overflow, a zero or parallel axis, a box reaching
+** beyond the largest double) are a miss.
 **
 ** ray_scene_add_box -- copies the params; hits as ray_box, prim_id 0.
 ** RAY_EINVAL (with a message naming the field) for params ray_box

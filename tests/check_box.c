@@ -799,7 +799,10 @@ START_TEST(scene_should_refuse_bad_boxes_by_name)
         case 3: b.axis_x = vec(0, 0, 0); break;
         case 4: b.axis_y = vec(0, HUGE_VAL, 0); break;
         case 5: b.axis_y = vec(-2, 0, 0); break;
-        case 6: b.half_extents.z = DBL_MAX; break;
+        case 6:   /* DBL_MAX + 1e300 (2e292 is its ulp) overflows */
+            b.center.z = DBL_MAX;
+            b.half_extents.z = 1e300;
+            break;
         default: break;
         }
         ck_assert_int_eq(ray_scene_add_box(s, i == 0 ? NULL : &b, 0, &id),
@@ -817,6 +820,59 @@ START_TEST(scene_should_refuse_bad_boxes_by_name)
         ck_assert_int_eq(ray_scene_add_box(NULL, &b, 0, NULL), RAY_EINVAL);
     }
     ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Issue 38, defect 10: every box ray_scene_add_box accepts is one a ray
+** starting inside hits (ray.h: "A ray starting inside hits the face it
+** leaves through").  Half-extents of 1e308 were accepted, but the exit
+** t in ray_box's scaled units (2e308) overflowed and the ray missed.
+** For half-extents from 2^1019 to 1e308, axis-aligned and rotated, and
+** directions along an axis and diagonal: accepted implies a hit from
+** the centre by ray_box and through the scene by ray_intersect, with a
+** finite t.  Half-extents up to 2^1021 (about 2.2e307, ray_box(3)) must
+** be accepted; 1e308, whose t across the box may pass DBL_MAX, refused
+** with RAY_EINVAL and a message naming half_extents.
+*/
+START_TEST(accepted_huge_boxes_should_be_hit_from_inside)
+{
+    static const double h[4] = {0x1p1019, 0x1p1020, 0x1p1021, 1e308};
+    static const ray_vec3 dir[3] = {{0, 0, 1}, {1, 1, 1}, {-1, 0.5, 0.25}};
+    int i, f, d, accepted = 0;
+
+    for (i = 0; i < 4; i++)
+        for (f = 0; f < 2; f++) {
+            ray_box_params b = box_of(vec(0, 0, 0), vec(h[i], h[i], h[i]),
+                                      f ? vec(1, 1, 0) : vec(1, 0, 0),
+                                      f ? vec(-1, 1, 1) : vec(0, 1, 0));
+            ray_scene *s;
+            int rc;
+
+            ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+            rc = ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL);
+            if (i <= 2)
+                ck_assert_int_eq(rc, RAY_OK);
+            if (rc == RAY_OK) {
+                accepted++;
+                ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+                for (d = 0; d < 3; d++) {
+                    ray_ray r = make_ray(vec(0, 0, 0), dir[d], 0, HUGE_VAL);
+                    ray_hit hb, hs;
+                    ck_assert_msg(ray_box(&r, &b, &hb) == 1,
+                                  "h %g frame %d dir %d", h[i], f, d);
+                    ck_assert(isfinite(hb.t) && hb.t > 0);
+                    ck_assert_int_eq(ray_intersect(s, &r, &hs), 1);
+                    ck_assert(hs.t == hb.t);
+                }
+            } else {
+                ck_assert_int_eq(rc, RAY_EINVAL);
+                ck_assert_msg(strstr(ray_scene_errmsg(s), "half_extents") != NULL,
+                              "message: %s", ray_scene_errmsg(s));
+            }
+            ray_scene_free(s);
+        }
+    ck_assert_int_eq(accepted, 6);
 }
 END_TEST
 
@@ -841,6 +897,7 @@ Suite *box_suite(void)
     tcase_add_test(tc, bad_input_should_miss);
     tcase_add_loop_test(tc, scene_should_give_the_bare_hit, 0, N_OFFSETS);
     tcase_add_test(tc, scene_should_refuse_bad_boxes_by_name);
+    tcase_add_test(tc, accepted_huge_boxes_should_be_hit_from_inside);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -1012,6 +1012,312 @@ static void *counted(void *ud, void *ptr, size_t osize, size_t nsize)
     return realloc(ptr, nsize);
 }
 
+/*
+** Issue 38, defect 5: a zero-area mesh triangle (collinear vertices: the
+** segment (0,0,0)-(2,0,0)) has no normal, and the scene reads it as no
+** surface at all (scene.h, ray__tri_by_id: every ray misses it, no record
+** is filled from it; ray_scene_add_mesh(3)).  Every query must agree: the
+** overlaps reported it (as the point at its first corner) while
+** ray_closest_point never found it; now none of ray_intersect,
+** ray_closest_point, ray_overlap_sphere, ray_overlap_box and a sphere
+** sweep through its corners finds it.  A second, proper triangle of the
+** same mesh is found by all, so the queries do reach the mesh.
+*/
+START_TEST(zero_area_triangles_should_be_skipped_by_every_query)
+{
+    static const ray_vec3 v[6] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0},
+                                  {10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    static const unsigned idx[6] = {0, 1, 2, 3, 4, 5};
+    ray_scene *s;
+    ray_mesh m;
+    ray_overlap o[2];
+    ray_box_params b;
+    ray_closest c;
+    ray_sweep sw;
+    ray_contact k;
+    ray_hit h;
+    ray_ray r;
+    size_t n = 77;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 6;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* Near the degenerate one (its first corner included), far from the
+    ** other (9 away): nothing. */
+    r = make_ray(vec(0, 0, 5), vec(0, 0, -1), 0, HUGE_VAL);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_closest_point(s, vec(1, 1, 0), 2, &c), 0);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 2, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(2, 2, 2);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 2, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    ray_sweep_init(&sw);
+    sw.a = sw.b = vec(0, 0, 5);
+    sw.radius = 0.5;
+    sw.dir = vec(0, 0, -10);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &k), 0);
+    /* The proper triangle: found by each. */
+    ck_assert_int_eq(ray_closest_point(s, vec(10.25, 0.25, 1), 2, &c), 1);
+    ck_assert_uint_eq(c.prim_id, 1);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(10.25, 0.25, 1), 2, NULL, o, 2, &n), 1);
+    ck_assert_uint_eq(o[0].prim_id, 1);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Issue 38, defect 7: an accepted transform with a row of about 2e-307
+** (diag(1, 1, 2e-307): the child flattened onto z = 0) maps a query point
+** 1e10 above it to an object-space z of 5e316, past DBL_MAX, and
+** ray_closest_point with an infinite radius found nothing.  The world
+** answer is plain: the triangle (-1,-1)-(1,-1)-(0,1) flattened stays
+** where it is in x and y, so the nearest point to (0.2, 0.1, 1e10) is
+** (0.2, 0.1, 0) (exactly: its z is 0 in the child), 1e10 away.  The same
+** through a uniform scale of 2e-307 (a similarity) of a unit box: its
+** image is the box of half-extent 2e-307, 1e10 from (0, 0, 1e10).  Tolerance: a few roundings of the mapped
+** corners and of the distance, 8 ulps of the magnitudes (1e10, and 1).
+*/
+START_TEST(closest_points_should_be_found_where_q_maps_beyond_the_doubles)
+{
+    ray_scene *child, *boxes, *s;
+    ray_transform flat = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 2e-307, 0}}};
+    ray_transform tiny = {{{2e-307, 0, 0, 0}, {0, 2e-307, 0, 0},
+                           {0, 0, 2e-307, 0}}};
+    ray_box_params b;
+    ray_closest c;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, vec(-1, -1, 0), vec(1, -1, 0), vec(0, 1, 0), RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &flat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, vec(0.2, 0.1, 1e10), HUGE_VAL, &c), 1);
+    ck_assert_double_eq_tol(c.distance, 1e10, 8 * DBL_EPSILON * 1e10);
+    ck_assert_double_eq_tol(c.p.x, 0.2, 8 * DBL_EPSILON);
+    ck_assert_double_eq_tol(c.p.y, 0.1, 8 * DBL_EPSILON);
+    ck_assert_double_eq_tol(c.p.z, 0, 8 * DBL_EPSILON);
+    ck_assert_uint_eq(c.inst_id, 0);
+    /* A finite radius that reaches it, and one that does not. */
+    ck_assert_int_eq(ray_closest_point(s, vec(0.2, 0.1, 1e10), 2e10, &c), 1);
+    ck_assert_int_eq(ray_closest_point(s, vec(0.2, 0.1, 1e10), 1e9, &c), 0);
+    ray_scene_free(s);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&boxes, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(boxes, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(boxes), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(s, boxes, &tiny, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 1e10), HUGE_VAL, &c), 1);
+    ck_assert_double_eq_tol(c.distance, 1e10, 8 * DBL_EPSILON * 1e10);
+    /* The top and bottom faces are 4e-307 apart, 1e10 away: their
+    ** distances round alike, so either may be reported (a tie). */
+    ck_assert_double_eq_tol(fabs(c.p.z), 2e-307, 8 * DBL_EPSILON * 2e-307);
+    ck_assert(fabs(c.p.x) <= 2e-307 && fabs(c.p.y) <= 2e-307);
+    ray_scene_free(s);
+    ray_scene_free(boxes);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Issue 38, defect 3: through a transform that is not a similarity the
+** closest point's normal at a box corner must be that of a face whose
+** plane the query point lies outside of (ray_closest_point(3): "the face
+** whose plane q lies farthest outside of"), so that a push along n
+** leaves the box.  A unit box through a shear with unequal scales (its
+** faces meet at obtuse and acute angles); for each of the 8 corners C,
+** query points q = C + sum_f l_f N_f with the three world normals N_f
+** of its faces and weights l_f in {0.2, 1, 2.5}: q - C lies in the
+** corner's normal cone, so C is q's nearest point and
+** |q - C|^2 = sum_f l_f N_f.(q - C) > 0: some face has q outside it.
+** Asserted: p is C (to 64 ulps of the coordinates, a few roundings of
+** the mapped corner and of the triangle's nearest point) and
+** n.(q - p) > 0.
+*/
+START_TEST(closest_normals_at_corners_should_face_the_query_point)
+{
+    static const double L[3][3] = {{1, 0.9, 0}, {0, 1, 0.7}, {0.3, 0, 2}};
+    static const double w[3] = {0.2, 1, 2.5};
+    ray_transform x = {{{1, 0.9, 0, 3}, {0, 1, 0.7, -2}, {0.3, 0, 2, 1}}};
+    ray_box_params b;
+    ray_scene *child, *s;
+    double inv[3][3], det;
+    int corner, i, j, k, l, bad = 0;
+
+    /* L^-1 by cofactors: its columns are the world face normals
+    ** (L^-T e_k). */
+    det = L[0][0] * (L[1][1] * L[2][2] - L[1][2] * L[2][1]) -
+          L[0][1] * (L[1][0] * L[2][2] - L[1][2] * L[2][0]) +
+          L[0][2] * (L[1][0] * L[2][1] - L[1][1] * L[2][0]);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            inv[j][i] = (L[(i + 1) % 3][(j + 1) % 3] * L[(i + 2) % 3][(j + 2) % 3] -
+                         L[(i + 1) % 3][(j + 2) % 3] * L[(i + 2) % 3][(j + 1) % 3]) / det;
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(child, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (corner = 0; corner < 8; corner++) {
+        double c[3] = {corner & 1 ? 1 : -1, corner & 2 ? 1 : -1,
+                       corner & 4 ? 1 : -1};
+        double C[3], N[3][3];
+        for (i = 0; i < 3; i++) {
+            double len = 0;
+            C[i] = x.m[i][3];
+            for (j = 0; j < 3; j++)
+                C[i] += L[i][j] * c[j];
+            /* Face i's outward normal: sign c_i times column i of L^-1
+            ** (row i of L^-T), normalised. */
+            for (j = 0; j < 3; j++)
+                N[i][j] = c[i] * inv[i][j];
+            for (j = 0; j < 3; j++)
+                len += N[i][j] * N[i][j];
+            for (j = 0; j < 3; j++)
+                N[i][j] /= sqrt(len);
+        }
+        for (k = 0; k < 27; k++) {
+            double q[3], along = 0;
+            ray_closest r;
+            for (j = 0; j < 3; j++) {
+                q[j] = C[j];
+                for (l = 0; l < 3; l++)
+                    q[j] += w[(k / (l == 0 ? 1 : l == 1 ? 3 : 9)) % 3] * N[l][j];
+            }
+            ck_assert_int_eq(ray_closest_point(s, vec(q[0], q[1], q[2]), HUGE_VAL, &r), 1);
+            ck_assert_double_eq_tol(r.p.x, C[0], 64 * DBL_EPSILON * 8);
+            ck_assert_double_eq_tol(r.p.y, C[1], 64 * DBL_EPSILON * 8);
+            ck_assert_double_eq_tol(r.p.z, C[2], 64 * DBL_EPSILON * 8);
+            along = r.n.x * (q[0] - r.p.x) + r.n.y * (q[1] - r.p.y) +
+                    r.n.z * (q[2] - r.p.z);
+            if (!(along > 0))
+                bad++;
+        }
+    }
+    ck_assert_msg(bad == 0, "%d of 216 normals face away from q", bad);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Issue 38, defect 6: ray_closest_point on slivers.  Ericson's region
+** walk divides determinants that cancel as sin^2 of the smallest angle:
+** on a cap sliver 4e4 long and 0.003 wide its distance was off by 24.
+** Needle slivers (c near b) and cap slivers (c near the middle of ab),
+** 10 to 1e5 long and 1e-3 to 1e2 wide, 20,000 query points within 3 of
+** them, against the long-double brute force (ldgeom.h's ref_triangle on
+** the same doubles): the distance within 32 DBL_EPSILON (M + d), M the
+** largest coordinate magnitude, the bound ray_closest_point(3) states
+** for every triangle (the largest error measured is below 1).
+*/
+START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
+{
+    rng g = {0x51173u};
+    double worst = 0;
+    int it, k;
+
+    for (it = 0; it < 400; it++) {
+        double L = pow(10, 1 + 4 * rng_unit(&g)), w = pow(10, -3 + 5 * rng_unit(&g));
+        ray_vec3 a = vec(rng_range(&g, -1, 1), rng_range(&g, -1, 1), rng_range(&g, -1, 1)), b, c;
+        ray_scene *s;
+
+        if (w > L / 16)
+            w = L / 100;       /* keep it a sliver */
+        b = vec(a.x + L * 0.8, a.y + L * 0.6, a.z + rng_range(&g, -1, 1));
+        if (it % 2)             /* a cap: c beside the middle of ab */
+            c = vec(a.x + L * 0.4 - w * 0.6, a.y + L * 0.3 + w * 0.8,
+                    a.z + 0.5 * rng_range(&g, -1, 1));
+        else                    /* a needle: c beside b */
+            c = vec(b.x - w * 0.6, b.y + w * 0.8, b.z);
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (k = 0; k < 50; k++) {
+            double t = rng_unit(&g), M, err;
+            ray_vec3 q = vec(a.x + t * (b.x - a.x) + 3 * rng_range(&g, -1, 1),
+                             a.y + t * (b.y - a.y) + 3 * rng_range(&g, -1, 1),
+                             a.z + 3 * rng_range(&g, -1, 1));
+            ray_closest cl;
+            lvec r = ref_triangle(lv(q), lv(a), lv(b), lv(c));
+            ld d = ldist(lv(q), r);
+            ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
+            M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
+            M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
+            err = (double)fabsl(cl.distance - d) / (DBL_EPSILON * (M + (double)d));
+            worst = fmax(worst, err);
+        }
+        ray_scene_free(s);
+    }
+    ck_assert_msg(worst <= 32, "worst %g DBL_EPSILON (M + d)", worst);
+}
+END_TEST
+
+/*
+** Issue 38, documented answers of ray_surface_point (its page): a mesh
+** triangle of zero area has no surface point (RAY_EINVAL: no ray hits
+** it, and no query finds it), and a plane's point whose p or error bound
+** would not be finite (u = v = DBL_MAX along its tangents) is refused
+** with RAY_EINVAL too; *hit is left untouched by both.  A plane point
+** at (3, 4) from the plane's point lies on the plane (z = 0 within its
+** p_err) 5 from it.
+*/
+START_TEST(surface_points_should_refuse_what_has_no_point)
+{
+    static const ray_vec3 v[6] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0},
+                                  {10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    static const unsigned idx[6] = {0, 1, 2, 3, 4, 5};
+    ray_scene *s;
+    ray_mesh m;
+    ray_hit h, keep;
+    unsigned mesh, plane;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 6;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &mesh), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), RAY_NO_MATERIAL, &plane), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&keep, 0x5a, sizeof keep);
+    h = keep;
+    ck_assert_int_eq(ray_surface_point(s, mesh, 0, RAY_INVALID_ID, 0.25, 0.25, &h), RAY_EINVAL);
+    ck_assert(memcmp(&h, &keep, sizeof h) == 0);
+    ck_assert_int_eq(ray_surface_point(s, plane, 0, RAY_INVALID_ID, DBL_MAX, DBL_MAX, &h), RAY_EINVAL);
+    ck_assert(memcmp(&h, &keep, sizeof h) == 0);
+    /* The proper ones. */
+    ck_assert_int_eq(ray_surface_point(s, mesh, 1, RAY_INVALID_ID, 0.25, 0.25, &h), RAY_OK);
+    ck_assert_int_eq(ray_surface_point(s, plane, 0, RAY_INVALID_ID, 3, 4, &h), RAY_OK);
+    ck_assert(fabs(h.p.z) <= h.p_err.z);
+    /* 5 from the plane's point: the tangents are unit within a few ulps
+    ** (8 DBL_EPSILON of 5). */
+    ck_assert_double_eq_tol(sqrt(h.p.x * h.p.x + h.p.y * h.p.y), 5, 8 * DBL_EPSILON * 5);
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1078,6 +1384,11 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_points_should_be_exact_through_any_transform);
     tcase_add_test(tc, closest_points_should_find_ellipsoids);
     tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
+    tcase_add_test(tc, zero_area_triangles_should_be_skipped_by_every_query);
+    tcase_add_test(tc, closest_points_should_be_found_where_q_maps_beyond_the_doubles);
+    tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
+    tcase_add_test(tc, closest_points_on_slivers_should_keep_the_documented_bound);
+    tcase_add_test(tc, surface_points_should_refuse_what_has_no_point);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -953,6 +953,68 @@ START_TEST(instances_should_refuse_bad_input)
 }
 END_TEST
 
+/*
+** Issue 38, defect 4: the transform check refuses what maps the child
+** beyond +-2^1016, and nothing else.  A shear of 1e8 with a translation
+** of 1e300 puts a unit box's image within 1e8 of (1e300, 1e300, 1e300),
+** and the bounds the check forms (the reach and the rounding both ways,
+** ray__instance_box) stay below 1e301, far inside 2^1016 (about 7e305):
+** evaluated in long double here, without overflow, as the reference.
+** It was refused, because an intermediate product |L^-1| (|x| + |t|)
+** (1e8 times 2e300) overflowed before it was scaled by gamma(6).  Now it
+** is accepted and a ray aimed at the box's image hits it there with a
+** finite p and p_err; a translation of 1e306, really beyond, stays
+** refused.  Shears of 1e5 and 1e10 with 1e303 likewise.
+*/
+START_TEST(instances_should_refuse_only_what_passes_the_bound)
+{
+    static const double shear[3] = {1e5, 1e8, 1e10};
+    static const double shift[3] = {1e303, 1e300, 1e303};
+    ray_box_params b;
+    ray_scene *child;
+    int i;
+
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(0.5, 0.5, 0.5);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(child, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    for (i = 0; i < 3; i++) {
+        const double sh = shear[i], t = shift[i];
+        ray_transform x = {{{1, sh, 0, t}, {0, 1, 0, t}, {0, 0, 1, t}}};
+        ray_scene *s;
+        ray_hit h;
+        ray_ray r;
+        /* The long-double reference: reach |L| |p'| + |t| per row, and
+        ** the bound's back term with |L^-1| = [[1, sh, 0], I rows]. */
+        const long double g6 = 6 * 0x1p-53L / (1 - 6 * 0x1p-53L); /* gamma(6) */
+        long double big0 = 1.0L + sh + t, big1 = 1.0L + t;
+        long double back = g6 * (big0 + t + sh * (big1 + t)) +
+                           sh * g6 * (big1 + t);
+        ck_assert(big0 + back < 0x1p1016L);
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_msg(ray_scene_add_instance(s, child, &x, NULL) == RAY_OK,
+                      "shear %g shift %g: %s", sh, t, ray_scene_errmsg(s));
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        /* Down the z axis onto the image of the top face's centre. */
+        r = make_ray(vec(t, t, t + 1e300), vec(0, 0, -1), 0, HUGE_VAL);
+        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        ck_assert(isfinite(h.p.x) && isfinite(h.p.y) && isfinite(h.p.z));
+        ck_assert(isfinite(h.p_err.x) && isfinite(h.p_err.y) &&
+                  isfinite(h.p_err.z));
+        ray_scene_free(s);
+        /* Really beyond: refused. */
+        x.m[0][3] = x.m[1][3] = x.m[2][3] = 1e306;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_EINVAL);
+        ray_scene_free(s);
+    }
+    ray_scene_free(child);
+}
+END_TEST
+
 Suite *instance_suite(void)
 {
     Suite *s = suite_create("instance");
@@ -973,6 +1035,7 @@ Suite *instance_suite(void)
     tcase_add_test(tc, instances_should_refuse_bad_input);
     tcase_add_test(tc, instances_should_refuse_transforms_beyond_the_doubles);
     tcase_add_test(tc, instances_should_say_why_a_tiny_scale_is_refused);
+    tcase_add_test(tc, instances_should_refuse_only_what_passes_the_bound);
     suite_add_tcase(s, tc);
     return s;
 }

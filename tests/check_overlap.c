@@ -457,6 +457,158 @@ START_TEST(overlaps_should_keep_their_rules)
 }
 END_TEST
 
+/*
+** Issue 38, defect 2: geometry and instances whose mask is 0 are hidden
+** from every query (ray.h, "Masks and filters"), the default options'
+** all-bits mask included: ray_intersect and the sweeps hide them, and so
+** must the overlaps.  A sphere, a triangle and an instance (of a visible
+** sphere) all at the origin, each with mask 0; with NULL options and with
+** ray_query_init's, nothing is found.  The same scene with the masks back
+** to all bits finds all three (so the queries do reach them).
+*/
+START_TEST(overlaps_should_hide_mask_zero_by_default)
+{
+    ray_scene *s, *child;
+    ray_transform id;
+    ray_overlap o[4];
+    ray_box_params b;
+    ray_query q;
+    ray_hit h;
+    ray_ray r;
+    size_t n = 77;
+    unsigned sph, tri, inst;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, &sph), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1, -1, 0.5), vec(1, -1, 0.5), vec(0, 1, 0.5), RAY_NO_MATERIAL, &tri), RAY_OK);
+    ray_transform_identity(&id);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &id, &inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, sph, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, tri, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, inst, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(2, 2, 2);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ray_query_init(&q);
+    /* The ray queries hide them all. */
+    r = make_ray(vec(0, 0, 10), vec(0, 0, -1), 0, HUGE_VAL);
+    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, &q, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, &q, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    /* Masks back: all three found. */
+    ck_assert_int_eq(ray_scene_set_mask(s, sph, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, tri, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, inst, ~0u), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 3);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Issue 38, defect 1: a box region is refused where ray_box and
+** ray_scene_add_box refuse the same params: here a centre of 1.7e308 and a
+** half extent of 2^1021 (2.2e307, the largest ray_box takes) along x,
+** whose far side (1.9e308) is past DBL_MAX.
+** Both overlap calls return -RAY_EINVAL and leave *count and the
+** callback alone.  The same box moved to the origin (2^1021 each side,
+** inside DBL_MAX with the scene's rounding margin) is accepted by all.
+*/
+START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
+{
+    ray_scene *s;
+    ray_overlap o[4];
+    ray_box_params b;
+    size_t n = 77;
+    int calls = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    b.center = vec(1.7e308, 0, 0);
+    b.half_extents = vec(0x1p1021, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box(s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_int_eq(calls, 0);
+    /* At the origin: accepted, and it holds the sphere. */
+    b.center = vec(0, 0, 0);
+    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 1);
+    ck_assert_uint_eq(n, 1);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Issue 38, documented answer: which status wins when two apply (ray.h,
+** "Shape queries" and each page's ERRORS).  The arguments are checked
+** before the scene's state: a call with bad arguments on a scene that
+** is not committed gets -RAY_EINVAL (RAY_EINVAL for ray_surface_point),
+** and a call with good arguments -RAY_ESTATE.  ray_surface_point checks
+** its pointers, then the state, then the ids and coordinates: an
+** uncommitted scene answers RAY_ESTATE whatever the ids, and a kind
+** without surface points answers RAY_ENOTSUP only for finite (u, v).
+*/
+START_TEST(statuses_should_follow_the_documented_order)
+{
+    ray_scene *s;
+    ray_box_params b;
+    ray_sweep sw;
+    ray_contact c;
+    ray_closest cl;
+    ray_overlap o[1];
+    ray_hit h;
+    size_t n = 77;
+    unsigned box;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &box), RAY_OK);
+    /* Not committed: bad arguments win. */
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec((double)NAN, 0, 0), 1, NULL, o, 1, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 1, NULL, o, 1, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), -1, &cl), -RAY_EINVAL);
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), 1, &cl), -RAY_ESTATE);
+    ray_sweep_init(&sw);
+    sw.dir = vec(0, 0, 0);                    /* no motion */
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_EINVAL);
+    sw.dir = vec(0, 0, 1);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ESTATE);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0, 0, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_ESTATE);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* Committed: the ids before the kind, finite coordinates before
+    ** the kind. */
+    ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, (double)NAN, 0, &h), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_ENOTSUP);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -467,6 +619,9 @@ Suite *overlap_suite(void)
     tcase_add_test(tc, overlaps_should_be_exact_through_instances);
     tcase_add_test(tc, overlaps_should_meet_ellipsoids);
     tcase_add_test(tc, overlaps_should_keep_their_rules);
+    tcase_add_test(tc, overlaps_should_hide_mask_zero_by_default);
+    tcase_add_test(tc, overlap_boxes_should_be_refused_as_ray_box_refuses_them);
+    tcase_add_test(tc, statuses_should_follow_the_documented_order);
     suite_add_tcase(s, tc);
     return s;
 }

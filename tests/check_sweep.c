@@ -821,6 +821,136 @@ START_TEST(sweeps_should_refuse_misuse)
 }
 END_TEST
 
+/*
+** Issue 38, defect 8: a swept capsule whose segment b - a has subnormal
+** or tiny components (|b - a|^2 underflows to 0) against a box.  The
+** capsule's axis computations divided by that zero, and a sweep that
+** never comes near the box (radius 0.5 at z = 0, the box's top at
+** z = -2, moving sideways) got a contact with a point at the box's far
+** corner.  Such a capsule is within |b - a| (below 1e-153) of the sphere
+** at a, so it must answer as that sphere does: no contact sideways, and
+** straight down the contact at t = 1.5 on the top face.  Tolerance: the
+** sweep's own inflation, gamma(64) of the magnitudes (about 8 ulps of
+** 64; within 1e-13 of 1.5 here), and p on the face plane z = -2 within
+** the same.
+*/
+START_TEST(capsules_with_subnormal_segments_should_sweep_as_their_sphere)
+{
+    static const ray_vec3 tiny[4] = {{1e-310, -1e-310, -1e-300},
+                                     {1e-310, 0, 0},
+                                     {0, 4e-320, 0},
+                                     {-1e-300, 1e-300, 1e-300}};
+    ray_box_params b;
+    ray_scene *s;
+    int i;
+
+    b.center = vec(0, 0, -3);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (i = 0; i < 4; i++) {
+        ray_sweep sw;
+        ray_contact c;
+        ray_sweep_init(&sw);
+        sw.a = vec(0, 0, 0);
+        sw.b = tiny[i];
+        sw.radius = 0.5;
+        sw.dir = vec(-1, -1, -1e-310);
+        sw.tmax = 1;
+        ck_assert_msg(ray_intersect_sweep(s, &sw, NULL, &c) == 0,
+                      "segment %d: contact at t %g, p (%g %g %g)", i, c.t,
+                      c.p.x, c.p.y, c.p.z);
+        sw.dir = vec(0, 0, -1);
+        sw.tmax = 10;
+        ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+        ck_assert_double_eq_tol(c.t, 1.5, 1e-13);
+        ck_assert_double_eq_tol(c.p.z, -2, 1e-13);
+        ck_assert(fabs(c.p.x) <= 1e-13 && fabs(c.p.y) <= 1e-13);
+        ck_assert_double_eq_tol(c.n.z, 1, 1e-13);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Issue 38, documented answer: the radius-0 sweep against user geometry
+** (ray_intersect_sweep(3), Kinds of geometry).  A sphere of radius 0 is
+** a ray, so user geometry answers it by its own intersect callback: the
+** unit square at z = 0 (inside a box of [-2, 2]^2 x [-1, 1]) is met at
+** t = 5 exactly, its own point, no RAY_CONTACT_BOUNDS.  Any shape with
+** a radius or a segment is answered against the box: a sphere of radius
+** 1e-9 stops at the box's top, t = 4 - 1e-9 (within the sweep's
+** inflation, gamma(64) of the magnitudes: 1e-12 here), flagged
+** RAY_CONTACT_BOUNDS, and so does a capsule of radius 0.
+*/
+static void square_bounds(void *ud, ray_vec3 *lo, ray_vec3 *hi)
+{
+    (void)ud;
+    *lo = vec(-2, -2, -1);
+    *hi = vec(2, 2, 1);
+}
+
+static int square_hit(void *ud, const ray_ray *r, ray_hit *h)
+{
+    double t;
+    ray_vec3 p;
+
+    (void)ud;
+    if (r->dir.z == 0)
+        return 0;
+    t = -r->org.z / r->dir.z;
+    p = vec(r->org.x + t * r->dir.x, r->org.y + t * r->dir.y, 0);
+    if (!(t > r->tmin && t < r->tmax) || fabs(p.x) > 1 || fabs(p.y) > 1)
+        return 0;
+    memset(h, 0, sizeof *h);
+    h->t = t;
+    h->p = p;
+    h->n = vec(0, 0, 1);
+    return 1;
+}
+
+START_TEST(radius_zero_sweeps_should_ask_user_geometry_itself)
+{
+    ray_user_geometry g;
+    ray_scene *s;
+    ray_sweep sw;
+    ray_contact c;
+
+    g.bounds = square_bounds;
+    g.intersect = square_hit;
+    g.ud = NULL;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_user(s, &g, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_sweep_init(&sw);
+    sw.a = sw.b = vec(0.5, 0.25, 5);
+    sw.dir = vec(0, 0, -1);
+    sw.tmax = 10;
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+    ck_assert(c.t == 5);
+    ck_assert(c.p.x == 0.5 && c.p.y == 0.25 && c.p.z == 0);
+    ck_assert_uint_eq(c.flags, 0);
+    /* Outside the square but inside its box: a ray passes. */
+    sw.a = sw.b = vec(1.5, 0, 5);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 0);
+    /* A radius: the box. */
+    sw.radius = 1e-9;
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+    ck_assert_double_eq_tol(c.t, 4 - 1e-9, 1e-12);
+    ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
+    /* A capsule of radius 0: the box too. */
+    sw.radius = 0;
+    sw.b = vec(1.5, 0.5, 5);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+    ck_assert_double_eq_tol(c.t, 4, 1e-12);
+    ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *sweep_suite(void)
 {
     Suite *s = suite_create("sweep");
@@ -838,6 +968,8 @@ Suite *sweep_suite(void)
     tcase_add_test(tc, sweeps_should_follow_masks_and_filters);
     tcase_add_test(tc, other_kinds_should_answer_by_their_boxes);
     tcase_add_test(tc, sweeps_should_refuse_misuse);
+    tcase_add_test(tc, capsules_with_subnormal_segments_should_sweep_as_their_sphere);
+    tcase_add_test(tc, radius_zero_sweeps_should_ask_user_geometry_itself);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -61,8 +61,22 @@ typedef enum box_fault {
     BOX_AXIS_X,
     BOX_AXIS_Y,
     BOX_PARALLEL,
-    BOX_TOO_LARGE
+    BOX_TOO_LARGE,
+    BOX_HALF_TOO_LARGE
 } box_fault;
+
+/*
+** The largest half-extent accepted, 2^1021 (about 2.2e307), so that a ray
+** starting inside has a finite exit t (issue 38, defect 10: half-extents
+** of 1e308 were accepted and a ray from the centre missed).  local_ray
+** scales the direction so its largest component lies in [1/2, 1): its
+** length is at least 1/2, so its largest local component |d_k| is at
+** least 1/(2 sqrt 3) > 0.288 (the frame orthonormal to delta), and an
+** origin inside has |o_k| <= h_k, so that slab's exit (h_k + |o_k|) /
+** |d_k| is below 6.93 h_k (with its few roundings) <= 1.74 2^1023 <
+** DBL_MAX.  The smallest exit, which ray_box reports, is no larger.
+*/
+#define BOX_MAX_HALF 0x1p1021
 
 static double max_abs(ray_vec3 a)
 {
@@ -94,6 +108,8 @@ static box_fault frame_of(const ray_box_params *b, box_frame *f)
     if (!(h.x > 0 && h.x < HUGE_VAL && h.y > 0 && h.y < HUGE_VAL &&
           h.z > 0 && h.z < HUGE_VAL))
         return BOX_HALF_EXTENTS;
+    if (h.x > BOX_MAX_HALF || h.y > BOX_MAX_HALF || h.z > BOX_MAX_HALF)
+        return BOX_HALF_TOO_LARGE;
     if (!v3_normalize(b->axis_x, &f->e[0]))
         return BOX_AXIS_X;
     if (!v3_normalize(b->axis_y, &yn))
@@ -522,6 +538,11 @@ int ray__box_check(const ray_box_params *p, ray_vec3 *lo, ray_vec3 *hi,
         snprintf(why, why_size, "axis_y " BOX_V3FMT " is parallel to "
                  "axis_x " BOX_V3FMT, BOX_V3ARGS(p->axis_y),
                  BOX_V3ARGS(p->axis_x));
+        break;
+    case BOX_HALF_TOO_LARGE:
+        snprintf(why, why_size, "half_extents " BOX_V3FMT " exceed 2^1021 "
+                 "(about 2.2e307), past which a ray's t across the box "
+                 "could overflow", BOX_V3ARGS(p->half_extents));
         break;
     case BOX_TOO_LARGE:
         snprintf(why, why_size, "the box (center " BOX_V3FMT ", "

@@ -39,6 +39,79 @@ static ray_vec3 nearest_edge_point(ray_vec3 a, ray_vec3 b, ray_vec3 c,
     return e[best];
 }
 
+/* (a x b), each component by ray__diff_of_products: relative accuracy
+** however much its two products cancel (sweep_pieces.c's
+** ray__cross_exact, here for the sliver path below). */
+static ray_vec3 cross_acc(ray_vec3 a, ray_vec3 b)
+{
+    return v3(ray__diff_of_products(a.y, b.z, a.z, b.y),
+              ray__diff_of_products(a.z, b.x, a.x, b.z),
+              ray__diff_of_products(a.x, b.y, a.y, b.x));
+}
+
+/*
+** The sliver path (issue 38, defect 6): a triangle whose smallest angle
+** theta has sin theta < 1/16 (about 3.6 degrees).  Ericson's region
+** walk divides determinants that cancel as sin^2 theta, so its point
+** could sit far along such a triangle from the nearest one (a distance
+** off by 24 on a 4e4-long cap sliver 0.003 wide).  Here q is projected
+** on the plane along the unit normal n of the accurate cross product
+** ab x ac (each component without cancellation error): the foot
+** q - ((q - a).n) n; if it lies inside the triangle (the three edge
+** functions ((v - u) x (foot - u)).n, each accurate, not negative) it is
+** the nearest point, and otherwise the nearest point lies on the
+** boundary: the nearest of the three edges' nearest points, each a
+** clamped projection on a segment, well conditioned whatever the angles.
+** The foot is within a few ulps of |q| + |q - p| of the exact one, less
+** the error of n, which tilts by about u (longest edge) / (width) of
+** the triangle (the rounding of its edge vectors, inherent in them):
+** see ray_closest_point(3), Accuracy, for the bound this gives.  ab, ac,
+** ap are the scaled edge vectors and q's offset (see below), s the
+** scale.  Returns 0 (use the region walk) when the foot is not finite.
+*/
+static int sliver_closest(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q,
+                          ray_vec3 ab, ray_vec3 ac, ray_vec3 ap, double s,
+                          ray_vec3 *p)
+{
+    ray_vec3 n, bc = v3_sub(ac, ab), foot, pr;
+    double h;
+
+    if (!v3_normalize(cross_acc(ab, ac), &n))
+        return 0;
+    h = v3_dot(ap, n);
+    pr = v3_madd(ap, -h, n);
+    if (v3_dot(cross_acc(ab, pr), n) >= 0 &&
+        v3_dot(cross_acc(bc, v3_sub(pr, ab)), n) >= 0 &&
+        v3_dot(cross_acc(v3_scale(ac, -1), v3_sub(pr, ac)), n) >= 0) {
+        foot = v3_madd(q, -(h / s), n);
+        if (!v3_isfinite(foot))
+            return 0;
+        *p = foot;
+        return 1;
+    }
+    *p = nearest_edge_point(a, b, c, q);
+    return 1;
+}
+
+/* sin of the triangle's smallest angle is below 1/16: |ab x ac| over
+** the product of its two longest edges (the smallest angle lies between
+** them), compared without a division.  On the scaled edges. */
+static int is_sliver(ray_vec3 ab, ray_vec3 ac)
+{
+    ray_vec3 bc = v3_sub(ac, ab);
+    double l[3], cr = v3_length(cross_acc(ab, ac)), t;
+
+    l[0] = v3_length(ab);
+    l[1] = v3_length(ac);
+    l[2] = v3_length(bc);
+    /* Sort so that l[0] and l[1] are the two longest. */
+    if (l[2] > l[0])
+        t = l[0], l[0] = l[2], l[2] = t;
+    if (l[2] > l[1])
+        t = l[1], l[1] = l[2], l[2] = t;
+    return 16 * cr < l[0] * l[1];
+}
+
 /*
 ** The point of triangle (a, b, c) nearest q: Ericson, "Real-Time
 ** Collision Detection", Morgan Kaufmann 2005, section 5.1.5
@@ -90,6 +163,11 @@ ray_vec3 ray__triangle_closest(ray_vec3 a, ray_vec3 b, ray_vec3 c,
     ab = v3_scale(ab, s);
     ac = v3_scale(ac, s);
     ap = v3_scale(ap, s);
+    if (is_sliver(ab, ac)) {
+        ray_vec3 p;
+        if (sliver_closest(a, b, c, q, ab, ac, ap, s, &p))
+            return p;
+    }
 
     d1 = v3_dot(ab, ap);
     d2 = v3_dot(ac, ap);

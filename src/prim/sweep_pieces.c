@@ -91,6 +91,22 @@ void ray__sweep_start(ray__sweep *sw, ray_vec3 d, ray_vec3 s, double r,
     sw->t_unit = k;
     sw->s = s;
     sw->r = r;
+    /*
+    ** A capsule whose axis is too short for its own arithmetic: |s|^2
+    ** below DBL_MIN (subnormal or 0, every |s_i| < 2^-511), where the
+    ** cylinder's and the parallelepiped's quotients by |s|^2 lose all
+    ** their digits or divide by 0 (issue 38, defect 8: such a capsule
+    ** met a box it never came near).  It lies within the ball about a of
+    ** radius r + |s|, and |s| <= |s_x| + |s_y| + |s_z| < 2^-509: swept as
+    ** that sphere, its contacts are conservative.  The sum r + that
+    ** bound rounds to nearest, below it by at most half an ulp of r,
+    ** which the sweep's inflation (gamma(64) of r and more,
+    ** ray__sweep_eps) covers many times over.
+    */
+    if (max_abs(s) > 0 && !(v3_dot(s, s) >= DBL_MIN)) {
+        sw->r = r + (fabs(s.x) + fabs(s.y) + fabs(s.z));
+        sw->s = v3(0, 0, 0);
+    }
     sw->t0 = t0 / k;
     sw->t1 = t1 / k;
     sw->x0 = v3_scale(sw->d, sw->t0);

@@ -41,6 +41,7 @@ static inline double max2(double a, double b)
 */
 typedef struct query {
     ray_vec3 q;              /* in the space of the scene searched */
+    int q_ok;                /* q is qw's image (0: it overflowed) */
     ray_vec3 qw;             /* in world space (q itself at the top) */
     const ray__instance *in; /* the instance searched through, or NULL */
     unsigned inst_id;        /* its geometry id in the top scene */
@@ -67,6 +68,8 @@ static void set_best(query *qs, double best)
 
     qs->best = best;
     qs->best2 = b * b * (1 + ray__gamma(4)) + 2 * RAY__TINY;
+    if (!(qs->best2 >= 0))      /* 0 times an infinite widen: prune nothing */
+        qs->best2 = HUGE_VAL;
 }
 
 /* Keep surface point p at computed distance d from q if it is nearer than
@@ -211,55 +214,96 @@ static int closest_POLYGON(const ray_scene *s, const ray__prim *p,
     return 1;
 }
 
-/* The nearest point of the parallelepiped that box b is through the
+/*
+** The nearest point of the parallelepiped that box b is through the
 ** instance: the nearest of its 12 world triangles' (inside or out: the
 ** nearest boundary point of a convex body from inside lies on its
-** nearest face plane, within that face), with the face's normal. */
+** nearest face plane, within that face), with the face's normal.
+**
+** At an edge or a corner several faces hold that point p: the normal is
+** that of the face, among those whose plane holds p, over whose plane q
+** lies highest (ray_closest_point(3): at an edge or a corner "the face
+** whose plane q lies farthest outside of"; issue 38, defect 3: the first
+** face in loop order could have q behind its plane, and a push along
+** its normal went into the box).  A face's plane holds p when p's
+** height over it, n.(p - x0) (x0 a corner of the face, n its unit world
+** normal, by the inverse transpose: outward through reflections too),
+** is within 64 DBL_EPSILON (M + d), M the largest coordinate magnitude of
+** q and the corners: p is off its own face's plane by at most gamma(3)
+** of such magnitudes (ray_closest_point(3), Accuracy), the normal and
+** the dot product add a few roundings more, and a face not through p
+** (at an edge of a thin face, say) stands off by far more.  Heights, not
+** the faces' computed distances, decide: on a sliver face (a strongly
+** stretched box) those distances err by more than their differences.
+*/
 static int parallelepiped_closest(const ray_box_params *b,
                                   const ray__instance *in, ray_vec3 q,
                                   ray_vec3 *pt, ray_vec3 *n)
 {
-    ray_vec3 e[3], corner[8], best = q, best_n = q;
-    double h[3], best_d = HUGE_VAL;
-    int k, axis;
+    ray_vec3 e[3], corner[8], best = q, face_o[6], face_n[6];
+    double h[3], best_d = HUGE_VAL, face_d[6], m, tie, height;
+    int k, axis, f, best_f = -1;
 
     if (!ray__box_frame(b, e))
         return 0;
     h[0] = b->half_extents.x;
     h[1] = b->half_extents.y;
     h[2] = b->half_extents.z;
+    m = fmax(fabs(q.x), fmax(fabs(q.y), fabs(q.z)));
     for (k = 0; k < 8; k++) {
         ray_vec3 c = b->center;
         c = v3_madd(c, k & 1 ? h[0] : -h[0], e[0]);
         c = v3_madd(c, k & 2 ? h[1] : -h[1], e[1]);
         c = v3_madd(c, k & 4 ? h[2] : -h[2], e[2]);
         corner[k] = ray__instance_point_to_world(in, c);
+        m = fmax(m, fmax(fabs(corner[k].x),
+                         fmax(fabs(corner[k].y), fabs(corner[k].z))));
     }
     for (axis = 0; axis < 3; axis++) {
         int side, j = 1 << ((axis + 1) % 3), l = 1 << ((axis + 2) % 3);
         for (side = 0; side < 2; side++) {
             int base = side ? 1 << axis : 0, t;
             ray_vec3 quad[4];
+            f = 2 * axis + side;
             quad[0] = corner[base];
             quad[1] = corner[base | j];
             quad[2] = corner[base | j | l];
             quad[3] = corner[base | l];
+            face_d[f] = HUGE_VAL;
+            face_o[f] = quad[0];
             for (t = 0; t < 2; t++) {
                 ray_vec3 x = ray__triangle_closest(quad[0], quad[1 + t],
                                                    quad[2 + t], q);
                 double d = ray__distance(x, q);
-                if (d < best_d) {
-                    best_d = d;
-                    best = x;
-                    best_n = v3_scale(e[axis], side ? 1.0 : -1.0);
+                if (d < face_d[f]) {
+                    face_d[f] = d;
+                    if (d < best_d) {
+                        best_d = d;
+                        best = x;
+                        best_f = f;
+                    }
                 }
             }
+            face_n[f] = ray__instance_normal(
+                in, v3_scale(e[axis], side ? 1.0 : -1.0));
         }
     }
     if (!(best_d < HUGE_VAL))
         return 0;
+    tie = 64 * DBL_EPSILON * (m + best_d);
+    height = v3_dot(face_n[best_f], v3_sub(q, best));
+    for (f = 0; f < 6; f++) {
+        double above;
+        if (!(fabs(v3_dot(face_n[f], v3_sub(best, face_o[f]))) <= tie))
+            continue;
+        above = v3_dot(face_n[f], v3_sub(q, best));
+        if (above > height) {
+            height = above;
+            best_f = f;
+        }
+    }
     *pt = best;
-    *n = ray__instance_normal(in, best_n);
+    *n = face_n[best_f];
     return 1;
 }
 
@@ -271,7 +315,7 @@ static int closest_BOX(const ray_scene *s, const ray__prim *p,
 
     if (in == NULL)
         return ray__box_closest(b, qs->qw, pt, n);
-    if (in->similarity > 0) {
+    if (in->similarity > 0 && qs->q_ok) {
         /* Distances scale alike: the child's nearest point, mapped. */
         ray_vec3 po, no;
         if (!ray__box_closest(b, qs->q, &po, &no))
@@ -405,11 +449,22 @@ static void visit_instance(const ray_scene *s, unsigned i, query *qs)
         return;
     }
     child.q = ray__instance_point_to_object(in, qs->qw);
-    if (!v3_isfinite(child.q))
-        return;
+    child.q_ok = v3_isfinite(child.q);
     child.in = in;
     child.inst_id = i;
     child.widen = in->inv_spec;
+    if (!child.q_ok) {
+        /* q's image is past DBL_MAX (a transform with a row near 1e-307
+        ** flattens the child, and q lies far off it: issue 38, defect 7),
+        ** but the child's world points may well be near q.  Candidates
+        ** are measured in world space from qw anyway; only the boxes'
+        ** pruning reads q, so it is turned off (an infinite widen: every
+        ** box is within reach) and the child searched whole, and the
+        ** box's similarity path, which reads q, takes the
+        ** parallelepiped's. */
+        child.q = v3(0, 0, 0);
+        child.widen = HUGE_VAL;
+    }
     search_in(in->child, &child);
     qs->stale |= child.stale;
     if (child.found && (!qs->found || child.out.distance < qs->best)) {
@@ -585,6 +640,7 @@ int ray_closest_point(const ray_scene *s, ray_vec3 q, double radius,
     if (!s->committed)
         return -RAY_ESTATE;
     qs.q = qs.qw = q;
+    qs.q_ok = 1;
     qs.in = NULL;
     qs.inst_id = RAY_INVALID_ID;
     qs.widen = 1;

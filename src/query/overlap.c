@@ -426,6 +426,11 @@ static void visit_triangle(searcher *w, const ray_scene *s, unsigned i)
     if (hidden(w, &s->prims[id->geom_id]))
         return;
     ray__tri_corners(s, i, &a, &b, &c);
+    /* A triangle without a normal (zero area, read as the point at its
+    ** first corner: scene.h) is no surface, as for the rays and
+    ** ray_closest_point (issue 38, defect 5). */
+    if (!ray__corners_usable(a, b, c))
+        return;
     a = world(w, a);
     b = world(w, b);
     c = world(w, c);
@@ -514,7 +519,11 @@ static int overlap_run(const ray_scene *s, const region *q,
     g.query = 0;
     g.all = NULL;
     w.q = *q;
-    w.gate = g.mask == ~0u ? NULL : &g;
+    /* As the ray queries' gate_of (intersect.c): no gate only where the
+    ** scene has no mask to read (s->gated, which covers the instances'
+    ** children); with the default all-bits mask a geometry of mask 0 is
+    ** still hidden (issue 38, defect 2). */
+    w.gate = !s->gated && g.mask == ~0u ? NULL : &g;
     w.found = f;
     w.in = NULL;
     w.in_id = RAY_INVALID_ID;
@@ -533,9 +542,17 @@ static int sphere_region(ray_vec3 c, double r, region *q)
     return 1;
 }
 
+/* A box region: refused as ray_box and ray_scene_add_box refuse the same
+** params (ray__box_check: also a box whose world bounds, with their
+** rounding margin, pass DBL_MAX; issue 38, defect 1), so that no query
+** answers for a box no other call accepts. */
 static int box_region(const ray_box_params *b, region *q)
 {
-    if (b == NULL || !ray__pped_of_box(b, &q->box))
+    ray_vec3 lo, hi;
+    char why[8];
+
+    if (b == NULL || !ray__box_check(b, &lo, &hi, why, sizeof why) ||
+        !ray__pped_of_box(b, &q->box))
         return 0;
     q->is_box = 1;
     q->c = b->center;

@@ -472,6 +472,11 @@ static void visit_triangle(sweeper *w, const ray_scene *s, unsigned i)
     if (hidden(w, p))
         return;
     ray__tri_corners(s, i, &a, &b, &cc);
+    /* A triangle without a normal (zero area, read as the point at its
+    ** first corner: scene.h) is no surface, as for the rays (issue 38,
+    ** defect 5). */
+    if (!ray__corners_usable(a, b, cc))
+        return;
     if (ray__sweep_triangle(&w->sw, local(w, a), local(w, b), local(w, cc),
                             &c))
         consider(w, p, &c, id->geom_id, id->prim_id, 0);

@@ -223,6 +223,29 @@ static int child_check(ray_scene *s, const ray_scene *child)
 }
 
 /*
+** g (|r0| x0 + |r1| x1 + |r2| x2) for a row r of L^-1 and magnitudes
+** x_i >= 0, as the error bounds below form it; where the unscaled sum
+** overflows, each |r_i| is scaled by g before it meets x_i instead, so
+** that a product such as 1e8 (2e300), which overflows before its
+** scaling by gamma(6), does not make a bound of about 1e285 infinite and
+** refuse a transform whose reach is far within range (issue 38, defect
+** 4).  That second form is taken only where a term reached DBL_MAX, so
+** that term is at least g DBL_MAX / 2 after scaling; what the others
+** lose to underflow (under 2^-1075 each, times x_i) is below its last
+** bit, and the bounds' own (1 + gamma(2)) covers the reordering.
+*/
+static double scaled_row_sum(double g, const double r[3], double x0,
+                             double x1, double x2)
+{
+    double s = fabs(r[0]) * x0 + fabs(r[1]) * x1 + fabs(r[2]) * x2;
+
+    if (s < HUGE_VAL)
+        return g * s;
+    return (g * fabs(r[0])) * x0 + (g * fabs(r[1])) * x1 +
+           (g * fabs(r[2])) * x2;
+}
+
+/*
 ** The world box of an instance: its child's box (the union of the roots
 ** of its BVHs, rounded outward already) through the transform, corner by
 ** corner, grown by the rounding a world ray suffers on its way into the
@@ -282,9 +305,9 @@ int ray__instance_box(ray__instance *in)
         if (!(reach <= RAY__INSTANCE_REACH))
             in_range = 0;
         for (j = 0; j < 3; j++) {
-            double d = g * (fabs(in->inv[j][0]) * (big[0] + fabs(m[0][3])) +
-                            fabs(in->inv[j][1]) * (big[1] + fabs(m[1][3])) +
-                            fabs(in->inv[j][2]) * (big[2] + fabs(m[2][3])));
+            double d = scaled_row_sum(g, in->inv[j], big[0] + fabs(m[0][3]),
+                                      big[1] + fabs(m[1][3]),
+                                      big[2] + fabs(m[2][3]));
             back += fabs(m[k][j]) * d;
         }
         if (k == 0) {
@@ -425,9 +448,9 @@ void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
     *world = *obj;
     w = ray__instance_point_to_world(in, p);
     for (j = 0; j < 3; j++)
-        back[j] = g5 * (fabs(in->inv[j][0]) * (fabs(w.x) + fabs(m[0][3])) +
-                        fabs(in->inv[j][1]) * (fabs(w.y) + fabs(m[1][3])) +
-                        fabs(in->inv[j][2]) * (fabs(w.z) + fabs(m[2][3])));
+        back[j] = scaled_row_sum(g5, in->inv[j], fabs(w.x) + fabs(m[0][3]),
+                                 fabs(w.y) + fabs(m[1][3]),
+                                 fabs(w.z) + fabs(m[2][3]));
     for (k = 0; k < 3; k++) {
         double carried = fabs(m[k][0]) * e.x + fabs(m[k][1]) * e.y +
                          fabs(m[k][2]) * e.z;
