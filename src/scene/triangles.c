@@ -171,24 +171,20 @@ static void gather_leaf(void *ud, unsigned first, unsigned n)
 /*
 ** The float corners of the n live slots in the leaves of the fresh BVH
 ** (its items: the old slot of each leaf position), into a new leaf_f:
-** first in slot order, reading the geometry as it lies (a mesh's indices
-** in order), then gathered into leaf order, one random read a slot.
-** RAY_OK or RAY_ENOMEM (nothing changed).
+** first in slot order into by_slot (the rebuild's scratch, of
+** RAY__LEAF_ROWS n floats at least), reading the geometry as it lies (a
+** mesh's indices in order), then gathered into leaf order, one random
+** read a slot.  RAY_OK or RAY_ENOMEM (nothing changed).
 */
-static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
+static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
+                       float *by_slot)
 {
     size_t floats = RAY__LEAF_ROWS * n + RAY__LEAF_PAD, i;
-    float *by_slot = ray__alloc(s, RAY__LEAF_ROWS * n * sizeof *by_slot);
-    float *out;
+    float *out = ray__alloc(s, floats * sizeof *out);
     leaf_gather g;
 
-    if (by_slot == NULL)
+    if (out == NULL)
         return RAY_ENOMEM;
-    out = ray__alloc(s, floats * sizeof *out);
-    if (out == NULL) {
-        ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
-        return RAY_ENOMEM;
-    }
     for (i = 0; i < n; i++) {
         ray__tri t = ray__tri_of(s, i);
         leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
@@ -198,7 +194,6 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
     g.items = fresh->items;
     each_leaf(fresh, gather_leaf, &g);
     memset(out + RAY__LEAF_ROWS * n, 0, RAY__LEAF_PAD * sizeof *out);
-    ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
     s->leaf_f = out;
     s->cap_leaf_f = floats;
     s->float_exact = corners_are_floats(s);
@@ -206,53 +201,21 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
 }
 
 /*
-** Put the ids of the n live slots in leaf order: gathered into a new
-** array, each read random but none depending on another, where walking
-** the permutation's cycles in place chases one random read after the
-** other (at 940k triangles the walk took about a sixth of the commit,
-** perf on bench/mesh's bunny-4); in place when memory is short for it
-** (the top bit of items[] marks the positions placed: indices are below
-** 2^31).  The same order either way.
+** Put the ids of the n live slots in leaf order: gathered into "id" (the
+** rebuild's scratch), each read random but none depending on another,
+** where walking the permutation's cycles in place chases one random read
+** after the other (at 940k triangles the walk took about a sixth of the
+** commit, perf on bench/mesh's bunny-4), and copied back.  The slots
+** after n (waiting) stay where they are.
 */
-static void permute_ids(ray_scene *s, unsigned *items, size_t n)
+static void gather_ids(ray_scene *s, const unsigned *items, size_t n,
+                       ray__tri_id *id)
 {
-    const unsigned done = 0x80000000u;
-    size_t start;
+    size_t i;
 
-    for (start = 0; start < n; start++) {
-        ray__tri_id id;
-        size_t pos = start;
-        if (items[start] & done)
-            continue;
-        id = s->tri_ids[start];
-        for (;;) {
-            size_t src = items[pos];
-            items[pos] |= done;
-            if (src == start) {
-                s->tri_ids[pos] = id;
-                break;
-            }
-            s->tri_ids[pos] = s->tri_ids[src];
-            pos = src;
-        }
-    }
-}
-
-static void gather_ids(ray_scene *s, unsigned *items, size_t n)
-{
-    size_t i, all = s->n_tris;
-    ray__tri_id *id = ray__alloc(s, all * sizeof *id);
-
-    if (id == NULL) {
-        permute_ids(s, items, n);
-        return;
-    }
     for (i = 0; i < n; i++)
         id[i] = s->tri_ids[items[i]];
-    memcpy(id + n, s->tri_ids + n, (all - n) * sizeof *id);  /* waiting */
-    ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
-    s->tri_ids = id;
-    s->cap_tri_ids = all;
+    memcpy(s->tri_ids, id, n * sizeof *id);
 }
 
 /* Give back the spare capacity that doubling left in tri_ids (a failed
@@ -313,7 +276,8 @@ static void leaves_free(ray_scene *s)
 */
 int ray__triangles_rebuild(ray_scene *s)
 {
-    size_t n = 0, i;
+    size_t n = 0, i, scratch_bytes;
+    void *scratch = NULL;
     ray__bvh fresh;
     int rc;
 
@@ -326,16 +290,30 @@ int ray__triangles_rebuild(ray_scene *s)
         if (tri_live(s, i))
             tri_swap(s, n++, i);
     leaves_free(s);
+    /* One scratch block for the build's records, then the corners in
+    ** slot order, then the ids in leaf order: its pages are touched
+    ** once, where three blocks of their own were each mapped afresh
+    ** (at 940k triangles, 30 and 34 MB: issue 36). */
+    scratch_bytes = RAY__BVH_SCRATCH(n);
+    if (scratch_bytes < RAY__LEAF_ROWS * n * sizeof(float))
+        scratch_bytes = RAY__LEAF_ROWS * n * sizeof(float);
+    if (n > 0 && (n > (size_t)-1 / 64 ||
+                  (scratch = ray__alloc(s, scratch_bytes)) == NULL))
+        return RAY_ENOMEM;
     rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
-                        &s->scheduler, s->build_threads, &fresh);
-    if (rc != RAY_OK)
+                        &s->scheduler, s->build_threads, scratch, &fresh);
+    if (rc != RAY_OK) {
+        ray__free(s, scratch, scratch_bytes);
         return rc;
+    }
     if (n > 0) {
-        if (leaves_make(s, &fresh, n) != RAY_OK) {
+        if (leaves_make(s, &fresh, n, scratch) != RAY_OK) {
+            ray__free(s, scratch, scratch_bytes);
             ray__bvh_free(&s->alloc, &fresh);
             return RAY_ENOMEM;
         }
-        gather_ids(s, fresh.items, n);
+        gather_ids(s, fresh.items, n, scratch);
+        ray__free(s, scratch, scratch_bytes);
         /* Leaves now index slots directly: the permutation is not kept. */
         ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
         fresh.items = NULL;
