@@ -202,20 +202,30 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
 
 /*
 ** Put the ids of the n live slots in leaf order: gathered into "id" (the
-** rebuild's scratch), each read random but none depending on another,
-** where walking the permutation's cycles in place chases one random read
-** after the other (at 940k triangles the walk took about a sixth of the
-** commit, perf on bench/mesh's bunny-4), and copied back.  The slots
-** after n (waiting) stay where they are.
+** rebuild's scratch, of "bytes"), each read random but none depending on
+** another, where walking the permutation's cycles in place chases one
+** random read after the other (at 940k triangles the walk took about a
+** sixth of the commit, perf on bench/mesh's bunny-4).  The scratch then
+** becomes tri_ids (the waiting slots after n copied behind), so nothing
+** is copied back: returns 1; or, when the waiting slots do not fit in
+** it, the ids are copied back into tri_ids: returns 0.
 */
-static void gather_ids(ray_scene *s, const unsigned *items, size_t n,
-                       ray__tri_id *id)
+static int gather_ids(ray_scene *s, const unsigned *items, size_t n,
+                      ray__tri_id *id, size_t bytes)
 {
-    size_t i;
+    size_t i, all = s->n_tris;
 
     for (i = 0; i < n; i++)
         id[i] = s->tri_ids[items[i]];
-    memcpy(s->tri_ids, id, n * sizeof *id);
+    if (all > bytes / sizeof *id) {
+        memcpy(s->tri_ids, id, n * sizeof *id);
+        return 0;
+    }
+    memcpy(id + n, s->tri_ids + n, (all - n) * sizeof *id);  /* waiting */
+    ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
+    s->tri_ids = id;
+    s->cap_tri_ids = bytes / sizeof *id;
+    return 1;
 }
 
 /* Give back the spare capacity that doubling left in tri_ids (a failed
@@ -291,12 +301,16 @@ int ray__triangles_rebuild(ray_scene *s)
             tri_swap(s, n++, i);
     leaves_free(s);
     /* One scratch block for the build's records, then the corners in
-    ** slot order, then the ids in leaf order: its pages are touched
-    ** once, where three blocks of their own were each mapped afresh
-    ** (at 940k triangles, 30 and 34 MB: issue 36). */
+    ** slot order, then the ids in leaf order, which it becomes (trimmed
+    ** below): its pages are touched once, where three blocks of their
+    ** own were each mapped afresh (at 940k triangles, 30, 34 and 8 MB:
+    ** issue 36). */
     scratch_bytes = RAY__BVH_SCRATCH(n);
     if (scratch_bytes < RAY__LEAF_ROWS * n * sizeof(float))
         scratch_bytes = RAY__LEAF_ROWS * n * sizeof(float);
+    /* Whole ids, so that as tri_ids it is given back at its size. */
+    scratch_bytes += (sizeof(ray__tri_id) - scratch_bytes %
+                      sizeof(ray__tri_id)) % sizeof(ray__tri_id);
     if (n > 0 && (n > (size_t)-1 / 64 ||
                   (scratch = ray__alloc(s, scratch_bytes)) == NULL))
         return RAY_ENOMEM;
@@ -312,8 +326,8 @@ int ray__triangles_rebuild(ray_scene *s)
             ray__bvh_free(&s->alloc, &fresh);
             return RAY_ENOMEM;
         }
-        gather_ids(s, fresh.items, n, scratch);
-        ray__free(s, scratch, scratch_bytes);
+        if (!gather_ids(s, fresh.items, n, scratch, scratch_bytes))
+            ray__free(s, scratch, scratch_bytes);
         /* Leaves now index slots directly: the permutation is not kept. */
         ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
         fresh.items = NULL;
