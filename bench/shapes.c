@@ -255,6 +255,7 @@ static ray_scene *game_scene(soup *sp, ray_scene **crate)
 }
 
 /* ------------------------------------------------------------ Bullet */
+#if defined(HAVE_BULLET)   /* else unused: -Werror=unused-function */
 
 /* Bullet on the sweeps w (radius r, or rays: r 0) of a scene of triangle
 ** soup sp; the reference's t[i] (HUGE_VAL: no contact).  Prints a row:
@@ -328,6 +329,7 @@ static void bullet_row(const char *scene, const ray_scene *sc,
            late, extra, near_extra);
     free(v), free(idx), free(p);
 }
+#endif /* HAVE_BULLET */
 
 /* ---------------------------------------------------------- self-hits */
 
