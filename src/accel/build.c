@@ -134,7 +134,7 @@ static size_t close_up(ray__node *nodes, const subtree *tasks,
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
-                   ray__bvh *out)
+                   void *scratch, ray__bvh *out)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
@@ -151,7 +151,9 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
     bd.costs = costs;
-    bd.refs = ray__allocate(a, n * sizeof *bd.refs);
+    bd.refs = scratch;
+    if (scratch == NULL)
+        bd.refs = ray__allocate(a, n * sizeof *bd.refs);
     bd.nodes = ray__allocate(a, cap * sizeof *bd.nodes);
     items = ray__allocate(a, n * sizeof *items);
     if (bd.refs == NULL || bd.nodes == NULL || items == NULL) {
@@ -226,7 +228,8 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     /* Before the collapse allocates: the peak stays where it was. */
     ray__release(a, order, n_tasks * sizeof *order);
     ray__release(a, tasks, cap_tasks * sizeof *tasks);
-    ray__release(a, bd.refs, n * sizeof *bd.refs);
+    if (scratch == NULL)
+        ray__release(a, bd.refs, n * sizeof *bd.refs);
     order = NULL;
     tasks = NULL;
     bd.refs = NULL;
@@ -249,7 +252,8 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
 done:
     ray__release(a, order, n_tasks * sizeof *order);
     ray__release(a, tasks, cap_tasks * sizeof *tasks);
-    ray__release(a, bd.refs, n * sizeof *bd.refs);
+    if (scratch == NULL)
+        ray__release(a, bd.refs, n * sizeof *bd.refs);
     ray__release(a, bd.nodes, cap * sizeof *bd.nodes);
     ray__release(a, items, n * sizeof *items);
     return rc;

@@ -29,6 +29,9 @@ typedef struct ref {
     unsigned pad;
 } ref;
 
+/* RAY__BVH_SCRATCH (bvh.h) counts a record's bytes. */
+typedef char ray__ref_size_check[sizeof(ref) == RAY__BVH_SCRATCH(1) ? 1 : -1];
+
 typedef struct box {
     float lo[3], hi[3];
 } box;

@@ -73,10 +73,20 @@ typedef struct ray__bvh_costs {
     float traversal;         /* a split's cost, in item tests */
     unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
 } ray__bvh_costs;
+/*
+** scratch: NULL, or a block of at least RAY__BVH_SCRATCH(n) bytes, which
+** the build then uses for its item records instead of allocating them
+** (and leaves to the caller, its contents undefined): a caller with
+** temporaries of its own after the build keeps one block for both, and
+** its pages are touched once (a block that large is mapped afresh at
+** each allocation, and every first touch of a page is a page fault:
+** issue 36).
+*/
+#define RAY__BVH_SCRATCH(n) ((n) * (size_t)32)
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
-                   ray__bvh *out);
+                   void *scratch, ray__bvh *out);
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
 /*

@@ -82,7 +82,8 @@ static int rebuild_prims(ray_scene *s)
         pl.s = s;
         pl.ids = ids;
         rc = ray__bvh_build(&s->alloc, prim_box, &pl, n_bounded, &prim_costs,
-                            &s->scheduler, s->build_threads, &fresh);
+                            &s->scheduler, s->build_threads, NULL,
+                            &fresh);
     }
     if (rc == RAY_OK) {
         /* Items become prim indices. */

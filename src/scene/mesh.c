@@ -295,16 +295,10 @@ static void mesh_triangle(const ray_mesh *m, size_t i, ray__tri *t)
 ** ray cones' footprints (ray__prim_uv_scale): sqrt(st area / area), a
 ** degenerate triangle 0 (no filtering).  RAY_OK, RAY_ENOMEM.
 */
-static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
-                         ray__mesh *out)
+static void uv_scale_fill(const ray_mesh *m, double *uv_scale)
 {
     size_t i;
 
-    if (m->texcoords == NULL)
-        return RAY_OK;
-    out->uv_scale = ray__alloc(s, m->triangle_count * sizeof(double));
-    if (out->uv_scale == NULL)
-        return RAY_ENOMEM;
     for (i = 0; i < m->triangle_count; i++) {
         const double *st = m->texcoords;
         ray__tri t;
@@ -313,12 +307,82 @@ static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
         size_t c = 2 * (size_t)mesh_index(m, 3 * i + 2);
 
         mesh_triangle(m, i, &t);
-        out->uv_scale[i] = ray__triangle_uv_scale(
+        uv_scale[i] = ray__triangle_uv_scale(
             t.a, t.b, t.c,
             fabs((st[b] - st[a]) * (st[c + 1] - st[a + 1]) -
                  (st[c] - st[a]) * (st[b + 1] - st[a + 1])));
     }
+}
+
+static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
+                         ray__mesh *out)
+{
+    if (m->texcoords == NULL)
+        return RAY_OK;
+    out->uv_scale = ray__alloc(s, m->triangle_count * sizeof(double));
+    if (out->uv_scale == NULL)
+        return RAY_ENOMEM;
+    uv_scale_fill(m, out->uv_scale);
     return RAY_OK;
+}
+
+/*
+** Can an update "m" be written over what mesh "cur" keeps, array for
+** array, with nothing allocated or freed?  When it has as many vertices,
+** is borrowed or not as before, and needs the same copies the mesh has
+** (indices, normals, texture coordinates, their scales): a game's
+** update of the positions alone.  A large array allocated afresh at each
+** update is mapped and page-faulted in again each time (issue 36).
+*/
+static int mesh_rewritable(const ray__mesh *cur, const ray_mesh *m)
+{
+    int borrow = (m->flags & RAY_MESH_BORROW) != 0;
+
+    if (m->vertex_count != cur->n_vertices || borrow != cur->borrowed ||
+        (m->texcoords == NULL) != (cur->uv_scale == NULL))
+        return 0;
+    if (borrow && m->indices != NULL ? cur->own_indices : !cur->own_indices)
+        return 0;
+    return borrow || ((m->normals == NULL) == (cur->normals == NULL) &&
+                      (m->texcoords == NULL) == (cur->texcoords == NULL));
+}
+
+/* The update written over the mesh's arrays (mesh_rewritable): the
+** values mesh_keep would have copied, in the same arrays.  Cannot fail. */
+static void mesh_rewrite(ray__mesh *cur, const ray_mesh *m)
+{
+    size_t i, n = 3 * m->triangle_count;
+    int floats = 1;
+
+    for (i = 0; i < m->vertex_count; i++) {
+        cur->pos[i] = mesh_vertex(m, i);
+        floats &= ray__is_float(cur->pos[i].x) &
+                  ray__is_float(cur->pos[i].y) & ray__is_float(cur->pos[i].z);
+    }
+    cur->pos_floats = floats;
+    if (!cur->own_indices)
+        cur->indices = m->indices;
+    else if (m->indices != NULL)
+        memcpy(ray__unconst(cur->indices), m->indices, n * sizeof(unsigned));
+    else {
+        unsigned *idx = ray__unconst(cur->indices);
+        for (i = 0; i < n; i++)
+            idx[i] = mesh_index(m, i);
+    }
+    if (cur->borrowed) {
+        cur->src = *m;
+        cur->normals = m->normals;
+        cur->texcoords = m->texcoords;
+    } else {
+        if (m->normals != NULL)
+            memcpy(ray__unconst(cur->normals), m->normals,
+                   m->vertex_count * sizeof(ray_vec3));
+        if (m->texcoords != NULL)
+            memcpy(ray__unconst(cur->texcoords), m->texcoords,
+                   2 * m->vertex_count * sizeof(double));
+    }
+    if (cur->uv_scale != NULL)
+        uv_scale_fill(m, cur->uv_scale);
 }
 
 /* What the mesh keeps and the (s, t) scales; RAY_ENOMEM keeps nothing. */
@@ -415,6 +479,11 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
                          "another)", m->triangle_count, p->count);
     if ((rc = mesh_check(s, m)) != RAY_OK)
         return rc;
+    if (mesh_rewritable(&s->meshes[p->mesh], m)) {
+        mesh_rewrite(&s->meshes[p->mesh], m);
+        ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
+        return RAY_OK;
+    }
     if (mesh_keep(s, m, &shading) != RAY_OK)
         return ray__fail(s, RAY_ENOMEM, "out of memory (copying the "
                          "positions, indices, normals or texture "

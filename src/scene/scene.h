@@ -325,6 +325,20 @@ static inline int ray__corners_usable(ray_vec3 a, ray_vec3 b, ray_vec3 c)
 ** function is non-zero, so det is 0), its box stays finite, and no record
 ** is filled from it.
 */
+/* A mesh triangle's corners (ray__tri_by_id's for a mesh), into *t: a
+** small function that inlines where the refit reads every triangle. */
+static inline void ray__mesh_tri(const ray__mesh *m, unsigned prim_id,
+                                 ray__tri *t)
+{
+    const unsigned *k = m->indices + 3 * (size_t)prim_id;
+
+    t->a = m->pos[k[0]];
+    t->b = m->pos[k[1]];
+    t->c = m->pos[k[2]];
+    if (!ray__corners_usable(t->a, t->b, t->c))
+        t->b = t->c = t->a;
+}
+
 static inline ray__tri ray__tri_by_id(const ray_scene *s, unsigned geom_id,
                                       unsigned prim_id)
 {
@@ -335,15 +349,8 @@ static inline ray__tri ray__tri_by_id(const ray_scene *s, unsigned geom_id,
         t.a = p->a;
         t.b = p->b;
         t.c = p->c;
-    } else {
-        const ray__mesh *m = &s->meshes[p->mesh];
-        const unsigned *k = m->indices + 3 * (size_t)prim_id;
-        t.a = m->pos[k[0]];
-        t.b = m->pos[k[1]];
-        t.c = m->pos[k[2]];
-        if (!ray__corners_usable(t.a, t.b, t.c))
-            t.b = t.c = t.a;
-    }
+    } else
+        ray__mesh_tri(&s->meshes[p->mesh], prim_id, &t);
     return t;
 }
 

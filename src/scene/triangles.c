@@ -171,24 +171,20 @@ static void gather_leaf(void *ud, unsigned first, unsigned n)
 /*
 ** The float corners of the n live slots in the leaves of the fresh BVH
 ** (its items: the old slot of each leaf position), into a new leaf_f:
-** first in slot order, reading the geometry as it lies (a mesh's indices
-** in order), then gathered into leaf order, one random read a slot.
-** RAY_OK or RAY_ENOMEM (nothing changed).
+** first in slot order into by_slot (the rebuild's scratch, of
+** RAY__LEAF_ROWS n floats at least), reading the geometry as it lies (a
+** mesh's indices in order), then gathered into leaf order, one random
+** read a slot.  RAY_OK or RAY_ENOMEM (nothing changed).
 */
-static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
+static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
+                       float *by_slot)
 {
     size_t floats = RAY__LEAF_ROWS * n + RAY__LEAF_PAD, i;
-    float *by_slot = ray__alloc(s, RAY__LEAF_ROWS * n * sizeof *by_slot);
-    float *out;
+    float *out = ray__alloc(s, floats * sizeof *out);
     leaf_gather g;
 
-    if (by_slot == NULL)
+    if (out == NULL)
         return RAY_ENOMEM;
-    out = ray__alloc(s, floats * sizeof *out);
-    if (out == NULL) {
-        ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
-        return RAY_ENOMEM;
-    }
     for (i = 0; i < n; i++) {
         ray__tri t = ray__tri_of(s, i);
         leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
@@ -198,7 +194,6 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
     g.items = fresh->items;
     each_leaf(fresh, gather_leaf, &g);
     memset(out + RAY__LEAF_ROWS * n, 0, RAY__LEAF_PAD * sizeof *out);
-    ray__free(s, by_slot, RAY__LEAF_ROWS * n * sizeof *by_slot);
     s->leaf_f = out;
     s->cap_leaf_f = floats;
     s->float_exact = corners_are_floats(s);
@@ -206,53 +201,31 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n)
 }
 
 /*
-** Put the ids of the n live slots in leaf order: gathered into a new
-** array, each read random but none depending on another, where walking
-** the permutation's cycles in place chases one random read after the
-** other (at 940k triangles the walk took about a sixth of the commit,
-** perf on bench/mesh's bunny-4); in place when memory is short for it
-** (the top bit of items[] marks the positions placed: indices are below
-** 2^31).  The same order either way.
+** Put the ids of the n live slots in leaf order: gathered into "id" (the
+** rebuild's scratch, of "bytes"), each read random but none depending on
+** another, where walking the permutation's cycles in place chases one
+** random read after the other (at 940k triangles the walk took about a
+** sixth of the commit, perf on bench/mesh's bunny-4).  The scratch then
+** becomes tri_ids (the waiting slots after n copied behind), so nothing
+** is copied back: returns 1; or, when the waiting slots do not fit in
+** it, the ids are copied back into tri_ids: returns 0.
 */
-static void permute_ids(ray_scene *s, unsigned *items, size_t n)
-{
-    const unsigned done = 0x80000000u;
-    size_t start;
-
-    for (start = 0; start < n; start++) {
-        ray__tri_id id;
-        size_t pos = start;
-        if (items[start] & done)
-            continue;
-        id = s->tri_ids[start];
-        for (;;) {
-            size_t src = items[pos];
-            items[pos] |= done;
-            if (src == start) {
-                s->tri_ids[pos] = id;
-                break;
-            }
-            s->tri_ids[pos] = s->tri_ids[src];
-            pos = src;
-        }
-    }
-}
-
-static void gather_ids(ray_scene *s, unsigned *items, size_t n)
+static int gather_ids(ray_scene *s, const unsigned *items, size_t n,
+                      ray__tri_id *id, size_t bytes)
 {
     size_t i, all = s->n_tris;
-    ray__tri_id *id = ray__alloc(s, all * sizeof *id);
 
-    if (id == NULL) {
-        permute_ids(s, items, n);
-        return;
-    }
     for (i = 0; i < n; i++)
         id[i] = s->tri_ids[items[i]];
+    if (all > bytes / sizeof *id) {
+        memcpy(s->tri_ids, id, n * sizeof *id);
+        return 0;
+    }
     memcpy(id + n, s->tri_ids + n, (all - n) * sizeof *id);  /* waiting */
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
     s->tri_ids = id;
-    s->cap_tri_ids = all;
+    s->cap_tri_ids = bytes / sizeof *id;
+    return 1;
 }
 
 /* Give back the spare capacity that doubling left in tri_ids (a failed
@@ -335,7 +308,8 @@ static void leaf_tris_make(ray_scene *s, size_t n)
 */
 int ray__triangles_rebuild(ray_scene *s)
 {
-    size_t n = 0, i;
+    size_t n = 0, i, scratch_bytes;
+    void *scratch = NULL;
     ray__bvh fresh;
     int rc;
 
@@ -348,17 +322,34 @@ int ray__triangles_rebuild(ray_scene *s)
         if (tri_live(s, i))
             tri_swap(s, n++, i);
     leaves_free(s);
+    /* One scratch block for the build's records, then the corners in
+    ** slot order, then the ids in leaf order, which it becomes (trimmed
+    ** below): its pages are touched once, where three blocks of their
+    ** own were each mapped afresh (at 940k triangles, 30, 34 and 8 MB:
+    ** issue 36). */
+    scratch_bytes = RAY__BVH_SCRATCH(n);
+    if (scratch_bytes < RAY__LEAF_ROWS * n * sizeof(float))
+        scratch_bytes = RAY__LEAF_ROWS * n * sizeof(float);
+    /* Whole ids, so that as tri_ids it is given back at its size. */
+    scratch_bytes += (sizeof(ray__tri_id) - scratch_bytes %
+                      sizeof(ray__tri_id)) % sizeof(ray__tri_id);
+    if (n > 0 && (n > (size_t)-1 / 64 ||
+                  (scratch = ray__alloc(s, scratch_bytes)) == NULL))
+        return RAY_ENOMEM;
     rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
-                        &s->scheduler, s->build_threads, &fresh);
-    if (rc != RAY_OK)
+                        &s->scheduler, s->build_threads, scratch, &fresh);
+    if (rc != RAY_OK) {
+        ray__free(s, scratch, scratch_bytes);
         return rc;
+    }
     if (n > 0) {
-        if (leaves_make(s, &fresh, n) != RAY_OK) {
+        if (leaves_make(s, &fresh, n, scratch) != RAY_OK) {
+            ray__free(s, scratch, scratch_bytes);
             ray__bvh_free(&s->alloc, &fresh);
             return RAY_ENOMEM;
         }
-        gather_ids(s, fresh.items, n);
-        leaf_tris_make(s, n);
+        if (!gather_ids(s, fresh.items, n, scratch, scratch_bytes))
+            ray__free(s, scratch, scratch_bytes);
         /* Leaves now index slots directly: the permutation is not kept. */
         ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
         fresh.items = NULL;
@@ -367,6 +358,10 @@ int ray__triangles_rebuild(ray_scene *s)
     s->tri_bvh = fresh;
     s->n_live_tris = n;
     trim_ids(s);
+    /* Last, once the build's scratch is given back: the peak stays the
+    ** build's where it can. */
+    if (n > 0)
+        leaf_tris_make(s, n);
     return RAY_OK;
 }
 
@@ -381,15 +376,43 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
 {
     ray_scene *s = ray__unconst(ud);
     float *rows = s->leaf_f + RAY__LEAF_ROWS * first;
-    ray__tri t = ray__tri_of(s, first);
-    ray_vec3 a = t.a, b = t.a;
+    ray_vec3 a = {0, 0, 0}, b = a;
     size_t j;
+    int k;
 
+    /*
+    ** A mesh's triangle is read here through ray__mesh_tri, inline, where
+    ** ray__tri_of was a call returning 72 bytes through memory, read
+    ** back in 16-byte loads over its 8-byte stores (a store-forwarding
+    ** stall a triangle: perf put a quarter of a 59k refit there); the
+    ** same corners, the same operations in the same order (corners_grow,
+    ** leaf_rows), so the same floats.
+    */
     for (j = 0; j < n; j++) {
-        if (j > 0)
-            t = ray__tri_of(s, first + j);
-        corners_grow(&t, &a, &b);
-        leaf_rows(&t, rows + j, n);
+        const ray__tri_id *id = &s->tri_ids[first + j];
+        const ray__prim *p = &s->prims[id->geom_id];
+        double d[RAY__LEAF_ROWS];
+        ray__tri t;
+        int ok = 1;
+        if (p->kind == RAY__KIND_MESH)
+            ray__mesh_tri(&s->meshes[p->mesh], id->prim_id, &t);
+        else
+            t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+        if (j == 0)
+            a = b = t.a;
+        a.x = min2(a.x, min3(t.a.x, t.b.x, t.c.x));
+        a.y = min2(a.y, min3(t.a.y, t.b.y, t.c.y));
+        a.z = min2(a.z, min3(t.a.z, t.b.z, t.c.z));
+        b.x = max2(b.x, max3(t.a.x, t.b.x, t.c.x));
+        b.y = max2(b.y, max3(t.a.y, t.b.y, t.c.y));
+        b.z = max2(b.z, max3(t.a.z, t.b.z, t.c.z));
+        d[0] = t.a.x, d[1] = t.a.y, d[2] = t.a.z;
+        d[3] = t.b.x, d[4] = t.b.y, d[5] = t.b.z;
+        d[6] = t.c.x, d[7] = t.c.y, d[8] = t.c.z;
+        for (k = 0; k < RAY__LEAF_ROWS; k++)
+            ok &= fabs(d[k]) <= RAY__LEAF_FLOAT_MAX;
+        for (k = 0; k < RAY__LEAF_ROWS; k++)
+            rows[(size_t)k * n + j] = ok ? (float)d[k] : (float)NAN;
         if (s->leaf_tri != NULL)
             s->leaf_tri[first + j] = t;
     }
