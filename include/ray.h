@@ -1561,6 +1561,38 @@ RAY_API int ray_signed_distance(const ray_scene *scene, ray_vec3 q,
                                 const ray_contains_options *options,
                                 double *distance, ray_closest *closest);
 
+/*
+** ray_distance_grid -- bake the scene's signed distance field into the
+** caller's nx * ny * nz floats: out[(k ny + j) nx + i] is
+** ray_signed_distance at lo + (hi - lo) * (i / (nx - 1), j / (ny - 1),
+** k / (nz - 1)) (an axis of one sample: lo's), rounded to float.
+** options NULL or zeroed: the defaults.  band > 0 is a narrow band:
+** the closest-point search is bounded by it and a sample farther from
+** the surface holds +-band (faster: the far samples pay only the sign);
+** 0 searches the whole scene.  The z slices are tasks on the options'
+** scheduler, else the scene's (ray_scene_set_scheduler), else the
+** built-in threads (threads of them; 0: one per online CPU, or the
+** scheduler's count); every sample is a pure function of its position,
+** so the array is the same bytes at any thread count and task order.
+** Returns RAY_OK; RAY_EINVAL (NULL scene or out, lo or hi not finite, a
+** count 0 or nx ny nz overflowing size_t, band NaN, negative or
+** infinite, unknown contains flags); RAY_ESTATE (not committed, or a
+** stale instance); RAY_EDEGENERATE as ray_contains.  Nothing is written
+** on failure.
+*/
+typedef struct ray_distance_grid_options {
+    double band;                 /* > 0: narrow band of that width */
+    unsigned threads;            /* 0: one per online CPU */
+    const ray_scheduler *scheduler; /* NULL: the scene's, or threads */
+    ray_contains_options contains;  /* the sign's options */
+} ray_distance_grid_options;
+
+RAY_API int ray_distance_grid(const ray_scene *scene, ray_vec3 lo,
+                              ray_vec3 hi, unsigned nx, unsigned ny,
+                              unsigned nz,
+                              const ray_distance_grid_options *options,
+                              float *out);
+
 /* --------------------------------------------------- 12. games and tools:
 ** the scene as a live, queried world (instances, updates, masks, filters,
 ** batches) */

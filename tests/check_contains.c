@@ -573,6 +573,81 @@ START_TEST(predicates)
 }
 END_TEST
 
+/* A scheduler that runs the tasks backwards on the calling thread: task
+** order must not change a byte. */
+static void run_backwards(void *ud, unsigned count, ray_task_fn task,
+                          void *task_ud)
+{
+    unsigned i;
+
+    (void)ud;
+    for (i = count; i-- > 0;)
+        task(task_ud, i);
+}
+
+/* The grid: each sample is ray_signed_distance at its point rounded to
+** float (compared exactly: the same computation), the same bytes on 1
+** and 3 threads and in reverse task order; a narrow band clamps to
+** +-band; misuse writes nothing. */
+START_TEST(distance_grid)
+{
+    hc_mesh m = hc_icosphere(v3(0.25, 0, 0), 2);
+    ray_scene *s = scene_of(&m, 1);
+    enum { NX = 13, NY = 9, NZ = 7, N = NX * NY * NZ };
+    float *a = malloc(N * sizeof *a), *b = malloc(N * sizeof *b);
+    ray_distance_grid_options o = {0};
+    ray_scheduler sched = {run_backwards, NULL, 0};
+    ray_vec3 lo = v3(-3, -2.5, -2.2), hi = v3(3, 2.5, 2.2);
+    unsigned i, j, k;
+
+    o.threads = 1;
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, NX, NY, NZ, &o, a), RAY_OK);
+    for (k = 0; k < NZ; k++)
+        for (j = 0; j < NY; j++)
+            for (i = 0; i < NX; i++) {
+                ray_vec3 p = v3(lo.x + (hi.x - lo.x) / (NX - 1) * i,
+                                lo.y + (hi.y - lo.y) / (NY - 1) * j,
+                                lo.z + (hi.z - lo.z) / (NZ - 1) * k);
+                double d;
+                ck_assert_int_eq(ray_signed_distance(s, p, HUGE_VAL, NULL,
+                                                     &d, NULL), 1);
+                ck_assert(a[(k * NY + j) * NX + i] == (float)d);
+            }
+    o.threads = 3;
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, NX, NY, NZ, &o, b), RAY_OK);
+    ck_assert(memcmp(a, b, N * sizeof *a) == 0);
+    o.scheduler = &sched;
+    memset(b, 0, N * sizeof *b);
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, NX, NY, NZ, &o, b), RAY_OK);
+    ck_assert(memcmp(a, b, N * sizeof *a) == 0);
+    /* The narrow band: within it the same values, beyond it +-band. */
+    o.band = 0.5;
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, NX, NY, NZ, &o, b), RAY_OK);
+    for (i = 0; i < N; i++)
+        ck_assert(fabsf(a[i]) <= 0.5f ? b[i] == a[i]
+                                      : b[i] == (a[i] < 0 ? -0.5f : 0.5f));
+    /* Misuse: nothing written. */
+    memset(b, 0, N * sizeof *b);
+    o.band = -1;
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, NX, NY, NZ, &o, b),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, 0, NY, NZ, NULL, b),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_distance_grid(s, v3(NAN, 0, 0), hi, NX, NY, NZ,
+                                       NULL, b), RAY_EINVAL);
+    ck_assert_int_eq(ray_distance_grid(s, lo, hi, 1u << 30, 1u << 30, 64,
+                                       NULL, b), RAY_EINVAL);
+    ck_assert_int_eq(ray_distance_grid(NULL, lo, hi, NX, NY, NZ, NULL, b),
+                     RAY_EINVAL);
+    for (i = 0; i < N; i++)
+        ck_assert(b[i] == 0);
+    free(a);
+    free(b);
+    ray_scene_free(s);
+    hc_mesh_free(&m);
+}
+END_TEST
+
 Suite *contains_suite(void)
 {
     Suite *s = suite_create("contains");
@@ -586,6 +661,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, solids_instances_masks);
     tcase_add_test(tc, misuse);
     tcase_add_test(tc, signed_distance);
+    tcase_add_test(tc, distance_grid);
     suite_add_tcase(s, tc);
     return s;
 }
