@@ -1553,7 +1553,7 @@ RAY_API int ray_contains(const ray_scene *scene, const ray_vec3 *points,
 ** when a surface point lies within radius; 0 when none does, with
 ** *distance = +radius or -radius by the same sign (for narrow bands:
 ** radius HUGE_VAL asks for the whole scene; an empty scene then gives
-** +-HUGE_VAL); or ray_contains' and ray_closest_point's negated statuses
+** +-HUGE_VAL; a q on the surface 0); or ray_contains' and ray_closest_point's negated statuses
 ** (also -RAY_EINVAL for a NULL distance), nothing written.
 */
 RAY_API int ray_signed_distance(const ray_scene *scene, ray_vec3 q,

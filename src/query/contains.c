@@ -457,7 +457,10 @@ int ray_signed_distance(const ray_scene *s, ray_vec3 q, double radius,
         if (closest != NULL)
             *closest = c;
     } else {
-        *distance = in.inside ? -radius : radius;
+        /* On the surface is distance 0 even where no closest point is
+        ** found: a closed mesh's triangle of no area holds q, and
+        ** ray_closest_point skips such triangles. */
+        *distance = in.on_surface ? 0.0 : in.inside ? -radius : radius;
     }
     return found;
 }
