@@ -260,6 +260,7 @@ static ray_scene *game_scene(soup *sp, ray_scene **crate)
 ** soup sp; the reference's t[i] (HUGE_VAL: no contact).  Prints a row:
 ** Bullet's time per query, its misses (the reference has a contact,
 ** Bullet none, or one later by more than 1e-3 of the path). */
+#if defined(HAVE_BULLET)
 /* The least clearance (distance to the scene less r) along path w, by
 ** 400 exact closest-point queries along it: how near a path the
 ** reference finds no contact for comes to touching. */
@@ -328,6 +329,7 @@ static void bullet_row(const char *scene, const ray_scene *sc,
            late, extra, near_extra);
     free(v), free(idx), free(p);
 }
+#endif /* HAVE_BULLET: its only caller is too */
 
 /* ---------------------------------------------------------- self-hits */
 
