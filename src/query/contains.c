@@ -325,16 +325,42 @@ static void sum_angles(const ray_scene *s, cquery *cq)
     }
 }
 
-/* Scene s for one point: its solids and closed meshes along the ray,
-** its open triangles' angles, its instances. */
-static void search_in(const ray_scene *s, cquery *cq)
+/* Whether s has counted triangles answered by the winding number (so
+** that every one of its slots must be visited), and whether it has
+** counted instances: a scan of its geometry records, not its triangles. */
+static void kinds_in(const ray_scene *s, const cquery *cq, int *open,
+                     int *instances)
 {
     size_t i;
 
+    *open = *instances = 0;
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!counted(cq, p))
+            continue;
+        if (p->kind == RAY__KIND_INSTANCE)
+            *instances = 1;
+        else if (p->kind == RAY__KIND_TRIANGLE ||
+                 (p->kind == RAY__KIND_MESH &&
+                  (cq->winding_all || !s->meshes[p->mesh].closed)))
+            *open = 1;
+    }
+}
+
+/* Scene s for one point: its solids and closed meshes along the ray,
+** its open triangles' angles (only where it has some: a closed mesh's
+** point costs its ray's walk alone), its instances. */
+static void search_in(const ray_scene *s, cquery *cq)
+{
+    size_t i;
+    int open, instances;
+
+    kinds_in(s, cq, &open, &instances);
     walk(s, &s->prim_bvh, LEAF_PRIMS, cq);
     walk(s, &s->tri_bvh, LEAF_TRIANGLES, cq);
-    sum_angles(s, cq);
-    for (i = 0; i < s->n_prims; i++) {
+    if (open)
+        sum_angles(s, cq);
+    for (i = 0; instances && i < s->n_prims; i++) {
         const ray__prim *p = &s->prims[i];
         if (p->kind == RAY__KIND_INSTANCE && counted(cq, p))
             visit_instance(s, p, cq);
