@@ -255,7 +255,6 @@ static ray_scene *game_scene(soup *sp, ray_scene **crate)
 }
 
 /* ------------------------------------------------------------ Bullet */
-#if defined(HAVE_BULLET)   /* else unused: -Werror=unused-function */
 
 /* Without Bullet (no /usr/include/bullet: HAVE_BULLET unset) nothing
 ** calls these, and -Werror would fail on them as unused. */

@@ -1478,6 +1478,126 @@ typedef struct ray_closest {
 RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
                               double radius, ray_closest *out);
 
+/*
+** ray_contains -- whether points lie inside the solid a committed
+** scene's geometry bounds: point-in-mesh for voxelizers, collision and
+** navmesh bakers, slicers and signed distance fields.
+**
+** Closed meshes (every edge, by vertex index, shared by an even number
+** of the mesh's triangles: closed surfaces, several in one mesh,
+** triangles flipped against their neighbours) answer EXACTLY: the parity
+** of the crossings of one ray from the point, decided by exact
+** orientation predicates with a symbolic perturbation of the ray (Edels-
+** brunner and Muecke's simulation of simplicity), so a ray through a
+** vertex or an edge counts every crossing once and no point leaks.  A
+** point exactly on such a mesh's surface (its vertices, edges and faces
+** included) is reported on_surface = 1, inside = 1: the solid is closed,
+** and on_surface tells it apart as CGAL's Side_of_triangle_mesh tells
+** ON_BOUNDARY.  Meshes that are not closed (cracks, holes, soups) and
+** single triangles are answered by the generalized winding number
+** (Jacobson, Kavan and Sorkine-Hornung 2013), the sum of their
+** triangles' signed solid angles over 4 pi: inside where it exceeds 1/2
+** (1 inside a closed outward-facing surface, 0 outside it, 1/2 on it).
+** Spheres, boxes and capsules are solids too; planes, polygons, tori,
+** implicit, parametric, Bezier and user geometry bound nothing and are
+** not counted.  The solids combine as the crossings do: a point inside
+** two overlapping closed meshes of one scene is inside neither (their
+** parities cancel, as in CGAL's test over one mesh of several parts);
+** for a union, keep solids apart or test them in scenes of their own.
+** Instances count their child's geometry, the point taken into the
+** child's space.  options->ignore_mask is the complement of a query's
+** mask (ray_query): geometry is counted when its mask has a bit outside
+** ignore_mask (through an instance, the instance's mask and the child
+** geometry's both), so 0 counts all geometry but that of mask 0, and a
+** bit set there leaves out the geometry whose mask has that bit alone;
+** disabled geometry is not counted; filters are not called.
+**
+** options (NULL: the defaults; a zeroed struct is the defaults):
+** RAY_CONTAINS_WINDING in flags answers every mesh and triangle by the
+** winding number, closed or not, and fills out[i].winding (without it,
+** winding sums the open meshes only).  The winding number is summed over
+** every triangle concerned: O(triangles) per point, where the parity
+** is O(log triangles).
+**
+** Returns the number of points inside (on_surface ones included), after
+** writing out[i] for each of points[0 .. n-1] (out NULL: only the
+** count), or a NEGATED status, nothing written: -RAY_EINVAL for a NULL
+** scene, a NULL points with n > 0, n > INT_MAX, a point that is not
+** finite or unknown bits in flags; -RAY_ESTATE for a scene not
+** committed (or changed since) or one with an instance whose scene
+** changed since; -RAY_EDEGENERATE when, without RAY_CONTAINS_WINDING,
+** the scene has no closed mesh and no sphere, box or capsule (nothing it
+** can answer exactly: ask for the winding number).  Thread-safe and
+** allocation-free as the other queries.  Exact for coordinates within
+** about 2^-480 .. 2^480 (the predicates' range); a point is taken into
+** an instance's space with the transform's rounding.
+*/
+#define RAY_CONTAINS_WINDING 1u
+
+typedef struct ray_contains_options {
+    unsigned flags;              /* RAY_CONTAINS_*; 0: the defaults */
+    unsigned ignore_mask;        /* the mask's bits turned off: ~mask of a
+                                    ray_query; 0: all geometry seen */
+} ray_contains_options;
+
+typedef struct ray_inside {
+    int inside;                  /* 1 inside (or on the surface), else 0 */
+    int on_surface;              /* 1: exactly on a closed mesh */
+    double winding;              /* the winding number summed (0: none) */
+} ray_inside;
+
+RAY_API int ray_contains(const ray_scene *scene, const ray_vec3 *points,
+                         size_t n, const ray_contains_options *options,
+                         ray_inside *out);
+
+/*
+** ray_signed_distance -- the distance from q to the scene's surfaces as
+** ray_closest_point(scene, q, radius, closest) finds it, negative where
+** ray_contains(scene, &q, 1, options, ..) says q is inside (0 on the
+** surface).  Returns 1 with *distance set (and *closest, when not NULL)
+** when a surface point lies within radius; 0 when none does, with
+** *distance = +radius or -radius by the same sign (for narrow bands:
+** radius HUGE_VAL asks for the whole scene; an empty scene then gives
+** +-HUGE_VAL; a q on the surface 0); or ray_contains' and ray_closest_point's negated statuses
+** (also -RAY_EINVAL for a NULL distance), nothing written.
+*/
+RAY_API int ray_signed_distance(const ray_scene *scene, ray_vec3 q,
+                                double radius,
+                                const ray_contains_options *options,
+                                double *distance, ray_closest *closest);
+
+/*
+** ray_distance_grid -- bake the scene's signed distance field into the
+** caller's nx * ny * nz floats: out[(k ny + j) nx + i] is
+** ray_signed_distance at lo + (hi - lo) * (i / (nx - 1), j / (ny - 1),
+** k / (nz - 1)) (an axis of one sample: lo's), rounded to float.
+** options NULL or zeroed: the defaults.  band > 0 is a narrow band:
+** the closest-point search is bounded by it and a sample farther from
+** the surface holds +-band (faster: the far samples pay only the sign);
+** 0 searches the whole scene.  The z slices are tasks on the options'
+** scheduler, else the scene's (ray_scene_set_scheduler), else the
+** built-in threads (threads of them; 0: one per online CPU, or the
+** scheduler's count); every sample is a pure function of its position,
+** so the array is the same bytes at any thread count and task order.
+** Returns RAY_OK; RAY_EINVAL (NULL scene or out, lo or hi not finite, a
+** count 0 or nx ny nz overflowing size_t, band NaN, negative or
+** infinite, unknown contains flags); RAY_ESTATE (not committed, or a
+** stale instance); RAY_EDEGENERATE as ray_contains.  Nothing is written
+** on failure.
+*/
+typedef struct ray_distance_grid_options {
+    double band;                 /* > 0: narrow band of that width */
+    unsigned threads;            /* 0: one per online CPU */
+    const ray_scheduler *scheduler; /* NULL: the scene's, or threads */
+    ray_contains_options contains;  /* the sign's options */
+} ray_distance_grid_options;
+
+RAY_API int ray_distance_grid(const ray_scene *scene, ray_vec3 lo,
+                              ray_vec3 hi, unsigned nx, unsigned ny,
+                              unsigned nz,
+                              const ray_distance_grid_options *options,
+                              float *out);
+
 /* --------------------------------------------------- 12. games and tools:
 ** the scene as a live, queried world (instances, updates, masks, filters,
 ** batches) */

@@ -58,6 +58,7 @@ Suite *scheduler_suite(void);
 Suite *platform_suite(void);
 Suite *exact_suite(void);
 Suite *sweep_suite(void);
+Suite *contains_suite(void);
 Suite *overlap_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */

@@ -133,7 +133,15 @@ typedef struct ray__mesh {
                                     (s, t) area / its area), for ray
                                     cones' footprints; the scene's own
                                     even when borrowed; else NULL */
+    int closed;                  /* every edge used an even number of
+                                    times (closed.c): ray_contains counts
+                                    its crossings' parity */
 } ray__mesh;
+
+/* *closed: whether the mesh of n_tris index triples is closed (closed.c).
+** RAY_OK, or RAY_ENOMEM (*closed 0). */
+int ray__mesh_closed(const ray_scene *s, const unsigned *indices,
+                     size_t n_tris, int *closed);
 
 /* Corner k (0 .. 3 n_tris - 1) of mesh m's triangles, for shading. */
 unsigned ray__mesh_corner(const ray__mesh *m, size_t k);

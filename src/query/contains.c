@@ -1,0 +1,492 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** contains.c -- ray_contains and ray_signed_distance: whether a point is
+** inside the solid a committed scene bounds, and its signed distance.
+**
+** Closed meshes (closed.c) by the parity of the crossings of the ray
+** from q along +x, every crossing decided by exact predicates
+** (core/predicates.c) with the ray perturbed symbolically: q' = q + (0,
+** e, e^2) for an infinitesimal e (Edelsbrunner and Muecke, "Simulation
+** of Simplicity", ACM TOG 9(1), 1990).  The perturbed ray meets no
+** vertex or edge, so it crosses a closed mesh's surface a number of
+** times whose parity is the point's inside, and each crossing is decided
+** once: an edge shared by two triangles gives them opposite signs for
+** q' (the sign below is antisymmetric in the edge's ends).  The walk is
+** the triangle BVH's boxes along the ray, which also holds every box
+** that contains q itself, where the exact on-surface test runs.
+**
+** Open meshes and single triangles by the generalized winding number
+** (Jacobson, Kavan and Sorkine-Hornung, "Robust Inside-Outside
+** Segmentation using Generalized Winding Numbers", SIGGRAPH 2013): the
+** sum over their triangles of the signed solid angle, by Van Oosterom
+** and Strackee's formula ("The Solid Angle of a Plane Triangle", IEEE
+** Trans. Biomed. Eng. 30(2), 1983), over 4 pi; its determinant's sign
+** is the exact one, so a point an ulp off a face gets the side it is
+** on.  Summed over every triangle: Barill et al.'s far-field expansion
+** through the BVH ("Fast Winding Numbers for Soups and Clouds", 2018)
+** is not here yet.
+*/
+#include <limits.h>
+
+#include "core/predicates.h"
+#include "query/query.h"
+
+/* A query's state, for one point and scene (the top one, or an
+** instance's child, searched with q in its space). */
+typedef struct cquery {
+    ray_vec3 q;                  /* in the space of the scene searched */
+    ray_vec3 qw;                 /* in world space */
+    const ray__instance *in;     /* the instance searched through */
+    unsigned ignore;             /* options->ignore_mask: the query's
+                                    mask is ~ignore */
+    int winding_all;             /* RAY_CONTAINS_WINDING */
+    unsigned parity;             /* crossings and solids, mod 2 */
+    int on;                      /* exactly on a closed mesh */
+    int stale;                   /* met an instance changed since */
+    double angle;                /* sum of signed solid angles */
+} cquery;
+
+/* ------------------------------------------------- the exact predicates */
+
+/*
+** The sign of orient2d(a, b, q') in the (y, z) plane for the perturbed
+** q' = (qy + e, qz + e^2): the exact value O = (by - ay)(qz - az) -
+** (bz - az)(qy - ay) when non-zero, else its terms in e, -(bz - az) e
+** and (by - ay) e^2, the first that is non-zero.  A difference of two
+** doubles has the exact sign (gradual underflow), so no arithmetic is
+** needed for them.  Antisymmetric in a and b.  0 only for a = b in the
+** plane (a degenerate projected edge).
+*/
+static int side_sos(ray_vec3 a, ray_vec3 b, ray_vec3 q)
+{
+    double o = ray__orient2d(a.y, a.z, b.y, b.z, q.y, q.z);
+
+    if (o != 0)
+        return o > 0 ? 1 : -1;
+    if (b.z != a.z)
+        return b.z < a.z ? 1 : -1;
+    if (b.y != a.y)
+        return b.y > a.y ? 1 : -1;
+    return 0;
+}
+
+static int sgn(double x)
+{
+    return (x > 0) - (x < 0);
+}
+
+/* Whether q lies on segment [a, b] (a point when a = b): collinear in
+** all three coordinate planes, and within the segment's box. */
+static int on_segment(ray_vec3 a, ray_vec3 b, ray_vec3 q)
+{
+    if (ray__orient2d(a.x, a.y, b.x, b.y, q.x, q.y) != 0 ||
+        ray__orient2d(a.y, a.z, b.y, b.z, q.y, q.z) != 0 ||
+        ray__orient2d(a.z, a.x, b.z, b.x, q.z, q.x) != 0)
+        return 0;
+    return q.x >= fmin(a.x, b.x) && q.x <= fmax(a.x, b.x) &&
+           q.y >= fmin(a.y, b.y) && q.y <= fmax(a.y, b.y) &&
+           q.z >= fmin(a.z, b.z) && q.z <= fmax(a.z, b.z);
+}
+
+/* Whether q lies on the closed triangle a, b, c, exactly: in its plane,
+** and inside (edges included) in a coordinate plane where it has area;
+** a triangle with none is its three segments. */
+static int on_triangle(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q)
+{
+    static const int axes[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+    int k;
+
+    if (ray__orient3d(a, b, c, q) != 0)
+        return 0;
+    for (k = 0; k < 3; k++) {
+        int i = axes[k][0], j = axes[k][1], s, s1, s2, s3;
+        double ai = v3_axis(a, i), aj = v3_axis(a, j);
+        double bi = v3_axis(b, i), bj = v3_axis(b, j);
+        double ci = v3_axis(c, i), cj = v3_axis(c, j);
+        double qi = v3_axis(q, i), qj = v3_axis(q, j);
+
+        s = sgn(ray__orient2d(ai, aj, bi, bj, ci, cj));
+        if (s == 0)
+            continue;
+        s1 = sgn(ray__orient2d(ai, aj, bi, bj, qi, qj));
+        s2 = sgn(ray__orient2d(bi, bj, ci, cj, qi, qj));
+        s3 = sgn(ray__orient2d(ci, cj, ai, aj, qi, qj));
+        return s1 != -s && s2 != -s && s3 != -s;
+    }
+    return on_segment(a, b, q) || on_segment(b, c, q) ||
+           on_segment(c, a, q);
+}
+
+/* The triangle's part in q's parity: whether the perturbed ray from q'
+** along +x crosses it (q' inside its (y, z) projection, all three sides
+** alike, and the plane ahead of q: orient3d's sign times the sides'),
+** and whether q is on it. */
+static void cross_triangle(ray_vec3 a, ray_vec3 b, ray_vec3 c, cquery *cq)
+{
+    ray_vec3 q = cq->q;
+    int s1, s2, s3, d;
+
+    /* Only a triangle whose box holds q can hold q. */
+    if (q.x >= fmin(a.x, fmin(b.x, c.x)) && q.x <= fmax(a.x, fmax(b.x, c.x)) &&
+        q.y >= fmin(a.y, fmin(b.y, c.y)) && q.y <= fmax(a.y, fmax(b.y, c.y)) &&
+        q.z >= fmin(a.z, fmin(b.z, c.z)) && q.z <= fmax(a.z, fmax(b.z, c.z)) &&
+        on_triangle(a, b, c, q))
+        cq->on = 1;
+    /* Nothing ahead of q, or q' beside the projection (the perturbation
+    ** moves q' by less than any gap, so q outside the closed box is q'
+    ** outside the triangle). */
+    if (q.x > fmax(a.x, fmax(b.x, c.x)) ||
+        q.y < fmin(a.y, fmin(b.y, c.y)) || q.y > fmax(a.y, fmax(b.y, c.y)) ||
+        q.z < fmin(a.z, fmin(b.z, c.z)) || q.z > fmax(a.z, fmax(b.z, c.z)))
+        return;
+    s1 = side_sos(a, b, q);
+    s2 = side_sos(b, c, q);
+    s3 = side_sos(c, a, q);
+    if (s1 == 0 || s1 != s2 || s1 != s3)
+        return;
+    d = sgn(ray__orient3d(a, b, c, q));
+    if (d == 0)
+        cq->on = 1;           /* q in the plane, inside the triangle */
+    else if (d == s1)
+        cq->parity ^= 1u;     /* the plane lies ahead along +x */
+}
+
+/* Triangle a, b, c's signed solid angle seen from q (world space), by
+** Van Oosterom and Strackee: tan(omega / 2) = det[a b c] / (|a||b||c| +
+** (a.b)|c| + (b.c)|a| + (c.a)|b|), with a, b, c taken from q.  Positive
+** for a triangle seen clockwise from q (q behind an outward face); 0 for
+** q in its plane (on the triangle: the mean of the two sides' +-2 pi). */
+static double solid_angle(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q)
+{
+    double det = ray__orient3d(a, b, c, q), la, lb, lc, den;
+    ray_vec3 x, y, z;
+
+    if (det == 0)
+        return 0;
+    x = v3_sub(a, q), y = v3_sub(b, q), z = v3_sub(c, q);
+    la = v3_length(x), lb = v3_length(y), lc = v3_length(z);
+    den = la * lb * lc + v3_dot(x, y) * lc + v3_dot(y, z) * la +
+          v3_dot(z, x) * lb;
+    return 2 * atan2(det, den);
+}
+
+/* ------------------------------------------------------------ the scene */
+
+static int counted(const cquery *cq, const ray__prim *p)
+{
+    return p->enabled && !p->removed && (p->mask & ~cq->ignore) != 0;
+}
+
+/* Whether triangle slot i is answered by parity (a closed mesh's). */
+static int by_parity(const ray_scene *s, const cquery *cq, unsigned i)
+{
+    const ray__prim *p = &s->prims[s->tri_ids[i].geom_id];
+
+    return !cq->winding_all && p->kind == RAY__KIND_MESH &&
+           s->meshes[p->mesh].closed;
+}
+
+static void search_in(const ray_scene *s, cquery *cq);
+
+/* The instance of prim p: its child searched with q in its space, the
+** child's parity added to ours (parity needs no particular ray: the
+** child's +x is as good as any); its open triangles' angles measured in
+** world space. */
+static void visit_instance(const ray_scene *s, const ray__prim *p,
+                           cquery *cq)
+{
+    const ray__instance *in = &s->instances[p->surface];
+    cquery child = *cq;
+
+    (void)s;
+    if (!in->child->committed || in->child->generation != in->generation) {
+        cq->stale = 1;
+        return;
+    }
+    child.q = ray__instance_point_to_object(in, cq->qw);
+    if (!v3_isfinite(child.q))
+        return;
+    child.in = in;
+    child.parity = 0;
+    child.angle = 0;
+    search_in(in->child, &child);
+    cq->stale |= child.stale;
+    cq->on |= child.on;
+    cq->parity ^= child.parity;
+    cq->angle += child.angle;
+}
+
+/* A solid primitive holding q (closed: its boundary included, to the
+** rounding of the tests) flips the parity.  Instances are searched
+** separately (search_in), as their open meshes count from afar. */
+static void visit_solid(const ray_scene *s, const ray__prim *p, cquery *cq)
+{
+    ray_vec3 q = cq->q;
+
+    if (p->kind == RAY__KIND_SPHERE) {
+        ray_vec3 d = v3_sub(q, p->a);
+        if (v3_dot(d, d) <= p->radius * p->radius)
+            cq->parity ^= 1u;
+    } else if (p->kind == RAY__KIND_BOX) {
+        const ray_box_params *b = &s->surfaces[p->surface].box;
+        ray_vec3 e[3], d = v3_sub(q, b->center);
+        if (ray__box_frame(b, e) &&
+            fabs(v3_dot(d, e[0])) <= b->half_extents.x &&
+            fabs(v3_dot(d, e[1])) <= b->half_extents.y &&
+            fabs(v3_dot(d, e[2])) <= b->half_extents.z)
+            cq->parity ^= 1u;
+    } else if (p->kind == RAY__KIND_CAPSULE) {
+        const ray_capsule_params *c = &s->surfaces[p->surface].capsule;
+        if (ray__distance(q, ray__segment_closest(q, c->a, c->b)) <=
+            c->radius)
+            cq->parity ^= 1u;
+    }
+}
+
+/* The boxes the ray from q along +x enters (which include every box
+** holding q): y and z within, the box not wholly behind.  The float
+** boxes contain their geometry (rounded outward at commit), and the
+** comparisons are exact in double; an unused slot (lo +Inf, hi -Inf)
+** fails them. */
+static int box_on_ray(const ray__wnode *w, int k, ray_vec3 q)
+{
+    return (double)w->hi[0][k] >= q.x && (double)w->lo[1][k] <= q.y &&
+           (double)w->hi[1][k] >= q.y && (double)w->lo[2][k] <= q.z &&
+           (double)w->hi[2][k] >= q.z;
+}
+
+enum { LEAF_TRIANGLES, LEAF_PRIMS };
+
+/* Every leaf of bvh on the ray, depth first.  At most RAY__WIDTH
+** pushed and one popped a level, 64 levels at most (accel/build.h). */
+static void walk(const ray_scene *s, const ray__bvh *bvh, int leaf,
+                 cquery *cq)
+{
+    unsigned stack_child[RAY__WIDTH * 64], stack_count[RAY__WIDTH * 64];
+    unsigned child = 0, count = 0;
+    int sp = 0;
+
+    if (bvh->n_wide == 0)
+        return;
+    for (;;) {
+        if (count == 0) {
+            const ray__wnode *w = &bvh->wide[child];
+            int k;
+            for (k = 0; k < RAY__WIDTH; k++) {
+                if (w->count[k] == RAY__LEAF || !box_on_ray(w, k, cq->q))
+                    continue;
+                stack_child[sp] = w->child[k];
+                stack_count[sp] = w->count[k];
+                sp++;
+            }
+        } else {
+            unsigned i, end = child + (count & ~RAY__LEAF);
+            for (i = child; i < end; i++) {
+                if (leaf == LEAF_TRIANGLES) {
+                    ray__tri t;
+                    if (!by_parity(s, cq, i) ||
+                        !counted(cq, &s->prims[s->tri_ids[i].geom_id]))
+                        continue;
+                    t = ray__tri_of(s, i);
+                    cross_triangle(t.a, t.b, t.c, cq);
+                } else {
+                    const ray__prim *p = &s->prims[bvh->items[i]];
+                    if (counted(cq, p))
+                        visit_solid(s, p, cq);
+                }
+            }
+        }
+        if (sp == 0)
+            return;
+        sp--;
+        child = stack_child[sp];
+        count = stack_count[sp];
+    }
+}
+
+/* The winding part: every live triangle not answered by parity, its
+** solid angle in world space. */
+static void sum_angles(const ray_scene *s, cquery *cq)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_live_tris; i++) {
+        ray__tri t;
+        if (by_parity(s, cq, (unsigned)i) ||
+            !counted(cq, &s->prims[s->tri_ids[i].geom_id]))
+            continue;
+        t = ray__tri_of(s, i);
+        if (cq->in != NULL) {
+            t.a = ray__instance_point_to_world(cq->in, t.a);
+            t.b = ray__instance_point_to_world(cq->in, t.b);
+            t.c = ray__instance_point_to_world(cq->in, t.c);
+        }
+        cq->angle += solid_angle(t.a, t.b, t.c, cq->qw);
+    }
+}
+
+/* Whether s has counted triangles answered by the winding number (so
+** that every one of its slots must be visited), and whether it has
+** counted instances: a scan of its geometry records, not its triangles. */
+static void kinds_in(const ray_scene *s, const cquery *cq, int *open,
+                     int *instances)
+{
+    size_t i;
+
+    *open = *instances = 0;
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!counted(cq, p))
+            continue;
+        if (p->kind == RAY__KIND_INSTANCE)
+            *instances = 1;
+        else if (p->kind == RAY__KIND_TRIANGLE ||
+                 (p->kind == RAY__KIND_MESH &&
+                  (cq->winding_all || !s->meshes[p->mesh].closed)))
+            *open = 1;
+    }
+}
+
+/* Scene s for one point: its solids and closed meshes along the ray,
+** its open triangles' angles (only where it has some: a closed mesh's
+** point costs its ray's walk alone), its instances. */
+static void search_in(const ray_scene *s, cquery *cq)
+{
+    size_t i;
+    int open, instances;
+
+    kinds_in(s, cq, &open, &instances);
+    walk(s, &s->prim_bvh, LEAF_PRIMS, cq);
+    walk(s, &s->tri_bvh, LEAF_TRIANGLES, cq);
+    if (open)
+        sum_angles(s, cq);
+    for (i = 0; instances && i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (p->kind == RAY__KIND_INSTANCE && counted(cq, p))
+            visit_instance(s, p, cq);
+    }
+}
+
+/* Whether s (its instances' children included) holds anything answered
+** exactly: a closed mesh or a solid primitive. */
+static int has_exact(const ray_scene *s, unsigned ignore)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!p->enabled || p->removed || (p->mask & ~ignore) == 0)
+            continue;
+        if ((p->kind == RAY__KIND_MESH && s->meshes[p->mesh].closed) ||
+            p->kind == RAY__KIND_SPHERE || p->kind == RAY__KIND_BOX ||
+            p->kind == RAY__KIND_CAPSULE)
+            return 1;
+        if (p->kind == RAY__KIND_INSTANCE &&
+            has_exact(s->instances[p->surface].child, ignore))
+            return 1;
+    }
+    return 0;
+}
+
+/* One point's answer: 1 inside (on the surface included), 0 outside, or
+** -RAY_ESTATE. */
+static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
+                        int winding_all, ray_inside *out)
+{
+    cquery cq;
+    double w;
+
+    cq.q = cq.qw = q;
+    cq.in = NULL;
+    cq.ignore = ignore;
+    cq.winding_all = winding_all;
+    cq.parity = 0;
+    cq.on = 0;
+    cq.stale = 0;
+    cq.angle = 0;
+    search_in(s, &cq);
+    if (cq.stale)
+        return -RAY_ESTATE;
+    w = cq.angle / (4 * RAY__PI);
+    out->on_surface = cq.on;
+    out->winding = w;
+    /* Parity and winding combine as crossings do: a point inside an
+    ** open surface (w > 1/2) and a closed one is inside neither. */
+    out->inside = cq.on || ((cq.parity & 1u) != 0) != (w > 0.5);
+    return out->inside;
+}
+
+int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
+                 const ray_contains_options *o, ray_inside *out)
+{
+    unsigned flags = o != NULL ? o->flags : 0;
+    unsigned ignore = o != NULL ? o->ignore_mask : 0;
+    size_t i;
+    int inside = 0;
+
+    if (s == NULL || (points == NULL && n > 0) || n > INT_MAX ||
+        (flags & ~RAY_CONTAINS_WINDING) != 0)
+        return -RAY_EINVAL;
+    for (i = 0; i < n; i++)
+        if (!v3_isfinite(points[i]))
+            return -RAY_EINVAL;
+    if (!s->committed)
+        return -RAY_ESTATE;
+    if ((flags & RAY_CONTAINS_WINDING) == 0 && !has_exact(s, ignore))
+        return -RAY_EDEGENERATE;
+    /* Instances first, as ray_intersect_all: a stale one fails the call
+    ** before anything is written. */
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        const ray__instance *in;
+        if (p->kind != RAY__KIND_INSTANCE || !p->enabled || p->removed)
+            continue;
+        in = &s->instances[p->surface];
+        if (!in->child->committed || in->child->generation != in->generation)
+            return -RAY_ESTATE;
+    }
+    for (i = 0; i < n; i++) {
+        ray_inside r;
+        int rc = contains_one(s, points[i], ignore,
+                              (flags & RAY_CONTAINS_WINDING) != 0, &r);
+        if (rc < 0)
+            return rc;
+        inside += rc;
+        if (out != NULL) {
+            out[i].inside = r.inside;
+            out[i].on_surface = r.on_surface;
+            out[i].winding = r.winding;
+        }
+    }
+    return inside;
+}
+
+int ray_signed_distance(const ray_scene *s, ray_vec3 q, double radius,
+                        const ray_contains_options *o, double *distance,
+                        ray_closest *closest)
+{
+    ray_closest c;
+    ray_inside in;
+    int rc, found;
+
+    if (distance == NULL)
+        return -RAY_EINVAL;
+    rc = ray_contains(s, &q, 1, o, &in);
+    if (rc < 0)
+        return rc;
+    found = ray_closest_point(s, q, radius, &c);
+    if (found < 0)
+        return found;
+    if (found) {
+        *distance = in.on_surface ? 0.0 : in.inside ? -c.distance
+                                                    : c.distance;
+        if (closest != NULL)
+            *closest = c;
+    } else {
+        /* On the surface is distance 0 even where no closest point is
+        ** found: a closed mesh's triangle of no area holds q, and
+        ** ray_closest_point skips such triangles. */
+        *distance = in.on_surface ? 0.0 : in.inside ? -radius : radius;
+    }
+    return found;
+}

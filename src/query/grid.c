@@ -1,0 +1,97 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** grid.c -- ray_distance_grid: a signed distance field baked over a box,
+** one z slice per task (core/tasks.c: the program's scheduler or the
+** built-in threads).  A sample is ray_signed_distance at its position,
+** which is computed from (i, j, k) alone, so a slice's floats are the
+** same whichever thread bakes it: the same bytes at any thread count.
+*/
+#include <limits.h>
+
+#include "core/tasks.h"
+#include "query/query.h"
+
+typedef struct grid_job {
+    const ray_scene *s;
+    ray_vec3 lo, step;
+    unsigned nx, ny, nz;
+    double radius;
+    ray_contains_options contains;
+    float *out;
+} grid_job;
+
+/* Coordinate i of n samples from lo with spacing step: lo exactly at
+** i = 0; an axis of one sample stays at lo. */
+static double at(double lo, double step, unsigned i)
+{
+    return lo + step * (double)i;
+}
+
+static void grid_task(void *ud, unsigned k)
+{
+    const grid_job *g = ud;
+    float *row = g->out + (size_t)k * g->ny * g->nx;
+    unsigned i, j;
+
+    for (j = 0; j < g->ny; j++)
+        for (i = 0; i < g->nx; i++) {
+            ray_vec3 p = v3(at(g->lo.x, g->step.x, i),
+                            at(g->lo.y, g->step.y, j),
+                            at(g->lo.z, g->step.z, k));
+            double d = g->radius;
+            /* The checks below (ray_distance_grid) leave no failure for
+            ** a finite point; a point that overflowed to Inf (a box near
+            ** DBL_MAX) keeps +radius. */
+            (void)ray_signed_distance(g->s, p, g->radius, &g->contains, &d,
+                                      NULL);
+            row[(size_t)j * g->nx + i] = (float)d;
+        }
+}
+
+/* The spacing of n samples over [lo, hi]: (hi - lo) / (n - 1), 0 for one
+** sample. */
+static double spacing(double lo, double hi, unsigned n)
+{
+    return n > 1 ? (hi - lo) / (double)(n - 1) : 0.0;
+}
+
+int ray_distance_grid(const ray_scene *s, ray_vec3 lo, ray_vec3 hi,
+                      unsigned nx, unsigned ny, unsigned nz,
+                      const ray_distance_grid_options *o, float *out)
+{
+    ray_distance_grid_options def;
+    const ray_scheduler *sched;
+    grid_job g;
+    unsigned n;
+    int rc;
+
+    if (o == NULL) {
+        memset(&def, 0, sizeof def);
+        o = &def;
+    }
+    if (s == NULL || out == NULL || !v3_isfinite(lo) || !v3_isfinite(hi) ||
+        nx == 0 || ny == 0 || nz == 0 || !(o->band >= 0) ||
+        !(o->band < HUGE_VAL) ||
+        (size_t)nx * ny > ((size_t)-1) / sizeof(float) / nz)
+        return RAY_EINVAL;
+    /* The statuses every sample would share, asked once, before anything
+    ** is written: bad flags, an uncommitted scene, a stale instance,
+    ** nothing closed. */
+    rc = ray_contains(s, NULL, 0, &o->contains, NULL);
+    if (rc < 0)
+        return -rc;
+    g.s = s;
+    g.lo = lo;
+    g.step = v3(spacing(lo.x, hi.x, nx), spacing(lo.y, hi.y, ny),
+                spacing(lo.z, hi.z, nz));
+    g.nx = nx;
+    g.ny = ny;
+    g.nz = nz;
+    g.radius = o->band > 0 ? o->band : HUGE_VAL;
+    g.contains = o->contains;
+    g.out = out;
+    sched = ray__scheduler_pick(o->scheduler, &s->scheduler);
+    n = ray__task_count(o->threads, sched);
+    ray__tasks_run(sched, &s->alloc, n, 0, nz, grid_task, &g);
+    return RAY_OK;
+}
