@@ -334,6 +334,249 @@ START_TEST(batches_should_follow_per_ray_masks)
 }
 END_TEST
 
+/* ------------------------------------------ 2. ray_surface_point */
+
+/* Does the box p +- e hold a point where the exact plane through a with
+** normal nn (any length) passes?  The plane's signed distance over the
+** box spans n.(p - a) +- |n|.e: the box meets it iff that span holds 0
+** (long double: the inputs' products are exact to about 2^-64). */
+static int box_meets_plane(ray_vec3 p, ray_vec3 e, lvec a, lvec nn)
+{
+    lvec d = lsub(lv(p), a);
+    ld s = ldot(nn, d);
+    ld w = fabsl(nn.x) * (ld)e.x + fabsl(nn.y) * (ld)e.y +
+           fabsl(nn.z) * (ld)e.z;
+    return fabsl(s) <= w;
+}
+
+/* Does the box p +- e hold a point of the sphere |x - c| = R?  It does
+** iff its nearest and farthest points from c bracket R (the box is
+** connected). */
+static int box_meets_sphere(ray_vec3 p, ray_vec3 e, lvec c, ld R)
+{
+    ld pc[3] = {(ld)p.x - c.x, (ld)p.y - c.y, (ld)p.z - c.z};
+    ld ec[3] = {(ld)e.x, (ld)e.y, (ld)e.z}, lo = 0, hi = 0;
+    int k;
+
+    for (k = 0; k < 3; k++) {
+        ld a = fabsl(pc[k]) - ec[k], b = fabsl(pc[k]) + ec[k];
+        if (a > 0)
+            lo += a * a;
+        hi += b * b;
+    }
+    return lo <= R * R && R * R <= hi;
+}
+
+/* The largest |component|. */
+static double vmax_abs(ray_vec3 a)
+{
+    return fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z)));
+}
+
+/*
+** The scene of the round trips, its geometry at "o": 0 a triangle, 1 an
+** icosphere mesh (radius 1), 2 a sphere (radius 1.5), 3 a plane, 4 an
+** L-shaped polygon (with "plane" 0, a triangle stands in for the plane,
+** which instances refuse); and, for "inst", the same placed in a
+** second scene through a rotation by 90 degrees about z (its entries 0
+** and +-1: exact, so the long double references below hold through it
+** too) and a translation by (3, -2, 1).
+*/
+static const double sp_tri[3][3] = {{0, 0, 0}, {2, 0, 0.5}, {0, 2, 1}};
+
+static ray_scene *sp_scene(ray_vec3 o, int plane)
+{
+    hc_mesh ico = hc_icosphere(vadd(o, vec(5, 0, 0)), 1);
+    ray_mesh m = hc_ray_mesh(&ico);
+    ray_vec3 poly[6];
+    ray_scene *s;
+    int i;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(
+                         s, vadd(o, vec(sp_tri[0][0], sp_tri[0][1], sp_tri[0][2])),
+                         vadd(o, vec(sp_tri[1][0], sp_tri[1][1], sp_tri[1][2])),
+                         vadd(o, vec(sp_tri[2][0], sp_tri[2][1], sp_tri[2][2])),
+                         RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vadd(o, vec(0, 5, 0)), 1.5,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    if (plane)
+        ck_assert_int_eq(ray_scene_add_plane(s, vadd(o, vec(0, 0, -5)),
+                                             vec(0.2, 0.1, 1), RAY_NO_MATERIAL,
+                                             NULL), RAY_OK);
+    else                 /* instances take no planes: a stand-in, id 3 */
+        ck_assert_int_eq(ray_scene_add_triangle(s, vadd(o, vec(9, 9, 9)),
+                                                vadd(o, vec(10, 9, 9)),
+                                                vadd(o, vec(9, 10, 9)),
+                                                RAY_NO_MATERIAL, NULL), RAY_OK);
+    for (i = 0; i < 6; i++)
+        poly[i] = vadd(o, vec(-6 + kit_l_uv[i][0], kit_l_uv[i][1],
+                              0.5 * kit_l_uv[i][0]));
+    ck_assert_int_eq(ray_scene_add_polygon(s, poly, 6, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    hc_mesh_free(&ico);
+    return s;
+}
+
+/* Point x of the child through the instance's transform (exact). */
+static lvec sp_map(int inst, lvec x)
+{
+    return inst ? lv3(-x.y + 3, x.x - 2, x.z + 1) : x;
+}
+
+/*
+** Does hit h's box hold a point of the exact surface of geometry g at
+** offset o (through the instance when "inst")?  The planes of the flat
+** kinds; the sphere's own equation.
+*/
+static int sp_box_on_surface(const ray_scene *s, const ray_hit *h,
+                             ray_vec3 o, int inst)
+{
+    lvec lo = lv(o);
+    (void)s;
+    switch (h->geom_id) {
+    case 0: {
+        lvec a = sp_map(inst, ladd(lo, lv3(0, 0, 0)));
+        lvec b = sp_map(inst, ladd(lo, lv3(2, 0, 0.5L)));
+        lvec c = sp_map(inst, ladd(lo, lv3(0, 2, 1)));
+        return box_meets_plane(h->p, h->p_err, a, lcross(lsub(b, a), lsub(c, a)));
+    }
+    case 1: {
+        hc_mesh ico = hc_icosphere(vadd(o, vec(5, 0, 0)), 1);
+        const unsigned *t = ico.idx + 3 * h->prim_id;
+        lvec a = sp_map(inst, lv(ico.v[t[0]]));
+        lvec b = sp_map(inst, lv(ico.v[t[1]]));
+        lvec c = sp_map(inst, lv(ico.v[t[2]]));
+        int ok = box_meets_plane(h->p, h->p_err, a,
+                                 lcross(lsub(b, a), lsub(c, a)));
+        hc_mesh_free(&ico);
+        return ok;
+    }
+    case 2:
+        return box_meets_sphere(h->p, h->p_err,
+                                sp_map(inst, ladd(lo, lv3(0, 5, 0))), 1.5L);
+    case 3: {
+        lvec nn = lv3(0.2L, 0.1L, 1);    /* the doubles 0.2 and 0.1 */
+        nn.x = (ld)0.2, nn.y = (ld)0.1;
+        if (inst)
+            nn = lv3(-nn.y, nn.x, nn.z);
+        return box_meets_plane(h->p, h->p_err,
+                               sp_map(inst, ladd(lo, lv3(0, 0, -5))), nn);
+    }
+    default: {
+        lvec a = sp_map(inst, ladd(lo, lv3(-6, 0, 0)));
+        lvec b = sp_map(inst, ladd(lo, lv3(-4, 0, 1)));
+        lvec c = sp_map(inst, ladd(lo, lv3(-6, 2, 0)));
+        return box_meets_plane(h->p, h->p_err, a,
+                               lcross(lsub(b, a), lsub(c, a)));
+    }
+    }
+}
+
+/*
+** Round trips, at the origin and at 1e6, directly and through an
+** instance: for every kind ray_surface_point serves, 40 points (u, v) of
+** each; a ray aimed at the point p along -n from 0.25 away must hit the
+** same geometry (same ids) at p, with the same n, u and v:
+**   p: both records lie within their p_err of the exact surface, and the
+**      ray, along the normal, crosses it within |p_err| of the aimed p;
+**      the aim itself (org + 1 * (p - org)) rounds within an ulp of the
+**      coordinates: so |dp| <= 2 |p_err| + |p_err of the hit| + 2 ulps,
+**      taken as 4 (max p_err of both) + 4 ulps of |p| per component;
+**   n: the same formula on the same corners for the flat kinds (equal),
+**      the sphere's (p - c) / r: a dp of that size moves it by dp / r;
+**   u, v: a triangle's barycentrics move by dp over its smallest height
+**      (above 0.5 for these), a plane's coordinates by dp, a sphere's
+**      longitude by dp / (2 pi r sin(pi v)), latitude by dp / (pi r):
+**      all within dp / (r sin(pi v)) for r = 1.5, dp / 0.5 for the rest.
+** And every p_err must hold a point of the exact surface (the documented
+** bound), while staying within 64 ulps of the coordinates involved (a
+** bound of 1e-6 would hold too, but ray_spawn would then skip geometry
+** thinner than it).
+*/
+START_TEST(surface_points_should_round_trip)
+{
+    rng g = {238};
+    int where;
+
+    for (where = 0; where < 4; where++) {
+        ray_vec3 o = where % 2 ? vec(1e6, -1e6, 1e6) : vec(0, 0, 0);
+        int inst = where >= 2;
+        ray_scene *child = sp_scene(o, !inst), *s = child;
+        unsigned inst_id = RAY_INVALID_ID, gid;
+        int k, done[5] = {0};
+
+        if (inst) {
+            ray_transform xf;
+            memset(&xf, 0, sizeof xf);
+            xf.m[0][1] = -1, xf.m[1][0] = 1, xf.m[2][2] = 1;
+            xf.m[0][3] = 3, xf.m[1][3] = -2, xf.m[2][3] = 1;
+            ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_instance(s, child, &xf, &inst_id),
+                             RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        }
+        for (gid = 0; gid < 5; gid++)
+            for (k = 0; k < 40 && !(inst && gid == 3); k++) {
+                double u = rng_range(&g, 0.05, 0.95), v = rng_range(&g, 0.05, 0.95);
+                unsigned prim = gid == 1 ? (unsigned)k * 7 % 80 : 0;
+                ray_hit hs, h;
+                ray_ray r;
+                double mag, tol_p, tol_uv, tol_n;
+                int rc;
+                if (gid == 0 || gid == 1)
+                    v *= 1 - u;             /* u + v <= 1 */
+                else if (gid == 3)
+                    u = 4 * u - 2, v = 4 * v - 2;
+                else if (gid == 4)
+                    u = 4 * u - 2, v = 4 * v - 2;
+                rc = ray_surface_point(s, gid, prim, inst_id, u, v, &hs);
+                if (gid == 4 && rc == RAY_EINVAL) {
+                    continue;          /* outside the L (its tangents' */
+                }                      /* (u, v) are the library's) */
+                ck_assert_int_eq(rc, RAY_OK);
+                done[gid]++;
+                ck_assert_msg(sp_box_on_surface(s, &hs, o, inst),
+                              "geom %u at %g, inst %d, (u, v) (%.17g, %.17g):"
+                              " p_err (%g, %g, %g) holds no surface point",
+                              gid, o.x, inst, u, v, hs.p_err.x, hs.p_err.y,
+                              hs.p_err.z);
+                mag = vmax_abs(hs.p) + 10;
+                ck_assert_msg(vmax_abs(hs.p_err) <= 64 * DBL_EPSILON * mag,
+                              "geom %u at %g: p_err %g beyond 64 ulps of %g",
+                              gid, o.x, vmax_abs(hs.p_err), mag);
+                r.org = vadd(hs.p, vscale(hs.n, 0.25));
+                r.dir = vsub(hs.p, r.org);
+                r.tmin = 0;
+                r.tmax = 2;
+                ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+                ck_assert_uint_eq(h.geom_id, gid);
+                ck_assert_uint_eq(h.prim_id, prim);
+                ck_assert_uint_eq(h.inst_id, inst_id);
+                tol_p = 4 * (vmax_abs(hs.p_err) + vmax_abs(h.p_err)) +
+                        4 * DBL_EPSILON * mag;
+                tol_n = gid == 2 ? tol_p / 1.5 : 4 * DBL_EPSILON;
+                tol_uv = gid == 2 ? tol_p / (1.5 * sin(3.141592653589793 * v))
+                                  : tol_p / 0.5;
+                ck_assert_vec_eq_tol(h.p, hs.p, tol_p);
+                ck_assert_vec_eq_tol(h.n, hs.n, tol_n);
+                ck_assert_msg(fabs(h.u - u) <= tol_uv && fabs(h.v - v) <= tol_uv,
+                              "geom %u at %g inst %d: asked (%.17g, %.17g), "
+                              "the ray found (%.17g, %.17g)", gid, o.x, inst,
+                              u, v, h.u, h.v);
+                ck_assert(hs.u == u && hs.v == v && hs.t == 0);
+            }
+        for (gid = 0; gid < 5; gid++)
+            ck_assert_int_ge(done[gid], inst && gid == 3 ? 0 : 8);
+        if (inst)
+            ray_scene_free(s);
+        ray_scene_free(child);
+    }
+}
+END_TEST
+
 /* -------------------------------------------------------------- suite */
 
 Suite *slips_suite(void)
@@ -346,6 +589,7 @@ Suite *slips_suite(void)
     tcase_add_test(tc, batches_should_match_rays_in_mixed_scenes);
     tcase_add_test(tc, batches_should_miss_unusable_rays_in_packets);
     tcase_add_test(tc, batches_should_follow_per_ray_masks);
+    tcase_add_test(tc, surface_points_should_round_trip);
     suite_add_tcase(s, tc);
     return s;
 }
