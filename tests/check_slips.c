@@ -577,6 +577,167 @@ START_TEST(surface_points_should_round_trip)
 }
 END_TEST
 
+/* ------------------------------- 3. closest-point normals, instances */
+
+/* Column j of the instance's linear part L, in long double. */
+static lvec xf_col(const ray_transform *t, int j)
+{
+    return lv3((ld)t->m[0][j], (ld)t->m[1][j], (ld)t->m[2][j]);
+}
+
+/* L v (no translation). */
+static lvec xf_lin(const ray_transform *t, lvec v)
+{
+    return ladd(ladd(lscale(xf_col(t, 0), v.x), lscale(xf_col(t, 1), v.y)),
+                lscale(xf_col(t, 2), v.z));
+}
+
+/* a unit long double vector as doubles */
+static ray_vec3 lv_dbl(lvec a)
+{
+    return vec((double)a.x, (double)a.y, (double)a.z);
+}
+
+/*
+** The world normal a surface with object normal m has through L: the
+** inverse transpose, L^-T m = (m_x c1 x c2 + m_y c2 x c0 + m_z c0 x c1)
+** / det L with c_j the columns of L (the adjugate), normalised.
+*/
+static ray_vec3 xf_normal(const ray_transform *t, lvec m)
+{
+    lvec c0 = xf_col(t, 0), c1 = xf_col(t, 1), c2 = xf_col(t, 2);
+    ld det = ldot(c0, lcross(c1, c2));
+    lvec w = ladd(ladd(lscale(lcross(c1, c2), m.x), lscale(lcross(c2, c0), m.y)),
+                  lscale(lcross(c0, c1), m.z));
+    return lv_dbl(lunit(lscale(w, det < 0 ? -1 : 1)));
+}
+
+/* L^-1 y (the adjugate's rows over det L). */
+static lvec xf_inv_lin(const ray_transform *t, lvec y)
+{
+    lvec c0 = xf_col(t, 0), c1 = xf_col(t, 1), c2 = xf_col(t, 2);
+    ld det = ldot(c0, lcross(c1, c2));
+    return lscale(lv3(ldot(lcross(c1, c2), y), ldot(lcross(c2, c0), y),
+                      ldot(lcross(c0, c1), y)), 1 / det);
+}
+
+/*
+** ray_closest_point's normal through instances: a child of a closed cube
+** mesh, a box and a sphere, placed by rotations about random axes, with
+** uniform scales (similarities: the box and sphere answer in the child's
+** space, their normals mapped), per-axis scales and shears (not
+** similarities: the parallelepiped's and the ellipsoid's own world
+** normals) and reflections; 60 points q around each (around the cube
+** and the sphere, and outside the middle of the box's faces).  The reference is
+** the object normal through the inverse transpose of L (what the hits
+** report, ray_scene_add_instance(3)) in long double: a triangle's
+** (b - a) x (c - a), a box face's axis, the sphere's gradient at the
+** point p reported, mapped back into the child.  Tolerance 1e-12: the
+** library maps with L's rounded inverse and renormalises (a few ulps
+** times L's condition number, at most about 40 here), and the ellipsoid's
+** p from Newton steps is within 1e-14 of its surface, which moves the
+** gradient's direction by as much over a curvature radius >= 0.2; a
+** normal left in the child's space is off by the rotation, 1e-2 or more.
+*/
+START_TEST(closest_normals_should_turn_with_instances)
+{
+    hc_mesh cube = hc_cube(vec(0, 0, 0));
+    ray_mesh m = hc_ray_mesh(&cube);
+    ray_box_params box;
+    ray_scene *child;
+    rng g = {338};
+    int k, checked[3] = {0};
+
+    box.center = vec(8, 0, 0);
+    box.half_extents = vec(0.5, 0.7, 0.9);
+    box.axis_x = vec(1, 0, 0);
+    box.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(child, &box, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 8, 0), 0.8,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    for (k = 0; k < 12; k++) {
+        ray_transform xf;
+        ray_scene *s;
+        unsigned id;
+        int i;
+        /* 0-3 rotations, 4-7 rotations with a uniform scale, 8-11 per-axis
+        ** scales and shears; kit_affine reflects when k % 3 == 0. */
+        double us = rng_range(&g, 0.5, 2);
+        ray_vec3 sc = k < 4 ? vec(1, 1, 1) : k < 8 ? vec(us, us, us)
+                                        : rng_point(&g, 0.5, 2);
+        kit_affine(&g, k, k < 8 ? 0 : 0.4, sc, rng_point(&g, -5, 5), &xf);
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(s, child, &xf, &id), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (i = 0; i < 60; i++) {
+            /* 8 apart, so that the piece q is put near is its nearest. */
+            lvec at = i % 3 == 0 ? lv3(0, 0, 0) : lv3(0, 8, 0), qo;
+            int face = (int)(rng_next(&g) % 6);
+            qo = ladd(at, lscale(lv(rng_dir(&g)), (ld)rng_range(&g, 1.5, 3)));
+            if (i % 3 == 1) {
+                /* A point of a face of the box, in its middle half: that face's
+                ** normal (an edge's or a corner's is the issue's defect 3,
+                ** tested with its fix). */
+                ld h[3] = {0.5L, 0.7L, 0.9L}, x[3];
+                int ax;
+                for (ax = 0; ax < 3; ax++)
+                    x[ax] = h[ax] * (ld)rng_range(&g, -0.5, 0.5);
+                x[face / 2] = (face % 2 ? 1 : -1) * h[face / 2];
+                qo = lv3(8 + x[0], x[1], x[2]);
+            }
+            ray_vec3 q = lv_dbl(kit_map_point(&xf, qo)), want;
+            ray_closest c;
+            if (i % 3 == 1) {
+                /* ... off the face along its world normal, so that the
+                ** face's point is the nearest even through a shear. */
+                lvec f = lv3(face / 2 == 0 ? (face % 2 ? 1 : -1) : 0,
+                             face / 2 == 1 ? (face % 2 ? 1 : -1) : 0,
+                             face / 2 == 2 ? (face % 2 ? 1 : -1) : 0);
+                q = vadd(q, vscale(xf_normal(&xf, f), rng_range(&g, 0.01, 0.1)));
+            }
+            ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &c), 1);
+            ck_assert_uint_eq(c.inst_id, id);
+            if (c.geom_id != (unsigned)(i % 3))
+                continue;            /* a shear brought another one nearer */
+            checked[c.geom_id]++;
+            if (c.geom_id == 0) {
+                const unsigned *t = cube.idx + 3 * c.prim_id;
+                lvec a = lv(cube.v[t[0]]), b = lv(cube.v[t[1]]),
+                     d = lv(cube.v[t[2]]);
+                want = xf_normal(&xf, lcross(lsub(b, a), lsub(d, a)));
+            } else if (c.geom_id == 1) {
+                lvec f = lv3(0, 0, 0);
+                if (face / 2 == 0) f.x = face % 2 ? 1 : -1;
+                if (face / 2 == 1) f.y = face % 2 ? 1 : -1;
+                if (face / 2 == 2) f.z = face % 2 ? 1 : -1;
+                want = xf_normal(&xf, f);
+            } else {
+                lvec po = lsub(xf_inv_lin(&xf, lsub(lv(c.p), lv3((ld)xf.m[0][3],
+                                          (ld)xf.m[1][3], (ld)xf.m[2][3]))),
+                               lv3(0, 8, 0));
+                want = xf_normal(&xf, po);
+            }
+            ck_assert_msg(fabs(c.n.x - want.x) < 1e-12 &&
+                              fabs(c.n.y - want.y) < 1e-12 &&
+                              fabs(c.n.z - want.z) < 1e-12,
+                          "transform %d, q %d, geom %u: n (%.17g, %.17g, "
+                          "%.17g), through L^-T (%.17g, %.17g, %.17g)", k, i,
+                          c.geom_id, c.n.x, c.n.y, c.n.z, want.x, want.y,
+                          want.z);
+        }
+        ray_scene_free(s);
+    }
+    for (k = 0; k < 3; k++)
+        ck_assert_int_ge(checked[k], 150);   /* of 240 each */
+    (void)xf_lin;
+    ray_scene_free(child);
+    hc_mesh_free(&cube);
+}
+END_TEST
+
 /* -------------------------------------------------------------- suite */
 
 Suite *slips_suite(void)
@@ -590,6 +751,7 @@ Suite *slips_suite(void)
     tcase_add_test(tc, batches_should_miss_unusable_rays_in_packets);
     tcase_add_test(tc, batches_should_follow_per_ray_masks);
     tcase_add_test(tc, surface_points_should_round_trip);
+    tcase_add_test(tc, closest_normals_should_turn_with_instances);
     suite_add_tcase(s, tc);
     return s;
 }
