@@ -866,6 +866,93 @@ START_TEST(spawn_to_a_target_on_a_surface_should_not_be_blocked_by_it)
 }
 END_TEST
 
+/* ---------------------------------- 5. sliding over inner vertices */
+
+/*
+** Spheres and capsules (lying along the motion, and across it where the
+** floor is flat across it) sliding at exactly their radius over a 10 x 10
+** grid mesh of unit quads (grid_scene), along the paths that pass over
+** its inner vertices and edges: along a row of vertices, along a column,
+** along the quads' diagonal edges; on a folded grid (ridge, 0.25 a unit
+** each side) along the ridge edge itself and along a vertex row of a
+** sloped side; on a valley's sloped side.  Every such slide touches
+** nothing: the inner edges' and vertices' inflated cylinders and balls
+** stand eps above the faces, and the graze rule (sweep_pieces.c) is what
+** keeps them from stopping the shape there.  The same slide 1e-6 r
+** nearer the floor overlaps it from the start (the test would see a
+** contact: it is not blind).
+*/
+START_TEST(sweeps_should_slide_over_inner_vertices)
+{
+    static const double folds[3] = {0, 0.25, -0.25};
+    int f, path, shape, ri, stops = 0, slides = 0;
+
+    for (f = 0; f < 3; f++) {
+        ray_scene *s = grid_scene(NULL, 10, 0, folds[f]);
+        double fo = folds[f], nl = sqrt(1 + fo * fo);
+        ray_vec3 fn = vec(0, fo / nl, 1 / nl);   /* the y > 0 side's normal */
+        for (path = 0; path < 4; path++)
+            for (shape = 0; shape < 3; shape++)
+                for (ri = 0; ri < 2; ri++) {
+                    double r = ri ? 0.7 : 0.3;
+                    ray_vec3 from, dir, foot, up, across;
+                    ray_sweep w;
+                    ray_contact c;
+                    if (f > 0 && path >= 2)
+                        continue;            /* folded: two paths */
+                    if (f == 0) {
+                        up = vec(0, 0, 1);
+                        if (path == 0)       /* along the row y = 1 */
+                            foot = vec(-4.5, 1, 0), dir = vec(9, 0, 0);
+                        else if (path == 1)  /* along the column x = 2 */
+                            foot = vec(2, -4.5, 0), dir = vec(0, 9, 0);
+                        else if (path == 2)  /* along the diagonal edges */
+                            foot = vec(-4.25, -4.25, 0), dir = vec(8.5, 8.5, 0);
+                        else                 /* the other diagonal: across them */
+                            foot = vec(4.25, -4.25, 0), dir = vec(-8.5, 8.5, 0);
+                    } else if (path == 0 && f == 1) {
+                        up = vec(0, 0, 1);   /* on the ridge edge */
+                        foot = vec(-4.5, 0, 0), dir = vec(9, 0, 0);
+                    } else {                 /* the row y = 2 of a side */
+                        up = fn;
+                        foot = vec(-4.5, 2, -fo * 2), dir = vec(9, 0, 0);
+                    }
+                    if (f > 0 && path == 0 && f == 2)
+                        continue;            /* a valley's bottom: no graze */
+                    across = vcross(up, vscale(dir, 1 / vlen(dir)));
+                    if (shape == 2 && f == 1 && path == 0)
+                        continue;            /* across the ridge: not flat */
+                    from = vadd(foot, vscale(up, r));
+                    ray_sweep_init(&w);
+                    w.a = w.b = from;
+                    if (shape == 1)
+                        w.b = vadd(from, vscale(dir, 0.3 / vlen(dir)));
+                    else if (shape == 2)
+                        w.b = vadd(from, vscale(across, 0.3));
+                    w.radius = r;
+                    w.dir = dir;
+                    slides++;
+                    if (ray_intersect_sweep(s, &w, NULL, &c) != 0) {
+                        stops++;
+                        ck_assert_msg(0, "fold %g, path %d, shape %d, r %g: "
+                                      "stopped at t %.17g, p (%.17g, %.17g, "
+                                      "%.17g), prim %u", fo, path, shape, r,
+                                      c.t, c.p.x, c.p.y, c.p.z, c.prim_id);
+                    }
+                    /* 1e-6 r nearer: an overlap from the start. */
+                    w.a = vsub(w.a, vscale(up, 1e-6 * r));
+                    w.b = vsub(w.b, vscale(up, 1e-6 * r));
+                    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+                    ck_assert(c.flags & RAY_CONTACT_OVERLAP);
+                    ck_assert(c.t == 0);
+                }
+        ray_scene_free(s);
+    }
+    ck_assert_int_eq(stops, 0);
+    ck_assert_int_ge(slides, 30);
+}
+END_TEST
+
 /* -------------------------------------------------------------- suite */
 
 Suite *slips_suite(void)
@@ -882,6 +969,7 @@ Suite *slips_suite(void)
     tcase_add_test(tc, closest_normals_should_turn_with_instances);
     tcase_add_test(tc, spawn_to_should_end_at_its_target);
     tcase_add_test(tc, spawn_to_a_target_on_a_surface_should_not_be_blocked_by_it);
+    tcase_add_test(tc, sweeps_should_slide_over_inner_vertices);
     suite_add_tcase(s, tc);
     return s;
 }
