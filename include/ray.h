@@ -2004,7 +2004,10 @@ RAY_API double ray_ctx_random(ray_ctx *ctx);
 **
 ** ray_spawn_to -- the same for a segment toward the point "target" (a
 ** shadow ray): out->dir = target - origin, tmax = 1, so only geometry
-** strictly between the surface and the target blocks it.
+** strictly between the surface and the target blocks it.  A target that
+** lies on a surface is within its own p_err of it, on either side: pass
+** the origin ray_spawn(&target_hit, p - target) gives instead, so that
+** the surface it lies on cannot block the segment (ray_spawn(3)).
 **
 ** Both return RAY_OK, or RAY_EINVAL (nothing written) for NULL pointers,
 ** non-finite input or a zero direction.  Thread-safe, no state.

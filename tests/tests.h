@@ -60,6 +60,7 @@ Suite *exact_suite(void);
 Suite *sweep_suite(void);
 Suite *contains_suite(void);
 Suite *overlap_suite(void);
+Suite *slips_suite(void);
 
 /* Double's unit roundoff, 2^-53: tolerances below are multiples of it. */
 #define U64 (DBL_EPSILON * 0.5)
