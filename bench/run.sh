@@ -55,6 +55,7 @@ if [ "$mode" = run ]; then
         "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
         "$build/bench/surfaces"
         "$build/bench/mesh" data
+        "$build/bench/raycost" data
         "$build/bench/filter" data
         "$build/bench/packets" data
         "$build/bench/game" data
@@ -106,7 +107,7 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     splice "$doc" cones "$plots/cones.md"
     awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
     splice "$doc" threads "$plots/threads.md"
-    awk '/^## What exactness costs/{exit} /^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
+    awk '/^## What exactness costs/{exit} /^## What a query costs/{exit} /^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
     splice "$doc" mesh "$plots/mesh.md"
     awk '/^## Packets:/{exit} /^## What exactness costs/{on=1; next} on' "$out" |
         sed -e '/./,$!d' > "$plots/filter.md"

@@ -79,7 +79,7 @@ static int gate_offer(const ray__prim *p, const ray_ray *r, const ray_hit *h,
         ray_ray tie;
         if (!(w.t < wr->tmax)) {
             tie = *wr;
-            tie.tmax = nextafter(w.t, HUGE_VAL);
+            tie.tmax = ray__next_up(w.t);   /* nextafter, inline */
             wr = &tie;
         }
         qc->filter_calls++;

@@ -73,7 +73,7 @@ static inline void tri_hit(unsigned i, const ray__tri *tri, double t,
         b->tri = *tri;
         b->beta = beta;
         b->gamma = gamma;
-        b->limit = nextafter(t, HUGE_VAL);
+        b->limit = ray__next_up(t);     /* nextafter, inline (vec.h) */
     }
 }
 

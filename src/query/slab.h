@@ -97,20 +97,19 @@ static inline void trav_octant(trav *tr, int signs)
     }
 }
 
-/* Axis k of the traversal data: origin component o, direction component
-** d, and d scaled by the power of two (ds). */
+#if !defined(__AVX__) || defined(RAY_NO_SIMD)
+/* Axis k of the traversal data but its offsets (trav_octant): origin
+** component o, direction component d, and d scaled by the power of two
+** (ds). */
 static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
 {
     /* 1/d < 0 exactly when d's sign bit is set (d = -0: -Inf). */
     int neg = signbit(d) != 0;
     double inv = 1.0 / ds;
     float ends[2];
-    size_t at[2];
 
     ends[0] = ray__float_down(o);
     ends[1] = ray__float_up(o);
-    at[0] = offsetof(ray__wnode, lo[k]);
-    at[1] = offsetof(ray__wnode, hi[k]);
     /* 1/d beyond float: NaN, the slab ignored (chosen by indexing, as
     ** the other choices here). */
     {
@@ -121,11 +120,10 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
     }
     /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
     ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
-    tr->near_at[k] = at[neg];
-    tr->far_at[k] = at[!neg];
     tr->o_near[k] = ends[!neg];
     tr->o_far[k] = ends[neg];
 }
+#endif
 
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
 #include <immintrin.h>
@@ -212,6 +210,8 @@ static void trav_init(trav *tr, const ray_ray *r)
     trav_axis(tr, 0, r->org.x, r->dir.x, r->dir.x * down);
     trav_axis(tr, 1, r->org.y, r->dir.y, r->dir.y * down);
     trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
+    trav_octant(tr, (signbit(r->dir.x) != 0) | (signbit(r->dir.y) != 0) << 1 |
+                        (signbit(r->dir.z) != 0) << 2);
 #endif
     tr->tmin = ray__float_down(r->tmin * tr->t_scale);
     tr->framed = 0;
