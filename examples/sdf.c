@@ -184,7 +184,7 @@ int main(int argc, char **argv)
     /* Rows top to bottom: y decreasing. */
     for (i = 0; i < SIDE * SIDE; i++) {
         unsigned x = i % SIDE, y = SIDE - 1 - i / SIDE;
-        shade(slice[y * SIDE + x], diag / 16, (b.x - a.x) / SIDE,
+        shade((double)slice[y * SIDE + x], diag / 16, (b.x - a.x) / SIDE,
               rgb + 3 * i);
     }
     rc = example_write_png(&args, rgb);

@@ -986,7 +986,8 @@ static void leaf_soup(ray_vec3 *v, unsigned *idx, size_t nt, int floats,
     v[9].x = far;                                  /* beyond the floats' */
     if (floats)
         for (i = 0; i < 3 * nt; i++)
-            v[i] = vec((float)v[i].x, (float)v[i].y, (float)v[i].z);
+            v[i] = vec((double)(float)v[i].x, (double)(float)v[i].y,
+                       (double)(float)v[i].z);
 }
 
 START_TEST(leaf_corners_should_be_the_geometrys)

@@ -1264,7 +1264,7 @@ START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
             ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
             M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
             M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
-            err = (double)fabsl(cl.distance - d) / (DBL_EPSILON * (M + (double)d));
+            err = (double)fabsl((long double)cl.distance - d) / (DBL_EPSILON * (M + (double)d));
             worst = fmax(worst, err);
         }
         ray_scene_free(s);

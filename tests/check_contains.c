@@ -64,12 +64,12 @@ static double winding_ref(const hc_mesh *m, ray_vec3 q)
     for (i = 0; i < m->nt; i++) {
         const unsigned *t = m->idx + 3 * i;
         ray_vec3 A = m->v[t[0]], B = m->v[t[1]], C = m->v[t[2]];
-        long double a[3] = {(long double)A.x - q.x, (long double)A.y - q.y,
-                            (long double)A.z - q.z};
-        long double b[3] = {(long double)B.x - q.x, (long double)B.y - q.y,
-                            (long double)B.z - q.z};
-        long double c[3] = {(long double)C.x - q.x, (long double)C.y - q.y,
-                            (long double)C.z - q.z};
+        long double a[3] = {(long double)A.x - (long double)q.x, (long double)A.y - (long double)q.y,
+                            (long double)A.z - (long double)q.z};
+        long double b[3] = {(long double)B.x - (long double)q.x, (long double)B.y - (long double)q.y,
+                            (long double)B.z - (long double)q.z};
+        long double c[3] = {(long double)C.x - (long double)q.x, (long double)C.y - (long double)q.y,
+                            (long double)C.z - (long double)q.z};
         long double det = a[0] * (b[1] * c[2] - b[2] * c[1]) -
                           a[1] * (b[0] * c[2] - b[2] * c[0]) +
                           a[2] * (b[0] * c[1] - b[1] * c[0]);
@@ -486,7 +486,7 @@ START_TEST(misuse)
     ck_assert_int_eq(ray_contains(NULL, p, 1, NULL, &r), -RAY_EINVAL);
     ck_assert_int_eq(ray_contains(s, NULL, 1, NULL, &r), -RAY_EINVAL);
     ck_assert_int_eq(ray_contains(s, NULL, 0, NULL, NULL), 0);
-    p[1].y = NAN;
+    p[1].y = (double)NAN;
     ck_assert_int_eq(ray_contains(s, p, 2, NULL, &r), -RAY_EINVAL);
     p[1].y = HUGE_VAL;
     ck_assert_int_eq(ray_contains(s, p, 2, NULL, &r), -RAY_EINVAL);
@@ -633,7 +633,7 @@ START_TEST(distance_grid)
                      RAY_EINVAL);
     ck_assert_int_eq(ray_distance_grid(s, lo, hi, 0, NY, NZ, NULL, b),
                      RAY_EINVAL);
-    ck_assert_int_eq(ray_distance_grid(s, v3(NAN, 0, 0), hi, NX, NY, NZ,
+    ck_assert_int_eq(ray_distance_grid(s, v3((double)NAN, 0, 0), hi, NX, NY, NZ,
                                        NULL, b), RAY_EINVAL);
     ck_assert_int_eq(ray_distance_grid(s, lo, hi, 1u << 30, 1u << 30, 64,
                                        NULL, b), RAY_EINVAL);

@@ -990,9 +990,10 @@ START_TEST(instances_should_refuse_only_what_passes_the_bound)
         /* The long-double reference: reach |L| |p'| + |t| per row, and
         ** the bound's back term with |L^-1| = [[1, sh, 0], I rows]. */
         const long double g6 = 6 * 0x1p-53L / (1 - 6 * 0x1p-53L); /* gamma(6) */
-        long double big0 = 1.0L + sh + t, big1 = 1.0L + t;
-        long double back = g6 * (big0 + t + sh * (big1 + t)) +
-                           sh * g6 * (big1 + t);
+        const long double shl = (long double)sh, tl = (long double)t;
+        long double big0 = 1.0L + shl + tl, big1 = 1.0L + tl;
+        long double back = g6 * (big0 + tl + shl * (big1 + tl)) +
+                           shl * g6 * (big1 + tl);
         ck_assert(big0 + back < 0x1p1016L);
         ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
         ck_assert_msg(ray_scene_add_instance(s, child, &x, NULL) == RAY_OK,
