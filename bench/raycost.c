@@ -22,7 +22,9 @@
 ** medians of the repetitions' own ratios.  Directions are unit, so every
 ** tool reports the same t; the hit counts are printed to show that the
 ** tools agree.  Prints Markdown; asserts nothing.  BENCH_QUICK=1: fewer
-** rays and repetitions.
+** rays and repetitions; RAYCOST_TOOLS and RAYCOST_ROWS pick columns and
+** rows (for A/B runs and profiles); RAYCOST_CPU_TIME=1 times by thread
+** CPU time (a machine busy with others' work).
 */
 #include <time.h>
 
@@ -54,11 +56,17 @@ typedef struct tools {
 #endif
 } tools;
 
+/* Wall time, or with RAYCOST_CPU_TIME=1 the thread's own CPU time: on a
+** machine shared with others' builds, a thread's CPU time counts what
+** its queries cost, not the time others' processes held the core. */
 static double now(void)
 {
+    static int cpu = -1;
     struct timespec ts;
 
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    if (cpu < 0)
+        cpu = getenv("RAYCOST_CPU_TIME") != NULL;
+    clock_gettime(cpu ? CLOCK_THREAD_CPUTIME_ID : CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -176,13 +184,25 @@ static size_t pass(const tools *t, int tool, const ray_set *rs)
 }
 
 /* One row: ns a ray for each tool, medians of reps interleaved passes. */
+/* Is row k (0: the first printed) asked for?  RAYCOST_ROWS=2 (the hit
+** row alone), =024, ...: for profiles of one kind of ray; all by
+** default. */
+static int row_wanted(int k)
+{
+    const char *pick = getenv("RAYCOST_ROWS");
+
+    return pick == NULL || strchr(pick, '0' + k) != NULL;
+}
+
 static void row(const tools *t, const ray_set *rs, int reps)
 {
-
+    static int index;
     double ns[TOOLS][16], ratio[TOOLS][16], med[TOOLS];
     size_t hits[TOOLS] = {0, 0, 0};
     int k, tool;
 
+    if (!row_wanted(index++))
+        return;
     for (k = -1; k < reps; k++)                       /* k = -1: warm-up */
         for (tool = 0; tool < TOOLS; tool++) {
             double t0;

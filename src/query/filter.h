@@ -34,6 +34,11 @@
 **            tau + u |X|  =  xi0 + u W.
 **   As W <= W_f + xi, where W_f is the largest of the computed |x_f|,
 **   |y_f| (what a lane can see), xi <= (xi0 + u W_f) / (1 - u).
+**   xi0 is linear in O and M: expanded in exact rational arithmetic it
+**   is 4.0000007 u O + 6.0000008 u M + 8.000001 tau (with d = 0:
+**   2.0000004 u O + 4.0000004 u M + the same), which the filter takes as
+**   (4 + 2^-20) u O + (6 + 2^-20) u M + 9 tau (2 + 2^-20, 4 + 2^-20):
+**   three operations a ray instead of the chain above.
 **   E:       e_f = fl32(fl32(x_c y_b) - fl32(y_c x_b)): the inputs' error
 **            adds <= 4 W xi + 2 xi^2, the three roundings <= (4u +
 **            2u^2)(W + xi)^2 + 3 tau; with P = W_f + 2 xi >= W + xi,
@@ -113,42 +118,53 @@ static inline double filter_dmax(double a, double b)
 #define FILTER_K 0x1.0008p-22f
 #define FILTER_T 0x1p-124f
 
-/* The filter of the ray whose exact frame is wt, in scene s (its box
+/* xi0's coefficients of u O and u M, and its constant (the bound's
+** expansion above), rounded up; XI_EXACT_*: for float-exact corners. */
+#define FILTER_XI_O (4.0 + 0x1p-20)
+#define FILTER_XI_M (6.0 + 0x1p-20)
+#define FILTER_XI_O_EXACT (2.0 + 0x1p-20)
+#define FILTER_XI_M_EXACT (4.0 + 0x1p-20)
+#define FILTER_XI_TAU 9.0
+
+/* The largest |v - o| over the scene's box along one axis: the end
+** farther from o (lo <= hi), by a subtraction each. */
+static inline double filter_reach(double lo, double hi, double o)
+{
+    return filter_dmax(o - lo, hi - o);
+}
+
+/* The filter of ray r, whose exact frame is wt, in scene s (its box
 ** bounds the vertices; its float_exact says whether their floats are
 ** exact; its filter_scale multiplies the bound: 1, or 1/2 in a test). */
 static void tri_filter_init(tri_filter *f, const ray__watertight *wt,
-                            const ray_scene *s)
+                            const ray_ray *r, const ray_scene *s)
 {
     const double u = FILTER_U, tau = FILTER_TAU;
-    double o[3], o_max, m, d, rho, zeta, e_m, xi0;
+    const ray_vec3 o = r->org;
+    double o_max, m, xi0;
     int k;
 
     f->on = 0;
 #if FLT_EVAL_METHOD == 0
     if (!s->watertight || s->tri_mode == RAY__TRI_EXACT)
         return;
-    /* The frame's rows, and its origin in world axes for the box. */
+    o_max = filter_dmax(filter_dmax(fabs(o.x), fabs(o.y)), fabs(o.z));
+    m = filter_dmax(filter_dmax(filter_reach(s->lo.x, s->hi.x, o.x),
+                                filter_reach(s->lo.y, s->hi.y, o.y)),
+                    filter_reach(s->lo.z, s->hi.z, o.z));
+    /* m rounds: one more ulp of it, and no filter for a box too far, or
+    ** an empty one (lo > hi: m < 0). */
+    m *= 1 + 0x1p-50;
+    if (!(m >= 0 && o_max + m <= FILTER_MAX))
+        return;
+    xi0 = s->float_exact
+              ? FILTER_XI_O_EXACT * u * o_max + FILTER_XI_M_EXACT * u * m
+              : FILTER_XI_O * u * o_max + FILTER_XI_M * u * m;
+    xi0 += FILTER_XI_TAU * tau;
     for (k = 0; k < 3; k++) {
         f->row[k] = (unsigned)(wt->f.at[k] / sizeof(double));
-        o[f->row[k]] = wt->f.o[k];
-    }
-    o_max = filter_dmax(filter_dmax(fabs(o[0]), fabs(o[1])), fabs(o[2]));
-    m = filter_dmax(filter_dmax(filter_dmax(fabs(s->lo.x - o[0]),
-                                            fabs(s->hi.x - o[0])),
-                                filter_dmax(fabs(s->lo.y - o[1]),
-                                            fabs(s->hi.y - o[1]))),
-                    filter_dmax(fabs(s->lo.z - o[2]), fabs(s->hi.z - o[2])));
-    /* m rounds: one more ulp of it, and no filter for a box too far. */
-    m *= 1 + 0x1p-50;
-    if (!(o_max + m <= FILTER_MAX))
-        return;
-    d = s->float_exact ? 0.0 : u * (o_max + m);
-    rho = d + u * o_max + 2 * tau;
-    zeta = rho + u * (m + rho) + tau;
-    e_m = zeta + u * (m + zeta) + u * (1 + u) * (m + zeta) + tau;
-    xi0 = (zeta + e_m) * (1 + u) + tau;
-    for (k = 0; k < 3; k++)
         f->o[k] = (float)wt->f.o[k];
+    }
     f->sx = (float)wt->f.sx;
     f->sy = (float)wt->f.sy;
     f->sz = (float)wt->sz;
@@ -160,9 +176,9 @@ static void tri_filter_init(tri_filter *f, const ray__watertight *wt,
     f->on = 1;
 #else
     (void)wt;
+    (void)r;
     (void)s;
-    (void)o, (void)o_max, (void)m, (void)d, (void)rho, (void)zeta;
-    (void)e_m, (void)xi0, (void)k, (void)u, (void)tau;
+    (void)o, (void)o_max, (void)m, (void)xi0, (void)k, (void)u, (void)tau;
 #endif
 }
 
@@ -179,27 +195,37 @@ static inline __m256 filter_abs8(__m256 x)
     return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x);
 }
 
+/* One corner's projection, eight lanes: its rows from v (the rows' row
+** offsets "at", already times the stride). */
+static inline void filter_corner8(const tri_filter *f, const float *v,
+                                  const unsigned at[3], __m256 *x, __m256 *y)
+{
+    __m256 z = _mm256_sub_ps(_mm256_loadu_ps(v + at[2]),
+                             _mm256_set1_ps(f->o[2]));
+    __m256 ax = _mm256_sub_ps(_mm256_loadu_ps(v + at[0]),
+                              _mm256_set1_ps(f->o[0]));
+    __m256 ay = _mm256_sub_ps(_mm256_loadu_ps(v + at[1]),
+                              _mm256_set1_ps(f->o[1]));
+
+    *x = _mm256_sub_ps(ax, _mm256_mul_ps(_mm256_set1_ps(f->sx), z));
+    *y = _mm256_sub_ps(ay, _mm256_mul_ps(_mm256_set1_ps(f->sy), z));
+}
+
 static inline unsigned tri_filter_leaf(const tri_filter *f,
                                        const float *base, unsigned n,
                                        unsigned count)
 {
-    const float *v[3];
+    unsigned at[3];
     __m256 x[3], y[3], e[3], w, xi, p, b, lo, hi;
     int c;
 
-    v[0] = base;
-    v[1] = base + 3 * n;
-    v[2] = base + 6 * n;
-    for (c = 0; c < 3; c++) {
-        __m256 z = _mm256_sub_ps(_mm256_loadu_ps(v[c] + f->row[2] * n),
-                                 _mm256_set1_ps(f->o[2]));
-        __m256 ax = _mm256_sub_ps(_mm256_loadu_ps(v[c] + f->row[0] * n),
-                                  _mm256_set1_ps(f->o[0]));
-        __m256 ay = _mm256_sub_ps(_mm256_loadu_ps(v[c] + f->row[1] * n),
-                                  _mm256_set1_ps(f->o[1]));
-        x[c] = _mm256_sub_ps(ax, _mm256_mul_ps(_mm256_set1_ps(f->sx), z));
-        y[c] = _mm256_sub_ps(ay, _mm256_mul_ps(_mm256_set1_ps(f->sy), z));
-    }
+    at[0] = f->row[0] * n;
+    at[1] = f->row[1] * n;
+    at[2] = f->row[2] * n;
+    /* The corners written out: -O2 leaves a loop of three rolled. */
+    filter_corner8(f, base, at, &x[0], &y[0]);
+    filter_corner8(f, base + 3 * n, at, &x[1], &y[1]);
+    filter_corner8(f, base + 6 * n, at, &x[2], &y[2]);
     e[0] = _mm256_sub_ps(_mm256_mul_ps(x[2], y[1]), _mm256_mul_ps(y[2], x[1]));
     e[1] = _mm256_sub_ps(_mm256_mul_ps(x[0], y[2]), _mm256_mul_ps(y[0], x[2]));
     e[2] = _mm256_sub_ps(_mm256_mul_ps(x[1], y[0]), _mm256_mul_ps(y[1], x[0]));

@@ -14,15 +14,18 @@
 ** The nearest triangle so far (index TRI_NONE: none yet), and the
 ** interval's end a new candidate is tested against: r->tmax before the
 ** first triangle hit (the interval is open), the next double above it
-** after one, so that a tie is seen and settled by tri_beats; and its
-** corners, which the exact test read, for the hit record (read once).
+** after one, so that a tie is seen and settled by tri_beats; and where
+** its corners are read again for the hit record (its leaf's rows and
+** their stride: ray__leaf_tri), once per ray rather than copied at every
+** candidate that becomes the nearest.
 */
 #define TRI_NONE 0xffffffffu
 typedef struct tri_best {
     unsigned index;
     double beta, gamma;
     double limit;
-    ray__tri tri;
+    const float *rows;
+    unsigned n;
 } tri_best;
 
 static inline void tri_best_start(tri_best *b)
@@ -61,20 +64,42 @@ static inline int tri_beats(const ray_scene *s, unsigned i, double t,
                                     : x->prim_id < y->prim_id;
 }
 
-/* Record hit t on triangle i (corners *tri; beta, gamma) as the nearest
-** so far. */
-static inline void tri_hit(unsigned i, const ray__tri *tri, double t,
-                           double beta, double gamma, ray_ray *r, void *best)
+/* Record hit t on triangle i (its leaf's rows from "rows", stride n;
+** beta, gamma) as the nearest so far. */
+static inline void tri_hit(unsigned i, const float *rows, unsigned n,
+                           double t, double beta, double gamma, ray_ray *r,
+                           void *best)
 {
     r->tmax = t;
     if (best != NULL) {
         tri_best *b = best;
         b->index = i;
-        b->tri = *tri;
+        b->rows = rows;
+        b->n = n;
         b->beta = beta;
         b->gamma = gamma;
         b->limit = ray__next_up(t);     /* nextafter, inline (vec.h) */
     }
+}
+
+/*
+** The hit record of b (a triangle found: index != TRI_NONE) at t, in the
+** space of scene s, into *h: 1, or 0 if it did not fill -- which cannot
+** happen, as a triangle that was hit has a normal (ray__tri_of).  Every
+** triangle query ends here: single rays, the general query's triangles
+** and the packets' lanes.
+*/
+static inline int tri_record(const ray_scene *s, const tri_best *b,
+                             double t, ray_hit *h)
+{
+    ray__tri c = ray__leaf_tri(s, b->index, b->rows, b->n);
+
+    if (!ray__triangle_fill(c.a, c.b, c.c, t, b->beta, b->gamma, h))
+        return 0;
+    h->geom_id = s->tri_ids[b->index].geom_id;
+    h->prim_id = s->tri_ids[b->index].prim_id;
+    h->inst_id = RAY_INVALID_ID;
+    return 1;
 }
 
 /*
@@ -139,31 +164,34 @@ static inline int tri_slot(const ray_scene *s, trav *tr, unsigned i,
                            void *best, ray__counts *qc)
 {
     double th, beta, gamma, limit = tri_limit(r, best);
-    ray__tri t;
+    ray__tri copy;
+    const ray__tri *t;
     int hit;
 
     if (s->tri_mode == RAY__TRI_FLOAT && tr->flt.on) {
         hit = tri_float_hit(&tr->flt, rows, n, r->tmin, limit, &th, &beta,
                             &gamma);
-        if (hit)
-            t = ray__leaf_tri(s, i, rows, n);
+        if (!hit)
+            return 0;
+        t = ray__leaf_tri_at(s, i, rows, n, &copy);
     } else {
-        t = ray__leaf_tri(s, i, rows, n);
+        t = ray__leaf_tri_at(s, i, rows, n, &copy);
         if (s->watertight) {
             hit = ray__triangle_watertight_pre(&tr->wt, r->tmin, limit,
-                                               &t.a, &t.b, &t.c, &th, &beta,
-                                               &gamma);
+                                               &t->a, &t->b, &t->c, &th,
+                                               &beta, &gamma);
         } else {
             ray_ray rl = *r;
             rl.tmax = limit;
-            hit = ray__triangle_test(&rl, t.a, t.b, t.c, &th, &beta, &gamma);
+            hit = ray__triangle_test(&rl, t->a, t->b, t->c, &th, &beta,
+                                     &gamma);
         }
     }
     if (!hit || !tri_beats(s, i, th, r, best))
         return 0;
-    if (qc->gate != NULL && !tri_gate(s, i, &t, th, beta, gamma, r, qc))
+    if (qc->gate != NULL && !tri_gate(s, i, t, th, beta, gamma, r, qc))
         return 0;
-    tri_hit(i, &t, th, beta, gamma, r, best);
+    tri_hit(i, rows, n, th, beta, gamma, r, best);
     return 1;
 }
 
@@ -175,7 +203,7 @@ static inline int tri_slot(const ray_scene *s, trav *tr, unsigned i,
 ** those of testing every triangle with the exact test, as the filter
 ** only drops misses (and misses offer nothing to a gate).
 */
-static inline int tri_leaf(const ray_scene *s, trav *tr,
+static RAY__INLINE int tri_leaf(const ray_scene *s, trav *tr,
                            unsigned first, unsigned end, ray_ray *r,
                            void *best, int any, ray__counts *qc)
 {

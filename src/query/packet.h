@@ -215,20 +215,13 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
         add_counts(st, &qc);
         for (l = 0; l < m; l++) {
             const tri_best *b = &p.best[l];
-            const ray__tri *t;
             ray_hit h;
             /* Any hit: a lane that started and stopped found one. */
             results[i + (size_t)l] = any && (p.started & ~p.live) >> l & 1;
             if (any || !(p.started >> l & 1) || b->index == TRI_NONE)
                 continue;
-            t = &b->tri;
-            /* A triangle that was hit fills, as in nearest_core. */
-            if (!ray__triangle_fill(t->a, t->b, t->c, p.r[l].tmax, b->beta,
-                                    b->gamma, &h))
+            if (!tri_record(s, b, p.r[l].tmax, &h))
                 continue;
-            h.geom_id = s->tri_ids[b->index].geom_id;
-            h.prim_id = s->tri_ids[b->index].prim_id;
-            h.inst_id = RAY_INVALID_ID;
             ray__hit_store(&hits[i + (size_t)l], &h);
             results[i + (size_t)l] = 1;
         }

@@ -229,7 +229,7 @@ static inline int trav_frame(trav *tr, const ray_ray *r, const ray_scene *s)
     if (tr->framed == 0) {
         tr->framed = ray__watertight_init(&tr->wt, r) ? 1 : -1;
         if (tr->framed > 0)
-            tri_filter_init(&tr->flt, &tr->wt, s);
+            tri_filter_init(&tr->flt, &tr->wt, r, s);
     }
     return tr->framed > 0;
 }

@@ -350,17 +350,10 @@ static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
     }
     if (prims_along(s, &tr, &ready, rr, &best, 0, qc))
         found = 1;
-    if (tris_along(s, &tr, &ready, rr, &tb, 0, qc)) {
-        const ray__tri *t = &tb.tri;
-        /* A triangle that was hit has a normal (ray__tri_of): it fills. */
-        if (ray__triangle_fill(t->a, t->b, t->c, rr->tmax, tb.beta,
-                               tb.gamma, &best.h)) {
-            best.h.geom_id = s->tri_ids[tb.index].geom_id;
-            best.h.prim_id = s->tri_ids[tb.index].prim_id;
-            best.h.inst_id = RAY_INVALID_ID;
-            best.deferred = RAY_INVALID_ID;
-            found = 1;
-        }
+    if (tris_along(s, &tr, &ready, rr, &tb, 0, qc) &&
+        tri_record(s, &tb, rr->tmax, &best.h)) {
+        best.deferred = RAY_INVALID_ID;
+        found = 1;
     }
     /* The record of the nearest, once per ray. */
     if (found && !prim_fill_best(s, rr, &best, qc))
@@ -433,13 +426,8 @@ static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
     trav_init(&tr, &rr);
     if (!traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc))
         return 0;
-    /* A triangle that was hit has a normal (ray__tri_of): it fills. */
-    if (!ray__triangle_fill(tb.tri.a, tb.tri.b, tb.tri.c, rr.tmax, tb.beta,
-                            tb.gamma, &h))
+    if (!tri_record(s, &tb, rr.tmax, &h))
         return 0;
-    h.geom_id = s->tri_ids[tb.index].geom_id;
-    h.prim_id = s->tri_ids[tb.index].prim_id;
-    h.inst_id = RAY_INVALID_ID;
     ray__hit_store(hit, &h);
     return 1;
 }

@@ -428,6 +428,18 @@ static inline ray__tri ray__leaf_tri(const ray_scene *s, size_t i,
     return ray__tri_of(s, i);
 }
 
+/* The same corners without the copy where the scene keeps them in
+** leaf_tri: a pointer to them there, else to *tmp, filled. */
+static inline const ray__tri *ray__leaf_tri_at(const ray_scene *s, size_t i,
+                                               const float *rows, size_t n,
+                                               ray__tri *tmp)
+{
+    if (s->leaf_tri != NULL && !(s->float_exact && !isnan(rows[0])))
+        return &s->leaf_tri[i];
+    *tmp = ray__leaf_tri(s, i, rows, n);
+    return tmp;
+}
+
 /*
 ** At commit (triangles.c): ray__triangles_rebuild builds the triangle
 ** BVH over the live slots, puts them in its leaf order and writes their
