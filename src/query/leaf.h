@@ -203,7 +203,7 @@ static inline int tri_slot(const ray_scene *s, trav *tr, unsigned i,
 ** those of testing every triangle with the exact test, as the filter
 ** only drops misses (and misses offer nothing to a gate).
 */
-static RAY__INLINE int tri_leaf(const ray_scene *s, trav *tr,
+static inline int tri_leaf(const ray_scene *s, trav *tr,
                            unsigned first, unsigned end, ray_ray *r,
                            void *best, int any, ray__counts *qc)
 {
