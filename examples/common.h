@@ -267,7 +267,7 @@ static inline int example_add_box_mesh(ray_scene *scene, ray_vec3 lo,
     for (i = 0; i < 8; i++)
         v[i] = vec(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y,
                    i & 4 ? hi.z : lo.z);
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);    /* zero is every field's default */
     m.vertices = v;
     m.vertex_count = 8;
     m.indices = indices;

@@ -54,7 +54,7 @@ static int add_quad(ray_scene *scene, const ray_vec3 corner[4],
     static const unsigned indices[6] = {0, 1, 2, 0, 2, 3};
     ray_mesh m;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = corner;
     m.vertex_count = 4;
     m.indices = indices;

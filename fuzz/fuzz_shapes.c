@@ -24,6 +24,8 @@
 **     ray_spawn's ray does not hit the triangle it leaves;
 **   * after ray_scene_free the allocator holds nothing.
 */
+#include <string.h>
+
 #include "fuzz.h"
 
 #define MAX_GEOMS 8
@@ -46,7 +48,7 @@ static int add_mesh(world *w, ray_scene *s)
 
     for (k = 0; k < 4; k++)
         v[k] = fuzz_vec3(&w->in);
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = v;
     m.vertex_count = 4;
     m.indices = idx;
@@ -156,7 +158,7 @@ static void one_sweep(world *w)
     unsigned how = fuzz_u8(&w->in);
     int rc;
 
-    ray_sweep_init(&s);
+    memset(&s, 0, sizeof s);
     s.a = fuzz_vec3(&w->in);
     s.b = how & 1 ? fuzz_vec3(&w->in) : s.a;
     s.radius = how & 2 ? fuzz_double(&w->in) : 0.5;
