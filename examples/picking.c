@@ -140,7 +140,7 @@ int main(int argc, char **argv)
     unsigned mat, id, i, n = 0, wrong = 0;
 
     /* The examples' conventions (examples/common.h): -h and --help print
-    ** the usage on stdout, anything else is refused; both exit 2. */
+    ** the usage on stdout and exit 0, anything else is refused: 2. */
     if (example_no_arguments(argc, argv, "picking",
                              "Picks with mouse rays and checks lines of "
                              "sight on a small scene, from 4 threads; exits "
