@@ -290,8 +290,10 @@ enum {
     RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
                             weight, fan-out), iterations, image load */
     RAY_EEFFECT,         /* a material asked for an undeclared effect */
-    RAY_ENOTSUP          /* not supported by this build (PNG I/O in a
+    RAY_ENOTSUP,         /* not supported by this build (PNG I/O in a
                             library built with make PNG=0) */
+    RAY_EKIND            /* the geometry's kind has no such thing (a
+                            box's surface points: ray_surface_point) */
 };
 
 /*
@@ -2620,9 +2622,10 @@ RAY_API int ray_overlap_box_all(const ray_scene *scene,
 ** inside it.  Returns RAY_OK with *hit filled, else (*hit untouched)
 ** RAY_EINVAL for NULLs, ids that name nothing (or removed geometry, or
 ** an instance where geometry was asked for), (u, v) not finite or
-** outside the primitive; RAY_ENOTSUP for boxes, capsules, tori,
+** outside the primitive; RAY_EKIND for boxes, capsules, tori,
 ** implicit, parametric and Bezier surfaces and user geometry, which have
-** no surface points here; RAY_ESTATE for a scene not committed, or an
+** no surface points here (a status of its own, not RAY_ENOTSUP: no
+** build of the library has them); RAY_ESTATE for a scene not committed, or an
 ** instance whose scene changed since.  Any number of threads may call
 ** it on a committed scene; it allocates nothing.
 */

@@ -568,7 +568,8 @@ END_TEST
 ** and a call with good arguments -RAY_ESTATE.  ray_surface_point checks
 ** its pointers, then the state, then the ids and coordinates: an
 ** uncommitted scene answers RAY_ESTATE whatever the ids, and a kind
-** without surface points answers RAY_ENOTSUP only for finite (u, v).
+** without surface points answers RAY_EKIND (issue 37: its own status,
+** not "not supported by this build") only for finite (u, v).
 */
 START_TEST(statuses_should_follow_the_documented_order)
 {
@@ -606,7 +607,12 @@ START_TEST(statuses_should_follow_the_documented_order)
     ** the kind. */
     ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_EINVAL);
     ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, (double)NAN, 0, &h), RAY_EINVAL);
-    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_ENOTSUP);
+    hit_poison(&h);
+    ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_EKIND);
+    ck_assert(hit_is_poisoned(&h));
+    ck_assert_str_eq(ray_strerror(RAY_EKIND),
+                     "not available for this kind of geometry");
+    ck_assert_int_ne(RAY_EKIND, RAY_ENOTSUP);
     ray_scene_free(s);
 }
 END_TEST
