@@ -11,7 +11,8 @@
 **   * ray_intersect_sweep answers 1, 0, -RAY_EINVAL or -RAY_ESTATE, and
 **     -RAY_EINVAL exactly for the misuse ray.h lists (a NaN or infinite
 **     a, b or dir, a zero dir, b - a or tmin dir overflowing, a radius
-**     negative, NaN or infinite, tmin not finite, tmax not above tmin);
+**     negative, NaN or infinite, tmin not finite, tmax not above tmin;
+**     tmax 0 is read as 1, the default);
 **     *c untouched unless 1; a contact
 **     lies in [tmin, tmax], every field finite, n unit, depth >= 0 (> 0
 **     only for RAY_CONTACT_OVERLAP at tmin), flags known, ids that name
@@ -124,6 +125,7 @@ static int sweep_misuse(const ray_sweep *s)
     int finite = fuzz_finite3(s->a) && fuzz_finite3(s->b) &&
                  fuzz_finite3(s->dir);
     ray_vec3 x0, axis;
+    double tmax = s->tmax == 0 ? 1 : s->tmax;   /* zero is the default */
 
     if (!finite)
         return 1;
@@ -134,7 +136,7 @@ static int sweep_misuse(const ray_sweep *s)
     axis.y = s->b.y - s->a.y;
     axis.z = s->b.z - s->a.z;
     return !(s->radius >= 0 && s->radius < HUGE_VAL) || !fuzz_finite3(axis) ||
-           !isfinite(s->tmin) || !(s->tmax > s->tmin) ||
+           !isfinite(s->tmin) || !(tmax > s->tmin) ||
            (s->dir.x == 0 && s->dir.y == 0 && s->dir.z == 0) ||
            !fuzz_finite3(x0);
 }
@@ -167,6 +169,8 @@ static void one_sweep(world *w)
     s.tmax = how & 8 ? fuzz_double(&w->in) : (how & 16 ? HUGE_VAL : 1);
     fuzz_sentinel(&c, sizeof c);
     rc = ray_intersect_sweep(w->scene, &s, NULL, &c);
+    if (s.tmax == 0)
+        s.tmax = 1;              /* what the call read: zero is the default */
     if (sweep_misuse(&s)) {
         FUZZ_CHECK(rc == -RAY_EINVAL, "ray_intersect_sweep: misuse refused");
         FUZZ_CHECK(fuzz_untouched(&c, sizeof c), "sweep: *c untouched");
