@@ -138,7 +138,7 @@ int main(void)
     ray_render_options_init(&o, w, h);
     o.threads = 2;
     o.samples = 256;
-    o.cones = 0;
+    o.no_cones = 1;
     t_ref = render(s, &cam, &o, ref);
     printf("## Ray cones: a textured floor to the horizon\n\n");
     printf("A 256 x 256 checkerboard texture (8 x 8 squares per world unit) "
@@ -156,20 +156,20 @@ int main(void)
     for (k = 0; k < 3; k++) {
         double tl[9], tc[9], el, ec, ew;
         o.samples = spp[k];
-        o.cones = 0;
+        o.no_cones = 1;
         render(s, &cam, &o, a);                  /* warm-up */
-        o.cones = 1;
+        o.no_cones = 0;
         render(s, &cam, &o, b);
         for (i = 0; i < reps; i++) {
-            o.cones = 0;
+            o.no_cones = 1;
             tl[i] = render(s, &cam, &o, a);
-            o.cones = 1;
+            o.no_cones = 0;
             tc[i] = render(s, &cam, &o, b);
         }
         el = rmse(a, ref, n);
         ec = rmse(b, ref, n);
         whole.scale = sqrt((double)spp[k]);
-        o.cones = 1;
+        o.no_cones = 0;
         render(sw, &cam, &o, a);
         ew = rmse(a, ref, n);
         printf("| %u | %.4f | %.4f | %.3f | %.3f | %.2f | %.4f |\n", spp[k],

@@ -14,6 +14,7 @@
 ** ours: commit and refit are single-threaded; Embree uses its own thread
 ** pool on every CPU (noted in the table).  No assertion: tests test.
 */
+#include <string.h>
 #include <stdio.h>
 #include <unistd.h>
 
@@ -416,8 +417,8 @@ static void gates_rows(const obj_mesh *m, unsigned res)
     check(ray_scene_new(&top, NULL, NULL), "scene");
     check(ray_scene_add_instance(top, plain, &id, NULL), "instance");
     check(ray_scene_commit(top), "commit");
-    ray_query_init(&q);
-    q.mask = 1;
+    memset(&q, 0, sizeof q);
+    q.ignore_mask = ~1u;
     for (k = 0; k < reps; k++) {
         tp[k] = pass(plain, rays, n, NULL, &hits[0]);
         tm[k] = pass(plain, rays, n, &q, &hits[1]);

@@ -16,6 +16,7 @@
 **     shapes DATA_DIR     (bunny-2.obj; prints Markdown; BENCH_QUICK=1
 **                          for fewer queries)
 */
+#include <string.h>
 #include <stdio.h>
 
 #include "bench.h"
@@ -471,7 +472,7 @@ int main(int argc, char **argv)
         ray_vec3 to = vec(lo.x + (hi.x - lo.x) * rng_range(&g, 0.25, 0.75),
                           lo.y + (hi.y - lo.y) * rng_range(&g, 0.25, 0.75),
                           lo.z + (hi.z - lo.z) * rng_range(&g, 0.25, 0.75));
-        ray_sweep_init(&w[i]);
+        memset(&w[i], 0, sizeof w[i]);
         w[i].a = w[i].b = from;
         w[i].radius = 0.01 * diag;
         w[i].dir = vsub(to, from);
@@ -512,7 +513,7 @@ int main(int argc, char **argv)
             double x = rng_range(&g, -23, 23), z = rng_range(&g, -23, 23);
             ray_vec3 from = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3), z);
             ray_vec3 step = vscale(rng_dir(&g), rng_range(&g, 0.2, 2));
-            ray_sweep_init(&gw[i]);
+            memset(&gw[i], 0, sizeof gw[i]);
             gw[i].a = gw[i].b = from;
             gw[i].radius = rng_range(&g, 0.1, 0.5);
             gw[i].dir = step;
@@ -568,7 +569,7 @@ int main(int argc, char **argv)
             size_t inside;
             do {
                 double x = rng_range(&g, -23, 23), z = rng_range(&g, -23, 23);
-                ray_sweep_init(&gw[i]);
+                memset(&gw[i], 0, sizeof gw[i]);
                 gw[i].a = gw[i].b = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3),
                                         z);
                 gw[i].radius = 0.3;

@@ -216,9 +216,10 @@ static inline double now_seconds(void)
 **     NAME [INPUT] [out.png [width height [samples [threads]]]]
 **
 ** (INPUT for those that read a file; the sizes for those that render a
-** scene).  -h or --help prints the usage on stdout; a bad argument prints
-** what is wrong and the usage on stderr; both exit with status 2, as
-** issue 18 asks, so that no script takes a usage message for a picture.
+** scene).  -h or --help prints the usage on stdout and exits 0, as asked
+** for help is no failure (issue 37); a bad argument prints what is wrong
+** and the usage on stderr and exits with status 2, as issue 18 asks, so
+** that no script takes a usage message for a picture.
 ** Status 1 is a failure while running (a file that cannot be read or
 ** written, memory); 0, a picture written.  Numbers are whole decimal
 ** numbers with nothing after them ("12abc" is refused), within limits
@@ -267,7 +268,7 @@ static inline int example_add_box_mesh(ray_scene *scene, ray_vec3 lo,
     for (i = 0; i < 8; i++)
         v[i] = vec(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y,
                    i & 4 ? hi.z : lo.z);
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);    /* zero is every field's default */
     m.vertices = v;
     m.vertex_count = 8;
     m.indices = indices;
@@ -278,8 +279,8 @@ static inline int example_add_box_mesh(ray_scene *scene, ray_vec3 lo,
 /*
 ** The command line of an example that takes no arguments (it writes no
 ** file): 0 when there are none; -h or --help prints "usage: NAME (no
-** arguments)" and "what" on stdout, anything else is refused on stderr
-** with the usage; both return 2, the status to exit with.
+** arguments)" and "what" on stdout and exits 0; anything else is refused
+** on stderr with the usage, returning 2, the status to exit with.
 */
 static inline int example_no_arguments(int argc, char **argv,
                                        const char *name, const char *what)
@@ -295,6 +296,8 @@ static inline int example_no_arguments(int argc, char **argv,
                 argv[1]);
     fprintf(help ? stdout : stderr, "usage: %s (no arguments)\n%s\n", name,
             what);
+    if (help)
+        exit(0);                 /* help asked for and given: no failure */
     return 2;
 }
 
@@ -421,7 +424,8 @@ static inline int example_adaptive(const example_cli *c, example_args *a)
     return 0;
 }
 
-/* Fill *a from argv; 0, or the exit status (2) after the usage. */
+/* Fill *a from argv; 0, or the exit status (2) after the usage; -h and
+** --help print the usage and exit 0 here. */
 static inline int example_parse(const example_cli *c, int argc, char **argv,
                                 example_args *a)
 {
@@ -430,7 +434,7 @@ static inline int example_parse(const example_cli *c, int argc, char **argv,
     for (i = 1; i < argc; i++)
         if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
             example_usage(c, stdout);
-            return 2;
+            exit(0);             /* help asked for and given: no failure */
         }
     memset(a, 0, sizeof *a);
     a->name = c->name;

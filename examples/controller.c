@@ -113,11 +113,12 @@ typedef struct tally {
 /* The capsule at centre p, moved by "move" over [0, 1]. */
 static void sweep_of(ray_vec3 p, ray_vec3 move, ray_sweep *s)
 {
-    ray_sweep_init(s);
-    s->a = vec(p.x, p.y - HALF, p.z);
-    s->b = vec(p.x, p.y + HALF, p.z);
-    s->radius = RADIUS;
-    s->dir = move;
+    /* Zero is the default: tmin 0, and tmax 0 sweeps the whole move. */
+    ray_sweep whole = {.a = vec(p.x, p.y - HALF, p.z),
+                       .b = vec(p.x, p.y + HALF, p.z),
+                       .radius = RADIUS, .dir = move};
+
+    *s = whole;
 }
 
 static double dot(ray_vec3 a, ray_vec3 b)
@@ -286,8 +287,7 @@ static double feet_clearance(const ray_scene *w, ray_vec3 p)
     ray_ray r;
     ray_hit h;
 
-    ray_query_init(&q);
-    q.mask = TERRAIN_MASK;
+    q = (ray_query){.ignore_mask = ~TERRAIN_MASK};  /* the terrain alone */
     r.org = vec(p.x, 100, p.z);
     r.dir = vec(0, -1, 0);
     r.tmin = 0;

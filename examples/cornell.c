@@ -7,7 +7,8 @@
 **     cornell [out.png [width height [samples [threads]]]]
 **
 ** Defaults: cornell.png, 400 x 400, 4 samples per pixel, all CPUs.
-** --help and bad arguments print the usage and exit 2 (common.h).
+** --help prints the usage and exits 0, bad arguments print it and exit 2
+** (common.h).
 */
 #include "scenes.h"
 

@@ -84,11 +84,10 @@ static void *work(void *arg)
 {
     worker *w = arg;
     unsigned i, rng = w->seed;
-    ray_query pick, los;
+    /* Zero is the default: los ignores nothing; pick ignores every mask
+    ** bit but the objects', so the level is not pickable. */
+    ray_query pick = {.ignore_mask = ~OBJECT_MASK}, los = {0};
 
-    ray_query_init(&pick);
-    pick.mask = OBJECT_MASK;                  /* the level is not pickable */
-    ray_query_init(&los);
     for (i = 0; i < QUERIES; i++) {
         unsigned a, b;
         rng = rng * 1664525u + 1013904223u;

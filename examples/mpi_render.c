@@ -33,7 +33,8 @@
 **
 ** Test hook: RAY_MPI_FAIL_RANK=N makes rank N fail its scene setup, as a
 ** missing scene file on one node would (scripts/check-mpi.sh uses it).
-** --help and bad arguments print the usage and exit 2 (common.h), before
+** --help prints the usage and exits 0, bad arguments print it and exit 2
+** (common.h), before
 ** MPI is started.
 */
 #include <limits.h>

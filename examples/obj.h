@@ -392,7 +392,8 @@ static inline ray_mesh obj_as_ray_mesh(const obj_mesh *m)
 {
     ray_mesh r;
 
-    ray_mesh_init(&r);          /* fields added later get their defaults */
+    memset(&r, 0, sizeof r);    /* zero is every field's default, those
+                                   added later included */
     r.vertices = m->vertices;
     r.vertex_count = m->vertex_count;
     r.indices = m->indices;

@@ -54,7 +54,7 @@ static int add_quad(ray_scene *scene, const ray_vec3 corner[4],
     static const unsigned indices[6] = {0, 1, 2, 0, 2, 3};
     ray_mesh m;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = corner;
     m.vertex_count = 4;
     m.indices = indices;
@@ -140,7 +140,7 @@ int main(int argc, char **argv)
     unsigned mat, id, i, n = 0, wrong = 0;
 
     /* The examples' conventions (examples/common.h): -h and --help print
-    ** the usage on stdout, anything else is refused; both exit 2. */
+    ** the usage on stdout and exit 0, anything else is refused: 2. */
     if (example_no_arguments(argc, argv, "picking",
                              "Picks with mouse rays and checks lines of "
                              "sight on a small scene, from 4 threads; exits "

@@ -138,7 +138,7 @@ int main(int argc, char **argv)
         printf("sdf: %s: %zu triangles\n", path, obj.triangle_count);
     } else {
         icosphere(&sphere, 3);
-        ray_mesh_init(&mesh);
+        memset(&mesh, 0, sizeof mesh);
         mesh.vertices = sphere.v;
         mesh.vertex_count = sphere.nv;
         mesh.indices = sphere.t;

@@ -40,7 +40,7 @@ static inline void terrain_mesh(ray_mesh *m)
             t[0] = a; t[1] = a + G + 1; t[2] = a + 1;
             t[3] = a + 1; t[4] = a + G + 1; t[5] = a + G + 2;
         }
-    ray_mesh_init(m);
+    memset(m, 0, sizeof *m);
     m->vertices = v;
     m->vertex_count = (G + 1) * (G + 1);
     m->indices = idx;

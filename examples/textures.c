@@ -3,7 +3,7 @@
 ** textures.c -- texture coordinates from every kind of primitive, and
 ** textures of both kinds: images (a PNG loaded with ray_image_load_png,
 ** and a checkerboard made in memory with ray_image_new), mip-mapped and
-** filtered over each camera ray's cone (ray_render_options.cones, on by
+** filtered over each camera ray's cone (unless ray_render_options.no_cones; on by
 ** default), and procedural functions (ray_texture_fn).
 **
 **   * a sphere wrapped in the image by its longitude and latitude;
@@ -11,7 +11,7 @@
 **   * a mesh quad with per-vertex (s, t) showing it too;
 **   * a torus striped by its two angles (procedural);
 **   * the floor, a plane, tiled in its own axes with a checkerboard image
-**     of 8 x 8 squares per unit: without cones (cones = 0 in
+**     of 8 x 8 squares per unit: without cones (no_cones = 1 in
 **     ray_render_options) its far squares alias into moire at a few
 **     samples per pixel; with them each ray reads the mip level of its
 **     footprint.

@@ -6,7 +6,8 @@
 **     whitted [out.png [width height [samples [threads]]]]
 **
 ** Defaults: whitted.png, 640 x 480, 4 samples per pixel, all CPUs.
-** --help and bad arguments print the usage and exit 2 (common.h).
+** --help prints the usage and exits 0, bad arguments print it and exit 2
+** (common.h).
 */
 #include "scenes.h"
 

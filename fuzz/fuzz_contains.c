@@ -20,6 +20,8 @@
 **   * ray_signed_distance's sign agrees with ray_contains; a 2 x 2 x 2
 **     ray_distance_grid answers RAY_OK or a documented status.
 */
+#include <string.h>
+
 #include "fuzz.h"
 
 #define MAX_V 11
@@ -59,7 +61,7 @@ static ray_scene *build(const ray_vec3 *v, size_t nv, const unsigned *idx,
         w[i] = rotate(v[i], how);
     if (ray_scene_new(&s, NULL, NULL) != RAY_OK)
         return NULL;
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = w;
     m.vertex_count = nv;
     m.indices = idx;

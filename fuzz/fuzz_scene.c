@@ -27,6 +27,8 @@
 **   * after ray_scene_free the allocator holds nothing, and every osize
 **     it was given was the block's size.
 */
+#include <string.h>
+
 #include "fuzz.h"
 
 #define MAX_OPS 40
@@ -352,7 +354,7 @@ static void op_mesh(prog *p)
     }
     for (i = 0; i < 3 * nt; i++)   /* nv + 1: sometimes out of range */
         idx[i] = fuzz_below(&p->in, (unsigned)nv + (flags & 8 ? 1 : 0));
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = flags & 16 ? NULL : v;
     m.vertex_count = nv;
     m.indices = idx;

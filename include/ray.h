@@ -290,8 +290,10 @@ enum {
     RAY_ELIMIT,          /* a limit was reached: ray tree (depth,
                             weight, fan-out), iterations, image load */
     RAY_EEFFECT,         /* a material asked for an undeclared effect */
-    RAY_ENOTSUP          /* not supported by this build (PNG I/O in a
+    RAY_ENOTSUP,         /* not supported by this build (PNG I/O in a
                             library built with make PNG=0) */
+    RAY_EKIND            /* the geometry's kind has no such thing (a
+                            box's surface points: ray_surface_point) */
 };
 
 /*
@@ -483,7 +485,7 @@ typedef struct ray_shade_args {
     /* Ray cones (Akenine-Moller et al., "Texture Level of Detail
     ** Strategies for Real-Time Ray Tracing", Ray Tracing Gems, 2019),
     ** set only in a scene whose effects include RAY_EFFECT_TEXTURE and
-    ** for a ray that carries a cone (ray_render_options.cones,
+    ** for a ray that carries a cone (ray_render_options.no_cones 0,
     ** ray_ctx_set_cone), else 0: */
     double cone_width;       /* the cone's width at the hit, across the
                                 ray, in world units */
@@ -747,6 +749,9 @@ typedef struct ray_mesh {
     int index_type;              /* RAY_UINT16 or RAY_UINT32 */
     unsigned flags;              /* RAY_MESH_BORROW, or 0: copied */
 } ray_mesh;
+/* Zero is the default: fill a ray_mesh from {0} or by a designated
+** initializer; a field left 0 (NULL) is absent (stride 0: packed; flags
+** 0: copied), and so is one a later version adds. */
 
 /*
 ** RAY_MESH_BORROW: the scene keeps the caller's arrays instead of copying
@@ -761,10 +766,6 @@ typedef struct ray_mesh {
 ** ray_scene_update_mesh and the commit after it.
 */
 #define RAY_MESH_BORROW 1u
-
-/* ray_mesh_init -- *m empty: every pointer NULL, every count, stride and
-** type 0. */
-RAY_API void ray_mesh_init(ray_mesh *m);
 
 RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
                                unsigned material, unsigned *geom_id);
@@ -864,9 +865,9 @@ RAY_API int ray_scene_set_build_threads(ray_scene *scene, unsigned threads);
 ** their ray trees: its workers want the stack the built-in threads get
 ** (4 MiB), or what the materials need.
 **
-** ray_scheduler_init -- run NULL, ud NULL, threads 0: a scheduler whose
-** run is NULL means the built-in threads.  Fields added later default to
-** what it sets (doc/DESIGN.md, "Versions and ABI").
+** Zero is the default: a scheduler whose run is NULL (a zeroed one)
+** means the built-in threads, and a field added later is 0 in {0} or a
+** designated initializer (doc/DESIGN.md, "Versions and ABI").
 */
 typedef void (*ray_task_fn)(void *task_ud, unsigned index);
 
@@ -875,8 +876,6 @@ typedef struct ray_scheduler {
     void *ud;                /* run's first argument */
     unsigned threads;        /* tasks it runs at once; 0: not said */
 } ray_scheduler;
-
-RAY_API void ray_scheduler_init(ray_scheduler *s);
 
 /*
 ** ray_scene_set_scheduler -- run the scene's parallel work on the
@@ -994,7 +993,7 @@ typedef struct ray_texture {
 **
 ** ray_texture_image -- a texture that samples "img" at (args->u, args->v),
 ** filtered over args->footprint when it is positive (the ray carried a
-** cone, ray_render_options.cones), else as ray_image_sample.
+** cone, ray_render_options.no_cones 0), else as ray_image_sample.
 ** The image is BORROWED: it must outlive every scene that uses it.
 ** Loaded images are read-only and may be shared between threads.
 */
@@ -1154,7 +1153,10 @@ typedef struct ray_stats {
 ** A pinhole camera at "position" looking at "look_at", "up" giving the
 ** roll, "vfov" the vertical field of view in degrees.  aperture > 0 makes
 ** it a thin lens of that diameter focused at focus_distance (0: the
-** distance to look_at), for depth of field.
+** distance to look_at), for depth of field.  Zero is the default: up
+** (0, 0, 0) means (0, 1, 0) and vfov 0 means 60 degrees, so that
+** { .position = eye, .look_at = target } is a camera; position and
+** look_at are the two fields with no default (they must differ).
 */
 typedef struct ray_camera {
     ray_vec3 position, look_at, up;
@@ -1165,7 +1167,7 @@ typedef struct ray_camera {
 
 /* ray_camera_init -- a pinhole camera at the origin looking down -z, up
 ** (0, 1, 0), vfov 60 degrees, aperture 0, focus distance 0 (the look-at
-** distance). */
+** distance): optional, the zeroed camera's defaults with look_at set. */
 RAY_API void ray_camera_init(ray_camera *c);
 
 /* Called after each finished row: return non-zero to cancel the render. */
@@ -1179,6 +1181,7 @@ typedef struct ray_render_options {
     unsigned threads;        /* tasks to render on; 0 = the scheduler's
                                 threads, or one per online CPU */
     unsigned samples;        /* per pixel, 1 .. RAY_MAX_PIXEL_SAMPLES;
+                                0: 1, the default;
                                 1 = the pixel centre; a square k*k:
                                 jittered k x k strata; otherwise n-rooks
                                 strata on a rank-1 lattice, jittered */
@@ -1189,7 +1192,7 @@ typedef struct ray_render_options {
     ** > 0 (then "samples" is not used, but must still be valid): the
     ** pixel's four corners are sampled; where any channel differs between
     ** them by more than the threshold the square is split in four, down to
-    ** adaptive_depth levels (1 .. 8), so a pixel takes 4 to
+    ** adaptive_depth levels (1 .. 8; 0: 2, the default), so a pixel takes 4 to
     ** 4 + 5 (4^depth - 1) / 3 samples (samples_hist; a point on an edge
     ** shared by two split squares counts for each, but a thread traces
     ** it once, and a row's top edge once with the row above).  +Inf
@@ -1198,19 +1201,20 @@ typedef struct ray_render_options {
     ** split gives the same bytes. */
     double adaptive_threshold;
     unsigned adaptive_depth;
-    /* Ray cones (ray_ctx_set_cone): non-zero, every camera ray carries a
-    ** cone of width 0 at the eye and spread atan(2 tan(vfov/2) / height)
+    /* Ray cones (ray_ctx_set_cone): unless no_cones is set (0, the
+    ** default: cones on), every camera ray carries a cone of width 0 at
+    ** the eye and spread atan(2 tan(vfov/2) / height)
     ** (one pixel's angle), divided by sqrt(samples) with several samples
     ** per pixel (each sample stands for its stratum, 1/sqrt(samples) of
     ** the pixel across: a sample filtered over the whole pixel would blur
     ** the image twice); the whole pixel's angle with adaptive
     ** antialiasing (a lattice point's value does not depend on the square
     ** it serves).  A textured hit then filters its texture over the
-    ** cone's footprint (ray_texture_image).  0: rays are lines, footprint
-    ** 0, textures sampled as ray_image_sample does.  The cone models the
-    ** pixel, not a lens's defocus.  ray_render_options_init sets 1; a
-    ** zero-filled struct means 0, as for the other fields. */
-    int cones;
+    ** cone's footprint (ray_texture_image).  no_cones non-zero: rays are
+    ** lines, footprint 0, textures sampled as ray_image_sample does.  The
+    ** cone models the pixel, not a lens's defocus.  (libray 0.1 called it
+    ** "cones", on when non-zero, so that {0} turned it off.) */
+    int no_cones;
     /* Caustics (ray_caustics_at): photons emitted from the lights before
     ** the frame, 0 (the default) for none, at most RAY_MAX_PHOTONS; they
     ** are traced only if ray_scene_effects has RAY_EFFECT_CAUSTICS.  The
@@ -1234,10 +1238,16 @@ typedef struct ray_render_options {
 ** a few GiB. */
 #define RAY_MAX_PHOTONS (1ull << 26)
 
-/* Defaults: the whole frame, all CPUs, 1 sample, seed 0, no callback,
-** no adaptive antialiasing (threshold 0, depth 2 if it is turned on),
-** ray cones on, no photons (caustics off), automatic photon radius, no
-** scheduler (the scene's). */
+/*
+** Zero is the default: every field 0 (a zeroed struct, the fields a
+** designated initializer leaves out) means the whole frame, all CPUs, 1
+** sample, seed 0, no callback, no adaptive antialiasing (threshold 0,
+** depth 2 if it is turned on), ray cones on, no photons (caustics off),
+** automatic photon radius, no scheduler (the scene's).  width and height
+** are the two fields with no default: { .width = 640, .height = 480 }.
+** ray_render_options_init -- optional: *o zeroed, then width and height
+** set.
+*/
 RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
                                      unsigned height);
 
@@ -1262,10 +1272,10 @@ RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
 ** committed (never, or changed since), as the queries answer, or one
 ** that instances a scene changed since its own commit (commit the scene
 ** after its instanced scenes); RAY_EINVAL for NULLs, zero sizes,
-** samples outside 1 .. RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that
-** is NaN or negative or an adaptive depth outside 1 .. 8, y0 >= y1 or
-** y1 > height, or a degenerate camera (eye at look_at, up within
-** 3.6e-15 rad of the view axis, vfov not in (0, 180)), photons above
+** samples above RAY_MAX_PIXEL_SAMPLES, an adaptive threshold that is
+** NaN or negative or an adaptive depth above 8, y0 >= y1 or y1 >
+** height, or a degenerate camera (eye at look_at, up within 3.6e-15 rad
+** of the view axis, vfov not in (0, 180); zeros are the defaults first), photons above
 ** RAY_MAX_PHOTONS or a photon_radius NaN, negative, infinite or whose
 ** pi r^2 under- or overflows (ray_caustics_at): ray_render_check says
 ** which and why; RAY_ENOMEM.  If fewer threads than asked can be
@@ -1282,7 +1292,7 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** other refusal, is not seen here) and writes into "msg" (at most "size"
 ** bytes, NUL-terminated, truncated if need be; msg NULL or size 0: not
 ** written) which argument or field failed, with its value and the rule,
-** e.g. "ray_render: options samples 0: must be 1 ..
+** e.g. "ray_render: options samples 100000: must be 0 (1) ..
 ** RAY_MAX_PIXEL_SAMPLES (65536), also with adaptive antialiasing"; ""
 ** on RAY_OK.  ray_render runs these very checks, so the two cannot
 ** disagree; it can still fail later for RAY_ENOMEM, RAY_ECANCELED, or
@@ -1505,9 +1515,9 @@ RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
 ** parities cancel, as in CGAL's test over one mesh of several parts);
 ** for a union, keep solids apart or test them in scenes of their own.
 ** Instances count their child's geometry, the point taken into the
-** child's space.  options->ignore_mask is the complement of a query's
-** mask (ray_query): geometry is counted when its mask has a bit outside
-** ignore_mask (through an instance, the instance's mask and the child
+** child's space.  options->ignore_mask is a query's (ray_query):
+** geometry is counted when its mask has a bit outside ignore_mask
+** (through an instance, the instance's mask and the child
 ** geometry's both), so 0 counts all geometry but that of mask 0, and a
 ** bit set there leaves out the geometry whose mask has that bit alone;
 ** disabled geometry is not counted; filters are not called.
@@ -1536,8 +1546,8 @@ RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
 
 typedef struct ray_contains_options {
     unsigned flags;              /* RAY_CONTAINS_*; 0: the defaults */
-    unsigned ignore_mask;        /* the mask's bits turned off: ~mask of a
-                                    ray_query; 0: all geometry seen */
+    unsigned ignore_mask;        /* as ray_query's: the mask's bits turned
+                                    off; 0: all geometry seen */
 } ray_contains_options;
 
 typedef struct ray_inside {
@@ -1702,12 +1712,12 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 
 /*
 ** Masks and filters.  Every geometry has a 32-bit visibility mask (all
-** bits by default); a query's ray_query.mask (all bits for ray_intersect,
-** ray_occluded and the renderer's rays) sees only geometry whose mask
-** shares a bit with it: layers ("the player's own geometry", "shadow
-** casters only"); mask 0 hides geometry from every query.  For an
-** instance both its own mask and the child geometry's must share a bit
-** with the ray's.  Masks are checked per primitive as the traversal
+** bits by default); a query sees only geometry whose mask has a bit
+** outside its ray_query.ignore_mask (0 for ray_intersect, ray_occluded
+** and the renderer's rays: all geometry seen), i.e. that shares a bit
+** with ~ignore_mask: layers ("the player's own geometry", "shadow
+** casters only"); a geometry mask 0 hides it from every query.  For an
+** instance both its own mask and the child geometry's must pass.  Masks are checked per primitive as the traversal
 ** meets it (a triangle after its test, other geometry before), not in
 ** the BVH's boxes: hidden geometry still costs its traversal.
 **
@@ -1752,15 +1762,20 @@ RAY_API int ray_scene_set_filter(ray_scene *scene, unsigned geom_id,
                                  unsigned queries);
 
 /*
-** A query's options: ray_query_init sets mask to all bits and query_ud to
-** NULL (the plain queries' behaviour).
+** A query's options, zero by default: a zeroed ray_query ({0}, a
+** designated initializer naming only query_ud, or a NULL pointer) sees
+** every geometry and hands filters a NULL query_ud, as the plain queries
+** do.  The mask is given as the bits to IGNORE, the complement of the
+** geometry mask it is compared with, so that its zero, which a caller
+** who only sets query_ud leaves there, hides nothing (a zero visibility
+** mask would hide everything, silently: libray 0.1's trap).  The same
+** spelling as ray_contains_options.ignore_mask.
 */
 typedef struct ray_query {
-    unsigned mask;           /* geometry sharing no bit with it is unseen */
+    unsigned ignore_mask;    /* geometry whose mask has no bit outside
+                                these is unseen; 0: all geometry seen */
     void *query_ud;          /* handed to every filter this query calls */
 } ray_query;
-
-RAY_API void ray_query_init(ray_query *q);
 
 /*
 ** ray_intersect_opt, ray_occluded_opt -- ray_intersect and ray_occluded
@@ -1872,7 +1887,7 @@ RAY_API void ray_ctx_stats(const ray_ctx *ctx, ray_stats *out);
 ** ray_texture_image picks a mip level.  Only in a scene whose effects
 ** include RAY_EFFECT_TEXTURE; width = spread = 0 (a new context's
 ** default) means no cone.  ray_render sets its own contexts' cones
-** (ray_render_options.cones).  RAY_OK, or RAY_EINVAL (ctx NULL, width
+** (ray_render_options.no_cones 0).  RAY_OK, or RAY_EINVAL (ctx NULL, width
 ** negative, NaN or infinite, spread negative, NaN or not below pi, a
 ** cone's whole angle: the cone unchanged).
 */
@@ -2439,7 +2454,7 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 ** -RAY_EINVAL for a NULL scene, sweep or c, a non-finite a, b or dir, a
 ** zero dir (no motion), a b - a or a tmin dir that overflows, a radius
 ** that is negative or not finite, a tmin that is not finite, tmax NaN
-** or not above tmin; -RAY_ESTATE for a scene not committed (or changed
+** or not above tmin (after tmax 0 is taken as 1); -RAY_ESTATE for a scene not committed (or changed
 ** since), or a sweep that meets an instance whose scene was changed.
 **
 **   * radius 0 with a == b is a ray: the answer is ray_intersect_opt's
@@ -2482,14 +2497,19 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 **     tmax) as a ray, its tmin lowered to the double below a contact at
 **     tmin so that the open interval holds it.
 ** Any number of threads may sweep a committed scene at once; the call
-** allocates nothing.  ray_sweep_init sets a = b = (0, 0, 0), radius 0,
-** dir (0, 0, 0), tmin 0, tmax 1: set the fields after it.
+** allocates nothing.
+**
+** Zero is the default: tmax 0 means 1, the whole motion dir, so a
+** sweep written as { .a = p, .b = p, .radius = r, .dir = d } (tmin 0)
+** moves the shape from p to p + d.  A sweep meant to end at t = 0 is
+** written with dir reversed.
 */
 typedef struct ray_sweep {
     ray_vec3 a, b;               /* the segment at t = 0 (a == b: sphere) */
     double radius;               /* >= 0 */
     ray_vec3 dir;                /* the motion: at t the shape moved t dir */
-    double tmin, tmax;           /* the part of the motion swept */
+    double tmin, tmax;           /* the part of the motion swept;
+                                    tmax 0: 1 */
 } ray_sweep;
 
 #define RAY_CONTACT_OVERLAP 1u   /* overlapping at tmin: depth > 0 */
@@ -2507,7 +2527,6 @@ typedef struct ray_contact {
     unsigned inst_id;            /* the instance, RAY_INVALID_ID if none */
 } ray_contact;
 
-RAY_API void ray_sweep_init(ray_sweep *sweep);
 RAY_API int ray_intersect_sweep(const ray_scene *scene,
                                 const ray_sweep *sweep, const ray_query *q,
                                 ray_contact *c);
@@ -2551,8 +2570,8 @@ RAY_API int ray_intersect_sweep(const ray_scene *scene,
 ** points or in their own space).  Tori, implicit, parametric and Bezier
 ** surfaces and user geometry are found by their boxes (through the
 ** transform: the box's image), flagged RAY_CONTACT_BOUNDS: a superset,
-** never a miss.  Masks apply as for ray_intersect_opt (q NULL: all
-** bits); filters do not (fn sees every primitive and may skip it).  Any
+** never a miss.  Masks apply as for ray_intersect_opt (q NULL or its
+** ignore_mask 0: all geometry); filters do not (fn sees every primitive and may skip it).  Any
 ** number of threads may query a committed scene at once; the calls
 ** allocate nothing.
 */
@@ -2603,9 +2622,10 @@ RAY_API int ray_overlap_box_all(const ray_scene *scene,
 ** inside it.  Returns RAY_OK with *hit filled, else (*hit untouched)
 ** RAY_EINVAL for NULLs, ids that name nothing (or removed geometry, or
 ** an instance where geometry was asked for), (u, v) not finite or
-** outside the primitive; RAY_ENOTSUP for boxes, capsules, tori,
+** outside the primitive; RAY_EKIND for boxes, capsules, tori,
 ** implicit, parametric and Bezier surfaces and user geometry, which have
-** no surface points here; RAY_ESTATE for a scene not committed, or an
+** no surface points here (a status of its own, not RAY_ENOTSUP: no
+** build of the library has them); RAY_ESTATE for a scene not committed, or an
 ** instance whose scene changed since.  Any number of threads may call
 ** it on a committed scene; it allocates nothing.
 */

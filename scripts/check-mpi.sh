@@ -3,8 +3,8 @@
 # check-mpi.sh BUILD -- examples/mpi_render (issue 20), run by make check
 # where mpicc and mpirun exist:
 #
-#   * its command line keeps the examples' conventions (--help and a bad
-#     argument exit 2, before MPI starts);
+#   * its command line keeps the examples' conventions (--help exits 0, a
+#     bad argument 2, before MPI starts);
 #   * the picture is byte-identical (cmp) to the plain example's PNG of the
 #     same scene and options, at 1, 2 and 3 ranks and several band sizes
 #     (RAY_MPI_BAND), for whitted, cornell, a small OBJ, one Bezier patch
@@ -56,7 +56,12 @@ mpi() {
 }
 
 # The conventions, without mpirun: the arguments are read before MPI.
-for bad in --help "whitted x.png -5 3" "whitted x.png 12abc 3" \
+rc=0
+"$exe" --help > "$tmp/out" 2> "$tmp/err" || rc=$?
+checks=$((checks + 1))
+[ "$rc" -eq 0 ] || fail "mpi_render --help: exit $rc, expected 0"
+grep -q "^usage: mpi_render" "$tmp/out" || fail "--help: no usage on stdout"
+for bad in "whitted x.png -5 3" "whitted x.png 12abc 3" \
            "whitted x.png 8 8 0" "--bogus"; do
     rc=0
     # shellcheck disable=SC2086

@@ -12,6 +12,7 @@
 ** take; ties settled by (geom_id, prim_id) whatever the order (two copies
 ** of one mesh: every hit a tie); misuse.
 */
+#include <string.h>
 #include <stdlib.h>
 
 #include "tests.h"
@@ -168,10 +169,10 @@ START_TEST(batch_should_match_single_rays_where_it_goes_ray_by_ray)
 
     ck_assert_int_eq(ray_scene_set_mask(s, 0, 1), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_query_init(&q);
-    q.mask = 2;                              /* hides the mesh (mask 1) */
+    memset(&q, 0, sizeof q);
+    q.ignore_mask = ~2u;                            /* hides the mesh (mask 1) */
     ck_assert_uint_eq(check_against_single(s, rays, 1500, &q), 0);
-    q.mask = 3;                              /* sees it */
+    q.ignore_mask = ~3u;                            /* sees it */
     ck_assert_uint_gt(check_against_single(s, rays, 1500, &q), 750);
     ck_assert_int_eq(ray_scene_set_filter(s, 0, keep_even, NULL,
                                           RAY_FILTER_INTERSECT |
@@ -224,7 +225,7 @@ START_TEST(ties_should_go_to_the_lower_prim_id)
     }
     for (order = 0; order < 2; order++) {
         ray_scene *s;
-        ray_mesh_init(&mesh);
+        memset(&mesh, 0, sizeof mesh);
         mesh.vertices = v;
         mesh.vertex_count = 4;
         mesh.indices = order ? ba : ab;
@@ -356,8 +357,8 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_ptr_nonnull(hits);
     ck_assert_ptr_nonnull(res);
     for (i = 0; i < n; i++) {
-        ray_query_init(&q[i]);
-        q[i].mask = ~(1u << (i % 4));        /* agent i % 4 sees the others */
+        memset(&q[i], 0, sizeof q[i]);
+        q[i].ignore_mask = 1u << (i % 4);     /* agent i % 4 sees the others */
     }
     memset(&st, 0, sizeof st);
     b.rays = rays;
@@ -397,7 +398,7 @@ START_TEST(batch_should_take_each_rays_own_options)
     }
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     for (i = 0; i < n; i++) {
-        ray_query_init(&q[i]);
+        memset(&q[i], 0, sizeof q[i]);
         q[i].query_ud = &agent[i % 4];
     }
     b.stats = NULL;

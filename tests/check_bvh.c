@@ -6,6 +6,7 @@
 ** mesh API: validation, ids, interpolated normals and texture coordinates,
 ** memory per triangle.
 */
+#include <string.h>
 #include <stdlib.h>
 
 #include "bench.h"
@@ -1003,7 +1004,7 @@ START_TEST(leaf_corners_should_be_the_geometrys)
 
     for (floats = 0; floats < 2; floats++) {
         leaf_soup(v, idx, NT, floats, 1.0);
-        ray_mesh_init(&mesh);
+        memset(&mesh, 0, sizeof mesh);
         mesh.vertices = v;
         mesh.vertex_count = 3 * NT;
         mesh.indices = idx;

@@ -8,6 +8,7 @@
 ** surface, at vertices, on edges, inside closed meshes and far beyond;
 ** the skipped kinds; empty scenes and misuse.
 */
+#include <string.h>
 #include <pthread.h>
 #include <stdlib.h>
 
@@ -1061,7 +1062,7 @@ START_TEST(zero_area_triangles_should_be_skipped_by_every_query)
     n = 77;
     ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 2, &n), 0);
     ck_assert_uint_eq(n, 0);
-    ray_sweep_init(&sw);
+    memset(&sw, 0, sizeof sw);
     sw.a = sw.b = vec(0, 0, 5);
     sw.radius = 0.5;
     sw.dir = vec(0, 0, -10);

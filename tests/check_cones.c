@@ -836,7 +836,7 @@ START_TEST(render_should_give_camera_rays_the_pixel_cone)
     ** 1-wide frame: the centre row), one thread: the recorder is not
     ** shared. */
     ray_render_options_init(&o, 1, h);
-    ck_assert_int_eq(o.cones, 1);
+    ck_assert_int_eq(o.no_cones, 0);             /* cones on: the default */
     o.threads = 1;
     o.y0 = h / 2;
     o.y1 = h / 2 + 1;
@@ -852,7 +852,7 @@ START_TEST(render_should_give_camera_rays_the_pixel_cone)
                             pixel / 2 * seen.t *
                                 sqrt(vdot(seen.dir, seen.dir)),
                             4 * CONE_REL * seen.width);
-    o.cones = 0;
+    o.no_cones = 1;
     ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
     ck_assert_double_eq(seen.width, 0);
     ray_scene_free(s);
@@ -918,7 +918,7 @@ static void render_floor(ray_scene *s, unsigned threads, unsigned samples,
     ray_render_options_init(&o, FW, FH);
     o.threads = threads;
     o.samples = samples;
-    o.cones = cones;
+    o.no_cones = !cones;
     ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
 }
 

@@ -1,8 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** check_defaults.c -- the init functions of the public structs that may
-** grow: the documented values, each struct accepted by the call that
-** consumes it, and NULL a no-op.
+** check_defaults.c -- zero is the default (issue 37): every options
+** struct a caller fills, zeroed ({0}) or given by a designated
+** initializer, answers real queries and renders exactly as the defaults
+** do (NULL options, or the fields set to their documented values); and
+** the init functions that remain: the documented values, each struct
+** accepted by the call that consumes it, and NULL a no-op.
 */
 #include <string.h>
 
@@ -77,11 +80,7 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ck_assert_uint_eq(l.max_depth, RAY_DEFAULT_MAX_DEPTH);
     ck_assert_double_eq(l.min_weight, RAY_DEFAULT_MIN_WEIGHT);
     ck_assert_uint_eq(l.max_fanout, RAY_DEFAULT_MAX_FANOUT);
-    memset(&mesh, 0x7f, sizeof mesh);
-    ray_mesh_init(&mesh);
-    ck_assert(mesh.vertices == NULL && mesh.indices == NULL &&
-              mesh.normals == NULL && mesh.texcoords == NULL);
-    ck_assert(mesh.vertex_count == 0 && mesh.triangle_count == 0);
+    memset(&mesh, 0, sizeof mesh);
     memset(&p, 0x7f, sizeof p);
     ray_phong_params_init(&p);
     ck_assert(p.diffuse.r == 0.8 && p.diffuse.g == 0.8 && p.diffuse.b == 0.8);
@@ -104,9 +103,228 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_EINVAL);
     ray_scene_free(s);
     ray_limits_init(NULL);
-    ray_mesh_init(NULL);
     ray_phong_params_init(NULL);
     ray_glass_params_init(NULL);
+}
+END_TEST
+
+/* ----------------------------------------------- zero is the default */
+
+/* A sphere, a triangle in front of it and a box, a light: every query
+** below has something to find, and the render something to shade. */
+static ray_scene *zero_scene(void)
+{
+    static ray_phong_params grey;
+    static const ray_vec3 tri[3] = {{-1, -1, -3}, {1, -1, -3}, {0, 1, -3}};
+    static const unsigned idx[3] = {0, 1, 2};
+    ray_mesh mesh = {.vertices = tri, .vertex_count = 3, .indices = idx,
+                     .triangle_count = 1};
+    ray_box_params box = {.center = {3, 0, -5}, .half_extents = {1, 1, 1},
+                          .axis_x = {1, 0, 0}, .axis_y = {0, 1, 0}};
+    ray_light light;
+    ray_material m;
+    ray_scene *s;
+
+    ray_phong_params_init(&grey);
+    m = ray_material_phong(&grey);
+    ray_light_init(&light, RAY_LIGHT_POINT);
+    light.position = vec(0, 5, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -6), 1, 0, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(s, &box, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_ambient(s, ray_rgb_make(0.1, 0.1, 0.1)),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+static int counting(void *ud, const ray_overlap *found)
+{
+    (void)found;
+    ++*(int *)ud;
+    return 0;
+}
+
+/*
+** ray_query {0} and { .query_ud = me } (0.1's trap: a zero mask that saw
+** nothing) answer every ray, batch, sweep and overlap query as NULL
+** options and the plain queries do, bit for bit; ignoring a bit the
+** geometry has alone still hides it (the mask is not ignored).
+*/
+START_TEST(zeroed_query_and_batch_should_see_everything)
+{
+    ray_scene *s = zero_scene();
+    int me = 7, k;
+    ray_query zero = {0}, named = {.query_ud = &me}, hide = {~0u, NULL};
+    const ray_query *qs[3] = {NULL, &zero, &named};
+    ray_ray rays[4];
+    ray_hit want[4], got[4];
+    int res_want[4], res_got[4];
+    size_t total_want, total;
+    ray_hit all[8];
+
+    rays[0] = ray_from(vec(0, 0, 0), vec(0, 0, -1));      /* triangle */
+    rays[1] = ray_from(vec(0, 1.5, 0), vec(0, -0.25, -1)); /* sphere */
+    rays[2] = ray_from(vec(3, 0, 0), vec(0, 0, -1));      /* box */
+    rays[3] = ray_from(vec(0, 0, 0), vec(0, 0, 1));       /* nothing */
+    for (k = 0; k < 4; k++) {
+        hit_poison(&want[k]);
+        res_want[k] = ray_intersect(s, &rays[k], &want[k]);
+    }
+    ck_assert_int_eq(res_want[0] + res_want[1] + res_want[2] + res_want[3],
+                     3);
+    ck_assert_int_eq(ray_intersect_all(s, &rays[0], NULL, all, 8,
+                                       &total_want), 3);
+    for (k = 0; k < 3; k++) {
+        int i, n = 0;
+        ray_batch b = {.rays = rays, .n = 4, .hits = got,
+                       .results = res_got};
+        ray_contact c0, c1;
+        ray_sweep sw = {.a = {0, 0, 0}, .b = {0, 0, 0}, .radius = 0.5,
+                        .dir = {0, 0, -4}};       /* tmax 0: the whole move */
+        ray_sweep full = sw;
+
+        for (i = 0; i < 4; i++) {
+            ray_hit h;
+            hit_poison(&h);
+            ck_assert_int_eq(ray_intersect_opt(s, &rays[i], qs[k], &h),
+                             res_want[i]);
+            ck_assert_int_eq(ray_occluded_opt(s, &rays[i], qs[k]),
+                             res_want[i]);
+            if (res_want[i] == 1)
+                ck_assert(hit_same(&h, &want[i]));
+        }
+        ck_assert_int_eq(ray_intersect_all(s, &rays[0], qs[k], all, 8,
+                                           &total), 3);
+        ck_assert_uint_eq(total, total_want);
+        /* One query for all (_n), and each ray its own (batch). */
+        ck_assert_int_eq(ray_intersect_n(s, rays, 4, qs[k], got, res_got),
+                         RAY_OK);
+        ck_assert_mem_eq(res_got, res_want, sizeof res_want);
+        ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+        ck_assert_mem_eq(res_got, res_want, sizeof res_want);
+        for (i = 0; i < 4; i++)
+            if (res_want[i] == 1)
+                ck_assert(hit_same(&got[i], &want[i]));
+        /* Sweeps: tmax 0 is the whole motion, tmin 0..tmax 1. */
+        full.tmax = 1;
+        ck_assert_int_eq(ray_intersect_sweep(s, &sw, qs[k], &c0), 1);
+        ck_assert_int_eq(ray_intersect_sweep(s, &full, NULL, &c1), 1);
+        ck_assert_mem_eq(&c0, &c1, sizeof c0);
+        ck_assert_double_eq_tol(c0.t, (3 - 0.5) / 4, 1e-12);
+        /* Overlaps: everything within 10 of the origin. */
+        ck_assert_int_eq(ray_overlap_sphere(s, vec(0, 0, -4), 10, qs[k],
+                                            counting, &n), 3);
+        ck_assert_int_eq(n, 3);
+    }
+    {
+        /* Each ray its own zeroed query, in a batch. */
+        ray_query per[4] = {{0, NULL}, {0, &me}, {0, NULL}, {0, NULL}};
+        ray_batch b = {.rays = rays, .queries = per, .n = 4, .hits = got,
+                       .results = res_got};
+        ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+        ck_assert_mem_eq(res_got, res_want, sizeof res_want);
+        ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+        ck_assert_mem_eq(res_got, res_want, sizeof res_want);
+    }
+    /* Ignoring every bit hides everything: the mask is still read. */
+    for (k = 0; k < 4; k++)
+        ck_assert_int_eq(ray_occluded_opt(s, &rays[k], &hide), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** ray_render_options { .width, .height } and a camera { .position,
+** .look_at } render the bytes of the documented defaults written out
+** (samples 1, adaptive depth 2, cones on; up +y, vfov 60), and of
+** ray_render_options_init and ray_camera_init; a zeroed scheduler is the
+** built-in threads.
+*/
+START_TEST(zeroed_render_options_and_camera_should_render_the_defaults)
+{
+    enum { W = 12, H = 9 };
+    static float want[3 * W * H], got[3 * W * H];
+    ray_scene *s = zero_scene();
+    ray_camera explicit_cam = {.position = {0, 0, 2}, .look_at = {0, 0, -1},
+                               .up = {0, 1, 0}, .vfov = 60};
+    ray_camera cam = {.position = {0, 0, 2}, .look_at = {0, 0, -1}};
+    ray_camera init_cam;
+    ray_render_options explicit_o = {.width = W, .height = H, .samples = 1,
+                                     .adaptive_depth = 2, .no_cones = 0};
+    ray_render_options o = {.width = W, .height = H}, init_o;
+    ray_scheduler zero_sched = {0};
+    char msg[160];
+
+    ck_assert_int_eq(ray_render(s, &explicit_cam, &explicit_o, want, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, msg, sizeof msg), RAY_OK);
+    ck_assert_str_eq(msg, "");
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_OK);
+    ck_assert_mem_eq(got, want, sizeof want);
+    ray_camera_init(&init_cam);
+    init_cam.position = cam.position;
+    ray_render_options_init(&init_o, W, H);
+    ck_assert_int_eq(ray_render(s, &init_cam, &init_o, got, NULL), RAY_OK);
+    ck_assert_mem_eq(got, want, sizeof want);
+    /* Not a blank image: the defaults render something. */
+    ck_assert(want[3 * (H / 2 * W + W / 2)] > 0.05f);
+    /* Adaptive antialiasing: depth 0 is depth 2. */
+    explicit_o.adaptive_threshold = o.adaptive_threshold = 0.05;
+    ck_assert_int_eq(ray_render(s, &explicit_cam, &explicit_o, want, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_OK);
+    ck_assert_mem_eq(got, want, sizeof want);
+    /* A zeroed scheduler in the options and in the scene. */
+    o.scheduler = &zero_sched;
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_OK);
+    ck_assert_mem_eq(got, want, sizeof want);
+    ck_assert_int_eq(ray_scene_set_scheduler(s, &zero_sched), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_OK);
+    ck_assert_mem_eq(got, want, sizeof want);
+    /* Hard cases: the limits stay checked after the defaults. */
+    o.adaptive_depth = 9;
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_EINVAL);
+    o.adaptive_depth = 0;
+    o.samples = RAY_MAX_PIXEL_SAMPLES + 1;
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_EINVAL);
+    o.samples = 0;
+    cam.look_at = cam.position;          /* no default for these two */
+    ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_EINVAL);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* ray_contains_options and ray_distance_grid_options zeroed, by {0} and
+** by designated initializers: NULL's answers, to the bit. */
+START_TEST(zeroed_contains_and_grid_options_should_be_null)
+{
+    ray_scene *s = zero_scene();
+    ray_vec3 pts[3] = {{0, 0, -6}, {3, 0.5, -5}, {0, 0, 0}};
+    ray_inside a[3], b[3];
+    ray_contains_options zero = {0}, named = {.flags = 0};
+    ray_distance_grid_options gzero = {0}, gnamed = {.threads = 0};
+    float ga[4 * 3 * 2], gb[4 * 3 * 2];
+
+    ck_assert_int_eq(ray_contains(s, pts, 3, NULL, a), 2);
+    ck_assert_int_eq(ray_contains(s, pts, 3, &zero, b), 2);
+    ck_assert_mem_eq(a, b, sizeof a);
+    ck_assert_int_eq(ray_contains(s, pts, 3, &named, b), 2);
+    ck_assert_mem_eq(a, b, sizeof a);
+    ck_assert_int_eq(ray_distance_grid(s, vec(-2, -2, -8), vec(4, 2, -2), 4,
+                                       3, 2, NULL, ga), RAY_OK);
+    ck_assert_int_eq(ray_distance_grid(s, vec(-2, -2, -8), vec(4, 2, -2), 4,
+                                       3, 2, &gzero, gb), RAY_OK);
+    ck_assert_mem_eq(ga, gb, sizeof ga);
+    ck_assert_int_eq(ray_distance_grid(s, vec(-2, -2, -8), vec(4, 2, -2), 4,
+                                       3, 2, &gnamed, gb), RAY_OK);
+    ck_assert_mem_eq(ga, gb, sizeof ga);
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -118,6 +336,11 @@ Suite *defaults_suite(void)
     tcase_add_test(tc, camera_init_should_give_a_usable_pinhole);
     tcase_add_test(tc, light_init_should_give_every_kind_a_valid_light);
     tcase_add_test(tc, limits_mesh_and_material_params_should_init_to_defaults);
+    suite_add_tcase(s, tc);
+    tc = tcase_create("zero");
+    tcase_add_test(tc, zeroed_query_and_batch_should_see_everything);
+    tcase_add_test(tc, zeroed_render_options_and_camera_should_render_the_defaults);
+    tcase_add_test(tc, zeroed_contains_and_grid_options_should_be_null);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -6,6 +6,7 @@
 ** a sphere) and every hit along a ray, each against a brute-force or a
 ** freshly built answer.
 */
+#include <string.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -159,7 +160,7 @@ START_TEST(borrowed_mesh_should_be_read_again_in_place)
     }
     for (i = 0; i < 3 * ball.nt; i++)
         idx16[i] = (uint16_t)ball.idx[i];
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.positions = gv;
     m.position_stride = sizeof *gv;
     m.position_type = RAY_FLOAT32;
@@ -326,8 +327,8 @@ static int first_masked(const ray_scene *s, double x, unsigned mask)
     ray_hit h;
     int hit;
 
-    ray_query_init(&q);
-    q.mask = mask;
+    memset(&q, 0, sizeof q);
+    q.ignore_mask = ~mask;
     hit = ray_intersect_opt(s, &r, &q, &h);
     ck_assert_int_eq(ray_occluded_opt(s, &r, &q), hit);
     return hit == 1 ? (int)h.geom_id : -1;
@@ -353,7 +354,7 @@ START_TEST(masks_should_pick_geometry_by_shared_bits)
     ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, RAY_NO_MATERIAL, &csph), RAY_OK);
     ck_assert_int_eq(ray_scene_set_mask(child, csph, 8), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = tri;
     m.vertex_count = 3;
     m.indices = idx;
@@ -501,7 +502,7 @@ START_TEST(filters_should_reject_candidates_exactly)
     unsigned msh, ball, other;
     int i, j, hits = 0;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = quad;
     m.vertex_count = 4;
     m.indices = idx;
@@ -542,7 +543,7 @@ START_TEST(filters_should_reject_candidates_exactly)
     {
         ray_ray r = ray_from(vec(20, 0, 10), vec(0, 0, -1));
         ray_hit h;
-        ray_query_init(&q);
+        memset(&q, 0, sizeof q);
         q.query_ud = &other;
         ck_assert_int_eq(ray_occluded_opt(s, &r, &q), 0);
         ck_assert_int_eq(ray_occluded(s, &r), 1);

@@ -5,6 +5,7 @@
 ** index or value at fault; a success clears it; a committed scene, a NULL
 ** scene and out-of-memory failures are reported too.
 */
+#include <string.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,7 +27,7 @@ static void mesh_init(mesh_data *d)
 {
     int i;
 
-    ray_mesh_init(&d->m);
+    memset(&d->m, 0, sizeof d->m);
     d->v[0] = vec(0, 0, 0);
     d->v[1] = vec(1, 0, 0);
     d->v[2] = vec(0, 1, 0);
@@ -282,7 +283,7 @@ static void game_mesh_init(game_mesh_data *d)
     memcpy(d->v, v, sizeof v);
     for (i = 0; i < 3; i++)
         d->idx[i] = (uint16_t)i;
-    ray_mesh_init(&d->m);
+    memset(&d->m, 0, sizeof d->m);
     d->m.positions = d->v;
     d->m.position_stride = sizeof d->v[0];
     d->m.position_type = RAY_FLOAT32;

@@ -6,6 +6,7 @@
 ** (strided float positions, 16-bit indices) giving the same hits as
 ** doubles and no leaks.
 */
+#include <string.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -279,7 +280,7 @@ static ray_mesh game_ray_mesh(const game_mesh *g, int interleaved, int wide)
 {
     ray_mesh m;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertex_count = g->nv;
     m.triangle_count = g->nt;
     m.positions = interleaved ? (const void *)g->vb : (const void *)g->packed;
@@ -295,7 +296,7 @@ static ray_mesh double_ray_mesh(const game_mesh *g)
 {
     ray_mesh m;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = g->dbl;
     m.vertex_count = g->nv;
     m.indices = g->idx;
@@ -495,7 +496,7 @@ START_TEST(every_layout_should_give_the_same_mesh)
                 else
                     memcpy(ibuf + 1 + 2 * i, &g.i16[i], 2);
             }
-            ray_mesh_init(&m);
+            memset(&m, 0, sizeof m);
             m.positions = vbuf;
             m.position_stride = stride;
             m.position_type = dbl ? RAY_FLOAT64 : RAY_FLOAT32;
@@ -560,7 +561,7 @@ START_TEST(vertices_and_indices_should_win_over_positions)
 
     for (i = 0; i + sizeof nan <= sizeof junk; i += sizeof nan)
         memcpy(junk + i, &nan, sizeof nan);
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = v;
     m.vertex_count = 3;
     m.indices = idx;
@@ -594,7 +595,7 @@ START_TEST(game_layout_limits_should_hold)
     size_t i;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.positions = one;
     m.position_type = RAY_FLOAT32;
     m.position_stride = 32;
@@ -685,7 +686,7 @@ START_TEST(game_mesh_should_shade_as_vertices)
     ray_mesh ref, gm;
     int wide, k;
 
-    ray_mesh_init(&ref);
+    memset(&ref, 0, sizeof ref);
     ref.vertices = v;
     ref.vertex_count = 4;
     ref.indices = idx;

@@ -7,6 +7,7 @@
 ** materials and effects; moving an instance; a child changed under its
 ** parent; bad input refused with nothing added.
 */
+#include <string.h>
 #include <stdlib.h>
 
 #include "tests.h"
@@ -381,7 +382,7 @@ START_TEST(spawned_rays_should_not_self_hit_through_an_instance)
     rng g = {14};
     int i, hits = 0, self = 0;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = quad;
     m.vertex_count = 4;
     m.indices = idx;

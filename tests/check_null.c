@@ -216,7 +216,6 @@ START_TEST(live_scene_calls_should_refuse_null)
     unsigned id = 77;
 
     ray_transform_identity(NULL);                  /* a no-op */
-    ray_query_init(NULL);
     ray_transform_identity(&xf);
     ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_instance(NULL, s, &xf, &id), RAY_EINVAL);

@@ -266,8 +266,8 @@ START_TEST(render_should_reject_bad_options)
     ray_render_options_init(&opt, 0, H);
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
     ray_render_options_init(&opt, W, H);
-    opt.samples = 0;
-    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
+    opt.samples = 0;                           /* zero is the default: 1 */
+    ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_OK);
     opt.samples = RAY_MAX_PIXEL_SAMPLES + 1;   /* also: no endless loop */
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
     opt.samples = 0xffffffffu;
@@ -319,7 +319,7 @@ static const refusal refusals[] = {
     {"height", RAY_EINVAL},           /* 1: height 0 */
     {"y1 24 is beyond", RAY_EINVAL},  /* 2: y1 > height */
     {"y0 5 is not below", RAY_EINVAL},   /* 3: y0 = y1 */
-    {"samples 0", RAY_EINVAL},        /* 4 */
+    {"samples 4294967295", RAY_EINVAL},   /* 4 (0 is the default, 1) */
     {"samples 65537", RAY_EINVAL},    /* 5 */
     {"adaptive_threshold -1", RAY_EINVAL},  /* 6 */
     {"adaptive_depth 9", RAY_EINVAL}, /* 7 */
@@ -342,7 +342,7 @@ static void break_one(int k, ray_render_options *o, ray_camera *c,
     case 1: o->height = 0; break;
     case 2: o->y1 = H + 1; break;
     case 3: o->y0 = 5; o->y1 = 5; break;
-    case 4: o->samples = 0; break;
+    case 4: o->samples = 0xffffffffu; break;
     case 5: o->samples = RAY_MAX_PIXEL_SAMPLES + 1; break;
     case 6: o->adaptive_threshold = -1; break;
     case 7: o->adaptive_threshold = 0.1; o->adaptive_depth = 9; break;

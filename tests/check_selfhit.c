@@ -145,7 +145,7 @@ START_TEST(float_floor_should_not_rehit)
         vb[k].pos[2] = (float)p.tri[k].z;
         vb[k].nrm[1] = 1.0f;
     }
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.positions = vb;
     m.position_stride = sizeof vb[0];
     m.position_type = RAY_FLOAT32;

@@ -15,6 +15,8 @@
 **      edges, flat and folded (the graze rule);
 **   6. proven bounds tested in each regime of their derivation.
 */
+#include <string.h>
+
 #include "shapekit.h"
 
 /* ------------------------------------------------- 1. batches vs rays */
@@ -135,7 +137,7 @@ static ray_scene *grid_scene(ray_scene *s, int n, double z0, double fold)
             t[0] = a, t[1] = a + 1, t[2] = a + (unsigned)n + 2;
             t[3] = a, t[4] = a + (unsigned)n + 2, t[5] = a + (unsigned)n + 1;
         }
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = v;
     m.vertex_count = (size_t)((n + 1) * (n + 1));
     m.indices = idx;
@@ -300,13 +302,14 @@ START_TEST(batches_should_follow_per_ray_masks)
         qs = malloc(n * sizeof *qs);
         ck_assert_ptr_nonnull(qs);
         for (i = 0; i < n; i++) {
-            ray_query_init(&qs[i]);
-            /* Groups all 0, all ~0, or mixed lane by lane. */
+            memset(&qs[i], 0, sizeof qs[i]);
+            /* Groups that see nothing (every bit ignored), everything
+            ** (the zeroed default), or mixed lane by lane. */
             switch (i / 8 % 4) {
-            case 0: qs[i].mask = 0; break;
+            case 0: qs[i].ignore_mask = ~0u; break;
             case 1: break;
-            case 2: qs[i].mask = i % 2 ? 0 : ~0u; break;
-            default: qs[i].mask = i % 2 ? 2u : 1u; break;
+            case 2: qs[i].ignore_mask = i % 2 ? ~0u : 0; break;
+            default: qs[i].ignore_mask = i % 2 ? ~2u : ~1u; break;
             }
         }
         memset(&st, 0, sizeof st);
@@ -314,17 +317,18 @@ START_TEST(batches_should_follow_per_ray_masks)
                                                              : "ungated masks");
         for (i = 0; i < n; i++) {
             ray_hit h;
-            int want = qs[i].mask == 0 ? 0
-                       : gated && qs[i].mask == 2u ? 0 : 1;
+            int want = qs[i].ignore_mask == ~0u ? 0
+                       : gated && qs[i].ignore_mask == ~2u ? 0 : 1;
             ck_assert_msg(ray_intersect_opt(s, &r[i], &qs[i], &h) == want,
-                          "%s scene, ray %zu with mask %#x: not %d",
-                          gated ? "gated" : "ungated", i, qs[i].mask, want);
+                          "%s scene, ray %zu ignoring mask %#x: not %d",
+                          gated ? "gated" : "ungated", i, qs[i].ignore_mask,
+                          want);
         }
         ck_assert_uint_eq(hits, gated ? n / 4 + n / 8 + n / 8
                                       : n / 4 + n / 8 + n / 4);
-        /* One mask 0 for all (the _n calls' q). */
-        ray_query_init(&qs[0]);
-        qs[0].mask = 0;
+        /* One query ignoring every bit for all (the _n calls' q). */
+        memset(&qs[0], 0, sizeof qs[0]);
+        qs[0].ignore_mask = ~0u;
         ck_assert_uint_eq(batch_vs_single(s, r, n, NULL, &qs[0], NULL,
                                           "mask 0 for the batch"), 0);
         free(qs);
@@ -923,7 +927,7 @@ START_TEST(sweeps_should_slide_over_inner_vertices)
                     if (shape == 2 && f == 1 && path == 0)
                         continue;            /* across the ridge: not flat */
                     from = vadd(foot, vscale(up, r));
-                    ray_sweep_init(&w);
+                    memset(&w, 0, sizeof w);
                     w.a = w.b = from;
                     if (shape == 1)
                         w.b = vadd(from, vscale(dir, 0.3 / vlen(dir)));

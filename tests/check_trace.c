@@ -527,7 +527,7 @@ START_TEST(render_options_should_default_sensibly)
     ck_assert_uint_eq(o.y0, 0);
     ck_assert_uint_eq(o.y1, 0);
     ck_assert_uint_eq(o.threads, 0);
-    ck_assert_uint_eq(o.samples, 1);
+    ck_assert_uint_eq(o.samples, 0);           /* zero: the default, 1 */
     ck_assert(o.seed == 0);
     ck_assert(o.progress == NULL);
     ray_render_options_init(NULL, 1, 1);

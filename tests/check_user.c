@@ -8,6 +8,7 @@
 ** miss counted in root_failures; bad input is refused with a message
 ** naming what is wrong, and adds nothing.
 */
+#include <string.h>
 #include <stdlib.h>
 
 #include "tests.h"
@@ -87,7 +88,7 @@ static void grid_init(grid *gr, ray_vec3 o)
             unsigned t[6] = {a, a + 1, a + 10, a, a + 10, a + 9};
             memcpy(gr->idx + 6 * q++, t, sizeof t);
         }
-    ray_mesh_init(&gr->m);
+    memset(&gr->m, 0, sizeof gr->m);
     gr->m.vertices = gr->v;
     gr->m.vertex_count = 81;
     gr->m.indices = gr->idx;

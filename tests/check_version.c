@@ -24,7 +24,7 @@ START_TEST(strerror_should_name_every_code)
 {
     int codes[] = {RAY_OK, RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE,
                    RAY_ENOMEM, RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED,
-                   RAY_ELIMIT, RAY_EEFFECT, RAY_ENOTSUP};
+                   RAY_ELIMIT, RAY_EEFFECT, RAY_ENOTSUP, RAY_EKIND};
     size_t n = sizeof codes / sizeof codes[0], i, j;
 
     for (i = 0; i < n; i++) {
@@ -44,7 +44,7 @@ START_TEST(strerror_should_accept_negated_codes)
 {
     int codes[] = {RAY_EINVAL, RAY_EDEGENERATE, RAY_ERANGE, RAY_ENOMEM,
                    RAY_EIO, RAY_EPNG, RAY_ESTATE, RAY_ECANCELED, RAY_ELIMIT,
-                   RAY_EEFFECT, RAY_ENOTSUP};
+                   RAY_EEFFECT, RAY_ENOTSUP, RAY_EKIND};
     size_t i;
 
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++)
@@ -67,13 +67,18 @@ START_TEST(status_codes_should_keep_their_numbers)
     ck_assert_int_eq(RAY_ENOTSUP, 11);
     ck_assert_str_eq(ray_strerror(RAY_ENOTSUP), "not supported by this build");
     ck_assert_str_eq(ray_strerror(-RAY_ENOTSUP), "not supported by this build");
+    ck_assert_int_eq(RAY_EKIND, 12);
+    ck_assert_str_eq(ray_strerror(RAY_EKIND),
+                     "not available for this kind of geometry");
+    ck_assert_str_eq(ray_strerror(-RAY_EKIND),
+                     "not available for this kind of geometry");
 }
 END_TEST
 
 START_TEST(strerror_should_survive_unknown_codes)
 {
-    ck_assert_str_eq(ray_strerror(RAY_ENOTSUP + 1), "unknown error");
-    ck_assert_str_eq(ray_strerror(-RAY_ENOTSUP - 1), "unknown error");
+    ck_assert_str_eq(ray_strerror(RAY_EKIND + 1), "unknown error");
+    ck_assert_str_eq(ray_strerror(-RAY_EKIND - 1), "unknown error");
     ck_assert_str_eq(ray_strerror(12345), "unknown error");
     ck_assert_str_eq(ray_strerror(-12345), "unknown error");
     /* INT_MIN has no negation in int: it must not be negated. */

@@ -813,7 +813,7 @@ static void digest_shapes(env *e, const ray_scene *s, const ray_ray *r,
     size_t n = 0;
     int rc;
 
-    ray_sweep_init(&w);
+    memset(&w, 0, sizeof w);
     w.a = w.b = r->org;
     w.radius = 0.3;
     w.dir = r->dir;

@@ -141,7 +141,7 @@ static inline ray_mesh hc_ray_mesh(const hc_mesh *h)
 {
     ray_mesh m;
 
-    ray_mesh_init(&m);
+    memset(&m, 0, sizeof m);
     m.vertices = h->v;
     m.vertex_count = h->nv;
     m.indices = h->idx;

@@ -81,7 +81,7 @@ static inline ray_scheduler test_scheduler(void (*run)(void *, unsigned,
 {
     ray_scheduler s;
 
-    ray_scheduler_init(&s);
+    memset(&s, 0, sizeof s);
     memset(log, 0, sizeof *log);
     log->seed = 12345;
     s.run = run;
@@ -178,7 +178,7 @@ static inline ray_scheduler pool_scheduler(test_pool *p)
 {
     ray_scheduler s;
 
-    ray_scheduler_init(&s);
+    memset(&s, 0, sizeof s);
     s.run = pool_run;
     s.ud = p;
     s.threads = p->n_threads;

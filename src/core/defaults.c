@@ -48,12 +48,6 @@ void ray_limits_init(ray_limits *l)
     l->max_fanout = RAY_DEFAULT_MAX_FANOUT;
 }
 
-void ray_mesh_init(ray_mesh *m)
-{
-    if (m != NULL)
-        memset(m, 0, sizeof *m);
-}
-
 void ray_phong_params_init(ray_phong_params *p)
 {
     if (p == NULL)

@@ -9,7 +9,7 @@
 ** Only known codes are negated back: -INT_MIN would overflow. */
 const char *ray_strerror(int code)
 {
-    if (code < 0 && code >= -RAY_ENOTSUP)
+    if (code < 0 && code >= -RAY_EKIND)
         code = -code;
     switch (code) {
     case RAY_OK:          return "success";
@@ -25,6 +25,8 @@ const char *ray_strerror(int code)
         return "a limit was reached (ray tree, iterations, image load)";
     case RAY_EEFFECT:     return "effect not declared by the material";
     case RAY_ENOTSUP:     return "not supported by this build";
+    case RAY_EKIND:
+        return "not available for this kind of geometry";
     default:              return "unknown error";
     }
 }

@@ -22,12 +22,6 @@
 #include "core/platform.h"
 #include "core/tasks.h"
 
-void ray_scheduler_init(ray_scheduler *s)
-{
-    if (s != NULL)
-        memset(s, 0, sizeof *s);
-}
-
 const ray_scheduler *ray__scheduler_pick(const ray_scheduler *chosen,
                                          const ray_scheduler *fallback)
 {

@@ -48,7 +48,7 @@ int ray__occluded_tris_base(const ray_scene *s, const ray_ray *r)
 
 /*
 ** The gate of a query with options q (NULL: the plain queries' every
-** mask bit and no query_ud) for filters of kind "query": NULL (the
+** mask bit seen, ignore_mask 0, and no query_ud) for filters of kind "query": NULL (the
 ** ungated path) when nothing can gate it: no mask or filter in the scene
 ** and q asks for nothing.  The scene's "gated" covers its instances'
 ** children too (set at commit).
@@ -56,7 +56,7 @@ int ray__occluded_tris_base(const ray_scene *s, const ray_ray *r)
 static const ray__gate *gate_of(const ray_scene *s, const ray_query *q,
                                 unsigned query, ray__gate *g)
 {
-    g->mask = q != NULL ? q->mask : ~0u;
+    g->mask = q != NULL ? ~q->ignore_mask : ~0u;
     g->query_ud = q != NULL ? q->query_ud : NULL;
     g->query = query;
     g->all = NULL;
@@ -110,14 +110,6 @@ static int query_misuse(const ray_scene *s, const ray_ray *r)
     if (s == NULL || r == NULL)
         return -RAY_EINVAL;
     return s->committed ? RAY_OK : -RAY_ESTATE;
-}
-
-void ray_query_init(ray_query *q)
-{
-    if (q == NULL)
-        return;
-    q->mask = ~0u;
-    q->query_ud = NULL;
 }
 
 int ray_intersect_opt(const ray_scene *s, const ray_ray *r,

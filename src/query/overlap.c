@@ -514,7 +514,7 @@ static int overlap_run(const ray_scene *s, const region *q,
         return -RAY_ESTATE;
     if (ray__scene_stale(s))
         return -RAY_ESTATE;
-    g.mask = opt != NULL ? opt->mask : ~0u;
+    g.mask = opt != NULL ? ~opt->ignore_mask : ~0u;
     g.query_ud = opt != NULL ? opt->query_ud : NULL;
     g.query = 0;
     g.all = NULL;

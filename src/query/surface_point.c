@@ -89,7 +89,7 @@ static int plane_point(ray_vec3 at, ray_vec3 n, ray_vec3 origin, double u,
 }
 
 /* Geometry geom_id of s (not an instance) at (u, v): RAY_OK with *h,
-** RAY_EINVAL, or RAY_ENOTSUP for a kind without surface points. */
+** RAY_EINVAL, or RAY_EKIND for a kind without surface points. */
 static int own_point(const ray_scene *s, unsigned geom_id, unsigned prim_id,
                      double u, double v, ray_hit *h)
 {
@@ -125,7 +125,7 @@ static int own_point(const ray_scene *s, unsigned geom_id, unsigned prim_id,
     case RAY__KIND_USER:
     case RAY__KIND_BOX:
     case RAY__KIND_CAPSULE:
-        return RAY_ENOTSUP;
+        return RAY_EKIND;
     case RAY__KIND_INSTANCE:
         return RAY_EINVAL;
     }

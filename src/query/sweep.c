@@ -555,20 +555,12 @@ static void search_in(sweeper *w, const ray_scene *s)
 
 /* -------------------------------------------------------------- API */
 
-void ray_sweep_init(ray_sweep *sw)
-{
-    if (sw == NULL)
-        return;
-    memset(sw, 0, sizeof *sw);
-    sw->tmax = 1;
-}
-
 /* The gate of a sweep with options q, as intersect.c's gate_of: NULL
 ** when nothing can gate it. */
 static const ray__gate *sweep_gate(const ray_scene *s, const ray_query *q,
                                    ray__gate *g)
 {
-    g->mask = q != NULL ? q->mask : ~0u;
+    g->mask = q != NULL ? ~q->ignore_mask : ~0u;
     g->query_ud = q != NULL ? q->query_ud : NULL;
     g->query = RAY_FILTER_INTERSECT;
     g->all = NULL;
@@ -621,10 +613,19 @@ static int sweep_ray(const ray_scene *s, const ray_sweep *sw,
 int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
                         const ray_query *q, ray_contact *c)
 {
-    int rc = sweep_misuse(s, sw, c);
+    ray_sweep whole;
     ray__gate g;
     sweeper w;
+    int rc;
 
+    /* Zero is the default (ray.h): tmax 0 sweeps the whole motion, t up
+    ** to 1, so that a sweep naming only its shape and dir moves it. */
+    if (sw != NULL && sw->tmax == 0) {
+        whole = *sw;
+        whole.tmax = 1;
+        sw = &whole;
+    }
+    rc = sweep_misuse(s, sw, c);
     if (rc != RAY_OK)
         return -rc;
     w.gate = sweep_gate(s, q, &g);

@@ -18,6 +18,12 @@ typedef struct ray__cam {
 ** one whose view axis or roll cannot be normalised). */
 int ray__camera_setup(ray__cam *c, const ray_camera *cam, unsigned width,
                       unsigned height);
+/* Zero is the default (ray.h): *oo and *co are *o and *c with their zero
+** fields given the values they stand for (samples 1, adaptive depth 2;
+** up +y, vfov 60), so that the checks and the render read one meaning.
+** o and c are not NULL. */
+void ray__render_defaults(const ray_render_options *o, const ray_camera *c,
+                          ray_render_options *oo, ray_camera *co);
 void ray__camera_ray(const ray__cam *c, double x, double y, double lx,
                      double ly, ray_ray *r);
 

@@ -80,6 +80,21 @@ static int camera_check(const ray_camera *c, char *msg, size_t size)
     return RAY_OK;
 }
 
+void ray__render_defaults(const ray_render_options *o, const ray_camera *c,
+                          ray_render_options *oo, ray_camera *co)
+{
+    *oo = *o;
+    *co = *c;
+    if (oo->samples == 0)
+        oo->samples = 1;
+    if (oo->adaptive_depth == 0)
+        oo->adaptive_depth = 2;
+    if (co->up.x == 0 && co->up.y == 0 && co->up.z == 0)
+        co->up = v3(0, 1, 0);
+    if (co->vfov == 0)
+        co->vfov = 60;
+}
+
 /* The options' fields, in the order ray_render_options declares them. */
 static int options_check(const ray_render_options *o, char *msg,
                          size_t size)
@@ -99,18 +114,18 @@ static int options_check(const ray_render_options *o, char *msg,
     if (o->y0 >= y1)
         return refuse(msg, size, RAY_EINVAL, "options y0 %u is not below "
                       "y1 %u (y1 0 means the height): no rows", o->y0, y1);
-    if (o->samples == 0 || o->samples > RAY_MAX_PIXEL_SAMPLES)
+    if (o->samples > RAY_MAX_PIXEL_SAMPLES)
         return refuse(msg, size, RAY_EINVAL, "options samples %u: must be "
-                      "1 .. RAY_MAX_PIXEL_SAMPLES (%u), also with adaptive "
-                      "antialiasing", o->samples, RAY_MAX_PIXEL_SAMPLES);
+                      "0 (1) .. RAY_MAX_PIXEL_SAMPLES (%u), also with "
+                      "adaptive antialiasing", o->samples,
+                      RAY_MAX_PIXEL_SAMPLES);
     if (!(o->adaptive_threshold >= 0))
         return refuse(msg, size, RAY_EINVAL, "options adaptive_threshold "
                       "%g: must be 0 (off) or positive",
                       o->adaptive_threshold);
-    if (o->adaptive_threshold > 0 &&
-        (o->adaptive_depth < 1 || o->adaptive_depth > 8))
+    if (o->adaptive_threshold > 0 && o->adaptive_depth > 8)
         return refuse(msg, size, RAY_EINVAL, "options adaptive_depth %u: "
-                      "must be 1 .. 8 when adaptive_threshold is set",
+                      "must be 0 (2) .. 8 when adaptive_threshold is set",
                       o->adaptive_depth);
     if (o->photons > RAY_MAX_PHOTONS)
         return refuse(msg, size, RAY_EINVAL, "options photons %llu: above "
@@ -126,6 +141,8 @@ int ray_render_check(const ray_scene *scene, const ray_camera *camera,
                      const ray_render_options *options, char *msg,
                      size_t size)
 {
+    ray_render_options o;
+    ray_camera c;
     int rc;
 
     if (msg != NULL && size > 0)
@@ -141,8 +158,9 @@ int ray_render_check(const ray_scene *scene, const ray_camera *camera,
     if (ray__scene_stale(scene))
         return refuse(msg, size, RAY_ESTATE, "a scene it instances changed "
                       "since its commit: commit this scene after it");
-    rc = options_check(options, msg, size);
+    ray__render_defaults(options, camera, &o, &c);
+    rc = options_check(&o, msg, size);
     if (rc != RAY_OK)
         return rc;
-    return camera_check(camera, msg, size);
+    return camera_check(&c, msg, size);
 }

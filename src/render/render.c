@@ -534,9 +534,6 @@ void ray_render_options_init(ray_render_options *o, unsigned width,
     memset(o, 0, sizeof *o);
     o->width = width;
     o->height = height;
-    o->samples = 1;
-    o->adaptive_depth = 2;
-    o->cones = 1;
 }
 
 /* Sum the workers' counters (each thread counted into its own). */
@@ -598,8 +595,8 @@ static int run_job(render_job *job, const ray_scheduler *sched, unsigned n,
 }
 
 /*
-** A camera ray's cone spread (ray_render_options.cones): one pixel's angle,
-** atan(2 tan(vfov/2) / height) (Akenine-Moller et al., Ray Tracing Gems,
+** A camera ray's cone spread (unless ray_render_options.no_cones): one
+** pixel's angle, atan(2 tan(vfov/2) / height) (Akenine-Moller et al., Ray Tracing Gems,
 ** 2019, eq. 20.30), per sample the angle of its stratum: / sqrt(samples).
 ** Adaptive antialiasing's lattice points take the whole pixel's.
 */
@@ -613,9 +610,13 @@ static double pixel_spread(const render_job *job)
     return pixel / sqrt((double)o->samples);
 }
 
-int ray_render(const ray_scene *scene, const ray_camera *camera,
-               const ray_render_options *opt, float *rgb, ray_stats *stats)
+int ray_render(const ray_scene *scene, const ray_camera *camera_in,
+               const ray_render_options *opt_in, float *rgb, ray_stats *stats)
 {
+    ray_render_options o;
+    const ray_render_options *opt = &o;
+    ray_camera cam;
+    const ray_camera *camera = &cam;
     render_job job;
     ray_photon_map *map = NULL;
     const ray_scheduler *sched;
@@ -626,11 +627,14 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
 
     /* The argument checks, all in ray_render_check (check.c), which
     ** a caller runs again with a buffer to learn why. */
-    rc = ray_render_check(scene, camera, opt, NULL, 0);
+    rc = ray_render_check(scene, camera_in, opt_in, NULL, 0);
     if (rc != RAY_OK)
         return rc;
     if (rgb == NULL)
         return RAY_EINVAL;
+    /* Zero is the default: the render reads the values zeros stand for
+    ** (the checks above read the same, ray__render_defaults). */
+    ray__render_defaults(opt_in, camera_in, &o, &cam);
     job.y1 = opt->y1 ? opt->y1 : opt->height;
     job.scene = scene;
     job.opt = opt;
@@ -654,7 +658,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera,
         return RAY_ENOMEM;
     memset(workers, 0, n * WORKER_STRIDE);
     job.workers = workers;
-    spread = opt->cones ? pixel_spread(&job) : 0.0;
+    spread = !opt->no_cones ? pixel_spread(&job) : 0.0;
     for (i = 0; i < n; i++) {
         worker_at(workers, i)->ctx.scene = scene;
         worker_at(workers, i)->ctx.cone_spread = spread;

@@ -256,7 +256,7 @@ int ray_scene_set_scheduler(ray_scene *s, const ray_scheduler *scheduler)
     if (scheduler != NULL)
         s->scheduler = *scheduler;
     else
-        ray_scheduler_init(&s->scheduler);
+        memset(&s->scheduler, 0, sizeof s->scheduler);  /* built-in */
     ray__touch(s, 0);
     return RAY_OK;
 }
