@@ -831,8 +831,10 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 ** it returns; no more than the build can use, at most 64).  The tree is
 ** the same, bit for bit, at every thread count, so are the queries'
 ** answers; a thread that cannot be started only means fewer threads.
-** The scene's allocator is still called on the committing thread only,
-** and the threads call nothing of the program's (user geometry's bounds
+** A commit that refits (after ray_scene_update_mesh) fits the leaves of
+** a large mesh (2,048 leaves or more) on the same threads: the same
+** boxes.  The scene's allocator is still called on the committing thread
+** only, and the threads call nothing of the program's (user geometry's bounds
 ** callback runs when it is added, not at commit).  A scene given the
 ** program's scheduler (ray_scene_set_scheduler) builds on it instead.  Like every
 ** ray_scene_set_*, a call after a commit stages a change (the scene

@@ -97,12 +97,16 @@ void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 ** geometry that moved but kept its items (n_items of them): O(items +
 ** nodes), with a temporary array of n_items through "a" (without it,
 ** when that allocation fails, the same boxes, slower); the tree may fit
-** worse than a rebuild would.
+** worse than a rebuild would.  The leaves are fitted on "threads" threads
+** (0: one per online CPU) or on sched's, as a build's are (range_box is
+** then called from several threads at once, each leaf once): the same
+** boxes at any thread count.
 */
 typedef void (*ray__range_box_fn)(const void *ud, size_t first, size_t n,
                                   float lo[3], float hi[3]);
 void ray__bvh_refit(const ray__allocator *a, ray__bvh *bvh,
                     ray__range_box_fn range_box, const void *ud,
-                    size_t n_items);
+                    size_t n_items, const ray_scheduler *sched,
+                    unsigned threads);
 
 #endif /* RAY_BVH_H */

@@ -427,6 +427,7 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
 
 void ray__triangles_refit(ray_scene *s)
 {
-    ray__bvh_refit(&s->alloc, &s->tri_bvh, refit_leaf, s, s->n_live_tris);
+    ray__bvh_refit(&s->alloc, &s->tri_bvh, refit_leaf, s, s->n_live_tris,
+                   &s->scheduler, s->build_threads);
     s->float_exact = corners_are_floats(s);
 }
