@@ -244,6 +244,13 @@ int ray_scene_commit(ray_scene *s)
                              s->n_tris);
     } else if (s->dirty & RAY__DIRTY_REFIT)
         ray__triangles_refit(s);
+    /* ray_contains' labels follow the triangles (parity.c); on failure
+    ** the dirty bits stay, so a retry builds all of it again. */
+    if ((s->dirty & (RAY__DIRTY_TRIS | RAY__DIRTY_REFIT)) &&
+        (rc = ray__cgrid_build(s)) != RAY_OK)
+        return ray__fail(s, rc, "out of memory building ray_contains' "
+                         "grid over the closed meshes (not committed: "
+                         "retry)");
     s->dirty = 0;
     scene_summary(s);
     scene_box(s);

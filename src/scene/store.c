@@ -126,6 +126,7 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->leaf_tri, s->n_live_tris * sizeof *s->leaf_tri);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
+    ray__cgrid_free(s);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
     ray__free(s, s->prims, s->cap_prims * sizeof *s->prims);
     ray__free(s, s->verts, s->cap_verts * sizeof *s->verts);
