@@ -39,6 +39,9 @@
 ** leaves one out), the labels do not apply: the ray goes all the way.
 */
 #include <math.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/predicates.h"
 #include "scene/scene.h"
@@ -225,16 +228,64 @@ static int slot_counts(const ray_scene *s, const pwalk *w, unsigned i)
            (w->all || (p->mask & ~w->ignore) != 0);
 }
 
-/* The boxes the ray from q along +x enters before x_end (which include
-** every box holding q): y and z within, the box neither wholly behind
-** nor wholly at or past x_end.  The float boxes contain their geometry
-** (rounded outward at commit), and the comparisons are exact in double;
-** an unused slot (lo +Inf, hi -Inf) fails them. */
-static int box_on_ray(const ray__wnode *n, int k, const pwalk *w)
+/* x rounded up (down) to a float: the float comparisons below are then
+** the exact ones of the float bounds against x (f >= x exactly when f >=
+** up(x), f < x when f < up(x), f <= x when f <= down(x)). */
+static float up_f(double x)
 {
-    return (double)n->hi[0][k] >= w->q.x && (double)n->lo[0][k] < w->x_end &&
-           (double)n->lo[1][k] <= w->q.y && (double)n->hi[1][k] >= w->q.y &&
-           (double)n->lo[2][k] <= w->q.z && (double)n->hi[2][k] >= w->q.z;
+    float f = (float)x;
+
+    return (double)f < x ? nextafterf(f, HUGE_VALF) : f;
+}
+
+static float down_f(double x)
+{
+    float f = (float)x;
+
+    return (double)f > x ? nextafterf(f, -HUGE_VALF) : f;
+}
+
+/* The bounds of the ray's boxes as floats: x from q.x, below x_end, y
+** and z at q's. */
+typedef struct fray {
+    float x, x_end, y_lo, y_hi, z_lo, z_hi;
+} fray;
+
+/* The children of node n whose boxes the ray from q along +x enters
+** before x_end (which include every box holding q), as bits: y and z
+** within, the box neither wholly behind nor wholly at or past x_end.
+** The float boxes contain their geometry (rounded outward at commit);
+** an unused slot (lo +Inf, hi -Inf) fails.  Branch-free over the
+** node's width. */
+static unsigned boxes_on_ray(const ray__wnode *n, const fray *r)
+{
+    unsigned bits = 0;
+    int k;
+
+#if defined(__SSE2__) && RAY__WIDTH % 4 == 0
+    /* Four slots a comparison (x86-64 always has SSE2): the same tests. */
+    const __m128 x = _mm_set1_ps(r->x), xe = _mm_set1_ps(r->x_end);
+    const __m128 ylo = _mm_set1_ps(r->y_lo), yhi = _mm_set1_ps(r->y_hi);
+    const __m128 zlo = _mm_set1_ps(r->z_lo), zhi = _mm_set1_ps(r->z_hi);
+    for (k = 0; k < RAY__WIDTH; k += 4) {
+        __m128 m = _mm_and_ps(
+            _mm_and_ps(_mm_cmpge_ps(_mm_loadu_ps(&n->hi[0][k]), x),
+                       _mm_cmplt_ps(_mm_loadu_ps(&n->lo[0][k]), xe)),
+            _mm_and_ps(
+                _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(&n->lo[1][k]), ylo),
+                           _mm_cmpge_ps(_mm_loadu_ps(&n->hi[1][k]), yhi)),
+                _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(&n->lo[2][k]), zlo),
+                           _mm_cmpge_ps(_mm_loadu_ps(&n->hi[2][k]), zhi))));
+        bits |= (unsigned)_mm_movemask_ps(m) << k;
+    }
+#else
+    for (k = 0; k < RAY__WIDTH; k++)
+        bits |= (unsigned)((n->hi[0][k] >= r->x) & (n->lo[0][k] < r->x_end) &
+                           (n->lo[1][k] <= r->y_lo) & (n->hi[1][k] >= r->y_hi) &
+                           (n->lo[2][k] <= r->z_lo) & (n->hi[2][k] >= r->z_hi))
+                << k;
+#endif
+    return bits;
 }
 
 /* Every leaf of the triangle BVH on the ray, depth first, until q is
@@ -246,15 +297,23 @@ static void walk(const ray_scene *s, pwalk *w)
     unsigned stack_child[RAY__WIDTH * 64], stack_count[RAY__WIDTH * 64];
     unsigned child = 0, count = 0;
     int sp = 0;
+    fray r;
 
     if (bvh->n_wide == 0)
         return;
+    r.x = up_f(w->q.x);
+    r.x_end = up_f(w->x_end);
+    r.y_lo = down_f(w->q.y);
+    r.y_hi = up_f(w->q.y);
+    r.z_lo = down_f(w->q.z);
+    r.z_hi = up_f(w->q.z);
     for (;;) {
         if (count == 0) {
             const ray__wnode *n = &bvh->wide[child];
+            unsigned bits = boxes_on_ray(n, &r);
             int k;
-            for (k = 0; k < RAY__WIDTH; k++) {
-                if (n->count[k] == RAY__LEAF || !box_on_ray(n, k, w))
+            for (k = 0; bits != 0; k++, bits >>= 1) {
+                if (!(bits & 1u) || n->count[k] == RAY__LEAF)
                     continue;
                 stack_child[sp] = n->child[k];
                 stack_count[sp] = n->count[k];
