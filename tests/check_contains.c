@@ -794,7 +794,8 @@ END_TEST
 ** by parity their common part is outside), against the brute force over
 ** both; with one left out by the query's mask (the labels do not apply:
 ** the whole ray, over the other alone); after the cube moves
-** (ray_scene_update_mesh and a commit: the grid is built again). */
+** (ray_scene_update_mesh and a commit: a refit, which drops the grid, so
+** the whole ray again). */
 START_TEST(grid_masks_and_updates)
 {
     hc_mesh cube = hc_cube(v3(0, 0, 0)), ico = hc_icosphere(v3(1.2, 0.3, 0.1), 2);
@@ -817,6 +818,7 @@ START_TEST(grid_masks_and_updates)
     both.idx = malloc(3 * both.nt * sizeof *both.idx);
     for (pass = 0; pass < 2; pass++) {
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(s->cgrid.n[0] > 0, pass == 0);
         memcpy(both.v, cube.v, cube.nv * sizeof *both.v);
         memcpy(both.v + cube.nv, ico.v, ico.nv * sizeof *both.v);
         memcpy(both.idx, cube.idx, 3 * cube.nt * sizeof *both.idx);
