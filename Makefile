@@ -251,15 +251,37 @@ $(BUILD)/bench/tinybvh.o: bench/tinybvh.cpp bench/tinybvh.h
 	@mkdir -p $(@D)
 	$(CXX) -O2 -mavx2 -mfma -w -I$(TINYBVH_DIR) -Ibench -c $< -o $@
 $(BUILD)/bench/raycost: $(TINYBVH_OBJ)
+# CGAL and OpenVDB are optional too (issue 39): bench/contains.c sets
+# ray_contains beside CGAL's Side_of_triangle_mesh (Debian's libcgal-dev,
+# header-only over GMP and MPFR) and ray_distance_grid beside OpenVDB's
+# mesh-to-volume bakers (libopenvdb-dev, over TBB), each where its header
+# is there.  bench/cgal_vdb.cpp is C++17, built with $(CXX) only then, and
+# with -frounding-math, which CGAL's interval filters need under GCC
+# (CGAL manual, "Using CGAL on GCC": its kernel checks it at start-up).
+CGAL_FLAGS = $(shell test -f /usr/include/CGAL/Side_of_triangle_mesh.h && \
+               echo "-DHAVE_CGAL")
+OPENVDB_FLAGS = $(shell test -f /usr/include/openvdb/tools/MeshToVolume.h && \
+                  echo "-DHAVE_OPENVDB")
+CGAL_VDB_FLAGS = $(strip $(CGAL_FLAGS) $(OPENVDB_FLAGS))
+CGAL_VDB_OBJ = $(if $(CGAL_VDB_FLAGS),$(BUILD)/bench/cgal_vdb.o)
+CGAL_VDB_LIBS = $(if $(CGAL_FLAGS),-lmpfr -lgmp) \
+                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(shell $(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) $(if $(CGAL_VDB_OBJ),-lstdc++)
+$(BUILD)/bench/cgal_vdb.o: bench/cgal_vdb.cpp bench/cgal_vdb.h
+	@mkdir -p $(@D)
+	$(CXX) -std=c++17 -O2 -g -frounding-math -Wall -Wextra $(CGAL_VDB_FLAGS) -Ibench -c $< -o $@
+$(BUILD)/bench/contains: $(CGAL_VDB_OBJ)
 # Benchmarks mix float, double and long double on purpose (float variants,
 # long double references), so -Wdouble-promotion, which guards the
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_FLAGS)) \
-	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
-	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_OBJ)) $(STATIC) $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_LIBS)) \
-	    $(if $(filter bench/shapes.c,$<),$(BULLET_LIBS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_LIBS)) $(LIBS)
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_FLAGS)) \
+	    $(if $(filter bench/contains.c,$<),$(CGAL_VDB_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
+	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_OBJ)) \
+	    $(if $(filter bench/contains.c,$<),$(CGAL_VDB_OBJ)) $(STATIC) $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_LIBS)) \
+	    $(if $(filter bench/shapes.c,$<),$(BULLET_LIBS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_LIBS)) \
+	    $(if $(filter bench/contains.c,$<),$(CGAL_VDB_LIBS)) $(LIBS)
 
 # Benchmarks print figures (Markdown tables) and compare within one run;
 # they assert nothing.  bench/run.sh writes bench/RESULTS.md, copies its

@@ -56,6 +56,7 @@ if [ "$mode" = run ]; then
         "$build/bench/surfaces"
         "$build/bench/mesh" data
         "$build/bench/raycost" data
+        "$build/bench/contains" data
         "$build/bench/filter" data
         "$build/bench/packets" data
         "$build/bench/game" data
@@ -75,8 +76,9 @@ fi
 # Tables copied into the pages between <!-- NAME:begin --> and
 # <!-- NAME:end -->: into doc/BENCHMARKS.md the primitives (headline),
 # the curved surfaces, the effects, the ray cones, the thread speed-up,
-# the meshes, the live scenes, the shape queries and the Whitted scene
-# against POV-Ray;
+# the meshes, the live scenes, containment and distance grids against
+# CGAL and OpenVDB, the shape queries and the Whitted scene against
+# POV-Ray;
 # into doc/NUMERICS.md the hard cases and the self-hits.  A marker
 # missing from its page is an error, not a table silently dropped.
 # splice PAGE NAME FILE: the copy goes to $plots/pages/PAGE, which
@@ -116,6 +118,9 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     splice "$doc" packets "$plots/packets.md"
     awk '/^## Shape queries/{exit} /^## Whitted scene against POV-Ray/{exit} /^## Games and tools/{on=1; next} on' "$out" > "$plots/game.md"
     splice "$doc" game "$plots/game.md"
+    awk '/^## Inside or outside: ray_contains/{on=1; next} on&&/^## /{exit} on' "$out" |
+        sed -e '/./,$!d' -e :a -e '/^\n*$/{$d;N;ba' -e '}' > "$plots/contains.md"
+    splice "$doc" contains "$plots/contains.md"
     awk '/^## Whitted scene against POV-Ray/{exit} /^## Shape queries/{on=1; next} on' "$out" |
         sed -e '/./,$!d' > "$plots/shapes.md"
     splice "$doc" shapes "$plots/shapes.md"

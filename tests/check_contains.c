@@ -14,6 +14,7 @@
 
 #include "core/predicates.h"
 #include "core/vec.h"
+#include "scene/scene.h"
 #include "tests.h"
 #include "hardcases.h"
 
@@ -648,6 +649,218 @@ START_TEST(distance_grid)
 }
 END_TEST
 
+/*
+** The grid of labels (scene/parity.c) against brute force, for a mesh m
+** in scene s (its only geometry): a cell is marked touched exactly when
+** some triangle's closed box meets its closed box (exact comparisons of
+** the mesh's doubles with the walls), and an untouched cell's label is
+** the brute-force parity at its centre and at each of its eight corners
+** (points of the closed cell, none on the surface).  Returns how many
+** untouched cells are inside.
+*/
+static size_t check_grid_labels(const hc_mesh *m, const ray_scene *s)
+{
+    const ray__cgrid *g = &s->cgrid;
+    size_t inside = 0, untouched = 0;
+    unsigned i, j, k, t, c;
+
+    ck_assert_uint_gt(g->n[0], 0);
+    for (k = 0; k < g->n[2]; k++)
+        for (j = 0; j < g->n[1]; j++)
+            for (i = 0; i < g->n[0]; i++) {
+                double lo[3] = {g->wall[0][i], g->wall[1][j], g->wall[2][k]};
+                double hi[3] = {g->wall[0][i + 1], g->wall[1][j + 1],
+                                g->wall[2][k + 1]};
+                unsigned char label =
+                    g->label[((size_t)k * g->n[1] + j) * g->n[0] + i];
+                int touched = 0;
+                for (t = 0; t < m->nt && !touched; t++) {
+                    ray_vec3 a = m->v[m->idx[3 * t]], b = m->v[m->idx[3 * t + 1]];
+                    ray_vec3 cc = m->v[m->idx[3 * t + 2]];
+                    double tl[3] = {fmin(a.x, fmin(b.x, cc.x)),
+                                    fmin(a.y, fmin(b.y, cc.y)),
+                                    fmin(a.z, fmin(b.z, cc.z))};
+                    double th[3] = {fmax(a.x, fmax(b.x, cc.x)),
+                                    fmax(a.y, fmax(b.y, cc.y)),
+                                    fmax(a.z, fmax(b.z, cc.z))};
+                    touched = tl[0] <= hi[0] && th[0] >= lo[0] &&
+                              tl[1] <= hi[1] && th[1] >= lo[1] &&
+                              tl[2] <= hi[2] && th[2] >= lo[2];
+                }
+                ck_assert_msg((label == 0) == touched,
+                              "cell (%u, %u, %u): label %u, touched %d", i,
+                              j, k, label, touched);
+                if (touched)
+                    continue;
+                untouched++;
+                inside += label == 2;
+                ck_assert_int_eq(parity_ref(m, v3(0.5 * (lo[0] + hi[0]),
+                                                  0.5 * (lo[1] + hi[1]),
+                                                  0.5 * (lo[2] + hi[2]))),
+                                 label - 1);
+                for (c = 0; c < 8; c++)
+                    ck_assert_int_eq(parity_ref(m, v3(c & 1 ? hi[0] : lo[0],
+                                                      c & 2 ? hi[1] : lo[1],
+                                                      c & 4 ? hi[2] : lo[2])),
+                                     label - 1);
+            }
+    ck_assert_uint_gt(untouched, 0);
+    return inside;
+}
+
+/* The grid's cells' corners and points on its walls (where the cell
+** index and the row's walk change), in s holding convex mesh m alone:
+** ray_contains as the faces' signs say. */
+static void check_grid_walls(const hc_mesh *m, const ray_scene *s)
+{
+    const ray__cgrid *g = &s->cgrid;
+    rng r = {3939};
+    unsigned n, i;
+
+    for (n = 0; n < 400; n++) {
+        unsigned j = (unsigned)(rng_unit(&r) * (g->n[1] + 1));
+        unsigned k = (unsigned)(rng_unit(&r) * (g->n[2] + 1));
+        j = j > g->n[1] ? g->n[1] : j;
+        k = k > g->n[2] ? g->n[2] : k;
+        for (i = 0; i <= g->n[0]; i++) {
+            /* A corner, then a point of the wall x = wall[i]. */
+            ray_vec3 q[2];
+            int p;
+            q[0] = v3(g->wall[0][i], g->wall[1][j], g->wall[2][k]);
+            q[1] = v3(g->wall[0][i],
+                      rng_range(&r, g->wall[1][0], g->wall[1][g->n[1]]),
+                      rng_range(&r, g->wall[2][0], g->wall[2][g->n[2]]));
+            for (p = 0; p < 2; p++) {
+                ray_inside out;
+                int ref = convex_ref(m, q[p]);
+                ck_assert_int_ge(ray_contains(s, &q[p], 1, NULL, &out), 0);
+                ck_assert_msg(out.inside == (ref >= 1) &&
+                                  out.on_surface == (ref == 1),
+                              "(%.17g, %.17g, %.17g): inside %d on %d, "
+                              "reference %d", q[p].x, q[p].y, q[p].z,
+                              out.inside, out.on_surface, ref);
+            }
+        }
+    }
+}
+
+/* The grid of labels: exact labels and marks for a cube, icospheres at
+** offsets and the nested cubes; corners and walls of the cells answered
+** exactly. */
+START_TEST(grid_labels)
+{
+    static const double off[3] = {0, 1e5, 1e6};
+    hc_mesh a = hc_cube(v3(0, 0, 0)), b = hc_cube(v3(3, 0.5, 0.25)), m;
+    ray_scene *s;
+    size_t i, k;
+
+    for (k = 0; k < 3; k++) {
+        ray_vec3 c = v3(off[k] * 0.3, off[k], -off[k]);
+        hc_mesh ico = hc_icosphere(c, 2), cube = hc_cube(c);
+        s = scene_of(&ico, 1);
+        ck_assert_uint_gt(check_grid_labels(&ico, s), 0);
+        check_grid_walls(&ico, s);
+        ray_scene_free(s);
+        s = scene_of(&cube, 1);
+        ck_assert_uint_gt(check_grid_labels(&cube, s), 0);
+        check_grid_walls(&cube, s);
+        ray_scene_free(s);
+        hc_mesh_free(&ico);
+        hc_mesh_free(&cube);
+    }
+    /* The nested cubes: inside, outside (the nested one's inside), apart. */
+    m.nv = 3 * 8;
+    m.nt = 3 * 12;
+    m.v = malloc(m.nv * sizeof *m.v);
+    m.idx = malloc(3 * m.nt * sizeof *m.idx);
+    for (i = 0; i < 8; i++) {
+        m.v[i] = a.v[i];
+        m.v[8 + i] = b.v[i];
+        m.v[16 + i] = v3_scale(a.v[i], 0.5);
+    }
+    for (k = 0; k < 3; k++)
+        for (i = 0; i < 36; i++)
+            m.idx[36 * k + i] = a.idx[i] + (unsigned)(8 * k);
+    s = scene_of(&m, 1);
+    ck_assert_uint_gt(check_grid_labels(&m, s), 0);
+    ray_scene_free(s);
+    hc_mesh_free(&a);
+    hc_mesh_free(&b);
+    hc_mesh_free(&m);
+}
+END_TEST
+
+/* Two closed meshes in one scene (a cube and an icosphere that overlap:
+** by parity their common part is outside), against the brute force over
+** both; with one left out by the query's mask (the labels do not apply:
+** the whole ray, over the other alone); after the cube moves
+** (ray_scene_update_mesh and a commit: a refit, which drops the grid, so
+** the whole ray again). */
+START_TEST(grid_masks_and_updates)
+{
+    hc_mesh cube = hc_cube(v3(0, 0, 0)), ico = hc_icosphere(v3(1.2, 0.3, 0.1), 2);
+    hc_mesh both;
+    ray_mesh rc = hc_ray_mesh(&cube), ri = hc_ray_mesh(&ico);
+    ray_contains_options o = {0};
+    ray_scene *s = NULL;
+    ray_vec3 *pts, *pi;
+    ray_inside *out;
+    unsigned gc, gi;
+    size_t n, ni, i, pass;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &rc, RAY_NO_MATERIAL, &gc), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &ri, RAY_NO_MATERIAL, &gi), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, gi, 2u), RAY_OK);
+    both.nv = cube.nv + ico.nv;
+    both.nt = cube.nt + ico.nt;
+    both.v = malloc(both.nv * sizeof *both.v);
+    both.idx = malloc(3 * both.nt * sizeof *both.idx);
+    for (pass = 0; pass < 2; pass++) {
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(s->cgrid.n[0] > 0, pass == 0);
+        memcpy(both.v, cube.v, cube.nv * sizeof *both.v);
+        memcpy(both.v + cube.nv, ico.v, ico.nv * sizeof *both.v);
+        memcpy(both.idx, cube.idx, 3 * cube.nt * sizeof *both.idx);
+        for (i = 0; i < 3 * ico.nt; i++)
+            both.idx[3 * cube.nt + i] = ico.idx[i] + (unsigned)cube.nv;
+        n = hard_points(&cube, v3(0, 0, 0), 3000, &pts);
+        ni = hard_points(&ico, v3(1.2, 0.3, 0.1), 0, &pi);
+        pts = realloc(pts, (n + ni) * sizeof *pts);
+        memcpy(pts + n, pi, ni * sizeof *pi);
+        n += ni;
+        out = malloc(n * sizeof *out);
+        o.ignore_mask = 0;
+        ck_assert_int_ge(ray_contains(s, pts, n, &o, out), 0);
+        for (i = 0; i < n; i++) {
+            int on = convex_ref(&cube, pts[i]) == 1 ||
+                     convex_ref(&ico, pts[i]) == 1;
+            ck_assert_int_eq(out[i].on_surface, on);
+            ck_assert_msg(out[i].inside == (on || parity_ref(&both, pts[i])),
+                          "pass %zu point %zu", pass, i);
+        }
+        o.ignore_mask = 2u;                 /* the icosphere left out */
+        ck_assert_int_ge(ray_contains(s, pts, n, &o, out), 0);
+        for (i = 0; i < n; i++) {
+            int ref = convex_ref(&cube, pts[i]);
+            ck_assert_int_eq(out[i].on_surface, ref == 1);
+            ck_assert_int_eq(out[i].inside, ref >= 1);
+        }
+        free(out);
+        free(pts);
+        free(pi);
+        /* The cube moves by (0.3, -0.2, 0.1). */
+        for (i = 0; i < cube.nv; i++)
+            cube.v[i] = v3_add(cube.v[i], v3(0.3, -0.2, 0.1));
+        ck_assert_int_eq(ray_scene_update_mesh(s, gc, &rc), RAY_OK);
+    }
+    ray_scene_free(s);
+    hc_mesh_free(&cube);
+    hc_mesh_free(&ico);
+    hc_mesh_free(&both);
+}
+END_TEST
+
 Suite *contains_suite(void)
 {
     Suite *s = suite_create("contains");
@@ -662,6 +875,8 @@ Suite *contains_suite(void)
     tcase_add_test(tc, misuse);
     tcase_add_test(tc, signed_distance);
     tcase_add_test(tc, distance_grid);
+    tcase_add_test(tc, grid_labels);
+    tcase_add_test(tc, grid_masks_and_updates);
     suite_add_tcase(s, tc);
     return s;
 }

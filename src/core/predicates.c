@@ -105,13 +105,28 @@ static int scale_expansion(int elen, const double *e, double b, double *h)
     return k;
 }
 
-/* h = e * f, expansions: the sum of e scaled by each term of f. */
+/* h = e * f, expansions: the sum of e scaled by each term of f, f the
+** shorter of the two (the product commutes; a one-term factor, which
+** zero elimination makes common, is then one SCALE-EXPANSION rather
+** than a sum of as many as the other has terms). */
 static int expansion_product(int elen, const double *e, int flen,
                              const double *f, double *h)
 {
     double part[MAXTERMS], acc[MAXTERMS];
     int j, n = 0, m;
 
+    if (elen == 0 || flen == 0)
+        return 0;
+    if (flen > elen) {
+        const double *t = e;
+        e = f;
+        f = t;
+        j = elen;
+        elen = flen;
+        flen = j;
+    }
+    if (flen == 1)
+        return scale_expansion(elen, e, f[0], h);
     for (j = 0; j < flen; j++) {
         m = scale_expansion(elen, e, f[j], part);
         n = expansion_sum(n, acc, m, part, acc);
@@ -121,12 +136,22 @@ static int expansion_product(int elen, const double *e, int flen,
     return n;
 }
 
-/* a - b as an exact 2-term expansion (TWO-DIFF). */
+/* a - b as an exact expansion (TWO-DIFF): one term where the difference
+** is exact (Sterbenz's lemma makes it so for nearby coordinates, the
+** usual case where the filter fails: a point on or next to a face),
+** else two.  The zero tail is dropped (Shewchuk's zero elimination), so
+** the products below have a quarter of the terms or fewer; never an
+** empty expansion (a - b = 0 is the one term 0), which
+** scale_expansion's first term needs. */
 static int diff(double a, double b, double *h)
 {
     double x, y;
 
     two_sum(a, -b, &x, &y);
+    if (y == 0) {
+        h[0] = x;
+        return 1;
+    }
     h[0] = y;
     h[1] = x;
     return 2;
@@ -165,15 +190,15 @@ double ray__orient2d(double ax, double ay, double bx, double by, double cx,
     double left = (bx - ax) * (cy - ay), right = (by - ay) * (cx - ax);
     double det = left - right, bound = ERR2 * (fabs(left) + fabs(right));
     double e1[2], e2[2], e3[2], e4[2], h[MAXTERMS];
-    int n;
+    int n, n1, n2, n3, n4;
 
     if (det > bound || -det > bound)
         return det;
-    diff(bx, ax, e1);
-    diff(cy, ay, e2);
-    diff(by, ay, e3);
-    diff(cx, ax, e4);
-    n = cross2(2, e1, 2, e2, 2, e3, 2, e4, h);
+    n1 = diff(bx, ax, e1);
+    n2 = diff(cy, ay, e2);
+    n3 = diff(by, ay, e3);
+    n4 = diff(cx, ax, e4);
+    n = cross2(n1, e1, n2, e2, n3, e3, n4, e4, h);
     return estimate(n, h);
 }
 
@@ -192,18 +217,19 @@ double ray__orient3d(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 d)
     double m[MAXTERMS], t1[MAXTERMS], t2[MAXTERMS], t3[MAXTERMS];
     double s12[MAXTERMS], h[MAXTERMS];
     int n, n1, n2, n3, n12;
+    int lex, ley, lez, lfx, lfy, lfz, lgx, lgy, lgz;
 
     if (det > ERR3 * perm || -det > ERR3 * perm)
         return det;
-    diff(a.x, d.x, ex), diff(a.y, d.y, ey), diff(a.z, d.z, ez);
-    diff(b.x, d.x, fx), diff(b.y, d.y, fy), diff(b.z, d.z, fz);
-    diff(c.x, d.x, gx), diff(c.y, d.y, gy), diff(c.z, d.z, gz);
-    n = cross2(2, fy, 2, gz, 2, fz, 2, gy, m);
-    n1 = expansion_product(2, ex, n, m, t1);
-    n = cross2(2, gy, 2, ez, 2, gz, 2, ey, m);
-    n2 = expansion_product(2, fx, n, m, t2);
-    n = cross2(2, ey, 2, fz, 2, ez, 2, fy, m);
-    n3 = expansion_product(2, gx, n, m, t3);
+    lex = diff(a.x, d.x, ex), ley = diff(a.y, d.y, ey), lez = diff(a.z, d.z, ez);
+    lfx = diff(b.x, d.x, fx), lfy = diff(b.y, d.y, fy), lfz = diff(b.z, d.z, fz);
+    lgx = diff(c.x, d.x, gx), lgy = diff(c.y, d.y, gy), lgz = diff(c.z, d.z, gz);
+    n = cross2(lfy, fy, lgz, gz, lfz, fz, lgy, gy, m);
+    n1 = expansion_product(lex, ex, n, m, t1);
+    n = cross2(lgy, gy, lez, ez, lgz, gz, ley, ey, m);
+    n2 = expansion_product(lfx, fx, n, m, t2);
+    n = cross2(ley, ey, lfz, fz, lez, ez, lfy, fy, m);
+    n3 = expansion_product(lgx, gx, n, m, t3);
     n12 = expansion_sum(n1, t1, n2, t2, s12);
     n = expansion_sum(n12, s12, n3, t3, h);
     return estimate(n, h);

@@ -4,16 +4,9 @@
 ** inside the solid a committed scene bounds, and its signed distance.
 **
 ** Closed meshes (closed.c) by the parity of the crossings of the ray
-** from q along +x, every crossing decided by exact predicates
-** (core/predicates.c) with the ray perturbed symbolically: q' = q + (0,
-** e, e^2) for an infinitesimal e (Edelsbrunner and Muecke, "Simulation
-** of Simplicity", ACM TOG 9(1), 1990).  The perturbed ray meets no
-** vertex or edge, so it crosses a closed mesh's surface a number of
-** times whose parity is the point's inside, and each crossing is decided
-** once: an edge shared by two triangles gives them opposite signs for
-** q' (the sign below is antisymmetric in the edge's ends).  The walk is
-** the triangle BVH's boxes along the ray, which also holds every box
-** that contains q itself, where the exact on-surface test runs.
+** from q along +x, every crossing decided by exact predicates with the
+** ray perturbed symbolically, and most points answered by a grid of
+** labels instead: scene/parity.c, which says why both are exact.
 **
 ** Open meshes and single triangles by the generalized winding number
 ** (Jacobson, Kavan and Sorkine-Hornung, "Robust Inside-Outside
@@ -46,110 +39,7 @@ typedef struct cquery {
     double angle;                /* sum of signed solid angles */
 } cquery;
 
-/* ------------------------------------------------- the exact predicates */
-
-/*
-** The sign of orient2d(a, b, q') in the (y, z) plane for the perturbed
-** q' = (qy + e, qz + e^2): the exact value O = (by - ay)(qz - az) -
-** (bz - az)(qy - ay) when non-zero, else its terms in e, -(bz - az) e
-** and (by - ay) e^2, the first that is non-zero.  A difference of two
-** doubles has the exact sign (gradual underflow), so no arithmetic is
-** needed for them.  Antisymmetric in a and b.  0 only for a = b in the
-** plane (a degenerate projected edge).
-*/
-static int side_sos(ray_vec3 a, ray_vec3 b, ray_vec3 q)
-{
-    double o = ray__orient2d(a.y, a.z, b.y, b.z, q.y, q.z);
-
-    if (o != 0)
-        return o > 0 ? 1 : -1;
-    if (b.z != a.z)
-        return b.z < a.z ? 1 : -1;
-    if (b.y != a.y)
-        return b.y > a.y ? 1 : -1;
-    return 0;
-}
-
-static int sgn(double x)
-{
-    return (x > 0) - (x < 0);
-}
-
-/* Whether q lies on segment [a, b] (a point when a = b): collinear in
-** all three coordinate planes, and within the segment's box. */
-static int on_segment(ray_vec3 a, ray_vec3 b, ray_vec3 q)
-{
-    if (ray__orient2d(a.x, a.y, b.x, b.y, q.x, q.y) != 0 ||
-        ray__orient2d(a.y, a.z, b.y, b.z, q.y, q.z) != 0 ||
-        ray__orient2d(a.z, a.x, b.z, b.x, q.z, q.x) != 0)
-        return 0;
-    return q.x >= fmin(a.x, b.x) && q.x <= fmax(a.x, b.x) &&
-           q.y >= fmin(a.y, b.y) && q.y <= fmax(a.y, b.y) &&
-           q.z >= fmin(a.z, b.z) && q.z <= fmax(a.z, b.z);
-}
-
-/* Whether q lies on the closed triangle a, b, c, exactly: in its plane,
-** and inside (edges included) in a coordinate plane where it has area;
-** a triangle with none is its three segments. */
-static int on_triangle(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q)
-{
-    static const int axes[3][2] = {{0, 1}, {1, 2}, {2, 0}};
-    int k;
-
-    if (ray__orient3d(a, b, c, q) != 0)
-        return 0;
-    for (k = 0; k < 3; k++) {
-        int i = axes[k][0], j = axes[k][1], s, s1, s2, s3;
-        double ai = v3_axis(a, i), aj = v3_axis(a, j);
-        double bi = v3_axis(b, i), bj = v3_axis(b, j);
-        double ci = v3_axis(c, i), cj = v3_axis(c, j);
-        double qi = v3_axis(q, i), qj = v3_axis(q, j);
-
-        s = sgn(ray__orient2d(ai, aj, bi, bj, ci, cj));
-        if (s == 0)
-            continue;
-        s1 = sgn(ray__orient2d(ai, aj, bi, bj, qi, qj));
-        s2 = sgn(ray__orient2d(bi, bj, ci, cj, qi, qj));
-        s3 = sgn(ray__orient2d(ci, cj, ai, aj, qi, qj));
-        return s1 != -s && s2 != -s && s3 != -s;
-    }
-    return on_segment(a, b, q) || on_segment(b, c, q) ||
-           on_segment(c, a, q);
-}
-
-/* The triangle's part in q's parity: whether the perturbed ray from q'
-** along +x crosses it (q' inside its (y, z) projection, all three sides
-** alike, and the plane ahead of q: orient3d's sign times the sides'),
-** and whether q is on it. */
-static void cross_triangle(ray_vec3 a, ray_vec3 b, ray_vec3 c, cquery *cq)
-{
-    ray_vec3 q = cq->q;
-    int s1, s2, s3, d;
-
-    /* Only a triangle whose box holds q can hold q. */
-    if (q.x >= fmin(a.x, fmin(b.x, c.x)) && q.x <= fmax(a.x, fmax(b.x, c.x)) &&
-        q.y >= fmin(a.y, fmin(b.y, c.y)) && q.y <= fmax(a.y, fmax(b.y, c.y)) &&
-        q.z >= fmin(a.z, fmin(b.z, c.z)) && q.z <= fmax(a.z, fmax(b.z, c.z)) &&
-        on_triangle(a, b, c, q))
-        cq->on = 1;
-    /* Nothing ahead of q, or q' beside the projection (the perturbation
-    ** moves q' by less than any gap, so q outside the closed box is q'
-    ** outside the triangle). */
-    if (q.x > fmax(a.x, fmax(b.x, c.x)) ||
-        q.y < fmin(a.y, fmin(b.y, c.y)) || q.y > fmax(a.y, fmax(b.y, c.y)) ||
-        q.z < fmin(a.z, fmin(b.z, c.z)) || q.z > fmax(a.z, fmax(b.z, c.z)))
-        return;
-    s1 = side_sos(a, b, q);
-    s2 = side_sos(b, c, q);
-    s3 = side_sos(c, a, q);
-    if (s1 == 0 || s1 != s2 || s1 != s3)
-        return;
-    d = sgn(ray__orient3d(a, b, c, q));
-    if (d == 0)
-        cq->on = 1;           /* q in the plane, inside the triangle */
-    else if (d == s1)
-        cq->parity ^= 1u;     /* the plane lies ahead along +x */
-}
+/* ------------------------------------------------- the winding number */
 
 /* Triangle a, b, c's signed solid angle seen from q (world space), by
 ** Van Oosterom and Strackee: tan(omega / 2) = det[a b c] / (|a||b||c| +
@@ -247,7 +137,7 @@ static void visit_solid(const ray_scene *s, const ray__prim *p, cquery *cq)
 ** holding q): y and z within, the box not wholly behind.  The float
 ** boxes contain their geometry (rounded outward at commit), and the
 ** comparisons are exact in double; an unused slot (lo +Inf, hi -Inf)
-** fails them. */
+** fails them.  (The closed meshes' triangles: scene/parity.c.) */
 static int box_on_ray(const ray__wnode *w, int k, ray_vec3 q)
 {
     return (double)w->hi[0][k] >= q.x && (double)w->lo[1][k] <= q.y &&
@@ -255,13 +145,12 @@ static int box_on_ray(const ray__wnode *w, int k, ray_vec3 q)
            (double)w->hi[2][k] >= q.z;
 }
 
-enum { LEAF_TRIANGLES, LEAF_PRIMS };
-
-/* Every leaf of bvh on the ray, depth first.  At most RAY__WIDTH
-** pushed and one popped a level, 64 levels at most (accel/build.h). */
-static void walk(const ray_scene *s, const ray__bvh *bvh, int leaf,
-                 cquery *cq)
+/* Every solid primitive of the BVH over the bounded kinds on the ray,
+** depth first.  At most RAY__WIDTH pushed and one popped a level, 64
+** levels at most (accel/build.h). */
+static void walk_solids(const ray_scene *s, cquery *cq)
 {
+    const ray__bvh *bvh = &s->prim_bvh;
     unsigned stack_child[RAY__WIDTH * 64], stack_count[RAY__WIDTH * 64];
     unsigned child = 0, count = 0;
     int sp = 0;
@@ -282,18 +171,9 @@ static void walk(const ray_scene *s, const ray__bvh *bvh, int leaf,
         } else {
             unsigned i, end = child + (count & ~RAY__LEAF);
             for (i = child; i < end; i++) {
-                if (leaf == LEAF_TRIANGLES) {
-                    ray__tri t;
-                    if (!by_parity(s, cq, i) ||
-                        !counted(cq, &s->prims[s->tri_ids[i].geom_id]))
-                        continue;
-                    t = ray__tri_of(s, i);
-                    cross_triangle(t.a, t.b, t.c, cq);
-                } else {
-                    const ray__prim *p = &s->prims[bvh->items[i]];
-                    if (counted(cq, p))
-                        visit_solid(s, p, cq);
-                }
+                const ray__prim *p = &s->prims[bvh->items[i]];
+                if (counted(cq, p))
+                    visit_solid(s, p, cq);
             }
         }
         if (sp == 0)
@@ -326,18 +206,25 @@ static void sum_angles(const ray_scene *s, cquery *cq)
 }
 
 /* Whether s has counted triangles answered by the winding number (so
-** that every one of its slots must be visited), and whether it has
-** counted instances: a scan of its geometry records, not its triangles. */
+** that every one of its slots must be visited), whether it has counted
+** instances, and whether every enabled closed mesh is counted (so that
+** the grid's labels apply, scene/parity.c): a scan of its geometry
+** records, not its triangles. */
 static void kinds_in(const ray_scene *s, const cquery *cq, int *open,
-                     int *instances)
+                     int *instances, int *all_closed)
 {
     size_t i;
 
     *open = *instances = 0;
+    *all_closed = 1;
     for (i = 0; i < s->n_prims; i++) {
         const ray__prim *p = &s->prims[i];
-        if (!counted(cq, p))
+        if (!counted(cq, p)) {
+            if (p->kind == RAY__KIND_MESH && p->enabled && !p->removed &&
+                s->meshes[p->mesh].closed)
+                *all_closed = 0;
             continue;
+        }
         if (p->kind == RAY__KIND_INSTANCE)
             *instances = 1;
         else if (p->kind == RAY__KIND_TRIANGLE ||
@@ -353,11 +240,17 @@ static void kinds_in(const ray_scene *s, const cquery *cq, int *open,
 static void search_in(const ray_scene *s, cquery *cq)
 {
     size_t i;
-    int open, instances;
+    int open, instances, all_closed;
 
-    kinds_in(s, cq, &open, &instances);
-    walk(s, &s->prim_bvh, LEAF_PRIMS, cq);
-    walk(s, &s->tri_bvh, LEAF_TRIANGLES, cq);
+    kinds_in(s, cq, &open, &instances, &all_closed);
+    walk_solids(s, cq);
+    if (!cq->winding_all) {
+        unsigned parity;
+        int on;
+        ray__closed_parity(s, cq->q, cq->ignore, all_closed, &parity, &on);
+        cq->on |= on;
+        cq->parity ^= parity;
+    }
     if (open)
         sum_angles(s, cq);
     for (i = 0; instances && i < s->n_prims; i++) {

@@ -143,6 +143,23 @@ typedef struct ray__mesh {
 int ray__mesh_closed(const ray_scene *s, const unsigned *indices,
                      size_t n_tris, int *closed);
 
+/*
+** The closed meshes' part of ray_contains at q (parity.c): *parity, the
+** parity of the exact crossings of the ray from q along +x perturbed
+** symbolically (q + (0, e, e^2)) with the triangles of the enabled
+** closed meshes whose mask meets ~ignore, and *on, whether q lies on one
+** of them exactly (then *parity is not meaningful: the walk stops
+** there).  all: every enabled closed mesh counts for this query (its
+** mask is not tested), so that the grid's labels apply.
+** ray__cgrid_build -- the grid (s->cgrid) over the committed triangle
+** BVH: RAY_OK (no grid where there is no closed mesh or the marking
+** would cost too much) or RAY_ENOMEM (none).  ray__cgrid_free frees it.
+*/
+void ray__closed_parity(const ray_scene *s, ray_vec3 q, unsigned ignore,
+                        int all, unsigned *parity, int *on);
+int ray__cgrid_build(ray_scene *s);
+void ray__cgrid_free(ray_scene *s);
+
 /* Corner k (0 .. 3 n_tris - 1) of mesh m's triangles, for shading. */
 unsigned ray__mesh_corner(const ray__mesh *m, size_t k);
 
@@ -154,6 +171,26 @@ typedef struct ray__light {
     ray_light desc;
     ray_vec3 axis;
 } ray__light;
+
+/*
+** ray_contains' grid over the closed meshes (parity.c): n[0] n[1] n[2]
+** cells between walls at doubles (wall[a][0 .. n[a]], non-decreasing,
+** wall[a][0] and wall[a][n[a]] the box of the closed meshes' triangles),
+** label[(k n[1] + j) n[0] + i] for cell (i, j, k): 0 where a closed
+** triangle's box touches it, else 1 outside the solid and 2 inside.
+** n[0] == 0: no grid (no closed mesh, or out of its limits).  One block
+** of "bytes" (walls, then labels); built at commit, read-only after.
+*/
+typedef struct ray__cgrid {
+    unsigned n[3];
+    double *wall[3];
+    double scale[3];             /* n / extent: the cell index's guess */
+    int every;                   /* every live triangle slot is a closed
+                                    mesh's */
+    unsigned char *label;
+    double *block;
+    size_t bytes;
+} ray__cgrid;
 
 struct ray_scene {
     ray__allocator alloc;    /* the user's, or libc's */
@@ -181,6 +218,7 @@ struct ray_scene {
     ray__instance *instances;
     size_t n_instances, cap_instances;
     ray__bvh tri_bvh;        /* over the live triangle slots */
+    ray__cgrid cgrid;        /* ray_contains' labels (parity.c) */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
     size_t n_planes;

@@ -126,6 +126,10 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->leaf_tri, s->n_live_tris * sizeof *s->leaf_tri);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
+    /* ray_contains' grid (parity.c, which calls this file's allocator:
+    ** freed here rather than through it, so that no two files call each
+    ** other). */
+    ray__free(s, s->cgrid.block, s->cgrid.bytes);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
     ray__free(s, s->prims, s->cap_prims * sizeof *s->prims);
     ray__free(s, s->verts, s->cap_verts * sizeof *s->verts);
