@@ -279,6 +279,9 @@ int main(int argc, char **argv)
     }
     n_hard = hard_points(&m, &hard);
 
+    /* The grid of labels is built by the first ray_contains: count it. */
+    if (ray_contains(s, NULL, 0, NULL, NULL) < 0)
+        die("ray_contains");
     printf("## Inside or outside: ray_contains against CGAL\n\n");
     printf("The 59k bunny (%zu triangles), one thread, millions of points "
            "a second, median of %d interleaved passes; libray's scene: "

@@ -664,6 +664,8 @@ static size_t check_grid_labels(const hc_mesh *m, const ray_scene *s)
     size_t inside = 0, untouched = 0;
     unsigned i, j, k, t, c;
 
+    /* The first ray_contains builds the grid. */
+    ck_assert_int_ge(ray_contains(s, NULL, 0, NULL, NULL), 0);
     ck_assert_uint_gt(g->n[0], 0);
     for (k = 0; k < g->n[2]; k++)
         for (j = 0; j < g->n[1]; j++)
@@ -818,6 +820,10 @@ START_TEST(grid_masks_and_updates)
     both.idx = malloc(3 * both.nt * sizeof *both.idx);
     for (pass = 0; pass < 2; pass++) {
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        /* Built by the first ray_contains after a rebuild, not by the
+        ** commit; never after a refit (pass 1). */
+        ck_assert_uint_eq(s->cgrid.n[0], 0);
+        ck_assert_int_eq(ray_contains(s, NULL, 0, NULL, NULL), 0);
         ck_assert_int_eq(s->cgrid.n[0] > 0, pass == 0);
         memcpy(both.v, cube.v, cube.nv * sizeof *both.v);
         memcpy(both.v + cube.nv, ico.v, ico.nv * sizeof *both.v);

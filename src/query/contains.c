@@ -247,6 +247,10 @@ static void search_in(const ray_scene *s, cquery *cq)
     if (!cq->winding_all) {
         unsigned parity;
         int on;
+        /* An instance's child: its grid, if not built yet (the top
+        ** scene's is ensured once a call, in ray_contains). */
+        if (cq->in != NULL)
+            ray__cgrid_ensure(s);
         ray__closed_parity(s, cq->q, cq->ignore, all_closed, &parity, &on);
         cq->on |= on;
         cq->parity ^= parity;
@@ -338,6 +342,8 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
         if (!in->child->committed || in->child->generation != in->generation)
             return -RAY_ESTATE;
     }
+    if ((flags & RAY_CONTAINS_WINDING) == 0)
+        ray__cgrid_ensure(s);
     for (i = 0; i < n; i++) {
         ray_inside r;
         int rc = contains_one(s, points[i], ignore,

@@ -244,18 +244,22 @@ int ray_scene_commit(ray_scene *s)
                              s->n_tris);
     } else if (s->dirty & RAY__DIRTY_REFIT)
         ray__triangles_refit(s);
-    /* ray_contains' labels follow the triangles (parity.c): built with
-    ** the BVH (on failure the dirty bits stay, so a retry builds all of
-    ** it again); dropped by a refit, whose few milliseconds a frame
+    /* ray_contains' labels follow the triangles (parity.c), but are built
+    ** by the first ray_contains after a rebuild, not here: a commit of a
+    ** scene that is never asked what contains a point does not pay for
+    ** them (15-25% of the bunnies' cold commits).  A refit drops them
+    ** for good until the next rebuild: its few milliseconds a frame
     ** (ray_scene_update_mesh) a grid would multiply by five (the 59k
-    ** bunny: 2 ms, 11 ms with it), so that a moving mesh's ray_contains
-    ** walks its whole ray, as before the grid, until the next rebuild. */
-    if ((s->dirty & RAY__DIRTY_TRIS) && (rc = ray__cgrid_build(s)) != RAY_OK)
-        return ray__fail(s, rc, "out of memory building ray_contains' "
-                         "grid over the closed meshes (not committed: "
-                         "retry)");
-    if (!(s->dirty & RAY__DIRTY_TRIS) && (s->dirty & RAY__DIRTY_REFIT))
+    ** bunny: 2 ms, 11 ms with it), so a moving mesh's ray_contains walks
+    ** its whole ray, exact as before the grid.  The lock that lets a
+    ** query build them is made once; without it, no grid. */
+    if (s->dirty & (RAY__DIRTY_TRIS | RAY__DIRTY_REFIT)) {
         ray__cgrid_free(s);
+        s->cgrid_tried = !(s->dirty & RAY__DIRTY_TRIS);
+    }
+    if (s->cgrid_lock == NULL &&
+        ray__mutex_new(&s->alloc, &s->cgrid_lock) != RAY_OK)
+        s->cgrid_lock = NULL;
     s->dirty = 0;
     scene_summary(s);
     scene_box(s);

@@ -15,8 +15,8 @@
 ** the triangle BVH's boxes along the ray, which also holds every box
 ** that contains q itself, where the exact on-surface test runs.
 **
-** The grid (built with the triangle BVH at commit, ray__cgrid_build;
-** a refit drops it, commit.c says why).  Cells over the box of
+** The grid (built by the first ray_contains after the triangle BVH's
+** rebuild, ray__cgrid_ensure; a refit drops it, commit.c says why).  Cells over the box of
 ** the closed meshes' triangles, with walls at doubles; a cell whose
 ** closed box no triangle's closed box (exact, in double) touches holds
 ** no point of the surface, nor does a neighbourhood of it (finitely many
@@ -45,6 +45,7 @@
 #endif
 
 #include "core/predicates.h"
+#include "core/platform.h"
 #include "scene/scene.h"
 
 /* Cells in the grid for each closed triangle, a byte each: at 8, 96% of
@@ -417,6 +418,21 @@ void ray__closed_parity(const ray_scene *s, ray_vec3 q, unsigned ignore,
     }
     *parity = w.parity;
     *on = w.on;
+}
+
+void ray__cgrid_ensure(const ray_scene *s)
+{
+    ray_scene *m = ray__unconst(s);
+
+    if (m->cgrid_lock == NULL)      /* set at commit, read-only after */
+        return;
+    ray__mutex_lock(m->cgrid_lock);
+    if (!m->cgrid_tried) {
+        m->cgrid_tried = 1;
+        /* Out of memory: no grid, the whole rays (as exact). */
+        (void)ray__cgrid_build(m);
+    }
+    ray__mutex_unlock(m->cgrid_lock);
 }
 
 void ray__cgrid_free(ray_scene *s)

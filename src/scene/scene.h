@@ -154,11 +154,15 @@ int ray__mesh_closed(const ray_scene *s, const unsigned *indices,
 ** ray__cgrid_build -- the grid (s->cgrid) over the committed triangle
 ** BVH: RAY_OK (no grid where there is no closed mesh or the marking
 ** would cost too much) or RAY_ENOMEM (none).  ray__cgrid_free frees it.
+** ray__cgrid_ensure -- the grid built if it has not been tried since the
+** last rebuild, under s->cgrid_lock: what a query calls before it reads
+** s->cgrid (the lock orders the build before every read).
 */
 void ray__closed_parity(const ray_scene *s, ray_vec3 q, unsigned ignore,
                         int all, unsigned *parity, int *on);
 int ray__cgrid_build(ray_scene *s);
 void ray__cgrid_free(ray_scene *s);
+void ray__cgrid_ensure(const ray_scene *s);
 
 /* Corner k (0 .. 3 n_tris - 1) of mesh m's triangles, for shading. */
 unsigned ray__mesh_corner(const ray__mesh *m, size_t k);
@@ -218,7 +222,13 @@ struct ray_scene {
     ray__instance *instances;
     size_t n_instances, cap_instances;
     ray__bvh tri_bvh;        /* over the live triangle slots */
-    ray__cgrid cgrid;        /* ray_contains' labels (parity.c) */
+    ray__cgrid cgrid;        /* ray_contains' labels (parity.c), built by
+                                the first query that needs them */
+    struct ray__mutex *cgrid_lock; /* guards cgrid and cgrid_tried; made
+                                at commit (NULL: none could be made,
+                                no grid: whole rays, as exact) */
+    int cgrid_tried;         /* the grid was built, or will not be, since
+                                the last rebuild */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
     size_t n_planes;

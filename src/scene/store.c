@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/platform.h"
 #include "scene/scene.h"
 
 static void *libc_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
@@ -130,6 +131,7 @@ void ray_scene_free(ray_scene *s)
     ** freed here rather than through it, so that no two files call each
     ** other). */
     ray__free(s, s->cgrid.block, s->cgrid.bytes);
+    ray__mutex_free(&s->alloc, s->cgrid_lock);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
     ray__free(s, s->prims, s->cap_prims * sizeof *s->prims);
     ray__free(s, s->verts, s->cap_verts * sizeof *s->verts);
