@@ -811,7 +811,8 @@ static void op_render(prog *p)
         /* ray_render_check makes ray_render's checks: the same refusal,
         ** with a reason; no refusal where the render went ahead. */
         char why[160];
-        int check = ray_render_check(p->scene, &cam, &o, why, sizeof why);
+        int check = ray_render_check(p->scene, &cam, &o, NULL, why,
+                                     sizeof why);
         if (rc == RAY_EINVAL || rc == RAY_ESTATE)
             FUZZ_CHECK(check == rc && why[0] != '\0',
                        "ray_render_check: the render's refusal, with a reason");
