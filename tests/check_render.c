@@ -708,9 +708,12 @@ END_TEST
 
 /* ------------------------------------------- ray_render_check's warnings */
 
-/* A grey Phong material's parameters: the material points at them, so
-** they outlive every scene (the tests never write them after init). */
-static ray_phong_params warn_grey;
+/* A grey Lambertian material's parameters: the material points at them,
+** so they outlive every scene; const, so tests on several threads share
+** them without a race. */
+static const ray_phong_params warn_grey = {
+    .diffuse = {0.8, 0.8, 0.8}, .shininess = 32
+};
 
 /* A scene for the warnings: a grey Phong material (its id in *mat),
 ** nothing else; the caller adds, commits and frees. */
@@ -719,7 +722,6 @@ static ray_scene *warn_scene(unsigned *mat)
     ray_material m;
     ray_scene *s = NULL;
 
-    ray_phong_params_init(&warn_grey);
     m = ray_material_phong(&warn_grey);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, mat), RAY_OK);
