@@ -586,6 +586,16 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
                 12.0 * a->width * a->height / 1e6);
         return 1;
     }
+    {
+        /* A valid scene can still render black (no light and a black
+        ** ambient, the camera inside a solid): ray_render_check's
+        ** warnings say so before the render, which goes ahead. */
+        unsigned warnings = 0;
+        char why[512];
+        if (ray_render_check(scene, cam, &opt, &warnings, why,
+                             sizeof why) == RAY_OK && warnings != 0)
+            fprintf(stderr, "%s: %s\n", a->name, why);
+    }
     t = now_seconds();
     rc = ray_render(scene, cam, &opt, image, &stats);
     if (rc != RAY_OK) {
