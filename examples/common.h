@@ -136,6 +136,12 @@ static inline void print_stats(const char *name, const ray_scene *scene,
         printf("%s: %llu shadow rays not cast: a material asked for them "
                "without declaring RAY_EFFECT_SHADOW (its light is "
                "unshadowed)\n", name, s->shadows_undeclared);
+    /* And one that calls ray_trace for a reflection or refraction it did
+    ** not declare gets RAY_EEFFECT, and the image lacks it: say so. */
+    if (s->traces_undeclared > 0)
+        printf("%s: %llu reflection or refraction rays refused: a material "
+               "asked for them without declaring RAY_EFFECT_REFLECTION or "
+               "RAY_EFFECT_REFRACTION\n", name, s->traces_undeclared);
     printf("%s: deepest level %u, rays cut by depth %llu, weight %llu, "
            "fan-out %llu\n", name, s->max_depth, s->cut_depth, s->cut_weight,
            s->cut_fanout);
@@ -580,13 +586,24 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
                 12.0 * a->width * a->height / 1e6);
         return 1;
     }
+    {
+        /* A valid scene can still render black (no light and a black
+        ** ambient, the camera inside a solid): ray_render_check's
+        ** warnings say so before the render, which goes ahead. */
+        unsigned warnings = 0;
+        char why[512];
+        if (ray_render_check(scene, cam, &opt, &warnings, why,
+                             sizeof why) == RAY_OK && warnings != 0)
+            fprintf(stderr, "%s: %s\n", a->name, why);
+    }
     t = now_seconds();
     rc = ray_render(scene, cam, &opt, image, &stats);
     if (rc != RAY_OK) {
         /* Which argument and why: ray_render_check, not the scene's
         ** message (ray_render's scene is const and shared). */
         char why[256];
-        if (ray_render_check(scene, cam, &opt, why, sizeof why) == RAY_OK)
+        if (ray_render_check(scene, cam, &opt, NULL, why, sizeof why) ==
+            RAY_OK)
             snprintf(why, sizeof why, "ray_render: %s", ray_strerror(rc));
         fprintf(stderr, "%s: %s\n", a->name, why);
         free(image);

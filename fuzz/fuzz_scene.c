@@ -811,13 +811,33 @@ static void op_render(prog *p)
         /* ray_render_check makes ray_render's checks: the same refusal,
         ** with a reason; no refusal where the render went ahead. */
         char why[160];
-        int check = ray_render_check(p->scene, &cam, &o, why, sizeof why);
+        int check = ray_render_check(p->scene, &cam, &o, NULL, why,
+                                     sizeof why);
         if (rc == RAY_EINVAL || rc == RAY_ESTATE)
             FUZZ_CHECK(check == rc && why[0] != '\0',
                        "ray_render_check: the render's refusal, with a reason");
         else
             FUZZ_CHECK(check == RAY_OK && why[0] == '\0',
                        "ray_render_check: no refusal where the render ran");
+        /* Asked for warnings too: the same status (a warning is not an
+        ** error), *warnings written on RAY_OK alone, only known bits,
+        ** and words exactly when there are bits. */
+        {
+            unsigned w = 0xdeadu;
+            int again = ray_render_check(p->scene, &cam, &o, &w, why,
+                                         sizeof why);
+            FUZZ_CHECK(again == check, "ray_render_check: warnings change "
+                       "no status");
+            if (again != RAY_OK)
+                FUZZ_CHECK(w == 0xdeadu, "ray_render_check: warnings "
+                           "untouched on a refusal");
+            else
+                FUZZ_CHECK((w & ~(RAY_RENDER_WARN_UNLIT |
+                                  RAY_RENDER_WARN_EMPTY |
+                                  RAY_RENDER_WARN_EYE_INSIDE)) == 0 &&
+                               (w != 0) == (why[0] != '\0'),
+                           "ray_render_check: known warnings, named");
+        }
     }
     if (rc == RAY_EINVAL || rc == RAY_ESTATE || rc == RAY_ENOMEM) {
         FUZZ_CHECK(fuzz_untouched(rgb, sizeof rgb) &&

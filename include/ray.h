@@ -1147,6 +1147,15 @@ typedef struct ray_stats {
                                            unoccluded.  Not 0: a material
                                            forgot the flag, and the image
                                            lacks its shadows */
+    unsigned long long traces_undeclared; /* reflection and refraction
+                                           rays a material asked for
+                                           (ray_trace) without declaring
+                                           RAY_EFFECT_REFLECTION or
+                                           RAY_EFFECT_REFRACTION: refused
+                                           with RAY_EEFFECT.  Not 0: a
+                                           material forgot a flag, and
+                                           the image lacks what it
+                                           asked for */
 } ray_stats;
 
 /* --------------------------------------------------------- 9. rendering */
@@ -1296,9 +1305,22 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** written) which argument or field failed, with its value and the rule,
 ** e.g. "ray_render: options samples 100000: must be 0 (1) ..
 ** RAY_MAX_PIXEL_SAMPLES (65536), also with adaptive antialiasing"; ""
-** on RAY_OK.  ray_render runs these very checks, so the two cannot
-** disagree; it can still fail later for RAY_ENOMEM, RAY_ECANCELED, or
-** an automatic photon radius that overflows in a scene of extreme size.
+** on RAY_OK without warnings.  ray_render runs these very checks, so the
+** two cannot disagree; it can still fail later for RAY_ENOMEM,
+** RAY_ECANCELED, or an automatic photon radius that overflows in a scene
+** of extreme size.
+**
+** Warnings: arguments ray_render accepts and renders, but into an image
+** that is black, or nearly.  With "warnings" not NULL and RAY_OK, it
+** writes *warnings, the RAY_RENDER_WARN_* bits below (0: none), and msg
+** names each, "ray_render: warning: " and their reasons joined by "; ";
+** on a refusal *warnings is left untouched.  They never change the
+** status: a warning is not an error, and ray_render renders the scene.
+** With warnings NULL none is looked for (ray_render's own call: it pays
+** nothing for them), and msg is "" on RAY_OK.  What no check can see
+** (a material's callback asking for an effect it did not declare) the
+** render counts instead: ray_stats.shadows_undeclared and
+** traces_undeclared.
 **
 ** Why a buffer of the caller's and not ray_scene_errmsg, where the
 ** building calls leave their reasons: ray_render takes a const scene
@@ -1308,12 +1330,32 @@ RAY_API int ray_render(const ray_scene *scene, const ray_camera *camera,
 ** would turn an input struct, often shared between threads, into an
 ** output.  A pure function of its arguments is reentrant and costs
 ** nothing on the render's path: call it after a failed ray_render (or
-** before, to vet options a user typed).  ray_render leaves
-** ray_scene_errmsg as it was.
+** before, to vet options a user typed, or a scene for the warnings).
+** ray_render leaves ray_scene_errmsg as it was.
 */
+/* No light of non-zero intensity (a light whose intensity is 0 in every
+** channel counts as none) and a black ambient: every surface that the
+** built-in materials shade is black; a material of the caller's that
+** gives light of its own is not seen. */
+#define RAY_RENDER_WARN_UNLIT      1u
+/* No geometry a camera ray can hit (none enabled with a non-zero mask;
+** an instance counts as geometry) and a constant black background: every
+** pixel is black. */
+#define RAY_RENDER_WARN_EMPTY      2u
+/* The camera's position is inside a solid or on its surface: a sphere,
+** box, capsule or closed mesh, through instances, counted as ray_contains
+** counts them without RAY_CONTAINS_WINDING (by parity: a point inside
+** two overlapping solids is inside neither), the boundary included (for
+** a sphere, |position - center|^2 <= radius^2 as rounded).  Open meshes,
+** triangles and the other kinds bound no solid: not looked at.  A room
+** modelled as a closed solid around the camera sets it too, lit or not:
+** it says every camera ray starts inside, not that the image is wrong.
+** With a lens (aperture > 0) the test is of position, the lens's centre. */
+#define RAY_RENDER_WARN_EYE_INSIDE 4u
+
 RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
-                             const ray_render_options *options, char *msg,
-                             size_t size);
+                             const ray_render_options *options,
+                             unsigned *warnings, char *msg, size_t size);
 
 /*
 ** Caustics: light that reaches a diffuse surface through specular ones

@@ -262,7 +262,7 @@ START_TEST(zeroed_render_options_and_camera_should_render_the_defaults)
 
     ck_assert_int_eq(ray_render(s, &explicit_cam, &explicit_o, want, NULL),
                      RAY_OK);
-    ck_assert_int_eq(ray_render_check(s, &cam, &o, msg, sizeof msg), RAY_OK);
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, NULL, msg, sizeof msg), RAY_OK);
     ck_assert_str_eq(msg, "");
     ck_assert_int_eq(ray_render(s, &cam, &o, got, NULL), RAY_OK);
     ck_assert_mem_eq(got, want, sizeof want);

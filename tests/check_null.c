@@ -341,15 +341,15 @@ START_TEST(context_and_render_calls_should_refuse_null)
     ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
     {
         char why[64];
-        ck_assert_int_eq(ray_render_check(NULL, &cam, &o, why, sizeof why),
+        ck_assert_int_eq(ray_render_check(NULL, &cam, &o, NULL, why, sizeof why),
                          RAY_EINVAL);
         ck_assert_str_eq(why, "ray_render: scene is NULL");
-        ck_assert_int_eq(ray_render_check(s, &cam, NULL, why, sizeof why),
+        ck_assert_int_eq(ray_render_check(s, &cam, NULL, NULL, why, sizeof why),
                          RAY_EINVAL);
         ck_assert_str_eq(why, "ray_render: options is NULL");
-        ck_assert_int_eq(ray_render_check(NULL, NULL, NULL, NULL, 0),
+        ck_assert_int_eq(ray_render_check(NULL, NULL, NULL, NULL, NULL, 0),
                          RAY_EINVAL);
-        ck_assert_int_eq(ray_render_check(s, &cam, &o, NULL, 0), RAY_OK);
+        ck_assert_int_eq(ray_render_check(s, &cam, &o, NULL, NULL, 0), RAY_OK);
     }
     ray_scene_free(s);
 

@@ -380,13 +380,13 @@ START_TEST(render_check_should_say_which_option_and_why)
     build(&t);
     ray_render_options_init(&o, W, H);
     cam = t.cam;
-    ck_assert_int_eq(ray_render_check(t.scene, &cam, &o, msg, sizeof msg), RAY_OK);
+    ck_assert_int_eq(ray_render_check(t.scene, &cam, &o, NULL, msg, sizeof msg), RAY_OK);
     ck_assert_str_eq(msg, "");
     break_one(_i, &o, &cam, t.scene);
     rc = ray_render(t.scene, _i == 15 ? NULL : &cam, &o, img, NULL);
     ck_assert_int_eq(rc, f->code);
     memset(msg, 'x', sizeof msg);
-    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o, NULL,
                                       msg, sizeof msg), rc);
     ck_assert_msg(strncmp(msg, "ray_render: ", 12) == 0 &&
                   strstr(msg, f->what) != NULL,
@@ -394,15 +394,15 @@ START_TEST(render_check_should_say_which_option_and_why)
                   f->what);
     ck_assert_str_eq(ray_scene_errmsg(t.scene), "");
     /* Short buffer: cut, terminated; no buffer: the code alone. */
-    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o, NULL,
                                       small, sizeof small), rc);
     ck_assert_uint_eq(strlen(small), sizeof small - 1);
     ck_assert(strncmp(small, msg, sizeof small - 1) == 0);
     small[0] = 'x';
-    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o, NULL,
                                       small, 0), rc);
     ck_assert_int_eq(small[0], 'x');
-    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o,
+    ck_assert_int_eq(ray_render_check(t.scene, _i == 15 ? NULL : &cam, &o, NULL,
                                       NULL, 64), rc);
     ray_scene_free(t.scene);
 }
@@ -438,7 +438,7 @@ START_TEST(render_check_should_accept_the_last_value_of_each_range)
         case 7: cam.vfov = nextafter(0, 1); break;
         default: cam.aperture = 0; cam.focus_distance = 0; break;
         }
-        ck_assert_msg(ray_render_check(t.scene, &cam, &o, msg, sizeof msg) ==
+        ck_assert_msg(ray_render_check(t.scene, &cam, &o, NULL, msg, sizeof msg) ==
                           RAY_OK, "edge %d refused: %s", k, msg);
     }
     ray_scene_free(t.scene);
@@ -467,6 +467,8 @@ static void forgetful_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                             ray_rgb *out)
 {
     ray_light_sample ls;
+    ray_ray mirror;
+    ray_rgb seen;
 
     if (ud != NULL)
         ++*(unsigned long long *)ud;
@@ -474,6 +476,15 @@ static void forgetful_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     if (ray_light_sample_at(ctx, a, 0, 0, &ls) == RAY_OK &&
         !ray_light_visible(ctx, a, &ls))
         *out = rgb(0, 0, 0);
+    /* And a reflection it did not declare either: refused, and counted
+    ** (ray_stats.traces_undeclared), one per shade. */
+    mirror.org = a->hit->p;
+    mirror.dir = a->hit->n;
+    mirror.tmin = 0;
+    mirror.tmax = HUGE_VAL;
+    if (ray_trace(ctx, &mirror, RAY_KIND_REFLECTION, 0.5, &seen) !=
+        RAY_EEFFECT)
+        *out = rgb(1, 0, 0);
 }
 
 static ray_stats render_counted(unsigned threads, unsigned long long *filters,
@@ -516,8 +527,9 @@ static ray_stats render_counted(unsigned threads, unsigned long long *filters,
 /*
 ** ray_render's counters are its threads' counters summed, every one of
 ** them: on one thread they equal what the callbacks counted themselves
-** (filter calls; shadow requests dropped for want of RAY_EFFECT_SHADOW,
-** one per shade), exactly, and on three threads they are the same
+** (filter calls; shadow requests dropped for want of RAY_EFFECT_SHADOW
+** and reflections refused for want of RAY_EFFECT_REFLECTION, one each
+** per shade), exactly, and on three threads they are the same
 ** numbers (the work does not depend on the split).  A counter the sum
 ** forgot reads 0 on three threads, or on one.
 */
@@ -535,6 +547,8 @@ START_TEST(render_stats_should_sum_every_counter_over_threads)
     ck_assert_uint_eq(one.rays[RAY_KIND_SHADOW], 0);
     ck_assert_uint_eq(three.filter_calls, one.filter_calls);
     ck_assert_uint_eq(three.shadows_undeclared, one.shadows_undeclared);
+    ck_assert_uint_eq(one.traces_undeclared, shades);
+    ck_assert_uint_eq(three.traces_undeclared, one.traces_undeclared);
     for (k = 0; k < RAY_KIND_COUNT; k++)
         ck_assert_uint_eq(three.rays[k], one.rays[k]);
     ck_assert_uint_eq(three.tests, one.tests);
@@ -692,6 +706,288 @@ START_TEST(render_pixels_should_always_be_finite)
 }
 END_TEST
 
+/* ------------------------------------------- ray_render_check's warnings */
+
+/* A grey Lambertian material's parameters: the material points at them,
+** so they outlive every scene; const, so tests on several threads share
+** them without a race. */
+static const ray_phong_params warn_grey = {
+    .diffuse = {0.8, 0.8, 0.8}, .shininess = 32
+};
+
+/* A scene for the warnings: a grey Phong material (its id in *mat),
+** nothing else; the caller adds, commits and frees. */
+static ray_scene *warn_scene(unsigned *mat)
+{
+    ray_material m;
+    ray_scene *s = NULL;
+
+    m = ray_material_phong(&warn_grey);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, mat), RAY_OK);
+    return s;
+}
+
+static void add_light(ray_scene *s, ray_rgb intensity)
+{
+    ray_light l;
+
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(0, 10, 0);
+    l.intensity = intensity;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+}
+
+/* The warnings ray_render_check gives s (committed here) for a camera at
+** eye looking down -z, asserting RAY_OK, that msg is "" exactly when
+** there are none and names them otherwise, and that ray_render, which
+** does not ask for them, renders the scene. */
+static unsigned warnings_at(ray_scene *s, ray_vec3 eye)
+{
+    ray_camera cam;
+    ray_render_options o;
+    char msg[512];
+    float img[3 * 4 * 3];
+    unsigned w = 0xdeadu;
+
+    memset(&cam, 0, sizeof cam);
+    cam.position = eye;
+    cam.look_at = vec(eye.x, eye.y, eye.z - 1);
+    memset(&o, 0, sizeof o);
+    o.width = 4;
+    o.height = 3;
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, &w, msg, sizeof msg),
+                     RAY_OK);
+    ck_assert_uint_eq(w & ~(RAY_RENDER_WARN_UNLIT | RAY_RENDER_WARN_EMPTY |
+                            RAY_RENDER_WARN_EYE_INSIDE), 0);
+    if (w == 0) {
+        ck_assert_str_eq(msg, "");
+    } else {
+        ck_assert_msg(strncmp(msg, "ray_render: warning: ", 21) == 0,
+                      "%s", msg);
+        ck_assert((strstr(msg, "no light") != NULL) ==
+                  ((w & RAY_RENDER_WARN_UNLIT) != 0));
+        ck_assert((strstr(msg, "black background") != NULL) ==
+                  ((w & RAY_RENDER_WARN_EMPTY) != 0));
+        ck_assert((strstr(msg, "inside a solid") != NULL) ==
+                  ((w & RAY_RENDER_WARN_EYE_INSIDE) != 0));
+    }
+    /* Without "warnings" none is looked for: msg stays "". */
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, NULL, msg, sizeof msg),
+                     RAY_OK);
+    ck_assert_str_eq(msg, "");
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+    return w;
+}
+
+/*
+** Issue 37's scene: no light, a black ambient, the camera at the origin
+** inside a sphere placed there.  Each cause alone, and the cures: a
+** light of zero intensity is no light; a non-black ambient without a
+** light, or a light, ends UNLIT.
+*/
+START_TEST(render_check_should_warn_of_a_scene_without_light)
+{
+    unsigned mat;
+    ray_scene *s = warn_scene(&mat);
+
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL),
+                     RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 0)),
+                      RAY_RENDER_WARN_UNLIT | RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), RAY_RENDER_WARN_UNLIT);
+    add_light(s, rgb(0, 0, 0));
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), RAY_RENDER_WARN_UNLIT);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(0, 0, 0.01)), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
+    ck_assert_int_eq(ray_scene_set_ambient(s, rgb(0, 0, 0)), RAY_OK);
+    add_light(s, rgb(0, 1e-300, 0));
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* Nothing a camera ray can hit and a black background: EMPTY, also when
+** the only geometry is disabled or of mask 0; not with a background
+** colour or function, nor once geometry is enabled. */
+static void blue_sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud, (void)r;
+    *out = rgb(0, 0, 1);
+}
+
+START_TEST(render_check_should_warn_of_nothing_to_see)
+{
+    unsigned mat, ball;
+    ray_scene *s = warn_scene(&mat);
+
+    add_light(s, rgb(1, 1, 1));
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), RAY_RENDER_WARN_EMPTY);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &ball),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_set_enabled(s, ball, 0), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), RAY_RENDER_WARN_EMPTY);
+    ck_assert_int_eq(ray_scene_set_enabled(s, ball, 1), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_mask(s, ball, 0), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), RAY_RENDER_WARN_EMPTY);
+    ck_assert_int_eq(ray_scene_set_mask(s, ball, 1), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
+    ck_assert_int_eq(ray_scene_set_enabled(s, ball, 0), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0, 0)), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background_fn(s, blue_sky, NULL), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* The unit cube's 8 corners and 12 outward triangles; the first 10 (the
+** +z face's two left out) make it open. */
+static const ray_vec3 cube_v[8] = {
+    {-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+    {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}
+};
+static const unsigned cube_i[36] = {
+    0, 2, 1, 0, 3, 2,   /* -z */
+    0, 1, 5, 0, 5, 4,   /* -y */
+    1, 2, 6, 1, 6, 5,   /* +x */
+    2, 3, 7, 2, 7, 6,   /* +y */
+    3, 0, 4, 3, 4, 7,   /* -x */
+    4, 5, 6, 4, 6, 7    /* +z */
+};
+
+static void add_cube(ray_scene *s, unsigned mat, size_t triangles)
+{
+    ray_mesh m;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = cube_v;
+    m.vertex_count = 8;
+    m.indices = cube_i;
+    m.triangle_count = triangles;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, NULL), RAY_OK);
+}
+
+/*
+** The eye inside a solid: a sphere (inside, exactly on its surface, the
+** next double outside), a closed mesh (inside, on a face), the same mesh
+** open (no solid: not looked at), a box, a capsule, and a sphere seen
+** through an instance that moves it onto the eye.  A light in each, so
+** that EYE_INSIDE is the only warning.
+*/
+START_TEST(render_check_should_warn_of_an_eye_inside_a_solid)
+{
+    unsigned mat;
+    ray_scene *s = warn_scene(&mat), *child;
+    ray_box_params b;
+    ray_capsule_params c;
+    ray_transform t;
+
+    add_light(s, rgb(1, 1, 1));
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL),
+                     RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(0.5, 0.25, 0)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    /* On the surface: inside, as ray_contains's closed solids (1 * 1 is
+    ** exact, so there is no rounding to argue about). */
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 1)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, nextafter(1, 2))), 0);
+    ray_scene_free(s);
+
+    s = warn_scene(&mat);
+    add_light(s, rgb(1, 1, 1));
+    add_cube(s, mat, 12);
+    ck_assert_uint_eq(warnings_at(s, vec(0.25, 0.5, 0.125)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(0.25, 0.5, 1)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(0.25, 0.5, 3)), 0);
+    ray_scene_free(s);
+
+    /* Open: the eye sees out of the hole, so no solid shuts it in,
+    ** although the winding number there is well above 1/2. */
+    s = warn_scene(&mat);
+    add_light(s, rgb(1, 1, 1));
+    add_cube(s, mat, 10);
+    ck_assert_uint_eq(warnings_at(s, vec(0.25, 0.5, 0.125)), 0);
+    ray_scene_free(s);
+
+    s = warn_scene(&mat);
+    add_light(s, rgb(1, 1, 1));
+    memset(&b, 0, sizeof b);
+    b.center = vec(10, 0, 0);
+    b.half_extents = vec(1, 2, 3);
+    b.axis_x = vec(1, 1, 0);
+    b.axis_y = vec(-1, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, mat, NULL), RAY_OK);
+    c.a = vec(-10, 0, 0);
+    c.b = vec(-10, 4, 0);
+    c.radius = 0.5;
+    ck_assert_int_eq(ray_scene_add_capsule(s, &c, mat, NULL), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(10.5, 0.5, 2.5)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(-10, 4.25, 0)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(0, 0, 0)), 0);
+    ray_scene_free(s);
+
+    /* Through an instance: the child's unit sphere moved to x = 20. */
+    child = warn_scene(&mat);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1, mat, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    s = warn_scene(&mat);
+    add_light(s, rgb(1, 1, 1));
+    ray_transform_identity(&t);
+    t.m[0][3] = 20;
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &t, NULL), RAY_OK);
+    ck_assert_uint_eq(warnings_at(s, vec(20.5, 0, 0)),
+                      RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_uint_eq(warnings_at(s, vec(0.5, 0, 0)), 0);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
+/* A refusal leaves *warnings as it was (outputs only on RAY_OK); a
+** buffer too small for the warnings holds their truncated start. */
+START_TEST(render_check_warnings_should_follow_the_output_rules)
+{
+    unsigned mat, w = 0xdeadu;
+    ray_scene *s = warn_scene(&mat);
+    ray_camera cam;
+    ray_render_options o;
+    char msg[512], small[24];
+
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray_camera_init(&cam);
+    memset(&o, 0, sizeof o);
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, &w, msg, sizeof msg),
+                     RAY_EINVAL);
+    ck_assert_uint_eq(w, 0xdeadu);
+    ck_assert(strstr(msg, "width") != NULL);
+    o.width = o.height = 2;
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, &w, msg, sizeof msg),
+                     RAY_OK);
+    ck_assert_uint_eq(w, RAY_RENDER_WARN_UNLIT | RAY_RENDER_WARN_EYE_INSIDE);
+    ck_assert_msg(strstr(msg, "; the camera position (0, 0, 0) is inside")
+                  != NULL, "%s", msg);
+    memset(small, 'x', sizeof small);
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, &w, small, sizeof small),
+                     RAY_OK);
+    ck_assert_uint_eq(strlen(small), sizeof small - 1);
+    ck_assert(strncmp(small, msg, sizeof small - 1) == 0);
+    ck_assert_int_eq(ray_render_check(s, &cam, &o, &w, NULL, 0), RAY_OK);
+    ck_assert_uint_eq(w, RAY_RENDER_WARN_UNLIT | RAY_RENDER_WARN_EYE_INSIDE);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *render_suite(void)
 {
     Suite *s = suite_create("render");
@@ -707,6 +1003,10 @@ Suite *render_suite(void)
     tcase_add_loop_test(tc, render_check_should_say_which_option_and_why, 0,
                         (int)N_REFUSALS);
     tcase_add_test(tc, render_check_should_accept_the_last_value_of_each_range);
+    tcase_add_test(tc, render_check_should_warn_of_a_scene_without_light);
+    tcase_add_test(tc, render_check_should_warn_of_nothing_to_see);
+    tcase_add_test(tc, render_check_should_warn_of_an_eye_inside_a_solid);
+    tcase_add_test(tc, render_check_warnings_should_follow_the_output_rules);
     tcase_add_test(tc, render_stats_should_sum_every_counter_over_threads);
     tcase_add_test(tc, render_samples_should_cover_every_stratum);
     tcase_add_test(tc, render_pixels_should_always_be_finite);

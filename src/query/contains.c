@@ -33,6 +33,9 @@ typedef struct cquery {
     unsigned ignore;             /* options->ignore_mask: the query's
                                     mask is ~ignore */
     int winding_all;             /* RAY_CONTAINS_WINDING */
+    int parity_only;             /* open triangles not summed: only the
+                                    solids and closed meshes
+                                    (ray__solid_holds) */
     unsigned parity;             /* crossings and solids, mod 2 */
     int on;                      /* exactly on a closed mesh */
     int stale;                   /* met an instance changed since */
@@ -247,15 +250,18 @@ static void search_in(const ray_scene *s, cquery *cq)
     if (!cq->winding_all) {
         unsigned parity;
         int on;
-        /* An instance's child: its grid, if not built yet (the top
-        ** scene's is ensured once a call, in ray_contains). */
-        if (cq->in != NULL)
+        /* The grid's labels serve ray_contains (an instance's child: its
+        ** grid ensured here; the top scene's once a call, in
+        ** ray_contains); ray__solid_holds walks the rays and leaves the
+        ** grid unbuilt and unread. */
+        int grid = all_closed && !cq->parity_only;
+        if (grid && cq->in != NULL)
             ray__cgrid_ensure(s);
-        ray__closed_parity(s, cq->q, cq->ignore, all_closed, &parity, &on);
+        ray__closed_parity(s, cq->q, cq->ignore, grid, &parity, &on);
         cq->on |= on;
         cq->parity ^= parity;
     }
-    if (open)
+    if (open && !cq->parity_only)
         sum_angles(s, cq);
     for (i = 0; instances && i < s->n_prims; i++) {
         const ray__prim *p = &s->prims[i];
@@ -297,6 +303,7 @@ static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
     cq.in = NULL;
     cq.ignore = ignore;
     cq.winding_all = winding_all;
+    cq.parity_only = 0;
     cq.parity = 0;
     cq.on = 0;
     cq.stale = 0;
@@ -311,6 +318,34 @@ static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
     ** open surface (w > 1/2) and a closed one is inside neither. */
     out->inside = cq.on || ((cq.parity & 1u) != 0) != (w > 0.5);
     return out->inside;
+}
+
+/*
+** ray__solid_holds -- whether q lies in a solid of s (ray_render_check's
+** eye test): ray_contains's exact parity over the spheres, boxes,
+** capsules and closed meshes, through instances, the boundary included,
+** every enabled geometry of a non-zero mask counted.  Open meshes and
+** triangles are left out rather than answered by the winding number: a
+** hole lets the eye see out, so they bound no solid it can be shut in,
+** and their O(triangles) sum would cost more than the whole check.  0
+** for a scene with an instance changed since its commit (the caller has
+** refused those).
+*/
+int ray__solid_holds(const ray_scene *s, ray_vec3 q)
+{
+    cquery cq;
+
+    cq.q = cq.qw = q;
+    cq.in = NULL;
+    cq.ignore = 0;
+    cq.winding_all = 0;
+    cq.parity_only = 1;
+    cq.parity = 0;
+    cq.on = 0;
+    cq.stale = 0;
+    cq.angle = 0;
+    search_in(s, &cq);
+    return !cq.stale && (cq.on || (cq.parity & 1u) != 0);
 }
 
 int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,

@@ -30,6 +30,10 @@ typedef struct ray__gate {
 
 /* ------------------------------------------------------------ the queries */
 
+/* Whether q lies in one of s's solids (contains.c says which count):
+** ray_render_check's test of the camera's eye. */
+int ray__solid_holds(const ray_scene *s, ray_vec3 q);
+
 /*
 ** Nearest hit / any hit over the scene, counting intersection tests, in
 ** all and by kind of primitive, into *st (may be NULL), with the

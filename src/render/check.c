@@ -5,9 +5,13 @@
 ** the two cannot disagree.  The message goes to the caller's buffer, not
 ** to the scene: ray_render takes a const scene that other threads may be
 ** rendering at the same time (ray.h, ray_render_check, says why).
+** Below them, the warnings: arguments ray_render accepts but that make
+** an image black, looked for only when the caller asks (warnings not
+** NULL), so that ray_render, which does not ask, pays nothing for them.
 */
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "render/camera.h"
 
@@ -137,9 +141,102 @@ static int options_check(const ray_render_options *o, char *msg,
     return RAY_OK;
 }
 
+/* Append "; " (after an earlier warning) and the formatted warning to
+** msg, which holds a NUL-terminated prefix: truncated at size as refuse()
+** truncates, msg NULL or size 0 written nothing. */
+static void warn(char *msg, size_t size, const char *fmt, ...)
+    RAY__PRINTF(3, 4);
+
+static void warn(char *msg, size_t size, const char *fmt, ...)
+{
+    va_list ap;
+    size_t used;
+
+    if (msg == NULL || size == 0)
+        return;
+    used = strlen(msg);
+    if (used + 1 >= size)
+        return;                  /* full: keep what was written */
+    if (used == 0) {
+        snprintf(msg, size, "ray_render: warning: ");
+    } else {
+        snprintf(msg + used, size - used, "; ");
+    }
+    used = strlen(msg);
+    if (used + 1 >= size)
+        return;
+    va_start(ap, fmt);
+    vsnprintf(msg + used, size - used, fmt, ap);
+    va_end(ap);
+}
+
+static int rgb_black(ray_rgb c)
+{
+    return c.r == 0 && c.g == 0 && c.b == 0;
+}
+
+/* Whether any light of s gives light: a light of intensity 0 (every
+** channel) adds nothing to any material, so it counts as none.  The
+** colours are checked finite and >= 0 where they are set. */
+static int lit(const ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_lights; i++)
+        if (!rgb_black(s->lights[i].desc.intensity))
+            return 1;
+    return 0;
+}
+
+/* Whether s has geometry a camera ray can hit: enabled, not removed, a
+** mask other than 0 (which hides it from every query).  An instance
+** counts as geometry without a look into its child: cheap, and a
+** warning must never be wrong the other way (an empty child only
+** costs a warning not given). */
+static int has_geometry(const ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (p->enabled && !p->removed && p->mask != 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* The warnings of an accepted scene and camera (c with its defaults
+** given), as RAY_RENDER_WARN_* bits, each also named in msg. */
+static unsigned warnings_of(const ray_scene *s, const ray_camera *c,
+                            char *msg, size_t size)
+{
+    unsigned w = 0;
+
+    if (!lit(s) && rgb_black(s->ambient)) {
+        w |= RAY_RENDER_WARN_UNLIT;
+        warn(msg, size, "no light of non-zero intensity and a black "
+             "ambient: every surface the lights shade renders black "
+             "(ray_scene_add_light, ray_scene_set_ambient)");
+    }
+    if (s->background_fn == NULL && rgb_black(s->background) &&
+        !has_geometry(s)) {
+        w |= RAY_RENDER_WARN_EMPTY;
+        warn(msg, size, "no geometry a camera ray can hit and a black "
+             "background: every pixel is the background");
+    }
+    if (ray__solid_holds(s, c->position)) {
+        w |= RAY_RENDER_WARN_EYE_INSIDE;
+        warn(msg, size, "the camera position (%g, %g, %g) is inside a "
+             "solid (a sphere, box, capsule or closed mesh) or on its "
+             "surface: every camera ray starts inside it",
+             c->position.x, c->position.y, c->position.z);
+    }
+    return w;
+}
+
 int ray_render_check(const ray_scene *scene, const ray_camera *camera,
-                     const ray_render_options *options, char *msg,
-                     size_t size)
+                     const ray_render_options *options, unsigned *warnings,
+                     char *msg, size_t size)
 {
     ray_render_options o;
     ray_camera c;
@@ -160,7 +257,11 @@ int ray_render_check(const ray_scene *scene, const ray_camera *camera,
                       "since its commit: commit this scene after it");
     ray__render_defaults(options, camera, &o, &c);
     rc = options_check(&o, msg, size);
-    if (rc != RAY_OK)
-        return rc;
-    return camera_check(&c, msg, size);
+    if (rc == RAY_OK)
+        rc = camera_check(&c, msg, size);
+    /* Written on RAY_OK only, as every output (ray.h, errors); without
+    ** "warnings" none is looked for and msg stays "". */
+    if (rc == RAY_OK && warnings != NULL)
+        *warnings = warnings_of(scene, &c, msg, size);
+    return rc;
 }

@@ -559,6 +559,7 @@ static void sum_stats(void *workers, unsigned n, ray_stats *out)
         out->photon_lookups += s->photon_lookups;
         out->filter_calls += s->filter_calls;
         out->shadows_undeclared += s->shadows_undeclared;
+        out->traces_undeclared += s->traces_undeclared;
         if (s->max_depth > out->max_depth)
             out->max_depth = s->max_depth;
     }
@@ -627,7 +628,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera_in,
 
     /* The argument checks, all in ray_render_check (check.c), which
     ** a caller runs again with a buffer to learn why. */
-    rc = ray_render_check(scene, camera_in, opt_in, NULL, 0);
+    rc = ray_render_check(scene, camera_in, opt_in, NULL, NULL, 0);
     if (rc != RAY_OK)
         return rc;
     if (rgb == NULL)

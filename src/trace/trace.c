@@ -93,8 +93,15 @@ static int admit(ray_ctx *ctx, unsigned kind, double attenuation,
     }
     if (kind != RAY_KIND_REFLECTION && kind != RAY_KIND_REFRACTION)
         return RAY_EINVAL;
-    if ((ctx->effects & effect_of_kind[kind]) == 0)
+    if ((ctx->effects & effect_of_kind[kind]) == 0) {
+        /* Counted, as light.c counts a shadow ray asked for without
+        ** RAY_EFFECT_SHADOW: a status the material may ignore would
+        ** otherwise show only as a missing reflection in the image.  The
+        ** photon pass refuses its scatter callbacks this way too, but
+        ** sums only its tests into the render's counters. */
+        ctx->stats.traces_undeclared++;
         return RAY_EEFFECT;
+    }
     *depth = ctx->depth + 1;
     *weight = ctx->weight * attenuation;
     if (*depth > lim->max_depth) {
