@@ -291,6 +291,21 @@ static int has_exact(const ray_scene *s, unsigned ignore)
     return 0;
 }
 
+/* A query's state for point q of the top scene, nothing counted yet. */
+static void cquery_start(cquery *cq, ray_vec3 q, unsigned ignore,
+                         int winding_all, int parity_only)
+{
+    cq->q = cq->qw = q;
+    cq->in = NULL;
+    cq->ignore = ignore;
+    cq->winding_all = winding_all;
+    cq->parity_only = parity_only;
+    cq->parity = 0;
+    cq->on = 0;
+    cq->stale = 0;
+    cq->angle = 0;
+}
+
 /* One point's answer: 1 inside (on the surface included), 0 outside, or
 ** -RAY_ESTATE. */
 static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
@@ -299,15 +314,7 @@ static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
     cquery cq;
     double w;
 
-    cq.q = cq.qw = q;
-    cq.in = NULL;
-    cq.ignore = ignore;
-    cq.winding_all = winding_all;
-    cq.parity_only = 0;
-    cq.parity = 0;
-    cq.on = 0;
-    cq.stale = 0;
-    cq.angle = 0;
+    cquery_start(&cq, q, ignore, winding_all, 0);
     search_in(s, &cq);
     if (cq.stale)
         return -RAY_ESTATE;
@@ -335,15 +342,7 @@ int ray__solid_holds(const ray_scene *s, ray_vec3 q)
 {
     cquery cq;
 
-    cq.q = cq.qw = q;
-    cq.in = NULL;
-    cq.ignore = 0;
-    cq.winding_all = 0;
-    cq.parity_only = 1;
-    cq.parity = 0;
-    cq.on = 0;
-    cq.stale = 0;
-    cq.angle = 0;
+    cquery_start(&cq, q, 0, 0, 1);
     search_in(s, &cq);
     return !cq.stale && (cq.on || (cq.parity & 1u) != 0);
 }
