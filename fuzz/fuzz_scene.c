@@ -845,9 +845,15 @@ static void op_render(prog *p)
                    "ray_render: outputs untouched on error");
         return;
     }
-    if (exact_sub(cam.look_at, cam.position, &view))
-        FUZZ_CHECK(!exactly_parallel(cam.up, view),
+    if (exact_sub(cam.look_at, cam.position, &view)) {
+        /* up (0, 0, 0) is the default, +y (issue 37): the up the render
+        ** used. */
+        ray_vec3 up = cam.up;
+        if (up.x == 0 && up.y == 0 && up.z == 0)
+            up = ray_vec3_make(0, 1, 0);
+        FUZZ_CHECK(!exactly_parallel(up, view),
                    "ray_render: up parallel to the view is RAY_EINVAL");
+    }
     if (rc != RAY_OK)
         return;
     for (y = 0; y < 3 * IMG_SIZE * ((o.y1 ? o.y1 : IMG_SIZE) - o.y0); y++) {
