@@ -85,21 +85,30 @@ double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
 ** or a NaN from bad input fails the NaN-safe range test.  A normal that
 ** cannot be normalised (zero, infinite, NaN) misses.
 */
-int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
-                 double *t_out)
+int ray__plane_t_valid(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                       double *t_out)
 {
     double denom, t;
     ray_vec3 po;
 
-    if (r == NULL)
-        return 0;
     denom = v3_dot(r->dir, normal);
     if (denom == 0)
         return 0;
     po = v3_sub(point, r->org);
     t = v3_dot(po, normal) / denom;
     if (!(t > r->tmin && t < r->tmax) ||
-        !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin) ||
+        !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin))
+        return 0;
+    *t_out = t;
+    return 1;
+}
+
+int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                 double *t_out)
+{
+    double t;
+
+    if (r == NULL || !ray__plane_t_valid(r, point, normal, &t) ||
         !v3_normalizable(normal))
         return 0;
     *t_out = t;

@@ -143,8 +143,30 @@ int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,
                   double *t);
 int ray__sphere_fill(const ray_ray *r, ray_vec3 center, double radius,
                      double t, int uv, ray_hit *hit);
+
+/*
+** ray__sphere_t in two steps, for a query that tests several spheres with
+** one ray: what depends on the ray alone (its direction scaled by a power
+** of two, d.d, the scaled tmin), once; then each sphere, reading r's
+** origin and its current tmax.  The same arithmetic, so the same bits.
+** ray__sphere_ray_init: 0 for a zero or non-finite direction (every
+** sphere is then missed).
+*/
+typedef struct ray__sphere_ray {
+    ray_vec3 d;                  /* the direction times 2^-e */
+    double a, tmin;              /* d.d, and tmin times 2^e */
+    int e;
+} ray__sphere_ray;
+
+int ray__sphere_ray_init(const ray_ray *r, ray__sphere_ray *sr);
+int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
+                     ray_vec3 center, double radius, double *t);
 int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
                  double *t);
+/* ray__plane_t for a non-NULL ray and a normal known to normalise (a
+** scene's plane, checked when it was added): the same t, one test less. */
+int ray__plane_t_valid(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
+                       double *t);
 
 /*
 ** ray__sphere_fill fails only when p - c (formed as the fill forms it) is

@@ -31,14 +31,18 @@ enum { LEAF_TRIANGLES, LEAF_PRIMS };
 #define RAY__INLINE inline
 #endif
 
-/* Add a query's counts to *st (if any). */
+/* Add a query's counts to *st (if any): the kinds it counted
+** (qc->kinds, and always the triangles), not all RAY_PRIM_KINDS of
+** them, whose loop was 3% of the Whitted render's instructions
+** (callgrind, issue 35). */
 static void add_counts(ray_stats *st, const ray__counts *qc)
 {
-    int k;
+    unsigned kinds = qc->kinds | 1u << RAY_PRIM_TRIANGLE;
 
     if (st == NULL)
         return;
-    for (k = 0; k < RAY_PRIM_KINDS; k++) {
+    for (; kinds != 0; kinds &= kinds - 1) {
+        int k = lowest_bit(kinds);
         st->tests_by_kind[k] += qc->tests[k];
         st->tests += qc->tests[k];
     }
@@ -80,7 +84,7 @@ static int instance_hit(const ray_scene *s, unsigned idx, const ray_ray *r,
     ray_hit h;
     int found;
 
-    qc->tests[RAY_PRIM_INSTANCE]++;
+    ray__count_tests(qc, RAY_PRIM_INSTANCE, 1);
     if (ray__instance_stale(in)) {
         qc->stale = 1;
         return 0;
@@ -261,42 +265,64 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
 ** (ray_intersect(3) leaves ties between kinds other than triangles
 ** unspecified).
 */
-#define FEW_SPHERES 4
-
-static int few_spheres(const ray_scene *s)
-{
-    size_t i, n = s->prim_bvh.n_items;
-
-    if (n > FEW_SPHERES)
-        return 0;
-    for (i = 0; i < n; i++)
-        if (s->prims[s->prim_bvh.items[i]].kind != RAY__KIND_SPHERE)
-            return 0;
-    return 1;
-}
-
 /* The bounded primitives of s along r, by traversal (the traversal data
-** set up first if *ready is 0) or one after another (few_spheres). */
+** set up first if *ready is 0) or one after another (s->few_spheres, set
+** at commit).  Ungated, the spheres' test takes the ray's part once
+** (ray__sphere_ray_init) and goes to each sphere's candidate test without
+** the kinds' dispatch: the same functions on the same numbers, so the
+** same answers, at about half the instructions a sphere (callgrind, the
+** Whitted render, issue 35). */
 static inline int prims_along(const ray_scene *s, trav *tr, int *ready,
                               ray_ray *r, void *best, int any,
                               ray__counts *qc)
 {
+    ray__sphere_ray sr;
     unsigned i;
     int found = 0;
 
-    if (!few_spheres(s)) {
+    if (!s->few_spheres) {
         if (!*ready)
             trav_init(tr, r);
         *ready = 1;
         return traverse(s, &s->prim_bvh, tr, r, LEAF_PRIMS, best, any, qc);
     }
-    for (i = 0; i < s->prim_bvh.n_items; i++)
-        if (prim_test(s, i, r, best, qc)) {
-            found = 1;
-            if (any)
-                return 1;
-        }
+    if (qc->gate != NULL) {
+        for (i = 0; i < s->prim_bvh.n_items; i++)
+            if (prim_test(s, i, r, best, qc)) {
+                found = 1;
+                if (any)
+                    return 1;
+            }
+        return found;
+    }
+    if (s->prim_bvh.n_items == 0 || !ray__sphere_ray_init(r, &sr))
+        return 0;                  /* cannot happen: r is usable */
+    for (i = 0; i < s->prim_bvh.n_items; i++) {
+        unsigned idx = s->prim_bvh.items[i];
+        ray_hit h;
+        int k = ray__sphere_candidate(s, idx, &sr, r, &h, qc->uv);
+        ray__count_tests(qc, RAY_PRIM_SPHERE, 1);
+        if (!k)
+            continue;
+        r->tmax = h.t;
+        if (any)
+            return 1;
+        prim_keep(best, idx, k, &h);
+        found = 1;
+    }
     return found;
+}
+
+/* Plane i of s against r, gated or not: prim_candidate's answer, the
+** ungated one without the kinds' dispatch (ray__plane_candidate). */
+static inline int plane_candidate(const ray_scene *s, unsigned i,
+                                  const ray_ray *r, ray_hit *h,
+                                  ray__counts *qc)
+{
+    if (qc->gate != NULL)
+        return prim_candidate(s, i, r, h, qc);
+    ray__count_tests(qc, RAY_PRIM_PLANE, 1);
+    return ray__plane_candidate(s, i, r, h);
 }
 
 /* The triangles of s along r (the traversal data set up first if *ready
@@ -341,7 +367,7 @@ static int nearest_core(const ray_scene *s, ray_ray *rr, ray_hit *hit,
     tri_best_start(&tb);
     for (i = 0; i < s->n_planes; i++) {
         ray_hit h;
-        int k = prim_candidate(s, s->planes[i], rr, &h, qc);
+        int k = plane_candidate(s, s->planes[i], rr, &h, qc);
         if (k) {
             rr->tmax = h.t;
             prim_keep(&best, s->planes[i], k, &h);
@@ -372,7 +398,7 @@ static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
     int ready = 0;
 
     for (i = 0; i < s->n_planes; i++)
-        if (prim_candidate(s, s->planes[i], rr, &h, qc))
+        if (plane_candidate(s, s->planes[i], rr, &h, qc))
             return 1;
     return prims_along(s, &tr, &ready, rr, NULL, 1, qc) ||
            tris_along(s, &tr, &ready, rr, NULL, 1, qc);
@@ -400,6 +426,7 @@ static inline int tris_only(const ray_scene *s)
 static void counts_light(ray__counts *qc, int any)
 {
     qc->tests[RAY_PRIM_TRIANGLE] = 0;
+    qc->kinds = 0;
     qc->gate = NULL;
     qc->any = any;
     qc->stale = 0;

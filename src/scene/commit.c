@@ -139,6 +139,35 @@ static void scene_summary(ray_scene *s)
     s->has_instances = instances;
 }
 
+/*
+** A scene of a few spheres (the Whitted scene has two) is not traversed:
+** its spheres are tested one after another, as the planes are, and the
+** ray's traversal data (trav_init: three divisions and six roundings to
+** float) is then not set up at all unless the scene has triangles.  A
+** sphere's test for t alone costs about what the box test of a node
+** that would skip it does, and trav_init cost 9% of the Whitted
+** render's profile (perf, examples/whitted 1024 x 768, one thread).  The
+** answers are the traversal's: the box test only ever skips spheres that
+** the ray misses.  Two spheres hit at exactly the same t are settled by
+** the order they are tested in, in the BVH's leaf order here and in
+** box-entry order there, so such a tie may go the other way
+** (ray_intersect(3) leaves ties between kinds other than triangles
+** unspecified).  Decided here, once, not by every query.
+*/
+#define FEW_SPHERES 4
+
+static int few_spheres(const ray_scene *s)
+{
+    size_t i, n = s->prim_bvh.n_items;
+
+    if (n > FEW_SPHERES)
+        return 0;
+    for (i = 0; i < n; i++)
+        if (s->prims[s->prim_bvh.items[i]].kind != RAY__KIND_SPHERE)
+            return 0;
+    return 1;
+}
+
 /* The box of everything queries may hit but planes: the union of the
 ** roots of both BVHs (float, rounded outward from the geometry). */
 static void scene_box(ray_scene *s)
@@ -263,6 +292,7 @@ int ray_scene_commit(ray_scene *s)
     s->dirty = 0;
     scene_summary(s);
     scene_box(s);
+    s->few_spheres = few_spheres(s);
     s->generation++;
     s->avx2 = ray__cpu_has_avx2();
     s->committed = 1;

@@ -287,26 +287,6 @@ static int hit_USER(const ray_scene *s, const ray__prim *p,
 ** ray_sphere / ray_plane fill it, so a failed fill stays the miss it is
 ** there.
 */
-static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
-                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
-{
-    double t;
-
-    if (!ray__sphere_t(r, p->a, p->radius, &t))
-        return 0;
-    if (!ray__sphere_fills(r, p->a, p->radius, t))
-        return ray__sphere_fill(r, p->a, p->radius, t,
-                                sphere_uv(s, p, qc->uv), hit);
-    hit->t = t;
-    return RAY__HIT_T;
-}
-
-static int fill_SPHERE(const ray_scene *s, const ray__prim *p,
-                       const ray_ray *r, double t, int uv, ray_hit *hit)
-{
-    return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv), hit);
-}
-
 /* The plane's record, as ray_plane fills it (its normal made unit: p->c,
 ** v3_normalize(p->b) made when the plane was added, geometry.c). */
 static int plane_fill(const ray__prim *p, const ray_ray *r, double t,
@@ -315,19 +295,74 @@ static int plane_fill(const ray__prim *p, const ray_ray *r, double t,
     return ray__plane_fill(r, p->a, p->c, p->a, t, hit);
 }
 
+/* A full record of geometry i: its ids, as prim_answer sets them. */
+static int full_record(unsigned i, ray_hit *hit)
+{
+    hit->geom_id = i;
+    hit->prim_id = 0;
+    hit->inst_id = RAY_INVALID_ID;
+    return RAY__HIT_FULL;
+}
+
+int ray__sphere_candidate(const ray_scene *s, unsigned i,
+                          const ray__sphere_ray *sr, const ray_ray *r,
+                          ray_hit *hit, int uv)
+{
+    const ray__prim *p = &s->prims[i];
+    double t;
+
+    if (!ray__sphere_t_at(sr, r, p->a, p->radius, &t))
+        return 0;
+    if (!ray__sphere_fills(r, p->a, p->radius, t)) {
+        if (!ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv),
+                              hit))
+            return 0;
+        return full_record(i, hit);
+    }
+    hit->t = t;
+    return RAY__HIT_T;
+}
+
+int ray__plane_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
+                         ray_hit *hit)
+{
+    const ray__prim *p = &s->prims[i];
+    double t;
+
+    /* The stored normal p->b normalised when the plane was added. */
+    if (!ray__plane_t_valid(r, p->a, p->b, &t))
+        return 0;
+    if (!ray__plane_fills(r, p->a, t)) {
+        if (!plane_fill(p, r, t, hit))
+            return 0;
+        return full_record(i, hit);
+    }
+    hit->t = t;
+    return RAY__HIT_T;
+}
+
+static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
+                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
+{
+    ray__sphere_ray sr;
+
+    if (!ray__sphere_ray_init(r, &sr))
+        return 0;
+    return ray__sphere_candidate(s, (unsigned)(p - s->prims), &sr, r, hit,
+                                 qc->uv);
+}
+
+static int fill_SPHERE(const ray_scene *s, const ray__prim *p,
+                       const ray_ray *r, double t, int uv, ray_hit *hit)
+{
+    return ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv), hit);
+}
+
 static int cand_PLANE(const ray_scene *s, const ray__prim *p,
                       const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
-    double t;
-
-    (void)s;
     (void)qc;
-    if (!ray__plane_t(r, p->a, p->b, &t))
-        return 0;
-    if (!ray__plane_fills(r, p->a, t))
-        return plane_fill(p, r, t, hit);
-    hit->t = t;
-    return RAY__HIT_T;
+    return ray__plane_candidate(s, (unsigned)(p - s->prims), r, hit);
 }
 
 static int fill_PLANE(const ray_scene *s, const ray__prim *p,
@@ -435,7 +470,7 @@ int ray__prim_intersect(const ray_scene *s, unsigned i, const ray_ray *r,
     const ray__prim *p = &s->prims[i];
     int ok = 0;
 
-    qc->tests[counter_of(p->kind)]++;
+    ray__count_tests(qc, counter_of(p->kind), 1);
     switch (p->kind) {
 #define HIT_OF(name, counted_as, class)                                    \
     case RAY__KIND_##name:                                                 \
@@ -453,7 +488,7 @@ int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
     const ray__prim *p = &s->prims[i];
     int ok = 0;
 
-    qc->tests[counter_of(p->kind)]++;
+    ray__count_tests(qc, counter_of(p->kind), 1);
     switch (p->kind) {
 #define CAND_OF(name, counted_as, class)                                   \
     case RAY__KIND_##name:                                                 \

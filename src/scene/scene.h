@@ -265,6 +265,9 @@ struct ray_scene {
     unsigned long long generation;
     int gated;
     int has_instances;
+    int few_spheres;         /* prim_bvh holds a few spheres alone, which
+                                queries test one after another
+                                (commit.c, query/traverse.h) */
     ray_vec3 lo, hi;
     /* ray_scene_errmsg: the building call now running (a function name,
     ** static) and the message of its failure, "" while none.  A fixed
@@ -567,6 +570,8 @@ typedef enum ray__class {
 ** were taken as misses. */
 typedef struct ray__counts {
     unsigned long long tests[RAY_PRIM_KINDS];
+    unsigned kinds;          /* bit k set where tests[k] may be nonzero
+                                (triangles' always read: count_tests) */
     unsigned long long failures;
     unsigned long long filter_calls;
     const struct ray__gate *gate;  /* the query layer's (query.h) */
@@ -577,6 +582,16 @@ typedef struct ray__counts {
     const ray_ray *world_ray;
     int uv;                  /* fill every sphere's (u, v): ray__intersect */
 } ray__counts;
+
+/* Count n tests of kind k (a RAY_PRIM_*) in qc.  The triangles' hot
+** loops add to tests[RAY_PRIM_TRIANGLE] directly, without the bit: the
+** queries' add_counts reads that entry always, the others by the bits. */
+static inline void ray__count_tests(ray__counts *qc, int k,
+                                    unsigned long long n)
+{
+    qc->tests[k] += n;
+    qc->kinds |= 1u << k;
+}
 
 ray__class ray__kind_class(ray__kind kind);
 
@@ -619,6 +634,15 @@ int ray__prim_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc);
 int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
                    double t, int uv, ray_hit *hit);
+/* ray__prim_candidate's answer for sphere i, with the ray's part of the
+** test made once (ray__sphere_ray_init), and for plane i, uncounted and
+** without the dispatch: for a query that tests a scene's few spheres and
+** its planes one after another (query/traverse.h, analytic scenes). */
+int ray__sphere_candidate(const ray_scene *s, unsigned i,
+                          const ray__sphere_ray *sr, const ray_ray *r,
+                          ray_hit *hit, int uv);
+int ray__plane_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
+                         ray_hit *hit);
 
 /* ------------------------------------------------------------ instances */
 
