@@ -184,42 +184,6 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 }
 
 /*
-** Does the ray's line surely miss the sphere, by more than the rounding of
-** the test below could hide?  A cheap early out for the common case (most
-** rays of a scene miss most of its spheres), without the test's division
-** and square root, which cost most of a miss (perf on the Whitted
-** render); it answers "missed" only where the test below misses too.
-**
-** With f = org - c and the scaled d as computed (the test's own inputs),
-** the line passes at D from the centre, D^2 = |f x d|^2 / (d.d).  The
-** test's l is within dl <= gamma(8) (|f| + |b'/a| |d|) <= 17u |f| of D
-** (sphere_t_error's bound on l; |b'/a| |d| <= |f| (1 + 7u)), so where
-** D > R + 36u |f| it finds l >= R + 19u |f| > R and misses: (R - l)(R + l)
-** is then below -38u R^2, still a normal number for R >= 2^-400.  As
-** 2 R |f| <= R^2 + |f|^2, D > R + e |f| holds where D^2 > (1 + e) R^2 +
-** (e + e^2) |f|^2, e = 36u.  The computed c = |f x d|^2 is within 11u
-** |f|^2 (d.d) of the exact one (each component of the cross product off
-** by gamma(2) |f| |d| at most, by Cauchy-Schwarz; then three squares and
-** two sums), and the right side's four roundings move it by 4u: testing
-** c > a (R^2 (1 + K) + |f|^2 K) with K = 2^-44 = 512u (>= 36u + 11u + 5u
-** + 3u for |f|^2's own rounding) is therefore conservative.  Only where
-** no step can overflow or underflow (2^-400 <= R <= 2^500, |f|^2 <
-** 2^1000; a NaN or an infinity fails these tests): elsewhere the test
-** below decides alone.
-*/
-static int sphere_surely_missed(ray_vec3 f, ray_vec3 d, double a,
-                                double radius)
-{
-    const double K = 0x1p-44;
-    ray_vec3 x = v3_cross(f, d);
-    double g = v3_dot(f, f), c = v3_dot(x, x);
-
-    if (!(g < 0x1p1000 && radius >= 0x1p-400 && radius <= 0x1p500))
-        return 0;
-    return c > a * (radius * radius * (1 + K) + g * K);
-}
-
-/*
 ** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
 ** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
 **
@@ -292,7 +256,7 @@ int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
         return 0;
     f = v3_sub(r->org, center);
     k.a = sr->a;
-    if (sphere_surely_missed(f, d, k.a, radius))
+    if (ray__sphere_surely_missed(f, d, k.a, radius))
         return 0;
     k.b = -v3_dot(f, d);
     k.b_over_a = k.b / k.a;

@@ -272,7 +272,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
 ** the kinds' dispatch: the same functions on the same numbers, so the
 ** same answers, at about half the instructions a sphere (callgrind, the
 ** Whitted render, issue 35). */
-static inline int prims_along(const ray_scene *s, trav *tr, int *ready,
+static RAY__INLINE int prims_along(const ray_scene *s, trav *tr, int *ready,
                               ray_ray *r, void *best, int any,
                               ray__counts *qc)
 {
@@ -299,9 +299,14 @@ static inline int prims_along(const ray_scene *s, trav *tr, int *ready,
         return 0;                  /* cannot happen: r is usable */
     for (i = 0; i < s->prim_bvh.n_items; i++) {
         unsigned idx = s->prim_bvh.items[i];
+        const ray__prim *p = &s->prims[idx];
         ray_hit h;
-        int k = ray__sphere_candidate(s, idx, &sr, r, &h, qc->uv);
+        int k;
         ray__count_tests(qc, RAY_PRIM_SPHERE, 1);
+        if (ray__sphere_surely_missed(v3_sub(r->org, p->a), sr.d, sr.a,
+                                      p->radius))
+            continue;              /* as the test would: without a call */
+        k = ray__sphere_candidate(s, idx, &sr, r, &h, qc->uv);
         if (!k)
             continue;
         r->tmax = h.t;
@@ -339,14 +344,28 @@ static inline int tris_along(const ray_scene *s, trav *tr, int *ready,
     return traverse(s, &s->tri_bvh, tr, r, LEAF_TRIANGLES, best, any, qc);
 }
 
+/* A fresh query's state, as far as a query of triangles alone without
+** counts reads it (query_nearest_tris): no triangle tests, ungated. */
+static void counts_light(ray__counts *qc, int any)
+{
+    qc->tests[RAY_PRIM_TRIANGLE] = 0;   /* the others by ray__count_tests */
+    qc->kinds = 0;
+    qc->gate = NULL;
+    qc->any = any;
+    qc->stale = 0;
+    qc->inst_id = RAY_INVALID_ID;
+    qc->inst = NULL;
+    qc->world_ray = NULL;
+    qc->uv = 1;
+}
+
 /* A fresh query's state: no counts, gate g (NULL: ungated). */
 static void counts_start(ray__counts *qc, const ray__gate *g, int any)
 {
-    memset(qc, 0, sizeof *qc);
+    counts_light(qc, any);
     qc->gate = g;
-    qc->any = any;
-    qc->inst_id = RAY_INVALID_ID;
-    qc->uv = 1;
+    qc->failures = 0;
+    qc->filter_calls = 0;
 }
 
 /*
@@ -421,19 +440,6 @@ static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
 static inline int tris_only(const ray_scene *s)
 {
     return s->n_planes == 0 && s->prim_bvh.n_wide == 0;
-}
-
-static void counts_light(ray__counts *qc, int any)
-{
-    qc->tests[RAY_PRIM_TRIANGLE] = 0;
-    qc->kinds = 0;
-    qc->gate = NULL;
-    qc->any = any;
-    qc->stale = 0;
-    qc->inst_id = RAY_INVALID_ID;
-    qc->inst = NULL;
-    qc->world_ray = NULL;
-    qc->uv = 1;
 }
 
 static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
