@@ -88,14 +88,21 @@ double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
 int ray__plane_t_valid(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
                        double *t_out)
 {
-    double denom, t;
+    double denom, num, t;
     ray_vec3 po;
 
     denom = v3_dot(r->dir, normal);
     if (denom == 0)
         return 0;
     po = v3_sub(point, r->org);
-    t = v3_dot(po, normal) / denom;
+    num = v3_dot(po, normal);
+    /* Behind the origin (num and denom of opposite signs: t < 0, or -0
+    ** where the quotient underflows) with tmin >= 0: a miss, found
+    ** without the division's latency, on about half of a scene's rays
+    ** (those leaving a floor upward).  A NaN fails the test and goes on. */
+    if (num * denom < 0 && r->tmin >= 0)
+        return 0;
+    t = num / denom;
     if (!(t > r->tmin && t < r->tmax) ||
         !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin))
         return 0;

@@ -259,13 +259,21 @@ int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
     if (ray__sphere_surely_missed(f, d, k.a, radius))
         return 0;
     k.b = -v3_dot(f, d);
+    k.f_len = v3_length(f);
+    k.c = (k.f_len - radius) * (k.f_len + radius);
+    /* Both roots behind the origin, as computed: with b' < 0, q below
+    ** has b''s sign, so t1 = q/a < 0, and with c > 0 so is t0 = c/q;
+    ** neither passes tmin >= 0 below.  Found here without the division,
+    ** the three square roots and the error bounds: a ray leaving a
+    ** sphere outward (its reflection) or passing one behind it, a third
+    ** of the spheres the Whitted render tests in full (issue 35). */
+    if (k.b < 0 && k.c > 0 && sr->tmin >= 0)
+        return 0;
     k.b_over_a = k.b / k.a;
     k.l = v3_length(v3_madd(f, k.b_over_a, d));
     k.disc = (radius - k.l) * (radius + k.l);
     if (!(k.disc >= 0))         /* < 0: the line misses; NaN: bad input */
         return 0;
-    k.f_len = v3_length(f);
-    k.c = (k.f_len - radius) * (k.f_len + radius);
     k.radius = radius;
     k.f = f;
     k.d = d;

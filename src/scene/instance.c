@@ -469,16 +469,3 @@ void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
     world->n = ray__instance_normal(in, obj->n);
 }
 
-const ray__instance *ray__hit_instance(const ray_scene *s, const ray_hit *h)
-{
-    if (h->inst_id == RAY_INVALID_ID || h->inst_id >= s->n_prims)
-        return NULL;
-    return &s->instances[s->prims[h->inst_id].surface];
-}
-
-const ray_scene *ray__hit_owner(const ray_scene *s, const ray_hit *h)
-{
-    const ray__instance *in = ray__hit_instance(s, h);
-
-    return in != NULL ? in->child : s;
-}
