@@ -87,17 +87,24 @@ static int polygon_plane(const ray_vec3 *v, size_t n, ray_vec3 *c,
     return area.x != 0 || area.y != 0 || area.z != 0;
 }
 
-int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
-                ray_hit *hit)
+int ray__polygon_plane(const ray_vec3 *v, size_t count, ray_vec3 *c,
+                       ray_vec3 *normal)
 {
-    ray_vec3 c, normal, n, co;
+    if (!polygon_plane(v, count, c, normal)) {
+        *normal = v3(0, 0, 0);
+        return 0;
+    }
+    return 1;
+}
+
+int ray__polygon_at(const ray_ray *r, const ray_vec3 *v, size_t count,
+                    ray_vec3 c, ray_vec3 normal, ray_hit *hit)
+{
+    ray_vec3 n, co;
     double denom, t;
 
-    if (r == NULL || hit == NULL || v == NULL || count < 3 ||
-        !polygon_plane(v, count, &c, &normal))
-        return 0;
     denom = v3_dot(r->dir, normal);
-    if (denom == 0)
+    if (denom == 0)            /* parallel, or a plane of no area */
         return 0;
     co = v3_sub(c, r->org);
     t = v3_dot(co, normal) / denom;
@@ -107,6 +114,17 @@ int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
     if (!inside_along_ray(r, v, count) || !v3_normalize(normal, &n))
         return 0;
     return ray__plane_fill(r, c, n, v[0], t, hit);
+}
+
+int ray_polygon(const ray_ray *r, const ray_vec3 *v, size_t count,
+                ray_hit *hit)
+{
+    ray_vec3 c, normal;
+
+    if (r == NULL || hit == NULL || v == NULL || count < 3 ||
+        !polygon_plane(v, count, &c, &normal))
+        return 0;
+    return ray__polygon_at(r, v, count, c, normal, hit);
 }
 
 /*

@@ -135,6 +135,9 @@ int ray_scene_add_polygon(ray_scene *s, const ray_vec3 *v, size_t n,
         return rc;
     p.first = s->n_verts;
     p.count = n;
+    /* The plane every ray tests first, made once (kinds.c's hit_POLYGON):
+    ** its centroid in a, its Newell normal in b. */
+    (void)ray__polygon_plane(v, n, &p.a, &p.b);
     rc = ray__add_prim(s, &p, geom_id);
     if (rc != RAY_OK)
         return rc;

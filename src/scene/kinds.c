@@ -215,7 +215,9 @@ static int hit_POLYGON(const ray_scene *s, const ray__prim *p,
                        const ray_ray *r, ray_hit *hit, ray__counts *qc)
 {
     (void)qc;
-    return ray_polygon(r, s->verts + p->first, p->count, hit);
+    /* ray_polygon, its plane made when the polygon was added (p->a the
+    ** centroid, p->b the Newell normal). */
+    return ray__polygon_at(r, s->verts + p->first, p->count, p->a, p->b, hit);
 }
 
 static int hit_TORUS(const ray_scene *s, const ray__prim *p,
