@@ -174,6 +174,9 @@ unsigned ray__mesh_corner(const ray__mesh *m, size_t k);
 typedef struct ray__light {
     ray_light desc;
     ray_vec3 axis;
+    unsigned side;           /* its samples a side x side grid (1: a point
+                                or directional light), made when added:
+                                every light sample asks (issue 35) */
 } ray__light;
 
 /*

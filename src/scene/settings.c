@@ -5,6 +5,7 @@
 ** benchmark knobs (pruning, the watertight test, build threads).
 */
 
+#include "core/sampling.h"
 #include "scene/scene.h"
 
 int ray_scene_add_material(ray_scene *s, const ray_material *m,
@@ -127,6 +128,12 @@ int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
     s->lights = p;
     s->lights[s->n_lights].desc = *light;
     s->lights[s->n_lights].axis = axis;
+    /* Area lights round their count up to a square k*k (16 when 0), so
+    ** the samples can be stratified on a k x k grid (trace/light.c). */
+    s->lights[s->n_lights].side =
+        light->kind == RAY_LIGHT_POINT || light->kind == RAY_LIGHT_DIRECTIONAL
+            ? 1
+            : ray__strata_side(light->samples ? light->samples : 16);
     if (id != NULL)
         *id = (unsigned)s->n_lights;
     s->n_lights++;

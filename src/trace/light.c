@@ -4,24 +4,15 @@
 */
 #include "trace/trace.h"
 
-/* Samples per shading point: area lights round their count up to a
-** square k*k, so the samples can be stratified on a k x k grid. */
-static unsigned strata_side(const ray_light *l)
-{
-    return ray__strata_side(l->samples ? l->samples : 16);
-}
-
+/* Samples per shading point: side * side (ray__light.side, made when
+** the light was added: area lights round their count up to a square). */
 unsigned ray_light_samples(const ray_scene *s, unsigned light)
 {
-    const ray_light *l;
     unsigned k;
 
     if (s == NULL || light >= s->n_lights)
         return 0;
-    l = &s->lights[light].desc;
-    if (l->kind == RAY_LIGHT_POINT || l->kind == RAY_LIGHT_DIRECTIONAL)
-        return 1;
-    k = strata_side(l);
+    k = s->lights[light].side;
     return k * k;
 }
 
@@ -87,7 +78,7 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
     if (l->kind == RAY_LIGHT_POINT)
         ls.point = l->position;
     else {
-        unsigned k = strata_side(l);
+        unsigned k = sl->side;
         ls.point = area_point(ctx, l, p, index, k);
         n = (double)(k * k);
     }
