@@ -20,6 +20,7 @@
 #include <string.h>
 #include <stdio.h>
 #include <unistd.h>
+#include <pthread.h>
 
 #include "bench.h"
 #include "obj.h"
@@ -621,11 +622,44 @@ static void frame_ours_new(frame_ours *w, unsigned threads, float **cv,
     check(ray_scene_commit(w->top), "top commit");
 }
 
-/* Ours: frame f's moves, updates and commits (cv: the skinned buffers). */
-static void frame_ours_step(frame_ours *w, int f, float **cv,
-                            const unsigned *cidx)
+/* Ours: characters c0 .. c1 - 1 skinned for the frame (cv: the
+** buffers), each updated and its scene committed. */
+static void frame_ours_skin(frame_ours *w, float **cv, const unsigned *cidx,
+                            int c0, int c1)
 {
     size_t nv = (size_t)FRAME_AROUND * (FRAME_ALONG + 1);
+    int c;
+
+    for (c = c0; c < c1; c++) {
+        ray_mesh m = frame_mesh(cv[c], nv, cidx,
+                                2 * (size_t)FRAME_AROUND * FRAME_ALONG);
+        check(ray_scene_update_mesh(w->chars[c], w->mesh[c], &m), "skin");
+        check(ray_scene_commit(w->chars[c]), "character commit");
+    }
+}
+
+/* The game's second thread: the second half of the characters. */
+typedef struct frame_half {
+    frame_ours *w;
+    float **cv;
+    const unsigned *cidx;
+} frame_half;
+
+static void *frame_half_run(void *arg)
+{
+    frame_half *h = arg;
+
+    frame_ours_skin(h->w, h->cv, h->cidx, FRAME_CHARS / 2, FRAME_CHARS);
+    return NULL;
+}
+
+/* Ours: frame f's moves, updates and commits; split: the characters'
+** updates and commits shared with a second thread of the game's (a
+** scene is built by one thread at a time, but different scenes may be
+** built at once), each commit on one. */
+static void frame_ours_step(frame_ours *w, int f, float **cv,
+                            const unsigned *cidx, int split)
+{
     ray_transform xf;
     int c, i;
 
@@ -634,11 +668,23 @@ static void frame_ours_step(frame_ours *w, int f, float **cv,
         check(ray_scene_set_transform(w->top, w->inst[FRAME_CHARS + i], &xf),
               "move");
     }
+    if (split) {
+        frame_half h;
+        pthread_t th;
+        int started;
+        h.w = w;
+        h.cv = cv;
+        h.cidx = cidx;
+        started = pthread_create(&th, NULL, frame_half_run, &h) == 0;
+        frame_ours_skin(w, cv, cidx, 0, FRAME_CHARS / 2);
+        if (started)
+            pthread_join(th, NULL);
+        else
+            frame_half_run(&h);         /* no thread: the same work here */
+    } else {
+        frame_ours_skin(w, cv, cidx, 0, FRAME_CHARS);
+    }
     for (c = 0; c < FRAME_CHARS; c++) {
-        ray_mesh m = frame_mesh(cv[c], nv, cidx,
-                                2 * (size_t)FRAME_AROUND * FRAME_ALONG);
-        check(ray_scene_update_mesh(w->chars[c], w->mesh[c], &m), "skin");
-        check(ray_scene_commit(w->chars[c]), "character commit");
         char_xfm(c, f, &xf);
         check(ray_scene_set_transform(w->top, w->inst[c], &xf), "walk");
     }
@@ -883,33 +929,48 @@ static size_t frame_differ(const double *ta, const unsigned *ia,
     return d;
 }
 
+/* Ours three ways (the build threads, the game's threads), then Embree. */
+#define FRAME_OURS 3
+#define FRAME_WORLDS (FRAME_OURS + 1)
+
 static void frame_row(int quick)
 {
+    static const unsigned build_threads[FRAME_OURS] = {1, 2, 1};
+    static const char *const name[FRAME_WORLDS] = {
+        "ours, commits on one thread",
+        "ours, commits on 2 threads (ray_scene_set_build_threads)",
+        "ours, the characters' commits shared by 2 of the game's threads",
+        "Embree (commits on its pool)"};
+    static const char *const ratio[FRAME_OURS] = {
+        "ours (one thread) / Embree", "ours (2 build threads) / Embree",
+        "ours (2 game threads) / Embree"};
     size_t nv = (size_t)FRAME_AROUND * (FRAME_ALONG + 1),
            nt = 2 * (size_t)FRAME_AROUND * FRAME_ALONG,
-           nr = quick ? 10000 : 100000, i, hits[3] = {0, 0, 0}, d01, d02;
+           nr = quick ? 10000 : 100000, i, hits[FRAME_WORLDS], same = 0, d;
     unsigned *cidx = tube_indices(FRAME_AROUND, FRAME_ALONG),
-             *pidx = tube_indices(12, 4), *inst[3];
+             *pidx = tube_indices(12, 4), *inst[FRAME_WORLDS];
     float *cv[FRAME_CHARS], pv[3 * 12 * 5 + 1];
     ray_ray *rays = malloc(nr * sizeof *rays);
     ray_hit *bh = malloc(nr * sizeof *bh);
     int *res = malloc(nr * sizeof *res), n = quick ? reps : FRAME_REPS,
         frames = n + FRAME_WARM, f, c, w;
-    double *t[3], up[3][FRAME_REPS], tr[3][FRAME_REPS], tb[3][FRAME_REPS],
-           tot[3][FRAME_REPS], t0, most;
-    frame_ours ours1, ours2;
+    double *t[FRAME_WORLDS], up[FRAME_WORLDS][FRAME_REPS],
+           tr[FRAME_WORLDS][FRAME_REPS], tb[FRAME_WORLDS][FRAME_REPS],
+           tot[FRAME_WORLDS][FRAME_REPS], t0, most;
+    frame_ours ours[FRAME_OURS];
     rng gen = {36};
 #ifdef HAVE_EMBREE
     struct RTCRayHit *erh = malloc(nr * sizeof *erh);
     frame_embree emb;
-    const int worlds = 3;
+    const int worlds = FRAME_WORLDS;
 #else
-    const int worlds = 2;
+    const int worlds = FRAME_OURS;
 #endif
 
-    for (w = 0; w < 3; w++) {
+    for (w = 0; w < FRAME_WORLDS; w++) {
         t[w] = malloc(nr * sizeof *t[w]);
         inst[w] = malloc(nr * sizeof *inst[w]);
+        hits[w] = 0;
     }
     /* Embree reads a shared vertex buffer 4 bytes past its last vertex
     ** (rtcSetSharedGeometryBuffer(3)): one float more. */
@@ -935,28 +996,27 @@ static void frame_row(int quick)
         rays[i].tmin = 0;
         rays[i].tmax = HUGE_VAL;
     }
-    frame_ours_new(&ours1, 1, cv, cidx, pv, pidx);
-    frame_ours_new(&ours2, 2, cv, cidx, pv, pidx);
+    for (w = 0; w < FRAME_OURS; w++)
+        frame_ours_new(&ours[w], build_threads[w], cv, cidx, pv, pidx);
 #ifdef HAVE_EMBREE
     frame_embree_new(&emb, cv, cidx, pv, pidx);
 #endif
-    /* Frame by frame, the libraries in turn (who goes first rotating):
-    ** the skinning (the game's, not timed) writes the buffers both read. */
+    /* Frame by frame, each in turn (who goes first rotating): the
+    ** skinning (the game's, not timed) writes the buffers all read. */
     for (f = 1; f <= frames; f++) {
         int k = f - 1 - FRAME_WARM, j;
-        double u[3], r[3], b[3];
+        double u[FRAME_WORLDS], r[FRAME_WORLDS], b[FRAME_WORLDS];
         for (c = 0; c < FRAME_CHARS; c++)
             char_skin(cv[c], c, f);
         for (j = 0; j < worlds; j++) {
             w = (j + f) % worlds;
-            if (w < 2) {
-                frame_ours *o = w == 0 ? &ours1 : &ours2;
+            if (w < FRAME_OURS) {
                 t0 = now_seconds();
-                frame_ours_step(o, f, cv, cidx);
+                frame_ours_step(&ours[w], f, cv, cidx, w == 2);
                 u[w] = now_seconds() - t0;
-                r[w] = frame_ours_rays(o->top, rays, nr, t[w], inst[w],
+                r[w] = frame_ours_rays(ours[w].top, rays, nr, t[w], inst[w],
                                        &hits[w]);
-                b[w] = frame_ours_batch(o->top, rays, nr, bh, res);
+                b[w] = frame_ours_batch(ours[w].top, rays, nr, bh, res);
             }
 #ifdef HAVE_EMBREE
             else {
@@ -977,7 +1037,8 @@ static void frame_row(int quick)
                 tot[w][k] = u[w] + r[w];
             }
     }
-    d01 = frame_differ(t[0], inst[0], t[1], inst[1], nr, &most);
+    for (w = 1; w < FRAME_OURS; w++)
+        same += frame_differ(t[0], inst[0], t[w], inst[w], nr, &most);
     printf("### A game's frame\n\n");
     printf("%d skinned characters (tubes of %zu triangles, %zu float "
            "vertices, bent and swelling every frame by the game's skinning), "
@@ -992,18 +1053,14 @@ static void frame_row(int quick)
            "fixed seed), nearest hit, one thread: one at a time "
            "(ray_intersect; rtcIntersect1) or as a batch (ray_intersect_n; "
            "rtcIntersect1M).  Median of %d frames after %d warm-up frames, "
-           "the libraries taking turns frame by frame; total: the median of "
-           "the frames' update + commit + rays one at a time.\n\n",
+           "each way in turn frame by frame; total: the median of the "
+           "frames' update + commit + rays one at a time.\n\n",
            FRAME_CHARS, nt, nv, FRAME_PROPS, FRAME_PROPS + FRAME_CHARS,
            FRAME_CHARS, FRAME_CHARS, nr, n, FRAME_WARM);
     printf("| per frame | update + commit ms | rays ms, one at a time | "
            "total ms | rays ms, batch | rays that hit |\n"
            "|---|---|---|---|---|---|\n");
     for (w = 0; w < worlds; w++) {
-        static const char *const name[3] = {
-            "ours, commit on one thread",
-            "ours, commit on 2 threads (ray_scene_set_build_threads)",
-            "Embree (commit on its pool)"};
         up[w][0] = median(up[w], n);
         tr[w][0] = median(tr[w], n);
         tb[w][0] = median(tb[w], n);
@@ -1013,28 +1070,28 @@ static void frame_row(int quick)
                1e3 * tb[w][0], hits[w]);
     }
 #ifdef HAVE_EMBREE
-    d02 = frame_differ(t[0], inst[0], t[2], inst[2], nr, &most);
-    for (w = 0; w < 2; w++)
-        printf("| ours%s / Embree | %.2f | %.2f | %.2f | %.2f | |\n",
-               w ? " on 2" : "", up[w][0] / up[2][0], tr[w][0] / tr[2][0],
-               tot[w][0] / tot[2][0], tb[w][0] / tb[2][0]);
+    for (w = 0; w < FRAME_OURS; w++)
+        printf("| %s | %.2f | %.2f | %.2f | %.2f | |\n", ratio[w],
+               up[w][0] / up[FRAME_OURS][0], tr[w][0] / tr[FRAME_OURS][0],
+               tot[w][0] / tot[FRAME_OURS][0], tb[w][0] / tb[FRAME_OURS][0]);
+    d = frame_differ(t[0], inst[0], t[FRAME_OURS], inst[FRAME_OURS], nr,
+                     &most);
     printf("\nThe same geometry: of the last frame's %zu rays, %zu differ "
            "between ours and Embree (a hit against a miss, another "
            "instance, or hits more than 1e-4 apart in a scene 20 across: "
            "Embree's float transforms and tests against ours in double; "
            "the largest difference in t of the others: %.1e), %zu between "
-           "ours on one thread and on two (the same tree).\n\n",
-           nr, d02, most, d01);
+           "ours' three ways (the same trees).\n\n", nr, d, most, same);
     frame_embree_free(&emb);
     free(erh);
 #else
-    (void)d02;
-    printf("\nOurs on one thread and on two differ on %zu of the last "
-           "frame's %zu rays (the same tree).\n\n", d01, nr);
+    (void)d;
+    printf("\nOurs' three ways differ on %zu of the last frame's %zu rays "
+           "(the same trees).\n\n", same, nr);
 #endif
-    frame_ours_free(&ours1);
-    frame_ours_free(&ours2);
-    for (w = 0; w < 3; w++) {
+    for (w = 0; w < FRAME_OURS; w++)
+        frame_ours_free(&ours[w]);
+    for (w = 0; w < FRAME_WORLDS; w++) {
         free(t[w]);
         free(inst[w]);
     }
