@@ -489,7 +489,8 @@ static void gates_rows(const obj_mesh *m, unsigned res)
 static unsigned *tube_indices(unsigned around, unsigned along)
 {
     /* One index more: Embree reads a shared buffer 16 bytes at a time. */
-    unsigned *idx = malloc(((size_t)6 * around * along + 1) * sizeof *idx), i, j;
+    size_t n = (size_t)6 * around * along;
+    unsigned *idx = malloc((n + 1) * sizeof *idx), i, j;
 
     if (idx == NULL)
         check(RAY_ENOMEM, "tube");
@@ -500,7 +501,7 @@ static unsigned *tube_indices(unsigned around, unsigned along)
             t[0] = a; t[1] = b; t[2] = b + around;
             t[3] = a; t[4] = b + around; t[5] = a + around;
         }
-    idx[(size_t)6 * around * along] = 0;
+    idx[n] = 0;
     return idx;
 }
 
@@ -554,7 +555,8 @@ static void char_xfm(int c, int f, ray_transform *t)
 static void prop_xfm(int i, int f, ray_transform *t)
 {
     xfm_turn(t, 0.2 * f + i, -1 + 2.0 * (i % 10) + 0.5 * sin(0.1 * f + i),
-             0.5 + 3.5 * ((i * 37) % 100) / 100.0 + 0.3 * sin(0.13 * f + 2 * i),
+             0.5 + 3.5 * ((i * 37) % 100) / 100.0 +
+                 0.3 * sin(0.13 * f + 2 * i),
              -1 + 0.7 * (i / 10) + 0.5 * cos(0.1 * f + i));
 }
 
