@@ -624,9 +624,9 @@ static void frame_ours_new(frame_ours *w, unsigned threads, float **cv,
     check(ray_scene_commit(w->top), "top commit");
 }
 
-/* Ours: characters c0 .. c1 - 1 skinned for the frame (cv: the
-** buffers), each updated and its scene committed. */
-static void frame_ours_skin(frame_ours *w, float **cv, const unsigned *cidx,
+/* Ours: characters c0 .. c1 - 1 given the frame's skinned positions
+** (cv: the buffers), each updated and its scene committed (a refit). */
+static void frame_ours_refit(frame_ours *w, float **cv, const unsigned *cidx,
                             int c0, int c1)
 {
     size_t nv = (size_t)FRAME_AROUND * (FRAME_ALONG + 1);
@@ -651,7 +651,7 @@ static void *frame_half_run(void *arg)
 {
     frame_half *h = arg;
 
-    frame_ours_skin(h->w, h->cv, h->cidx, FRAME_CHARS / 2, FRAME_CHARS);
+    frame_ours_refit(h->w, h->cv, h->cidx, FRAME_CHARS / 2, FRAME_CHARS);
     return NULL;
 }
 
@@ -678,13 +678,13 @@ static void frame_ours_step(frame_ours *w, int f, float **cv,
         h.cv = cv;
         h.cidx = cidx;
         started = pthread_create(&th, NULL, frame_half_run, &h) == 0;
-        frame_ours_skin(w, cv, cidx, 0, FRAME_CHARS / 2);
+        frame_ours_refit(w, cv, cidx, 0, FRAME_CHARS / 2);
         if (started)
             pthread_join(th, NULL);
         else
             frame_half_run(&h);         /* no thread: the same work here */
     } else {
-        frame_ours_skin(w, cv, cidx, 0, FRAME_CHARS);
+        frame_ours_refit(w, cv, cidx, 0, FRAME_CHARS);
     }
     for (c = 0; c < FRAME_CHARS; c++) {
         char_xfm(c, f, &xf);
