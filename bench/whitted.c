@@ -8,13 +8,13 @@
 **     whitted [SCENE.pov]        (default bench/whitted.pov, run from the
 **                                 repository root as bench/run.sh does)
 **
-** 1. One thread, one sample per pixel, no antialiasing, 1024 x 768: the
-**    render time of libray (ray_render alone, the scene built before) and
+** 1. One and two threads, one sample per pixel, no antialiasing, 1024 x
+**    768: the render time of libray (ray_render alone, the scene built before) and
 **    of POV-Ray (its own "Trace Time" statistic, so its start-up, parsing
 **    and bounding are left out; its wall time, start to PNG written, is
 **    given too), the rays each traced (camera, reflected, refracted and
-**    shadow, from ray_stats and from POV's statistics) and how far the two
-**    images are apart.
+**    shadow, from ray_stats and from POV's statistics), rays per second
+**    and the time of a ray, and how far the two images are apart.
 ** 2. Antialiasing at equal image error: libray's adaptive mode
 **    (ray_render_options adaptive_threshold, depth 2, and one row at
 **    depth 3) and POV-Ray's +A
@@ -252,58 +252,122 @@ static unsigned long long secondary(const ray_stats *st)
 
 /* ------------------------------------------------------------ tables */
 
-static void plain_render(ours *o, pov *p, int with_pov)
+/* Every ray ray_render traced: camera, reflected, refracted (those the
+** cut refused are not traced) and shadow rays. */
+static double ours_rays(const ray_stats *st)
 {
-    double t_ours[16], t_pov[16], w_pov[16], ratio[16], wratio[16];
+    return (double)(st->rays[RAY_KIND_PRIMARY] + secondary(st) +
+                    st->rays[RAY_KIND_SHADOW]);
+}
+
+/* POV-Ray's rays as its statistics count them: "Rays" (camera,
+** reflected and refracted) and its shadow rays ("Shadow Ray Tests"). */
+static double pov_rays(const pov_stats *ps)
+{
+    return ps->rays + ps->shadow;
+}
+
+/* One thread count's interleaved repetitions: medians of our render
+** time, POV's trace and wall times and the ratios. */
+typedef struct plain_times {
+    double ours, pov, wall, ratio, wratio, ours_rays, pov_rays;
     ray_stats st;
     pov_stats ps;
-    double px = (double)width * height;
+    int with_pov;
+} plain_times;
+
+static void plain_run(ours *o, pov *p, int with_pov, unsigned threads,
+                      plain_times *pt)
+{
+    double t_ours[16], t_pov[16], w_pov[16], ratio[16], wratio[16];
     int r;
 
-    memset(&ps, 0, sizeof ps);
-    (void)ours_render(o, 0, 2, 1, 1, &st);                   /* warm-up */
-    if (with_pov && !pov_render(p, "-A", 1, &ps))
+    memset(pt, 0, sizeof *pt);
+    (void)ours_render(o, 0, 2, 1, threads, &pt->st);        /* warm-up */
+    if (with_pov && !pov_render(p, "-A", threads, &pt->ps))
         with_pov = 0;
     for (r = 0; r < reps; r++) {
-        t_ours[r] = ours_render(o, 0, 2, 1, 1, &st);
+        t_ours[r] = ours_render(o, 0, 2, 1, threads, &pt->st);
         if (with_pov) {
-            if (!pov_render(p, "-A", 1, &ps)) {
+            if (!pov_render(p, "-A", threads, &pt->ps)) {
                 with_pov = 0;
                 continue;
             }
-            t_pov[r] = ps.trace;
-            w_pov[r] = ps.wall;
-            ratio[r] = ps.trace / t_ours[r];
-            wratio[r] = ps.wall / t_ours[r];
+            t_pov[r] = pt->ps.trace;
+            w_pov[r] = pt->ps.wall;
+            ratio[r] = pt->ps.trace / t_ours[r];
+            wratio[r] = pt->ps.wall / t_ours[r];
         }
     }
-    printf("### One thread, one sample per pixel\n\n");
-    printf("%u x %u, no antialiasing, one thread each; times are medians of "
-           "%d interleaved repetitions.\n\n", width, height, reps);
-    printf("| renderer | render (s) | wall (s) | camera rays / pixel | "
-           "reflected + refracted rays | of which cut | shadow rays |\n");
-    printf("|---|---:|---:|---:|---:|---:|---:|\n");
-    printf("| libray (ray_render) | %.3f | | %.2f | %llu | %llu | %llu |\n",
-           median(t_ours, reps),
-           (double)st.rays[RAY_KIND_PRIMARY] / px,
-           secondary(&st) + st.cut_depth + st.cut_weight,
-           st.cut_depth + st.cut_weight, st.rays[RAY_KIND_SHADOW]);
+    pt->with_pov = with_pov;
+    pt->ours = median(t_ours, reps);
+    pt->ours_rays = ours_rays(&pt->st);
+    if (with_pov) {
+        pt->pov = median(t_pov, reps);
+        pt->wall = median(w_pov, reps);
+        pt->ratio = median(ratio, reps);
+        pt->wratio = median(wratio, reps);
+        pt->pov_rays = pov_rays(&pt->ps);
+    }
+}
+
+static void plain_render(ours *o, pov *p, int with_pov)
+{
+    static const unsigned threads[] = {1, 2};
+    plain_times pt[2];
+    double px = (double)width * height;
+    size_t k;
+
+    for (k = 0; k < 2; k++)
+        plain_run(o, p, with_pov, threads[k], &pt[k]);
+    with_pov = pt[0].with_pov && pt[1].with_pov;
+    printf("### One sample per pixel\n\n");
+    printf("%u x %u, no antialiasing, one and two threads each; times are "
+           "medians of %d interleaved repetitions. Rays: camera, reflected, "
+           "refracted and shadow rays traced (libray: ray_stats; POV-Ray: "
+           "its \"Rays\" and \"Shadow Ray Tests\"); Mrays/s is rays over "
+           "the render time.\n\n", width, height, reps);
+    printf("| renderer | threads | render (s) | wall (s) | rays | Mrays/s | "
+           "ns / ray (x threads) | camera rays / pixel | reflected + "
+           "refracted rays | of which cut | shadow rays |\n");
+    printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (k = 0; k < 2; k++) {
+        const ray_stats *st = &pt[k].st;
+        printf("| libray (ray_render) | %u | %.3f | | %.0f | %.2f | %.0f | "
+               "%.2f | %llu | %llu | %llu |\n", threads[k], pt[k].ours,
+               pt[k].ours_rays, pt[k].ours_rays / pt[k].ours / 1e6,
+               pt[k].ours * 1e9 * threads[k] / pt[k].ours_rays,
+               (double)st->rays[RAY_KIND_PRIMARY] / px,
+               secondary(st) + st->cut_depth + st->cut_weight,
+               st->cut_depth + st->cut_weight, st->rays[RAY_KIND_SHADOW]);
+        if (with_pov) {
+            const pov_stats *ps = &pt[k].ps;
+            printf("| %s (Trace Time) | %u | %.3f | %.3f | %.0f | %.2f | "
+                   "%.0f | %.2f | %.0f | %.0f | %.0f |\n", p->version,
+                   threads[k], pt[k].pov, pt[k].wall, pt[k].pov_rays,
+                   pt[k].pov_rays / pt[k].pov / 1e6,
+                   pt[k].pov * 1e9 * threads[k] / pt[k].pov_rays,
+                   (ps->pixels + ps->samples) / px,
+                   ps->reflected + ps->refracted, ps->saved, ps->shadow);
+        }
+    }
     if (!with_pov) {
         printf("\nPOV-Ray skipped: %s.\n\n", skip_why);
         return;
     }
-    printf("| %s (Trace Time) | %.3f | %.3f | %.2f | %.0f | %.0f | %.0f |\n",
-           p->version, median(t_pov, reps), median(w_pov, reps),
-           (ps.pixels + ps.samples) / px, ps.reflected + ps.refracted,
-           ps.saved, ps.shadow);
     printf("\nReflected and refracted rays count those the depth or weight "
            "cut refused (libray: ray_stats cut_depth + cut_weight; POV-Ray "
            "counts a ray before its adc_bailout test, \"Saved\").\n");
-    printf("\nPOV-Ray / libray, median of the repetitions' ratios: **%.2fx** "
-           "(trace time), %.2fx (POV's wall time, start-up and PNG "
-           "included). The images differ by an RMSE of %.2f 8-bit levels "
-           "(the scene files agree up to what bench/whitted.pov lists).\n\n",
-           median(ratio, reps), median(wratio, reps),
+    for (k = 0; k < 2; k++)
+        printf("\n%u thread%s: POV-Ray / libray, median of the repetitions' "
+               "ratios: **%.2fx** (trace time), %.2fx (POV's wall time, "
+               "start-up and PNG included); rays per second %.2fx "
+               "POV-Ray's.\n", threads[k], threads[k] > 1 ? "s" : "",
+               pt[k].ratio, pt[k].wratio,
+               (pt[k].ours_rays / pt[k].ours) /
+                   (pt[k].pov_rays / pt[k].pov));
+    printf("\nThe images differ by an RMSE of %.2f 8-bit levels (the scene "
+           "files agree up to what bench/whitted.pov lists).\n\n",
            rmse8(o->srgb, p->srgb, 3 * (size_t)px));
 }
 
