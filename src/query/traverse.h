@@ -345,11 +345,12 @@ static inline int tris_along(const ray_scene *s, trav *tr, int *ready,
 }
 
 /* A fresh query's state, as far as a query of triangles alone without
-** counts reads it (query_nearest_tris): no triangle tests, ungated. */
+** counts reads it (query_nearest_tris): no triangle tests, ungated.
+** Such a query meets no other kind, so it never reads qc->kinds (which
+** counts_start zeroes: one store less on a ray that misses the mesh). */
 static void counts_light(ray__counts *qc, int any)
 {
     qc->tests[RAY_PRIM_TRIANGLE] = 0;   /* the others by ray__count_tests */
-    qc->kinds = 0;
     qc->gate = NULL;
     qc->any = any;
     qc->stale = 0;
@@ -363,6 +364,7 @@ static void counts_light(ray__counts *qc, int any)
 static void counts_start(ray__counts *qc, const ray__gate *g, int any)
 {
     counts_light(qc, any);
+    qc->kinds = 0;
     qc->gate = g;
     qc->failures = 0;
     qc->filter_calls = 0;
