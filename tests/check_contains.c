@@ -867,6 +867,67 @@ START_TEST(grid_masks_and_updates)
 }
 END_TEST
 
+/* Closedness by brute force: every undirected edge of a triangle (both
+** ends one index: no edge) used an even number of times, counted over
+** all corners, O(n^2) (the definition closed.c's buckets compute). */
+static int closed_brute(const unsigned *idx, size_t n_tris)
+{
+    size_t n = 3 * n_tris, i, j, edges = 0;
+
+    for (i = 0; i < n; i++) {
+        unsigned p = idx[i], q = idx[i % 3 == 2 ? i - 2 : i + 1];
+        size_t uses = 0;
+        if (p == q)
+            continue;
+        edges++;
+        for (j = 0; j < n; j++) {
+            unsigned a = idx[j], b = idx[j % 3 == 2 ? j - 2 : j + 1];
+            uses += (a == p && b == q) || (a == q && b == p);
+        }
+        if (uses % 2 != 0)
+            return 0;
+    }
+    return edges > 0;
+}
+
+/* ray__mesh_closed against the brute force on random index lists over
+** few vertices (many repeated edges, degenerate triangles, fans of more
+** than 32 edges at one vertex: closed.c's qsort buckets), half of them
+** made even by repeating every triangle, some by repeating it flipped. */
+START_TEST(closedness_matches_brute_force)
+{
+    static unsigned idx[2 * 3 * 120];
+    rng g = {12345};
+    ray_scene *s;
+    int trial, closed_seen = 0, open_seen = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    for (trial = 0; trial < 400; trial++) {
+        size_t n_tris = 1 + rng_next(&g) % 60, k, nv = 2 + rng_next(&g) % 40;
+        int closed = -1;
+        for (k = 0; k < 3 * n_tris; k++)
+            idx[k] = (unsigned)(rng_next(&g) % nv);
+        if (trial % 2 == 0) {          /* every edge twice: closed */
+            for (k = 0; k < n_tris; k++) {
+                int flip = (int)(rng_next(&g) % 2);
+                idx[3 * (n_tris + k)] = idx[3 * k];
+                idx[3 * (n_tris + k) + 1] = idx[3 * k + (flip ? 2 : 1)];
+                idx[3 * (n_tris + k) + 2] = idx[3 * k + (flip ? 1 : 2)];
+            }
+            n_tris *= 2;
+        }
+        ck_assert_int_eq(ray__mesh_closed(s, idx, n_tris, &closed), RAY_OK);
+        ck_assert_int_eq(closed, closed_brute(idx, n_tris));
+        closed_seen += closed;
+        open_seen += !closed;
+    }
+    /* Both answers met, so neither path went untested. */
+    ck_assert_int_gt(closed_seen, 100);
+    ck_assert_int_gt(open_seen, 100);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *contains_suite(void)
 {
     Suite *s = suite_create("contains");
@@ -883,6 +944,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, distance_grid);
     tcase_add_test(tc, grid_labels);
     tcase_add_test(tc, grid_masks_and_updates);
+    tcase_add_test(tc, closedness_matches_brute_force);
     suite_add_tcase(s, tc);
     return s;
 }
