@@ -928,6 +928,52 @@ START_TEST(closedness_matches_brute_force)
 }
 END_TEST
 
+/* An update that changes a mesh's indices changes whether it is closed:
+** a cube whose triangle 0 is replaced by a copy of triangle 1 has edges
+** used an odd number of times, so nothing in the scene answers exactly
+** (-RAY_EDEGENERATE without RAY_CONTAINS_WINDING), and restoring the
+** indices closes it again.  Mesh copied and borrowed alike; geometry
+** unchanged, so only the closedness can change the answer. */
+START_TEST(update_changes_closedness)
+{
+    int borrow;
+
+    for (borrow = 0; borrow < 2; borrow++) {
+        hc_mesh cube = hc_cube(v3(0, 0, 0));
+        ray_mesh rm = hc_ray_mesh(&cube);
+        ray_vec3 centre = v3(0.1, 0.2, 0.3);
+        unsigned saved[3], geom;
+        ray_scene *s = NULL;
+        ray_inside in;
+        int k;
+
+        rm.flags = borrow ? RAY_MESH_BORROW : 0;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &rm, RAY_NO_MATERIAL, &geom),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_contains(s, &centre, 1, NULL, &in), 1);
+        for (k = 0; k < 3; k++) {
+            saved[k] = cube.idx[k];
+            cube.idx[k] = cube.idx[3 + k];
+        }
+        ck_assert_int_eq(ray_scene_update_mesh(s, geom, borrow ? NULL : &rm),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_contains(s, &centre, 1, NULL, &in),
+                         -RAY_EDEGENERATE);
+        for (k = 0; k < 3; k++)
+            cube.idx[k] = saved[k];
+        ck_assert_int_eq(ray_scene_update_mesh(s, geom, borrow ? NULL : &rm),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_contains(s, &centre, 1, NULL, &in), 1);
+        ray_scene_free(s);
+        hc_mesh_free(&cube);
+    }
+}
+END_TEST
+
 Suite *contains_suite(void)
 {
     Suite *s = suite_create("contains");
@@ -945,6 +991,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, grid_labels);
     tcase_add_test(tc, grid_masks_and_updates);
     tcase_add_test(tc, closedness_matches_brute_force);
+    tcase_add_test(tc, update_changes_closedness);
     suite_add_tcase(s, tc);
     return s;
 }

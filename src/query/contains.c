@@ -336,12 +336,15 @@ static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
 ** hole lets the eye see out, so they bound no solid it can be shut in,
 ** and their O(triangles) sum would cost more than the whole check.  0
 ** for a scene with an instance changed since its commit (the caller has
-** refused those).
+** refused those), and when memory runs out finding which meshes are
+** closed (a warning the check then leaves out).
 */
 int ray__solid_holds(const ray_scene *s, ray_vec3 q)
 {
     cquery cq;
 
+    if (ray__closed_ensure(s) != RAY_OK)
+        return 0;           /* out of memory: no closed mesh to be in */
     cquery_start(&cq, q, 0, 0, 1);
     search_in(s, &cq);
     return !cq.stale && (cq.on || (cq.parity & 1u) != 0);
@@ -363,6 +366,8 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
             return -RAY_EINVAL;
     if (!s->committed)
         return -RAY_ESTATE;
+    if (ray__closed_ensure(s) != RAY_OK)
+        return -RAY_ENOMEM;     /* which meshes are closed: found once */
     if ((flags & RAY_CONTAINS_WINDING) == 0 && !has_exact(s, ignore))
         return -RAY_EDEGENERATE;
     /* Instances first, as ray_intersect_all: a stale one fails the call

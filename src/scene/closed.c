@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/platform.h"
 #include "scene/scene.h"
 
 /* Below this many, a vertex's neighbours are sorted by insertion (the
@@ -121,4 +122,42 @@ int ray__mesh_closed(const ray_scene *s, const unsigned *indices,
     ray__free(s, upper, n * sizeof *upper);
     ray__free(s, start, (m + 1) * sizeof *start);
     return RAY_OK;
+}
+
+int ray__closed_all(ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        ray__mesh *m;
+        if (p->kind != RAY__KIND_MESH || p->removed)
+            continue;
+        m = &s->meshes[p->mesh];
+        if (ray__mesh_closed(s, m->indices, m->n_tris, &m->closed) != RAY_OK)
+            return RAY_ENOMEM;
+    }
+    return RAY_OK;
+}
+
+int ray__closed_ensure(const ray_scene *s)
+{
+    ray_scene *w = ray__unconst(s);
+    size_t i;
+    int rc = RAY_OK;
+
+    if (w->cgrid_lock == NULL)     /* set at commit, read-only after */
+        return w->closed_known ? RAY_OK : RAY_ENOMEM;
+    ray__mutex_lock(w->cgrid_lock);
+    if (!w->closed_known) {
+        rc = ray__closed_all(w);
+        w->closed_known = rc == RAY_OK;
+    }
+    ray__mutex_unlock(w->cgrid_lock);
+    for (i = 0; i < s->n_prims && rc == RAY_OK; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (p->kind == RAY__KIND_INSTANCE && !p->removed)
+            rc = ray__closed_ensure(s->instances[p->surface].child);
+    }
+    return rc;
 }

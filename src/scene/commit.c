@@ -289,6 +289,11 @@ int ray_scene_commit(ray_scene *s)
     if (s->cgrid_lock == NULL &&
         ray__mutex_new(&s->alloc, &s->cgrid_lock) != RAY_OK)
         s->cgrid_lock = NULL;
+    /* Which meshes are closed: found by the first query that asks
+    ** (ray__closed_ensure), or here when no lock lets a query write it
+    ** (out of memory here: the queries answer RAY_ENOMEM). */
+    if (s->dirty & (RAY__DIRTY_TRIS | RAY__DIRTY_REFIT))
+        s->closed_known = s->cgrid_lock == NULL && ray__closed_all(s) == RAY_OK;
     s->dirty = 0;
     scene_summary(s);
     scene_box(s);

@@ -390,9 +390,10 @@ static int mesh_keep(const ray_scene *s, const ray_mesh *m, ray__mesh *out)
 {
     int rc = mesh_keep_arrays(s, m, out);
 
-    if (rc == RAY_OK && (mesh_uv_scale(s, m, out) != RAY_OK ||
-                         ray__mesh_closed(s, out->indices, out->n_tris,
-                                          &out->closed) != RAY_OK)) {
+    /* out->closed: found by the first query that needs it
+    ** (ray__closed_ensure), not by every add and update. */
+    out->closed = 0;
+    if (rc == RAY_OK && mesh_uv_scale(s, m, out) != RAY_OK) {
         ray__mesh_release(s, out);
         return RAY_ENOMEM;
     }

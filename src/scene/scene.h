@@ -135,13 +135,28 @@ typedef struct ray__mesh {
                                     even when borrowed; else NULL */
     int closed;                  /* every edge used an even number of
                                     times (closed.c): ray_contains counts
-                                    its crossings' parity */
+                                    its crossings' parity; known only
+                                    while the scene's closed_known is 1 */
 } ray__mesh;
 
 /* *closed: whether the mesh of n_tris index triples is closed (closed.c).
 ** RAY_OK, or RAY_ENOMEM (*closed 0). */
 int ray__mesh_closed(const ray_scene *s, const unsigned *indices,
                      size_t n_tris, int *closed);
+
+/*
+** ray__closed_ensure -- every mesh's "closed" known, in s and in the
+** children of its instances, found by the first query that needs them
+** after a commit that changed a mesh (ray_contains, ray_signed_distance,
+** ray_distance_grid, ray_render_check's eye test), under the scene's
+** cgrid_lock, rather than by ray_scene_add_mesh and every
+** ray_scene_update_mesh: a game's refit does not pay for it (closed.c).
+** RAY_OK, or RAY_ENOMEM (nothing known; a later call tries again).
+** ray__closed_all -- the same for s's own meshes, unlocked (commit.c,
+** when no lock could be made).
+*/
+int ray__closed_ensure(const ray_scene *s);
+int ray__closed_all(ray_scene *s);
 
 /*
 ** The closed meshes' part of ray_contains at q (parity.c): *parity, the
@@ -227,11 +242,15 @@ struct ray_scene {
     ray__bvh tri_bvh;        /* over the live triangle slots */
     ray__cgrid cgrid;        /* ray_contains' labels (parity.c), built by
                                 the first query that needs them */
-    struct ray__mutex *cgrid_lock; /* guards cgrid and cgrid_tried; made
+    struct ray__mutex *cgrid_lock; /* guards cgrid, cgrid_tried and the
+                                meshes' closed, closed_known; made
                                 at commit (NULL: none could be made,
                                 no grid: whole rays, as exact) */
     int cgrid_tried;         /* the grid was built, or will not be, since
                                 the last rebuild */
+    int closed_known;        /* every mesh's "closed" found since the last
+                                commit that changed a mesh (guarded by
+                                cgrid_lock: ray__closed_ensure) */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
     size_t n_planes;
