@@ -1581,8 +1581,12 @@ RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
 ** committed (or changed since) or one with an instance whose scene
 ** changed since; -RAY_EDEGENERATE when, without RAY_CONTAINS_WINDING,
 ** the scene has no closed mesh and no sphere, box or capsule (nothing it
-** can answer exactly: ask for the winding number).  Thread-safe and
-** allocation-free as the other queries.  Exact for coordinates within
+** can answer exactly: ask for the winding number); -RAY_ENOMEM when
+** memory runs out finding which meshes are closed (a later call tries
+** again).  Thread-safe.  The first call after a commit that changed a
+** mesh finds which meshes are closed and, without RAY_CONTAINS_WINDING,
+** builds the scene's grid of labels (once, under a lock of the scene's):
+** the calls after it allocate nothing.  Exact for coordinates within
 ** about 2^-480 .. 2^480 (the predicates' range); a point is taken into
 ** an instance's space with the transform's rounding.
 */
