@@ -860,7 +860,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
          *fa = plot_file(plot_dir, tag, "adaptive");
     unsigned k, d;
 
-    ray_render_options_init(&o, w, h);
+    o = (ray_render_options){.width = w, .height = h};
     o.samples = quick ? 64 : 256;
     o.seed = 0x5eed;         /* independent of the measured renders' noise */
     render_timed(s, cam, &o, ref, &st);
@@ -870,7 +870,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
            "|---|---|---|---|---|---|\n");
     for (k = 0; k < 4; k++) {
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = spp[k];
         t = render_timed(s, cam, &o, img, &st);
         e = rmse(img, ref, n);
@@ -882,7 +882,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
     }
     for (k = 0; k < 3; k++) {
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.adaptive_threshold = thr[k];
         o.adaptive_depth = 2;
         t = render_timed(s, cam, &o, img, &st);
@@ -899,7 +899,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
         ray_camera c2;
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = quick ? 4 : 16;
         t = render_timed(s2, &c2, &o, img, &st);
         e = rmse(img, ref, n);
@@ -914,7 +914,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
         ray_camera c2;
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = quick ? 4 : 16;
         t = render_timed(s2, &c2, &o, img, &st);
         e = rmse(img, ref, n);
@@ -1060,7 +1060,7 @@ static void offsets(void)
                                    : (m == 1 ? HC_FIXED_EPSILON : HC_SPAWN);
                 mat.ud = &sh;
                 s = acne_scene(X, floor, &mat, &cam);
-                ray_render_options_init(&o, w, h);
+                o = (ray_render_options){.width = w, .height = h};
                 o.threads = 1;
                 t = now_seconds();
                 check(ray_render(s, &cam, &o, img, NULL), "render");

@@ -568,7 +568,7 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
     double t;
     int rc;
 
-    ray_render_options_init(&opt, a->width, a->height);
+    opt = (ray_render_options){.width = a->width, .height = a->height};
     opt.samples = a->samples;
     opt.threads = a->threads;
     opt.progress = isatty(fileno(stderr)) ? progress_bar : progress_lines;

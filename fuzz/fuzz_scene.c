@@ -784,7 +784,7 @@ static void op_render(prog *p)
     cam.vfov = fuzz_u8(&p->in) & 1 ? fuzz_double(&p->in) : 60;
     cam.aperture = fuzz_u8(&p->in) & 1 ? fuzz_double(&p->in) : 0;
     cam.focus_distance = fuzz_u8(&p->in) & 1 ? fuzz_double(&p->in) : 0;
-    ray_render_options_init(&o, IMG_SIZE, IMG_SIZE);
+    o = (ray_render_options){.width = IMG_SIZE, .height = IMG_SIZE};
     o.threads = 1;
     o.samples = 1 + fuzz_below(&p->in, 2);
     o.seed = fuzz_u8(&p->in);

@@ -1176,11 +1176,6 @@ typedef struct ray_camera {
     double focus_distance;
 } ray_camera;
 
-/* ray_camera_init -- a pinhole camera at the origin looking down -z, up
-** (0, 1, 0), vfov 60 degrees, aperture 0, focus distance 0 (the look-at
-** distance): optional, the zeroed camera's defaults with look_at set. */
-RAY_API void ray_camera_init(ray_camera *c);
-
 /* Called after each finished row: return non-zero to cancel the render. */
 typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
                                unsigned rows_total);
@@ -1256,11 +1251,7 @@ typedef struct ray_render_options {
 ** depth 2 if it is turned on), ray cones on, no photons (caustics off),
 ** automatic photon radius, no scheduler (the scene's).  width and height
 ** are the two fields with no default: { .width = 640, .height = 480 }.
-** ray_render_options_init -- optional: *o zeroed, then width and height
-** set.
 */
-RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
-                                     unsigned height);
 
 /*
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float

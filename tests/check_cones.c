@@ -807,7 +807,7 @@ static ray_camera floor_camera(void)
 {
     ray_camera cam;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 1, 0);
     cam.look_at = vec(0, 0.8, -10);
     cam.vfov = 40;
@@ -830,12 +830,12 @@ START_TEST(render_should_give_camera_rays_the_pixel_cone)
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -5), vec(0, 0, 1), mid,
                                          NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.vfov = 30;
     /* One pixel of an h-tall frame, rendered alone (rows 25 .. 26 of a
     ** 1-wide frame: the centre row), one thread: the recorder is not
     ** shared. */
-    ray_render_options_init(&o, 1, h);
+    o = (ray_render_options){.width = 1, .height = h};
     ck_assert_int_eq(o.no_cones, 0);             /* cones on: the default */
     o.threads = 1;
     o.y0 = h / 2;
@@ -915,7 +915,7 @@ static void render_floor(ray_scene *s, unsigned threads, unsigned samples,
     ray_camera cam = floor_camera();
     ray_render_options o;
 
-    ray_render_options_init(&o, FW, FH);
+    o = (ray_render_options){.width = FW, .height = FH};
     o.threads = threads;
     o.samples = samples;
     o.no_cones = !cones;

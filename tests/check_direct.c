@@ -52,7 +52,7 @@ static ray_stats render_scene(const ray_material *m, int which, int prune,
     ray_stats st;
     unsigned mat;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 5, 5);
     cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 1, 0);
@@ -64,7 +64,7 @@ static ray_stats render_scene(const ray_material *m, int which, int prune,
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 0.7, mat, NULL), RAY_OK);
     add_lights(s, which);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     o.seed = 12345;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
@@ -310,7 +310,7 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
     ray_stats st;
     unsigned mat;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 10, 0);
     cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 0, -1);
@@ -323,7 +323,7 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
     ray_scene_free(s);

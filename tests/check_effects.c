@@ -29,7 +29,7 @@ static ray_stats render_counts(const ray_scene *s, const ray_camera *cam,
     ray_render_options o;
     ray_stats st;
 
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     ck_assert_int_eq(ray_render(s, cam, &o, img, &st), RAY_OK);
     return st;
@@ -363,7 +363,7 @@ static float *aa_render(aa_scene *t, double threshold, unsigned depth,
     ray_render_options o;
     float *img = malloc(sizeof(float) * 3 * AW * AH);
 
-    ray_render_options_init(&o, AW, AH);
+    o = (ray_render_options){.width = AW, .height = AH};
     o.adaptive_threshold = threshold;
     o.adaptive_depth = depth;
     o.samples = samples;
@@ -472,8 +472,8 @@ START_TEST(adaptive_should_trace_each_lattice_row_once)
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_background(s, rgb(0.3, 0.4, 0.6)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
-    ray_render_options_init(&o, AW, AH);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
+    o = (ray_render_options){.width = AW, .height = AH};
     o.adaptive_threshold = 0.01;
     o.threads = 1;
     ck_assert_int_eq(ray_render(s, &cam, &o, one, &st), RAY_OK);
@@ -542,11 +542,11 @@ START_TEST(adaptive_should_trace_each_lattice_point_once)
     ck_assert_int_eq(ray_scene_set_background_fn(s, slope_background, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     for (d = 1; d <= 3; d++) {
         unsigned long long side = 1ull << d, row = AW * side + 1;
         unsigned long long per_pixel = 4 + 5 * (((1ull << (2 * d)) - 1) / 3);
-        ray_render_options_init(&o, AW, AH);
+        o = (ray_render_options){.width = AW, .height = AH};
         o.adaptive_threshold = 1e-12;
         o.adaptive_depth = d;
         o.threads = 1;
@@ -639,12 +639,12 @@ static ray_stats render_sky(const sky_edge *e, double threshold)
     ray_stats st;
     float img[3 * AW * AH];
 
-    ray_camera_init(&cam);                /* looking down -z */
+    cam = (ray_camera){.look_at = {0, 0, -1}};                /* looking down -z */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_background_fn(s, sky_with_edge,
                                                  ray__test_unconst(e)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, AW, AH);
+    o = (ray_render_options){.width = AW, .height = AH};
     o.adaptive_threshold = threshold;
     o.adaptive_depth = 2;
     /* One thread: with several, a band that does not follow its
@@ -706,7 +706,7 @@ START_TEST(adaptive_should_reject_bad_options)
     float img[3 * AW * AH];
 
     aa_build(&t);
-    ray_render_options_init(&o, AW, AH);
+    o = (ray_render_options){.width = AW, .height = AH};
     ck_assert_uint_eq(o.adaptive_depth, 0);   /* zero: the default, 2 */
     ck_assert(o.adaptive_threshold == 0);
     o.adaptive_threshold = -1;

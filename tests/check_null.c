@@ -329,8 +329,7 @@ START_TEST(context_and_render_calls_should_refuse_null)
     memset(&cam, 0, sizeof cam);
     cam.position = vec(0, 0, 5), cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 1, 0), cam.vfov = 40;
-    ray_render_options_init(NULL, 4, 4);
-    ray_render_options_init(&o, 4, 4);
+    o = (ray_render_options){.width = 4, .height = 4};
     /* One thread: the probe material counts into one struct, and render
     ** threads would update it concurrently (a data race TSan reports). */
     o.threads = 1;

@@ -236,10 +236,10 @@ START_TEST(user_spheres_should_render_as_the_scene_spheres)
                                               NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_user(sc[1], &gm, 0, NULL), RAY_OK);
     }
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 3, 14);
     cam.look_at = vec(0, -1, 0);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     opt.threads = 4;
     for (k = 0; k < 2; k++) {
         ck_assert_int_eq(ray_scene_commit(sc[k]), RAY_OK);

@@ -701,7 +701,7 @@ static int render_workload(env *e, const render_case *c, const ray_image *img)
     cam.look_at = vec(0, 0.7, 0);
     cam.up = vec(0, 1, 0);
     cam.vfov = 45;
-    ray_render_options_init(&o, IMG_W, IMG_H);
+    o = (ray_render_options){.width = IMG_W, .height = IMG_H};
     o.threads = 3;            /* two pthread_create calls to fail */
     o.samples = c->samples;
     o.seed = 7;
@@ -774,7 +774,7 @@ static int w_photon_map(env *e)
 
     memset(&sp, 0, sizeof sp);
     CALL(e, build_scene(e, HAS_PRIMS | HAS_AREA, &sp, &s));
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 5000;
     o.threads = 2;
     CALL(e, ray_photon_map_build(s, &o, &map));
