@@ -1059,16 +1059,16 @@ typedef struct ray_phong_params {
 } ray_phong_params;
 
 typedef struct ray_glass_params {
-    double ior;              /* index of refraction inside, e.g. 1.5 */
+    double ior;              /* index of refraction inside; 0: 1.5,
+                                window glass (the default) */
     ray_rgb absorption;      /* Beer-Lambert coefficient per unit length */
 } ray_glass_params;
 
 /* ray_phong_params_init -- a grey Lambertian surface: diffuse (0.8, 0.8,
 ** 0.8), no specular (shininess 32 if one is set), Phong's lobe, no
-** reflection, no texture.  ray_glass_params_init -- ior 1.5 (window
-** glass), no absorption. */
+** reflection, no texture.  A glass's zeros are its defaults: ior 0 is
+** 1.5 (window glass), absorption 0 none, so {0} is window glass. */
 RAY_API void ray_phong_params_init(ray_phong_params *p);
-RAY_API void ray_glass_params_init(ray_glass_params *p);
 
 typedef struct ray_checker_params {
     ray_material even, odd;

@@ -515,13 +515,12 @@ START_TEST(cone_should_pass_head_on_through_a_pane_unchanged)
 {
     cone_seen seen;
     ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
-    ray_glass_params gp;
+    ray_glass_params gp = {0};       /* window glass, ior 1.5 */
     ray_material glass;
     ray_scene *s = new_scene();
     unsigned mid, gid;
     ray_vec3 quad[4];
 
-    ray_glass_params_init(&gp);
     glass = ray_material_glass(&gp);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
@@ -562,7 +561,6 @@ static ray_scene *slab_scene(cone_seen *seen)
     ray_vec3 top[4], bottom[4];
     int i;
 
-    ray_glass_params_init(&gp);
     glass = ray_material_glass(&gp);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
@@ -625,13 +623,12 @@ START_TEST(cone_should_focus_behind_a_glass_ball)
     for (i = 0; i < 2; i++) {
         cone_seen seen;
         ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
-        ray_glass_params gp;
+        ray_glass_params gp = {0};       /* window glass, ior 1.5 */
         ray_material glass;
         ray_scene *s = new_scene();
         unsigned mid, gid;
 
-        ray_glass_params_init(&gp);
-        glass = ray_material_glass(&gp);
+            glass = ray_material_glass(&gp);
         ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
         ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
         ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -D), R, gid,

@@ -74,7 +74,7 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ray_limits l;
     ray_mesh mesh;
     ray_phong_params p;
-    ray_glass_params g;
+    ray_glass_params g = {0};
     ray_scene *s;
     ray_material m;
 
@@ -90,11 +90,6 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ck_assert(p.specular.r == 0 && p.reflect.r == 0 && p.texture.fn == NULL);
     ck_assert_double_eq(p.shininess, 32);
     ck_assert_int_eq(p.blinn, 0);
-    memset(&g, 0x7f, sizeof g);
-    ray_glass_params_init(&g);
-    ck_assert_double_eq(g.ior, 1.5);
-    ck_assert(g.absorption.r == 0 && g.absorption.g == 0 &&
-              g.absorption.b == 0);
     /* Each accepted where it is consumed; the empty mesh is refused. */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_limits(s, &l), RAY_OK);
@@ -107,7 +102,60 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ray_scene_free(s);
     ray_limits_init(NULL);
     ray_phong_params_init(NULL);
-    ray_glass_params_init(NULL);
+}
+END_TEST
+
+/* A glass sphere of the given params in front of a lit grey triangle,
+** rendered W x H from the origin down -z. */
+static void render_glass(const ray_glass_params *g, float *img,
+                         unsigned w, unsigned h)
+{
+    static ray_phong_params grey;
+    static const ray_vec3 tri[3] = {{-6, -6, -8}, {6, -6, -8}, {0, 6, -8}};
+    static const unsigned idx[3] = {0, 1, 2};
+    ray_mesh mesh = {.vertices = tri, .vertex_count = 3, .indices = idx,
+                     .triangle_count = 1};
+    ray_camera cam = {.look_at = {0, 0, -1}};
+    ray_render_options o = {.width = w, .height = h};
+    ray_material m[2];
+    ray_light light;
+    ray_scene *s;
+
+    ray_phong_params_init(&grey);
+    m[0] = ray_material_phong(&grey);
+    m[1] = ray_material_glass(g);
+    ray_light_init(&light, RAY_LIGHT_POINT);
+    light.position = vec(0, 5, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m[0], NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m[1], NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -4), 1.5, 1, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+    ray_scene_free(s);
+}
+
+/*
+** A zeroed ray_glass_params is window glass (issue 37: ior 0 is 1.5, so
+** the struct needs no init function): the bytes of { .ior = 1.5 } with
+** no absorption, and not those of water (1.33), so that the sphere bends
+** what is seen through it.
+*/
+START_TEST(zeroed_glass_params_should_be_window_glass)
+{
+    enum { W = 12, H = 9 };
+    static float want[3 * W * H], got[3 * W * H], water[3 * W * H];
+    const ray_glass_params zero = {0}, window = {.ior = 1.5},
+                           wet = {.ior = 1.33};
+
+    render_glass(&window, want, W, H);
+    render_glass(&zero, got, W, H);
+    render_glass(&wet, water, W, H);
+    ck_assert_mem_eq(got, want, sizeof want);
+    ck_assert(memcmp(water, want, sizeof want) != 0);
 }
 END_TEST
 
@@ -343,6 +391,7 @@ Suite *defaults_suite(void)
     tcase_add_test(tc, zeroed_camera_should_give_a_usable_pinhole);
     tcase_add_test(tc, light_init_should_give_every_kind_a_valid_light);
     tcase_add_test(tc, limits_mesh_and_material_params_should_init_to_defaults);
+    tcase_add_test(tc, zeroed_glass_params_should_be_window_glass);
     suite_add_tcase(s, tc);
     tc = tcase_create("zero");
     tcase_add_test(tc, zeroed_query_and_batch_should_see_everything);

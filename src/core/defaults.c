@@ -47,11 +47,3 @@ void ray_phong_params_init(ray_phong_params *p)
     p->diffuse = grey(0.8);
     p->shininess = 32;
 }
-
-void ray_glass_params_init(ray_glass_params *p)
-{
-    if (p == NULL)
-        return;
-    memset(p, 0, sizeof *p);
-    p->ior = 1.5;
-}
