@@ -73,7 +73,7 @@ static void scaled_lookup(void *ud, const ray_shade_args *a, ray_rgb *out)
 {
     const scaled_texture *t = ud;
 
-    ray_image_sample_footprint(t->img, a->u, a->v, a->footprint * t->scale,
+    ray_image_sample(t->img, a->u, a->v, a->footprint * t->scale,
                                out);
 }
 

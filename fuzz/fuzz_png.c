@@ -63,7 +63,7 @@ static void check_image(const ray_image *img)
     for (y = 0; y < h && y < 8; y++)
         for (x = 0; x < w && x < 8; x++) {
             ray_rgb c;
-            int rc = ray_image_sample(img, (x + 0.5) / w, (y + 0.5) / h, &c);
+            int rc = ray_image_sample(img, (x + 0.5) / w, (y + 0.5) / h, 0, &c);
             FUZZ_CHECK(rc == RAY_OK, "ray_image_sample: status");
             FUZZ_CHECK(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 &&
                            c.b >= 0 && c.b <= 1,

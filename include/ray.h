@@ -979,23 +979,19 @@ typedef struct ray_texture {
 **
 ** ray_image_sample -- the image at texture coordinates (s, t), s from the
 ** left edge (0) to the right (1), t from the BOTTOM row (0) to the top (1),
-** repeating outside [0, 1) (wrap), filtered bilinearly between the four
-** nearest texel centres.  RAY_OK, or RAY_EINVAL (NULL, s or t not finite:
-** nothing written).
-**
-** ray_image_sample_footprint -- the image at (s, t) filtered over a
-** footprint "width" wide in texture units (1: the whole image; usually
-** ray_shade_args.footprint): trilinear mip-mapping, level lambda =
-** log2(width * max(image width, height)) blended between the two levels
-** around it; a width of at most one texel (lambda <= 0, width 0
-** included) gives exactly ray_image_sample's answer, a width beyond the
-** image (+Inf included) the 1 x 1 level, the mean colour.  RAY_OK, or
+** repeating outside [0, 1) (wrap), filtered over a footprint "width" wide
+** in texture units (1: the whole image; usually ray_shade_args.footprint).
+** Width 0, or any width within one texel: filtered bilinearly between the
+** four nearest texel centres of the image itself.  Wider: trilinear
+** mip-mapping, level lambda = log2(width * max(image width, height))
+** blended between the two levels around it; a width beyond the image
+** (+Inf included) gives the 1 x 1 level, the mean colour.  RAY_OK, or
 ** RAY_EINVAL (NULL, s or t not finite, width NaN or negative: nothing
 ** written).
 **
 ** ray_texture_image -- a texture that samples "img" at (args->u, args->v),
 ** filtered over args->footprint when it is positive (the ray carried a
-** cone, ray_render_options.no_cones 0), else as ray_image_sample.
+** cone, ray_render_options.no_cones 0), else bilinearly (width 0).
 ** The image is BORROWED: it must outlive every scene that uses it.
 ** Loaded images are read-only and may be shared between threads.
 */
@@ -1018,10 +1014,7 @@ RAY_API void ray_image_free(ray_image *img);
 RAY_API void ray_image_size(const ray_image *img, unsigned *width,
                             unsigned *height);
 RAY_API int ray_image_sample(const ray_image *img, double s, double t,
-                             ray_rgb *out);
-RAY_API int ray_image_sample_footprint(const ray_image *img, double s,
-                                       double t, double width,
-                                       ray_rgb *out);
+                             double width, ray_rgb *out);
 RAY_API ray_texture ray_texture_image(const ray_image *img);
 
 /* ------------------------------------------------ 7. built-in materials */
@@ -1217,8 +1210,8 @@ typedef struct ray_render_options {
     ** antialiasing (a lattice point's value does not depend on the square
     ** it serves).  A textured hit then filters its texture over the
     ** cone's footprint (ray_texture_image).  no_cones non-zero: rays are
-    ** lines, footprint 0, textures sampled as ray_image_sample does.  The
-    ** cone models the pixel, not a lens's defocus.  (libray 0.1 called it
+    ** lines, footprint 0, textures sampled bilinearly (ray_image_sample's
+    ** width 0).  The cone models the pixel, not a lens's defocus.  (libray 0.1 called it
     ** "cones", on when non-zero, so that {0} turned it off.) */
     int no_cones;
     /* Caustics (ray_caustics_at): photons emitted from the lights before

@@ -391,13 +391,13 @@ START_TEST(hard_image_strip_mean)
         px[3 * i] = px[3 * i + 1] = px[3 * i + 2] = (float)(i % 2);
     ck_assert_int_eq(ray_image_new(1, n, px, &a), RAY_OK);
     ck_assert_int_eq(ray_image_new(n, 1, px, &b), RAY_OK);
-    ck_assert_int_eq(ray_image_sample_footprint(a, 0.3, 0.7, HUGE_VAL, &ca),
+    ck_assert_int_eq(ray_image_sample(a, 0.3, 0.7, HUGE_VAL, &ca),
                      RAY_OK);
-    ck_assert_int_eq(ray_image_sample_footprint(b, 0.3, 0.7, HUGE_VAL, &cb),
+    ck_assert_int_eq(ray_image_sample(b, 0.3, 0.7, HUGE_VAL, &cb),
                      RAY_OK);
     ck_assert_double_eq_tol(ca.r, 0.5, 1e-6);
     ck_assert_double_eq_tol(cb.r, 0.5, 1e-6);
-    ck_assert_int_eq(ray_image_sample_footprint(b, 0.3, 0.7, 1.0 / 3000, &cb),
+    ck_assert_int_eq(ray_image_sample(b, 0.3, 0.7, 1.0 / 3000, &cb),
                      RAY_OK);
     ck_assert_double_eq_tol(cb.r, 0.5, 1e-6);
     ray_image_free(a);

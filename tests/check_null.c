@@ -375,7 +375,7 @@ START_TEST(image_calls_should_refuse_null)
     ray_image_size(NULL, &w, &h);
     ck_assert_uint_eq(w, 7);          /* no image: nothing written */
     ck_assert_uint_eq(h, 7);
-    ck_assert_int_eq(ray_image_sample(NULL, 0.5, 0.5, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(NULL, 0.5, 0.5, 0, &c), RAY_EINVAL);
 #if RAY_TEST_PNG
     ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_OK);
 #else
@@ -385,7 +385,7 @@ START_TEST(image_calls_should_refuse_null)
     ck_assert_ptr_nonnull(img);
 #endif
     ray_image_size(img, NULL, NULL);
-    ck_assert_int_eq(ray_image_sample(img, 0.5, 0.5, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, 0.5, 0.5, 0, NULL), RAY_EINVAL);
     ray_image_free(img);
     t = ray_texture_image(NULL);
     ck_assert(t.fn == NULL);

@@ -110,7 +110,7 @@ START_TEST(image_should_load_16_bit_linear_png_exactly)
             /* Texel (x, y) from the top has its centre at s = (x + 1/2) / 4
             ** and t = 1 - (y + 1/2) / 2. */
             ck_assert_int_eq(ray_image_sample(img, (x + 0.5) / 4,
-                                              1 - (y + 0.5) / 2, &c),
+                                              1 - (y + 0.5) / 2, 0, &c),
                              RAY_OK);
             ck_assert_double_eq_tol(c.r, x / 4.0, Q16);
             ck_assert_double_eq_tol(c.g, y / 2.0, Q16);
@@ -133,22 +133,22 @@ START_TEST(image_should_filter_bilinearly_and_wrap)
     ray_rgb a, b;
 
     /* Between columns 1 and 2 of the top row: r = (0.25 + 0.5) / 2. */
-    ray_image_sample(img, 0.5, 0.75, &a);
+    ray_image_sample(img, 0.5, 0.75, 0, &a);
     ck_assert_double_eq_tol(a.r, 0.375, Q16);
     ck_assert_double_eq_tol(a.g, 0.0, Q16);
     /* Between the rows (t = 0.5): g = (0 + 0.5) / 2. */
-    ray_image_sample(img, 0.125, 0.5, &a);
+    ray_image_sample(img, 0.125, 0.5, 0, &a);
     ck_assert_double_eq_tol(a.g, 0.25, Q16);
     ck_assert_double_eq_tol(a.r, 0.0, Q16);
     /* Wrap: the same colour one and three periods away. */
-    ray_image_sample(img, 0.3, 0.6, &a);
-    ray_image_sample(img, 1.3, -0.4, &b);
+    ray_image_sample(img, 0.3, 0.6, 0, &a);
+    ray_image_sample(img, 1.3, -0.4, 0, &b);
     ck_assert_double_eq_tol(a.r, b.r, 1e-12);
     ck_assert_double_eq_tol(a.g, b.g, 1e-12);
-    ray_image_sample(img, -2.7, 3.6, &b);
+    ray_image_sample(img, -2.7, 3.6, 0, &b);
     ck_assert_double_eq_tol(a.r, b.r, 1e-12);
     /* s = 0 sits halfway between column 3 (r = 0.75) and column 0 (r = 0). */
-    ray_image_sample(img, 0.0, 0.75, &a);
+    ray_image_sample(img, 0.0, 0.75, 0, &a);
     ck_assert_double_eq_tol(a.r, 0.375, Q16);
     ray_image_free(img);
 }
@@ -169,7 +169,7 @@ START_TEST(image_should_decode_8_bit_srgb)
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 8), RAY_OK);
     ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
     unlink(path);
-    ray_image_sample(img, 3.5 / 4, 0.25, &c);   /* texel (3, 1) */
+    ray_image_sample(img, 3.5 / 4, 0.25, 0, &c);   /* texel (3, 1) */
     ck_assert_double_eq_tol(c.r, 0.75, 0.0044);
     ck_assert_double_eq_tol(c.g, 0.5, 0.0044);
     ck_assert_double_eq_tol(c.b, 0.5, 0.0044);
@@ -200,11 +200,11 @@ START_TEST(image_should_compose_alpha_on_black)
     ck_assert(png_image_write_to_file(&png, path, 0, rgba, 0, NULL));
     ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
     unlink(path);
-    ray_image_sample(img, 0.25, 0.5, &c);      /* texel 0's centre */
+    ray_image_sample(img, 0.25, 0.5, 0, &c);      /* texel 0's centre */
     ck_assert_double_eq(c.r, 0);
     ck_assert_double_eq(c.g, 0);
     ck_assert_double_eq(c.b, 0);
-    ray_image_sample(img, 0.75, 0.5, &c);      /* texel 1's centre */
+    ray_image_sample(img, 0.75, 0.5, 0, &c);      /* texel 1's centre */
     ck_assert_double_eq(c.r, 0);
     ck_assert_double_gt(c.g, 0.1);
     ck_assert_double_eq(c.b, 0);
@@ -253,17 +253,17 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     unlink(path);
     /* Sampling: NULLs and non-finite coordinates write nothing. */
     img = load_test_image();
-    ck_assert_int_eq(ray_image_sample(NULL, 0, 0, &c), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, 0, 0, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, (double)NAN, 0, &c), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, 0, HUGE_VAL, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(NULL, 0, 0, 0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, 0, 0, 0, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, (double)NAN, 0, 0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, 0, HUGE_VAL, 0, &c), RAY_EINVAL);
     ck_assert_double_eq(c.r, 7);
     /* Huge coordinates keep their fraction's digits: 1e9 + 0.125 is
     ** exact in double. */
     {
         ray_rgb a, b;
-        ray_image_sample(img, 0.125, 0.25, &a);
-        ray_image_sample(img, 1e9 + 0.125, 0.25, &b);
+        ray_image_sample(img, 0.125, 0.25, 0, &a);
+        ray_image_sample(img, 1e9 + 0.125, 0.25, 0, &b);
         ck_assert_double_eq_tol(a.r, b.r, 1e-12);
     }
     ray_image_free(img);
@@ -348,7 +348,7 @@ static ray_rgb texel(const ray_image *img, unsigned x, unsigned y)
 
     ray_image_size(img, &w, &h);
     ck_assert_int_eq(ray_image_sample(img, (x + 0.5) / w,
-                                      1 - (y + 0.5) / h, &c),
+                                      1 - (y + 0.5) / h, 0, &c),
                      RAY_OK);
     return c;
 }
@@ -891,7 +891,7 @@ START_TEST(textured_phong_should_multiply_diffuse_by_the_image)
     for (n = 0; n < 20; n++) {
         double x = 0.37 * n - 3, z = 0.21 * n - 1;
         ray_rgb c = trace_one(s, ray_from(vec(x, 1, z), vec(0, -1, 0))), t;
-        ck_assert_int_eq(ray_image_sample(img, x, -z, &t), RAY_OK);
+        ck_assert_int_eq(ray_image_sample(img, x, -z, 0, &t), RAY_OK);
         ck_assert_double_eq_tol(c.r, 0.5 * t.r, 1e-12);
         ck_assert_double_eq_tol(c.g, 1.0 * t.g, 1e-12);
         ck_assert_double_eq_tol(c.b, 2.0 * t.b, 1e-12);

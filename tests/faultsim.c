@@ -955,7 +955,7 @@ static int w_texture(env *e)
     ray_image_size(img, &w, &h);
     digest_bytes(e, &w, sizeof w);
     digest_bytes(e, &h, sizeof h);
-    CALL(e, ray_image_sample(img, 0.3, 0.6, &texel));
+    CALL(e, ray_image_sample(img, 0.3, 0.6, 0, &texel));
     digest_bytes(e, &texel, sizeof texel);
     CALL(e, render_workload(e, &c, img));
 out:
