@@ -135,7 +135,7 @@ int main(int argc, char **argv)
 
     if (rc != 0)
         return rc;
-    rc = ray_image_load_png(args.input, &image);
+    rc = ray_image_load_png(args.input, NULL, &image);
     if (rc != RAY_OK) {
         fprintf(stderr, "textures: %s: %s\n", args.input,
                 rc == RAY_EIO ? strerror(errno) : ray_strerror(rc));

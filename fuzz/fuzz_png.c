@@ -79,7 +79,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!write_tmp(data, size))
         return 0;
     fuzz_sentinel(&img, sizeof img);
-    rc = ray_image_load_png(tmp_path, &img);
+    rc = ray_image_load_png(tmp_path, NULL, &img);
     FUZZ_CHECK(rc == RAY_OK || rc == RAY_EPNG || rc == RAY_ENOMEM ||
                    rc == RAY_ELIMIT || rc == RAY_ERANGE || rc == RAY_EIO ||
                    rc == RAY_ENOTSUP,

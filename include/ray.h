@@ -953,9 +953,9 @@ typedef struct ray_texture {
 ** without libpng (make PNG=0), after the RAY_EINVAL checks.  *out is
 ** untouched on failure.
 **
-** ray_image_load_png_opt -- the same with limits for files from untrusted
-** sources (opt NULL, or a field 0: the default).  Memory grows with the
-** rows decoded, so a file that declares a large image and then fails
+** "opt" sets limits for files from untrusted sources (opt NULL, or a
+** field 0: the default, 16384 pixels a side, 64 MiB a chunk: a 193-byte
+** file cannot ask for gigabytes).  Memory grows with the rows decoded, so a file that declares a large image and then fails
 ** costs little; a decoded image takes 12 bytes per pixel.
 **
 ** Both constructors build the image's mip pyramid when it is made (the
@@ -1004,10 +1004,9 @@ typedef struct ray_image_load_options {
     size_t max_chunk_bytes;  /* the largest chunk but IDAT; 0: 64 MiB */
 } ray_image_load_options;
 
-RAY_API int ray_image_load_png(const char *path, ray_image **out);
-RAY_API int ray_image_load_png_opt(const char *path,
-                                   const ray_image_load_options *opt,
-                                   ray_image **out);
+RAY_API int ray_image_load_png(const char *path,
+                               const ray_image_load_options *opt,
+                               ray_image **out);
 RAY_API int ray_image_new(unsigned width, unsigned height, const float *rgb,
                           ray_image **out);
 RAY_API void ray_image_free(ray_image *img);

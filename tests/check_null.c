@@ -369,18 +369,18 @@ START_TEST(image_calls_should_refuse_null)
     ray_rgb c;
     ray_texture t;
 
-    ck_assert_int_eq(ray_image_load_png(NULL, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(NULL, NULL, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, NULL), RAY_EINVAL);
     ray_image_free(NULL);
     ray_image_size(NULL, &w, &h);
     ck_assert_uint_eq(w, 7);          /* no image: nothing written */
     ck_assert_uint_eq(h, 7);
     ck_assert_int_eq(ray_image_sample(NULL, 0.5, 0.5, 0, &c), RAY_EINVAL);
 #if RAY_TEST_PNG
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img), RAY_OK);
 #else
     /* No libpng (make PNG=0): an image made as the loader makes them. */
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_ENOTSUP);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img), RAY_ENOTSUP);
     img = ray__image_new(1, 1, calloc(3, sizeof(float)));
     ck_assert_ptr_nonnull(img);
 #endif

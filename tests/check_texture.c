@@ -67,7 +67,7 @@ static ray_image *load_test_image(void)
 
     test_texels(rgb);
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 16), RAY_OK);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
     ck_assert_ptr_nonnull(img);
     return img;
@@ -167,7 +167,7 @@ START_TEST(image_should_decode_8_bit_srgb)
 
     test_texels(rgb);
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 8), RAY_OK);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
     ray_image_sample(img, 3.5 / 4, 0.25, 0, &c);   /* texel (3, 1) */
     ck_assert_double_eq_tol(c.r, 0.75, 0.0044);
@@ -198,7 +198,7 @@ START_TEST(image_should_compose_alpha_on_black)
     png.height = 1;
     png.format = PNG_FORMAT_RGBA;
     ck_assert(png_image_write_to_file(&png, path, 0, rgba, 0, NULL));
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
     ray_image_sample(img, 0.25, 0.5, 0, &c);      /* texel 0's centre */
     ck_assert_double_eq(c.r, 0);
@@ -222,9 +222,9 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     long size;
     char *bytes;
 
-    ck_assert_int_eq(ray_image_load_png(NULL, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png(path, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png("/nonexistent/dir/x.png", &img),
+    ck_assert_int_eq(ray_image_load_png(NULL, NULL, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png("/nonexistent/dir/x.png", NULL, &img),
                      RAY_EIO);
     ck_assert_ptr_null(img);
     /* Not a PNG. */
@@ -232,7 +232,7 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     ck_assert_ptr_nonnull(fp);
     fputs("P3\n1 1\n255\n0 0 0\n", fp);
     fclose(fp);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_EPNG);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_EPNG);
     ck_assert_ptr_null(img);
     /* A real PNG cut in half. */
     test_texels(rgb);
@@ -248,7 +248,7 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     fwrite(bytes, 1, (size_t)size / 2, fp);
     fclose(fp);
     free(bytes);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_EPNG);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_EPNG);
     ck_assert_ptr_null(img);
     unlink(path);
     /* Sampling: NULLs and non-finite coordinates write nothing. */
@@ -331,7 +331,7 @@ static ray_image *load_spec(const png_spec *sp)
     ray_image *img = NULL;
 
     write_full_png(path, sp);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
     return img;
 }
@@ -577,7 +577,7 @@ static int load_file(const char *path, const ray_image_load_options *opt,
                      ray_image **img)
 {
     *img = NULL;
-    return ray_image_load_png_opt(path, opt, img);
+    return ray_image_load_png(path, opt, img);
 }
 
 /*
@@ -720,8 +720,8 @@ START_TEST(image_limits_should_hold_at_their_edges)
     ray_image_free(img);
     ck_assert_int_eq(load_file(path, NULL, &img), RAY_OK);
     ray_image_free(img);
-    ck_assert_int_eq(ray_image_load_png_opt(NULL, &opt, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png_opt(path, &opt, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(NULL, &opt, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(path, &opt, NULL), RAY_EINVAL);
     unlink(path);
 }
 END_TEST
@@ -749,14 +749,14 @@ START_TEST(png_calls_should_be_unsupported_without_libpng)
     ck_assert_int_eq(ray_write_png(path, NULL, 4, 2, 8), RAY_EINVAL);
     ck_assert_int_eq(ray_write_png(path, rgb, 0, 2, 8), RAY_EINVAL);
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 12), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_ENOTSUP);
-    ck_assert_int_eq(ray_image_load_png_opt("doc/cornell.png", &opt, &img),
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img), RAY_ENOTSUP);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &opt, &img),
                      RAY_ENOTSUP);
-    ck_assert_int_eq(ray_image_load_png_opt("doc/cornell.png", NULL, &img),
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img),
                      RAY_ENOTSUP);
     ck_assert(img == (ray_image *)&img);
-    ck_assert_int_eq(ray_image_load_png(NULL, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png_opt("doc/cornell.png", NULL, NULL),
+    ck_assert_int_eq(ray_image_load_png(NULL, NULL, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, NULL),
                      RAY_EINVAL);
     ck_assert_str_eq(ray_strerror(RAY_ENOTSUP), "not supported by this build");
 }

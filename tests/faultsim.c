@@ -951,7 +951,7 @@ static int w_texture(env *e)
     ray_rgb texel;
     int rc;
 
-    CALL(e, ray_image_load_png(texture_path, &img));
+    CALL(e, ray_image_load_png(texture_path, NULL, &img));
     ray_image_size(img, &w, &h);
     digest_bytes(e, &w, sizeof w);
     digest_bytes(e, &h, sizeof h);
