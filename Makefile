@@ -179,9 +179,9 @@ FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
     $(if $(filter 1,$(PNG)),png_image_write_to_memory)
-$(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(STATIC)
+$(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
 $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
@@ -517,18 +517,18 @@ FUZZ_TIMEOUT ?= 25
 # more than this (issue 14, defect 4).
 FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
 
-$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(STATIC)
+$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
 
 fuzz-replay: $(FUZZ_REPLAYS)
 	@for t in $(FUZZ_TARGETS); do \
 	    $(BUILD)/fuzz-replay/$$t fuzz/corpus/$$t fuzz/crashes/$$t || exit 1; \
 	done
 
-$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h $(wildcard examples/*.h) $(STATIC)
+$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
 	    $(STATIC) $(LIBS)
 
 fuzz-build: lib $(FUZZ_TARGETS:%=$(BUILD)/fuzzers/%)

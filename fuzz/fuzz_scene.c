@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include "fuzz.h"
+#include "prim/prim.h"         /* ray__implicit_torus (internal) */
 
 #define MAX_OPS 40
 #define MAX_SLOTS MAX_OPS            /* at most one object per operation */
@@ -425,8 +426,8 @@ static void op_implicit(prog *p)
         p->torus[s].axis = fuzz_vec3(&p->in);
         p->torus[s].major = fuzz_double(&p->in);
         p->torus[s].minor = fuzz_double(&p->in);
-        rc = ray_implicit_torus(&p->torus[s], &surf);
-        FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL, "ray_implicit_torus");
+        rc = ray__implicit_torus(&p->torus[s], &surf);
+        FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL, "ray__implicit_torus");
     } else {
         unsigned k;
         for (k = 0; k < 2; k++) {

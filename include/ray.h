@@ -2166,11 +2166,6 @@ RAY_API int ray_implicit(const ray_ray *r, const ray_implicit_surface *s,
 ** v = angle around the tube / 2pi, both in [0, 1].  Returns 1 or 0 (*hit
 ** untouched); invalid input (NULL, NaN, Inf, zero axis, radii not > 0) is
 ** a miss (also r >= R).
-**
-** ray_implicit_torus -- the same torus as a ray_implicit_surface for the
-** generic method: its exact signed distance (Lipschitz constant 1), its
-** gradient and the same (u, v).  The params are BORROWED (they are the
-** surface's ud).  RAY_OK, or RAY_EINVAL (nothing written).
 */
 typedef struct ray_torus_params {
     ray_vec3 center;
@@ -2180,8 +2175,6 @@ typedef struct ray_torus_params {
 
 RAY_API int ray_torus(const ray_ray *r, const ray_torus_params *t,
                       ray_hit *hit);
-RAY_API int ray_implicit_torus(const ray_torus_params *t,
-                               ray_implicit_surface *out);
 
 /*
 ** ray_box -- ray against the oriented box of half-extents h =

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <stdlib.h>
 
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 #define W 16
@@ -138,7 +139,7 @@ static void add_one_kind(ray_scene *s, int which, unsigned mat,
         *counter = RAY_PRIM_TORUS;
         break;
     case 6:
-        ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+        ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
         rc = ray_scene_add_implicit(s, &is, mat, NULL);
         *counter = RAY_PRIM_IMPLICIT;
         break;

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 #ifndef RAY_TEST_PNG
@@ -69,7 +70,7 @@ START_TEST(primitives_should_miss_on_null)
     tp.major = 1, tp.minor = 0.25;
     for (i = 0; i < 16; i++)
         cp[i] = vec(i % 4, i / 4, 0);
-    ck_assert_int_eq(ray_implicit_torus(&tp, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&tp, &is), RAY_OK);
     ck_assert_int_eq(ray_bezier_surface(cp, &ps), RAY_OK);
 
     ck_assert_int_eq(ray_sphere(NULL, vec(0, 0, 0), 1, &h), 0);
@@ -94,8 +95,8 @@ START_TEST(primitives_should_miss_on_null)
     ck_assert_int_eq(ray_parametric(&r, &ps, NULL), -RAY_EINVAL);
     ck_assert_int_eq(ray_barycentric(a, a, b, c, NULL, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_barycentric(a, a, b, c, abg, NULL), RAY_OK);
-    ck_assert_int_eq(ray_implicit_torus(NULL, &is), RAY_EINVAL);
-    ck_assert_int_eq(ray_implicit_torus(&tp, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(NULL, &is), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(&tp, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_implicit_blobs(NULL, &is), RAY_EINVAL);
     ck_assert_int_eq(ray_bezier_surface(NULL, &ps), RAY_EINVAL);
     ck_assert_int_eq(ray_bezier_surface(cp, NULL), RAY_EINVAL);
@@ -139,7 +140,7 @@ START_TEST(scene_calls_should_refuse_null)
     tp.major = 1, tp.minor = 0.25;
     for (i = 0; i < 16; i++)
         cp[i] = vec(i % 4, i / 4, 0);
-    ck_assert_int_eq(ray_implicit_torus(&tp, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&tp, &is), RAY_OK);
     ck_assert_int_eq(ray_bezier_surface(cp, &ps), RAY_OK);
     ck_assert_int_eq(ray_scene_new(NULL, NULL, NULL), RAY_EINVAL);
     ray_scene_free(NULL);

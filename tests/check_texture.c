@@ -19,6 +19,7 @@
 #endif
 
 #include "tempfiles.h"
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 #ifndef RAY_TEST_PNG
@@ -810,7 +811,7 @@ START_TEST(texture_should_see_every_primitives_coordinates)
     for (i = 0; i < 4; i++)
         for (j = 0; j < 4; j++)
             cp[4 * i + j] = vec(j - 1.5, i - 1.5, 0.1 * (i % 2));
-    ck_assert_int_eq(ray_implicit_torus(&torus, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&torus, &is), RAY_OK);
     memset(&params, 0, sizeof params);
     params.diffuse = rgb(1, 1, 1);
     params.texture.fn = probe_texture;

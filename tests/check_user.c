@@ -11,6 +11,7 @@
 #include <string.h>
 #include <stdlib.h>
 
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 /* ------------------------------------------------------- a user sphere */
@@ -447,7 +448,7 @@ static int implicit_intersect(void *ud, const ray_ray *r, ray_hit *hit)
 
 /*
 ** The implicit surfaces can stand on user geometry: a torus given as
-** ray_implicit_torus's signed distance, once through
+** ray__implicit_torus's signed distance, once through
 ** ray_scene_add_implicit and once wrapped in a callback, gives the same
 ** answers bit for bit on random rays (the same function on the same
 ** ray), and with too few evaluations (max_iterations 2, _i = 1) the same
@@ -464,7 +465,7 @@ START_TEST(implicit_torus_should_stand_on_user_geometry)
     rng g = {71};
     int n, k, hits = 0;
 
-    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
     if (_i == 1)
         is.max_iterations = 2;
     gm.bounds = implicit_bounds;

@@ -48,6 +48,7 @@
 #include <unistd.h>
 
 #include "ray.h"
+#include "prim/prim.h"         /* ray__implicit_torus (internal) */
 #include "tempfiles.h"
 #include "testkit.h"
 #if defined(_WIN32)
@@ -491,7 +492,7 @@ static int add_curved(env *e, ray_scene *s, scene_parts *sp, unsigned mat)
     CALL(e, ray_scene_add_torus(s, &sp->torus, mat, NULL));
     sp->implicit_torus = sp->torus;
     sp->implicit_torus.center = vec(1.5, 0.5, 1.5);
-    CALL(e, ray_implicit_torus(&sp->implicit_torus, &sp->implicit));
+    CALL(e, ray__implicit_torus(&sp->implicit_torus, &sp->implicit));
     CALL(e, ray_scene_add_implicit(s, &sp->implicit, mat, NULL));
     memset(&sp->wave, 0, sizeof sp->wave);
     sp->wave.eval = wave_eval;
