@@ -895,7 +895,8 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
             fprintf(fa, "%g %g\n", t, e);
     }
     for (d = 1; d <= 8; d += (d < 4 ? 1 : 4)) {
-        ray_limits lim = {d, RAY_DEFAULT_MIN_WEIGHT, RAY_DEFAULT_MAX_FANOUT};
+        ray_limits lim = {.max_depth = d, .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                          .max_fanout = RAY_DEFAULT_MAX_FANOUT};
         ray_camera c2;
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
@@ -909,8 +910,8 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
         ray_scene_free(s2);
     }
     for (k = 0; k < 5; k++) {
-        ray_limits lim = {RAY_DEFAULT_MAX_DEPTH, weights[k],
-                          RAY_DEFAULT_MAX_FANOUT};
+        ray_limits lim = {.max_depth = RAY_DEFAULT_MAX_DEPTH, .min_weight = weights[k],
+                          .max_fanout = RAY_DEFAULT_MAX_FANOUT};
         ray_camera c2;
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;

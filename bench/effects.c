@@ -3,7 +3,7 @@
 ** effects.c -- what simulating only the needed effects saves: for each
 ** example scene, the rays cast and the render time with the effect
 ** analysis and pruning on, against the naive mode that spawns every
-** declared effect up to the maximum depth (ray_scene_set_pruning(s, 0)),
+** declared effect up to the maximum depth (ray_limits.no_pruning),
 ** with the image difference this costs; and adaptive against uniform
 ** antialiasing: primary rays, time and error against a converged
 ** reference.  Prints Markdown; asserts nothing.

@@ -558,10 +558,15 @@ static void op_setting(prog *p, unsigned which)
         lim.max_depth = fuzz_below(&p->in, RAY_MAX_DEPTH + 4);
         lim.min_weight = fuzz_double(&p->in);
         lim.max_fanout = fuzz_below(&p->in, 6);
+        lim.no_pruning = 0;
         rc = ray_scene_set_limits(p->scene, fuzz_u8(&p->in) & 1 ? NULL : &lim);
         break;
     case 4:
-        rc = ray_scene_set_pruning(p->scene, (int)fuzz_u8(&p->in) - 1);
+        /* The naive mode (the input's byte as before: the corpus keeps
+        ** its meaning), with the default bounds. */
+        ray_limits_init(&lim);
+        lim.no_pruning = (int)fuzz_u8(&p->in) - 1;
+        rc = ray_scene_set_limits(p->scene, &lim);
         break;
     default:
         rc = ray_scene_set_watertight(p->scene, (int)fuzz_u8(&p->in) - 1);

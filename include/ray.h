@@ -479,7 +479,8 @@ typedef struct ray_shade_args {
                                 else equal to "normal" */
     int prune;               /* 1 (default): skip what cannot contribute
                                 (zero weights, lights behind the surface);
-                                0: the scene's naive mode, spawn every
+                                0: the scene's naive mode
+                                (ray_limits.no_pruning), spawn every
                                 effect the material declared, whatever
                                 its weight (for comparisons) */
     /* Ray cones (Akenine-Moller et al., "Texture Level of Detail
@@ -593,13 +594,20 @@ typedef struct ray_limits {
     double min_weight;       /* rays whose path weight falls below: cut;
                                 in [0, 1] */
     unsigned max_fanout;     /* secondary rays one hit may spawn */
+    int no_pruning;          /* 0 (the default): the tracer cuts rays whose
+                                path weight falls below min_weight, and
+                                materials are told (ray_shade_args.prune)
+                                to spawn nothing that cannot contribute;
+                                non-zero: the naive mode, every declared
+                                effect traced up to max_depth, to measure
+                                what pruning saves (the bench does) */
 } ray_limits;
 
 #define RAY_DEFAULT_MAX_DEPTH 8
 #define RAY_DEFAULT_MIN_WEIGHT (1.0 / 256)  /* below one 8-bit level */
 #define RAY_DEFAULT_MAX_FANOUT 2            /* a reflection + a refraction */
 
-/* ray_limits_init -- *l set to the defaults above. */
+/* ray_limits_init -- *l set to the defaults above, pruning on. */
 RAY_API void ray_limits_init(ray_limits *l);
 
 /*
@@ -781,7 +789,8 @@ RAY_API int ray_scene_add_light(ray_scene *scene, const ray_light *light,
 /* The background: a constant colour (default black), or a function of
 ** the escaping ray (NULL fn restores the colour), called CONCURRENTLY from
 ** the render threads like materials.  The ambient light given to
-** materials (default black).  Tree limits (NULL: defaults); RAY_EINVAL
+** materials (default black).  Tree limits (NULL: the defaults, pruning
+** on; the naive mode is a field of the limits, no_pruning); RAY_EINVAL
 ** for max_depth > RAY_MAX_DEPTH or min_weight outside [0, 1].  Colours
 ** must be finite and >= 0 (else RAY_EINVAL). */
 typedef void (*ray_background_fn)(void *ud, const ray_ray *r, ray_rgb *out);
@@ -792,12 +801,6 @@ RAY_API int ray_scene_set_ambient(ray_scene *scene, ray_rgb ambient);
 RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 
 /*
-** ray_scene_set_pruning -- 1 (the default): the tracer cuts rays whose
-** path weight falls below min_weight, and materials are told (args->prune)
-** to spawn nothing that cannot contribute.  0: a naive mode that traces
-** every declared effect up to max_depth, for measuring what pruning saves
-** (the bench does).  RAY_EINVAL (NULL).
-**
 ** ray_scene_effects -- after commit, the RAY_EFFECT_* bits the scene can
 ** ever need: the union of the effects of the materials its enabled
 ** geometry uses (its instances' children's included), without
@@ -807,7 +810,6 @@ RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 ** them: then photons are traced when asked for).  0 while not committed
 ** (before the first commit, or with a change staged).
 */
-RAY_API int ray_scene_set_pruning(ray_scene *scene, int enabled);
 RAY_API unsigned ray_scene_effects(const ray_scene *scene);
 
 /*
@@ -1666,7 +1668,7 @@ RAY_API void ray_transform_identity(ray_transform *t);
 ** own answer.  Rendering shades with the child's materials (and its
 ** meshes' normals and texture coordinates) and tests its triangles as
 ** its ray_scene_set_watertight says; the child's lights, background,
-** ambient light, limits and pruning are not used: the scene's are.
+** ambient light and limits (pruning included) are not used: the scene's are.
 **
 ** The child is BORROWED: it must outlive "scene" (or the instance's
 ** removal).  It may be changed and re-committed later (an animated mesh):

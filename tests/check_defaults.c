@@ -83,6 +83,7 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
     ck_assert_uint_eq(l.max_depth, RAY_DEFAULT_MAX_DEPTH);
     ck_assert_double_eq(l.min_weight, RAY_DEFAULT_MIN_WEIGHT);
     ck_assert_uint_eq(l.max_fanout, RAY_DEFAULT_MAX_FANOUT);
+    ck_assert_int_eq(l.no_pruning, 0);       /* pruning on */
     memset(&mesh, 0, sizeof mesh);
     memset(&p, 0x7f, sizeof p);
     ray_phong_params_init(&p);

@@ -203,7 +203,8 @@ START_TEST(mirror_box_should_stop_at_the_depth_bound)
 {
     ray_rgb one = {1, 1, 1};
     ray_material m = ray_material_mirror(&one);
-    ray_limits lim = {5, 0.0, 2};
+    ray_limits lim = {.max_depth = 5, .min_weight = 0.0,
+                      .max_fanout = 2};
     ray_camera cam;
     ray_scene *s;
     ray_stats st;
@@ -251,7 +252,8 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
         ray_glass_params unused_glass = {1.5, {0, 0, 0}};
         ray_material m = ray_material_mirror(&half),
                      g = ray_material_glass(&unused_glass);
-        ray_limits lim = {8, 0.1, 2};
+        ray_limits lim = {.max_depth = 8, .min_weight = 0.1,
+                          .max_fanout = 2};
         ray_scene *s;
         ray_ctx *ctx;
         ray_stats st;
@@ -264,12 +266,12 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
         ck_assert_int_eq(ray_scene_add_material(s, &g, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 1, 0), vec(0, -1, 0), mat, NULL), RAY_OK);
+        lim.no_pruning = !prune;
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
-        ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         /* A setting after commit is staged: no context until the next
         ** commit. */
-        ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
         ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_ESTATE);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         ck_assert_uint_eq(ray_scene_effects(s), RAY_EFFECT_REFLECTION);
@@ -282,8 +284,57 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
     }
     ck_assert_uint_eq(refl[1], 3);
     ck_assert_uint_eq(refl[0], 8);
-    ck_assert_int_eq(ray_scene_set_pruning(NULL, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_limits(NULL, NULL), RAY_EINVAL);
     ck_assert_uint_eq(ray_scene_effects(NULL), 0);
+}
+END_TEST
+
+/* Records the args->prune its shading saw. */
+static void prune_probe(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                        ray_rgb *out)
+{
+    (void)ctx;
+    (void)out;
+    *(int *)ud = a->prune;
+}
+
+/*
+** The naive mode is a field of the limits (issue 37): the materials see
+** args->prune 0 while no_pruning is set, 1 by default and again once
+** ray_scene_set_limits(scene, NULL) restores the defaults.
+*/
+START_TEST(no_pruning_should_follow_the_limits)
+{
+    int seen = -1;
+    ray_material m = {prune_probe, &seen, 0, NULL};
+    ray_limits lim;
+    ray_ray r = ray_from(vec(0, 1, 0), vec(0, -1, 0));
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_rgb c;
+    int k;
+    const int want[3] = {1, 0, 1};
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), 0,
+                                         NULL), RAY_OK);
+    ray_limits_init(&lim);
+    lim.no_pruning = 1;
+    for (k = 0; k < 3; k++) {
+        if (k == 1)
+            ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
+        if (k == 2)
+            ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+        seen = -1;
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c),
+                         RAY_OK);
+        ck_assert_int_eq(seen, want[k]);
+        ray_ctx_free(ctx);
+    }
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -734,6 +785,7 @@ Suite *effects_suite(void)
     tcase_add_test(counts, tests_should_count_under_each_kinds_counter);
     tcase_add_test(counts, mirror_box_should_stop_at_the_depth_bound);
     tcase_add_test(counts, pruning_should_trace_fewer_rays_than_naive_mode);
+    tcase_add_test(counts, no_pruning_should_follow_the_limits);
     tcase_add_test(counts, texture_effect_should_follow_the_materials);
     tcase_add_test(aa, adaptive_should_stay_within_its_sample_bounds);
     tcase_add_test(aa, adaptive_should_be_deterministic);

@@ -119,6 +119,12 @@ START_TEST(spawn_and_optics_should_refuse_null)
 }
 END_TEST
 
+/* The default tree limits in the naive mode (ray_limits.no_pruning). */
+static const ray_limits naive_limits = {.max_depth = RAY_DEFAULT_MAX_DEPTH,
+                                        .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                                        .max_fanout = RAY_DEFAULT_MAX_FANOUT,
+                                        .no_pruning = 1};
+
 START_TEST(scene_calls_should_refuse_null)
 {
     ray_scene *s = NULL;
@@ -165,7 +171,7 @@ START_TEST(scene_calls_should_refuse_null)
                      RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_ambient(NULL, black_rgb), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_limits(NULL, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_pruning(NULL, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_limits(NULL, &naive_limits), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_watertight(NULL, 1), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_build_threads(NULL, 2), RAY_EINVAL);
     ck_assert_uint_eq(ray_scene_effects(NULL), 0);

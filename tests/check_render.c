@@ -353,7 +353,7 @@ static void break_one(int k, ray_render_options *o, ray_camera *c,
     case 12: c->look_at = vec(c->position.x, c->position.y, 0);
              c->up = vec(0, 0, -1); break;
     case 13: c->aperture = -1; break;
-    case 14: ck_assert_int_eq(ray_scene_set_pruning(s, 1), RAY_OK); break;
+    case 14: ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_OK); break;
     default: break;
     }
 }

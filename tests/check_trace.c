@@ -33,7 +33,8 @@ static ray_stats bounce_between_mirrors(double k, const ray_limits *lim)
 
 START_TEST(trace_should_stop_facing_mirrors_at_max_depth)
 {
-    ray_limits lim = {5, 0.0, 2};
+    ray_limits lim = {.max_depth = 5, .min_weight = 0.0,
+                      .max_fanout = 2};
     ray_stats st = bounce_between_mirrors(1.0, &lim);
 
     ck_assert_uint_eq(st.rays[RAY_KIND_PRIMARY], 1);
@@ -50,7 +51,8 @@ END_TEST
 ** level more is refused when set. */
 START_TEST(trace_should_allow_max_depth_and_refuse_more)
 {
-    ray_limits lim = {RAY_MAX_DEPTH, 0.0, 2};
+    ray_limits lim = {.max_depth = RAY_MAX_DEPTH, .min_weight = 0.0,
+                      .max_fanout = 2};
     ray_stats st = bounce_between_mirrors(1.0, &lim);
     ray_scene *s;
 
@@ -67,7 +69,8 @@ END_TEST
 
 START_TEST(trace_should_cut_by_weight)
 {
-    ray_limits lim = {RAY_MAX_DEPTH, 0.1, 2};
+    ray_limits lim = {.max_depth = RAY_MAX_DEPTH, .min_weight = 0.1,
+                      .max_fanout = 2};
     ray_stats st = bounce_between_mirrors(0.5, &lim);
 
     ck_assert_uint_eq(st.rays[RAY_KIND_REFLECTION], 3);
@@ -180,7 +183,8 @@ static ray_stats trace_unit_sphere(ray_material m, const ray_limits *lim,
 START_TEST(glass_should_reflect_totally_inside)
 {
     ray_glass_params gp = {1.5, {0, 0, 0}};
-    ray_limits lim = {6, 0.0, 2};
+    ray_limits lim = {.max_depth = 6, .min_weight = 0.0,
+                      .max_fanout = 2};
     ray_rgb c;
     ray_stats st = trace_unit_sphere(ray_material_glass(&gp), &lim,
                                      ray_from(vec(0, 0.9, 0), vec(1, 0, 0)),
@@ -204,7 +208,8 @@ END_TEST
 START_TEST(glass_should_refract_from_inside)
 {
     ray_glass_params gp = {1.5, {0, 0, 0}};
-    ray_limits lim = {1, 0.0, 2};
+    ray_limits lim = {.max_depth = 1, .min_weight = 0.0,
+                      .max_fanout = 2};
     ray_rgb c;
     ray_stats st;
 
@@ -229,7 +234,8 @@ END_TEST
 START_TEST(glass_should_absorb_along_the_path)
 {
     ray_glass_params gp = {1.0, {1.0, 0.5, 0.0}};
-    ray_limits lim = {RAY_DEFAULT_MAX_DEPTH, RAY_DEFAULT_MIN_WEIGHT, 2};
+    ray_limits lim = {.max_depth = RAY_DEFAULT_MAX_DEPTH, .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                      .max_fanout = 2};
     ray_rgb c;
 
     trace_unit_sphere(ray_material_glass(&gp), &lim,
