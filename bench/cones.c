@@ -98,7 +98,7 @@ static ray_scene *floor_scene(ray_phong_params *p, ray_texture tex,
     l.direction = vec(0.3, -1, -0.4);
     l.intensity = rgb(0.9, 0.9, 0.9);
     check(ray_scene_add_light(s, &l, NULL), "light");
-    check(ray_scene_set_background(s, rgb(0.6, 0.7, 0.9)), "background");
+    check(ray_scene_set_background(s, rgb(0.6, 0.7, 0.9), NULL, NULL), "background");
     check(ray_scene_commit(s), "commit");
     *cam = (ray_camera){.look_at = {0, 0, -1}};
     cam->position = vec(0, 1, 0);

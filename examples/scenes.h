@@ -72,7 +72,7 @@ static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
                                NULL), "glass sphere");
     check(ray_scene_add_light(scene, &light, NULL), "light");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
-    check(ray_scene_set_background_fn(scene, sky_gradient, &blue_sky),
+    check(ray_scene_set_background(scene, rgb(0, 0, 0), sky_gradient, &blue_sky),
           "background");
     set_tree_limits(scene, prune, limits);
     check(ray_scene_commit(scene), "commit");
@@ -235,7 +235,7 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
     lamp.samples = 9;
     check(ray_scene_add_light(scene, &lamp, NULL), "light");
     check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
-    check(ray_scene_set_background(scene, rgb(0.55, 0.65, 0.8)), "background");
+    check(ray_scene_set_background(scene, rgb(0.55, 0.65, 0.8), NULL, NULL), "background");
     set_tree_limits(scene, prune, limits);
     check(ray_scene_commit(scene), "ray_scene_commit");
     memset(cam, 0, sizeof *cam);

@@ -542,14 +542,14 @@ static void op_setting(prog *p, unsigned which)
     switch (which) {
     case 0:
         p->background = fuzz_rgb(&p->in);
-        rc = ray_scene_set_background(p->scene, p->background);
+        rc = ray_scene_set_background(p->scene, p->background, NULL, NULL);
         break;
     case 1:
         p->background.r = p->background.g = p->background.b =
             fuzz_unit_range(&p->in, 1);
-        rc = ray_scene_set_background_fn(
-            p->scene, fuzz_u8(&p->in) & 1 ? background_fn : NULL,
-            &p->background);
+        rc = ray_scene_set_background(
+            p->scene, p->background,
+            fuzz_u8(&p->in) & 1 ? background_fn : NULL, &p->background);
         break;
     case 2:
         rc = ray_scene_set_ambient(p->scene, fuzz_rgb(&p->in));

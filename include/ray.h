@@ -786,17 +786,17 @@ RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
 RAY_API int ray_scene_add_light(ray_scene *scene, const ray_light *light,
                                 unsigned *id);
 
-/* The background: a constant colour (default black), or a function of
-** the escaping ray (NULL fn restores the colour), called CONCURRENTLY from
-** the render threads like materials.  The ambient light given to
+/* The background (default black): "color", or with a function "fn" (NULL:
+** none) what fn(ud, ray, out) makes of it for each escaping ray, *out
+** preset to the colour; fn is called CONCURRENTLY from the render threads
+** like materials, and "ud" is borrowed.  The ambient light given to
 ** materials (default black).  Tree limits (NULL: the defaults, pruning
 ** on; the naive mode is a field of the limits, no_pruning); RAY_EINVAL
 ** for max_depth > RAY_MAX_DEPTH or min_weight outside [0, 1].  Colours
 ** must be finite and >= 0 (else RAY_EINVAL). */
 typedef void (*ray_background_fn)(void *ud, const ray_ray *r, ray_rgb *out);
-RAY_API int ray_scene_set_background(ray_scene *scene, ray_rgb color);
-RAY_API int ray_scene_set_background_fn(ray_scene *scene,
-                                        ray_background_fn fn, void *ud);
+RAY_API int ray_scene_set_background(ray_scene *scene, ray_rgb color,
+                                     ray_background_fn fn, void *ud);
 RAY_API int ray_scene_set_ambient(ray_scene *scene, ray_rgb ambient);
 RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 

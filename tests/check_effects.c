@@ -397,7 +397,7 @@ static void aa_build(aa_scene *t)
     l.position = vec(3, 6, 4);
     l.intensity = rgb(40, 40, 40);
     ck_assert_int_eq(ray_scene_add_light(t->s, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(t->s, rgb(0.3, 0.4, 0.6)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->s, rgb(0.3, 0.4, 0.6), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(t->s), RAY_OK);
     t->cam.position = vec(0, 2, 6);
     t->cam.look_at = vec(0, 0.8, 0);
@@ -522,7 +522,7 @@ START_TEST(adaptive_should_trace_each_lattice_row_once)
     size_t k;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.3, 0.4, 0.6)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.3, 0.4, 0.6), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     cam = (ray_camera){.look_at = {0, 0, -1}};
     o = (ray_render_options){.width = AW, .height = AH};
@@ -591,7 +591,7 @@ START_TEST(adaptive_should_trace_each_lattice_point_once)
     size_t k;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, slope_background, NULL),
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), slope_background, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     cam = (ray_camera){.look_at = {0, 0, -1}};
@@ -693,7 +693,7 @@ static ray_stats render_sky(const sky_edge *e, double threshold)
 
     cam = (ray_camera){.look_at = {0, 0, -1}};                /* looking down -z */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, sky_with_edge,
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), sky_with_edge,
                                                  ray__test_unconst(e)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     o = (ray_render_options){.width = AW, .height = AH};

@@ -710,7 +710,7 @@ static int light_too_many_samples(ray_scene *s)
 
 static int background_negative(ray_scene *s)
 {
-    return ray_scene_set_background(s, rgb(0.5, -0.25, 0));
+    return ray_scene_set_background(s, rgb(0.5, -0.25, 0), NULL, NULL);
 }
 
 static int ambient_nan(ray_scene *s)
@@ -939,6 +939,14 @@ END_TEST
 
 /* ------------------------------------------------ state, NULL, memory */
 
+/* A background function: the preset colour, made grey. */
+static void grey_sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud;
+    (void)r;
+    out->r = out->g = out->b = 0.5;
+}
+
 /* Each building call, with valid arguments, on a committed scene. */
 static int after_commit(ray_scene *s, int k)
 {
@@ -967,8 +975,8 @@ static int after_commit(ray_scene *s, int k)
     case 8: return ray_scene_add_parametric(s, &ps, 0, NULL);
     case 9: return ray_scene_add_bezier(s, cp, 0, NULL);
     case 10: return ray_scene_add_light(s, &l, NULL);
-    case 11: return ray_scene_set_background(s, rgb(0, 0, 0));
-    case 12: return ray_scene_set_background_fn(s, NULL, NULL);
+    case 11: return ray_scene_set_background(s, rgb(0, 0, 0), NULL, NULL);
+    case 12: return ray_scene_set_background(s, rgb(0, 0, 0), grey_sky, NULL);
     case 13: return ray_scene_set_ambient(s, rgb(0, 0, 0));
     case 14: return ray_scene_set_limits(s, NULL);
     case 15: return ray_scene_set_limits(s, &naive);
@@ -983,7 +991,7 @@ static const char *const building_calls[] = {
     "ray_scene_add_triangle", "ray_scene_add_polygon", "ray_scene_add_mesh",
     "ray_scene_add_torus", "ray_scene_add_implicit",
     "ray_scene_add_parametric", "ray_scene_add_bezier", "ray_scene_add_light",
-    "ray_scene_set_background", "ray_scene_set_background_fn",
+    "ray_scene_set_background", "ray_scene_set_background (fn)",
     "ray_scene_set_ambient", "ray_scene_set_limits",
     "ray_scene_set_limits (no_pruning)",
     "ray_scene_set_watertight", "ray_scene_set_build_threads",

@@ -108,7 +108,7 @@ START_TEST(meshes_without_material_should_render_black)
     ray_light_init(&light, RAY_LIGHT_POINT);
     light.position = vec(0, 0, 10);
     ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, sky), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, sky, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_uint_eq(ray_scene_effects(s), 0u);
     cam = (ray_camera){.look_at = {0, 0, -1}};

@@ -119,6 +119,14 @@ START_TEST(spawn_and_optics_should_refuse_null)
 }
 END_TEST
 
+/* A background function that leaves the preset colour. */
+static void null_sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud;
+    (void)r;
+    (void)out;
+}
+
 /* The default tree limits in the naive mode (ray_limits.no_pruning). */
 static const ray_limits naive_limits = {.max_depth = RAY_DEFAULT_MAX_DEPTH,
                                         .min_weight = RAY_DEFAULT_MIN_WEIGHT,
@@ -166,8 +174,9 @@ START_TEST(scene_calls_should_refuse_null)
                      RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_bezier(NULL, cp, 0, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_light(NULL, &l, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background(NULL, black_rgb), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background_fn(NULL, NULL, NULL),
+    ck_assert_int_eq(ray_scene_set_background(NULL, black_rgb, NULL, NULL),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_background(NULL, black_rgb, null_sky, NULL),
                      RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_ambient(NULL, black_rgb), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_limits(NULL, NULL), RAY_EINVAL);

@@ -59,7 +59,7 @@ static void build(test_scene *t)
     l.intensity = rgb(30, 30, 30);
     l.samples = 4;
     ck_assert_int_eq(ray_scene_add_light(t->scene, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb(0.1, 0.2, 0.9)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb(0.1, 0.2, 0.9), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(t->scene), RAY_OK);
     t->cam.position = vec(0, 1.5, 6);
     t->cam.look_at = vec(0, 1, 0);
@@ -609,7 +609,7 @@ START_TEST(render_samples_should_cover_every_stratum)
         cam.up = vec(0, 1, 0);
         cam.vfov = 90;
         ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_set_background_fn(s, log_sample, &log), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), log_sample, &log), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         opt = (ray_render_options){.width = 1, .height = 1};
         opt.samples = n;
@@ -685,7 +685,7 @@ START_TEST(render_pixels_should_always_be_finite)
             ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0,
                                                   NULL), RAY_OK);
-            ck_assert_int_eq(ray_scene_set_background(s, bg), RAY_OK);
+            ck_assert_int_eq(ray_scene_set_background(s, bg, NULL, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
             memset(&cam, 0, sizeof cam);
             cam.position = vec(0, 0, 4), cam.look_at = vec(0, 0, 0);
@@ -834,10 +834,10 @@ START_TEST(render_check_should_warn_of_nothing_to_see)
     ck_assert_int_eq(ray_scene_set_mask(s, ball, 1), RAY_OK);
     ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
     ck_assert_int_eq(ray_scene_set_enabled(s, ball, 0), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0, 0)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0, 0), NULL, NULL), RAY_OK);
     ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0)), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, blue_sky, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), blue_sky, NULL), RAY_OK);
     ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
     ray_scene_free(s);
 }

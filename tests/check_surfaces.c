@@ -212,7 +212,7 @@ START_TEST(scene_should_count_root_failures_as_misses)
     ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
     is.max_iterations = 2;
     ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0)),
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0), NULL, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);

@@ -167,7 +167,7 @@ static ray_stats trace_unit_sphere(ray_material m, const ray_limits *lim,
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_limits(s, lim), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(1, 1, 1)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(1, 1, 1), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, c), RAY_OK);
@@ -372,9 +372,11 @@ START_TEST(background_should_come_from_colour_or_callback)
     int calls = 0;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0.2, 0.3)), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, gradient, &calls), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0.2, 0.3), gradient,
+                                              &calls), RAY_OK);
+    /* A NULL function: the colour alone. */
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0.2, 0.3), NULL,
+                                              NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
@@ -383,7 +385,7 @@ START_TEST(background_should_come_from_colour_or_callback)
     ray_scene_free(s);
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, gradient, &calls), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), gradient, &calls), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);

@@ -382,7 +382,7 @@ START_TEST(user_answers_should_be_checked)
                      RAY_OK);
     ck_assert_int_eq(ray_scene_add_user(s, &gm, 0, &id), RAY_OK);
     ck_assert_uint_eq(id, 1);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
     for (n = 0; n < rays; n++) {

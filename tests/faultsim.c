@@ -661,7 +661,7 @@ static int build_scene(env *e, int parts, scene_parts *sp, ray_scene **out)
         CALL(e, add_many(e, s, &m));
     }
     CALL(e, add_lights(e, s, (parts & HAS_AREA) != 0));
-    CALL(e, ray_scene_set_background(s, rgb(0.1, 0.2, 0.6)));
+    CALL(e, ray_scene_set_background(s, rgb(0.1, 0.2, 0.6), NULL, NULL));
     CALL(e, ray_scene_commit(s));
     *out = s;
     return RAY_OK;

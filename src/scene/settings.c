@@ -144,7 +144,8 @@ static int rgb_check(ray_scene *s, const char *what, ray_rgb c)
                      "finite", what, c.r, c.g, c.b);
 }
 
-int ray_scene_set_background(ray_scene *s, ray_rgb color)
+int ray_scene_set_background(ray_scene *s, ray_rgb color,
+                             ray_background_fn fn, void *ud)
 {
     int rc = ray__begin(s, "ray_scene_set_background");
 
@@ -154,17 +155,6 @@ int ray_scene_set_background(ray_scene *s, ray_rgb color)
     if (rc != RAY_OK)
         return rc;
     s->background = color;
-    ray__touch(s, 0);
-    return RAY_OK;
-}
-
-int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
-                                void *ud)
-{
-    int rc = ray__begin(s, "ray_scene_set_background_fn");
-
-    if (rc != RAY_OK)
-        return rc;
     s->background_fn = fn;
     s->background_ud = ud;
     ray__touch(s, 0);
