@@ -99,7 +99,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
         check-examples-run check-long bench-smoke \
         png-free-test install-test libray.pc cmake-config FORCE \
-        amalgamation amalgamation-test cmake-test abi-test abi-baseline \
+        amalgamation amalgamation-test cmake-test abi-test abi-baseline exports-test \
         version-test dist distcheck print-srcs print-version deps-embed \
         snippets-test pages-test bench-docs-test windows-build windows-check
 
@@ -179,9 +179,9 @@ FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
 FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
     $(if $(filter 1,$(PNG)),png_image_write_to_memory)
-$(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(STATIC)
+$(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
 $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
@@ -411,7 +411,7 @@ CHECK_RUNS = check-suite check-faultsim fuzz-replay check-examples-run $(if $(fi
 # (order-only), so the suite starts as soon as it is built.
 CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test license-test \
     links-test snippets-test pages-test bench-docs-test install-test png-free-test \
-    version-test abi-test cmake-test amalgamation-test check-faultsim fuzz-replay \
+    version-test abi-test exports-test cmake-test amalgamation-test check-faultsim fuzz-replay \
     check-examples-run mpi-check bench-smoke
 ifneq ($(filter check test,$(MAKECMDGOALS)),)
 $(CHECK_AFTER_SUITE): | $(TEST_BIN)
@@ -419,7 +419,7 @@ endif
 check: deps-check lib check-suite layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        snippets-test pages-test bench-docs-test \
        install-test $(if $(filter 0,$(PNG)),png-free-test) \
-       version-test abi-test cmake-test amalgamation-test $(filter-out check-suite,$(CHECK_RUNS))
+       version-test abi-test exports-test cmake-test amalgamation-test $(filter-out check-suite,$(CHECK_RUNS))
 	@t=$$(( $$(date +%s) - $(CHECK_T0) )); \
 	echo "check: all passed in $$((t / 60))m$$((t % 60))s on $$(nproc 2>/dev/null || echo ?) CPUs$(if $(filter -j%,$(MAKEFLAGS)),, (make -j$(CHECK_JOBS) check runs its steps side by side))"; \
 	cat $(CHECK_SUMMARY)
@@ -517,18 +517,18 @@ FUZZ_TIMEOUT ?= 25
 # more than this (issue 14, defect 4).
 FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
 
-$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(STATIC)
+$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
 
 fuzz-replay: $(FUZZ_REPLAYS)
 	@for t in $(FUZZ_TARGETS); do \
 	    $(BUILD)/fuzz-replay/$$t fuzz/corpus/$$t fuzz/crashes/$$t || exit 1; \
 	done
 
-$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h $(wildcard examples/*.h) $(STATIC)
+$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
 	    $(STATIC) $(LIBS)
 
 fuzz-build: lib $(FUZZ_TARGETS:%=$(BUILD)/fuzzers/%)

@@ -860,7 +860,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
          *fa = plot_file(plot_dir, tag, "adaptive");
     unsigned k, d;
 
-    ray_render_options_init(&o, w, h);
+    o = (ray_render_options){.width = w, .height = h};
     o.samples = quick ? 64 : 256;
     o.seed = 0x5eed;         /* independent of the measured renders' noise */
     render_timed(s, cam, &o, ref, &st);
@@ -870,7 +870,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
            "|---|---|---|---|---|---|\n");
     for (k = 0; k < 4; k++) {
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = spp[k];
         t = render_timed(s, cam, &o, img, &st);
         e = rmse(img, ref, n);
@@ -882,7 +882,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
     }
     for (k = 0; k < 3; k++) {
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.adaptive_threshold = thr[k];
         o.adaptive_depth = 2;
         t = render_timed(s, cam, &o, img, &st);
@@ -895,11 +895,12 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
             fprintf(fa, "%g %g\n", t, e);
     }
     for (d = 1; d <= 8; d += (d < 4 ? 1 : 4)) {
-        ray_limits lim = {d, RAY_DEFAULT_MIN_WEIGHT, RAY_DEFAULT_MAX_FANOUT};
+        ray_limits lim = {.max_depth = d, .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                          .max_fanout = RAY_DEFAULT_MAX_FANOUT};
         ray_camera c2;
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = quick ? 4 : 16;
         t = render_timed(s2, &c2, &o, img, &st);
         e = rmse(img, ref, n);
@@ -909,12 +910,12 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
         ray_scene_free(s2);
     }
     for (k = 0; k < 5; k++) {
-        ray_limits lim = {RAY_DEFAULT_MAX_DEPTH, weights[k],
-                          RAY_DEFAULT_MAX_FANOUT};
+        ray_limits lim = {.max_depth = RAY_DEFAULT_MAX_DEPTH, .min_weight = weights[k],
+                          .max_fanout = RAY_DEFAULT_MAX_FANOUT};
         ray_camera c2;
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = quick ? 4 : 16;
         t = render_timed(s2, &c2, &o, img, &st);
         e = rmse(img, ref, n);
@@ -1060,7 +1061,7 @@ static void offsets(void)
                                    : (m == 1 ? HC_FIXED_EPSILON : HC_SPAWN);
                 mat.ud = &sh;
                 s = acne_scene(X, floor, &mat, &cam);
-                ray_render_options_init(&o, w, h);
+                o = (ray_render_options){.width = w, .height = h};
                 o.threads = 1;
                 t = now_seconds();
                 check(ray_render(s, &cam, &o, img, NULL), "render");

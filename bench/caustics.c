@@ -96,7 +96,7 @@ int main(int argc, char **argv)
         perror(path);
         return 1;
     }
-    ray_render_options_init(&o, WIDTH, HEIGHT);
+    o = (ray_render_options){.width = WIDTH, .height = HEIGHT};
     o.threads = THREADS;
     /* The reference: its own seed, its render without photons subtracted. */
     o.seed = 4242;

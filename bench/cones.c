@@ -73,7 +73,7 @@ static void scaled_lookup(void *ud, const ray_shade_args *a, ray_rgb *out)
 {
     const scaled_texture *t = ud;
 
-    ray_image_sample_footprint(t->img, a->u, a->v, a->footprint * t->scale,
+    ray_image_sample(t->img, a->u, a->v, a->footprint * t->scale,
                                out);
 }
 
@@ -98,9 +98,9 @@ static ray_scene *floor_scene(ray_phong_params *p, ray_texture tex,
     l.direction = vec(0.3, -1, -0.4);
     l.intensity = rgb(0.9, 0.9, 0.9);
     check(ray_scene_add_light(s, &l, NULL), "light");
-    check(ray_scene_set_background(s, rgb(0.6, 0.7, 0.9)), "background");
+    check(ray_scene_set_background(s, rgb(0.6, 0.7, 0.9), NULL, NULL), "background");
     check(ray_scene_commit(s), "commit");
-    ray_camera_init(cam);
+    *cam = (ray_camera){.look_at = {0, 0, -1}};
     cam->position = vec(0, 1, 0);
     cam->look_at = vec(0, 0.75, -10);
     cam->vfov = 40;
@@ -135,7 +135,7 @@ int main(void)
     wt.fn = scaled_lookup;
     wt.ud = &whole;
     sw = floor_scene(&pw, wt, &cam);
-    ray_render_options_init(&o, w, h);
+    o = (ray_render_options){.width = w, .height = h};
     o.threads = 2;
     o.samples = 256;
     o.no_cones = 1;

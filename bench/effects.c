@@ -3,7 +3,7 @@
 ** effects.c -- what simulating only the needed effects saves: for each
 ** example scene, the rays cast and the render time with the effect
 ** analysis and pruning on, against the naive mode that spawns every
-** declared effect up to the maximum depth (ray_scene_set_pruning(s, 0)),
+** declared effect up to the maximum depth (ray_limits.no_pruning),
 ** with the image difference this costs; and adaptive against uniform
 ** antialiasing: primary rays, time and error against a converged
 ** reference.  Prints Markdown; asserts nothing.
@@ -73,7 +73,7 @@ static void pruning_row(const char *name, scene_fn make, const char *arg,
         free(in);
         return;
     }
-    ray_render_options_init(&o, w, h);
+    o = (ray_render_options){.width = w, .height = h};
     o.samples = 4;
     render(pruned, &cam, &o, ip, &sp);
     for (k = 0; k < reps; k++) {
@@ -112,12 +112,12 @@ static void antialiasing_rows(const char *name, scene_fn make,
         free(img);
         return;
     }
-    ray_render_options_init(&o, w, h);
+    o = (ray_render_options){.width = w, .height = h};
     o.samples = 256;
     render(s, &cam, &o, ref, &st);
     for (k = 0; k < 4; k++) {
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.samples = uniform[k];
         t = render(s, &cam, &o, img, &st);
         e = rmse(img, ref, (size_t)w * h);
@@ -127,7 +127,7 @@ static void antialiasing_rows(const char *name, scene_fn make,
     }
     for (k = 0; k < 3; k++) {
         double t, e;
-        ray_render_options_init(&o, w, h);
+        o = (ray_render_options){.width = w, .height = h};
         o.adaptive_threshold = thresholds[k];
         o.adaptive_depth = 2;
         t = render(s, &cam, &o, img, &st);

@@ -10,6 +10,7 @@
 
 #include "bench.h"
 #include "core/vec.h"
+#include "prim/prim.h"         /* ray__implicit_torus */
 
 typedef int (*method_fn)(const ray_ray *r, const void *obj, ray_hit *hit);
 
@@ -134,7 +135,7 @@ static void setup(object *o)
     o->torus.axis = v3(0, 1, 0);
     o->torus.major = 1.0;
     o->torus.minor = 0.25;
-    ray_implicit_torus(&o->torus, &o->torus_st);
+    ray__implicit_torus(&o->torus, &o->torus_st);
     o->torus_br = o->torus_st;
     o->torus_br.lipschitz = 0;
     for (i = 0; i < 5; i++) {

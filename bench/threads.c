@@ -39,7 +39,7 @@ int main(int argc, char **argv)
 
     if (img == NULL || n == 0)
         return 1;
-    ray_render_options_init(&opt, width, height);
+    opt = (ray_render_options){.width = width, .height = height};
     opt.samples = 4;
     opt.threads = n;
     timed_render(scene, &cam, &opt, img, &st);            /* warm-up */

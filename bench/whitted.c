@@ -71,7 +71,7 @@ static double ours_render(ours *o, double threshold, unsigned depth,
     ray_render_options opt;
     double t0;
 
-    ray_render_options_init(&opt, width, height);
+    opt = (ray_render_options){.width = width, .height = height};
     opt.threads = threads;
     opt.samples = samples;
     opt.adaptive_threshold = threshold;

@@ -182,7 +182,7 @@ static inline ray_phong_params phong_params(ray_rgb diffuse, ray_rgb specular,
     return p;
 }
 
-/* A sky for ray_scene_set_background_fn: base + delta * k, k going from 0
+/* A sky for ray_scene_set_background's function: base + delta * k, k going from 0
 ** for rays straight down to 1 straight up; ud is a sky_colors. */
 typedef struct sky_colors {
     ray_rgb base, delta;
@@ -568,7 +568,7 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
     double t;
     int rc;
 
-    ray_render_options_init(&opt, a->width, a->height);
+    opt = (ray_render_options){.width = a->width, .height = a->height};
     opt.samples = a->samples;
     opt.threads = a->threads;
     opt.progress = isatty(fileno(stderr)) ? progress_bar : progress_lines;

@@ -22,7 +22,7 @@ int main(int argc, char **argv)
                        .intensity = {60, 60, 60}};
     ray_camera cam = {.position = {0, 0, 5}, .look_at = {0, 0, 0},
                       .up = {0, 1, 0}, .vfov = 40};
-    ray_render_options opt;
+    ray_render_options opt = {.width = 160, .height = 120};
     ray_scene *scene;
     ray_stats stats;
     example_args args;
@@ -37,7 +37,6 @@ int main(int argc, char **argv)
     check(ray_scene_add_sphere(scene, vec(0, 0, 0), 1, mat, NULL), "add_sphere");
     check(ray_scene_add_light(scene, &light, NULL), "add_light");
     check(ray_scene_commit(scene), "commit");
-    ray_render_options_init(&opt, 160, 120);
     check(ray_render(scene, &cam, &opt, image, &stats), "render");
     rc = example_write_png(&args, image);      /* args.output, 160 x 120 */
     if (rc == 0)

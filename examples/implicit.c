@@ -137,7 +137,7 @@ int main(int argc, char **argv)
                                               ray_material_phong(&ivory)),
                                  NULL), "rounded cube");
     check(ray_scene_add_light(scene, &key, NULL), "light");
-    check(ray_scene_set_background_fn(scene, sky_gradient, &pale_sky),
+    check(ray_scene_set_background(scene, rgb(0, 0, 0), sky_gradient, &pale_sky),
           "background");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
     check(ray_scene_commit(scene), "ray_scene_commit");

@@ -80,7 +80,7 @@ int main(int argc, char **argv)
     check(ray_scene_add_light(scene, &lamp, NULL), "lamp");
     check(ray_scene_set_ambient(scene, rgb(0.1, 0.1, 0.1)), "ambient");
     check(ray_scene_commit(scene), "commit");
-    ray_render_options_init(&opt, 320, 240);
+    opt = (ray_render_options){.width = 320, .height = 240};
     opt.samples = 4;
     check(ray_render(scene, &cam, &opt, image, &stats), "ray_render");
     rc = example_write_png(&args, image);

@@ -114,7 +114,7 @@ static int render_band(const ray_scene *scene, const ray_camera *cam,
     ray_render_options opt;
     int rc;
 
-    ray_render_options_init(&opt, a->width, a->height);
+    opt = (ray_render_options){.width = a->width, .height = a->height};
     opt.y0 = y0;
     opt.y1 = y1;
     opt.samples = a->samples;

@@ -9,12 +9,26 @@
 #include "common.h"
 #include "obj.h"
 
+/* The scene's ray tree bounds: "limits" (NULL: the defaults), in the
+** naive mode (ray_limits.no_pruning) when prune is 0. */
+static inline void set_tree_limits(ray_scene *scene, int prune,
+                                   const ray_limits *limits)
+{
+    ray_limits l;
+
+    if (limits != NULL)
+        l = *limits;
+    else
+        ray_limits_init(&l);
+    l.no_pruning = !prune;
+    check(ray_scene_set_limits(scene, &l), "limits");
+}
 
 /*
 ** Whitted's 1980 scene: a red and yellow checkerboard floor, a mirror
 ** sphere and a glass sphere under a point light, a sky gradient.
 ** Returns a committed scene and fills *cam.  prune = 0 builds it in the
-** naive mode (ray_scene_set_pruning), and "limits" (NULL: the defaults)
+** naive mode (ray_limits.no_pruning), and "limits" (NULL: the defaults)
 ** bounds its ray tree, for the benchmarks.
 */
 static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
@@ -58,10 +72,9 @@ static inline ray_scene *whitted_scene(ray_camera *cam, int prune,
                                NULL), "glass sphere");
     check(ray_scene_add_light(scene, &light, NULL), "light");
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
-    check(ray_scene_set_background_fn(scene, sky_gradient, &blue_sky),
+    check(ray_scene_set_background(scene, rgb(0, 0, 0), sky_gradient, &blue_sky),
           "background");
-    check(ray_scene_set_pruning(scene, prune), "pruning");
-    check(ray_scene_set_limits(scene, limits), "limits");
+    set_tree_limits(scene, prune, limits);
     check(ray_scene_commit(scene), "commit");
     *cam = view;
     return scene;
@@ -167,8 +180,7 @@ static inline ray_scene *cornell_scene(ray_camera *cam, int prune,
           "mirror sphere");
     check(ray_scene_add_light(scene, &lamp, NULL), "lamp");
     check(ray_scene_set_ambient(scene, rgb(0.06, 0.06, 0.06)), "ambient");
-    check(ray_scene_set_pruning(scene, prune), "pruning");
-    check(ray_scene_set_limits(scene, limits), "limits");
+    set_tree_limits(scene, prune, limits);
     check(ray_scene_commit(scene), "commit");
 
     *cam = view;
@@ -223,9 +235,8 @@ static inline ray_scene *mesh_scene(const char *path, ray_camera *cam,
     lamp.samples = 9;
     check(ray_scene_add_light(scene, &lamp, NULL), "light");
     check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
-    check(ray_scene_set_background(scene, rgb(0.55, 0.65, 0.8)), "background");
-    check(ray_scene_set_pruning(scene, prune), "pruning");
-    check(ray_scene_set_limits(scene, limits), "limits");
+    check(ray_scene_set_background(scene, rgb(0.55, 0.65, 0.8), NULL, NULL), "background");
+    set_tree_limits(scene, prune, limits);
     check(ray_scene_commit(scene), "ray_scene_commit");
     memset(cam, 0, sizeof *cam);
     cam->position = vec(centre.x, centre.y + 0.25 * diag, centre.z + 1.3 * diag);

@@ -146,7 +146,7 @@ static inline ray_scene *teapot_scene(const bpt_patches *model, ray_camera *cam)
     add_floor(scene, floor_y, diag);
     add_lights(scene, centre, diag);
     check(ray_scene_set_ambient(scene, rgb(0.12, 0.12, 0.14)), "ambient");
-    check(ray_scene_set_background_fn(scene, backdrop, NULL), "background");
+    check(ray_scene_set_background(scene, rgb(0, 0, 0), backdrop, NULL), "background");
     check(ray_scene_commit(scene), "ray_scene_commit");
 
     /* From the front and a little above (about 25 degrees), 1.4 box

@@ -135,7 +135,7 @@ int main(int argc, char **argv)
 
     if (rc != 0)
         return rc;
-    rc = ray_image_load_png(args.input, &image);
+    rc = ray_image_load_png(args.input, NULL, &image);
     if (rc != RAY_OK) {
         fprintf(stderr, "textures: %s: %s\n", args.input,
                 rc == RAY_EIO ? strerror(errno) : ray_strerror(rc));
@@ -163,7 +163,7 @@ int main(int argc, char **argv)
                               add_material(scene, &torus_mat), NULL),
           "torus");
     check(ray_scene_add_light(scene, &key, NULL), "light");
-    check(ray_scene_set_background_fn(scene, sky_gradient, &pale_sky),
+    check(ray_scene_set_background(scene, rgb(0, 0, 0), sky_gradient, &pale_sky),
           "background");
     check(ray_scene_set_ambient(scene, rgb(0.15, 0.15, 0.17)), "ambient");
     check(ray_scene_commit(scene), "ray_scene_commit");

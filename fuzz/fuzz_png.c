@@ -63,7 +63,7 @@ static void check_image(const ray_image *img)
     for (y = 0; y < h && y < 8; y++)
         for (x = 0; x < w && x < 8; x++) {
             ray_rgb c;
-            int rc = ray_image_sample(img, (x + 0.5) / w, (y + 0.5) / h, &c);
+            int rc = ray_image_sample(img, (x + 0.5) / w, (y + 0.5) / h, 0, &c);
             FUZZ_CHECK(rc == RAY_OK, "ray_image_sample: status");
             FUZZ_CHECK(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 &&
                            c.b >= 0 && c.b <= 1,
@@ -79,7 +79,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!write_tmp(data, size))
         return 0;
     fuzz_sentinel(&img, sizeof img);
-    rc = ray_image_load_png(tmp_path, &img);
+    rc = ray_image_load_png(tmp_path, NULL, &img);
     FUZZ_CHECK(rc == RAY_OK || rc == RAY_EPNG || rc == RAY_ENOMEM ||
                    rc == RAY_ELIMIT || rc == RAY_ERANGE || rc == RAY_EIO ||
                    rc == RAY_ENOTSUP,

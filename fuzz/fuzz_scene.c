@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include "fuzz.h"
+#include "prim/prim.h"         /* ray__implicit_torus (internal) */
 
 #define MAX_OPS 40
 #define MAX_SLOTS MAX_OPS            /* at most one object per operation */
@@ -425,8 +426,8 @@ static void op_implicit(prog *p)
         p->torus[s].axis = fuzz_vec3(&p->in);
         p->torus[s].major = fuzz_double(&p->in);
         p->torus[s].minor = fuzz_double(&p->in);
-        rc = ray_implicit_torus(&p->torus[s], &surf);
-        FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL, "ray_implicit_torus");
+        rc = ray__implicit_torus(&p->torus[s], &surf);
+        FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL, "ray__implicit_torus");
     } else {
         unsigned k;
         for (k = 0; k < 2; k++) {
@@ -541,14 +542,14 @@ static void op_setting(prog *p, unsigned which)
     switch (which) {
     case 0:
         p->background = fuzz_rgb(&p->in);
-        rc = ray_scene_set_background(p->scene, p->background);
+        rc = ray_scene_set_background(p->scene, p->background, NULL, NULL);
         break;
     case 1:
         p->background.r = p->background.g = p->background.b =
             fuzz_unit_range(&p->in, 1);
-        rc = ray_scene_set_background_fn(
-            p->scene, fuzz_u8(&p->in) & 1 ? background_fn : NULL,
-            &p->background);
+        rc = ray_scene_set_background(
+            p->scene, p->background,
+            fuzz_u8(&p->in) & 1 ? background_fn : NULL, &p->background);
         break;
     case 2:
         rc = ray_scene_set_ambient(p->scene, fuzz_rgb(&p->in));
@@ -557,10 +558,15 @@ static void op_setting(prog *p, unsigned which)
         lim.max_depth = fuzz_below(&p->in, RAY_MAX_DEPTH + 4);
         lim.min_weight = fuzz_double(&p->in);
         lim.max_fanout = fuzz_below(&p->in, 6);
+        lim.no_pruning = 0;
         rc = ray_scene_set_limits(p->scene, fuzz_u8(&p->in) & 1 ? NULL : &lim);
         break;
     case 4:
-        rc = ray_scene_set_pruning(p->scene, (int)fuzz_u8(&p->in) - 1);
+        /* The naive mode (the input's byte as before: the corpus keeps
+        ** its meaning), with the default bounds. */
+        ray_limits_init(&lim);
+        lim.no_pruning = (int)fuzz_u8(&p->in) - 1;
+        rc = ray_scene_set_limits(p->scene, &lim);
         break;
     default:
         rc = ray_scene_set_watertight(p->scene, (int)fuzz_u8(&p->in) - 1);
@@ -784,7 +790,7 @@ static void op_render(prog *p)
     cam.vfov = fuzz_u8(&p->in) & 1 ? fuzz_double(&p->in) : 60;
     cam.aperture = fuzz_u8(&p->in) & 1 ? fuzz_double(&p->in) : 0;
     cam.focus_distance = fuzz_u8(&p->in) & 1 ? fuzz_double(&p->in) : 0;
-    ray_render_options_init(&o, IMG_SIZE, IMG_SIZE);
+    o = (ray_render_options){.width = IMG_SIZE, .height = IMG_SIZE};
     o.threads = 1;
     o.samples = 1 + fuzz_below(&p->in, 2);
     o.seed = fuzz_u8(&p->in);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** fuzz_surfaces.c -- ray_implicit and ray_parametric (and the surfaces
-** the library builds for them: ray_implicit_torus, ray_implicit_blobs,
+** the library builds for them: ray__implicit_torus, ray_implicit_blobs,
 ** ray_bezier_surface) with hostile callbacks: fields that turn NaN, Inf
 ** or huge in part of the box, lie about their Lipschitz bound, or vanish
 ** on a slab; gradients that are NaN, zero or huge; (u, v) callbacks that
@@ -15,6 +15,7 @@
 ** the hit's normal), so a slow callback cannot run without bound.
 */
 #include "fuzz.h"
+#include "prim/prim.h"         /* ray__implicit_torus (internal) */
 
 /*
 ** Subdivision levels as decoded: ray_parametric bounds its work per ray
@@ -158,8 +159,8 @@ static void op_implicit(fuzz_input *in)
         fd.torus.axis = fuzz_vec3(in);
         fd.torus.major = fd.r;
         fd.torus.minor = fuzz_double(in);
-        rc = ray_implicit_torus(&fd.torus, &fd.inner);
-        FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL, "ray_implicit_torus");
+        rc = ray__implicit_torus(&fd.torus, &fd.inner);
+        FUZZ_CHECK(rc == RAY_OK || rc == RAY_EINVAL, "ray__implicit_torus");
         if (rc != RAY_OK)
             return;
         s = fd.inner;

@@ -479,7 +479,8 @@ typedef struct ray_shade_args {
                                 else equal to "normal" */
     int prune;               /* 1 (default): skip what cannot contribute
                                 (zero weights, lights behind the surface);
-                                0: the scene's naive mode, spawn every
+                                0: the scene's naive mode
+                                (ray_limits.no_pruning), spawn every
                                 effect the material declared, whatever
                                 its weight (for comparisons) */
     /* Ray cones (Akenine-Moller et al., "Texture Level of Detail
@@ -593,13 +594,20 @@ typedef struct ray_limits {
     double min_weight;       /* rays whose path weight falls below: cut;
                                 in [0, 1] */
     unsigned max_fanout;     /* secondary rays one hit may spawn */
+    int no_pruning;          /* 0 (the default): the tracer cuts rays whose
+                                path weight falls below min_weight, and
+                                materials are told (ray_shade_args.prune)
+                                to spawn nothing that cannot contribute;
+                                non-zero: the naive mode, every declared
+                                effect traced up to max_depth, to measure
+                                what pruning saves (the bench does) */
 } ray_limits;
 
 #define RAY_DEFAULT_MAX_DEPTH 8
 #define RAY_DEFAULT_MIN_WEIGHT (1.0 / 256)  /* below one 8-bit level */
 #define RAY_DEFAULT_MAX_FANOUT 2            /* a reflection + a refraction */
 
-/* ray_limits_init -- *l set to the defaults above. */
+/* ray_limits_init -- *l set to the defaults above, pruning on. */
 RAY_API void ray_limits_init(ray_limits *l);
 
 /*
@@ -778,26 +786,21 @@ RAY_API int ray_scene_add_mesh(ray_scene *scene, const ray_mesh *mesh,
 RAY_API int ray_scene_add_light(ray_scene *scene, const ray_light *light,
                                 unsigned *id);
 
-/* The background: a constant colour (default black), or a function of
-** the escaping ray (NULL fn restores the colour), called CONCURRENTLY from
-** the render threads like materials.  The ambient light given to
-** materials (default black).  Tree limits (NULL: defaults); RAY_EINVAL
+/* The background (default black): "color", or with a function "fn" (NULL:
+** none) what fn(ud, ray, out) makes of it for each escaping ray, *out
+** preset to the colour; fn is called CONCURRENTLY from the render threads
+** like materials, and "ud" is borrowed.  The ambient light given to
+** materials (default black).  Tree limits (NULL: the defaults, pruning
+** on; the naive mode is a field of the limits, no_pruning); RAY_EINVAL
 ** for max_depth > RAY_MAX_DEPTH or min_weight outside [0, 1].  Colours
 ** must be finite and >= 0 (else RAY_EINVAL). */
 typedef void (*ray_background_fn)(void *ud, const ray_ray *r, ray_rgb *out);
-RAY_API int ray_scene_set_background(ray_scene *scene, ray_rgb color);
-RAY_API int ray_scene_set_background_fn(ray_scene *scene,
-                                        ray_background_fn fn, void *ud);
+RAY_API int ray_scene_set_background(ray_scene *scene, ray_rgb color,
+                                     ray_background_fn fn, void *ud);
 RAY_API int ray_scene_set_ambient(ray_scene *scene, ray_rgb ambient);
 RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 
 /*
-** ray_scene_set_pruning -- 1 (the default): the tracer cuts rays whose
-** path weight falls below min_weight, and materials are told (args->prune)
-** to spawn nothing that cannot contribute.  0: a naive mode that traces
-** every declared effect up to max_depth, for measuring what pruning saves
-** (the bench does).  RAY_EINVAL (NULL).
-**
 ** ray_scene_effects -- after commit, the RAY_EFFECT_* bits the scene can
 ** ever need: the union of the effects of the materials its enabled
 ** geometry uses (its instances' children's included), without
@@ -807,7 +810,6 @@ RAY_API int ray_scene_set_limits(ray_scene *scene, const ray_limits *limits);
 ** them: then photons are traced when asked for).  0 while not committed
 ** (before the first commit, or with a change staged).
 */
-RAY_API int ray_scene_set_pruning(ray_scene *scene, int enabled);
 RAY_API unsigned ray_scene_effects(const ray_scene *scene);
 
 /*
@@ -953,9 +955,9 @@ typedef struct ray_texture {
 ** without libpng (make PNG=0), after the RAY_EINVAL checks.  *out is
 ** untouched on failure.
 **
-** ray_image_load_png_opt -- the same with limits for files from untrusted
-** sources (opt NULL, or a field 0: the default).  Memory grows with the
-** rows decoded, so a file that declares a large image and then fails
+** "opt" sets limits for files from untrusted sources (opt NULL, or a
+** field 0: the default, 16384 pixels a side, 64 MiB a chunk: a 193-byte
+** file cannot ask for gigabytes).  Memory grows with the rows decoded, so a file that declares a large image and then fails
 ** costs little; a decoded image takes 12 bytes per pixel.
 **
 ** Both constructors build the image's mip pyramid when it is made (the
@@ -979,23 +981,19 @@ typedef struct ray_texture {
 **
 ** ray_image_sample -- the image at texture coordinates (s, t), s from the
 ** left edge (0) to the right (1), t from the BOTTOM row (0) to the top (1),
-** repeating outside [0, 1) (wrap), filtered bilinearly between the four
-** nearest texel centres.  RAY_OK, or RAY_EINVAL (NULL, s or t not finite:
-** nothing written).
-**
-** ray_image_sample_footprint -- the image at (s, t) filtered over a
-** footprint "width" wide in texture units (1: the whole image; usually
-** ray_shade_args.footprint): trilinear mip-mapping, level lambda =
-** log2(width * max(image width, height)) blended between the two levels
-** around it; a width of at most one texel (lambda <= 0, width 0
-** included) gives exactly ray_image_sample's answer, a width beyond the
-** image (+Inf included) the 1 x 1 level, the mean colour.  RAY_OK, or
+** repeating outside [0, 1) (wrap), filtered over a footprint "width" wide
+** in texture units (1: the whole image; usually ray_shade_args.footprint).
+** Width 0, or any width within one texel: filtered bilinearly between the
+** four nearest texel centres of the image itself.  Wider: trilinear
+** mip-mapping, level lambda = log2(width * max(image width, height))
+** blended between the two levels around it; a width beyond the image
+** (+Inf included) gives the 1 x 1 level, the mean colour.  RAY_OK, or
 ** RAY_EINVAL (NULL, s or t not finite, width NaN or negative: nothing
 ** written).
 **
 ** ray_texture_image -- a texture that samples "img" at (args->u, args->v),
 ** filtered over args->footprint when it is positive (the ray carried a
-** cone, ray_render_options.no_cones 0), else as ray_image_sample.
+** cone, ray_render_options.no_cones 0), else bilinearly (width 0).
 ** The image is BORROWED: it must outlive every scene that uses it.
 ** Loaded images are read-only and may be shared between threads.
 */
@@ -1008,20 +1006,16 @@ typedef struct ray_image_load_options {
     size_t max_chunk_bytes;  /* the largest chunk but IDAT; 0: 64 MiB */
 } ray_image_load_options;
 
-RAY_API int ray_image_load_png(const char *path, ray_image **out);
-RAY_API int ray_image_load_png_opt(const char *path,
-                                   const ray_image_load_options *opt,
-                                   ray_image **out);
+RAY_API int ray_image_load_png(const char *path,
+                               const ray_image_load_options *opt,
+                               ray_image **out);
 RAY_API int ray_image_new(unsigned width, unsigned height, const float *rgb,
                           ray_image **out);
 RAY_API void ray_image_free(ray_image *img);
 RAY_API void ray_image_size(const ray_image *img, unsigned *width,
                             unsigned *height);
 RAY_API int ray_image_sample(const ray_image *img, double s, double t,
-                             ray_rgb *out);
-RAY_API int ray_image_sample_footprint(const ray_image *img, double s,
-                                       double t, double width,
-                                       ray_rgb *out);
+                             double width, ray_rgb *out);
 RAY_API ray_texture ray_texture_image(const ray_image *img);
 
 /* ------------------------------------------------ 7. built-in materials */
@@ -1059,16 +1053,16 @@ typedef struct ray_phong_params {
 } ray_phong_params;
 
 typedef struct ray_glass_params {
-    double ior;              /* index of refraction inside, e.g. 1.5 */
+    double ior;              /* index of refraction inside; 0: 1.5,
+                                window glass (the default) */
     ray_rgb absorption;      /* Beer-Lambert coefficient per unit length */
 } ray_glass_params;
 
 /* ray_phong_params_init -- a grey Lambertian surface: diffuse (0.8, 0.8,
 ** 0.8), no specular (shininess 32 if one is set), Phong's lobe, no
-** reflection, no texture.  ray_glass_params_init -- ior 1.5 (window
-** glass), no absorption. */
+** reflection, no texture.  A glass's zeros are its defaults: ior 0 is
+** 1.5 (window glass), absorption 0 none, so {0} is window glass. */
 RAY_API void ray_phong_params_init(ray_phong_params *p);
-RAY_API void ray_glass_params_init(ray_glass_params *p);
 
 typedef struct ray_checker_params {
     ray_material even, odd;
@@ -1176,11 +1170,6 @@ typedef struct ray_camera {
     double focus_distance;
 } ray_camera;
 
-/* ray_camera_init -- a pinhole camera at the origin looking down -z, up
-** (0, 1, 0), vfov 60 degrees, aperture 0, focus distance 0 (the look-at
-** distance): optional, the zeroed camera's defaults with look_at set. */
-RAY_API void ray_camera_init(ray_camera *c);
-
 /* Called after each finished row: return non-zero to cancel the render. */
 typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
                                unsigned rows_total);
@@ -1222,8 +1211,8 @@ typedef struct ray_render_options {
     ** antialiasing (a lattice point's value does not depend on the square
     ** it serves).  A textured hit then filters its texture over the
     ** cone's footprint (ray_texture_image).  no_cones non-zero: rays are
-    ** lines, footprint 0, textures sampled as ray_image_sample does.  The
-    ** cone models the pixel, not a lens's defocus.  (libray 0.1 called it
+    ** lines, footprint 0, textures sampled bilinearly (ray_image_sample's
+    ** width 0).  The cone models the pixel, not a lens's defocus.  (libray 0.1 called it
     ** "cones", on when non-zero, so that {0} turned it off.) */
     int no_cones;
     /* Caustics (ray_caustics_at): photons emitted from the lights before
@@ -1256,11 +1245,7 @@ typedef struct ray_render_options {
 ** depth 2 if it is turned on), ray cones on, no photons (caustics off),
 ** automatic photon radius, no scheduler (the scene's).  width and height
 ** are the two fields with no default: { .width = 640, .height = 480 }.
-** ray_render_options_init -- optional: *o zeroed, then width and height
-** set.
 */
-RAY_API void ray_render_options_init(ray_render_options *o, unsigned width,
-                                     unsigned height);
 
 /*
 ** ray_render -- render rows [y0, y1) of the frame into "rgb": linear float
@@ -1687,7 +1672,7 @@ RAY_API void ray_transform_identity(ray_transform *t);
 ** own answer.  Rendering shades with the child's materials (and its
 ** meshes' normals and texture coordinates) and tests its triangles as
 ** its ray_scene_set_watertight says; the child's lights, background,
-** ambient light, limits and pruning are not used: the scene's are.
+** ambient light and limits (pruning included) are not used: the scene's are.
 **
 ** The child is BORROWED: it must outlive "scene" (or the instance's
 ** removal).  It may be changed and re-committed later (an animated mesh):
@@ -2187,11 +2172,6 @@ RAY_API int ray_implicit(const ray_ray *r, const ray_implicit_surface *s,
 ** v = angle around the tube / 2pi, both in [0, 1].  Returns 1 or 0 (*hit
 ** untouched); invalid input (NULL, NaN, Inf, zero axis, radii not > 0) is
 ** a miss (also r >= R).
-**
-** ray_implicit_torus -- the same torus as a ray_implicit_surface for the
-** generic method: its exact signed distance (Lipschitz constant 1), its
-** gradient and the same (u, v).  The params are BORROWED (they are the
-** surface's ud).  RAY_OK, or RAY_EINVAL (nothing written).
 */
 typedef struct ray_torus_params {
     ray_vec3 center;
@@ -2201,8 +2181,6 @@ typedef struct ray_torus_params {
 
 RAY_API int ray_torus(const ray_ray *r, const ray_torus_params *t,
                       ray_hit *hit);
-RAY_API int ray_implicit_torus(const ray_torus_params *t,
-                               ray_implicit_surface *out);
 
 /*
 ** ray_box -- ray against the oriented box of half-extents h =

@@ -811,9 +811,9 @@ START_TEST(scene_capsule_should_count_under_its_kind)
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_capsule(s, &c, 0, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 0, 4);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
     ck_assert_uint_gt(st.tests_by_kind[RAY_PRIM_CAPSULE], 0);
     for (k = 0; k < RAY_PRIM_KINDS_MAX; k++)

@@ -73,7 +73,7 @@ static ray_photon_map *build(const ray_scene *s, unsigned long long n,
     ray_render_options o;
     ray_photon_map *map = NULL;
 
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = n;
     o.photon_radius = radius;
     o.threads = threads;
@@ -230,9 +230,9 @@ START_TEST(photons_of_unequal_lights_should_be_shared_by_power)
         q += p[i] * omega[i] / (4 * PI);
     /* Stored photons, counted by a render's pass (the same seed and
     ** count as build(): the same photons). */
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 0.5, 3);
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = N;
     o.threads = 2;
     o.seed = 19;
@@ -412,10 +412,10 @@ static ray_stats render(const ray_scene *s, unsigned long long photons,
     ray_render_options o;
     ray_stats st;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 4, 7.5);
     cam.look_at = vec(0, 0.5, 0);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = threads;
     o.photons = photons;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
@@ -626,7 +626,7 @@ START_TEST(caustics_should_be_the_same_bytes_at_any_thread_count)
     ray_stats st[3];
     unsigned t;
 
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.photons = 20000;       /* 5 chunks of 4096: every thread has some */
     for (t = 0; t < 3; t++) {
         o.threads = t + 1;
@@ -664,7 +664,7 @@ START_TEST(bad_photon_settings_should_be_refused)
     ray_photon_map *map = (ray_photon_map *)&o;    /* a sentinel */
     size_t k;
 
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     ck_assert_uint_eq(o.photons, 0);                /* the default: off */
     ck_assert(o.photon_radius == 0);                /* automatic */
     memset(img, 0x5a, sizeof img);
@@ -725,7 +725,7 @@ START_TEST(misuse_should_be_answered)
     ray_light l = point_light(vec(0, 1, 0), rgb(1, 1, 1));
     unsigned pm, mm;
 
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 10;
     ck_assert_int_eq(ray_photon_map_build(NULL, &o, &got), RAY_EINVAL);
     ck_assert_int_eq(ray_photon_map_build(s, NULL, &got), RAY_EINVAL);

@@ -160,7 +160,7 @@ START_TEST(mip_1xN_should_halve_one_side_and_1x1_stay)
     ck_assert_double_eq_tol(texel(wide, 3, 0, 0, 0), 4.0, 3 * level_tol(4));
 
     ck_assert_uint_eq(ray__image_levels(one), 1);
-    ck_assert_int_eq(ray_image_sample_footprint(one, 0.3, 0.7, 1e9, &c),
+    ck_assert_int_eq(ray_image_sample(one, 0.3, 0.7, 1e9, &c),
                      RAY_OK);
     ck_assert_double_eq(c.r, 0.0);
     ck_assert_double_eq(c.g, 1.0);
@@ -186,8 +186,8 @@ START_TEST(footprint_within_a_texel_should_be_the_plain_sample)
         double s = 4 * rng_unit(&g) - 2, t = 4 * rng_unit(&g) - 2;
         double w = (i % 3 == 0) ? 0.0 : rng_unit(&g) / 8;
         ray_rgb a, b;
-        ck_assert_int_eq(ray_image_sample(img, s, t, &a), RAY_OK);
-        ck_assert_int_eq(ray_image_sample_footprint(img, s, t, w, &b),
+        ck_assert_int_eq(ray_image_sample(img, s, t, 0, &a), RAY_OK);
+        ck_assert_int_eq(ray_image_sample(img, s, t, w, &b),
                          RAY_OK);
         ck_assert(rgb_same(a, b));
     }
@@ -206,26 +206,26 @@ START_TEST(footprint_should_pick_and_blend_levels)
     /* lambda = log2(w 8) = 1: level 1 (4 x 4) alone.  Its bilinear
     ** sample at (s, t): x = 0.3 * 4 - 0.5 = 0.7, y = 0.4 * 4 - 0.5 =
     ** 1.1, texel (x, y) of level 1 red = 2x + 0.5 + 8 (2y + 0.5). */
-    ck_assert_int_eq(ray_image_sample_footprint(img, s, t, 0.25, &at1),
+    ck_assert_int_eq(ray_image_sample(img, s, t, 0.25, &at1),
                      RAY_OK);
     want = (2 * 0.7 + 0.5) + 8 * (2 * 1.1 + 0.5);
     /* The bilinear weights carry a few roundings of 2^-53 on values
     ** below 64: 1e-12 is far above them and far below a texel step. */
     ck_assert_double_eq_tol(at1.r, want, 1e-12);
-    ck_assert_int_eq(ray_image_sample_footprint(img, s, t, 0.5, &at2),
+    ck_assert_int_eq(ray_image_sample(img, s, t, 0.5, &at2),
                      RAY_OK);
-    ck_assert_int_eq(ray_image_sample_footprint(img, s, t, sqrt(0.125),
+    ck_assert_int_eq(ray_image_sample(img, s, t, sqrt(0.125),
                                                 &mid), RAY_OK);
     /* lambda = 1.5: halfway between levels 1 and 2 (the blend's own
     ** roundings, with log2's, stay within 1e-12 of values below 64). */
     ck_assert_double_eq_tol(mid.r, 0.5 * (at1.r + at2.r), 1e-12);
     ck_assert_double_eq_tol(mid.b, 0.5 * (at1.b + at2.b), 1e-12);
     /* Past the last level (lambda >= 3), +Inf included: the mean. */
-    ck_assert_int_eq(ray_image_sample_footprint(img, s, t, HUGE_VAL, &top),
+    ck_assert_int_eq(ray_image_sample(img, s, t, HUGE_VAL, &top),
                      RAY_OK);
     ck_assert_double_eq(top.r, 31.5);
     ck_assert_double_eq(top.b, 3.5);
-    ck_assert_int_eq(ray_image_sample_footprint(img, s, t, 1.0, &top),
+    ck_assert_int_eq(ray_image_sample(img, s, t, 1.0, &top),
                      RAY_OK);
     ck_assert_double_eq(top.r, 31.5);
     ray_image_free(img);
@@ -252,17 +252,17 @@ START_TEST(image_misuse_should_leave_outputs_untouched)
     ck_assert_ptr_eq(img, keep);
     rgb[4] = 1;
     ck_assert_int_eq(ray_image_new(2, 2, rgb, &good), RAY_OK);
-    ck_assert_int_eq(ray_image_sample_footprint(NULL, 0, 0, 0, &c),
+    ck_assert_int_eq(ray_image_sample(NULL, 0, 0, 0, &c),
                      RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample_footprint(good, 0, 0, 0, NULL),
-                     RAY_EINVAL);
-    ck_assert_int_eq(
-        ray_image_sample_footprint(good, 0, 0, (double)NAN, &c), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample_footprint(good, 0, 0, -1e-300, &c),
+    ck_assert_int_eq(ray_image_sample(good, 0, 0, 0, NULL),
                      RAY_EINVAL);
     ck_assert_int_eq(
-        ray_image_sample_footprint(good, (double)NAN, 0, 1, &c), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample_footprint(good, 0, HUGE_VAL, 1, &c),
+        ray_image_sample(good, 0, 0, (double)NAN, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(good, 0, 0, -1e-300, &c),
+                     RAY_EINVAL);
+    ck_assert_int_eq(
+        ray_image_sample(good, (double)NAN, 0, 1, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(good, 0, HUGE_VAL, 1, &c),
                      RAY_EINVAL);
     ck_assert_double_eq(c.r, 7);
     ck_assert_double_eq(c.g, 7);
@@ -283,11 +283,11 @@ START_TEST(image_texture_should_use_the_footprint)
     a.u = 0.3;
     a.v = 0.6;
     tex.fn(tex.ud, &a, &got);
-    ck_assert_int_eq(ray_image_sample(img, 0.3, 0.6, &want), RAY_OK);
+    ck_assert_int_eq(ray_image_sample(img, 0.3, 0.6, 0, &want), RAY_OK);
     ck_assert(rgb_same(got, want));
     a.footprint = 0.3;
     tex.fn(tex.ud, &a, &got);
-    ck_assert_int_eq(ray_image_sample_footprint(img, 0.3, 0.6, 0.3, &want),
+    ck_assert_int_eq(ray_image_sample(img, 0.3, 0.6, 0.3, &want),
                      RAY_OK);
     ck_assert(rgb_same(got, want));
     ray_image_free(img);
@@ -515,13 +515,12 @@ START_TEST(cone_should_pass_head_on_through_a_pane_unchanged)
 {
     cone_seen seen;
     ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
-    ray_glass_params gp;
+    ray_glass_params gp = {0};       /* window glass, ior 1.5 */
     ray_material glass;
     ray_scene *s = new_scene();
     unsigned mid, gid;
     ray_vec3 quad[4];
 
-    ray_glass_params_init(&gp);
     glass = ray_material_glass(&gp);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
@@ -562,7 +561,6 @@ static ray_scene *slab_scene(cone_seen *seen)
     ray_vec3 top[4], bottom[4];
     int i;
 
-    ray_glass_params_init(&gp);
     glass = ray_material_glass(&gp);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
@@ -625,13 +623,12 @@ START_TEST(cone_should_focus_behind_a_glass_ball)
     for (i = 0; i < 2; i++) {
         cone_seen seen;
         ray_material m = recorder(&seen, RAY_EFFECT_TEXTURE);
-        ray_glass_params gp;
+        ray_glass_params gp = {0};       /* window glass, ior 1.5 */
         ray_material glass;
         ray_scene *s = new_scene();
         unsigned mid, gid;
 
-        ray_glass_params_init(&gp);
-        glass = ray_material_glass(&gp);
+            glass = ray_material_glass(&gp);
         ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
         ck_assert_int_eq(ray_scene_add_material(s, &glass, &gid), RAY_OK);
         ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -D), R, gid,
@@ -807,7 +804,7 @@ static ray_camera floor_camera(void)
 {
     ray_camera cam;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 1, 0);
     cam.look_at = vec(0, 0.8, -10);
     cam.vfov = 40;
@@ -830,12 +827,12 @@ START_TEST(render_should_give_camera_rays_the_pixel_cone)
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -5), vec(0, 0, 1), mid,
                                          NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.vfov = 30;
     /* One pixel of an h-tall frame, rendered alone (rows 25 .. 26 of a
     ** 1-wide frame: the centre row), one thread: the recorder is not
     ** shared. */
-    ray_render_options_init(&o, 1, h);
+    o = (ray_render_options){.width = 1, .height = h};
     ck_assert_int_eq(o.no_cones, 0);             /* cones on: the default */
     o.threads = 1;
     o.y0 = h / 2;
@@ -880,7 +877,7 @@ static ray_image *checker_image(void)
 /* The unfiltered texture: ray_image_sample whatever the footprint. */
 static void plain_texture(void *ud, const ray_shade_args *a, ray_rgb *out)
 {
-    ray_image_sample(ud, a->u, a->v, out);
+    ray_image_sample(ud, a->u, a->v, 0, out);
 }
 
 /* A Phong floor textured by "tex" under a point light, to the horizon. */
@@ -915,7 +912,7 @@ static void render_floor(ray_scene *s, unsigned threads, unsigned samples,
     ray_camera cam = floor_camera();
     ray_render_options o;
 
-    ray_render_options_init(&o, FW, FH);
+    o = (ray_render_options){.width = FW, .height = FH};
     o.threads = threads;
     o.samples = samples;
     o.no_cones = !cones;

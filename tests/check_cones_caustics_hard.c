@@ -93,7 +93,7 @@ START_TEST(hard_photon_pass_allocates_on_caller_thread_only)
     pthread_mutex_init(&t.lock, NULL);
     t.off_thread = 0;
     s = mirror_scene(owner_alloc, &t, I, NULL);
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 100000;
     o.threads = 1;
     ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
@@ -134,7 +134,7 @@ START_TEST(hard_map_free_after_scene_free)
     ray_rgb I = {1, 1, 1};
     ray_scene *s = mirror_scene(poison_alloc, NULL, I, NULL);
 
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 10000;
     o.threads = 1;
     ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
@@ -163,7 +163,7 @@ START_TEST(hard_huge_intensity_caustic_is_finite)
     ray_ctx *ctx;
     ray_rgb e;
 
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 100000;
     o.photon_radius = 0.25;
     o.threads = 1;
@@ -192,7 +192,7 @@ START_TEST(hard_huge_intensity_phong_caustic_no_nan)
     ray_ctx *ctx;
     ray_rgb e;
 
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 100000;
     o.photon_radius = 0.25;
     o.threads = 1;
@@ -227,8 +227,8 @@ START_TEST(hard_render_radius_area_overflow_einval)
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, 0, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
-    ray_render_options_init(&o, 1, 1);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 1000;
     o.photon_radius = 1e200;    /* pi r^2 = +Inf */
     ck_assert_int_eq(ray_render(s, &cam, &o, px, NULL), RAY_EINVAL);
@@ -391,13 +391,13 @@ START_TEST(hard_image_strip_mean)
         px[3 * i] = px[3 * i + 1] = px[3 * i + 2] = (float)(i % 2);
     ck_assert_int_eq(ray_image_new(1, n, px, &a), RAY_OK);
     ck_assert_int_eq(ray_image_new(n, 1, px, &b), RAY_OK);
-    ck_assert_int_eq(ray_image_sample_footprint(a, 0.3, 0.7, HUGE_VAL, &ca),
+    ck_assert_int_eq(ray_image_sample(a, 0.3, 0.7, HUGE_VAL, &ca),
                      RAY_OK);
-    ck_assert_int_eq(ray_image_sample_footprint(b, 0.3, 0.7, HUGE_VAL, &cb),
+    ck_assert_int_eq(ray_image_sample(b, 0.3, 0.7, HUGE_VAL, &cb),
                      RAY_OK);
     ck_assert_double_eq_tol(ca.r, 0.5, 1e-6);
     ck_assert_double_eq_tol(cb.r, 0.5, 1e-6);
-    ck_assert_int_eq(ray_image_sample_footprint(b, 0.3, 0.7, 1.0 / 3000, &cb),
+    ck_assert_int_eq(ray_image_sample(b, 0.3, 0.7, 1.0 / 3000, &cb),
                      RAY_OK);
     ck_assert_double_eq_tol(cb.r, 0.5, 1e-6);
     ray_image_free(a);
@@ -442,7 +442,7 @@ static double offset_irradiance(double off)
                                             NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 1000000;
     o.photon_radius = 0.25;
     o.threads = 2;
@@ -519,7 +519,7 @@ START_TEST(hard_directional_light_over_scattering_pool)
                      RAY_OK);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = (unsigned long long)N;
     o.photon_radius = r;
     o.threads = 2;

@@ -41,6 +41,12 @@ static void add_lights(ray_scene *s, int which)
     }
 }
 
+/* The default tree limits in the naive mode (ray_limits.no_pruning). */
+static const ray_limits naive_limits = {.max_depth = RAY_DEFAULT_MAX_DEPTH,
+                                        .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                                        .max_fanout = RAY_DEFAULT_MAX_FANOUT,
+                                        .no_pruning = 1};
+
 /* A floor and a ball of material "m" under light set "which", seen from
 ** above at an angle, rendered at W x H, one sample a pixel, 2 threads. */
 static ray_stats render_scene(const ray_material *m, int which, int prune,
@@ -52,19 +58,19 @@ static ray_stats render_scene(const ray_material *m, int which, int prune,
     ray_stats st;
     unsigned mat;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 5, 5);
     cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 1, 0);
     cam.vfov = 50;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_limits(s, prune ? NULL : &naive_limits), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 0.7, mat, NULL), RAY_OK);
     add_lights(s, which);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     o.seed = 12345;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
@@ -310,7 +316,7 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
     ray_stats st;
     unsigned mat;
 
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 10, 0);
     cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 0, -1);
@@ -318,12 +324,12 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
     ray_light_init(&l, RAY_LIGHT_POINT);
     l.position = vec(0.5, c->light_y, 0.25);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_limits(s, prune ? NULL : &naive_limits), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
     ray_scene_free(s);

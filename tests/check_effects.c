@@ -7,6 +7,7 @@
 #include <string.h>
 #include <stdlib.h>
 
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 #define W 16
@@ -29,7 +30,7 @@ static ray_stats render_counts(const ray_scene *s, const ray_camera *cam,
     ray_render_options o;
     ray_stats st;
 
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     ck_assert_int_eq(ray_render(s, cam, &o, img, &st), RAY_OK);
     return st;
@@ -138,7 +139,7 @@ static void add_one_kind(ray_scene *s, int which, unsigned mat,
         *counter = RAY_PRIM_TORUS;
         break;
     case 6:
-        ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+        ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
         rc = ray_scene_add_implicit(s, &is, mat, NULL);
         *counter = RAY_PRIM_IMPLICIT;
         break;
@@ -202,7 +203,8 @@ START_TEST(mirror_box_should_stop_at_the_depth_bound)
 {
     ray_rgb one = {1, 1, 1};
     ray_material m = ray_material_mirror(&one);
-    ray_limits lim = {5, 0.0, 2};
+    ray_limits lim = {.max_depth = 5, .min_weight = 0.0,
+                      .max_fanout = 2};
     ray_camera cam;
     ray_scene *s;
     ray_stats st;
@@ -250,7 +252,8 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
         ray_glass_params unused_glass = {1.5, {0, 0, 0}};
         ray_material m = ray_material_mirror(&half),
                      g = ray_material_glass(&unused_glass);
-        ray_limits lim = {8, 0.1, 2};
+        ray_limits lim = {.max_depth = 8, .min_weight = 0.1,
+                          .max_fanout = 2};
         ray_scene *s;
         ray_ctx *ctx;
         ray_stats st;
@@ -263,12 +266,12 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
         ck_assert_int_eq(ray_scene_add_material(s, &g, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 1, 0), vec(0, -1, 0), mat, NULL), RAY_OK);
+        lim.no_pruning = !prune;
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
-        ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         /* A setting after commit is staged: no context until the next
         ** commit. */
-        ck_assert_int_eq(ray_scene_set_pruning(s, prune), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
         ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_ESTATE);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         ck_assert_uint_eq(ray_scene_effects(s), RAY_EFFECT_REFLECTION);
@@ -281,8 +284,57 @@ START_TEST(pruning_should_trace_fewer_rays_than_naive_mode)
     }
     ck_assert_uint_eq(refl[1], 3);
     ck_assert_uint_eq(refl[0], 8);
-    ck_assert_int_eq(ray_scene_set_pruning(NULL, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_limits(NULL, NULL), RAY_EINVAL);
     ck_assert_uint_eq(ray_scene_effects(NULL), 0);
+}
+END_TEST
+
+/* Records the args->prune its shading saw. */
+static void prune_probe(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                        ray_rgb *out)
+{
+    (void)ctx;
+    (void)out;
+    *(int *)ud = a->prune;
+}
+
+/*
+** The naive mode is a field of the limits (issue 37): the materials see
+** args->prune 0 while no_pruning is set, 1 by default and again once
+** ray_scene_set_limits(scene, NULL) restores the defaults.
+*/
+START_TEST(no_pruning_should_follow_the_limits)
+{
+    int seen = -1;
+    ray_material m = {prune_probe, &seen, 0, NULL};
+    ray_limits lim;
+    ray_ray r = ray_from(vec(0, 1, 0), vec(0, -1, 0));
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_rgb c;
+    int k;
+    const int want[3] = {1, 0, 1};
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), 0,
+                                         NULL), RAY_OK);
+    ray_limits_init(&lim);
+    lim.no_pruning = 1;
+    for (k = 0; k < 3; k++) {
+        if (k == 1)
+            ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
+        if (k == 2)
+            ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_ctx_new(s, 0, &ctx), RAY_OK);
+        seen = -1;
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c),
+                         RAY_OK);
+        ck_assert_int_eq(seen, want[k]);
+        ray_ctx_free(ctx);
+    }
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -345,7 +397,7 @@ static void aa_build(aa_scene *t)
     l.position = vec(3, 6, 4);
     l.intensity = rgb(40, 40, 40);
     ck_assert_int_eq(ray_scene_add_light(t->s, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(t->s, rgb(0.3, 0.4, 0.6)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->s, rgb(0.3, 0.4, 0.6), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(t->s), RAY_OK);
     t->cam.position = vec(0, 2, 6);
     t->cam.look_at = vec(0, 0.8, 0);
@@ -363,7 +415,7 @@ static float *aa_render(aa_scene *t, double threshold, unsigned depth,
     ray_render_options o;
     float *img = malloc(sizeof(float) * 3 * AW * AH);
 
-    ray_render_options_init(&o, AW, AH);
+    o = (ray_render_options){.width = AW, .height = AH};
     o.adaptive_threshold = threshold;
     o.adaptive_depth = depth;
     o.samples = samples;
@@ -470,10 +522,10 @@ START_TEST(adaptive_should_trace_each_lattice_row_once)
     size_t k;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.3, 0.4, 0.6)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.3, 0.4, 0.6), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
-    ray_render_options_init(&o, AW, AH);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
+    o = (ray_render_options){.width = AW, .height = AH};
     o.adaptive_threshold = 0.01;
     o.threads = 1;
     ck_assert_int_eq(ray_render(s, &cam, &o, one, &st), RAY_OK);
@@ -539,14 +591,14 @@ START_TEST(adaptive_should_trace_each_lattice_point_once)
     size_t k;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, slope_background, NULL),
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), slope_background, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     for (d = 1; d <= 3; d++) {
         unsigned long long side = 1ull << d, row = AW * side + 1;
         unsigned long long per_pixel = 4 + 5 * (((1ull << (2 * d)) - 1) / 3);
-        ray_render_options_init(&o, AW, AH);
+        o = (ray_render_options){.width = AW, .height = AH};
         o.adaptive_threshold = 1e-12;
         o.adaptive_depth = d;
         o.threads = 1;
@@ -639,12 +691,12 @@ static ray_stats render_sky(const sky_edge *e, double threshold)
     ray_stats st;
     float img[3 * AW * AH];
 
-    ray_camera_init(&cam);                /* looking down -z */
+    cam = (ray_camera){.look_at = {0, 0, -1}};                /* looking down -z */
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, sky_with_edge,
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), sky_with_edge,
                                                  ray__test_unconst(e)), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, AW, AH);
+    o = (ray_render_options){.width = AW, .height = AH};
     o.adaptive_threshold = threshold;
     o.adaptive_depth = 2;
     /* One thread: with several, a band that does not follow its
@@ -706,7 +758,7 @@ START_TEST(adaptive_should_reject_bad_options)
     float img[3 * AW * AH];
 
     aa_build(&t);
-    ray_render_options_init(&o, AW, AH);
+    o = (ray_render_options){.width = AW, .height = AH};
     ck_assert_uint_eq(o.adaptive_depth, 0);   /* zero: the default, 2 */
     ck_assert(o.adaptive_threshold == 0);
     o.adaptive_threshold = -1;
@@ -733,6 +785,7 @@ Suite *effects_suite(void)
     tcase_add_test(counts, tests_should_count_under_each_kinds_counter);
     tcase_add_test(counts, mirror_box_should_stop_at_the_depth_bound);
     tcase_add_test(counts, pruning_should_trace_fewer_rays_than_naive_mode);
+    tcase_add_test(counts, no_pruning_should_follow_the_limits);
     tcase_add_test(counts, texture_effect_should_follow_the_materials);
     tcase_add_test(aa, adaptive_should_stay_within_its_sample_bounds);
     tcase_add_test(aa, adaptive_should_be_deterministic);

@@ -710,7 +710,7 @@ static int light_too_many_samples(ray_scene *s)
 
 static int background_negative(ray_scene *s)
 {
-    return ray_scene_set_background(s, rgb(0.5, -0.25, 0));
+    return ray_scene_set_background(s, rgb(0.5, -0.25, 0), NULL, NULL);
 }
 
 static int ambient_nan(ray_scene *s)
@@ -720,13 +720,15 @@ static int ambient_nan(ray_scene *s)
 
 static int limits_weight_above_one(ray_scene *s)
 {
-    ray_limits lim = {3, 2.0, 1};
+    ray_limits lim = {.max_depth = 3, .min_weight = 2.0,
+                      .max_fanout = 1};
     return ray_scene_set_limits(s, &lim);
 }
 
 static int limits_too_deep(ray_scene *s)
 {
-    ray_limits lim = {RAY_MAX_DEPTH + 1, 0.5, 1};
+    ray_limits lim = {.max_depth = RAY_MAX_DEPTH + 1, .min_weight = 0.5,
+                      .max_fanout = 1};
     return ray_scene_set_limits(s, &lim);
 }
 
@@ -937,6 +939,14 @@ END_TEST
 
 /* ------------------------------------------------ state, NULL, memory */
 
+/* A background function: the preset colour, made grey. */
+static void grey_sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud;
+    (void)r;
+    out->r = out->g = out->b = 0.5;
+}
+
 /* Each building call, with valid arguments, on a committed scene. */
 static int after_commit(ray_scene *s, int k)
 {
@@ -946,10 +956,13 @@ static int after_commit(ray_scene *s, int k)
     ray_implicit_surface is = implicit_ok();
     ray_parametric_surface ps = parametric_ok();
     ray_vec3 cp[16];
+    ray_limits naive;
     mesh_data d;
 
     bezier_ok(cp);
     mesh_init(&d);
+    ray_limits_init(&naive);
+    naive.no_pruning = 1;                /* the naive mode (case 15) */
     switch (k) {
     case 0: return ray_scene_add_material(s, &m, NULL);
     case 1: return ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0, NULL);
@@ -962,11 +975,11 @@ static int after_commit(ray_scene *s, int k)
     case 8: return ray_scene_add_parametric(s, &ps, 0, NULL);
     case 9: return ray_scene_add_bezier(s, cp, 0, NULL);
     case 10: return ray_scene_add_light(s, &l, NULL);
-    case 11: return ray_scene_set_background(s, rgb(0, 0, 0));
-    case 12: return ray_scene_set_background_fn(s, NULL, NULL);
+    case 11: return ray_scene_set_background(s, rgb(0, 0, 0), NULL, NULL);
+    case 12: return ray_scene_set_background(s, rgb(0, 0, 0), grey_sky, NULL);
     case 13: return ray_scene_set_ambient(s, rgb(0, 0, 0));
     case 14: return ray_scene_set_limits(s, NULL);
-    case 15: return ray_scene_set_pruning(s, 0);
+    case 15: return ray_scene_set_limits(s, &naive);
     case 16: return ray_scene_set_watertight(s, 0);
     case 17: return ray_scene_set_build_threads(s, 2);
     default: return ray_scene_commit(s);
@@ -978,8 +991,9 @@ static const char *const building_calls[] = {
     "ray_scene_add_triangle", "ray_scene_add_polygon", "ray_scene_add_mesh",
     "ray_scene_add_torus", "ray_scene_add_implicit",
     "ray_scene_add_parametric", "ray_scene_add_bezier", "ray_scene_add_light",
-    "ray_scene_set_background", "ray_scene_set_background_fn",
-    "ray_scene_set_ambient", "ray_scene_set_limits", "ray_scene_set_pruning",
+    "ray_scene_set_background", "ray_scene_set_background (fn)",
+    "ray_scene_set_ambient", "ray_scene_set_limits",
+    "ray_scene_set_limits (no_pruning)",
     "ray_scene_set_watertight", "ray_scene_set_build_threads",
     "ray_scene_commit"};
 
@@ -1041,7 +1055,7 @@ START_TEST(errmsg_should_follow_the_most_recent_call)
                      "does not exist (the scene has 0)");
     ck_assert_int_eq(ray_scene_set_ambient(s, rgb(-1, 0, 0)), RAY_EINVAL);
     ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "ray_scene_set_ambient"));
-    ck_assert_int_eq(ray_scene_set_pruning(s, 1), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_OK);
     ck_assert_str_eq(ray_scene_errmsg(s), "");
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);

@@ -108,15 +108,15 @@ START_TEST(meshes_without_material_should_render_black)
     ray_light_init(&light, RAY_LIGHT_POINT);
     light.position = vec(0, 0, 10);
     ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, sky), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, sky, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_uint_eq(ray_scene_effects(s), 0u);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 0, 8);
     cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 1, 0);
     cam.vfov = 30;
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = 2;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
     for (i = 0; i < W * H; i++) {

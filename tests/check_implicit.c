@@ -337,7 +337,7 @@ static double torus_distance(ray_vec3 p, const ray_torus_params *t)
 
 /*
 ** The quartic (ray_torus) and the generic method on the torus's distance
-** function (ray_implicit_torus) agree on random rays through the torus's
+** function (ray__implicit_torus) agree on random rays through the torus's
 ** box: the same hit or miss, except that the generic method may report a
 ** ray passing within its tolerance as touching (a hit whose point is
 ** then within tol of the exact torus; fewer than 1% of the rays); the
@@ -356,7 +356,7 @@ START_TEST(torus_quartic_should_agree_with_generic_method)
     int n, hits = 0, touches = 0;
     double tol;
 
-    ck_assert_int_eq(ray_implicit_torus(&t, &s), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &s), RAY_OK);
     tol = default_tol(&s);
     for (n = 0; n < 20000; n++) {
         ray_vec3 o = vadd(t.center, vscale(rng_dir(&g), 3.0));
@@ -459,7 +459,7 @@ START_TEST(torus_should_classify_tangent_rays)
     t.axis = vec(0, 1, 0);
     t.major = 1.0;
     t.minor = 0.25;
-    ck_assert_int_eq(ray_implicit_torus(&t, &s), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &s), RAY_OK);
     ck_assert_int_eq(ray_torus(&touch, &t, &h), 1);
     /* A double root is located to ~sqrt(eps) relative: 1e-6 is ample. */
     ck_assert_double_eq_tol(h.t, 2.0, 1e-6);
@@ -518,13 +518,13 @@ START_TEST(torus_should_miss_on_bad_input)
     ck_assert_int_eq(ray_torus(&r, NULL, &h), 0);
     t.axis = vec(0, 0, 0);
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
-    ck_assert_int_eq(ray_implicit_torus(&t, &s), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(&t, &s), RAY_EINVAL);
     t.axis = vec(0, 1, 0);
     t.minor = 0;
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
     t.minor = 1.0;                      /* spindle: refused */
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
-    ck_assert_int_eq(ray_implicit_torus(&t, &s), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(&t, &s), RAY_EINVAL);
     t.minor = 0.25;
     t.major = (double)NAN;
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
@@ -535,7 +535,7 @@ START_TEST(torus_should_miss_on_bad_input)
     r.org.y = HUGE_VAL;
     ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
     ck_assert(hit_is_poisoned(&h));
-    ck_assert_int_eq(ray_implicit_torus(&t, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(&t, NULL), RAY_EINVAL);
 }
 END_TEST
 

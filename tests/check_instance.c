@@ -639,8 +639,8 @@ START_TEST(instances_should_move_and_follow_their_child)
         ck_assert_int_eq(ray_intersect_all(top, &miss, NULL, all, 4, &count), -RAY_ESTATE);
         ck_assert_uint_eq(count, 77);
         ck_assert(hit_is_poisoned(&all[0]));
-        ray_camera_init(&cam);
-        ray_render_options_init(&opt, 2, 2);
+        cam = (ray_camera){.look_at = {0, 0, -1}};
+        opt = (ray_render_options){.width = 2, .height = 2};
         ck_assert_int_eq(ray_render(top, &cam, &opt, px, NULL), RAY_ESTATE);
     }
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);

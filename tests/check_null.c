@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 #ifndef RAY_TEST_PNG
@@ -69,7 +70,7 @@ START_TEST(primitives_should_miss_on_null)
     tp.major = 1, tp.minor = 0.25;
     for (i = 0; i < 16; i++)
         cp[i] = vec(i % 4, i / 4, 0);
-    ck_assert_int_eq(ray_implicit_torus(&tp, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&tp, &is), RAY_OK);
     ck_assert_int_eq(ray_bezier_surface(cp, &ps), RAY_OK);
 
     ck_assert_int_eq(ray_sphere(NULL, vec(0, 0, 0), 1, &h), 0);
@@ -94,8 +95,8 @@ START_TEST(primitives_should_miss_on_null)
     ck_assert_int_eq(ray_parametric(&r, &ps, NULL), -RAY_EINVAL);
     ck_assert_int_eq(ray_barycentric(a, a, b, c, NULL, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_barycentric(a, a, b, c, abg, NULL), RAY_OK);
-    ck_assert_int_eq(ray_implicit_torus(NULL, &is), RAY_EINVAL);
-    ck_assert_int_eq(ray_implicit_torus(&tp, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(NULL, &is), RAY_EINVAL);
+    ck_assert_int_eq(ray__implicit_torus(&tp, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_implicit_blobs(NULL, &is), RAY_EINVAL);
     ck_assert_int_eq(ray_bezier_surface(NULL, &ps), RAY_EINVAL);
     ck_assert_int_eq(ray_bezier_surface(cp, NULL), RAY_EINVAL);
@@ -118,6 +119,20 @@ START_TEST(spawn_and_optics_should_refuse_null)
 }
 END_TEST
 
+/* A background function that leaves the preset colour. */
+static void null_sky(void *ud, const ray_ray *r, ray_rgb *out)
+{
+    (void)ud;
+    (void)r;
+    (void)out;
+}
+
+/* The default tree limits in the naive mode (ray_limits.no_pruning). */
+static const ray_limits naive_limits = {.max_depth = RAY_DEFAULT_MAX_DEPTH,
+                                        .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                                        .max_fanout = RAY_DEFAULT_MAX_FANOUT,
+                                        .no_pruning = 1};
+
 START_TEST(scene_calls_should_refuse_null)
 {
     ray_scene *s = NULL;
@@ -139,7 +154,7 @@ START_TEST(scene_calls_should_refuse_null)
     tp.major = 1, tp.minor = 0.25;
     for (i = 0; i < 16; i++)
         cp[i] = vec(i % 4, i / 4, 0);
-    ck_assert_int_eq(ray_implicit_torus(&tp, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&tp, &is), RAY_OK);
     ck_assert_int_eq(ray_bezier_surface(cp, &ps), RAY_OK);
     ck_assert_int_eq(ray_scene_new(NULL, NULL, NULL), RAY_EINVAL);
     ray_scene_free(NULL);
@@ -159,12 +174,13 @@ START_TEST(scene_calls_should_refuse_null)
                      RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_bezier(NULL, cp, 0, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_light(NULL, &l, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background(NULL, black_rgb), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background_fn(NULL, NULL, NULL),
+    ck_assert_int_eq(ray_scene_set_background(NULL, black_rgb, NULL, NULL),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_background(NULL, black_rgb, null_sky, NULL),
                      RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_ambient(NULL, black_rgb), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_limits(NULL, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_pruning(NULL, 1), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_limits(NULL, &naive_limits), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_watertight(NULL, 1), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_build_threads(NULL, 2), RAY_EINVAL);
     ck_assert_uint_eq(ray_scene_effects(NULL), 0);
@@ -329,8 +345,7 @@ START_TEST(context_and_render_calls_should_refuse_null)
     memset(&cam, 0, sizeof cam);
     cam.position = vec(0, 0, 5), cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 1, 0), cam.vfov = 40;
-    ray_render_options_init(NULL, 4, 4);
-    ray_render_options_init(&o, 4, 4);
+    o = (ray_render_options){.width = 4, .height = 4};
     /* One thread: the probe material counts into one struct, and render
     ** threads would update it concurrently (a data race TSan reports). */
     o.threads = 1;
@@ -370,23 +385,23 @@ START_TEST(image_calls_should_refuse_null)
     ray_rgb c;
     ray_texture t;
 
-    ck_assert_int_eq(ray_image_load_png(NULL, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(NULL, NULL, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, NULL), RAY_EINVAL);
     ray_image_free(NULL);
     ray_image_size(NULL, &w, &h);
     ck_assert_uint_eq(w, 7);          /* no image: nothing written */
     ck_assert_uint_eq(h, 7);
-    ck_assert_int_eq(ray_image_sample(NULL, 0.5, 0.5, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(NULL, 0.5, 0.5, 0, &c), RAY_EINVAL);
 #if RAY_TEST_PNG
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img), RAY_OK);
 #else
     /* No libpng (make PNG=0): an image made as the loader makes them. */
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_ENOTSUP);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img), RAY_ENOTSUP);
     img = ray__image_new(1, 1, calloc(3, sizeof(float)));
     ck_assert_ptr_nonnull(img);
 #endif
     ray_image_size(img, NULL, NULL);
-    ck_assert_int_eq(ray_image_sample(img, 0.5, 0.5, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, 0.5, 0.5, 0, NULL), RAY_EINVAL);
     ray_image_free(img);
     t = ray_texture_image(NULL);
     ck_assert(t.fn == NULL);

@@ -59,7 +59,7 @@ static void build(test_scene *t)
     l.intensity = rgb(30, 30, 30);
     l.samples = 4;
     ck_assert_int_eq(ray_scene_add_light(t->scene, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb(0.1, 0.2, 0.9)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(t->scene, rgb(0.1, 0.2, 0.9), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(t->scene), RAY_OK);
     t->cam.position = vec(0, 1.5, 6);
     t->cam.look_at = vec(0, 1, 0);
@@ -75,7 +75,7 @@ static float *render_with(test_scene *t, unsigned threads, unsigned y0,
     float *img = malloc(sizeof(float) * 3 * W * H);
 
     ck_assert_ptr_nonnull(img);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     opt.threads = threads;
     opt.samples = 4;
     opt.seed = 2026;
@@ -151,7 +151,7 @@ static void *render_thread(void *arg)
     render_call *c = arg;
     ray_render_options opt;
 
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     opt.threads = 2;
     opt.samples = 4;
     opt.seed = 2026;
@@ -209,7 +209,7 @@ START_TEST(render_should_cancel_from_progress)
     unsigned calls = 0;
 
     build(&t);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     opt.threads = 2;
     opt.progress = cancel_after_three;
     opt.progress_ud = &calls;
@@ -252,7 +252,7 @@ START_TEST(render_should_reject_bad_options)
     ray_scene *open_scene;
 
     build(&t);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     ck_assert_int_eq(ray_render(NULL, &t.cam, &opt, img, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_render(t.scene, NULL, &opt, img, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_render(t.scene, &t.cam, NULL, img, NULL), RAY_EINVAL);
@@ -263,16 +263,16 @@ START_TEST(render_should_reject_bad_options)
     opt.y0 = 0;
     opt.y1 = H + 1;
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
-    ray_render_options_init(&opt, 0, H);
+    opt = (ray_render_options){.width = 0, .height = H};
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     opt.samples = 0;                           /* zero is the default: 1 */
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_OK);
     opt.samples = RAY_MAX_PIXEL_SAMPLES + 1;   /* also: no endless loop */
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
     opt.samples = 0xffffffffu;
     ck_assert_int_eq(ray_render(t.scene, &t.cam, &opt, img, NULL), RAY_EINVAL);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     cam = t.cam;
     cam.look_at = cam.position;
     ck_assert_int_eq(ray_render(t.scene, &cam, &opt, img, NULL), RAY_EINVAL);
@@ -353,7 +353,7 @@ static void break_one(int k, ray_render_options *o, ray_camera *c,
     case 12: c->look_at = vec(c->position.x, c->position.y, 0);
              c->up = vec(0, 0, -1); break;
     case 13: c->aperture = -1; break;
-    case 14: ck_assert_int_eq(ray_scene_set_pruning(s, 1), RAY_OK); break;
+    case 14: ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_OK); break;
     default: break;
     }
 }
@@ -378,7 +378,7 @@ START_TEST(render_check_should_say_which_option_and_why)
     int rc;
 
     build(&t);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     cam = t.cam;
     ck_assert_int_eq(ray_render_check(t.scene, &cam, &o, NULL, msg, sizeof msg), RAY_OK);
     ck_assert_str_eq(msg, "");
@@ -425,7 +425,7 @@ START_TEST(render_check_should_accept_the_last_value_of_each_range)
 
     build(&t);
     for (k = 0; k < 9; k++) {
-        ray_render_options_init(&o, W, H);
+        o = (ray_render_options){.width = W, .height = H};
         cam = t.cam;
         switch (k) {
         case 0: o.samples = RAY_MAX_PIXEL_SAMPLES; break;
@@ -505,7 +505,7 @@ static ray_stats render_counted(unsigned threads, unsigned long long *filters,
     m.scatter = NULL;
     ray_light_init(&l, RAY_LIGHT_POINT);
     l.position = vec(2, 5, 3);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 2, 6);
     cam.look_at = vec(0, 0.5, 0);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
@@ -516,7 +516,7 @@ static ray_stats render_counted(unsigned threads, unsigned long long *filters,
                                           RAY_FILTER_INTERSECT), RAY_OK);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     o.threads = threads;
     o.samples = 4;
     ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_OK);
@@ -609,9 +609,9 @@ START_TEST(render_samples_should_cover_every_stratum)
         cam.up = vec(0, 1, 0);
         cam.vfov = 90;
         ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_set_background_fn(s, log_sample, &log), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), log_sample, &log), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        ray_render_options_init(&opt, 1, 1);
+        opt = (ray_render_options){.width = 1, .height = 1};
         opt.samples = n;
         opt.threads = 1;
         ck_assert_int_eq(ray_render(s, &cam, &opt, px, NULL), RAY_OK);
@@ -685,12 +685,12 @@ START_TEST(render_pixels_should_always_be_finite)
             ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0,
                                                   NULL), RAY_OK);
-            ck_assert_int_eq(ray_scene_set_background(s, bg), RAY_OK);
+            ck_assert_int_eq(ray_scene_set_background(s, bg, NULL, NULL), RAY_OK);
             ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
             memset(&cam, 0, sizeof cam);
             cam.position = vec(0, 0, 4), cam.look_at = vec(0, 0, 0);
             cam.up = vec(0, 1, 0), cam.vfov = 40;
-            ray_render_options_init(&o, PW, PH);
+            o = (ray_render_options){.width = PW, .height = PH};
             if (adaptive)
                 o.adaptive_threshold = 0.05;
             ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
@@ -834,10 +834,10 @@ START_TEST(render_check_should_warn_of_nothing_to_see)
     ck_assert_int_eq(ray_scene_set_mask(s, ball, 1), RAY_OK);
     ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
     ck_assert_int_eq(ray_scene_set_enabled(s, ball, 0), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0, 0)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.1, 0, 0), NULL, NULL), RAY_OK);
     ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0)), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background_fn(s, blue_sky, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, 0, 0), blue_sky, NULL), RAY_OK);
     ck_assert_uint_eq(warnings_at(s, vec(0, 0, 5)), 0);
     ray_scene_free(s);
 }
@@ -965,7 +965,7 @@ START_TEST(render_check_warnings_should_follow_the_output_rules)
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     memset(&o, 0, sizeof o);
     ck_assert_int_eq(ray_render_check(s, &cam, &o, &w, msg, sizeof msg),
                      RAY_EINVAL);

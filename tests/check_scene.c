@@ -88,9 +88,10 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
     ck_assert_int_eq(ray_scene_set_ambient(s, rgb(-1, 0, 0)), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, (double)NAN, 0)), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0, (double)NAN, 0), NULL, NULL), RAY_EINVAL);
     {
-        ray_limits lim = {3, 2.0, 1};
+        ray_limits lim = {.max_depth = 3, .min_weight = 2.0,
+                          .max_fanout = 1};
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);
         lim.min_weight = (double)NAN;
         ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_EINVAL);

@@ -21,7 +21,7 @@
 ** the photon pass's included. */
 static void options(ray_render_options *o, unsigned threads)
 {
-    ray_render_options_init(o, W, H);
+    *o = (ray_render_options){.width = W, .height = H};
     o->threads = threads;
     o->adaptive_threshold = 0.05;
     o->adaptive_depth = 2;

@@ -326,7 +326,7 @@ static void render_wall(int axis, int as_plane)
     cam.look_at = on_axis(axis, 0, 0, 0);
     cam.up = on_axis(axis, 0, 1, 0);
     cam.vfov = 60;
-    ray_render_options_init(&o, W, H);
+    o = (ray_render_options){.width = W, .height = H};
     ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
 
     w = unit3(vec(cam.position.x - cam.look_at.x, cam.position.y -

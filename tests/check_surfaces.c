@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "bench.h"
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 /* A scene whose material 0 shades nothing (the tests only intersect). */
@@ -71,7 +72,7 @@ START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
     unsigned id = 77;
 
     dome(cp, 0, 0, 0);
-    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
     ck_assert_int_eq(ray_scene_add_torus(NULL, &t, 0, &id), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_torus(s, NULL, 0, &id), RAY_EINVAL);
     t.minor = -1;
@@ -96,7 +97,7 @@ START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
     /* Valid ones get ids 0, 1, 2, 3 in order. */
     dome(cp, 0, 0, 0);
     ps = wave_surface();
-    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
     ck_assert_int_eq(ray_scene_add_torus(s, &t, 0, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
     ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, &id), RAY_OK);
@@ -208,10 +209,10 @@ START_TEST(scene_should_count_root_failures_as_misses)
     ray_rgb c;
     int n;
 
-    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
     is.max_iterations = 2;
     ck_assert_int_eq(ray_scene_add_implicit(s, &is, 0, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0)),
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0), NULL, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);

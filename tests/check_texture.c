@@ -19,6 +19,7 @@
 #endif
 
 #include "tempfiles.h"
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 #ifndef RAY_TEST_PNG
@@ -67,7 +68,7 @@ static ray_image *load_test_image(void)
 
     test_texels(rgb);
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 16), RAY_OK);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
     ck_assert_ptr_nonnull(img);
     return img;
@@ -110,7 +111,7 @@ START_TEST(image_should_load_16_bit_linear_png_exactly)
             /* Texel (x, y) from the top has its centre at s = (x + 1/2) / 4
             ** and t = 1 - (y + 1/2) / 2. */
             ck_assert_int_eq(ray_image_sample(img, (x + 0.5) / 4,
-                                              1 - (y + 0.5) / 2, &c),
+                                              1 - (y + 0.5) / 2, 0, &c),
                              RAY_OK);
             ck_assert_double_eq_tol(c.r, x / 4.0, Q16);
             ck_assert_double_eq_tol(c.g, y / 2.0, Q16);
@@ -133,22 +134,22 @@ START_TEST(image_should_filter_bilinearly_and_wrap)
     ray_rgb a, b;
 
     /* Between columns 1 and 2 of the top row: r = (0.25 + 0.5) / 2. */
-    ray_image_sample(img, 0.5, 0.75, &a);
+    ray_image_sample(img, 0.5, 0.75, 0, &a);
     ck_assert_double_eq_tol(a.r, 0.375, Q16);
     ck_assert_double_eq_tol(a.g, 0.0, Q16);
     /* Between the rows (t = 0.5): g = (0 + 0.5) / 2. */
-    ray_image_sample(img, 0.125, 0.5, &a);
+    ray_image_sample(img, 0.125, 0.5, 0, &a);
     ck_assert_double_eq_tol(a.g, 0.25, Q16);
     ck_assert_double_eq_tol(a.r, 0.0, Q16);
     /* Wrap: the same colour one and three periods away. */
-    ray_image_sample(img, 0.3, 0.6, &a);
-    ray_image_sample(img, 1.3, -0.4, &b);
+    ray_image_sample(img, 0.3, 0.6, 0, &a);
+    ray_image_sample(img, 1.3, -0.4, 0, &b);
     ck_assert_double_eq_tol(a.r, b.r, 1e-12);
     ck_assert_double_eq_tol(a.g, b.g, 1e-12);
-    ray_image_sample(img, -2.7, 3.6, &b);
+    ray_image_sample(img, -2.7, 3.6, 0, &b);
     ck_assert_double_eq_tol(a.r, b.r, 1e-12);
     /* s = 0 sits halfway between column 3 (r = 0.75) and column 0 (r = 0). */
-    ray_image_sample(img, 0.0, 0.75, &a);
+    ray_image_sample(img, 0.0, 0.75, 0, &a);
     ck_assert_double_eq_tol(a.r, 0.375, Q16);
     ray_image_free(img);
 }
@@ -167,9 +168,9 @@ START_TEST(image_should_decode_8_bit_srgb)
 
     test_texels(rgb);
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 8), RAY_OK);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
-    ray_image_sample(img, 3.5 / 4, 0.25, &c);   /* texel (3, 1) */
+    ray_image_sample(img, 3.5 / 4, 0.25, 0, &c);   /* texel (3, 1) */
     ck_assert_double_eq_tol(c.r, 0.75, 0.0044);
     ck_assert_double_eq_tol(c.g, 0.5, 0.0044);
     ck_assert_double_eq_tol(c.b, 0.5, 0.0044);
@@ -198,13 +199,13 @@ START_TEST(image_should_compose_alpha_on_black)
     png.height = 1;
     png.format = PNG_FORMAT_RGBA;
     ck_assert(png_image_write_to_file(&png, path, 0, rgba, 0, NULL));
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
-    ray_image_sample(img, 0.25, 0.5, &c);      /* texel 0's centre */
+    ray_image_sample(img, 0.25, 0.5, 0, &c);      /* texel 0's centre */
     ck_assert_double_eq(c.r, 0);
     ck_assert_double_eq(c.g, 0);
     ck_assert_double_eq(c.b, 0);
-    ray_image_sample(img, 0.75, 0.5, &c);      /* texel 1's centre */
+    ray_image_sample(img, 0.75, 0.5, 0, &c);      /* texel 1's centre */
     ck_assert_double_eq(c.r, 0);
     ck_assert_double_gt(c.g, 0.1);
     ck_assert_double_eq(c.b, 0);
@@ -222,9 +223,9 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     long size;
     char *bytes;
 
-    ck_assert_int_eq(ray_image_load_png(NULL, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png(path, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png("/nonexistent/dir/x.png", &img),
+    ck_assert_int_eq(ray_image_load_png(NULL, NULL, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png("/nonexistent/dir/x.png", NULL, &img),
                      RAY_EIO);
     ck_assert_ptr_null(img);
     /* Not a PNG. */
@@ -232,7 +233,7 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     ck_assert_ptr_nonnull(fp);
     fputs("P3\n1 1\n255\n0 0 0\n", fp);
     fclose(fp);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_EPNG);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_EPNG);
     ck_assert_ptr_null(img);
     /* A real PNG cut in half. */
     test_texels(rgb);
@@ -248,22 +249,22 @@ START_TEST(image_should_reject_bad_files_and_arguments)
     fwrite(bytes, 1, (size_t)size / 2, fp);
     fclose(fp);
     free(bytes);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_EPNG);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_EPNG);
     ck_assert_ptr_null(img);
     unlink(path);
     /* Sampling: NULLs and non-finite coordinates write nothing. */
     img = load_test_image();
-    ck_assert_int_eq(ray_image_sample(NULL, 0, 0, &c), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, 0, 0, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, (double)NAN, 0, &c), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_sample(img, 0, HUGE_VAL, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(NULL, 0, 0, 0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, 0, 0, 0, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, (double)NAN, 0, 0, &c), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_sample(img, 0, HUGE_VAL, 0, &c), RAY_EINVAL);
     ck_assert_double_eq(c.r, 7);
     /* Huge coordinates keep their fraction's digits: 1e9 + 0.125 is
     ** exact in double. */
     {
         ray_rgb a, b;
-        ray_image_sample(img, 0.125, 0.25, &a);
-        ray_image_sample(img, 1e9 + 0.125, 0.25, &b);
+        ray_image_sample(img, 0.125, 0.25, 0, &a);
+        ray_image_sample(img, 1e9 + 0.125, 0.25, 0, &b);
         ck_assert_double_eq_tol(a.r, b.r, 1e-12);
     }
     ray_image_free(img);
@@ -331,7 +332,7 @@ static ray_image *load_spec(const png_spec *sp)
     ray_image *img = NULL;
 
     write_full_png(path, sp);
-    ck_assert_int_eq(ray_image_load_png(path, &img), RAY_OK);
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
     unlink(path);
     return img;
 }
@@ -348,7 +349,7 @@ static ray_rgb texel(const ray_image *img, unsigned x, unsigned y)
 
     ray_image_size(img, &w, &h);
     ck_assert_int_eq(ray_image_sample(img, (x + 0.5) / w,
-                                      1 - (y + 0.5) / h, &c),
+                                      1 - (y + 0.5) / h, 0, &c),
                      RAY_OK);
     return c;
 }
@@ -577,7 +578,7 @@ static int load_file(const char *path, const ray_image_load_options *opt,
                      ray_image **img)
 {
     *img = NULL;
-    return ray_image_load_png_opt(path, opt, img);
+    return ray_image_load_png(path, opt, img);
 }
 
 /*
@@ -720,8 +721,8 @@ START_TEST(image_limits_should_hold_at_their_edges)
     ray_image_free(img);
     ck_assert_int_eq(load_file(path, NULL, &img), RAY_OK);
     ray_image_free(img);
-    ck_assert_int_eq(ray_image_load_png_opt(NULL, &opt, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png_opt(path, &opt, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(NULL, &opt, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png(path, &opt, NULL), RAY_EINVAL);
     unlink(path);
 }
 END_TEST
@@ -749,14 +750,14 @@ START_TEST(png_calls_should_be_unsupported_without_libpng)
     ck_assert_int_eq(ray_write_png(path, NULL, 4, 2, 8), RAY_EINVAL);
     ck_assert_int_eq(ray_write_png(path, rgb, 0, 2, 8), RAY_EINVAL);
     ck_assert_int_eq(ray_write_png(path, rgb, 4, 2, 12), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &img), RAY_ENOTSUP);
-    ck_assert_int_eq(ray_image_load_png_opt("doc/cornell.png", &opt, &img),
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img), RAY_ENOTSUP);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", &opt, &img),
                      RAY_ENOTSUP);
-    ck_assert_int_eq(ray_image_load_png_opt("doc/cornell.png", NULL, &img),
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, &img),
                      RAY_ENOTSUP);
     ck_assert(img == (ray_image *)&img);
-    ck_assert_int_eq(ray_image_load_png(NULL, &img), RAY_EINVAL);
-    ck_assert_int_eq(ray_image_load_png_opt("doc/cornell.png", NULL, NULL),
+    ck_assert_int_eq(ray_image_load_png(NULL, NULL, &img), RAY_EINVAL);
+    ck_assert_int_eq(ray_image_load_png("doc/cornell.png", NULL, NULL),
                      RAY_EINVAL);
     ck_assert_str_eq(ray_strerror(RAY_ENOTSUP), "not supported by this build");
 }
@@ -810,7 +811,7 @@ START_TEST(texture_should_see_every_primitives_coordinates)
     for (i = 0; i < 4; i++)
         for (j = 0; j < 4; j++)
             cp[4 * i + j] = vec(j - 1.5, i - 1.5, 0.1 * (i % 2));
-    ck_assert_int_eq(ray_implicit_torus(&torus, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&torus, &is), RAY_OK);
     memset(&params, 0, sizeof params);
     params.diffuse = rgb(1, 1, 1);
     params.texture.fn = probe_texture;
@@ -891,7 +892,7 @@ START_TEST(textured_phong_should_multiply_diffuse_by_the_image)
     for (n = 0; n < 20; n++) {
         double x = 0.37 * n - 3, z = 0.21 * n - 1;
         ray_rgb c = trace_one(s, ray_from(vec(x, 1, z), vec(0, -1, 0))), t;
-        ck_assert_int_eq(ray_image_sample(img, x, -z, &t), RAY_OK);
+        ck_assert_int_eq(ray_image_sample(img, x, -z, 0, &t), RAY_OK);
         ck_assert_double_eq_tol(c.r, 0.5 * t.r, 1e-12);
         ck_assert_double_eq_tol(c.g, 1.0 * t.g, 1e-12);
         ck_assert_double_eq_tol(c.b, 2.0 * t.b, 1e-12);

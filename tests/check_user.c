@@ -11,6 +11,7 @@
 #include <string.h>
 #include <stdlib.h>
 
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "tests.h"
 
 /* ------------------------------------------------------- a user sphere */
@@ -236,10 +237,10 @@ START_TEST(user_spheres_should_render_as_the_scene_spheres)
                                               NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_user(sc[1], &gm, 0, NULL), RAY_OK);
     }
-    ray_camera_init(&cam);
+    cam = (ray_camera){.look_at = {0, 0, -1}};
     cam.position = vec(0, 3, 14);
     cam.look_at = vec(0, -1, 0);
-    ray_render_options_init(&opt, W, H);
+    opt = (ray_render_options){.width = W, .height = H};
     opt.threads = 4;
     for (k = 0; k < 2; k++) {
         ck_assert_int_eq(ray_scene_commit(sc[k]), RAY_OK);
@@ -381,7 +382,7 @@ START_TEST(user_answers_should_be_checked)
                      RAY_OK);
     ck_assert_int_eq(ray_scene_add_user(s, &gm, 0, &id), RAY_OK);
     ck_assert_uint_eq(id, 1);
-    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0)), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, rgb(0.25, 0, 0), NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
     for (n = 0; n < rays; n++) {
@@ -447,7 +448,7 @@ static int implicit_intersect(void *ud, const ray_ray *r, ray_hit *hit)
 
 /*
 ** The implicit surfaces can stand on user geometry: a torus given as
-** ray_implicit_torus's signed distance, once through
+** ray__implicit_torus's signed distance, once through
 ** ray_scene_add_implicit and once wrapped in a callback, gives the same
 ** answers bit for bit on random rays (the same function on the same
 ** ray), and with too few evaluations (max_iterations 2, _i = 1) the same
@@ -464,7 +465,7 @@ START_TEST(implicit_torus_should_stand_on_user_geometry)
     rng g = {71};
     int n, k, hits = 0;
 
-    ck_assert_int_eq(ray_implicit_torus(&t, &is), RAY_OK);
+    ck_assert_int_eq(ray__implicit_torus(&t, &is), RAY_OK);
     if (_i == 1)
         is.max_iterations = 2;
     gm.bounds = implicit_bounds;

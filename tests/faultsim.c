@@ -48,6 +48,7 @@
 #include <unistd.h>
 
 #include "ray.h"
+#include "prim/prim.h"         /* ray__implicit_torus (internal) */
 #include "tempfiles.h"
 #include "testkit.h"
 #if defined(_WIN32)
@@ -491,7 +492,7 @@ static int add_curved(env *e, ray_scene *s, scene_parts *sp, unsigned mat)
     CALL(e, ray_scene_add_torus(s, &sp->torus, mat, NULL));
     sp->implicit_torus = sp->torus;
     sp->implicit_torus.center = vec(1.5, 0.5, 1.5);
-    CALL(e, ray_implicit_torus(&sp->implicit_torus, &sp->implicit));
+    CALL(e, ray__implicit_torus(&sp->implicit_torus, &sp->implicit));
     CALL(e, ray_scene_add_implicit(s, &sp->implicit, mat, NULL));
     memset(&sp->wave, 0, sizeof sp->wave);
     sp->wave.eval = wave_eval;
@@ -660,7 +661,7 @@ static int build_scene(env *e, int parts, scene_parts *sp, ray_scene **out)
         CALL(e, add_many(e, s, &m));
     }
     CALL(e, add_lights(e, s, (parts & HAS_AREA) != 0));
-    CALL(e, ray_scene_set_background(s, rgb(0.1, 0.2, 0.6)));
+    CALL(e, ray_scene_set_background(s, rgb(0.1, 0.2, 0.6), NULL, NULL));
     CALL(e, ray_scene_commit(s));
     *out = s;
     return RAY_OK;
@@ -701,7 +702,7 @@ static int render_workload(env *e, const render_case *c, const ray_image *img)
     cam.look_at = vec(0, 0.7, 0);
     cam.up = vec(0, 1, 0);
     cam.vfov = 45;
-    ray_render_options_init(&o, IMG_W, IMG_H);
+    o = (ray_render_options){.width = IMG_W, .height = IMG_H};
     o.threads = 3;            /* two pthread_create calls to fail */
     o.samples = c->samples;
     o.seed = 7;
@@ -774,7 +775,7 @@ static int w_photon_map(env *e)
 
     memset(&sp, 0, sizeof sp);
     CALL(e, build_scene(e, HAS_PRIMS | HAS_AREA, &sp, &s));
-    ray_render_options_init(&o, 1, 1);
+    o = (ray_render_options){.width = 1, .height = 1};
     o.photons = 5000;
     o.threads = 2;
     CALL(e, ray_photon_map_build(s, &o, &map));
@@ -951,11 +952,11 @@ static int w_texture(env *e)
     ray_rgb texel;
     int rc;
 
-    CALL(e, ray_image_load_png(texture_path, &img));
+    CALL(e, ray_image_load_png(texture_path, NULL, &img));
     ray_image_size(img, &w, &h);
     digest_bytes(e, &w, sizeof w);
     digest_bytes(e, &h, sizeof h);
-    CALL(e, ray_image_sample(img, 0.3, 0.6, &texel));
+    CALL(e, ray_image_sample(img, 0.3, 0.6, 0, &texel));
     digest_bytes(e, &texel, sizeof texel);
     CALL(e, render_workload(e, &c, img));
 out:

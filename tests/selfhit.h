@@ -41,6 +41,7 @@
 #include <string.h>
 
 #include "ray.h"
+#include "prim/prim.h"         /* ray__implicit_torus */
 #include "testkit.h"
 
 typedef enum sh_kind {
@@ -157,7 +158,7 @@ static inline void sh_place(sh_prim *p, sh_kind kind, double offset,
     p->torus.axis = p->ey;
     p->torus.major = 1;
     p->torus.minor = 0.35;
-    ray_implicit_torus(&p->torus, &p->implicit);
+    ray__implicit_torus(&p->torus, &p->implicit);
     ray_bezier_surface(p->cp, &p->bezier);
     /* The box's axes as a user may give them: x of length 2, y skewed
     ** toward x (Gram-Schmidt makes it ey again). */

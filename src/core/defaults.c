@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** defaults.c -- the init functions of the public structs that may grow:
-** each sets every field, so a field added in a later version gets its
-** default in programs that call them (ray(7), "Versions and ABI").
+** defaults.c -- the init functions of the public structs whose zeros are
+** values (a black light, no bounce): each sets every field, so a field
+** added in a later version gets its default in programs that call them
+** (ray(7), "Versions and ABI").
 ** NULL is a no-op, as for every function returning nothing.
 */
 #include <string.h>
@@ -12,16 +13,6 @@
 static ray_rgb grey(double level)
 {
     return ray_rgb_make(level, level, level);
-}
-
-void ray_camera_init(ray_camera *c)
-{
-    if (c == NULL)
-        return;
-    memset(c, 0, sizeof *c);
-    c->look_at = ray_vec3_make(0, 0, -1);
-    c->up = ray_vec3_make(0, 1, 0);
-    c->vfov = 60;
 }
 
 void ray_light_init(ray_light *l, int kind)
@@ -55,12 +46,4 @@ void ray_phong_params_init(ray_phong_params *p)
     memset(p, 0, sizeof *p);
     p->diffuse = grey(0.8);
     p->shininess = 32;
-}
-
-void ray_glass_params_init(ray_glass_params *p)
-{
-    if (p == NULL)
-        return;
-    memset(p, 0, sizeof *p);
-    p->ior = 1.5;
 }

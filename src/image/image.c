@@ -310,14 +310,6 @@ static ray_rgb bilinear(const mip_level *l, double s, double t)
     return c;
 }
 
-int ray_image_sample(const ray_image *img, double s, double t, ray_rgb *out)
-{
-    if (img == NULL || out == NULL || !isfinite(s) || !isfinite(t))
-        return RAY_EINVAL;
-    *out = bilinear(&img->level[0], s, t);
-    return RAY_OK;
-}
-
 /*
 ** Trilinear mip-mapping (Williams, "Pyramidal Parametrics", SIGGRAPH
 ** 1983): a footprint "width" (texture units) covers width * side texels
@@ -325,12 +317,12 @@ int ray_image_sample(const ray_image *img, double s, double t, ray_rgb *out)
 ** aliases), and level k has texels 2^k times larger, so the level whose
 ** texels match the footprint is lambda = log2(width * side).  The two
 ** levels around lambda are sampled bilinearly and blended by its
-** fraction.  lambda <= 0 (a footprint within one texel) is level 0
-** alone, ray_image_sample's very answer; beyond the last level (1 x 1),
-** the last level.
+** fraction.  lambda <= 0 (a footprint within one texel, width 0
+** included) is level 0 alone, the plain bilinear lookup; beyond the last
+** level (1 x 1), the last level.
 */
-int ray_image_sample_footprint(const ray_image *img, double s, double t,
-                               double width, ray_rgb *out)
+int ray_image_sample(const ray_image *img, double s, double t, double width,
+                     ray_rgb *out)
 {
     double side, lambda, f;
     unsigned k;
@@ -364,11 +356,8 @@ int ray_image_sample_footprint(const ray_image *img, double s, double t,
 static void image_texture(void *ud, const ray_shade_args *args, ray_rgb *out)
 {
     /* Non-finite (u, v) leave *out as the caller preset it. */
-    if (args->footprint > 0)
-        ray_image_sample_footprint(ud, args->u, args->v, args->footprint,
-                                   out);
-    else
-        ray_image_sample(ud, args->u, args->v, out);
+    ray_image_sample(ud, args->u, args->v,
+                     args->footprint > 0 ? args->footprint : 0, out);
 }
 
 ray_texture ray_texture_image(const ray_image *img)

@@ -476,9 +476,8 @@ static int load_stream(png_load *ld, ray_image **out)
     return RAY_OK;
 }
 
-int ray_image_load_png_opt(const char *path,
-                           const ray_image_load_options *opt,
-                           ray_image **out)
+int ray_image_load_png(const char *path, const ray_image_load_options *opt,
+                       ray_image **out)
 {
     png_load ld;
     int status, saved_errno;
@@ -496,9 +495,4 @@ int ray_image_load_png_opt(const char *path,
     fclose(ld.fp);
     errno = saved_errno;
     return status;
-}
-
-int ray_image_load_png(const char *path, ray_image **out)
-{
-    return ray_image_load_png_opt(path, NULL, out);
 }

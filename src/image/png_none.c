@@ -28,17 +28,11 @@ int ray_write_png(const char *path, const float *rgb, unsigned width,
     return RAY_ENOTSUP;
 }
 
-int ray_image_load_png_opt(const char *path,
-                           const ray_image_load_options *opt,
-                           ray_image **out)
+int ray_image_load_png(const char *path, const ray_image_load_options *opt,
+                       ray_image **out)
 {
     (void)opt;
     if (path == NULL || out == NULL)
         return RAY_EINVAL;
     return RAY_ENOTSUP;
-}
-
-int ray_image_load_png(const char *path, ray_image **out)
-{
-    return ray_image_load_png_opt(path, NULL, out);
 }

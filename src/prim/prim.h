@@ -290,6 +290,19 @@ int ray__user_hit(const ray_user_geometry *g, const ray_ray *r,
 /* The box of a torus, rounded outward (0 for invalid params). */
 int ray__torus_box(const ray_torus_params *t, ray_vec3 *lo, ray_vec3 *hi);
 
+/*
+** The same torus as a ray_implicit_surface for the generic method
+** (ray_implicit): its exact signed distance (Lipschitz constant 1), its
+** gradient and ray_torus's (u, v), so that the tests can check the two
+** methods against each other.  The params are BORROWED (they are the
+** surface's ud).  RAY_OK, or RAY_EINVAL (invalid params as ray_torus
+** refuses them, a spindle torus, out NULL: nothing written).  Internal
+** since issue 37: a test harness, not a user feature (a program's own
+** distance function goes to ray_implicit / ray_scene_add_implicit).
+*/
+int ray__implicit_torus(const ray_torus_params *t,
+                        ray_implicit_surface *out);
+
 /* The triangle test alone (t, beta, gamma) and the hit record of a hit,
 ** split so a BVH can test many triangles and fill only the nearest. */
 int ray__triangle_test(const ray_ray *r, ray_vec3 a, ray_vec3 b, ray_vec3 c,

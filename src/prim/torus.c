@@ -269,7 +269,7 @@ static void torus_cylindrical(const ray_torus_params *t, ray_vec3 a,
         ray__tangent_frame(a, e, &t2);
 }
 
-/* The unit axis of params checked by ray_implicit_torus. */
+/* The unit axis of params checked by ray__implicit_torus. */
 static ray_vec3 torus_axis(const ray_torus_params *t)
 {
     ray_vec3 a = v3(0, 0, 1);
@@ -318,7 +318,7 @@ static void torus_uv(void *ud, ray_vec3 p, ray_vec3 n, double *u, double *v)
     *v = atan2(z, rho - t->major) / (2.0 * RAY__PI) + 0.5;
 }
 
-int ray_implicit_torus(const ray_torus_params *t, ray_implicit_surface *out)
+int ray__implicit_torus(const ray_torus_params *t, ray_implicit_surface *out)
 {
     ray_implicit_surface s;
 

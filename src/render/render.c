@@ -526,16 +526,6 @@ static void free_caches(const ray_scene *s, void *workers, unsigned n,
     }
 }
 
-void ray_render_options_init(ray_render_options *o, unsigned width,
-                             unsigned height)
-{
-    if (o == NULL)
-        return;
-    memset(o, 0, sizeof *o);
-    o->width = width;
-    o->height = height;
-}
-
 /* Sum the workers' counters (each thread counted into its own). */
 static void sum_stats(void *workers, unsigned n, ray_stats *out)
 {

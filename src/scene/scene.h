@@ -264,7 +264,8 @@ struct ray_scene {
     ray_background_fn background_fn;
     void *background_ud;
     ray_limits limits;
-    int prune;               /* ray_scene_set_pruning; 1 by default */
+    int prune;               /* !limits.no_pruning, read by the tracer;
+                                1 by default */
     int watertight;          /* ray_scene_set_watertight; 1 by default */
     unsigned build_threads;  /* ray_scene_set_build_threads; 1 by default,
                                 0: one per online CPU */

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** settings.c -- what a scene holds besides its geometry: materials,
-** lights, the background and ambient light, the ray tree's limits and the
-** benchmark knobs (pruning, the watertight test, build threads).
+** lights, the background and ambient light, the ray tree's limits (the
+** naive mode, no_pruning, among them) and the benchmark knobs (the
+** watertight test, build threads).
 */
 
 #include "core/sampling.h"
@@ -150,7 +151,8 @@ static int rgb_check(ray_scene *s, const char *what, ray_rgb c)
                      "finite", what, c.r, c.g, c.b);
 }
 
-int ray_scene_set_background(ray_scene *s, ray_rgb color)
+int ray_scene_set_background(ray_scene *s, ray_rgb color,
+                             ray_background_fn fn, void *ud)
 {
     int rc = ray__begin(s, "ray_scene_set_background");
 
@@ -160,17 +162,6 @@ int ray_scene_set_background(ray_scene *s, ray_rgb color)
     if (rc != RAY_OK)
         return rc;
     s->background = color;
-    ray__touch(s, 0);
-    return RAY_OK;
-}
-
-int ray_scene_set_background_fn(ray_scene *s, ray_background_fn fn,
-                                void *ud)
-{
-    int rc = ray__begin(s, "ray_scene_set_background_fn");
-
-    if (rc != RAY_OK)
-        return rc;
     s->background_fn = fn;
     s->background_ud = ud;
     ray__touch(s, 0);
@@ -201,6 +192,8 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
         s->limits.max_depth = RAY_DEFAULT_MAX_DEPTH;
         s->limits.min_weight = RAY_DEFAULT_MIN_WEIGHT;
         s->limits.max_fanout = RAY_DEFAULT_MAX_FANOUT;
+        s->limits.no_pruning = 0;
+        s->prune = 1;
         ray__touch(s, 0);
         return RAY_OK;
     }
@@ -212,17 +205,7 @@ int ray_scene_set_limits(ray_scene *s, const ray_limits *limits)
                          "RAY_MAX_DEPTH (%u)", limits->max_depth,
                          RAY_MAX_DEPTH);
     s->limits = *limits;
-    ray__touch(s, 0);
-    return RAY_OK;
-}
-
-int ray_scene_set_pruning(ray_scene *s, int enabled)
-{
-    int rc = ray__begin(s, "ray_scene_set_pruning");
-
-    if (rc != RAY_OK)
-        return rc;
-    s->prune = enabled != 0;
+    s->prune = limits->no_pruning == 0;
     ray__touch(s, 0);
     return RAY_OK;
 }

@@ -234,8 +234,14 @@ ray_material ray_material_mirror(const ray_rgb *reflectance)
 ** (1 - F); past the critical angle F = 1 (total internal reflection) and
 ** only the reflection is traced.  A ray that leaves the object has crossed
 ** it over the distance t |dir|, which Beer-Lambert attenuates by
-** exp(-absorption * distance) per channel.
+** exp(-absorption * distance) per channel.  An ior of 0 is the default,
+** 1.5 (window glass), so that a zeroed ray_glass_params is glass.
 */
+static double glass_ior(const ray_glass_params *p)
+{
+    return p->ior == 0 ? 1.5 : p->ior;
+}
+
 static void glass_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
                         ray_rgb *out)
 {
@@ -247,7 +253,7 @@ static void glass_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 
     if (p == NULL)
         return;
-    eta = a->entering ? 1.0 / p->ior : p->ior;
+    eta = a->entering ? 1.0 / glass_ior(p) : glass_ior(p);
     F = ray_fresnel(-dot(d, a->normal), eta);
     add_reflection(ctx, a, rgb(F, F, F), out);
     if ((F < 1 || !a->prune) && ray_refract(d, a->normal, eta, &t) &&
@@ -280,7 +286,7 @@ static int glass_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     if (p == NULL)
         return 0;
     d = unit(a->ray->dir);
-    eta = a->entering ? 1.0 / p->ior : p->ior;
+    eta = a->entering ? 1.0 / glass_ior(p) : glass_ior(p);
     F = ray_fresnel(-dot(d, a->normal), eta);
     if (ray_ctx_random(ctx) < F || !ray_refract(d, a->normal, eta, &t))
         *dir = ray_reflect(a->ray->dir, a->normal);

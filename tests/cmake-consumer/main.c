@@ -48,7 +48,7 @@ int main(int argc, char **argv)
         (rc = ray_scene_add_light(scene, &light, NULL)) != RAY_OK ||
         (rc = ray_scene_commit(scene)) != RAY_OK)
         return fail("building the scene", rc);
-    ray_render_options_init(&opt, 4, 4);
+    opt = (ray_render_options){.width = 4, .height = 4};
     opt.threads = 1;
     rc = ray_render(scene, &cam, &opt, rgb, NULL);
     ray_scene_free(scene);
