@@ -88,7 +88,7 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *cam,
         ray_ray *out = &s.rays[s.n];
         ray_vec3 n, d;
         double u1, u2;
-        if (ray_intersect(scene, &cam->rays[i], &h) <= 0)
+        if (ray_intersect(scene, &cam->rays[i], &h, NULL) <= 0)
             continue;
         if (shadow) {
             if (ray_spawn_to(&h, light, out) != RAY_OK)
@@ -144,8 +144,9 @@ static void ours_one(const ray_scene *s, const ray_set *set, results *out)
 
     for (i = 0; i < set->n; i++)
         out->res[i] = set->occlusion
-                          ? ray_occluded(s, &set->rays[i])
-                          : ray_intersect(s, &set->rays[i], &out->hits[i]);
+                          ? ray_occluded(s, &set->rays[i], NULL)
+                          : ray_intersect(s, &set->rays[i], &out->hits[i],
+                                          NULL);
 }
 
 static void ours_n(const ray_scene *s, const ray_set *set, results *out)

@@ -99,7 +99,7 @@ static size_t check_against_single(const ray_scene *s, const ray_ray *rays,
     ck_assert_int_eq(ray_intersect_n(s, rays, n, q, hits, res), RAY_OK);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        int rc = ray_intersect_opt(s, &rays[i], q, &one);
+        int rc = ray_intersect(s, &rays[i], &one, q);
         ck_assert_msg(res[i] == rc, "ray %zu: batch %d, single %d", i, res[i],
                       rc);
         if (rc > 0) {
@@ -111,7 +111,7 @@ static size_t check_against_single(const ray_scene *s, const ray_ray *rays,
     }
     ck_assert_int_eq(ray_occluded_n(s, rays, n, q, res), RAY_OK);
     for (i = 0; i < n; i++)
-        ck_assert_msg(res[i] == ray_occluded_opt(s, &rays[i], q),
+        ck_assert_msg(res[i] == ray_occluded(s, &rays[i], q),
                       "ray %zu: occluded batch %d", i, res[i]);
     free(hits);
     free(res);
@@ -239,7 +239,7 @@ START_TEST(ties_should_go_to_the_lower_prim_id)
         for (k = 0; k < 8; k++) {
             ray_hit one;
             ck_assert_int_eq(res[k], 1);
-            ck_assert_int_eq(ray_intersect(s, &r[k], &one), 1);
+            ck_assert_int_eq(ray_intersect(s, &r[k], &one, NULL), 1);
             ck_assert(hit_same(&h[k], &one));
             ck_assert(h[k].t == 1.0);
             ck_assert_uint_eq(h[k].prim_id, 0);
@@ -283,7 +283,7 @@ START_TEST(ties_between_geometries_should_go_to_the_lower_geom_id)
                          RAY_OK);
         for (i = 0; i < n; i++) {
             ray_hit one;
-            int rc = ray_intersect(s, &rays[i], &one);
+            int rc = ray_intersect(s, &rays[i], &one, NULL);
             ck_assert_int_eq(res[i], rc);
             if (rc <= 0) {
                 ck_assert(memcmp(&hits[i], &before, sizeof before) == 0);
@@ -320,7 +320,7 @@ static int not_my_body(void *ud, const ray_ray *r, const ray_hit *h,
 ** Per-ray options (ray_intersect_batch): AI agents' lines of sight, each
 ** ray with its own mask (agent k's mask hides the mesh of agent k, a mask
 ** bit each) or its own query_ud (a filter that drops the agent's own
-** body): each ray answers as ray_intersect_opt and ray_occluded_opt with
+** body): each ray answers as ray_intersect and ray_occluded with
 ** its own options, bit for bit, in one batch, its tests counted into the
 ** batch's stats.
 */
@@ -370,13 +370,13 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        int rc = ray_intersect_opt(s, &rays[i], &q[i], &one);
+        int rc = ray_intersect(s, &rays[i], &one, &q[i]);
         ck_assert_int_eq(res[i], rc);
         if (rc > 0) {
             ck_assert(hit_same(&hits[i], &one));
             ck_assert_uint_ne(hits[i].geom_id, ids[i % 4]);
         }
-        hidden += rc == 0 && ray_intersect(s, &rays[i], &one) > 0;
+        hidden += rc == 0 && ray_intersect(s, &rays[i], &one, NULL) > 0;
     }
     /* The masks hid something, and every ray went one by one (the scene
     ** is gated: packets take no masks) and was counted. */
@@ -386,7 +386,7 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_uint_gt(st.tests, n);
     ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
     for (i = 0; i < n; i++)
-        ck_assert_int_eq(res[i], ray_occluded_opt(s, &rays[i], &q[i]));
+        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i], &q[i]));
     /* A filter reading each ray's own query_ud. */
     for (k = 0; k < 4; k++) {
         ck_assert_int_eq(ray_scene_set_mask(s, ids[k], ~0u), RAY_OK);
@@ -405,7 +405,7 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        int rc = ray_intersect_opt(s, &rays[i], &q[i], &one);
+        int rc = ray_intersect(s, &rays[i], &one, &q[i]);
         ck_assert_int_eq(res[i], rc);
         if (rc > 0) {
             ck_assert(hit_same(&hits[i], &one));
@@ -465,7 +465,7 @@ START_TEST(batch_should_say_which_path_it_took)
     ck_assert_uint_eq(st.batch_packets, avx2 ? n : 0);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        ck_assert_int_eq(res[i], ray_intersect(s, &rays[i], &one));
+        ck_assert_int_eq(res[i], ray_intersect(s, &rays[i], &one, NULL));
         if (res[i] > 0)
             ck_assert(hit_same(&hits[i], &one));
     }
@@ -475,7 +475,7 @@ START_TEST(batch_should_say_which_path_it_took)
     ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
     ck_assert_uint_eq(st.batch_single, n);
     for (i = 0; i < n; i++)
-        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i]));
+        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i], NULL));
     free(rays);
     free(res);
     free(hits);
