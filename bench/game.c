@@ -725,13 +725,18 @@ static double frame_ours_rays(const ray_scene *s, const ray_ray *rays,
     return now_seconds() - t0;
 }
 
-/* The same rays through ray_intersect_n: seconds. */
+/* The same rays through ray_intersect_batch: seconds. */
 static double frame_ours_batch(const ray_scene *s, const ray_ray *rays,
                                size_t n, ray_hit *h, int *res)
 {
     double t0 = now_seconds();
+    ray_batch b = {0};
 
-    check(ray_intersect_n(s, rays, n, NULL, h, res), "batch");
+    b.rays = rays;
+    b.n = n;
+    b.hits = h;
+    b.results = res;
+    check(ray_intersect_batch(s, &b), "batch");
     return now_seconds() - t0;
 }
 
@@ -1058,7 +1063,7 @@ static void frame_row(int quick)
            "committed (Embree: refit, top level LOW).  Rays: %zu incoherent "
            "rays (origins uniform in the scene's box, directions uniform, "
            "fixed seed), nearest hit, one thread: one at a time "
-           "(ray_intersect; rtcIntersect1) or as a batch (ray_intersect_n; "
+           "(ray_intersect; rtcIntersect1) or as a batch (ray_intersect_batch; "
            "rtcIntersect1M).  Median of %d frames after %d warm-up frames, "
            "each way in turn frame by frame; total: the median of the "
            "frames' update + commit + rays one at a time.\n\n",

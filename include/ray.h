@@ -1834,53 +1834,47 @@ RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
                               size_t *count);
 
 /*
-** ray_intersect_n, ray_occluded_n -- many rays at once, for bulk queries
-** (a game's line-of-sight and AI rays, a tool's picking or baking, a
-** renderer's camera rays): results[i] receives what ray_intersect
-** (scene, &rays[i], &hits[i], q) or ray_occluded(scene, &rays[i], q)
-** returns (1, 0, or -RAY_ESTATE for a ray that meets a stale instance),
-** and hits[i] what it writes, bit for bit, whatever n and the order of
-** the rays.  Where the CPU has AVX2 and the scene holds triangles alone
-** (no planes, other kinds or instances) without masks or filters in the
-** query, each group of eight (rays[0..7], rays[8..15], ...) whose
-** directions lie within about 8 degrees of their mean is traced through
-** the BVH together: faster, as such eight (a 4x2 block of pixels, shadow
-** rays from nearby points to one light) visit the same nodes; a group
-** that scatters, and any scene or query the packets do not take, goes
-** one ray at a time, so a batch is never slower than a loop of
-** ray_intersect.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
-** results or, for ray_intersect_n, hits NULL with n > 0) or RAY_ESTATE
-** (not committed), writing nothing.
-*/
-RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
-                            size_t n, const ray_query *q, ray_hit *hits,
-                            int *results);
-RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
-                           size_t n, const ray_query *q, int *results);
-
-/*
-** ray_intersect_batch, ray_occluded_batch -- ray_intersect_n and
-** ray_occluded_n with each ray's own options: queries[i] for rays[i]
-** (queries NULL: the defaults for every ray), as AI agents' lines of
-** sight that each hide their own shooter (a mask bit per agent) or hand
-** their own query_ud to a filter; and the batch's counters added to
-** *stats when it is not NULL (its intersection tests, and how many rays
-** went through the BVH in packets of eight, batch_packets, and how many
-** one at a time, batch_single: a group of eight goes in a packet when
-** every ray of it could, as ray_intersect_n says, whatever its options
-** -- a mask or query_ud that no geometry of the scene reads changes
-** nothing).  Answers, statuses and misuse as ray_intersect_n's, bit for
-** bit those of ray_intersect(scene, &rays[i], &hits[i], &queries[i])
-** and ray_occluded (hits is not read by ray_occluded_batch and may be
-** NULL); b NULL is RAY_EINVAL.
+** ray_intersect_batch, ray_occluded_batch -- many rays at once, for bulk
+** queries (a game's line-of-sight and AI rays, a tool's picking or
+** baking, a renderer's camera rays): b->results[i] receives what
+** ray_intersect(scene, &b->rays[i], &b->hits[i], qi) or
+** ray_occluded(scene, &b->rays[i], qi) returns (1, 0, or -RAY_ESTATE for
+** a ray that meets a stale instance), and b->hits[i] what it writes, bit
+** for bit, whatever n and the order of the rays.  qi, ray i's options, is
+** &b->queries[i] when queries is not NULL, each ray its own (AI agents'
+** lines of sight that each hide their own shooter with a mask bit per
+** agent, or hand their own query_ud to a filter); else b->query, one set
+** for every ray (NULL: the defaults; a zeroed ray_batch asks for none).
+**
+** Where the CPU has AVX2 and the scene holds triangles alone (no planes,
+** other kinds or instances) without masks or filters that the rays'
+** options can see, each group of eight (rays[0..7], rays[8..15], ...)
+** whose directions lie within about 8 degrees of their mean is traced
+** through the BVH together: faster, as such eight (a 4x2 block of pixels,
+** shadow rays from nearby points to one light) visit the same nodes; a
+** group that scatters, and any scene or options the packets do not take,
+** goes one ray at a time, so a batch is never slower than a loop of
+** ray_intersect.  A group goes in a packet when every ray of it could,
+** whatever its options: a mask or query_ud that no geometry of the scene
+** reads changes nothing.  The batch's counters are added to *stats when
+** it is not NULL: its intersection tests, and how many rays went through
+** the BVH in packets of eight (batch_packets) and how many one at a time
+** (batch_single).
+**
+** Returns RAY_OK, or RAY_EINVAL (scene or b NULL; rays, results or, for
+** ray_intersect_batch, hits NULL with n > 0) or RAY_ESTATE (not
+** committed), writing nothing.  ray_occluded_batch does not read hits,
+** which may be NULL.
 */
 typedef struct ray_batch {
     const ray_ray *rays;         /* n rays */
-    const ray_query *queries;    /* n options, or NULL: the defaults */
+    const ray_query *queries;    /* n options, one a ray, or NULL: query */
     size_t n;
     ray_hit *hits;               /* n records (ray_intersect_batch) */
     int *results;                /* n answers */
     ray_stats *stats;            /* counters added here; may be NULL */
+    const ray_query *query;      /* every ray's options when queries is
+                                    NULL; NULL: the defaults */
 } ray_batch;
 
 RAY_API int ray_intersect_batch(const ray_scene *scene, const ray_batch *b);

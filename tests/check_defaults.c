@@ -253,8 +253,13 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ck_assert_int_eq(ray_intersect_all(s, &rays[0], qs[k], all, 8,
                                            &total), 3);
         ck_assert_uint_eq(total, total_want);
-        /* One query for all (_n), and each ray its own (batch). */
-        ck_assert_int_eq(ray_intersect_n(s, rays, 4, qs[k], got, res_got),
+        /* One query for all (ray_batch.query), and each ray its own
+        ** (ray_batch.queries, NULL here: the defaults). */
+        ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){.rays = rays,
+                                                             .n = 4,
+                                                             .hits = got,
+                                                             .results = res_got,
+                                                             .query = qs[k]}),
                          RAY_OK);
         ck_assert_mem_eq(res_got, res_want, sizeof res_want);
         ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);

@@ -22,12 +22,13 @@
 /* ------------------------------------------------- 1. batches vs rays */
 
 /*
-** rays[0 .. n - 1] through ray_intersect_n, ray_occluded_n,
-** ray_intersect_batch and ray_occluded_batch (per-ray queries qs, or
-** NULL: q_all for the _n calls, the defaults for the _batch ones) must
-** give what ray_intersect and ray_occluded give ray by ray, bit
-** for bit (API notes 11).  Returns how many rays hit; the batches'
-** counters (packets, single rays) are added to *st.
+** rays[0 .. n - 1] through ray_intersect_batch and ray_occluded_batch,
+** with one set of options for every ray (ray_batch.query = q_all, when qs
+** is NULL) and with per-ray queries (ray_batch.queries = qs, or NULL:
+** the defaults, when q_all is NULL too), must give what ray_intersect and
+** ray_occluded give ray by ray, bit for bit (API notes 11).  Returns how
+** many rays hit; the per-ray batches' counters (packets, single rays) are
+** added to *st.
 */
 static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
                               size_t n, const ray_query *qs,
@@ -55,17 +56,21 @@ static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
     for (pass = 0; pass < 4; pass++) {
         for (i = 0; i < n; i++)
             hit_poison(&hb[i]), rb[i] = 7;
+        memset(&b, 0, sizeof b);
         b.rays = rays;
-        b.queries = qs;
         b.n = n;
         b.hits = hb;
         b.results = rb;
-        b.stats = st;
+        if (pass < 2) {                     /* one set for every ray */
+            b.query = q_all;
+        } else {                            /* each ray its own */
+            b.queries = qs;
+            b.stats = st;
+        }
         if (pass == 0 && qs == NULL)
-            ck_assert_int_eq(ray_intersect_n(s, rays, n, q_all, hb, rb),
-                             RAY_OK);
+            ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
         else if (pass == 1 && qs == NULL)
-            ck_assert_int_eq(ray_occluded_n(s, rays, n, q_all, rb), RAY_OK);
+            ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
         else if (pass == 2 && (qs != NULL || q_all == NULL))
             ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
         else if (pass == 3 && (qs != NULL || q_all == NULL))
@@ -75,8 +80,8 @@ static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
         for (i = 0; i < n; i++) {
             ck_assert_msg(rb[i] == rs[i],
                           "%s, %s, ray %zu: batch %d, single ray %d", what,
-                          pass == 0 ? "ray_intersect_n"
-                          : pass == 1 ? "ray_occluded_n"
+                          pass == 0 ? "ray_intersect_batch, one query"
+                          : pass == 1 ? "ray_occluded_batch, one query"
                           : pass == 2 ? "ray_intersect_batch"
                                       : "ray_occluded_batch",
                           i, rb[i], rs[i]);

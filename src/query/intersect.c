@@ -288,27 +288,9 @@ static int batch_check(const ray_scene *s, const ray_ray *rays, size_t n,
     return s->committed ? RAY_OK : RAY_ESTATE;
 }
 
-int ray_intersect_n(const ray_scene *s, const ray_ray *rays, size_t n,
-                    const ray_query *q, ray_hit *hits, int *results)
-{
-    int rc = batch_check(s, rays, n, hits, results, 0);
-
-    if (rc == RAY_OK)
-        batch_run(s, rays, n, NULL, q, hits, results, 0, NULL);
-    return rc;
-}
-
-int ray_occluded_n(const ray_scene *s, const ray_ray *rays, size_t n,
-                   const ray_query *q, int *results)
-{
-    int rc = batch_check(s, rays, n, NULL, results, 1);
-
-    if (rc == RAY_OK)
-        batch_run(s, rays, n, NULL, q, NULL, results, 1, NULL);
-    return rc;
-}
-
-/* ray_intersect_batch and ray_occluded_batch ("any"). */
+/* ray_intersect_batch and ray_occluded_batch ("any"): each ray its own
+** options (queries), or one set for all (query), through the same
+** batch_run and so the same packets. */
 static int batch_of(const ray_scene *s, const ray_batch *b, int any)
 {
     int rc;
@@ -317,8 +299,8 @@ static int batch_of(const ray_scene *s, const ray_batch *b, int any)
         return RAY_EINVAL;
     rc = batch_check(s, b->rays, b->n, b->hits, b->results, any);
     if (rc == RAY_OK)
-        batch_run(s, b->rays, b->n, b->queries, NULL, any ? NULL : b->hits,
-                  b->results, any, b->stats);
+        batch_run(s, b->rays, b->n, b->queries, b->query,
+                  any ? NULL : b->hits, b->results, any, b->stats);
     return rc;
 }
 
