@@ -984,7 +984,7 @@ static void acne_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     sh->lit++;
     if (!hc_leave(a->hit, ls.dir, &ls.point, sh->method, &shadow))
         return;
-    if (ray_occluded(a->scene, &shadow)) {
+    if (ray_occluded(a->scene, &shadow, NULL)) {
         sh->acne++;
         return;
     }

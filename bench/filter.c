@@ -49,7 +49,7 @@ static double trace(ray_scene *s, int m, const ray_ray *r, size_t n,
 
     ray__scene_set_tri_mode(s, m);
     for (i = 0; i < n; i++)
-        res[i] = ray_intersect(s, &r[i], &h[i]);
+        res[i] = ray_intersect(s, &r[i], &h[i], NULL);
     return now_seconds() - t;
 }
 
@@ -122,7 +122,7 @@ static ray_ray *rays_of(ray_scene *s, ray_vec3 c, double diag,
     *n_primary = k;
     for (i = 0; i < *n_primary; i++) {
         ray_hit h;
-        if (ray_intersect(s, &r[i], &h) > 0) {
+        if (ray_intersect(s, &r[i], &h, NULL) > 0) {
             ray_vec3 up = h.n;
             if (up.x * r[i].dir.x + up.y * r[i].dir.y + up.z * r[i].dir.z > 0)
                 up = ray_vec3_make(-up.x, -up.y, -up.z);
@@ -263,7 +263,7 @@ static int profile(const char *path, const char *kind, int times)
         const ray_ray *q = incoherent ? r + np : r;
         double t = now_seconds();
         for (i = 0; i < n; i++)
-            (void)ray_intersect(s, &q[i], &h[i]);
+            (void)ray_intersect(s, &q[i], &h[i], NULL);
         t = now_seconds() - t;
         best = t < best ? t : best;
     }
@@ -300,7 +300,7 @@ static void bench_leaks(int level)
             r.dir = m.v[i];
             r.tmin = 0;
             r.tmax = HUGE_VAL;
-            leaks[md][0] += ray_intersect(s, &r, &h) <= 0;
+            leaks[md][0] += ray_intersect(s, &r, &h, NULL) <= 0;
             rays[0] += md == 0;
         }
         for (i = 0; i < m.nt; i++)
@@ -314,7 +314,7 @@ static void bench_leaks(int level)
                                       (a.z + b.z) / 2);
                 r.tmin = 0;
                 r.tmax = HUGE_VAL;
-                leaks[md][1] += ray_intersect(s, &r, &h) <= 0;
+                leaks[md][1] += ray_intersect(s, &r, &h, NULL) <= 0;
                 rays[1] += md == 0;
             }
     }

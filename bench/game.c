@@ -306,7 +306,7 @@ static void instances_row(const obj_mesh *m, unsigned quick_res)
         for (k = 0; k < reps; k++) {
             t = now_seconds();
             for (q = 0, hits = 0; q < nr; q++)
-                hits += ray_intersect(top, &rays[q], &h) == 1;
+                hits += ray_intersect(top, &rays[q], &h, NULL) == 1;
             tq[k] = now_seconds() - t;
 #ifdef HAVE_EMBREE
             t = now_seconds();
@@ -396,14 +396,13 @@ static double pass(const ray_scene *s, const ray_ray *rays, size_t n,
 
     *hits = 0;
     for (i = 0; i < n; i++)
-        *hits += (q == NULL ? ray_intersect(s, &rays[i], &h)
-                            : ray_intersect_opt(s, &rays[i], q, &h)) == 1;
+        *hits += ray_intersect(s, &rays[i], &h, q) == 1;
     return now_seconds() - t;
 }
 
 /*
 ** The price of gates on the bunny's camera rays, each against the plain
-** scene in the same run: a query mask (ray_intersect_opt, one bit), a
+** scene in the same run: a query mask (ray_intersect's options, one bit), a
 ** filter that keeps everything (called once per candidate), and the same
 ** bunny through an identity instance.
 */
@@ -447,7 +446,8 @@ static void gates_rows(const obj_mesh *m, unsigned res)
         printf("| Query | Mrays/s | time / plain |\n|---|---|---|\n");
         printf("| ray_intersect, plain scene (%zu hits) | %.2f | 1.00 |\n",
                hits[0], (double)n / p / 1e6);
-        printf("| ray_intersect_opt, mask 1 (%zu hits) | %.2f | %.2f |\n",
+        printf("| ray_intersect with a ray_query, mask 1 (%zu hits) | "
+               "%.2f | %.2f |\n",
                hits[1], (double)n / median(tm, reps) / 1e6,
                median(tm, reps) / p);
         printf("| ray_intersect, a keep-all filter on the mesh (%zu hits) | "
@@ -715,7 +715,7 @@ static double frame_ours_rays(const ray_scene *s, const ray_ray *rays,
 
     *hits = 0;
     for (i = 0; i < n; i++)
-        if (ray_intersect(s, &rays[i], &h) == 1) {
+        if (ray_intersect(s, &rays[i], &h, NULL) == 1) {
             t[i] = h.t;
             inst[i] = h.inst_id;
             ++*hits;
@@ -725,13 +725,18 @@ static double frame_ours_rays(const ray_scene *s, const ray_ray *rays,
     return now_seconds() - t0;
 }
 
-/* The same rays through ray_intersect_n: seconds. */
+/* The same rays through ray_intersect_batch: seconds. */
 static double frame_ours_batch(const ray_scene *s, const ray_ray *rays,
                                size_t n, ray_hit *h, int *res)
 {
     double t0 = now_seconds();
+    ray_batch b = {0};
 
-    check(ray_intersect_n(s, rays, n, NULL, h, res), "batch");
+    b.rays = rays;
+    b.n = n;
+    b.hits = h;
+    b.results = res;
+    check(ray_intersect_batch(s, &b), "batch");
     return now_seconds() - t0;
 }
 
@@ -1058,7 +1063,7 @@ static void frame_row(int quick)
            "committed (Embree: refit, top level LOW).  Rays: %zu incoherent "
            "rays (origins uniform in the scene's box, directions uniform, "
            "fixed seed), nearest hit, one thread: one at a time "
-           "(ray_intersect; rtcIntersect1) or as a batch (ray_intersect_n; "
+           "(ray_intersect; rtcIntersect1) or as a batch (ray_intersect_batch; "
            "rtcIntersect1M).  Median of %d frames after %d warm-up frames, "
            "each way in turn frame by frame; total: the median of the "
            "frames' update + commit + rays one at a time.\n\n",

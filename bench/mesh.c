@@ -121,7 +121,7 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *prim,
         ray_hit h;
         ray_vec3 n, d;
         double u1, u2;
-        if (!ray_intersect(scene, &prim->rays[i], &h))
+        if (!ray_intersect(scene, &prim->rays[i], &h, NULL))
             continue;
         n = h.n;
         if (n.x * prim->rays[i].dir.x + n.y * prim->rays[i].dir.y +
@@ -188,10 +188,12 @@ static void *trace_worker(void *arg)
             }
 #endif
             if (j->set->occlusion)
-                j->out->hit[i] = (unsigned char)ray_occluded(j->engine, r);
+                j->out->hit[i] = (unsigned char)ray_occluded(j->engine, r,
+                                                             NULL);
             else {
                 ray_hit h;
-                j->out->hit[i] = (unsigned char)ray_intersect(j->engine, r, &h);
+                j->out->hit[i] = (unsigned char)ray_intersect(j->engine, r,
+                                                              &h, NULL);
                 if (j->out->hit[i]) {
                     j->out->t[i] = h.t;
                     j->out->prim[i] = h.prim_id;
@@ -613,7 +615,7 @@ static void bench_brute(const char *path)
         double t = now_seconds();
         for (i = 0; i < set.n; i++) {
             ray_hit h;
-            ray_intersect(ours, &set.rays[i], &h);
+            ray_intersect(ours, &set.rays[i], &h, NULL);
         }
         t_bvh[k] = now_seconds() - t;
         t = now_seconds();

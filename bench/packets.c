@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** packets.c -- many rays at once: ray_intersect_n / ray_occluded_n (eight
-** rays a packet where the CPU has AVX2) against our one-ray queries and,
+** packets.c -- many rays at once: ray_intersect_batch /
+** ray_occluded_batch (eight rays a packet where the CPU has AVX2)
+** against our one-ray queries and,
 ** when built with Embree (HAVE_EMBREE), Embree's rtcIntersect1 /
 ** rtcOccluded1 and rtcIntersect8 / rtcOccluded8 on the same rays, one
 ** thread, in the same run.  Prints Markdown; asserts nothing.
@@ -88,7 +89,7 @@ static ray_set secondary_rays(const ray_scene *scene, const ray_set *cam,
         ray_ray *out = &s.rays[s.n];
         ray_vec3 n, d;
         double u1, u2;
-        if (ray_intersect(scene, &cam->rays[i], &h) <= 0)
+        if (ray_intersect(scene, &cam->rays[i], &h, NULL) <= 0)
             continue;
         if (shadow) {
             if (ray_spawn_to(&h, light, out) != RAY_OK)
@@ -144,19 +145,23 @@ static void ours_one(const ray_scene *s, const ray_set *set, results *out)
 
     for (i = 0; i < set->n; i++)
         out->res[i] = set->occlusion
-                          ? ray_occluded(s, &set->rays[i])
-                          : ray_intersect(s, &set->rays[i], &out->hits[i]);
+                          ? ray_occluded(s, &set->rays[i], NULL)
+                          : ray_intersect(s, &set->rays[i], &out->hits[i],
+                                          NULL);
 }
 
 static void ours_n(const ray_scene *s, const ray_set *set, results *out)
 {
+    ray_batch b = {0};
+
+    b.rays = set->rays;
+    b.n = set->n;
+    b.hits = out->hits;
+    b.results = out->res;
     if (set->occlusion)
-        check(ray_occluded_n(s, set->rays, set->n, NULL, out->res),
-              "ray_occluded_n");
+        check(ray_occluded_batch(s, &b), "ray_occluded_batch");
     else
-        check(ray_intersect_n(s, set->rays, set->n, NULL, out->hits,
-                              out->res),
-              "ray_intersect_n");
+        check(ray_intersect_batch(s, &b), "ray_intersect_batch");
 }
 
 #ifdef HAVE_EMBREE
@@ -173,7 +178,7 @@ static void embree_one(RTCScene scene, const ray_set *set, results *out)
     }
 }
 
-/* Eight rays a call, as ray_intersect_n groups them. */
+/* Eight rays a call, as ray_intersect_batch groups them. */
 static void embree_8(RTCScene scene, const ray_set *set, results *out)
 {
     struct RTCIntersectContext ctx;
@@ -383,8 +388,8 @@ int main(int argc, char **argv)
     void *device = NULL;
 
     reps = quick ? 3 : 5;
-    printf("## Packets: ray_intersect_n / ray_occluded_n against one ray "
-           "at a time%s\n\n",
+    printf("## Packets: ray_intersect_batch / ray_occluded_batch against "
+           "one ray at a time%s\n\n",
 #ifdef HAVE_EMBREE
            ", and Embree " RTC_VERSION_STRING "'s rtcIntersect1/8 and "
            "rtcOccluded1/8"

@@ -160,8 +160,8 @@ static size_t pass(const tools *t, int tool, const ray_set *rs)
         const ray_ray *r = &rs->rays[i];
         if (tool == TOOL_OURS) {
             ray_hit h;
-            hits += (size_t)(rs->any ? ray_occluded(t->ours, r)
-                                     : ray_intersect(t->ours, r, &h));
+            hits += (size_t)(rs->any ? ray_occluded(t->ours, r, NULL)
+                                     : ray_intersect(t->ours, r, &h, NULL));
         }
 #ifdef HAVE_EMBREE
         else if (tool == TOOL_EMBREE)
@@ -291,7 +291,7 @@ static void camera_sets(const tools *t, ray_vec3 lo, ray_vec3 hi,
             ray_ray r = bench_camera_ray(c, diag, 1.0, res, x, y);
             ray_hit h;
             r = ray_from(r.org, r.dir);
-            if (ray_intersect(t->ours, &r, &h) == 1) {
+            if (ray_intersect(t->ours, &r, &h, NULL) == 1) {
                 hit->rays[hit->n++] = r;
             } else if (enters_box(&r, lo, hi)) {
                 miss->rays[miss->n++] = r;
@@ -362,7 +362,7 @@ int main(int argc, char **argv)
     for (i = 0; i < hit.n; i++) {
         ray_hit h;
         ray_vec3 light = ray_vec3_make(hi.x + diag, hi.y + diag, hi.z + diag);
-        if (ray_intersect(bunny.ours, &hit.rays[i], &h) != 1)
+        if (ray_intersect(bunny.ours, &hit.rays[i], &h, NULL) != 1)
             die("a hit ray missed");
         ray_vec3 d = unit(ray_vec3_make(light.x - h.p.x, light.y - h.p.y,
                                         light.z - h.p.z));

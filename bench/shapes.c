@@ -373,13 +373,13 @@ static void self_hits(const ray_scene *s, const obj_mesh *m, size_t every)
             r.tmin = 0;
             r.tmax = HUGE_VAL;
             rays++;
-            if (ray_intersect(s, &r, &h) == 1 && h.prim_id == i)
+            if (ray_intersect(s, &r, &h, NULL) == 1 && h.prim_id == i)
                 before++;
             /* The same from directions uniform over the hemisphere. */
             r.dir = rng_dir(&g);
             if (vdot(r.dir, n) < 0)
                 r.dir = vscale(r.dir, -1);
-            if (ray_intersect(s, &r, &h) == 1 && h.prim_id == i)
+            if (ray_intersect(s, &r, &h, NULL) == 1 && h.prim_id == i)
                 uniform++;
             if (ray_surface_point(s, 0, (unsigned)i, RAY_INVALID_ID, u, v,
                                   &sp) != RAY_OK ||
@@ -387,7 +387,7 @@ static void self_hits(const ray_scene *s, const obj_mesh *m, size_t every)
                 fprintf(stderr, "shapes: no surface point\n");
                 exit(1);
             }
-            if (ray_intersect(s, &r, &h) == 1 && h.prim_id == i)
+            if (ray_intersect(s, &r, &h, NULL) == 1 && h.prim_id == i)
                 after++;
         }
     }

@@ -292,7 +292,7 @@ static double feet_clearance(const ray_scene *w, ray_vec3 p)
     r.dir = vec(0, -1, 0);
     r.tmin = 0;
     r.tmax = HUGE_VAL;
-    if (ray_intersect_opt(w, &r, &q, &h) != 1)
+    if (ray_intersect(w, &r, &h, &q) != 1)
         return HUGE_VAL;             /* off the terrain: nothing under */
     return (p.y - HALF - RADIUS) - h.p.y;
 }

@@ -6,7 +6,8 @@
 ** commits (the top level is rebuilt, the meshes are not), then two
 ** threads answer picking rays (what is under the cursor: ray_intersect
 ** with a mask that skips the level) and line-of-sight checks between
-** objects (ray_occluded_opt, whose filter ignores the shooter itself).
+** objects (ray_occluded with options, whose filter ignores the shooter
+** itself).
 ** Prints the commit time per frame and the queries per second, and exits
 ** 1 if a pick straight down onto an object does not name that object.
 **
@@ -102,7 +103,7 @@ static void *work(void *arg)
             r.dir = vec(0, -1, 0);
             r.tmin = 0;
             r.tmax = HUGE_VAL;
-            if (ray_intersect_opt(w->scene, &r, &pick, &h) != 1 ||
+            if (ray_intersect(w->scene, &r, &h, &pick) != 1 ||
                 h.inst_id != w->ids[a])
                 w->wrong++;
             w->picks++;
@@ -115,7 +116,7 @@ static void *work(void *arg)
             r.tmin = 0;
             r.tmax = 0.75;          /* short of the target's own crate */
             los.query_ud = &w->ids[a];
-            rc = ray_occluded_opt(w->scene, &r, &los);
+            rc = ray_occluded(w->scene, &r, &los);
             if (rc < 0)
                 w->wrong++;
             w->blocked += rc == 1;

@@ -79,8 +79,9 @@ static void *answer_batch(void *arg)
     for (i = b->first; i < b->count; i += THREADS) {
         query *q = &b->queries[i];
 
-        q->answer = q->line_of_sight ? ray_occluded(b->scene, &q->ray)
-                                     : ray_intersect(b->scene, &q->ray, &q->hit);
+        q->answer = q->line_of_sight ? ray_occluded(b->scene, &q->ray, NULL)
+                                     : ray_intersect(b->scene, &q->ray,
+                                                     &q->hit, NULL);
     }
     return NULL;
 }

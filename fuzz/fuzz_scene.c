@@ -600,8 +600,8 @@ static void op_query(prog *p)
     int rc, occ;
 
     fuzz_sentinel(&hit, sizeof hit);
-    rc = ray_intersect(p->scene, &r, &hit);
-    occ = ray_occluded(p->scene, &r);
+    rc = ray_intersect(p->scene, &r, &hit, NULL);
+    occ = ray_occluded(p->scene, &r, NULL);
     op_closest(p, &r);
     if (!p->committed) {
         FUZZ_CHECK(rc == -RAY_ESTATE && occ == -RAY_ESTATE,
@@ -628,9 +628,9 @@ static void op_query(prog *p)
     /* Root finders may fail on one interval and not on another. */
     if (!p->curved)
         FUZZ_CHECK(rc == occ, "ray_occluded agrees with ray_intersect");
-    FUZZ_CHECK(ray_intersect(p->scene, NULL, &hit) == -RAY_EINVAL &&
-                   ray_intersect(p->scene, &r, NULL) == -RAY_EINVAL &&
-                   ray_occluded(NULL, &r) == -RAY_EINVAL,
+    FUZZ_CHECK(ray_intersect(p->scene, NULL, &hit, NULL) == -RAY_EINVAL &&
+                   ray_intersect(p->scene, &r, NULL, NULL) == -RAY_EINVAL &&
+                   ray_occluded(NULL, &r, NULL) == -RAY_EINVAL,
                "ray_intersect: -RAY_EINVAL for NULL");
 }
 

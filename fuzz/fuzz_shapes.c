@@ -201,7 +201,7 @@ static void one_sweep(world *w)
         r.dir = s.dir;
         r.tmin = s.tmin;
         r.tmax = s.tmax;
-        FUZZ_CHECK(ray_intersect(w->scene, &r, &h) == 1 && h.t == c.t,
+        FUZZ_CHECK(ray_intersect(w->scene, &r, &h, NULL) == 1 && h.t == c.t,
                    "sweep: radius 0 is ray_intersect");
     }
 }
@@ -282,7 +282,7 @@ static void one_surface_point(world *w)
     FUZZ_CHECK(fabs(h.n.x * h.n.x + h.n.y * h.n.y + h.n.z * h.n.z - 1) <=
                    FUZZ_UNIT_TOL, "surface point: unit normal");
     if (ray_spawn(&h, h.n, &r) == RAY_OK &&
-        ray_intersect(w->scene, &r, &hit) == 1)
+        ray_intersect(w->scene, &r, &hit, NULL) == 1)
         FUZZ_CHECK(!(hit.geom_id == h.geom_id && hit.prim_id == h.prim_id &&
                      hit.inst_id == h.inst_id),
                    "surface point: a spawned ray leaves its surface");

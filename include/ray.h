@@ -34,7 +34,7 @@
 **     where an object is required is never a crash and never a write: a
 **     status is RAY_EINVAL, an intersection is a miss (0, or -RAY_EINVAL
 **     where the function can report misuse: ray_implicit, ray_parametric,
-**     ray_intersect, ray_occluded, their _opt and _all forms and
+**     ray_intersect, ray_occluded, ray_intersect_all and
 **     ray_closest_point), a void function does nothing, and a query
 **     answers its neutral value (0, no
 **     texture, a fixed string).
@@ -1441,13 +1441,32 @@ RAY_API int ray_write_png(const char *path, const float *rgb,
 /* ---------------------------------------------------------- 11. queries */
 
 /*
+** A query's options (the last argument of ray_intersect, ray_occluded and
+** the other queries; masks and filters: section 12), zero by default: a
+** zeroed ray_query ({0}, a designated initializer naming only query_ud,
+** or a NULL pointer) sees every geometry and hands filters a NULL
+** query_ud.  The mask is given as the bits to IGNORE, the complement of
+** the geometry mask it is compared with, so that its zero, which a caller
+** who only sets query_ud leaves there, hides nothing (a zero visibility
+** mask would hide everything, silently: libray 0.1's trap).  The same
+** spelling as ray_contains_options.ignore_mask.
+*/
+typedef struct ray_query {
+    unsigned ignore_mask;    /* geometry whose mask has no bit outside
+                                these is unseen; 0: all geometry seen */
+    void *query_ud;          /* handed to every filter this query calls */
+} ray_query;
+
+/*
 ** Queries on a committed scene, from any thread (while no thread changes
-** it).  ray_intersect: the nearest hit in (tmin, tmax), with geom_id set
+** it), with options q (NULL: the defaults, as a zeroed ray_query; one
+** call whether or not options are given, as Embree 4's rtcIntersect1).
+** ray_intersect: the nearest hit in (tmin, tmax), with geom_id set
 ** and prim_id the triangle's index for a mesh, 0 otherwise (1), or a
 ** miss (0, *hit untouched).  ray_occluded: 1 if anything lies in (tmin,
 ** tmax) (any-hit, stops at the first), else 0.  Misuse is a NEGATED
-** status, never taken for a miss: -RAY_EINVAL for a NULL pointer,
-** -RAY_ESTATE for a scene not committed (never, or changed since its
+** status, never taken for a miss: -RAY_EINVAL for a NULL scene, r or
+** hit, -RAY_ESTATE for a scene not committed (never, or changed since its
 ** last commit) or when the ray meets an instance whose scene was changed
 ** since this scene's commit (*hit untouched).  So test "> 0" for a hit:
 ** a negative value is true in C.  Of two triangles of the scene itself
@@ -1456,8 +1475,9 @@ RAY_API int ray_write_png(const char *path, const float *rgb,
 ** the nearest, whatever order the search met them in.
 */
 RAY_API int ray_intersect(const ray_scene *scene, const ray_ray *r,
-                          ray_hit *hit);
-RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r);
+                          ray_hit *hit, const ray_query *q);
+RAY_API int ray_occluded(const ray_scene *scene, const ray_ray *r,
+                         const ray_query *q);
 
 /*
 ** ray_closest_point -- the nearest point of a committed scene's surfaces
@@ -1746,8 +1766,8 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 /*
 ** Masks and filters.  Every geometry has a 32-bit visibility mask (all
 ** bits by default); a query sees only geometry whose mask has a bit
-** outside its ray_query.ignore_mask (0 for ray_intersect, ray_occluded
-** and the renderer's rays: all geometry seen), i.e. that shares a bit
+** outside its ray_query.ignore_mask (0 for a query whose options are
+** NULL and the renderer's rays: all geometry seen), i.e. that shares a bit
 ** with ~ignore_mask: layers ("the player's own geometry", "shadow
 ** casters only"); a geometry mask 0 hides it from every query.  For an
 ** instance both its own mask and the child geometry's must pass.  Masks are checked per primitive as the traversal
@@ -1762,10 +1782,10 @@ RAY_API int ray_scene_remove(ray_scene *scene, unsigned geom_id);
 ** tying the kept hit comes with tmax the next double above its t): alpha
 ** cut-outs, ignoring the shooter, transparent shadows.  "queries" says
 ** which queries call it: RAY_FILTER_INTERSECT (nearest hit:
-** ray_intersect, ray_intersect_opt, ray_trace's and ray_render's rays),
-** RAY_FILTER_OCCLUDED (any hit: ray_occluded, ray_occluded_opt, shadow
+** ray_intersect, ray_trace's and ray_render's rays),
+** RAY_FILTER_OCCLUDED (any hit: ray_occluded, shadow
 ** rays), or both; ray_intersect_all calls both kinds.  "query_ud" is the
-** ray_query's user pointer (NULL from the plain queries and the
+** ray_query's user pointer (NULL from a query without options and the
 ** renderer).  A filter runs CONCURRENTLY from query threads; it must be a
 ** pure function of its arguments (and of data nobody changes meanwhile),
 ** or answers stop being reproducible.  Candidates are offered in
@@ -1795,25 +1815,6 @@ RAY_API int ray_scene_set_filter(ray_scene *scene, unsigned geom_id,
                                  unsigned queries);
 
 /*
-** A query's options, zero by default: a zeroed ray_query ({0}, a
-** designated initializer naming only query_ud, or a NULL pointer) sees
-** every geometry and hands filters a NULL query_ud, as the plain queries
-** do.  The mask is given as the bits to IGNORE, the complement of the
-** geometry mask it is compared with, so that its zero, which a caller
-** who only sets query_ud leaves there, hides nothing (a zero visibility
-** mask would hide everything, silently: libray 0.1's trap).  The same
-** spelling as ray_contains_options.ignore_mask.
-*/
-typedef struct ray_query {
-    unsigned ignore_mask;    /* geometry whose mask has no bit outside
-                                these is unseen; 0: all geometry seen */
-    void *query_ud;          /* handed to every filter this query calls */
-} ray_query;
-
-/*
-** ray_intersect_opt, ray_occluded_opt -- ray_intersect and ray_occluded
-** with options (q NULL: the defaults); same answers and statuses.
-**
 ** ray_intersect_all -- every hit along the ray in (tmin, tmax), nearest
 ** first (ties in t by geom_id, then prim_id, then inst_id), through masks
 ** and filters: line of sight through glass, counting layers.  Writes the
@@ -1828,62 +1829,52 @@ typedef struct ray_query {
 ** hit exactly on a shared edge of a mesh may be reported by both
 ** triangles.
 */
-RAY_API int ray_intersect_opt(const ray_scene *scene, const ray_ray *r,
-                              const ray_query *q, ray_hit *hit);
-RAY_API int ray_occluded_opt(const ray_scene *scene, const ray_ray *r,
-                             const ray_query *q);
 RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
                               const ray_query *q, ray_hit *hits, size_t cap,
                               size_t *count);
 
 /*
-** ray_intersect_n, ray_occluded_n -- many rays at once, for bulk queries
-** (a game's line-of-sight and AI rays, a tool's picking or baking, a
-** renderer's camera rays): results[i] receives what ray_intersect_opt
-** (scene, &rays[i], q, &hits[i]) or ray_occluded_opt(scene, &rays[i], q)
-** returns (1, 0, or -RAY_ESTATE for a ray that meets a stale instance),
-** and hits[i] what it writes, bit for bit, whatever n and the order of
-** the rays.  Where the CPU has AVX2 and the scene holds triangles alone
-** (no planes, other kinds or instances) without masks or filters in the
-** query, each group of eight (rays[0..7], rays[8..15], ...) whose
-** directions lie within about 8 degrees of their mean is traced through
-** the BVH together: faster, as such eight (a 4x2 block of pixels, shadow
-** rays from nearby points to one light) visit the same nodes; a group
-** that scatters, and any scene or query the packets do not take, goes
-** one ray at a time, so a batch is never slower than a loop of
-** ray_intersect.  Returns RAY_OK, or RAY_EINVAL (scene NULL; rays,
-** results or, for ray_intersect_n, hits NULL with n > 0) or RAY_ESTATE
-** (not committed), writing nothing.
-*/
-RAY_API int ray_intersect_n(const ray_scene *scene, const ray_ray *rays,
-                            size_t n, const ray_query *q, ray_hit *hits,
-                            int *results);
-RAY_API int ray_occluded_n(const ray_scene *scene, const ray_ray *rays,
-                           size_t n, const ray_query *q, int *results);
-
-/*
-** ray_intersect_batch, ray_occluded_batch -- ray_intersect_n and
-** ray_occluded_n with each ray's own options: queries[i] for rays[i]
-** (queries NULL: the defaults for every ray), as AI agents' lines of
-** sight that each hide their own shooter (a mask bit per agent) or hand
-** their own query_ud to a filter; and the batch's counters added to
-** *stats when it is not NULL (its intersection tests, and how many rays
-** went through the BVH in packets of eight, batch_packets, and how many
-** one at a time, batch_single: a group of eight goes in a packet when
-** every ray of it could, as ray_intersect_n says, whatever its options
-** -- a mask or query_ud that no geometry of the scene reads changes
-** nothing).  Answers, statuses and misuse as ray_intersect_n's, bit for
-** bit those of ray_intersect_opt(scene, &rays[i], &queries[i], &hits[i])
-** and ray_occluded_opt (hits is not read by ray_occluded_batch and may be
-** NULL); b NULL is RAY_EINVAL.
+** ray_intersect_batch, ray_occluded_batch -- many rays at once, for bulk
+** queries (a game's line-of-sight and AI rays, a tool's picking or
+** baking, a renderer's camera rays): b->results[i] receives what
+** ray_intersect(scene, &b->rays[i], &b->hits[i], qi) or
+** ray_occluded(scene, &b->rays[i], qi) returns (1, 0, or -RAY_ESTATE for
+** a ray that meets a stale instance), and b->hits[i] what it writes, bit
+** for bit, whatever n and the order of the rays.  qi, ray i's options, is
+** &b->queries[i] when queries is not NULL, each ray its own (AI agents'
+** lines of sight that each hide their own shooter with a mask bit per
+** agent, or hand their own query_ud to a filter); else b->query, one set
+** for every ray (NULL: the defaults; a zeroed ray_batch asks for none).
+**
+** Where the CPU has AVX2 and the scene holds triangles alone (no planes,
+** other kinds or instances) without masks or filters that the rays'
+** options can see, each group of eight (rays[0..7], rays[8..15], ...)
+** whose directions lie within about 8 degrees of their mean is traced
+** through the BVH together: faster, as such eight (a 4x2 block of pixels,
+** shadow rays from nearby points to one light) visit the same nodes; a
+** group that scatters, and any scene or options the packets do not take,
+** goes one ray at a time, so a batch is never slower than a loop of
+** ray_intersect.  A group goes in a packet when every ray of it could,
+** whatever its options: a mask or query_ud that no geometry of the scene
+** reads changes nothing.  The batch's counters are added to *stats when
+** it is not NULL: its intersection tests, and how many rays went through
+** the BVH in packets of eight (batch_packets) and how many one at a time
+** (batch_single).
+**
+** Returns RAY_OK, or RAY_EINVAL (scene or b NULL; rays, results or, for
+** ray_intersect_batch, hits NULL with n > 0) or RAY_ESTATE (not
+** committed), writing nothing.  ray_occluded_batch does not read hits,
+** which may be NULL.
 */
 typedef struct ray_batch {
     const ray_ray *rays;         /* n rays */
-    const ray_query *queries;    /* n options, or NULL: the defaults */
+    const ray_query *queries;    /* n options, one a ray, or NULL: query */
     size_t n;
     ray_hit *hits;               /* n records (ray_intersect_batch) */
     int *results;                /* n answers */
     ray_stats *stats;            /* counters added here; may be NULL */
+    const ray_query *query;      /* every ray's options when queries is
+                                    NULL; NULL: the defaults */
 } ray_batch;
 
 RAY_API int ray_intersect_batch(const ray_scene *scene, const ray_batch *b);
@@ -2471,7 +2462,7 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 ** own BVHs (a character controller sliding along walls, a camera kept
 ** out of walls, a thick bullet).  Shape queries are rays with a radius:
 ** the same masks, filters (RAY_FILTER_INTERSECT: a sweep is a nearest
-** query), instances and statuses as ray_intersect_opt.
+** query), instances and statuses as ray_intersect.
 **
 ** The shape at t is the capsule of radius "radius" around the segment
 ** [a + t dir, b + t dir] (a == b: a sphere), for t in [tmin, tmax].
@@ -2483,7 +2474,7 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 ** or not above tmin (after tmax 0 is taken as 1); -RAY_ESTATE for a scene not committed (or changed
 ** since), or a sweep that meets an instance whose scene was changed.
 **
-**   * radius 0 with a == b is a ray: the answer is ray_intersect_opt's
+**   * radius 0 with a == b is a ray: the answer is ray_intersect's
 **     for the ray (a, dir, tmin, tmax), its t, p, ids as the hit's and n
 **     the hit's normal turned against dir; on the open interval.
 **   * Already touching or overlapping at tmin: an overlap (the shape's
@@ -2596,7 +2587,7 @@ RAY_API int ray_intersect_sweep(const ray_scene *scene,
 ** points or in their own space).  Tori, implicit, parametric and Bezier
 ** surfaces and user geometry are found by their boxes (through the
 ** transform: the box's image), flagged RAY_CONTACT_BOUNDS: a superset,
-** never a miss.  Masks apply as for ray_intersect_opt (q NULL or its
+** never a miss.  Masks apply as for ray_intersect (q NULL or its
 ** ignore_mask 0: all geometry); filters do not (fn sees every primitive and may skip it).  Any
 ** number of threads may query a committed scene at once; the calls
 ** allocate nothing.

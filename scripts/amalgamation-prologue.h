@@ -14,7 +14,7 @@
 **   RAY_NO_SIMD  the portable C paths instead of the SSE box tests.
 **   (-mavx2)     not a macro but the compiler's flag: the whole library is
 **                then built for AVX2 (eight-wide box tests and the ray
-**                packets of ray_intersect_n), and needs a CPU with AVX2.
+**                packets of ray_intersect_batch), and needs a CPU with AVX2.
 **                Without it, the library's AVX2 copy of the queries
 **                (src/query/intersect_avx2.c, which the Makefile and CMake
 **                build with -mavx2 alone) is the baseline code once more:

@@ -147,8 +147,8 @@ if [ $# -gt 0 ]; then
     real=$(for o in "$@"; do echo "$t/obj/${o#"$objdir"/}"; done)
     cp -R "$root/src/." "$t/src/"
     obj scene/upward 'struct ray_scene; int ray_intersect(const struct ray_scene *s,
-const void *r, void *h); int ray__up(const struct ray_scene *s);
-int ray__up(const struct ray_scene *s) { return ray_intersect(s, 0, 0); }'
+const void *r, void *h, const void *q); int ray__up(const struct ray_scene *s);
+int ray__up(const struct ray_scene *s) { return ray_intersect(s, 0, 0, 0); }'
     expect_fail "scene/upward.o calls ray_intersect, defined in query/intersect.o" \
         $real "$t/obj/scene/upward.o"
 fi

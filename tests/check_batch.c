@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** check_batch.c -- ray_intersect_n and ray_occluded_n: the same answers
-** as ray_intersect and ray_occluded ray by ray, bit for bit (API notes
-** 11: answers do not depend on the path taken), on closed meshes at the
+** check_batch.c -- ray_intersect_batch and ray_occluded_batch (one set
+** of options for every ray, ray_batch.query, or each ray its own): the
+** same answers as ray_intersect and ray_occluded ray by ray, bit for
+** bit (API notes 11: answers do not depend on the path taken), on closed
+** meshes at the
 ** origin and moved to 1e5 -- coherent camera blocks (the packets' fast
 ** case), scattered rays (packets of rays going everywhere), rays aimed
 ** exactly at shared vertices and edges (where two triangles tie in t and
@@ -85,7 +87,8 @@ static ray_ray *batch_rays(const hc_mesh *m, ray_vec3 centre, size_t n,
     return r;
 }
 
-/* ray_intersect_n and ray_occluded_n against the single-ray queries on
+/* ray_intersect_batch and ray_occluded_batch with one set of options q
+** for every ray (ray_batch.query) against the single-ray queries on
 ** rays[0 .. n - 1]; returns the hits found. */
 static size_t check_against_single(const ray_scene *s, const ray_ray *rays,
                                    size_t n, const ray_query *q)
@@ -96,10 +99,14 @@ static size_t check_against_single(const ray_scene *s, const ray_ray *rays,
 
     ck_assert_ptr_nonnull(hits);
     ck_assert_ptr_nonnull(res);
-    ck_assert_int_eq(ray_intersect_n(s, rays, n, q, hits, res), RAY_OK);
+    ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){.rays = rays, .n = n,
+                                                         .hits = hits,
+                                                         .results = res,
+                                                         .query = q}),
+                     RAY_OK);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        int rc = ray_intersect_opt(s, &rays[i], q, &one);
+        int rc = ray_intersect(s, &rays[i], &one, q);
         ck_assert_msg(res[i] == rc, "ray %zu: batch %d, single %d", i, res[i],
                       rc);
         if (rc > 0) {
@@ -109,9 +116,12 @@ static size_t check_against_single(const ray_scene *s, const ray_ray *rays,
             found++;
         }
     }
-    ck_assert_int_eq(ray_occluded_n(s, rays, n, q, res), RAY_OK);
+    ck_assert_int_eq(ray_occluded_batch(s, &(ray_batch){.rays = rays, .n = n,
+                                                        .results = res,
+                                                        .query = q}),
+                     RAY_OK);
     for (i = 0; i < n; i++)
-        ck_assert_msg(res[i] == ray_occluded_opt(s, &rays[i], q),
+        ck_assert_msg(res[i] == ray_occluded(s, &rays[i], q),
                       "ray %zu: occluded batch %d", i, res[i]);
     free(hits);
     free(res);
@@ -235,11 +245,14 @@ START_TEST(ties_should_go_to_the_lower_prim_id)
                                             NULL),
                          RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        ck_assert_int_eq(ray_intersect_n(s, r, 8, NULL, h, res), RAY_OK);
+        ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){.rays = r, .n = 8,
+                                                             .hits = h,
+                                                             .results = res}),
+                         RAY_OK);
         for (k = 0; k < 8; k++) {
             ray_hit one;
             ck_assert_int_eq(res[k], 1);
-            ck_assert_int_eq(ray_intersect(s, &r[k], &one), 1);
+            ck_assert_int_eq(ray_intersect(s, &r[k], &one, NULL), 1);
             ck_assert(hit_same(&h[k], &one));
             ck_assert(h[k].t == 1.0);
             ck_assert_uint_eq(h[k].prim_id, 0);
@@ -279,11 +292,14 @@ START_TEST(ties_between_geometries_should_go_to_the_lower_geom_id)
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         for (i = 0; i < n; i++)
             hits[i] = before;
-        ck_assert_int_eq(ray_intersect_n(s, rays, n, NULL, hits, res),
+        ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){.rays = rays,
+                                                             .n = n,
+                                                             .hits = hits,
+                                                             .results = res}),
                          RAY_OK);
         for (i = 0; i < n; i++) {
             ray_hit one;
-            int rc = ray_intersect(s, &rays[i], &one);
+            int rc = ray_intersect(s, &rays[i], &one, NULL);
             ck_assert_int_eq(res[i], rc);
             if (rc <= 0) {
                 ck_assert(memcmp(&hits[i], &before, sizeof before) == 0);
@@ -320,7 +336,7 @@ static int not_my_body(void *ud, const ray_ray *r, const ray_hit *h,
 ** Per-ray options (ray_intersect_batch): AI agents' lines of sight, each
 ** ray with its own mask (agent k's mask hides the mesh of agent k, a mask
 ** bit each) or its own query_ud (a filter that drops the agent's own
-** body): each ray answers as ray_intersect_opt and ray_occluded_opt with
+** body): each ray answers as ray_intersect and ray_occluded with
 ** its own options, bit for bit, in one batch, its tests counted into the
 ** batch's stats.
 */
@@ -370,13 +386,13 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        int rc = ray_intersect_opt(s, &rays[i], &q[i], &one);
+        int rc = ray_intersect(s, &rays[i], &one, &q[i]);
         ck_assert_int_eq(res[i], rc);
         if (rc > 0) {
             ck_assert(hit_same(&hits[i], &one));
             ck_assert_uint_ne(hits[i].geom_id, ids[i % 4]);
         }
-        hidden += rc == 0 && ray_intersect(s, &rays[i], &one) > 0;
+        hidden += rc == 0 && ray_intersect(s, &rays[i], &one, NULL) > 0;
     }
     /* The masks hid something, and every ray went one by one (the scene
     ** is gated: packets take no masks) and was counted. */
@@ -386,7 +402,7 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_uint_gt(st.tests, n);
     ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
     for (i = 0; i < n; i++)
-        ck_assert_int_eq(res[i], ray_occluded_opt(s, &rays[i], &q[i]));
+        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i], &q[i]));
     /* A filter reading each ray's own query_ud. */
     for (k = 0; k < 4; k++) {
         ck_assert_int_eq(ray_scene_set_mask(s, ids[k], ~0u), RAY_OK);
@@ -405,7 +421,7 @@ START_TEST(batch_should_take_each_rays_own_options)
     ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        int rc = ray_intersect_opt(s, &rays[i], &q[i], &one);
+        int rc = ray_intersect(s, &rays[i], &one, &q[i]);
         ck_assert_int_eq(res[i], rc);
         if (rc > 0) {
             ck_assert(hit_same(&hits[i], &one));
@@ -465,9 +481,52 @@ START_TEST(batch_should_say_which_path_it_took)
     ck_assert_uint_eq(st.batch_packets, avx2 ? n : 0);
     for (i = 0; i < n; i++) {
         ray_hit one;
-        ck_assert_int_eq(res[i], ray_intersect(s, &rays[i], &one));
+        ck_assert_int_eq(res[i], ray_intersect(s, &rays[i], &one, NULL));
         if (res[i] > 0)
             ck_assert(hit_same(&hits[i], &one));
+    }
+    {
+        /* One set of options for every ray (ray_batch.query): zeroed or
+        ** naming only query_ud, the packets take the blocks as with none
+        ** (nothing in the scene reads them), the same answers; ignoring
+        ** every bit hides the mesh, ray by ray; per-ray queries, when
+        ** given, win over it. */
+        int me = 3, *want = malloc(n * sizeof *want);
+        ray_query zero = {0}, named = {.query_ud = &me}, hide = {~0u, NULL};
+        ray_query *per = calloc(n, sizeof *per);
+        const ray_query *shared[2] = {&zero, &named};
+        int k;
+
+        ck_assert_ptr_nonnull(want);
+        ck_assert_ptr_nonnull(per);
+        memcpy(want, res, n * sizeof *want);
+        for (k = 0; k < 2; k++) {
+            b.query = shared[k];
+            memset(&st, 0, sizeof st);
+            ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+            ck_assert_uint_eq(st.batch_packets, avx2 ? n : 0);
+            ck_assert_mem_eq(res, want, n * sizeof *want);
+            memset(&st, 0, sizeof st);
+            ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+            ck_assert_uint_eq(st.batch_packets, avx2 ? n : 0);
+            ck_assert_mem_eq(res, want, n * sizeof *want);
+        }
+        b.query = &hide;
+        memset(&st, 0, sizeof st);
+        ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+        ck_assert_uint_eq(st.batch_single, n);
+        for (i = 0; i < n; i++)
+            ck_assert_int_eq(res[i], 0);
+        ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
+        for (i = 0; i < n; i++)
+            ck_assert_int_eq(res[i], 0);
+        b.queries = per;                     /* zeroed, one a ray */
+        ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
+        ck_assert_mem_eq(res, want, n * sizeof *want);
+        b.queries = NULL;
+        b.query = NULL;
+        free(per);
+        free(want);
     }
     for (i = 0; i < n; i++)                  /* every direction */
         rays[i] = make_ray(rng_point(&g, -1, 1), rng_dir(&g), 0, HUGE_VAL);
@@ -475,7 +534,7 @@ START_TEST(batch_should_say_which_path_it_took)
     ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
     ck_assert_uint_eq(st.batch_single, n);
     for (i = 0; i < n; i++)
-        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i]));
+        ck_assert_int_eq(res[i], ray_occluded(s, &rays[i], NULL));
     free(rays);
     free(res);
     free(hits);
@@ -494,30 +553,37 @@ START_TEST(batch_should_refuse_misuse)
 
     memset(&before, 0x5a, sizeof before);
     h = before;
-    ck_assert_int_eq(ray_intersect_n(NULL, &r, 1, NULL, &h, &res),
-                     RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect_n(s, NULL, 1, NULL, &h, &res),
-                     RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, NULL, &res),
-                     RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, &h, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded_n(NULL, &r, 1, NULL, &res), RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded_n(s, NULL, 1, NULL, &res), RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded_n(s, &r, 1, NULL, NULL), RAY_EINVAL);
-    /* n = 0: nothing to read or write, NULL arrays allowed. */
-    ck_assert_int_eq(ray_intersect_n(s, NULL, 0, NULL, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_occluded_n(s, NULL, 0, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(res, 7);
-    ck_assert(memcmp(&h, &before, sizeof h) == 0);
-    /* Not committed: RAY_ESTATE, nothing written. */
-    ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_intersect_n(fresh, &r, 1, NULL, &h, &res),
-                     RAY_ESTATE);
-    ck_assert_int_eq(ray_occluded_n(fresh, &r, 1, NULL, &res), RAY_ESTATE);
-    ck_assert_int_eq(res, 7);
-    ck_assert(memcmp(&h, &before, sizeof h) == 0);
-    /* The batch forms: a NULL batch, and what the arrays' misuse gives
-    ** ray_intersect_n; hits is not read by ray_occluded_batch. */
+    {
+        /* Each array's misuse, one at a time (a one-ray batch whose
+        ** fields are all good but one). */
+        ray_batch good = {.rays = &r, .n = 1, .hits = &h, .results = &res};
+        ray_batch no_rays = good, no_hits = good, no_res = good;
+        ray_batch none = {.n = 0};   /* n = 0: NULL arrays allowed */
+
+        no_rays.rays = NULL;
+        no_hits.hits = NULL;
+        no_res.results = NULL;
+        ck_assert_int_eq(ray_intersect_batch(NULL, &good), RAY_EINVAL);
+        ck_assert_int_eq(ray_intersect_batch(s, &no_rays), RAY_EINVAL);
+        ck_assert_int_eq(ray_intersect_batch(s, &no_hits), RAY_EINVAL);
+        ck_assert_int_eq(ray_intersect_batch(s, &no_res), RAY_EINVAL);
+        ck_assert_int_eq(ray_occluded_batch(NULL, &no_hits), RAY_EINVAL);
+        ck_assert_int_eq(ray_occluded_batch(s, &no_rays), RAY_EINVAL);
+        ck_assert_int_eq(ray_occluded_batch(s, &no_res), RAY_EINVAL);
+        /* n = 0: nothing to read or write, NULL arrays allowed. */
+        ck_assert_int_eq(ray_intersect_batch(s, &none), RAY_OK);
+        ck_assert_int_eq(ray_occluded_batch(s, &none), RAY_OK);
+        ck_assert_int_eq(res, 7);
+        ck_assert(memcmp(&h, &before, sizeof h) == 0);
+        /* Not committed: RAY_ESTATE, nothing written. */
+        ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_intersect_batch(fresh, &good), RAY_ESTATE);
+        ck_assert_int_eq(ray_occluded_batch(fresh, &no_hits), RAY_ESTATE);
+        ck_assert_int_eq(res, 7);
+        ck_assert(memcmp(&h, &before, sizeof h) == 0);
+    }
+    /* A NULL batch, and the arrays' misuse through a batch filled field
+    ** by field; hits is not read by ray_occluded_batch. */
     {
         ray_batch b;
         memset(&b, 0, sizeof b);
@@ -541,7 +607,10 @@ START_TEST(batch_should_refuse_misuse)
         res = 7;
     }
     /* And the one ray, for the record. */
-    ck_assert_int_eq(ray_intersect_n(s, &r, 1, NULL, &h, &res), RAY_OK);
+    ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){.rays = &r, .n = 1,
+                                                         .hits = &h,
+                                                         .results = &res}),
+                     RAY_OK);
     ck_assert_int_eq(res, 1);
     ray_scene_free(fresh);
     ray_scene_free(s);

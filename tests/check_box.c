@@ -741,10 +741,10 @@ START_TEST(scene_should_give_the_bare_hit)
                                   vscale(d, 12)),
                              d, 0, 24);
         ray_hit bare, sc;
-        int hb = ray_box(&r, &b, &bare), hs = ray_intersect(s, &r, &sc);
+        int hb = ray_box(&r, &b, &bare), hs = ray_intersect(s, &r, &sc, NULL);
 
         ck_assert_int_eq(hb, hs);
-        ck_assert_int_eq(ray_occluded(s, &r), hb);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), hb);
         if (!hb)
             continue;
         hits++;
@@ -862,7 +862,7 @@ START_TEST(accepted_huge_boxes_should_be_hit_from_inside)
                     ck_assert_msg(ray_box(&r, &b, &hb) == 1,
                                   "h %g frame %d dir %d", h[i], f, d);
                     ck_assert(isfinite(hb.t) && hb.t > 0);
-                    ck_assert_int_eq(ray_intersect(s, &r, &hs), 1);
+                    ck_assert_int_eq(ray_intersect(s, &r, &hs, NULL), 1);
                     ck_assert(hs.t == hb.t);
                 }
             } else {

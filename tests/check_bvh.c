@@ -160,7 +160,7 @@ START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
         for (j = 0; j < 4000; j++) {
             ray_ray r = random_ray(&g), br = r;
             ray_hit h, bh, tmp;
-            int hit = ray_intersect(s, &r, &h), bhit = 0;
+            int hit = ray_intersect(s, &r, &h, NULL), bhit = 0;
             size_t bi = 0;
 
             for (i = 0; i < n; i++)
@@ -172,7 +172,7 @@ START_TEST(bvh_should_equal_brute_force_on_hostile_soups)
                     bhit = 1;
                 }
             ck_assert_int_eq(hit, bhit);
-            ck_assert_int_eq(ray_occluded(s, &r), bhit);
+            ck_assert_int_eq(ray_occluded(s, &r, NULL), bhit);
             if (!hit)
                 continue;
             /* The same t exactly: the same arithmetic on the same data.
@@ -257,8 +257,8 @@ START_TEST(bvh_should_equal_brute_force_on_mixed_scenes)
             bh = tmp;
             bhit = 1;
         }
-        ck_assert_int_eq(ray_intersect(s, &r, &h), bhit);
-        ck_assert_int_eq(ray_occluded(s, &r), bhit);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), bhit);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), bhit);
         if (bhit)
             ck_assert_double_eq(h.t, bh.t);
     }
@@ -275,18 +275,19 @@ START_TEST(bvh_should_handle_empty_and_single_scenes)
     ray_hit h;
 
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
     ray_scene_free(s);
     s = new_scene(&mat);
     ck_assert_int_eq(ray_scene_add_triangle(s, vec(0, 0, 0), vec(1, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &axis, &h), 1);   /* zero x, y dir */
+    /* zero x, y dir */
+    ck_assert_int_eq(ray_intersect(s, &axis, &h, NULL), 1);
     ck_assert_double_eq(h.t, 5.0);
     /* A ray exactly on the box's face plane x = 0 with d.x = 0: the slab
     ** test sees 0 * Inf = NaN and must keep the box. */
     axis.org = vec(0, 0.5, 5);
-    ck_assert_int_eq(ray_intersect(s, &axis, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &axis, &h, NULL), 1);
     ray_scene_free(s);
 }
 END_TEST
@@ -333,7 +334,7 @@ START_TEST(bvh_should_not_lose_hits_on_flat_boxes)
                                          k % 3 ? rng_range(&g, 0.5, 5) : 1e-3));
         ray_ray r = ray_from(from, vsub(target, from));
         ray_hit h;
-        ck_assert_msg(ray_intersect(s, &r, &h), "ray %d lost", k);
+        ck_assert_msg(ray_intersect(s, &r, &h, NULL), "ray %d lost", k);
         ck_assert_double_eq_tol(h.t, 1.0, 1e-9);
     }
     ray_scene_free(s);
@@ -420,11 +421,11 @@ START_TEST(plain_queries_should_answer_as_the_general_ones)
             memset(&a, 0, sizeof a);
             memset(&b, 0, sizeof b);
             memset(&st, 0, sizeof st);
-            ha = ray_intersect(s, &r, &a);
+            ha = ray_intersect(s, &r, &a, NULL);
             hb = ray__intersect_gated_base(s, &r, NULL, 1, &b, &st);
             ck_assert_int_eq(ha, hb);
             ck_assert_msg(hit_same(&a, &b), "ray %zu", j);
-            ck_assert_int_eq(ray_occluded(s, &r),
+            ck_assert_int_eq(ray_occluded(s, &r, NULL),
                              ray__occluded_gated_base(s, &r, NULL, &st));
             ck_assert_int_eq(ray__intersect_tris_base(s, &r, &b), ha);
             ck_assert_msg(!ha || hit_same(&a, &b), "ray %zu", j);
@@ -588,8 +589,9 @@ static int agrees_with_bare(ray_vec3 a, ray_vec3 b, ray_vec3 c,
     ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     want = ray_triangle_watertight(r, a, b, c, &bare);
-    ck_assert_msg(ray_intersect(s, r, &got) == want, "%s: intersect", what);
-    ck_assert_msg(ray_occluded(s, r) == want, "%s: occluded", what);
+    ck_assert_msg(ray_intersect(s, r, &got, NULL) == want, "%s: intersect",
+                  what);
+    ck_assert_msg(ray_occluded(s, r, NULL) == want, "%s: occluded", what);
     if (want)
         ck_assert_msg(got.t == bare.t, "%s: t %.17g, bare %.17g", what,
                       got.t, bare.t);
@@ -671,7 +673,7 @@ START_TEST(queries_should_refuse_unusable_rays)
     ck_assert_int_eq(ray_scene_add_polygon(s, quad, 4, mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -3), vec(0, 0, 1), mat, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &good, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &good, &h, NULL), 1);
     ck_assert_double_eq(h.t, 4.0);
     for (i = 0; i < 9; i++)
         bad[i] = good;
@@ -688,9 +690,11 @@ START_TEST(queries_should_refuse_unusable_rays)
     memset(&before, 0x5a, sizeof before);
     for (i = 0; i < 9; i++) {
         h = before;
-        ck_assert_msg(ray_intersect(s, &bad[i], &h) == 0, "ray %d hit", i);
+        ck_assert_msg(ray_intersect(s, &bad[i], &h, NULL) == 0,
+                      "ray %d hit", i);
         ck_assert_msg(memcmp(&h, &before, sizeof h) == 0, "ray %d wrote", i);
-        ck_assert_msg(ray_occluded(s, &bad[i]) == 0, "ray %d occluded", i);
+        ck_assert_msg(ray_occluded(s, &bad[i], NULL) == 0,
+                      "ray %d occluded", i);
     }
     ray_scene_free(s);
 }
@@ -912,7 +916,7 @@ static void grid_in_bounded_memory(int floats, double kept_bound,
     ck_assert_msg((double)(cnt.peak - base) / (double)tris <= peak_bound,
                   "%.3f bytes per triangle at the peak",
                   (double)(cnt.peak - base) / (double)tris);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_double_eq_tol(h.p.x, 300.25, 1e-9);
     ray_scene_free(s);
     ck_assert_int_eq(cnt.now, 0);
@@ -1152,12 +1156,13 @@ START_TEST(threaded_build_should_make_the_same_tree_at_every_thread_count)
             int ha, hb;
             memset(&a, 0, sizeof a);
             memset(&b, 0, sizeof b);
-            ha = ray_intersect(one, &r, &a);
-            hb = ray_intersect(s, &r, &b);
+            ha = ray_intersect(one, &r, &a, NULL);
+            hb = ray_intersect(s, &r, &b, NULL);
             ck_assert_int_eq(ha, hb);
             ck_assert_msg(hit_same(&a, &b), "threads %u, ray %zu",
                           threads[t], j);
-            ck_assert_int_eq(ray_occluded(one, &r), ray_occluded(s, &r));
+            ck_assert_int_eq(ray_occluded(one, &r, NULL),
+                             ray_occluded(s, &r, NULL));
         }
         ray_scene_free(s);
     }
@@ -1231,8 +1236,8 @@ START_TEST(threaded_refit_should_fit_the_same_boxes_at_every_thread_count)
             ray_hit a, b;
             memset(&a, 0, sizeof a);
             memset(&b, 0, sizeof b);
-            ck_assert_int_eq(ray_intersect(one, &r, &a),
-                             ray_intersect(s, &r, &b));
+            ck_assert_int_eq(ray_intersect(one, &r, &a, NULL),
+                             ray_intersect(s, &r, &b, NULL));
             ck_assert_msg(hit_same(&a, &b), "threads %u, ray %zu",
                           threads[t], j);
         }
@@ -1328,11 +1333,11 @@ START_TEST(threaded_build_should_fail_cleanly_and_stage_its_setting)
             done = 1;
         else {
             ck_assert_int_eq(rc, RAY_ENOMEM);
-            ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
+            ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), -RAY_ESTATE);
             left = before;
             ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         }
-        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
         ray_scene_free(s);
         ck_assert_int_lt(k, 1000);
     }
@@ -1340,12 +1345,12 @@ START_TEST(threaded_build_should_fail_cleanly_and_stage_its_setting)
 
     s = threaded_scene(in, 2, NULL, NULL, &rc);
     ck_assert_int_eq(rc, RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_int_eq(ray_scene_set_build_threads(s, 0), RAY_OK);
     ck_assert_str_eq(ray_scene_errmsg(s), "");
-    ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     assert_same_trees(one, s);
     ck_assert_int_eq(ray_scene_set_build_threads(NULL, 2), RAY_EINVAL);
     ray_scene_free(s);

@@ -728,9 +728,9 @@ START_TEST(scene_capsule_should_match_bare_function)
 
         r.dir = vsub(vadd(vec(o, o, o), rng_point(&g, -1.5, 1.5)), r.org);
         bare = ray_capsule(&r, &c, &hb);
-        scene = ray_intersect(s, &r, &hs);
+        scene = ray_intersect(s, &r, &hs, NULL);
         ck_assert_int_ge(scene, 0);
-        ck_assert_int_eq(ray_occluded(s, &r), scene);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), scene);
         if (scene == 1 && hs.geom_id == id) {
             capsule_hits++;
             ck_assert_int_eq(bare, 1);
@@ -788,7 +788,8 @@ START_TEST(scene_capsule_should_refuse_bad_params)
     /* Refused after commit too, and the scene stays committed. */
     ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat + 1, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 0);
-    ck_assert_int_ge(ray_occluded(s, &(ray_ray){{0, 0, 0}, {0, 1, 0}, 0, 1}), 0);
+    ck_assert_int_ge(ray_occluded(s, &(ray_ray){{0, 0, 0}, {0, 1, 0}, 0, 1},
+                                  NULL), 0);
     ray_scene_free(s);
 }
 END_TEST

@@ -1051,7 +1051,7 @@ START_TEST(zero_area_triangles_should_be_skipped_by_every_query)
     /* Near the degenerate one (its first corner included), far from the
     ** other (9 away): nothing. */
     r = make_ray(vec(0, 0, 5), vec(0, 0, -1), 0, HUGE_VAL);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
     ck_assert_int_eq(ray_closest_point(s, vec(1, 1, 0), 2, &c), 0);
     ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 2, &n), 0);
     ck_assert_uint_eq(n, 0);

@@ -225,7 +225,7 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
     rays[3] = ray_from(vec(0, 0, 0), vec(0, 0, 1));       /* nothing */
     for (k = 0; k < 4; k++) {
         hit_poison(&want[k]);
-        res_want[k] = ray_intersect(s, &rays[k], &want[k]);
+        res_want[k] = ray_intersect(s, &rays[k], &want[k], NULL);
     }
     ck_assert_int_eq(res_want[0] + res_want[1] + res_want[2] + res_want[3],
                      3);
@@ -243,9 +243,9 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         for (i = 0; i < 4; i++) {
             ray_hit h;
             hit_poison(&h);
-            ck_assert_int_eq(ray_intersect_opt(s, &rays[i], qs[k], &h),
+            ck_assert_int_eq(ray_intersect(s, &rays[i], &h, qs[k]),
                              res_want[i]);
-            ck_assert_int_eq(ray_occluded_opt(s, &rays[i], qs[k]),
+            ck_assert_int_eq(ray_occluded(s, &rays[i], qs[k]),
                              res_want[i]);
             if (res_want[i] == 1)
                 ck_assert(hit_same(&h, &want[i]));
@@ -253,8 +253,13 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ck_assert_int_eq(ray_intersect_all(s, &rays[0], qs[k], all, 8,
                                            &total), 3);
         ck_assert_uint_eq(total, total_want);
-        /* One query for all (_n), and each ray its own (batch). */
-        ck_assert_int_eq(ray_intersect_n(s, rays, 4, qs[k], got, res_got),
+        /* One query for all (ray_batch.query), and each ray its own
+        ** (ray_batch.queries, NULL here: the defaults). */
+        ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){.rays = rays,
+                                                             .n = 4,
+                                                             .hits = got,
+                                                             .results = res_got,
+                                                             .query = qs[k]}),
                          RAY_OK);
         ck_assert_mem_eq(res_got, res_want, sizeof res_want);
         ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
@@ -285,7 +290,55 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
     }
     /* Ignoring every bit hides everything: the mask is still read. */
     for (k = 0; k < 4; k++)
-        ck_assert_int_eq(ray_occluded_opt(s, &rays[k], &hide), 0);
+        ck_assert_int_eq(ray_occluded(s, &rays[k], &hide), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The options reach ray_intersect and ray_occluded on a scene of
+** triangles alone without masks or filters, which a NULL q sends straight
+** to the triangle walk (issue 34's fast path): a zeroed or named query
+** answers as NULL, bit for bit, and a query ignoring every bit hides the
+** mesh (a miss, *hit untouched), so the fast path never swallows options.
+*/
+START_TEST(query_options_should_reach_the_triangles_fast_path)
+{
+    static const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    ray_vec3 v[4] = {{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}};
+    ray_mesh m = {0};
+    ray_scene *s;
+    int me = 7, k;
+    ray_query zero = {0}, named = {.query_ud = &me}, hide = {~0u, NULL};
+    const ray_query *qs[3] = {NULL, &zero, &named};
+    ray_ray r = ray_from(vec(0.25, 0.125, 0), vec(0, 0, -1));
+    ray_hit want, h;
+
+    m.vertices = v;
+    m.vertex_count = 4;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    hit_poison(&want);
+    ck_assert_int_eq(ray_intersect(s, &r, &want, NULL), 1);
+    ck_assert_double_eq_tol(want.t, 2, 1e-15);   /* the plane z = -2 */
+    for (k = 0; k < 3; k++) {
+        hit_poison(&h);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, qs[k]), 1);
+        ck_assert(hit_same(&h, &want));
+        ck_assert_int_eq(ray_occluded(s, &r, qs[k]), 1);
+    }
+    hit_poison(&h);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, &hide), 0);
+    ck_assert(hit_is_poisoned(&h));
+    ck_assert_int_eq(ray_occluded(s, &r, &hide), 0);
+    /* Misuse is the same with options as without. */
+    ck_assert_int_eq(ray_intersect(s, NULL, &h, &zero), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, &r, NULL, &zero), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(NULL, &r, &zero), -RAY_EINVAL);
     ray_scene_free(s);
 }
 END_TEST
@@ -396,6 +449,7 @@ Suite *defaults_suite(void)
     suite_add_tcase(s, tc);
     tc = tcase_create("zero");
     tcase_add_test(tc, zeroed_query_and_batch_should_see_everything);
+    tcase_add_test(tc, query_options_should_reach_the_triangles_fast_path);
     tcase_add_test(tc, zeroed_render_options_and_camera_should_render_the_defaults);
     tcase_add_test(tc, zeroed_contains_and_grid_options_should_be_null);
     suite_add_tcase(s, tc);

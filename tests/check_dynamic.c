@@ -72,7 +72,9 @@ START_TEST(refit_should_answer_as_a_rebuild)
         wobble(v, ball.nv, &g, 0.3);
         ck_assert_int_eq(ray_scene_update_mesh(live, idb, &mb), RAY_OK);
         ck_assert_int_eq(ray_scene_update_mesh(live, idc, &mc2), RAY_OK);
-        ck_assert_int_eq(ray_intersect(live, &(ray_ray){{0, 0, 9}, {0, 0, -1}, 0, 1}, &(ray_hit){0}), -RAY_ESTATE);
+        ck_assert_int_eq(ray_intersect(live,
+                                       &(ray_ray){{0, 0, 9}, {0, 0, -1}, 0, 1},
+                                       &(ray_hit){0}, NULL), -RAY_ESTATE);
         ck_assert_int_eq(ray_scene_commit(live), RAY_OK);
         ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_mesh(fresh, &mb, RAY_NO_MATERIAL, NULL), RAY_OK);
@@ -81,9 +83,11 @@ START_TEST(refit_should_answer_as_a_rebuild)
         for (i = 0; i < 3000; i++) {
             ray_ray r = random_ray(&g);
             ray_hit a, b;
-            int ha = ray_intersect(live, &r, &a), hb = ray_intersect(fresh, &r, &b);
+            int ha = ray_intersect(live, &r, &a, NULL),
+                hb = ray_intersect(fresh, &r, &b, NULL);
             ck_assert_int_eq(ha, hb);
-            ck_assert_int_eq(ray_occluded(live, &r), ray_occluded(fresh, &r));
+            ck_assert_int_eq(ray_occluded(live, &r, NULL),
+                             ray_occluded(fresh, &r, NULL));
             if (ha == 1) {
                 hits++;
                 ck_assert(hit_same(&a, &b));
@@ -98,7 +102,7 @@ START_TEST(refit_should_answer_as_a_rebuild)
             ray_vec3 n = vcross(vsub(cube2.v[t[1]], cube2.v[t[0]]), vsub(cube2.v[t[2]], cube2.v[t[0]]));
             ray_ray r = ray_from(vadd(c, vscale(n, 3)), vscale(n, -1));
             ray_hit h;
-            ck_assert_int_eq(ray_intersect(live, &r, &h), 1);
+            ck_assert_int_eq(ray_intersect(live, &r, &h, NULL), 1);
             ck_assert_uint_eq(h.geom_id, idc);
             ck_assert_uint_eq(h.prim_id, 0);
         }
@@ -198,8 +202,8 @@ START_TEST(borrowed_mesh_should_be_read_again_in_place)
         ray_ray r = random_ray(&g);
         ray_hit a, b;
         ray_rgb c;
-        int ha = ray_intersect(s, &r, &a);
-        ck_assert_int_eq(ha, ray_intersect(fresh, &r, &b));
+        int ha = ray_intersect(s, &r, &a, NULL);
+        ck_assert_int_eq(ha, ray_intersect(fresh, &r, &b, NULL));
         if (ha != 1)
             continue;
         hits++;
@@ -231,7 +235,7 @@ static int first_is(const ray_scene *s, double x, unsigned id)
 {
     ray_ray r = ray_from(vec(x, 0, 10), vec(0, 0, -1));
     ray_hit h;
-    return ray_intersect(s, &r, &h) == 1 && h.geom_id == id;
+    return ray_intersect(s, &r, &h, NULL) == 1 && h.geom_id == id;
 }
 
 /*
@@ -329,8 +333,8 @@ static int first_masked(const ray_scene *s, double x, unsigned mask)
 
     memset(&q, 0, sizeof q);
     q.ignore_mask = ~mask;
-    hit = ray_intersect_opt(s, &r, &q, &h);
-    ck_assert_int_eq(ray_occluded_opt(s, &r, &q), hit);
+    hit = ray_intersect(s, &r, &h, &q);
+    ck_assert_int_eq(ray_occluded(s, &r, &q), hit);
     return hit == 1 ? (int)h.geom_id : -1;
 }
 
@@ -382,7 +386,7 @@ START_TEST(masks_should_pick_geometry_by_shared_bits)
     {
         ray_ray r = ray_from(vec(0, 0, 10), vec(0, 0, -1));
         ray_hit h;
-        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
         ck_assert_uint_eq(h.geom_id, sph);
     }
     ray_scene_free(s);
@@ -472,7 +476,7 @@ START_TEST(filters_should_see_their_candidate_inside_the_ray)
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         r = ray_from(vec(rng_range(&g, -0.9, 0.9), 0, 5), vec(0, 0, -1));
         k = log.calls;
-        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
         /* t = 5 within the watertight test's rounding: a few ulps. */
         ck_assert_double_eq_tol(h.t, 5.0, 8 * DBL_EPSILON * 5);
         ties += log.calls - k == 2;
@@ -521,9 +525,9 @@ START_TEST(filters_should_reject_candidates_exactly)
             double x = -0.95 + 0.1 * i, y = -0.95 + 0.1 * j + 0.01;
             ray_ray r = ray_from(vec(x, y, 5), vec(0, 0, -1));
             ray_hit h;
-            int hit = ray_intersect(s, &r, &h);
+            int hit = ray_intersect(s, &r, &h, NULL);
             ck_assert_int_eq(hit, x > 0);
-            ck_assert_int_eq(ray_occluded(s, &r), x > 0);
+            ck_assert_int_eq(ray_occluded(s, &r, NULL), x > 0);
             hits += hit;
         }
     ck_assert_int_eq(hits, 200);
@@ -532,11 +536,11 @@ START_TEST(filters_should_reject_candidates_exactly)
     {
         ray_ray r = ray_from(vec(10, 0, 10), vec(0, 0, -1));
         ray_hit h;
-        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
         ck_assert_double_eq_tol(h.t, 11.0, tol_at(10));
         ck_assert_uint_eq(front.calls, 2);
         /* Occluded does not call an intersect-only filter. */
-        ck_assert_int_eq(ray_occluded(s, &r), 1);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), 1);
         ck_assert_uint_eq(front.calls, 2);
     }
     /* The shooter's own sphere ignored by its shadow rays only. */
@@ -545,16 +549,16 @@ START_TEST(filters_should_reject_candidates_exactly)
         ray_hit h;
         memset(&q, 0, sizeof q);
         q.query_ud = &other;
-        ck_assert_int_eq(ray_occluded_opt(s, &r, &q), 0);
-        ck_assert_int_eq(ray_occluded(s, &r), 1);
-        ck_assert_int_eq(ray_intersect_opt(s, &r, &q, &h), 1);
+        ck_assert_int_eq(ray_occluded(s, &r, &q), 0);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, &q), 1);
         /* The shooter's query offers the front, then the back (both
         ** rejected); the plain one the front (kept); intersect none. */
         ck_assert_uint_eq(shoot.calls, 3);
         /* Removing the filter: a commit, then no more calls. */
         ck_assert_int_eq(ray_scene_set_filter(s, other, NULL, NULL, 0), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        ck_assert_int_eq(ray_occluded_opt(s, &r, &q), 1);
+        ck_assert_int_eq(ray_occluded(s, &r, &q), 1);
         ck_assert_uint_eq(shoot.calls, 3);
     }
     ray_scene_free(s);

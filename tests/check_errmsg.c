@@ -1015,17 +1015,17 @@ START_TEST(building_after_commit_should_stage_a_change)
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
     ck_assert_msg(after_commit(s, _i) == RAY_OK, "%s refused after commit",
                   building_calls[_i]);
     ck_assert_str_eq(ray_scene_errmsg(s), "");
     if (_i == N_BUILDING - 1) {                /* the commit itself */
-        ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
     } else {
-        ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
-        ck_assert_int_eq(ray_occluded(s, &r), -RAY_ESTATE);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), -RAY_ESTATE);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), -RAY_ESTATE);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        ck_assert_int_ge(ray_intersect(s, &r, &h), 0);
+        ck_assert_int_ge(ray_intersect(s, &r, &h, NULL), 0);
     }
     ray_scene_free(s);
 }

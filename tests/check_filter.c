@@ -46,16 +46,16 @@ static size_t differences(ray_scene *s, const hc_mesh *m, double dist,
         memset(&hf, 0, sizeof hf);
         memset(&he, 0, sizeof he);
         ray__scene_set_tri_mode(s, RAY__TRI_FILTERED);
-        f = ray_intersect(s, &r, &hf);
+        f = ray_intersect(s, &r, &hf, NULL);
         ray__scene_set_tri_mode(s, RAY__TRI_EXACT);
-        e = ray_intersect(s, &r, &he);
+        e = ray_intersect(s, &r, &he, NULL);
         *hits += f > 0;
         diff += f != e || memcmp(&hf, &he, sizeof hf) != 0;
         if (i % 4 == 0) {
             ray__scene_set_tri_mode(s, RAY__TRI_FILTERED);
-            f = ray_occluded(s, &r);
+            f = ray_occluded(s, &r, NULL);
             ray__scene_set_tri_mode(s, RAY__TRI_EXACT);
-            diff += f != ray_occluded(s, &r);
+            diff += f != ray_occluded(s, &r, NULL);
         }
     }
     return diff;
@@ -127,10 +127,10 @@ static int filtered_hit(ray_vec3 a, ray_vec3 b, ray_vec3 c, const ray_ray *r,
                                             NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ray__scene_set_tri_mode(s, RAY__TRI_EXACT);
-    *exact = ray_intersect(s, r, &h);
+    *exact = ray_intersect(s, r, &h, NULL);
     ray__scene_set_tri_mode(s, RAY__TRI_FILTERED);
     ray__scene_set_filter_scale(s, scale);
-    f = ray_intersect(s, r, &h);
+    f = ray_intersect(s, r, &h, NULL);
     ray_scene_free(s);
     return f;
 }

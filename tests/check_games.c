@@ -53,26 +53,26 @@ START_TEST(meshes_without_material_should_be_queried)
     ray_ray r = ray_from(vec(0.5, -0.5, 10), vec(0, 0, -1));
     ray_hit h;
 
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_uint_eq(h.geom_id, 0);
     ck_assert_uint_eq(h.prim_id, 2);
     ck_assert(h.t == 9.0);
     r.org = vec(-0.5, 0.5, 10);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_uint_eq(h.geom_id, 0);
     ck_assert_uint_eq(h.prim_id, 3);
     r.org = vec(10, 0, 10);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_uint_eq(h.geom_id, 1);
     ck_assert_uint_lt(h.prim_id, nt);
     ck_assert_msg(fabs(h.t - 8.0) <= tol_at(10.0), "t %.17g", h.t);
     r.org = vec(5, 0, 10);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
     /* Line of sight: through the cube is blocked, beside it is clear. */
     r = make_ray(vec(-5, 0, 0), vec(1, 0, 0), 0, 4.5);
-    ck_assert_int_eq(ray_occluded(s, &r), 1);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 1);
     r.tmax = 3.5;
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
     ck_assert_uint_eq(ray_scene_effects(s), 0u);
     ray_scene_free(s);
 }
@@ -372,9 +372,11 @@ START_TEST(float_mesh_should_hit_as_its_doubles)
         ray_vec3 to = vadd(c, vscale(rng_dir(&r), 2.5 * rng_unit(&r)));
         ray_ray ray = ray_from(org, vsub(to, org));
         ray_hit a, b;
-        int ha = ray_intersect(sf, &ray, &a), hb = ray_intersect(sd, &ray, &b);
+        int ha = ray_intersect(sf, &ray, &a, NULL),
+            hb = ray_intersect(sd, &ray, &b, NULL);
         assert_same_hit(ha, &a, hb, &b, k);
-        ck_assert_int_eq(ray_occluded(sf, &ray), ray_occluded(sd, &ray));
+        ck_assert_int_eq(ray_occluded(sf, &ray, NULL),
+                         ray_occluded(sd, &ray, NULL));
         hits += ha == 1;
     }
     ck_assert_int_gt(hits, 10000);
@@ -432,8 +434,8 @@ START_TEST(float_meshes_should_never_leak)
                                               0.9 * rng_unit(&r)));
                 ray_ray ray = ray_from(org, vsub(target, org));
                 ray_hit hit;
-                leaks += ray_intersect(s, &ray, &hit) != 1;
-                cramer += ray_intersect(sc, &ray, &hit) != 1;
+                leaks += ray_intersect(s, &ray, &hit, NULL) != 1;
+                cramer += ray_intersect(sc, &ray, &hit, NULL) != 1;
             }
             ck_assert_msg(leaks == 0, "%s at centre %d: %ld leaks",
                           mi ? "icosphere" : "cube", ci, leaks);
@@ -523,8 +525,8 @@ START_TEST(every_layout_should_give_the_same_mesh)
                     to = vadd(c, vscale(rng_dir(&r), rng_unit(&r)));
                 }
                 ray = ray_from(org, vsub(to, org));
-                ha = ray_intersect(s, &ray, &a);
-                hb = ray_intersect(sr, &ray, &b);
+                ha = ray_intersect(s, &ray, &a, NULL);
+                hb = ray_intersect(sr, &ray, &b, NULL);
                 ck_assert_int_eq(ha, 1);
                 assert_same_hit(ha, &a, hb, &b, k);
                 if (k < 12)
@@ -570,7 +572,7 @@ START_TEST(vertices_and_indices_should_win_over_positions)
     m.position_stride = 1;
     m.index_data = junk;
     s = scene_of_mesh(&m, 1);
-    ck_assert_int_eq(ray_intersect(s, &r, &hit), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &hit, NULL), 1);
     ck_assert(hit.t == 1.0);
     ck_assert_uint_eq(hit.prim_id, 0);
     ray_scene_free(s);
@@ -630,7 +632,7 @@ START_TEST(game_layout_limits_should_hold)
         ** t = 2 exactly (every vertex has z = 0, the ray runs down z). */
         ray_ray r = ray_from(vec(16384.25, 0.25, 2), vec(0, 0, -1));
         ray_hit hit;
-        ck_assert_int_eq(ray_intersect(s, &r, &hit), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &hit, NULL), 1);
         ck_assert(hit.t == 2.0);
     }
     ray_scene_free(s);

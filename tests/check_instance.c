@@ -105,9 +105,11 @@ START_TEST(identity_instance_should_answer_as_the_child)
     for (i = 0; i < 4000; i++) {
         ray_ray r = child_ray(&g, vec(0, 0, 0));
         ray_hit a, b;
-        int ha = ray_intersect(child, &r, &a), hb = ray_intersect(top, &r, &b);
+        int ha = ray_intersect(child, &r, &a, NULL),
+            hb = ray_intersect(top, &r, &b, NULL);
         ck_assert_int_eq(ha, hb);
-        ck_assert_int_eq(ray_occluded(child, &r), ray_occluded(top, &r));
+        ck_assert_int_eq(ray_occluded(child, &r, NULL),
+                         ray_occluded(top, &r, NULL));
         if (ha != 1)
             continue;
         hits++;
@@ -182,8 +184,8 @@ START_TEST(instance_should_match_flattened_geometry)
         ray_ray r = ray_from(from, vsub(target, from));
         ray_hit a, b;
         double tol = 4096 * DBL_EPSILON * (fabs(off) + 40) / vlen(r.dir);
-        ck_assert_int_eq(ray_intersect(flat, &r, &a), 1);
-        ck_assert_int_eq(ray_intersect(top, &r, &b), 1);
+        ck_assert_int_eq(ray_intersect(flat, &r, &a, NULL), 1);
+        ck_assert_int_eq(ray_intersect(top, &r, &b, NULL), 1);
         /* Child geometry 0 is the mesh, 1 the sphere, 2 the box, as in
         ** flat. */
         ck_assert_uint_eq(a.geom_id, b.geom_id);
@@ -300,7 +302,7 @@ START_TEST(normals_should_follow_the_inverse_transpose)
         ray_vec3 from = vscale(rng_dir(&g), 10), want;
         ray_ray r = ray_from(from, vsub(vec(rng_range(&g, -1, 1), rng_range(&g, -0.5, 0.5), 0), from));
         ray_hit h;
-        if (ray_intersect(top, &r, &h) != 1)
+        if (ray_intersect(top, &r, &h, NULL) != 1)
             continue;
         want = vnorm(vec(h.p.x / 4, h.p.y, h.p.z));
         ck_assert_vec_eq_tol(h.n, want, 1e-12);
@@ -346,8 +348,8 @@ START_TEST(closed_mesh_should_not_leak_through_an_instance)
             ray_ray r = ray_from(inside, vsub(targets[j], inside));
             ray_hit h;
             rays++;
-            lost += ray_intersect(top, &r, &h) != 1;
-            lost += ray_occluded(top, &r) != 1;
+            lost += ray_intersect(top, &r, &h, NULL) != 1;
+            lost += ray_occluded(top, &r, NULL) != 1;
         }
     }
     ck_assert_uint_eq(lost, 0);
@@ -405,14 +407,14 @@ START_TEST(spawned_rays_should_not_self_hit_through_an_instance)
                                                      24 * cos(el) * sin(az))));
         ray_ray r = ray_from(eye, vsub(target, eye)), s;
         ray_hit h;
-        if (ray_intersect(top, &r, &h) != 1)
+        if (ray_intersect(top, &r, &h, NULL) != 1)
             continue;
         hits++;
         ck_assert_double_gt(vdot(h.n, up) * vdot(h.n, up), 1 - 1e-12);
         if (ray_spawn_to(&h, light, &s) == RAY_OK)
-            self += ray_occluded(top, &s) == 1;
+            self += ray_occluded(top, &s, NULL) == 1;
         if (ray_spawn(&h, ray_reflect(r.dir, h.n), &s) == RAY_OK)
-            self += ray_intersect(top, &s, &h) == 1;
+            self += ray_intersect(top, &s, &h, NULL) == 1;
     }
     ck_assert_int_gt(hits, 3000);
     ck_assert_int_eq(self, 0);
@@ -489,8 +491,8 @@ START_TEST(world_error_bound_should_be_the_documented_one)
                    L[k][2] * ro.dir.z;
         }
         rw = ray_from(vec(o[0], o[1], o[2]), vec(d[0], d[1], d[2]));
-        ck_assert_int_eq(ray_intersect(child, &ro, &ho), 1);
-        ck_assert_int_eq(ray_intersect(top, &rw, &hw), 1);
+        ck_assert_int_eq(ray_intersect(child, &ro, &ho, NULL), 1);
+        ck_assert_int_eq(ray_intersect(top, &rw, &hw, NULL), 1);
         ck_assert_double_eq(hw.t, ho.t);           /* the same object ray */
         for (k = 0; k < 3; k++) {
             const double *pp = &ho.p.x, *ep = &ho.p_err.x, *wp = &hw.p.x,
@@ -611,21 +613,21 @@ START_TEST(instances_should_move_and_follow_their_child)
     ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, &inst), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &at0, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &at0, &h, NULL), 1);
     ck_assert_double_eq(h.t, 9.0);     /* exact: 10 - 1 on the axis */
     xf.m[0][3] = 5;
     ck_assert_int_eq(ray_scene_set_transform(top, inst, &xf), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &at0, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(top, &at0, &h, NULL), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &at0, &h), 0);
-    ck_assert_int_eq(ray_intersect(top, &at5, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &at0, &h, NULL), 0);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h, NULL), 1);
     ck_assert_double_eq(h.t, 9.0);
     ck_assert_double_eq(h.p.x, 5.0);
     /* The child grows a second sphere at x = 15 (world 20). */
     ck_assert_int_eq(ray_scene_add_sphere(child, vec(15, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &at5, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h, NULL), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &at5, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h, NULL), -RAY_ESTATE);
     /* The calls that check every instance first refuse it whatever the
     ** ray, and write nothing. */
     {
@@ -644,15 +646,15 @@ START_TEST(instances_should_move_and_follow_their_child)
         ck_assert_int_eq(ray_render(top, &cam, &opt, px, NULL), RAY_ESTATE);
     }
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &at5, &h), 1);
-    ck_assert_int_eq(ray_intersect(top, &far, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h, NULL), 1);
+    ck_assert_int_eq(ray_intersect(top, &far, &h, NULL), 1);
     ck_assert_uint_eq(h.geom_id, 1);
     ck_assert_uint_eq(h.inst_id, inst);
     /* Removed, its child may go: nothing of the parent reads it again. */
     ck_assert_int_eq(ray_scene_remove(top, inst), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
     ray_scene_free(child);
-    ck_assert_int_eq(ray_intersect(top, &at5, &h), 0);
+    ck_assert_int_eq(ray_intersect(top, &at5, &h, NULL), 0);
     {
         size_t count = 77;
         ck_assert_int_eq(ray_intersect_all(top, &at5, NULL, NULL, 0, &count), 0);
@@ -696,12 +698,12 @@ START_TEST(failed_commit_should_leave_every_instance_stale)
     ck_assert_int_eq(ray_scene_commit(a), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(b, vec(0, 2, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(p), RAY_ESTATE);
-    ck_assert_int_eq(ray_intersect(p, &r, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(p, &r, &h, NULL), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(b), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(p), RAY_OK);
-    ck_assert_int_eq(ray_intersect(p, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(p, &r, &h, NULL), 1);
     ck_assert_double_eq(h.t, 7.0);          /* exact: -10 to -3 */
-    ck_assert_int_eq(ray_intersect(p, &high, &h), 1);   /* the new box */
+    ck_assert_int_eq(ray_intersect(p, &high, &h, NULL), 1);   /* the new box */
     ray_scene_free(p);
     ray_scene_free(a);
     ray_scene_free(b);
@@ -783,7 +785,7 @@ START_TEST(instances_should_take_any_scale)
         ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
         ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-        ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+        ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 1);
         ck_assert_double_eq_tol(h.t, 4 * sc, 8 * DBL_EPSILON * 4 * sc);
         ray_scene_free(top);
     }
@@ -823,14 +825,14 @@ START_TEST(instances_should_refuse_transforms_beyond_the_doubles)
     xf.m[2][3] = -0x1p1014;
     ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, &id), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 1);
     ck_assert(hit_is_finite(&h));
     ck_assert_double_eq_tol(h.p.z, -0x1p1014 + 0x1p1012, 0x1p1012 * 1e-14);
     ck_assert_int_eq(ray_intersect_all(top, &r, NULL, all, 4, &n), 2);
     ck_assert(hit_is_finite(&all[0]) && hit_is_finite(&all[1]));
     /* Moved out of range: refused, the scene still committed as it was. */
     ck_assert_int_eq(ray_scene_set_transform(top, id, &far), RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 1);
     /* The child grows (a sphere at 100): 2^1012 * 101 + 2^1014 is beyond
     ** 2^1016, so the parent's next commit refuses. */
     ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 100), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
@@ -868,7 +870,7 @@ START_TEST(instances_should_say_why_a_tiny_scale_is_refused)
     xf.m[0][0] = 1e-300;
     ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 1);
     ck_assert_double_eq_tol(h.t, 4, 8 * DBL_EPSILON * 4);
     ray_scene_free(top);
     ray_scene_free(child);
@@ -931,7 +933,8 @@ START_TEST(instances_should_refuse_bad_input)
     bad.m[0][0] = 0;
     ck_assert_int_eq(ray_scene_add_instance(top, child, &bad, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 77);
-    ck_assert_int_eq(ray_intersect(top, &r, &h), 0);   /* still committed */
+    /* still committed */
+    ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 0);
     /* Updates of what is not there, or not an instance. */
     ck_assert_int_eq(ray_scene_set_transform(top, 0, &xf), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, &id), RAY_OK);
@@ -944,7 +947,8 @@ START_TEST(instances_should_refuse_bad_input)
     bad.m[0][0] = 0;
     ck_assert_int_eq(ray_scene_set_transform(top, 0, &bad), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_set_filter(top, 0, NULL, NULL, 0), RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect(top, &r, &h), 1);   /* still committed */
+    /* still committed */
+    ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 1);
     ck_assert_double_eq(h.t, 9.0);
     ray_scene_free(top);
     ray_scene_free(nested);
@@ -1002,7 +1006,7 @@ START_TEST(instances_should_refuse_only_what_passes_the_bound)
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         /* Down the z axis onto the image of the top face's centre. */
         r = make_ray(vec(t, t, t + 1e300), vec(0, 0, -1), 0, HUGE_VAL);
-        ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
         ck_assert(isfinite(h.p.x) && isfinite(h.p.y) && isfinite(h.p.z));
         ck_assert(isfinite(h.p_err.x) && isfinite(h.p_err.y) &&
                   isfinite(h.p_err.z));

@@ -148,9 +148,9 @@ START_TEST(scene_hits_should_be_the_bare_primitives_bit_for_bit)
         ray_ray r = lazy_ray(&w, &g, k);
         ray_hit got, want;
         int tie, expect = lazy_expected(&w, &r, &want, &tie);
-        int rc = ray_intersect(w.s, &r, &got);
+        int rc = ray_intersect(w.s, &r, &got, NULL);
 
-        ck_assert_int_eq(ray_occluded(w.s, &r), expect);
+        ck_assert_int_eq(ray_occluded(w.s, &r, NULL), expect);
         if (tie)
             continue;
         checked++;
@@ -195,9 +195,9 @@ START_TEST(scene_should_agree_with_spheres_whose_fill_may_fail)
                                               RAY_NO_MATERIAL, NULL),
                          RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        rc = ray_intersect(s, &r, &got);
+        rc = ray_intersect(s, &r, &got, NULL);
         ck_assert_int_eq(rc, expect);
-        ck_assert_int_eq(ray_occluded(s, &r), expect);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), expect);
         if (expect) {
             want.geom_id = 0;
             want.prim_id = 0;
@@ -253,7 +253,7 @@ START_TEST(render_should_fill_sphere_uv_only_when_read)
         ray_hit want;
         ray_rgb c;
 
-        ck_assert_int_eq(ray_intersect(s, &r, &want), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &want, NULL), 1);
         ck_assert_uint_eq(want.geom_id, (unsigned)k);
         ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c),
                          RAY_OK);

@@ -188,8 +188,8 @@ START_TEST(scene_calls_should_refuse_null)
     ck_assert_uint_eq(ray_light_samples(NULL, 0), 0);
     ck_assert_int_eq(ray_scene_commit(NULL), RAY_EINVAL);
     ck_assert_str_eq(ray_scene_errmsg(NULL), "no scene (NULL)");
-    ck_assert_int_eq(ray_intersect(NULL, &r, &h), -RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded(NULL, &r), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(NULL, &r, &h, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(NULL, &r, NULL), -RAY_EINVAL);
     {
         ray_closest c;
         memset(&c, 0xA5, sizeof c);
@@ -209,9 +209,9 @@ START_TEST(scene_calls_should_refuse_null)
     ck_assert_int_eq(ray_scene_add_light(s, NULL, NULL), RAY_EINVAL);
     ray_scene_free(s);
     s = a_scene();
-    ck_assert_int_eq(ray_intersect(s, NULL, &h), -RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect(s, &r, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded(s, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, NULL, &h, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, &r, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(s, NULL, NULL), -RAY_EINVAL);
     ck_assert_int_eq(ray_closest_point(s, r.org, HUGE_VAL, NULL), -RAY_EINVAL);
     ray_scene_free(s);
 }
@@ -250,19 +250,19 @@ START_TEST(live_scene_calls_should_refuse_null)
     ck_assert_int_eq(ray_scene_add_user(top, NULL, 0, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 77);
     ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
-    ck_assert_int_eq(ray_intersect_opt(NULL, &r, NULL, &h), -RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect_opt(top, NULL, NULL, &h), -RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect_opt(top, &r, NULL, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded_opt(NULL, &r, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded_opt(top, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(NULL, &r, &h, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(top, NULL, &h, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(top, &r, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(NULL, &r, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(top, NULL, NULL), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect_all(NULL, &r, NULL, &h, 1, &count), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect_all(top, NULL, NULL, &h, 1, &count), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect_all(top, &r, NULL, &h, 1, NULL), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect_all(top, &r, NULL, NULL, 1, &count), -RAY_EINVAL);
     ck_assert_uint_eq(count, 77);
     /* NULL options: the defaults, the plain query's answer. */
-    ck_assert_int_eq(ray_intersect_opt(top, &r, NULL, &h), 1);
-    ck_assert_int_eq(ray_occluded_opt(top, &r, NULL), 1);
+    ck_assert_int_eq(ray_intersect(top, &r, &h, NULL), 1);
+    ck_assert_int_eq(ray_occluded(top, &r, NULL), 1);
     ck_assert_int_eq(ray_intersect_all(top, &r, NULL, &h, 1, &count), 2);
     ray_scene_free(top);
     ray_scene_free(s);

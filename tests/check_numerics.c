@@ -128,7 +128,7 @@ START_TEST(watertight_scene_should_never_leak)
         r.dir = v3_sub(target, r.org);
         r.tmin = 0;
         r.tmax = HUGE_VAL;
-        leaks += !ray_intersect(s, &r, &h);
+        leaks += !ray_intersect(s, &r, &h, NULL);
     }
     ck_assert_int_eq(leaks, 0);
     ray_scene_free(s);
@@ -243,7 +243,7 @@ START_TEST(slivers_should_be_the_same_through_a_scene)
                 best = h;
                 found = 1;
             }
-        ck_assert_int_eq(ray_intersect(s, &rays[i], &got), found);
+        ck_assert_int_eq(ray_intersect(s, &rays[i], &got, NULL), found);
         if (found) {
             ck_assert(got.t == best.t);
             ck_assert(got.u == best.u);
@@ -308,7 +308,7 @@ START_TEST(needle_meshes_should_never_leak)
                 r.dir = v3_sub(target, r.org);
                 r.tmin = 0;
                 r.tmax = HUGE_VAL;
-                leaks += !ray_intersect(s, &r, &h);
+                leaks += !ray_intersect(s, &r, &h, NULL);
             }
             ck_assert_msg(leaks == 0, "scene, centre %d H %g: %ld leaks", k,
                           H[m], leaks);

@@ -499,7 +499,7 @@ START_TEST(overlaps_should_hide_mask_zero_by_default)
     memset(&q, 0, sizeof q);
     /* The ray queries hide them all. */
     r = make_ray(vec(0, 0, 10), vec(0, 0, -1), 0, HUGE_VAL);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
     ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;

@@ -119,19 +119,19 @@ START_TEST(scene_changes_after_commit_should_wait_for_the_next_commit)
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &down, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &down, &h, NULL), 0);
     /* A bad call: an error, nothing added, still committed. */
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), -1, mat, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 99);
-    ck_assert_int_eq(ray_intersect(s, &down, &h), 0);
+    ck_assert_int_eq(ray_intersect(s, &down, &h, NULL), 0);
     /* A good one: staged, invisible to queries until the commit. */
     ck_assert_int_eq(ray_scene_add_triangle(s, tri[0], tri[1], tri[2], mat, &id), RAY_OK);
     ck_assert_uint_eq(id, 0);
-    ck_assert_int_eq(ray_intersect(s, &down, &h), -RAY_ESTATE);
-    ck_assert_int_eq(ray_occluded(s, &down), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(s, &down, &h, NULL), -RAY_ESTATE);
+    ck_assert_int_eq(ray_occluded(s, &down, NULL), -RAY_ESTATE);
     ck_assert_uint_eq(ray_scene_effects(s), 0);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &down, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &down, &h, NULL), 1);
     ck_assert_double_eq(h.t, 5.0);                  /* exact: z 5 -> 0 */
     ck_assert_uint_eq(h.geom_id, 0);
     ck_assert_uint_eq(h.inst_id, RAY_INVALID_ID);
@@ -236,34 +236,34 @@ START_TEST(intersect_should_find_nearest_and_any)
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &near_id), RAY_OK);
     hit_poison(&h);
     /* Not committed: a negated status, so that it is not read as a miss. */
-    ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
-    ck_assert_int_eq(ray_occluded(s, &r), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), -RAY_ESTATE);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), -RAY_ESTATE);
     ck_assert(hit_is_poisoned(&h));
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_uint_eq(h.geom_id, near_id);
     ck_assert_double_eq_tol(h.t, 9.0, 1e-14);
-    ck_assert_int_eq(ray_occluded(s, &r), 1);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 1);
     r.tmax = 8.0;
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
     r.org = vec(0, 0, -2);
     r.tmax = HUGE_VAL;
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_uint_eq(h.geom_id, far_id);
     hit_poison(&h);
-    ck_assert_int_eq(ray_intersect(NULL, &r, &h), -RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect(s, NULL, &h), -RAY_EINVAL);
-    ck_assert_int_eq(ray_intersect(s, &r, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded(NULL, &r), -RAY_EINVAL);
-    ck_assert_int_eq(ray_occluded(s, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(NULL, &r, &h, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, NULL, &h, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_intersect(s, &r, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(NULL, &r, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_occluded(s, NULL, NULL), -RAY_EINVAL);
     ck_assert(hit_is_poisoned(&h));
     /* An invalid ray is not misuse: it is a miss, as for the primitives. */
     r.dir = vec(0, 0, 0);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
     r.dir = vec((double)NAN, 0, -1);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 0);
-    ck_assert_int_eq(ray_occluded(s, &r), 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
     ck_assert(hit_is_poisoned(&h));
     ray_scene_free(s);
 }
@@ -302,8 +302,9 @@ static void *query_thread(void *arg)
         return NULL;
     memset(j->out, 0, sizeof *j->out);
     for (i = 0; i < QUERY_RAYS && j->rc == RAY_OK; i++) {
-        j->out->found[i] = ray_intersect(j->s, &j->rays[i], &j->out->hit[i]);
-        j->out->blocked[i] = ray_occluded(j->s, &j->rays[i]);
+        j->out->found[i] = ray_intersect(j->s, &j->rays[i], &j->out->hit[i],
+                                         NULL);
+        j->out->blocked[i] = ray_occluded(j->s, &j->rays[i], NULL);
         j->rc = ray_trace(ctx, &j->rays[i], RAY_KIND_PRIMARY, 1,
                           &j->out->colour[i]);
     }

@@ -241,14 +241,14 @@ START_TEST(scheduler_setting_should_follow_the_setting_rules)
     ck_assert_int_eq(ray_scene_set_scheduler(NULL, NULL), RAY_EINVAL);
 
     sched = test_scheduler(reverse_run, &log);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     ck_assert_int_eq(ray_scene_set_scheduler(s, &sched), RAY_OK);
     ck_assert_str_eq(ray_scene_errmsg(s), "");
-    ck_assert_int_eq(ray_intersect(s, &r, &h), -RAY_ESTATE);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), -RAY_ESTATE);
     options(&o, 2);
     ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_ESTATE);  /* uncommitted since the setting */
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
     sched.run = NULL;                         /* the scene kept a copy */
     ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
     ck_assert_uint_eq(log.runs, 2);

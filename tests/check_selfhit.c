@@ -95,11 +95,11 @@ START_TEST(floor_rays_from_the_hit_point_should_not_rehit)
             out.dir = ray_reflect(r.dir, h.n);
             ck_assert_msg(!sh_bare(&p, &out, &h2), "%s: reflected re-hit",
                           sh_kind_name[k]);
-            ck_assert_int_eq(ray_intersect(s, &out, &h2), 0);
+            ck_assert_int_eq(ray_intersect(s, &out, &h2, NULL), 0);
             out.dir = r.dir;
             ck_assert_msg(!sh_bare(&p, &out, &h2), "%s: through re-hit",
                           sh_kind_name[k]);
-            ck_assert_int_eq(ray_occluded(s, &out), 0);
+            ck_assert_int_eq(ray_occluded(s, &out, NULL), 0);
         }
         ck_assert_int_gt(hits, 1000);
         ray_scene_free(s);

@@ -22,12 +22,13 @@
 /* ------------------------------------------------- 1. batches vs rays */
 
 /*
-** rays[0 .. n - 1] through ray_intersect_n, ray_occluded_n,
-** ray_intersect_batch and ray_occluded_batch (per-ray queries qs, or
-** NULL: q_all for the _n calls, the defaults for the _batch ones) must
-** give what ray_intersect_opt and ray_occluded_opt give ray by ray, bit
-** for bit (API notes 11).  Returns how many rays hit; the batches'
-** counters (packets, single rays) are added to *st.
+** rays[0 .. n - 1] through ray_intersect_batch and ray_occluded_batch,
+** with one set of options for every ray (ray_batch.query = q_all, when qs
+** is NULL) and with per-ray queries (ray_batch.queries = qs, or NULL:
+** the defaults, when q_all is NULL too), must give what ray_intersect and
+** ray_occluded give ray by ray, bit for bit (API notes 11).  Returns how
+** many rays hit; the per-ray batches' counters (packets, single rays) are
+** added to *st.
 */
 static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
                               size_t n, const ray_query *qs,
@@ -46,8 +47,8 @@ static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
     for (i = 0; i < n; i++) {
         const ray_query *q = qs != NULL ? &qs[i] : q_all;
         hit_poison(&hs[i]);
-        rs[i] = ray_intersect_opt(s, &rays[i], q, &hs[i]);
-        os[i] = ray_occluded_opt(s, &rays[i], q);
+        rs[i] = ray_intersect(s, &rays[i], &hs[i], q);
+        os[i] = ray_occluded(s, &rays[i], q);
         ck_assert_msg(rs[i] == os[i], "%s ray %zu: nearest %d, any %d",
                       what, i, rs[i], os[i]);
         hits += rs[i] == 1;
@@ -55,17 +56,21 @@ static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
     for (pass = 0; pass < 4; pass++) {
         for (i = 0; i < n; i++)
             hit_poison(&hb[i]), rb[i] = 7;
+        memset(&b, 0, sizeof b);
         b.rays = rays;
-        b.queries = qs;
         b.n = n;
         b.hits = hb;
         b.results = rb;
-        b.stats = st;
+        if (pass < 2) {                     /* one set for every ray */
+            b.query = q_all;
+        } else {                            /* each ray its own */
+            b.queries = qs;
+            b.stats = st;
+        }
         if (pass == 0 && qs == NULL)
-            ck_assert_int_eq(ray_intersect_n(s, rays, n, q_all, hb, rb),
-                             RAY_OK);
+            ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
         else if (pass == 1 && qs == NULL)
-            ck_assert_int_eq(ray_occluded_n(s, rays, n, q_all, rb), RAY_OK);
+            ck_assert_int_eq(ray_occluded_batch(s, &b), RAY_OK);
         else if (pass == 2 && (qs != NULL || q_all == NULL))
             ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
         else if (pass == 3 && (qs != NULL || q_all == NULL))
@@ -75,8 +80,8 @@ static size_t batch_vs_single(const ray_scene *s, const ray_ray *rays,
         for (i = 0; i < n; i++) {
             ck_assert_msg(rb[i] == rs[i],
                           "%s, %s, ray %zu: batch %d, single ray %d", what,
-                          pass == 0 ? "ray_intersect_n"
-                          : pass == 1 ? "ray_occluded_n"
+                          pass == 0 ? "ray_intersect_batch, one query"
+                          : pass == 1 ? "ray_occluded_batch, one query"
                           : pass == 2 ? "ray_intersect_batch"
                                       : "ray_occluded_batch",
                           i, rb[i], rs[i]);
@@ -179,7 +184,7 @@ START_TEST(batches_should_see_a_plane_beside_a_mesh)
     ck_assert_uint_eq(hits, n);
     for (i = 0; i < n; i++) {
         ray_hit h;
-        ck_assert_int_eq(ray_intersect(s, &r[i], &h), 1);
+        ck_assert_int_eq(ray_intersect(s, &r[i], &h, NULL), 1);
         ck_assert_uint_eq(h.geom_id, 1);           /* the plane */
     }
     free(r);
@@ -319,7 +324,7 @@ START_TEST(batches_should_follow_per_ray_masks)
             ray_hit h;
             int want = qs[i].ignore_mask == ~0u ? 0
                        : gated && qs[i].ignore_mask == ~2u ? 0 : 1;
-            ck_assert_msg(ray_intersect_opt(s, &r[i], &qs[i], &h) == want,
+            ck_assert_msg(ray_intersect(s, &r[i], &h, &qs[i]) == want,
                           "%s scene, ray %zu ignoring mask %#x: not %d",
                           gated ? "gated" : "ungated", i, qs[i].ignore_mask,
                           want);
@@ -555,7 +560,7 @@ START_TEST(surface_points_should_round_trip)
                 r.dir = vsub(hs.p, r.org);
                 r.tmin = 0;
                 r.tmax = 2;
-                ck_assert_int_eq(ray_intersect(s, &r, &h), 1);
+                ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
                 ck_assert_uint_eq(h.geom_id, gid);
                 ck_assert_uint_eq(h.prim_id, prim);
                 ck_assert_uint_eq(h.inst_id, inst_id);
@@ -853,12 +858,12 @@ START_TEST(spawn_to_a_target_on_a_surface_should_not_be_blocked_by_it)
         ck_assert_int_eq(ray_surface_point(s, 1, 0, RAY_INVALID_ID, a, b, &to),
                          RAY_OK);
         ck_assert_int_eq(ray_spawn_to(&from, to.p, &seg), RAY_OK);
-        bare += ray_occluded(s, &seg) == 1;
+        bare += ray_occluded(s, &seg, NULL) == 1;
         /* The rule. */
         ck_assert_int_eq(ray_spawn(&to, vsub(from.p, to.p), &back), RAY_OK);
         ck_assert_int_eq(ray_spawn_to(&from, back.org, &seg), RAY_OK);
-        ruled += ray_occluded(s, &seg) == 1;
-        blocked += ray_occluded(blocker, &seg) == 1;
+        ruled += ray_occluded(s, &seg, NULL) == 1;
+        blocked += ray_occluded(blocker, &seg, NULL) == 1;
     }
     printf("spawn_to: %d of 20000 segments ending at a bare target on a "
            "triangle blocked by it; with the target's spawn origin: %d\n",

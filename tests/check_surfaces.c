@@ -175,9 +175,9 @@ START_TEST(scene_should_find_what_the_bare_functions_find)
                 best = h;
                 best_id = 3 + (unsigned)k;
             }
-        got = ray_intersect(s, &r, &h);
+        got = ray_intersect(s, &r, &h, NULL);
         ck_assert_int_eq(got, best_id != RAY_INVALID_ID);
-        ck_assert_int_eq(ray_occluded(s, &r), got);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), got);
         if (!got)
             continue;
         hits++;

@@ -430,7 +430,7 @@ START_TEST(radius_zero_should_be_the_ray)
         w.dir = r.dir;
         w.tmin = 0;
         w.tmax = HUGE_VAL;
-        a = ray_intersect(k.s, &r, &h);
+        a = ray_intersect(k.s, &r, &h, NULL);
         b = ray_intersect_sweep(k.s, &w, NULL, &c);
         ck_assert_int_eq(a, b);
         if (!a)

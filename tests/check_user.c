@@ -162,15 +162,15 @@ START_TEST(user_spheres_should_answer_as_the_scene_spheres)
             r.tmin = rng_range(&g, 0, 0.5);
         hit_poison(&hb);
         hit_poison(&hu);
-        b = ray_intersect(builtin, &r, &hb);
-        u = ray_intersect(user, &r, &hu);
+        b = ray_intersect(builtin, &r, &hb, NULL);
+        u = ray_intersect(user, &r, &hu, NULL);
         ck_assert_int_eq(u, b);
         ck_assert_msg(u != 1 ? memcmp(&hu, &hb, sizeof hu) == 0
                                : hit_same(&hu, &hb),
                       "ray %d: user hit t %.17g geom %u, scene's t %.17g "
                       "geom %u", n, hu.t, hu.geom_id, hb.t, hb.geom_id);
-        ck_assert_int_eq(ray_occluded(user, &r), b);
-        ck_assert_int_eq(ray_occluded(builtin, &r), b);
+        ck_assert_int_eq(ray_occluded(user, &r, NULL), b);
+        ck_assert_int_eq(ray_occluded(builtin, &r, NULL), b);
         if (b == 1 && hb.geom_id < N_SPHERES)
             sphere_hits++;
         else if (b == 1)
@@ -393,8 +393,8 @@ START_TEST(user_answers_should_be_checked)
 
         ck_assert_int_eq(ray_sphere(&r, vec(0, 0, 0), 1, &ref), 1);
         hit_poison(&h);
-        ck_assert_int_eq(ray_intersect(s, &r, &h), good);
-        ck_assert_int_eq(ray_occluded(s, &r), good);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), good);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), good);
         ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1, &c), RAY_OK);
         /* plain() shades black: a hit is black, a miss the background. */
         ck_assert_double_eq(c.r, good ? 0 : 0.25);
@@ -488,8 +488,8 @@ START_TEST(implicit_torus_should_stand_on_user_geometry)
 
         for (k = 0; k < 2; k++) {
             hit_poison(&h[k]);
-            got[k] = ray_intersect(sc[k], &r, &h[k]);
-            ck_assert_int_eq(ray_occluded(sc[k], &r), got[k]);
+            got[k] = ray_intersect(sc[k], &r, &h[k], NULL);
+            ck_assert_int_eq(ray_occluded(sc[k], &r, NULL), got[k]);
             ck_assert_int_eq(ray_trace(ctx[k], &r, RAY_KIND_PRIMARY, 1, &c),
                              RAY_OK);
         }
@@ -569,7 +569,7 @@ START_TEST(flat_user_geometry_should_be_found)
         ray_ray r = ray_from(from, vsub(at, from));
         ray_hit h, ref;
         int inside = fabs(at.x) <= 1 && fabs(at.z) <= 1;
-        int got = ray_intersect(s, &r, &h);
+        int got = ray_intersect(s, &r, &h, NULL);
 
         /* Within 1e-12 of an edge the rounded p may fall either side. */
         if (fabs(fabs(at.x) - 1) < 1e-12 || fabs(fabs(at.z) - 1) < 1e-12)
@@ -682,7 +682,8 @@ START_TEST(bad_user_geometry_should_be_refused_by_name)
     ** a good one is staged for the next commit. */
     ck_assert_int_eq(ray_scene_add_user(s, NULL, 0, &id), RAY_EINVAL);
     ck_assert_uint_eq(id, 1);
-    ck_assert_int_ge(ray_occluded(s, &(ray_ray){{0, 0, 0}, {0, 1, 0}, 0, 1}), 0);
+    ck_assert_int_ge(ray_occluded(s, &(ray_ray){{0, 0, 0}, {0, 1, 0}, 0, 1},
+                                  NULL), 0);
     ck_assert_int_eq(ray_scene_add_user(s, &gm, 0, &id), RAY_OK);
     ck_assert_uint_eq(id, 2);
     ray_scene_free(s);

@@ -862,9 +862,9 @@ static int w_scene_and_ctx(env *e)
         r.tmin = 0;
         r.tmax = HUGE_VAL;
         memset(&h, 0, sizeof h);
-        digest_bytes(e, &(int){ray_intersect(s, &r, &h)}, sizeof(int));
+        digest_bytes(e, &(int){ray_intersect(s, &r, &h, NULL)}, sizeof(int));
         digest_bytes(e, &h, sizeof h);
-        digest_bytes(e, &(int){ray_occluded(s, &r)}, sizeof(int));
+        digest_bytes(e, &(int){ray_occluded(s, &r, NULL)}, sizeof(int));
         CALL(e, ray_trace(i % 2 ? a : b, &r, RAY_KIND_PRIMARY, 1, &c));
         digest_bytes(e, &c, sizeof c);
         digest_shapes(e, s, &r, (unsigned)i);
@@ -932,7 +932,7 @@ static int w_threaded_commit(env *e)
         r.tmin = 0;
         r.tmax = HUGE_VAL;
         memset(&h, 0, sizeof h);
-        digest_bytes(e, &(int){ray_intersect(s, &r, &h)}, sizeof(int));
+        digest_bytes(e, &(int){ray_intersect(s, &r, &h, NULL)}, sizeof(int));
         digest_bytes(e, &h, sizeof h);
     }
 out:

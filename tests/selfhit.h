@@ -320,9 +320,9 @@ static inline int sh_self(const sh_prim *p, const ray_scene *scene,
     int hit;
 
     if (scene != NULL) {
-        if (shadow && sh_flat(p->kind) && ray_occluded(scene, s) == 1)
+        if (shadow && sh_flat(p->kind) && ray_occluded(scene, s, NULL) == 1)
             return 1;
-        hit = ray_intersect(scene, s, &h) == 1;
+        hit = ray_intersect(scene, s, &h, NULL) == 1;
     } else
         hit = sh_bare(p, s, &h);
     if (!hit)
@@ -367,7 +367,7 @@ static inline void sh_run(const sh_prim *p, const ray_scene *scene, int n,
                        tz + dist * cos(el) * sin(az));
         d = vec(target.x - eye.x, target.y - eye.y, target.z - eye.z);
         r.org = eye, r.dir = d, r.tmin = 0, r.tmax = HUGE_VAL;
-        hit = scene != NULL ? ray_intersect(scene, &r, &h) == 1
+        hit = scene != NULL ? ray_intersect(scene, &r, &h, NULL) == 1
                             : sh_bare(p, &r, &h);
         if (!hit)
             continue;

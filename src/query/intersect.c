@@ -112,8 +112,10 @@ static int query_misuse(const ray_scene *s, const ray_ray *r)
     return s->committed ? RAY_OK : -RAY_ESTATE;
 }
 
-int ray_intersect_opt(const ray_scene *s, const ray_ray *r,
-                      const ray_query *q, ray_hit *hit)
+/* ray_intersect with options (q not NULL, or a scene the fast path below
+** does not take). */
+static int intersect_opt(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                         const ray_query *q)
 {
     int rc = query_misuse(s, r);
     ray__gate g;
@@ -126,8 +128,8 @@ int ray_intersect_opt(const ray_scene *s, const ray_ray *r,
                                 1, hit, NULL);
 }
 
-int ray_occluded_opt(const ray_scene *s, const ray_ray *r,
-                     const ray_query *q)
+static int occluded_opt(const ray_scene *s, const ray_ray *r,
+                        const ray_query *q)
 {
     int rc = query_misuse(s, r);
     ray__gate g;
@@ -143,7 +145,9 @@ int ray_occluded_opt(const ray_scene *s, const ray_ray *r,
 ** filters (nothing can gate it): straight to the copy's triangle walk
 ** (traverse.h's query_nearest_tris), past the options, the gate and the
 ** general query's set-up, which are nothing for it: a game's or a tool's
-** most common query, at the fixed cost it needs (issue 34).
+** most common query, at the fixed cost it needs (issue 34).  Taken when q
+** is NULL: a query's options may hide geometry whatever the scene's masks
+** (an ignore_mask of every bit hides all of it).
 */
 static int plain_tris(const ray_scene *s, const ray_ray *r)
 {
@@ -151,28 +155,29 @@ static int plain_tris(const ray_scene *s, const ray_ray *r)
            tris_only(s);
 }
 
-int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit)
+int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
+                  const ray_query *q)
 {
-    if (hit != NULL && plain_tris(s, r)) {
+    if (q == NULL && hit != NULL && plain_tris(s, r)) {
 #if RAY__AVX2_COPY
         if (HAS_AVX2(s))
             return ray__intersect_tris_avx2(s, r, hit);
 #endif
         return query_nearest_tris(s, r, hit);
     }
-    return ray_intersect_opt(s, r, NULL, hit);
+    return intersect_opt(s, r, hit, q);
 }
 
-int ray_occluded(const ray_scene *s, const ray_ray *r)
+int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
 {
-    if (plain_tris(s, r)) {
+    if (q == NULL && plain_tris(s, r)) {
 #if RAY__AVX2_COPY
         if (HAS_AVX2(s))
             return ray__occluded_tris_avx2(s, r);
 #endif
         return query_any_tris(s, r);
     }
-    return ray_occluded_opt(s, r, NULL);
+    return occluded_opt(s, r, q);
 }
 
 /* Can ray__packets_avx2 take this scene and gate?  Triangles alone (the
@@ -283,27 +288,9 @@ static int batch_check(const ray_scene *s, const ray_ray *rays, size_t n,
     return s->committed ? RAY_OK : RAY_ESTATE;
 }
 
-int ray_intersect_n(const ray_scene *s, const ray_ray *rays, size_t n,
-                    const ray_query *q, ray_hit *hits, int *results)
-{
-    int rc = batch_check(s, rays, n, hits, results, 0);
-
-    if (rc == RAY_OK)
-        batch_run(s, rays, n, NULL, q, hits, results, 0, NULL);
-    return rc;
-}
-
-int ray_occluded_n(const ray_scene *s, const ray_ray *rays, size_t n,
-                   const ray_query *q, int *results)
-{
-    int rc = batch_check(s, rays, n, NULL, results, 1);
-
-    if (rc == RAY_OK)
-        batch_run(s, rays, n, NULL, q, NULL, results, 1, NULL);
-    return rc;
-}
-
-/* ray_intersect_batch and ray_occluded_batch ("any"). */
+/* ray_intersect_batch and ray_occluded_batch ("any"): each ray its own
+** options (queries), or one set for all (query), through the same
+** batch_run and so the same packets. */
 static int batch_of(const ray_scene *s, const ray_batch *b, int any)
 {
     int rc;
@@ -312,8 +299,8 @@ static int batch_of(const ray_scene *s, const ray_batch *b, int any)
         return RAY_EINVAL;
     rc = batch_check(s, b->rays, b->n, b->hits, b->results, any);
     if (rc == RAY_OK)
-        batch_run(s, b->rays, b->n, b->queries, NULL, any ? NULL : b->hits,
-                  b->results, any, b->stats);
+        batch_run(s, b->rays, b->n, b->queries, b->query,
+                  any ? NULL : b->hits, b->results, any, b->stats);
     return rc;
 }
 

@@ -48,7 +48,7 @@ static inline double tri_limit(const ray_ray *r, const void *best)
 ** vertex hits both, often at equal t), the lower (geom_id, prim_id) wins,
 ** whichever the traversal met first: the answer then depends on the
 ** geometry alone, not on the order a traversal visits it in, so packets
-** (ray_intersect_n), refit and rebuilt trees and single rays agree.
+** (ray_intersect_batch), refit and rebuilt trees and single rays agree.
 */
 static inline int tri_beats(const ray_scene *s, unsigned i, double t,
                             const ray_ray *r, const void *best)

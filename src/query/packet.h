@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** packet.h -- ray_intersect_n and ray_occluded_n's traversal: eight rays
-** at once through the triangle BVH.  Included by intersect_avx2.c only.
+** packet.h -- ray_intersect_batch and ray_occluded_batch's traversal:
+** eight rays at once through the triangle BVH.  Included by intersect_avx2.c only.
 **
 ** Why packets: a single ray's traversal is a chain of dependent node
 ** visits, each mostly waiting on the previous one's result (traverse.h).

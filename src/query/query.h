@@ -104,7 +104,7 @@ void ray__trav_data_base(const ray_ray *r, uint32_t f[10], size_t at[6]);
 void ray__trav_data_avx2(const ray_ray *r, uint32_t f[10], size_t at[6]);
 
 /*
-** ray_intersect_n and ray_occluded_n's packets (packet.h): n rays of a
+** ray_intersect_batch and ray_occluded_batch's packets (packet.h): n rays of a
 ** scene that ray__packable accepts, eight at a time; results[i] (and
 ** hits[i] unless "any") as the single-ray queries give them.  AVX2 copy
 ** only.
