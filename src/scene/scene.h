@@ -301,7 +301,12 @@ struct ray_scene {
 */
 void ray__touch(ray_scene *s, unsigned dirty);
 unsigned ray__dirty_of(const ray__prim *p);
-int ray__instance_stale(const ray__instance *in);
+static inline int ray__instance_stale(const ray__instance *in)
+{
+    /* Inline: every instance a query enters asks, and the call was 2% of
+    ** a game's frame (bench/game.c, perf, issue 36). */
+    return !in->child->committed || in->child->generation != in->generation;
+}
 /* Has a scene that s instances changed since s was committed (so that
 ** its queries would answer -RAY_ESTATE where they meet it)?  O(number of
 ** instances): for the calls that check once before a long run (a
