@@ -32,27 +32,12 @@ static double row_dot(const double m[3][4], int k, ray_vec3 v)
     return m[k][0] * v.x + m[k][1] * v.y + m[k][2] * v.z;
 }
 
-/* The inverse's row k applied to v. */
-static double inv_dot(const double inv[3][3], int k, ray_vec3 v)
-{
-    return inv[k][0] * v.x + inv[k][1] * v.y + inv[k][2] * v.z;
-}
-
 ray_vec3 ray__instance_point_to_world(const ray__instance *in, ray_vec3 p)
 {
     const double (*m)[4] = in->xfm.m;
 
     return v3(row_dot(m, 0, p) + m[0][3], row_dot(m, 1, p) + m[1][3],
               row_dot(m, 2, p) + m[2][3]);
-}
-
-ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q)
-{
-    const double (*m)[4] = in->xfm.m;
-    ray_vec3 o = v3(q.x - m[0][3], q.y - m[1][3], q.z - m[2][3]);
-
-    return v3(inv_dot(in->inv, 0, o), inv_dot(in->inv, 1, o),
-              inv_dot(in->inv, 2, o));
 }
 
 /*
@@ -400,16 +385,6 @@ int ray_scene_set_transform(ray_scene *s, unsigned geom_id,
 }
 
 /* ----------------------------------------------------- for the queries */
-
-void ray__instance_ray_to_object(const ray__instance *in, const ray_ray *r,
-                                 ray_ray *out)
-{
-    out->org = ray__instance_point_to_object(in, r->org);
-    out->dir = v3(inv_dot(in->inv, 0, r->dir), inv_dot(in->inv, 1, r->dir),
-                  inv_dot(in->inv, 2, r->dir));
-    out->tmin = r->tmin;
-    out->tmax = r->tmax;
-}
 
 ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n)
 {
