@@ -132,6 +132,113 @@ START_TEST(identity_instance_should_answer_as_the_child)
 END_TEST
 
 /*
+** A child of triangles alone goes straight to its triangles
+** (traverse.h's query_child, issue 36); one with other kinds too through
+** the general query.  Two such children, the same icosphere (the second
+** with a tiny sphere far off that no ray reaches, geometry 1), each
+** placed by the same six overlapping turned instances (one of them
+** hidden by its mask for the gated query): every query answers the same
+** bits in both -- nearest, gated, any, all hits and batches -- and the
+** nearest is all-hits' first, wherever the instances met first are not
+** the nearest.
+*/
+START_TEST(child_of_triangles_should_answer_as_the_general_query)
+{
+    hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
+    ray_mesh m = hc_ray_mesh(&ball);
+    ray_scene *child[2], *top[2];
+    ray_query q = {0x2u, NULL};
+    ray_ray rays[64];
+    ray_hit all[2][8], batch[2][64];
+    int res[2][64];
+    rng g = {36};
+    int i, j, k, hits = 0, beaten = 0;
+
+    for (k = 0; k < 2; k++) {
+        ck_assert_int_eq(ray_scene_new(&child[k], NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(child[k], &m, RAY_NO_MATERIAL,
+                                            NULL), RAY_OK);
+        if (k == 1)
+            ck_assert_int_eq(ray_scene_add_sphere(child[k], vec(60, 0, 0),
+                                                  0.01, RAY_NO_MATERIAL,
+                                                  NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(child[k]), RAY_OK);
+        ck_assert_int_eq(ray_scene_new(&top[k], NULL, NULL), RAY_OK);
+        for (i = 0; i < 6; i++) {
+            ray_transform x;
+            double a = 0.9 * i + 0.3, c = cos(a), s = sin(a);
+            ray_transform_identity(&x);
+            x.m[0][0] = c;
+            x.m[0][1] = -s;
+            x.m[1][0] = s;
+            x.m[1][1] = c;
+            x.m[0][3] = 0.7 * i - 1.75;
+            x.m[1][3] = 0.3 * (i % 3);
+            x.m[2][3] = 0.2 * i;
+            ck_assert_int_eq(ray_scene_add_instance(top[k], child[k], &x,
+                                                    NULL), RAY_OK);
+        }
+        ck_assert_int_eq(ray_scene_set_mask(top[k], 2, 0x2u), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top[k]), RAY_OK);
+    }
+    for (j = 0; j < 3000; j++) {
+        ray_ray r = child_ray(&g, vec(0, 0, 0));
+        ray_hit h[2], hq[2];
+        size_t n[2];
+        int hit[2], gated[2], any[2], na[2];
+        for (k = 0; k < 2; k++) {
+            hit[k] = ray_intersect(top[k], &r, &h[k]);
+            gated[k] = ray_intersect_opt(top[k], &r, &q, &hq[k]);
+            any[k] = ray_occluded(top[k], &r);
+            na[k] = ray_intersect_all(top[k], &r, NULL, all[k], 8, &n[k]);
+        }
+        ck_assert_int_eq(hit[0], hit[1]);
+        ck_assert_int_eq(gated[0], gated[1]);
+        ck_assert_int_eq(any[0], any[1]);
+        ck_assert_int_eq(any[0], hit[0]);
+        ck_assert_int_eq(na[0], na[1]);
+        ck_assert_int_eq(na[0] > 0, hit[0]);
+        if (hit[0] == 1) {
+            hits++;
+            ck_assert_msg(hit_same(&h[0], &h[1]), "ray %d", j);
+            ck_assert_msg(hit_same(&h[0], &all[0][0]), "ray %d", j);
+            ck_assert_msg(hit_same(&all[1][0], &all[0][0]), "ray %d", j);
+            ck_assert_uint_eq(h[0].geom_id, 0);
+            /* Another instance hit farther along: met first or not. */
+            for (i = 1; i < na[0] && i < 8; i++)
+                if (all[0][i].inst_id != h[0].inst_id) {
+                    beaten++;
+                    break;
+                }
+        }
+        if (gated[0] == 1) {
+            ck_assert_msg(hit_same(&hq[0], &hq[1]), "ray %d", j);
+            ck_assert_uint_ne(hq[0].inst_id, 2);
+        }
+        rays[j % 64] = r;
+        if (j % 64 == 63) {
+            for (k = 0; k < 2; k++)
+                ck_assert_int_eq(ray_intersect_n(top[k], rays, 64, NULL,
+                                                 batch[k], res[k]), RAY_OK);
+            for (i = 0; i < 64; i++) {
+                ck_assert_int_eq(res[0][i], res[1][i]);
+                if (res[0][i] == 1)
+                    ck_assert_msg(hit_same(&batch[0][i], &batch[1][i]),
+                                  "ray %d", i);
+            }
+        }
+    }
+    ck_assert_int_gt(hits, 1000);
+    ck_assert_int_gt(beaten, 300);
+    for (k = 0; k < 2; k++) {
+        ray_scene_free(top[k]);
+        ray_scene_free(child[k]);
+    }
+    hc_mesh_free(&ball);
+}
+END_TEST
+
+/*
 ** An instance rotated, scaled by 1.5 and moved (to 0 or 1e5) against the
 ** same geometry flattened: the icosphere's vertices and the sphere's
 ** centre put through the transform, radius scaled.  Rays aimed at points
@@ -1042,6 +1149,7 @@ Suite *instance_suite(void)
     tcase_add_test(tc, instances_should_refuse_transforms_beyond_the_doubles);
     tcase_add_test(tc, instances_should_say_why_a_tiny_scale_is_refused);
     tcase_add_test(tc, instances_should_refuse_only_what_passes_the_bound);
+    tcase_add_test(tc, child_of_triangles_should_answer_as_the_general_query);
     suite_add_tcase(s, tc);
     return s;
 }

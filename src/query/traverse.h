@@ -542,16 +542,38 @@ static void trav_data(const ray_ray *r, uint32_t f[10], size_t at[6])
     memcpy(&f[9], &tr.tmin, sizeof f[9]);
 }
 
-/* An instance's child inside a parent's query: nearest or any as the
-** parent's query is, with its counts and gate. */
+/*
+** An instance's child inside a parent's query: nearest or any as the
+** parent's query is, with its counts and gate.  A child of triangles
+** alone (the usual one: a mesh placed many times) goes straight to its
+** triangles, as query_nearest_tris and query_any_tris do, without the
+** planes' loop, the bounded kinds' walk and the deferred record of
+** nearest_core and any_core, which find nothing in it: the same
+** functions on the same numbers, so the same answers.
+*/
 static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
                        ray__counts *qc)
 {
+    tri_best tb;
+    trav tr;
+
     if (!ray__ray_usable(r))
         return 0;
+    if (!tris_only(child)) {
+        if (qc->any)
+            return any_core(child, r, qc);
+        return nearest_core(child, r, hit, qc);
+    }
+    if (child->tri_bvh.n_wide == 0)
+        return 0;
+    trav_init(&tr, r);
     if (qc->any)
-        return any_core(child, r, qc);
-    return nearest_core(child, r, hit, qc);
+        return traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, NULL,
+                        1, qc);
+    tri_best_start(&tb);
+    return traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, &tb, 0,
+                    qc) &&
+           tri_record(child, &tb, r->tmax, hit);
 }
 
 #endif

@@ -21,11 +21,6 @@ unsigned ray__dirty_of(const ray__prim *p)
                ? RAY__DIRTY_TRIS : RAY__DIRTY_PRIMS;
 }
 
-int ray__instance_stale(const ray__instance *in)
-{
-    return !in->child->committed || in->child->generation != in->generation;
-}
-
 int ray__scene_stale(const ray_scene *s)
 {
     size_t i;

@@ -321,7 +321,12 @@ struct ray_scene {
 */
 void ray__touch(ray_scene *s, unsigned dirty);
 unsigned ray__dirty_of(const ray__prim *p);
-int ray__instance_stale(const ray__instance *in);
+static inline int ray__instance_stale(const ray__instance *in)
+{
+    /* Inline: every instance a query enters asks, and the call was 2% of
+    ** a game's frame (bench/game.c, perf, issue 36). */
+    return !in->child->committed || in->child->generation != in->generation;
+}
 /* Has a scene that s instances changed since s was committed (so that
 ** its queries would answer -RAY_ESTATE where they meet it)?  O(number of
 ** instances): for the calls that check once before a long run (a
@@ -694,8 +699,6 @@ int ray__plane_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
 */
 #define RAY__INSTANCE_REACH 0x1p1016
 int ray__instance_box(ray__instance *in);
-void ray__instance_ray_to_object(const ray__instance *in, const ray_ray *r,
-                                 ray_ray *out);
 void ray__instance_to_world(const ray__instance *in, const ray_hit *obj,
                             ray_hit *world);
 ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n);
@@ -703,7 +706,37 @@ ray_vec3 ray__instance_normal(const ray__instance *in, ray_vec3 n);
 /* A point of the child's space in the world's (L p + c), and back
 ** (L^-1 (q - c)). */
 ray_vec3 ray__instance_point_to_world(const ray__instance *in, ray_vec3 p);
-ray_vec3 ray__instance_point_to_object(const ray__instance *in, ray_vec3 q);
+
+/* Inline, as the query's own arithmetic: every instance a ray enters
+** moves it, and the call was 4% of a game's frame (bench/game.c,
+** callgrind, issue 36).  inv row k applied to v. */
+static inline double ray__instance_inv_dot(const ray__instance *in, int k,
+                                           ray_vec3 v)
+{
+    return in->inv[k][0] * v.x + in->inv[k][1] * v.y + in->inv[k][2] * v.z;
+}
+
+static inline ray_vec3 ray__instance_point_to_object(const ray__instance *in,
+                                                     ray_vec3 q)
+{
+    const double (*m)[4] = in->xfm.m;
+    ray_vec3 o = v3(q.x - m[0][3], q.y - m[1][3], q.z - m[2][3]);
+
+    return v3(ray__instance_inv_dot(in, 0, o), ray__instance_inv_dot(in, 1, o),
+              ray__instance_inv_dot(in, 2, o));
+}
+
+static inline void ray__instance_ray_to_object(const ray__instance *in,
+                                               const ray_ray *r,
+                                               ray_ray *out)
+{
+    out->org = ray__instance_point_to_object(in, r->org);
+    out->dir = v3(ray__instance_inv_dot(in, 0, r->dir),
+                  ray__instance_inv_dot(in, 1, r->dir),
+                  ray__instance_inv_dot(in, 2, r->dir));
+    out->tmin = r->tmin;
+    out->tmax = r->tmax;
+}
 
 
 /* The instance of s a hit came through, or NULL; and the scene that owns
