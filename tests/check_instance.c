@@ -187,9 +187,9 @@ START_TEST(child_of_triangles_should_answer_as_the_general_query)
         size_t n[2];
         int hit[2], gated[2], any[2], na[2];
         for (k = 0; k < 2; k++) {
-            hit[k] = ray_intersect(top[k], &r, &h[k]);
-            gated[k] = ray_intersect_opt(top[k], &r, &q, &hq[k]);
-            any[k] = ray_occluded(top[k], &r);
+            hit[k] = ray_intersect(top[k], &r, &h[k], NULL);
+            gated[k] = ray_intersect(top[k], &r, &hq[k], &q);
+            any[k] = ray_occluded(top[k], &r, NULL);
             na[k] = ray_intersect_all(top[k], &r, NULL, all[k], 8, &n[k]);
         }
         ck_assert_int_eq(hit[0], hit[1]);
@@ -217,9 +217,14 @@ START_TEST(child_of_triangles_should_answer_as_the_general_query)
         }
         rays[j % 64] = r;
         if (j % 64 == 63) {
-            for (k = 0; k < 2; k++)
-                ck_assert_int_eq(ray_intersect_n(top[k], rays, 64, NULL,
-                                                 batch[k], res[k]), RAY_OK);
+            for (k = 0; k < 2; k++) {
+                ray_batch b = {0};
+                b.rays = rays;
+                b.n = 64;
+                b.hits = batch[k];
+                b.results = res[k];
+                ck_assert_int_eq(ray_intersect_batch(top[k], &b), RAY_OK);
+            }
             for (i = 0; i < 64; i++) {
                 ck_assert_int_eq(res[0][i], res[1][i]);
                 if (res[0][i] == 1)
