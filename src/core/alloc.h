@@ -20,9 +20,30 @@ typedef struct ray__allocator {
     void *ud;
 } ray__allocator;
 
+/*
+** ray__memory_hint -- a large block just allocated (RAY__HUGE_BLOCK bytes
+** or more), about to be written whole: on Linux, its 2 MiB-
+** aligned interior is marked for transparent huge pages (madvise
+** MADV_HUGEPAGE), so that a cold build touching 150 MB of fresh memory
+** takes one page fault per 2 MiB instead of one per 4 KiB; elsewhere, and
+** where the kernel declines, nothing.  A hint: it cannot fail.  The
+** platform layer's (platform_posix.c, platform_win32.c), declared here,
+** where the allocator calls it (platform.h includes this file).  On the
+** 940k bunny: 3 cold builds' minor faults 130,719 -> 13,155, one
+** thread's build 776 -> 372 ms, and its rays 16-19% faster for the TLB
+** (bench/mesh, issue 36).
+*/
+void ray__memory_hint(void *p, size_t size);
+
+#define RAY__HUGE_BLOCK ((size_t)4 << 20)
+
 static inline void *ray__allocate(const ray__allocator *a, size_t size)
 {
-    return a->fn(a->ud, NULL, 0, size);
+    void *p = a->fn(a->ud, NULL, 0, size);
+
+    if (p != NULL && size >= RAY__HUGE_BLOCK)
+        ray__memory_hint(p, size);
+    return p;
 }
 
 static inline void ray__release(const ray__allocator *a, void *ptr,
@@ -35,7 +56,11 @@ static inline void ray__release(const ray__allocator *a, void *ptr,
 static inline void *ray__reallocate(const ray__allocator *a, void *ptr,
                                     size_t osize, size_t nsize)
 {
-    return a->fn(a->ud, ptr, osize, nsize);
+    void *p = a->fn(a->ud, ptr, osize, nsize);
+
+    if (p != NULL && nsize >= RAY__HUGE_BLOCK)
+        ray__memory_hint(p, nsize);
+    return p;
 }
 
 #endif /* RAY_ALLOC_H */

@@ -15,13 +15,18 @@
 #if defined(__APPLE__) && !defined(_DARWIN_C_SOURCE)
 #define _DARWIN_C_SOURCE 1        /* _SC_NPROCESSORS_ONLN (see above) */
 #endif
+#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
+#define _DEFAULT_SOURCE 1         /* madvise, MADV_HUGEPAGE (ray__memory_hint) */
+#endif
 
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
 #include <pthread.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -34,6 +39,23 @@ unsigned ray__online_cpus(void)
     return n > 0 && n <= (long)UINT_MAX ? (unsigned)n : 1u;
 #else
     return 1u;                    /* unknown: the calling thread alone */
+#endif
+}
+
+/* ------------------------------------------------------------- memory */
+
+void ray__memory_hint(void *p, size_t size)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    const uintptr_t huge = (uintptr_t)1 << 21;     /* x86-64's, arm64's */
+    uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1);
+    uintptr_t hi = ((uintptr_t)p + size) & ~(huge - 1);
+
+    if (hi > lo)
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);  /* a hint */
+#else
+    (void)p;
+    (void)size;
 #endif
 }
 

@@ -44,6 +44,12 @@ unsigned ray__online_cpus(void)
 typedef char ray__handle_fits[
     sizeof(HANDLE) <= sizeof(((ray__thread *)0)->handle) ? 1 : -1];
 
+void ray__memory_hint(void *p, size_t size)
+{
+    (void)p;                      /* large pages need a privilege there */
+    (void)size;
+}
+
 static unsigned __stdcall thread_main(void *arg)
 {
     ray__thread *t = arg;
