@@ -287,6 +287,7 @@ START_TEST(updates_should_refuse_bad_input)
     hc_mesh cube = hc_cube(vec(0, 0, 0)), ball = hc_icosphere(vec(0, 0, 0), 1);
     ray_mesh m = hc_ray_mesh(&cube), other = hc_ray_mesh(&ball), bad;
     ray_vec3 nan_v[8];
+    unsigned bad_idx[36];                       /* the cube's 12 triangles */
     ray_scene *s;
     unsigned msh, sph;
 
@@ -309,6 +310,14 @@ START_TEST(updates_should_refuse_bad_input)
     bad = m;
     bad.vertex_count = 4;                       /* indices out of range */
     ck_assert_int_eq(ray_scene_update_mesh(s, msh, &bad), RAY_EINVAL);
+    /* The same vertices, one index past them: indices unlike those kept
+    ** are checked (those kept are not, mesh.c's indices_kept). */
+    memcpy(bad_idx, cube.idx, sizeof bad_idx);
+    bad_idx[35] = 8;
+    bad = m;
+    bad.indices = bad_idx;
+    ck_assert_int_eq(ray_scene_update_mesh(s, msh, &bad), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "out of range"));
     ck_assert_int_eq(ray_scene_set_enabled(s, 99, 0), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_remove(s, 99), RAY_EINVAL);
     ck_assert_int_eq(ray_scene_remove(NULL, 0), RAY_EINVAL);
