@@ -381,11 +381,19 @@ static inline int ray__scaled_dir(ray_vec3 dir, ray_vec3 *d, int *e)
         return 0;
     /* frexp's exponent, read from the bits of a normal m (m = f 2^e with
     ** f in [0.5, 1)); frexp itself for a subnormal one. */
-    memcpy(&bits, &m, sizeof bits);
-    if (m >= DBL_MIN)
+    if (m >= DBL_MIN) {
+        /* e in [-1021, 1024], where ray__scale_t(x, -e) is x 2^-e, one
+        ** multiplication: 2^-e made once for the three components, the
+        ** same bits at a fifth of the instructions (96 a ray, callgrind,
+        ** the Whitted render, issue 35). */
+        double down;
+        memcpy(&bits, &m, sizeof bits);
         *e = (int)(bits >> 52 & 0x7ff) - 1022;
-    else
-        frexp(m, e);
+        down = ray__pow2(-*e);
+        *d = v3(dir.x * down, dir.y * down, dir.z * down);
+        return 1;
+    }
+    frexp(m, e);
     *d = v3(ray__scale_t(dir.x, -*e), ray__scale_t(dir.y, -*e),
             ray__scale_t(dir.z, -*e));
     return 1;

@@ -183,6 +183,18 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
     return 1;
 }
 
+/* The ray's part of the sphere test (prim.h): its direction scaled by
+** a power of two (ray__scaled_dir), d.d and tmin in those units. */
+int ray__sphere_ray_init(const ray_ray *r, ray__sphere_ray *sr)
+{
+    /* A zero (or NaN) direction misses; so does a NULL ray. */
+    if (r == NULL || !ray__scaled_dir(r->dir, &sr->d, &sr->e))
+        return 0;
+    sr->a = v3_dot(sr->d, sr->d);
+    sr->tmin = ray__scale_t(r->tmin, sr->e);
+    return 1;
+}
+
 /*
 ** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
 ** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
@@ -205,44 +217,6 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
 ** t, tmin and tmax with it: once per ray (ray__sphere_ray_init), so that a
 ** scene query testing several spheres scales it once (ray__sphere_t_at).
 */
-/*
-** ray__scaled_dir for a direction whose largest |component| m is a
-** normal number (all of them but the subnormal and the unusable): e read
-** from m's bits, 2^-e made once and multiplied into each component, as
-** ray__scale_t does with e in range (|e| <= 1023), so the same bits at a
-** fifth of the instructions (four range tests and three powers of two
-** were 96 instructions a ray, callgrind, the Whitted render).
-*/
-static int scaled_dir_normal(ray_vec3 dir, ray__sphere_ray *sr)
-{
-    double ax = fabs(dir.x), ay = fabs(dir.y), az = fabs(dir.z);
-    double m = ax > ay ? ax : ay, down;
-    uint64_t bits;
-
-    m = m > az ? m : az;
-    if (!(m >= DBL_MIN && m < HUGE_VAL) || dir.x != dir.x ||
-        dir.y != dir.y || dir.z != dir.z)
-        return 0;
-    memcpy(&bits, &m, sizeof bits);
-    sr->e = (int)(bits >> 52 & 0x7ff) - 1022;
-    down = ray__pow2(-sr->e);
-    sr->d = v3(dir.x * down, dir.y * down, dir.z * down);
-    return 1;
-}
-
-int ray__sphere_ray_init(const ray_ray *r, ray__sphere_ray *sr)
-{
-    /* A zero (or NaN) direction misses; so does a NULL ray. */
-    if (r == NULL)
-        return 0;
-    if (!scaled_dir_normal(r->dir, sr) &&
-        !ray__scaled_dir(r->dir, &sr->d, &sr->e))
-        return 0;
-    sr->a = v3_dot(sr->d, sr->d);
-    sr->tmin = ray__scale_t(r->tmin, sr->e);
-    return 1;
-}
-
 int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
                      ray_vec3 center, double radius, double *t_out)
 {

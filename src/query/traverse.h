@@ -250,24 +250,10 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
     }
 }
 
-/*
-** A scene of a few spheres (the Whitted scene has two) is not traversed:
-** its spheres are tested one after another, as the planes are, and the
-** ray's traversal data (trav_init: three divisions and six roundings to
-** float) is then not set up at all unless the scene has triangles.  A
-** sphere's test for t alone costs about what the box test of a node
-** that would skip it does, and trav_init cost 9% of the Whitted
-** render's profile (perf, examples/whitted 1024 x 768, one thread).  The
-** answers are the traversal's: the box test only ever skips spheres that
-** the ray misses.  Two spheres hit at exactly the same t are settled by
-** the order they are tested in, in the BVH's leaf order here and in
-** box-entry order there, so such a tie may go the other way
-** (ray_intersect(3) leaves ties between kinds other than triangles
-** unspecified).
-*/
 /* The bounded primitives of s along r, by traversal (the traversal data
 ** set up first if *ready is 0) or one after another (s->few_spheres, set
-** at commit).  Ungated, the spheres' test takes the ray's part once
+** at commit, where commit.c says why and what it means for ties).
+** Ungated, the spheres' test takes the ray's part once
 ** (ray__sphere_ray_init) and goes to each sphere's candidate test without
 ** the kinds' dispatch: the same functions on the same numbers, so the
 ** same answers, at about half the instructions a sphere (callgrind, the

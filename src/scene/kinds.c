@@ -297,7 +297,8 @@ static int plane_fill(const ray__prim *p, const ray_ray *r, double t,
     return ray__plane_fill(r, p->a, p->c, p->a, t, hit);
 }
 
-/* A full record of geometry i: its ids, as prim_answer sets them. */
+/* A full record of geometry i: its ids (geom_id i, no prim_id, no
+** instance), for every record the kinds fill here. */
 static int full_record(unsigned i, ray_hit *hit)
 {
     hit->geom_id = i;
@@ -458,11 +459,8 @@ static inline int prim_answer(unsigned i, int ok, ray_hit *hit,
         qc->failures++;
         return 0;
     }
-    if (ok == RAY__HIT_FULL) {
-        hit->geom_id = i;
-        hit->prim_id = 0;
-        hit->inst_id = RAY_INVALID_ID;
-    }
+    if (ok == RAY__HIT_FULL)
+        full_record(i, hit);
     return ok;
 }
 
@@ -516,11 +514,8 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
         RAY__PRIM_KINDS(FILL_OF)
 #undef FILL_OF
     }
-    if (ok) {                    /* a sphere or a plane */
-        hit->geom_id = i;
-        hit->prim_id = 0;
-        hit->inst_id = RAY_INVALID_ID;
-    }
+    if (ok)                      /* a sphere or a plane */
+        full_record(i, hit);
     return ok;
 }
 
