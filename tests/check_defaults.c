@@ -236,7 +236,7 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ray_batch b = {.rays = rays, .n = 4, .hits = got,
                        .results = res_got};
         ray_contact c0, c1;
-        ray_sweep sw = {.a = {0, 0, 0}, .b = {0, 0, 0}, .radius = 0.5,
+        ray_sweep sw = {.shape = {.radius = 0.5},
                         .dir = {0, 0, -4}};       /* tmax 0: the whole move */
         ray_sweep full = sw;
 
@@ -274,7 +274,7 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ck_assert_mem_eq(&c0, &c1, sizeof c0);
         ck_assert_double_eq_tol(c0.t, (3 - 0.5) / 4, 1e-12);
         /* Overlaps: everything within 10 of the origin. */
-        ck_assert_int_eq(ray_overlap_sphere(s, vec(0, 0, -4), 10, qs[k],
+        ck_assert_int_eq(ray_overlap_shape(s, TK_SPHERE(vec(0, 0, -4), 10), qs[k],
                                             counting, &n), 3);
         ck_assert_int_eq(n, 3);
     }

@@ -116,12 +116,15 @@ static ld separation(const lpoly *a, const lpoly *b)
 }
 
 /* How far piece p is from the query (> 0: apart; <= 0: they meet): a
-** distance less the radius for the sphere, a separation for the box. */
-static ld apart(const piece *p, int is_box, const ray_box_params *box,
-                lvec c, ld r)
+** distance less the radius for the sphere and the capsule (the piece's
+** signed distance to the core, a point or a segment), a separation for
+** the box. */
+static ld apart(const piece *p, const ray_shape *sh)
 {
-    if (!is_box)
-        return kit_distance(p, c, c) - r;
+    const ray_box_params *box = &sh->box;
+
+    if (sh->kind != RAY_SHAPE_BOX)
+        return kit_distance(p, lv(sh->a), lv(sh->b)) - (ld)sh->radius;
     {
         lpoly q = lpoly_box(box), t;
         piece qb;
@@ -189,8 +192,7 @@ static int found_in(const ray_overlap *o, size_t n, unsigned g, unsigned i,
 ** one primitive -- the L polygon's triangles -- count as one: the
 ** nearest decides).
 */
-static void check_query(const kit *k, int is_box, const ray_box_params *box,
-                        ray_vec3 c, double r, ld tol, int n)
+static void check_query(const kit *k, const ray_shape *sh, ld tol, int n)
 {
     catch_list got;
     ray_overlap all[512];
@@ -198,11 +200,9 @@ static void check_query(const kit *k, int is_box, const ray_box_params *box,
     int rc;
 
     got.n = 0;
-    rc = is_box ? ray_overlap_box(k->s, box, NULL, catch_one, &got)
-                : ray_overlap_sphere(k->s, c, r, NULL, catch_one, &got);
+    rc = ray_overlap_shape(k->s, sh, NULL, catch_one, &got);
     ck_assert_int_eq(rc, (int)got.n);
-    rc = is_box ? ray_overlap_box_all(k->s, box, NULL, all, 512, &count)
-                : ray_overlap_sphere_all(k->s, c, r, NULL, all, 512, &count);
+    rc = ray_overlap_shape_all(k->s, sh, NULL, all, 512, &count);
     ck_assert_int_eq(rc, (int)count);
     ck_assert_uint_eq(count, got.n);
     for (i = 0; i < count; i++) {
@@ -227,7 +227,7 @@ static void check_query(const kit *k, int is_box, const ray_box_params *box,
             if (k->p[j].geom_id == p->geom_id &&
                 k->p[j].prim_id == p->prim_id &&
                 k->p[j].inst_id == p->inst_id)
-                d = fminl(d, apart(&k->p[j], is_box, box, lv(c), (ld)r));
+                d = fminl(d, apart(&k->p[j], sh));
         if (d < -tol)
             ck_assert_msg(found_in(all, count, p->geom_id, p->prim_id,
                                    p->inst_id),
@@ -274,11 +274,11 @@ START_TEST(overlaps_should_match_brute_force)
     kit_build(&k, o, 1);
     for (i = 0; i < 300; i++) {
         ray_vec3 c = vadd(o, rng_point(&g, -10, 10));
-        check_query(&k, 0, NULL, c, rng_range(&g, 0.05, 4), tol, i);
+        check_query(&k, TK_SPHERE(c, rng_range(&g, 0.05, 4)), tol, i);
     }
     for (i = 0; i < 300; i++) {
         ray_box_params b = random_box(&g, o, 10, 3);
-        check_query(&k, 1, &b, vec(0, 0, 0), 0, tol, 1000 + i);
+        check_query(&k, TK_BOX(&b), tol, 1000 + i);
     }
     kit_free(&k);
 }
@@ -299,11 +299,11 @@ START_TEST(overlaps_should_be_exact_through_instances)
 
     kit_build_instanced(&k, &g, child);
     for (i = 0; i < 200; i++)
-        check_query(&k, 0, NULL, rng_point(&g, -14, 14), rng_range(&g, 0.1, 3),
+        check_query(&k, TK_SPHERE(rng_point(&g, -14, 14), rng_range(&g, 0.1, 3)),
                     0x1p-40L * 60, i);
     for (i = 0; i < 200; i++) {
         ray_box_params b = random_box(&g, vec(0, 0, 0), 14, 3);
-        check_query(&k, 1, &b, vec(0, 0, 0), 0, 0x1p-40L * 60, 1000 + i);
+        check_query(&k, TK_BOX(&b), 0x1p-40L * 60, 1000 + i);
     }
     kit_free(&k);
     ray_scene_free(child[0]);
@@ -353,15 +353,15 @@ START_TEST(overlaps_should_meet_ellipsoids)
             ray_vec3 o = vec(out[k][0], out[k][1], out[k][2]);
             ray_box_params b;
             size_t n;
-            ck_assert_int_eq(ray_overlap_sphere_all(top[kind], vadd(t, vscale(o, 1 - 1e-9)), 1, NULL, NULL, 0, &n), 1);
-            ck_assert_int_eq(ray_overlap_sphere_all(top[kind], vadd(t, vscale(o, 1 + 1e-9)), 1, NULL, NULL, 0, &n), 0);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_SPHERE(vadd(t, vscale(o, 1 - 1e-9)), 1), NULL, NULL, 0, &n), 1);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_SPHERE(vadd(t, vscale(o, 1 + 1e-9)), 1), NULL, NULL, 0, &n), 0);
             b.axis_x = vec(1, 0, 0);
             b.axis_y = vec(0, 1, 0);
             b.half_extents = vec(1, 1, 1);
             b.center = vadd(t, vscale(o, 1 - 1e-9));
-            ck_assert_int_eq(ray_overlap_box_all(top[kind], &b, NULL, NULL, 0, &n), 1);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_BOX(&b), NULL, NULL, 0, &n), 1);
             b.center = vadd(t, vscale(o, 1 + 1e-9));
-            ck_assert_int_eq(ray_overlap_box_all(top[kind], &b, NULL, NULL, 0, &n), 0);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_BOX(&b), NULL, NULL, 0, &n), 0);
         }
     }
     for (kind = 0; kind < 2; kind++) {
@@ -403,27 +403,27 @@ START_TEST(overlaps_should_keep_their_rules)
     ck_assert_int_eq(ray_scene_add_torus(k.s, &tor, RAY_NO_MATERIAL, &id), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
     /* The hole of the torus is inside its box. */
-    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 20), 0.1, NULL, o, 4, &n), 1);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 20), 0.1), NULL, o, 4, &n), 1);
     ck_assert_uint_eq(o[0].geom_id, id);
     ck_assert_uint_eq(o[0].flags, RAY_CONTACT_BOUNDS);
     /* A sphere about the box (2) that reaches the icosphere (0): the
     ** box found, then hidden by a mask. */
-    ck_assert_int_ge(ray_overlap_sphere_all(k.s, vec(0, 4, -3), 3.2, NULL, big, 256, &n), 2);
+    ck_assert_int_ge(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 4, -3), 3.2), NULL, big, 256, &n), 2);
     ck_assert(found_in(big, n, 2, 0, RAY_INVALID_ID));
     ck_assert(big[0].geom_id == 0);
     ck_assert_int_eq(ray_scene_set_mask(k.s, 2, 4), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
     memset(&q, 0, sizeof q);
     q.ignore_mask = ~3u;
-    ck_assert_int_ge(ray_overlap_sphere_all(k.s, vec(0, 4, -3), 3.2, &q, big, 256, &n), 1);
+    ck_assert_int_ge(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 4, -3), 3.2), &q, big, 256, &n), 1);
     ck_assert(!found_in(big, n, 2, 0, RAY_INVALID_ID));
     /* Stop after the first. */
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), 30, NULL, stop_now, &calls), 1);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), 30), NULL, stop_now, &calls), 1);
     ck_assert_int_eq(calls, 1);
     /* The cap keeps the first in id order. */
-    ck_assert_int_gt(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 30, NULL, ref, 0, &n), 4);
+    ck_assert_int_gt(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 0), 30), NULL, ref, 0, &n), 4);
     m = n;
-    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 30, NULL, o, 4, &n), (int)m);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 0), 30), NULL, o, 4, &n), (int)m);
     ck_assert_uint_eq(o[0].geom_id, 0);
     ck_assert_uint_eq(o[0].prim_id, 0);
     ck_assert_uint_eq(o[3].prim_id, 3);
@@ -433,28 +433,28 @@ START_TEST(overlaps_should_keep_their_rules)
     b.half_extents = vec(1, 1, 1);
     b.axis_x = vec(1, 0, 0);
     b.axis_y = vec(1, 0, 0);                  /* parallel: refused */
-    ck_assert_int_eq(ray_overlap_sphere(NULL, vec(0, 0, 0), 1, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), 1, NULL, NULL, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec((double)NAN, 0, 0), 1, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), -1, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), HUGE_VAL, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box(k.s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box(k.s, NULL, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(NULL, TK_SPHERE(vec(0, 0, 0), 1), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), 1), NULL, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec((double)NAN, 0, 0), 1), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), -1), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), HUGE_VAL), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_BOX(&b), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, NULL, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_BOX(&b), NULL, o, 4, &n), -RAY_EINVAL);
     b.axis_y = vec(0, 1, 0);
-    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, NULL, 4, &n), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, o, 4, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 1, NULL, NULL, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_BOX(&b), NULL, NULL, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_BOX(&b), NULL, o, 4, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 0), 1), NULL, NULL, 4, &n), -RAY_EINVAL);
     ck_assert_uint_eq(n, 77);
     ck_assert_int_eq(calls, 1);
     ck_assert_int_eq(ray_scene_new(&loose, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_overlap_sphere_all(loose, vec(0, 0, 0), 1, NULL, o, 4, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_overlap_shape_all(loose, TK_SPHERE(vec(0, 0, 0), 1), NULL, o, 4, &n), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(loose), RAY_OK);
-    ck_assert_int_eq(ray_overlap_box_all(loose, &b, NULL, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(loose, TK_BOX(&b), NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     ray_scene_free(loose);
     ck_assert_int_eq(ray_scene_add_sphere(k.s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_overlap_box(k.s, &b, NULL, stop_now, &calls), -RAY_ESTATE);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_BOX(&b), NULL, stop_now, &calls), -RAY_ESTATE);
     kit_free(&k);
 }
 END_TEST
@@ -500,24 +500,24 @@ START_TEST(overlaps_should_hide_mask_zero_by_default)
     /* The ray queries hide them all. */
     r = make_ray(vec(0, 0, 10), vec(0, 0, -1), 0, HUGE_VAL);
     ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, &q, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), &q, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, &q, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), &q, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     /* Masks back: all three found. */
     ck_assert_int_eq(ray_scene_set_mask(s, sph, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_set_mask(s, tri, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_set_mask(s, inst, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 3);
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 3);
     ray_scene_free(s);
     ray_scene_free(child);
 }
@@ -548,13 +548,13 @@ START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
     b.axis_x = vec(1, 0, 0);
     b.axis_y = vec(0, 1, 0);
     ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box(s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(s, TK_BOX(&b), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), -RAY_EINVAL);
     ck_assert_uint_eq(n, 77);
     ck_assert_int_eq(calls, 0);
     /* At the origin: accepted, and it holds the sphere. */
     b.center = vec(0, 0, 0);
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 1);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 1);
     ck_assert_uint_eq(n, 1);
     ray_scene_free(s);
 }
@@ -590,15 +590,23 @@ START_TEST(statuses_should_follow_the_documented_order)
     b.axis_y = vec(0, 1, 0);
     ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &box), RAY_OK);
     /* Not committed: bad arguments win. */
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec((double)NAN, 0, 0), 1, NULL, o, 1, &n), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 1, NULL, o, 1, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec((double)NAN, 0, 0), 1), NULL, o, 1, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 1), NULL, o, 1, &n), -RAY_ESTATE);
     ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), -1, &cl), -RAY_EINVAL);
     ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), 1, &cl), -RAY_ESTATE);
     memset(&sw, 0, sizeof sw);
-    sw.dir = vec(0, 0, 0);                    /* no motion */
+    sw.shape.radius = -1;                     /* a bad radius */
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_EINVAL);
+    sw.shape.radius = 0;
+    sw.dir = vec(0, 0, 0);   /* no motion: an overlap test, a good sweep */
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ESTATE);
     sw.dir = vec(0, 0, 1);
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ESTATE);
+    /* A box shape is an argument the sweep does not take: its status
+    ** before the state's. */
+    sw.shape = box_shape(&b);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ENOTSUP);
+    memset(&sw, 0, sizeof sw);
     ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0, 0, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_ESTATE);
     ck_assert_uint_eq(n, 77);
