@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** check_overlap.c -- ray_overlap_sphere, ray_overlap_box and their _all
-** forms: every primitive of the mixed scene (shapekit.h) that meets a
-** sphere or an oriented box, against brute force over every piece in
-** long double (distances for the sphere; separating axes computed by the
-** test for the box), at the origin and at 1e5; instances through affine
+** check_overlap.c -- ray_overlap_shape and its _all form: every
+** primitive of the mixed scene (shapekit.h) that meets a sphere, a
+** capsule or an oriented box, against brute force over every piece in
+** long double (distances for the sphere and the capsule; separating
+** axes computed by the test for the box), at the origin and at 1e5; instances through affine
 ** maps; ellipsoids; the kinds found by their boxes; masks; stopping;
 ** the array form's order, cap and count; misuse.
 */
@@ -257,9 +257,12 @@ static ray_box_params random_box(rng *g, ray_vec3 o, double spread, double h)
 }
 
 /*
-** Brute force: 300 spheres (radius 0.05 to 4) and 300 boxes (half
-** extents up to 3, random orientations) among the mixed scene, at the
-** origin and at 1e5; tolerance 2^-40 of 40 (the separations and
+** Brute force: 300 spheres (radius 0.05 to 4), 300 boxes (half
+** extents up to 3, random orientations) and 300 capsules (segments up
+** to 4 along each axis, radius 0.05 to 3: their reference is the long
+** double distance of each piece to the segment, shapekit.h's
+** kit_distance) among the mixed scene, at the origin and at 1e5;
+** tolerance 2^-40 of 40 (the separations and
 ** distances are computed to a few ulps of coordinates below 20 relative
 ** to o, and o itself at 1e5 adds its ulp, 1.5e-11).
 */
@@ -280,6 +283,12 @@ START_TEST(overlaps_should_match_brute_force)
         ray_box_params b = random_box(&g, o, 10, 3);
         check_query(&k, TK_BOX(&b), tol, 1000 + i);
     }
+    for (i = 0; i < 300; i++) {
+        ray_vec3 a = vadd(o, rng_point(&g, -10, 10));
+        ray_vec3 b = vadd(a, rng_point(&g, -4, 4));
+        check_query(&k, TK_CAPSULE(a, b, rng_range(&g, 0.05, 3)), tol,
+                    2000 + i);
+    }
     kit_free(&k);
 }
 END_TEST
@@ -288,7 +297,7 @@ END_TEST
 ** Through instances: the child of a mesh, a box and the L polygon under 8
 ** random affine maps, the sphere-and-capsule child under 4 similarities
 ** (shapekit.h's kit_build_instanced, the world the sweeps' instance test
-** uses too), 200 spheres and 200 boxes.
+** uses too), 200 spheres, 200 boxes and 200 capsules.
 */
 START_TEST(overlaps_should_be_exact_through_instances)
 {
@@ -304,6 +313,12 @@ START_TEST(overlaps_should_be_exact_through_instances)
     for (i = 0; i < 200; i++) {
         ray_box_params b = random_box(&g, vec(0, 0, 0), 14, 3);
         check_query(&k, TK_BOX(&b), 0x1p-40L * 60, 1000 + i);
+    }
+    for (i = 0; i < 200; i++) {
+        ray_vec3 a = rng_point(&g, -14, 14);
+        ray_vec3 b = vadd(a, rng_point(&g, -4, 4));
+        check_query(&k, TK_CAPSULE(a, b, rng_range(&g, 0.1, 3)),
+                    0x1p-40L * 60, 2000 + i);
     }
     kit_free(&k);
     ray_scene_free(child[0]);
@@ -511,6 +526,12 @@ START_TEST(overlaps_should_hide_mask_zero_by_default)
     n = 77;
     ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), &q, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vec(-1, 0, 0), vec(1, 0, 0), 1), NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vec(-1, 0, 0), vec(1, 0, 0), 1), &q, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
     /* Masks back: all three found. */
     ck_assert_int_eq(ray_scene_set_mask(s, sph, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_set_mask(s, tri, ~0u), RAY_OK);
@@ -518,6 +539,7 @@ START_TEST(overlaps_should_hide_mask_zero_by_default)
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), NULL, o, 4, &n), 3);
     ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vec(-1, 0, 0), vec(1, 0, 0), 1), NULL, o, 4, &n), 3);
     ray_scene_free(s);
     ray_scene_free(child);
 }
@@ -625,6 +647,224 @@ START_TEST(statuses_should_follow_the_documented_order)
 }
 END_TEST
 
+/*
+** The capsule at its radius, exactly: one primitive of each kind alone
+** in a scene moved to o (0 and 1e5 from the origin), and a capsule whose
+** segment is r + delta from it (its nearest point an end, inside the
+** segment, or against an edge), delta = -+ (1e-9 + 1e-14 |o|): found when
+** nearer than its radius, not when farther.  delta is far above the
+** tests' rounding (the distances are formed from coordinates below |o| +
+** 8 with a few dozen roundings: 64 ulps of that, 1e-12 at 1e5, test_tol's
+** bound) and far below any other feature, so either answer the other way
+** is a wrong one.
+*/
+typedef struct near_case {
+    int kind;                    /* 0 tri, 1 plane, 2 polygon, 3 box,
+                                    4 sphere, 5 capsule, 6 mesh */
+    double a[3], b[3];           /* the segment at delta 0, relative to o */
+    double n[3];                 /* the direction delta moves it */
+} near_case;
+
+static void add_near_geometry(ray_scene *s, int kind, ray_vec3 o)
+{
+    static const double sq[4][3] = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0},
+                                    {0, 4, 0}};
+    ray_vec3 v[4];
+    ray_box_params b;
+    ray_capsule_params c;
+    ray_mesh m;
+    unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    int k;
+
+    for (k = 0; k < 4; k++)
+        v[k] = vadd(o, vec(sq[k][0], sq[k][1], sq[k][2]));
+    switch (kind) {
+    case 0:
+        ck_assert_int_eq(ray_scene_add_triangle(s, v[0], v[1], v[2], RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 1:
+        ck_assert_int_eq(ray_scene_add_plane(s, o, vec(0, 0, 1), RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 2:
+        ck_assert_int_eq(ray_scene_add_polygon(s, v, 4, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 3:
+        b.center = vadd(o, vec(2, 2, -1));
+        b.half_extents = vec(2, 2, 1);
+        b.axis_x = vec(1, 0, 0);
+        b.axis_y = vec(0, 1, 0);
+        ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 4:
+        ck_assert_int_eq(ray_scene_add_sphere(s, vadd(o, vec(2, 2, -1)), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 5:
+        c.a = vadd(o, vec(0, 2, -0.5));
+        c.b = vadd(o, vec(4, 2, -0.5));
+        c.radius = 0.5;
+        ck_assert_int_eq(ray_scene_add_capsule(s, &c, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    default:
+        memset(&m, 0, sizeof m);
+        m.vertices = v;
+        m.vertex_count = 4;
+        m.indices = idx;
+        m.triangle_count = 2;
+        ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    }
+}
+
+START_TEST(capsules_should_meet_at_their_radius_exactly)
+{
+    /* Every solid's top and every surface lies at z = 0 (relative to
+    ** o) over [0, 4]^2; the sphere's top is (2, 2, 0), the capsule's
+    ** axis runs along x at y = 2. */
+    static const near_case cases[] = {
+        {0, {1, 0.5, 0.5}, {2, 0.5, 0.5}, {0, 0, 1}},    /* over the face */
+        {0, {1, 0.5, 0.5}, {1, 0.5, 3}, {0, 0, 1}},      /* its end */
+        {0, {-0.5, -1, 0}, {-0.5, 5, 0}, {-1, 0, 0}},    /* past edge x=0 */
+        {1, {-9, 3, 0.5}, {9, -3, 0.5}, {0, 0, 1}},
+        {2, {1, 1, 0.5}, {3, 3, 0.5}, {0, 0, 1}},
+        {2, {2, 4.5, -3}, {2, 4.5, 3}, {0, 1, 0}},       /* beside edge y=4 */
+        {2, {5, -1, 0}, {4.5, 2, 0}, {1, 0, 0}},         /* its end, sideways */
+        {3, {0.5, 1, 0.5}, {3.5, 3, 0.5}, {0, 0, 1}},
+        {3, {4.5, -3, -1}, {4.5, 7, -1}, {1, 0, 0}},     /* beside face x=4 */
+        {4, {-3, 2, 0.5}, {7, 2, 0.5}, {0, 0, 1}},       /* inside the segment */
+        {4, {2, 2, 0.5}, {2, 2, 6}, {0, 0, 1}},          /* its end */
+        {5, {2, -3, 0.5}, {2, 7, 0.5}, {0, 0, 1}},       /* crossing above */
+        {5, {5, 2, -0.5}, {9, 2, -0.5}, {1, 0, 0}},      /* end to end */
+        {6, {1, 1, 0.5}, {3, 1.5, 0.5}, {0, 0, 1}},
+        {6, {-0.5, -1, 0}, {-0.5, 5, 0}, {-1, 0, 0}},
+    };
+    const double r = 0.5;
+    ray_vec3 o = vec(test_offset(_i), test_offset(_i) / 3, -test_offset(_i));
+    double delta = 1e-9 + 1e-14 * test_offset(_i);
+    size_t c;
+
+    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        const near_case *k = &cases[c];
+        ray_vec3 n = vec(k->n[0], k->n[1], k->n[2]);
+        ray_vec3 a = vadd(o, vec(k->a[0], k->a[1], k->a[2]));
+        ray_vec3 b = vadd(o, vec(k->b[0], k->b[1], k->b[2]));
+        ray_scene *s;
+        ray_overlap f[2];
+        size_t cnt;
+        int side;
+
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        add_near_geometry(s, k->kind, o);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (side = -1; side <= 1; side += 2) {
+            ray_vec3 d = vscale(n, side * delta);
+            int want = side < 0;
+            /* (The mesh's segment over both its triangles finds two.) */
+            ck_assert_msg((ray_overlap_shape_all(s, TK_CAPSULE(vadd(a, d), vadd(b, d), r), NULL, f, 2, &cnt) > 0) == want,
+                          "case %zu, offset %g: %s its radius, %zu found", c,
+                          test_offset(_i), want ? "within" : "beyond", cnt);
+            if (want)
+                ck_assert_uint_eq(f[0].flags, 0);
+        }
+        /* Reversed, the same segment: the same answers. */
+        ck_assert_int_gt(ray_overlap_shape_all(s, TK_CAPSULE(vadd(b, vscale(n, -delta)), vadd(a, vscale(n, -delta)), r), NULL, NULL, 0, &cnt), 0);
+        ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vadd(b, vscale(n, delta)), vadd(a, vscale(n, delta)), r), NULL, NULL, 0, &cnt), 0);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/*
+** The shape's zero default and its refusals: ray_shape {0} is a point
+** at the origin (a sphere of radius 0: found inside a solid and on a
+** surface through the origin, not by a sphere beside it); a capsule
+** through a non-similarity's capsule is found by its box, flagged; NaN
+** ends, a negative or infinite radius, b - a past DBL_MAX, an unknown
+** kind, a box ray_box refuses: -RAY_EINVAL, nothing written.
+*/
+START_TEST(shapes_should_default_and_refuse)
+{
+    ray_scene *s, *child, *top;
+    ray_shape zero = {0}, bad;
+    ray_capsule_params cap;
+    ray_transform xf;
+    ray_box_params b;
+    ray_overlap f[4];
+    size_t n = 77;
+    unsigned g_box, g_tri;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &g_box), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-5, -5, 0), vec(5, -5, 0), vec(0, 5, 0), RAY_NO_MATERIAL, &g_tri), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(3, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_overlap_shape_all(s, &zero, NULL, f, 4, &n), 2);
+    ck_assert_uint_eq(n, 2);
+    ck_assert_uint_eq(f[0].geom_id, g_box);
+    ck_assert_uint_eq(f[1].geom_id, g_tri);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 0), NULL, NULL, 0, &n), 2);
+    /* Refused. */
+    memset(f, 0xA5, sizeof f);
+    n = 77;
+    bad = zero, bad.a.x = (double)NAN;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.b.z = (double)NAN;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.b.y = HUGE_VAL;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.a.x = -1e308, bad.b.x = 1e308;        /* b - a: Inf */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.radius = -1;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.radius = HUGE_VAL;
+    ck_assert_int_eq(ray_overlap_shape(s, &bad, NULL, stop_now, NULL), -RAY_EINVAL);
+    bad = zero, bad.radius = (double)NAN;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.kind = 2;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.kind = ~0u;
+    ck_assert_int_eq(ray_overlap_shape(s, &bad, NULL, stop_now, NULL), -RAY_EINVAL);
+    bad = zero, bad.kind = RAY_SHAPE_BOX;          /* a zero box */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad.box = b, bad.box.half_extents.z = 0;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad.box = b, bad.box.axis_y = vec(2, 0, 0);      /* parallel to x */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_uint_eq(f[0].geom_id, 0xA5A5A5A5u);
+    bad.box = b;                                     /* accepted again */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), 2);
+    ray_scene_free(s);
+
+    /* A capsule through diag(3, 1, 0.5): a swept ellipsoid, which a
+    ** capsule shape meets by its box (the image of [-1, 1]^3 about the
+    ** segment [(0,0,0), (1,0,0)] scaled: x in [-3, 6], |y| <= 1,
+    ** |z| <= 0.5), flagged; a sphere shape by its nearest point. */
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    cap.a = vec(0, 0, 0);
+    cap.b = vec(1, 0, 0);
+    cap.radius = 1;
+    ck_assert_int_eq(ray_scene_add_capsule(child, &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 3;
+    xf.m[2][2] = 0.5;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_overlap_shape_all(top, TK_CAPSULE(vec(0, -3, 0.9), vec(0, 3, 0.9), 0.5), NULL, f, 4, &n), 1);
+    ck_assert_uint_eq(f[0].flags, RAY_CONTACT_BOUNDS);
+    ck_assert_int_eq(ray_overlap_shape_all(top, TK_CAPSULE(vec(0, -3, 1.1), vec(0, 3, 1.1), 0.5), NULL, f, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(top, TK_SPHERE(vec(0, 0, 0.9), 0.5), NULL, f, 4, &n), 1);
+    ck_assert_uint_eq(f[0].flags, 0);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -638,6 +878,9 @@ Suite *overlap_suite(void)
     tcase_add_test(tc, overlaps_should_hide_mask_zero_by_default);
     tcase_add_test(tc, overlap_boxes_should_be_refused_as_ray_box_refuses_them);
     tcase_add_test(tc, statuses_should_follow_the_documented_order);
+    tcase_add_loop_test(tc, capsules_should_meet_at_their_radius_exactly, 0,
+                        N_OFFSETS);
+    tcase_add_test(tc, shapes_should_default_and_refuse);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -206,7 +206,7 @@ static inline int nop_scene_new(ray_scene **out, ray_alloc_fn alloc,
 }
 
 /* Shapes of the shape queries (ray_overlap_shape, ray_intersect_sweep):
-** a sphere, a capsule, an oriented box; TK_SPHERE and TK_BOX make a
+** a sphere, a capsule, an oriented box; TK_SPHERE, TK_CAPSULE and TK_BOX make a
 ** pointer to one for a call's argument (a compound literal: it lives to
 ** the end of the enclosing block). */
 static inline ray_shape capsule_shape(ray_vec3 a, ray_vec3 b, double r)
@@ -237,6 +237,7 @@ static inline ray_shape box_shape(const ray_box_params *b)
 }
 
 #define TK_SPHERE(c, r) ((const ray_shape[]){sphere_shape((c), (r))})
+#define TK_CAPSULE(a, b, r) ((const ray_shape[]){capsule_shape((a), (b), (r))})
 #define TK_BOX(b) ((const ray_shape[]){box_shape(b)})
 
 #endif
