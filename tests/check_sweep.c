@@ -965,6 +965,163 @@ START_TEST(radius_zero_sweeps_should_ask_user_geometry_itself)
 }
 END_TEST
 
+/*
+** No motion (dir 0) is the overlap test at tmin: a sphere or a capsule
+** standing in a wall, in a floor mesh, inside a box, in a corner (the
+** deeper of two), through a rotated and non-uniformly scaled instance of
+** a box and through one of a sphere (an ellipsoid) reports the deepest
+** overlap: t = tmin, RAY_CONTACT_OVERLAP, the depth and the normal that
+** frees it, the same bits as a moving sweep's overlap at its start (the
+** same computation).  Pushed by depth (plus 1e-9, far above the sweep's
+** eps of about 1e-13 here and far below every feature) along n, the
+** shape overlaps nothing (the corner takes two pushes); touching at
+** exactly the radius is no overlap.  Depths and normals: tol_at (64 ulps
+** of the coordinates' magnitude: a few dozen roundings on exact inputs),
+** the ellipsoid's 1e-9 (its nearest point is iterated to within a few
+** ulps of its semi-axes, ray__ellipsoid_closest, with 1e-9 to spare).
+*/
+typedef struct still_case {
+    double a[3], b[3], r;        /* the shape, relative to o */
+    double depth, n[3];          /* the expected overlap (depth 0: none) */
+    int pushes;                  /* how many pushes free it */
+} still_case;
+
+START_TEST(zero_motion_should_report_the_deepest_overlap)
+{
+    static const still_case cases[] = {
+        {{-2.8, 0, 2.5}, {-2.8, 0, 2.5}, 0.5, 0.3, {1, 0, 0}, 1},   /* wall */
+        {{0, 0, 0.3}, {0, 0, 1.3}, 0.5, 0.2, {0, 0, 1}, 1},         /* floor */
+        {{-1, -1, 0.1}, {1, -1, 0.1}, 0.5, 0.4, {0, 0, 1}, 1},      /* lying */
+        {{3, 0.2, 1.7}, {3, 0.2, 1.7}, 0.2, 0.5, {0, 0, 1}, 1},     /* in box */
+        {{-2.7, 0, 0.1}, {-2.7, 0, 0.1}, 0.5, 0.4, {0, 0, 1}, 2},   /* corner */
+        {{0.2, 11.8, 1}, {0.2, 11.8, 1}, 0.5, 0.7, {0, 1, 0}, 1},   /* instance */
+        {{2.3, -10, 3}, {2.3, -10, 3}, 0.5, 0.2, {1, 0, 0}, 1},     /* ellipsoid */
+        {{0, 0, 3}, {0, 0, 3}, 0.5, 0, {0, 0, 0}, 0},               /* clear */
+        {{0, 0, 0.5}, {1, 0, 0.5}, 0.5, 0, {0, 0, 0}, 0},           /* touching */
+    };
+    static const double floor_v[4][3] = {{-5, -5, 0}, {5, -5, 0}, {5, 5, 0},
+                                         {-5, 5, 0}};
+    static const double wall_v[4][3] = {{-3, -5, 0}, {-3, 5, 0}, {-3, 5, 5},
+                                        {-3, -5, 5}};
+    static const unsigned quad[6] = {0, 1, 2, 0, 2, 3};
+    ray_vec3 o = vec(test_offset(_i), test_offset(_i) / 3, -test_offset(_i));
+    ray_scene *s, *cbox, *cball;
+    ray_vec3 fv[4], wv[4];
+    ray_mesh m;
+    ray_box_params b;
+    ray_transform xf;
+    size_t k;
+    int j;
+
+    for (j = 0; j < 4; j++) {
+        fv[j] = vadd(o, vec(floor_v[j][0], floor_v[j][1], floor_v[j][2]));
+        wv[j] = vadd(o, vec(wall_v[j][0], wall_v[j][1], wall_v[j][2]));
+    }
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    memset(&m, 0, sizeof m);
+    m.vertex_count = 4;
+    m.indices = quad;
+    m.triangle_count = 2;
+    m.vertices = fv;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    m.vertices = wv;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    b.center = vadd(o, vec(3, 0, 1));
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    /* A unit box scaled by (2, 1, 1), turned 90 degrees about z (x -> y):
+    ** |x| <= 1, |y - 10| <= 2, |z - 1| <= 1 about o. */
+    ck_assert_int_eq(ray_scene_new(&cbox, NULL, NULL), RAY_OK);
+    b.center = vec(0, 0, 0);
+    ck_assert_int_eq(ray_scene_add_box(cbox, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(cbox), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 0, xf.m[0][1] = -1;
+    xf.m[1][0] = 2, xf.m[1][1] = 0;
+    xf.m[0][3] = o.x, xf.m[1][3] = o.y + 10, xf.m[2][3] = o.z + 1;
+    ck_assert_int_eq(ray_scene_add_instance(s, cbox, &xf, NULL), RAY_OK);
+    /* A unit sphere scaled by (2, 1, 1): an ellipsoid about (0, -10, 3). */
+    ck_assert_int_eq(ray_scene_new(&cball, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(cball, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(cball), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 2;
+    xf.m[0][3] = o.x, xf.m[1][3] = o.y - 10, xf.m[2][3] = o.z + 3;
+    ck_assert_int_eq(ray_scene_add_instance(s, cball, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const still_case *e = &cases[k];
+        double tol = k == 6 ? 1e-9 : tol_at(test_offset(_i));
+        ray_sweep w, moving;
+        ray_contact c, cm, ref;
+        int push;
+
+        memset(&w, 0, sizeof w);
+        w.shape.a = vadd(o, vec(e->a[0], e->a[1], e->a[2]));
+        w.shape.b = vadd(o, vec(e->b[0], e->b[1], e->b[2]));
+        w.shape.radius = e->r;
+        w.tmin = 0.25;                 /* t = tmin, whatever tmin is */
+        memset(&ref, 0xA5, sizeof ref);
+        c = ref;
+        if (e->depth == 0) {
+            ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+            ck_assert(memcmp(&c, &ref, sizeof c) == 0);
+            continue;
+        }
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert(c.t == 0.25);
+        ck_assert_uint_eq(c.flags & RAY_CONTACT_OVERLAP, RAY_CONTACT_OVERLAP);
+        ck_assert_msg(fabs(c.depth - e->depth) <= tol,
+                      "case %zu: depth %.17g, want %g", k, c.depth, e->depth);
+        ck_assert_msg(fabs(c.n.x - e->n[0]) <= tol && fabs(c.n.y - e->n[1]) <= tol &&
+                      fabs(c.n.z - e->n[2]) <= tol,
+                      "case %zu: n (%g, %g, %g)", k, c.n.x, c.n.y, c.n.z);
+        /* The moving sweep's overlap at its start (tmin 0: the shape
+        ** where it stands): the same bits. */
+        moving = w;
+        moving.dir = vec(0.5, -1, 2);
+        moving.tmin = 0;
+        ck_assert_int_eq(ray_intersect_sweep(s, &moving, NULL, &cm), 1);
+        ck_assert(cm.t == 0 && cm.depth == c.depth && cm.flags == c.flags);
+        ck_assert(cm.n.x == c.n.x && cm.n.y == c.n.y && cm.n.z == c.n.z);
+        ck_assert(cm.geom_id == c.geom_id && cm.prim_id == c.prim_id &&
+                  cm.inst_id == c.inst_id);
+        /* Pushed out along n by depth (and 1e-9): free. */
+        for (push = 0; push < e->pushes; push++) {
+            ray_vec3 d;
+            ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+            d = vscale(c.n, c.depth + 1e-9);
+            w.shape.a = vadd(w.shape.a, d);
+            w.shape.b = vadd(w.shape.b, d);
+        }
+        c = ref;
+        ck_assert_msg(ray_intersect_sweep(s, &w, NULL, &c) == 0,
+                      "case %zu: still overlapping after %d pushes", k,
+                      e->pushes);
+        ck_assert(memcmp(&c, &ref, sizeof c) == 0);
+    }
+    /* A point (radius 0) standing still: inside the box, 1 deep. */
+    {
+        ray_sweep w;
+        ray_contact c;
+        memset(&w, 0, sizeof w);
+        w.shape.a = w.shape.b = vadd(o, vec(3, 0, 1));
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert_uint_eq(c.flags, RAY_CONTACT_OVERLAP);
+        ck_assert_double_eq_tol(c.depth, 1, tol_at(test_offset(_i)));
+        /* On the floor's surface, a point overlaps nothing. */
+        w.shape.a = w.shape.b = vadd(o, vec(0, 0, 0));
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+    }
+    ray_scene_free(s);
+    ray_scene_free(cbox);
+    ray_scene_free(cball);
+}
+END_TEST
+
 Suite *sweep_suite(void)
 {
     Suite *s = suite_create("sweep");
@@ -984,6 +1141,8 @@ Suite *sweep_suite(void)
     tcase_add_test(tc, sweeps_should_refuse_misuse);
     tcase_add_test(tc, capsules_with_subnormal_segments_should_sweep_as_their_sphere);
     tcase_add_test(tc, radius_zero_sweeps_should_ask_user_geometry_itself);
+    tcase_add_loop_test(tc, zero_motion_should_report_the_deepest_overlap, 0,
+                        N_OFFSETS);
     suite_add_tcase(s, tc);
     return s;
 }
