@@ -277,6 +277,21 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ck_assert_int_eq(ray_overlap_shape(s, TK_SPHERE(vec(0, 0, -4), 10), qs[k],
                                             counting, &n), 3);
         ck_assert_int_eq(n, 3);
+        /* A shape by designated initializer (kind 0: a sphere when a ==
+        ** b) is the sphere written out; {0} the point at the origin. */
+        {
+            ray_shape ball = {.a = {0, 0, -4}, .b = {0, 0, -4}, .radius = 10};
+            ray_shape zero_shape = {0};
+            ray_overlap f0[4], f1[4];
+            size_t n0, n1;
+            ck_assert_int_eq(ray_overlap_shape_all(s, &ball, qs[k], f0, 4, &n0), 3);
+            ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, -4), 10), NULL, f1, 4, &n1), 3);
+            ck_assert_mem_eq(f0, f1, 3 * sizeof f0[0]);
+            ck_assert_int_eq(ray_overlap_shape_all(s, &zero_shape, qs[k], f0, 4, &n0),
+                             ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 0), NULL, f1, 4, &n1));
+            ck_assert_uint_eq(n0, n1);
+            ck_assert_mem_eq(f0, f1, n0 * sizeof f0[0]);
+        }
     }
     {
         /* Each ray its own zeroed query, in a batch. */
