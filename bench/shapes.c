@@ -67,16 +67,16 @@ static double brute_sweep(const soup *s, const ray_sweep *w)
     ray__contact best;
     size_t i;
 
-    ray__sweep_start(&sw, w->dir, vsub(w->b, w->a), w->radius, w->tmin,
+    ray__sweep_start(&sw, w->dir, vsub(w->shape.b, w->shape.a), w->shape.radius, w->tmin,
                      w->tmax);
     best.t = HUGE_VAL;
     best.depth = 0;
     for (i = 0; i < s->n; i++) {
         ray__contact c = best;
         c.depth = -1;
-        if (ray__sweep_triangle(&sw, vsub(s->v[3 * i], w->a),
-                                vsub(s->v[3 * i + 1], w->a),
-                                vsub(s->v[3 * i + 2], w->a), &c) &&
+        if (ray__sweep_triangle(&sw, vsub(s->v[3 * i], w->shape.a),
+                                vsub(s->v[3 * i + 1], w->shape.a),
+                                vsub(s->v[3 * i + 2], w->shape.a), &c) &&
             (c.t < best.t || (c.t == best.t && c.depth > best.depth)))
             best = c;
     }
@@ -175,8 +175,16 @@ static row overlap_row(const char *scene, const char *what,
         b.half_extents = vec(h, h, h);
         b.axis_x = vec(1, 0.3 * (double)(i % 5), 0.2);
         b.axis_y = vec(-0.1, 1, 0.4);
-        rc = is_box ? ray_overlap_box_all(s, &b, NULL, NULL, 0, &count)
-                    : ray_overlap_sphere_all(s, c[i], h, NULL, NULL, 0, &count);
+        ray_shape q;
+        memset(&q, 0, sizeof q);
+        if (is_box) {
+            q.kind = RAY_SHAPE_BOX;
+            q.box = b;
+        } else {
+            q.a = q.b = c[i];
+            q.radius = h;
+        }
+        rc = ray_overlap_shape_all(s, &q, NULL, NULL, 0, &count);
         if (rc < 0) {
             fprintf(stderr, "shapes: overlap failed (%d)\n", rc);
             exit(1);
@@ -275,7 +283,7 @@ static double least_clearance(const ray_scene *s, const ray_sweep *w,
 
     for (k = 0; k <= 400; k++) {
         ray_closest c;
-        ray_vec3 x = vadd(w->a, vscale(w->dir, w->tmax * k / 400));
+        ray_vec3 x = vadd(w->shape.a, vscale(w->dir, w->tmax * k / 400));
         if (ray_closest_point(s, x, HUGE_VAL, &c) == 1 &&
             c.distance - r < best)
             best = c.distance - r;
@@ -303,9 +311,9 @@ static void bullet_row(const char *scene, const ray_scene *sc,
         idx[i] = (unsigned)i;
     }
     for (i = 0; i < n; i++) {
-        ray_vec3 to = vadd(w[i].a, vscale(w[i].dir, w[i].tmax));
-        p[i].from[0] = w[i].a.x, p[i].from[1] = w[i].a.y;
-        p[i].from[2] = w[i].a.z;
+        ray_vec3 to = vadd(w[i].shape.a, vscale(w[i].dir, w[i].tmax));
+        p[i].from[0] = w[i].shape.a.x, p[i].from[1] = w[i].shape.a.y;
+        p[i].from[2] = w[i].shape.a.z;
         p[i].to[0] = to.x, p[i].to[1] = to.y, p[i].to[2] = to.z;
     }
     bt = bullet_sweeps(v, 3 * sp->n, idx, sp->n, r, p, n);
@@ -473,8 +481,8 @@ int main(int argc, char **argv)
                           lo.y + (hi.y - lo.y) * rng_range(&g, 0.25, 0.75),
                           lo.z + (hi.z - lo.z) * rng_range(&g, 0.25, 0.75));
         memset(&w[i], 0, sizeof w[i]);
-        w[i].a = w[i].b = from;
-        w[i].radius = 0.01 * diag;
+        w[i].shape.a = w[i].shape.b = from;
+        w[i].shape.radius = 0.01 * diag;
         w[i].dir = vsub(to, from);
     }
     r[0] = sweep_row("bunny-2", "sphere sweep", bunny, &bs, w, n, nb, t);
@@ -486,7 +494,7 @@ int main(int argc, char **argv)
             return 1;
         for (i = 0; i < n; i++) {
             wc[i] = w[i];
-            wc[i].b = vadd(w[i].a, vscale(rng_dir(&g), 0.02 * diag));
+            wc[i].shape.b = vadd(w[i].shape.a, vscale(rng_dir(&g), 0.02 * diag));
         }
         r[1] = sweep_row("bunny-2", "capsule sweep", bunny, &bs, wc, n, nb,
                          tc);
@@ -514,20 +522,20 @@ int main(int argc, char **argv)
             ray_vec3 from = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3), z);
             ray_vec3 step = vscale(rng_dir(&g), rng_range(&g, 0.2, 2));
             memset(&gw[i], 0, sizeof gw[i]);
-            gw[i].a = gw[i].b = from;
-            gw[i].radius = rng_range(&g, 0.1, 0.5);
+            gw[i].shape.a = gw[i].shape.b = from;
+            gw[i].shape.radius = rng_range(&g, 0.1, 0.5);
             gw[i].dir = step;
         }
         r[4] = sweep_row("game", "sphere sweep", game, &gs, gw, n, nb, gt);
         print_row(&r[4]);
         for (i = 0; i < n; i++) {
-            gw[i].radius = 0.4;
-            gw[i].b = vadd(gw[i].a, vec(0, 1, 0));
+            gw[i].shape.radius = 0.4;
+            gw[i].shape.b = vadd(gw[i].shape.a, vec(0, 1, 0));
         }
         r[5] = sweep_row("game", "capsule sweep", game, &gs, gw, n, nb, gt);
         print_row(&r[5]);
         for (i = 0; i < n; i++)
-            pts[i] = gw[i].a;
+            pts[i] = gw[i].shape.a;
         r[6] = overlap_row("game", "sphere overlap", game, &gs, 0, pts, 1.0,
                            n, nb);
         print_row(&r[6]);
@@ -570,12 +578,12 @@ int main(int argc, char **argv)
             do {
                 double x = rng_range(&g, -23, 23), z = rng_range(&g, -23, 23);
                 memset(&gw[i], 0, sizeof gw[i]);
-                gw[i].a = gw[i].b = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3),
+                gw[i].shape.a = gw[i].shape.b = vec(x, terrain_height(x, z) + rng_range(&g, 1, 3),
                                         z);
-                gw[i].radius = 0.3;
+                gw[i].shape.radius = 0.3;
                 gw[i].dir = vscale(rng_dir(&g), rng_range(&g, 0.2, 4));
-            } while (ray_overlap_sphere_all(game, gw[i].a, 0.3, NULL, NULL, 0,
-                                            &inside) != 0);
+            } while (ray_overlap_shape_all(game, &gw[i].shape, NULL, NULL, 0,
+                                           &inside) != 0);
         }
         s0 = now_seconds();
         for (i = 0; i < n; i++) {
@@ -585,7 +593,7 @@ int main(int argc, char **argv)
         }
         bullet_row("game", game, &gs, gw, n, 0.3, gt, now_seconds() - s0);
         for (i = 0; i < n; i++)
-            gw[i].radius = 0;
+            gw[i].shape.radius = 0;
         s0 = now_seconds();
         for (i = 0; i < n; i++) {
             ray_contact c;
@@ -597,7 +605,7 @@ int main(int argc, char **argv)
         free(gt);
     }
     for (i = 0; i < n; i++)
-        w[i].radius = 0;
+        w[i].shape.radius = 0;
     {
         double s0 = now_seconds();
         for (i = 0; i < n; i++) {

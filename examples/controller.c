@@ -114,9 +114,10 @@ typedef struct tally {
 static void sweep_of(ray_vec3 p, ray_vec3 move, ray_sweep *s)
 {
     /* Zero is the default: tmin 0, and tmax 0 sweeps the whole move. */
-    ray_sweep whole = {.a = vec(p.x, p.y - HALF, p.z),
-                       .b = vec(p.x, p.y + HALF, p.z),
-                       .radius = RADIUS, .dir = move};
+    ray_sweep whole = {.shape = {.a = vec(p.x, p.y - HALF, p.z),
+                                 .b = vec(p.x, p.y + HALF, p.z),
+                                 .radius = RADIUS},
+                       .dir = move};
 
     *s = whole;
 }
@@ -233,15 +234,12 @@ static void slide(const ray_scene *w, body *b, ray_vec3 move, tally *tl,
 /* Is the capsule at p clear of everything (no overlap)? */
 static int clear_at(const ray_scene *w, ray_vec3 p)
 {
+    /* The capsule itself (kind 0, RAY_SHAPE_CAPSULE: the default). */
+    ray_shape cap = {.a = vec(p.x, p.y - HALF, p.z),
+                     .b = vec(p.x, p.y + HALF, p.z), .radius = RADIUS};
     size_t n;
-    int k;
 
-    /* Three spheres along the capsule's axis and between them. */
-    for (k = -1; k <= 1; k++)
-        if (ray_overlap_sphere_all(w, vec(p.x, p.y + k * HALF, p.z),
-                                   RADIUS, NULL, NULL, 0, &n) != 0)
-            return 0;
-    return 1;
+    return ray_overlap_shape_all(w, &cap, NULL, NULL, 0, &n) == 0;
 }
 
 /*

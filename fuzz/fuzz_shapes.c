@@ -122,23 +122,21 @@ static int add_geometry(world *w, ray_scene *s, int child)
 
 static int sweep_misuse(const ray_sweep *s)
 {
-    int finite = fuzz_finite3(s->a) && fuzz_finite3(s->b) &&
+    int finite = fuzz_finite3(s->shape.a) && fuzz_finite3(s->shape.b) &&
                  fuzz_finite3(s->dir);
     ray_vec3 x0, axis;
     double tmax = s->tmax == 0 ? 1 : s->tmax;   /* zero is the default */
 
-    if (!finite)
-        return 1;
+    if (!finite || s->shape.kind != RAY_SHAPE_CAPSULE)
+        return 1;                /* the box's kind: -RAY_EINVAL for a zero box */
     x0.x = s->dir.x * s->tmin;
     x0.y = s->dir.y * s->tmin;
     x0.z = s->dir.z * s->tmin;
-    axis.x = s->b.x - s->a.x;
-    axis.y = s->b.y - s->a.y;
-    axis.z = s->b.z - s->a.z;
-    return !(s->radius >= 0 && s->radius < HUGE_VAL) || !fuzz_finite3(axis) ||
-           !isfinite(s->tmin) || !(tmax > s->tmin) ||
-           (s->dir.x == 0 && s->dir.y == 0 && s->dir.z == 0) ||
-           !fuzz_finite3(x0);
+    axis.x = s->shape.b.x - s->shape.a.x;
+    axis.y = s->shape.b.y - s->shape.a.y;
+    axis.z = s->shape.b.z - s->shape.a.z;
+    return !(s->shape.radius >= 0 && s->shape.radius < HUGE_VAL) || !fuzz_finite3(axis) ||
+           !isfinite(s->tmin) || !(tmax > s->tmin) || !fuzz_finite3(x0);
 }
 
 /* Geometry ids of a contact or an overlap name something added. */
@@ -161,12 +159,16 @@ static void one_sweep(world *w)
     int rc;
 
     memset(&s, 0, sizeof s);
-    s.a = fuzz_vec3(&w->in);
-    s.b = how & 1 ? fuzz_vec3(&w->in) : s.a;
-    s.radius = how & 2 ? fuzz_double(&w->in) : 0.5;
+    s.shape.a = fuzz_vec3(&w->in);
+    s.shape.b = how & 1 ? fuzz_vec3(&w->in) : s.shape.a;
+    s.shape.radius = how & 2 ? fuzz_double(&w->in) : 0.5;
     s.dir = fuzz_vec3(&w->in);
     s.tmin = how & 4 ? fuzz_double(&w->in) : 0;
     s.tmax = how & 8 ? fuzz_double(&w->in) : (how & 16 ? HUGE_VAL : 1);
+    if (how & 32)
+        memset(&s.dir, 0, sizeof s.dir);  /* no motion: the overlap test */
+    if (how & 64)
+        s.shape.kind = 1u + (how >> 7);  /* a zero box, or an unknown kind */
     fuzz_sentinel(&c, sizeof c);
     rc = ray_intersect_sweep(w->scene, &s, NULL, &c);
     if (s.tmax == 0)
@@ -193,11 +195,17 @@ static void one_sweep(world *w)
                "sweep: known flags");
     FUZZ_CHECK(c.depth == 0 || ((c.flags & RAY_CONTACT_OVERLAP) &&
                                 c.t == s.tmin), "sweep: depth of an overlap");
+    FUZZ_CHECK(!(s.dir.x == 0 && s.dir.y == 0 && s.dir.z == 0) ||
+                   ((c.flags & RAY_CONTACT_OVERLAP) && c.depth > 0 &&
+                    c.t == s.tmin),
+               "sweep: no motion reports an overlap alone");
     check_ids(w, c.geom_id, c.inst_id, "sweep: ids name geometry");
-    if (s.radius == 0 && memcmp(&s.a, &s.b, sizeof s.a) == 0) {
+    if (s.shape.radius == 0 &&
+        memcmp(&s.shape.a, &s.shape.b, sizeof s.shape.a) == 0 &&
+        !(s.dir.x == 0 && s.dir.y == 0 && s.dir.z == 0)) {
         ray_ray r;
         ray_hit h;
-        r.org = s.a;
+        r.org = s.shape.a;
         r.dir = s.dir;
         r.tmin = s.tmin;
         r.tmax = s.tmax;
@@ -226,6 +234,7 @@ static void one_overlap(world *w)
     unsigned how = fuzz_u8(&w->in);
     ray_overlap found[4];
     ray_box_params b;
+    ray_shape q;
     ray_vec3 c = fuzz_vec3(&w->in);
     double r = fuzz_double(&w->in);
     counter k;
@@ -239,13 +248,21 @@ static void one_overlap(world *w)
     b.axis_x = fuzz_vec3(&w->in);
     b.axis_y = fuzz_vec3(&w->in);
     fuzz_sentinel(found, sizeof found);
+    memset(&q, 0, sizeof q);
     if (how & 1) {
-        rc = ray_overlap_box(w->scene, &b, NULL, count_one, &k);
-        rc_all = ray_overlap_box_all(w->scene, &b, NULL, found, 4, &n);
+        q.kind = RAY_SHAPE_BOX;
+        q.box = b;
     } else {
-        rc = ray_overlap_sphere(w->scene, c, r, NULL, count_one, &k);
-        rc_all = ray_overlap_sphere_all(w->scene, c, r, NULL, found, 4, &n);
+        /* A sphere, or (bit 1) a capsule to a second point. */
+        q.a = q.b = c;
+        if (how & 2)
+            q.b = fuzz_vec3(&w->in);
+        q.radius = r;
     }
+    if (how & 4)
+        q.kind = how >> 3;          /* any kind, the unknown ones refused */
+    rc = ray_overlap_shape(w->scene, &q, NULL, count_one, &k);
+    rc_all = ray_overlap_shape_all(w->scene, &q, NULL, found, 4, &n);
     FUZZ_CHECK(rc == rc_all, "overlap: the two forms agree");
     if (rc < 0) {
         FUZZ_CHECK(rc == -RAY_EINVAL || rc == -RAY_ESTATE,

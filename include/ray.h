@@ -74,8 +74,8 @@
 **   14. secondary rays      ray_spawn, reflection, refraction
 **   15. more surfaces       implicit, torus, box, capsule, blobs,
 **                           parametric, Bezier, the caller's own
-**   16. shapes in the world sweeps of spheres and capsules, overlaps of
-**                           spheres and boxes, rays from surface points
+**   16. shapes in the world one shape type (sphere, capsule, box): its
+**                           sweeps and overlaps; rays from surface points
 */
 #ifndef RAY_H
 #define RAY_H
@@ -291,7 +291,8 @@ enum {
                             weight, fan-out), iterations, image load */
     RAY_EEFFECT,         /* a material asked for an undeclared effect */
     RAY_ENOTSUP,         /* not supported by this build (PNG I/O in a
-                            library built with make PNG=0) */
+                            library built with make PNG=0), or not
+                            offered (a box shape's sweep) */
     RAY_EKIND            /* the geometry's kind has no such thing (a
                             box's surface points: ray_surface_point) */
 };
@@ -2453,8 +2454,26 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
                                unsigned material, unsigned *geom_id);
 
 /* ------------------------------------------------ 16. shapes in the world:
-** sweeps of spheres and capsules, overlaps of boxes and spheres, rays
-** from points of the scene's own surfaces */
+** one shape type for the sweeps and the overlaps, rays from points of the
+** scene's own surfaces */
+/*
+** ray_shape -- a shape of the shape queries (ray_intersect_sweep,
+** ray_overlap_shape): a capsule of radius "radius" around the segment
+** [a, b] (kind RAY_SHAPE_CAPSULE, 0: a sphere when a == b), or the
+** oriented box "box" (kind RAY_SHAPE_BOX, as ray_box_params; a, b and
+** radius are then not read).  Zero is the default: ray_shape s = {0} is
+** a sphere of radius 0 at the origin (a point).
+*/
+#define RAY_SHAPE_CAPSULE 0u     /* a, b, radius: a sphere when a == b */
+#define RAY_SHAPE_BOX     1u     /* box: an oriented box (ray_box_params) */
+
+typedef struct ray_shape {
+    unsigned kind;               /* RAY_SHAPE_*; 0: capsule / sphere */
+    ray_vec3 a, b;               /* the capsule's segment (a == b: sphere) */
+    double radius;               /* >= 0 */
+    ray_box_params box;          /* RAY_SHAPE_BOX */
+} ray_shape;
+
 /*
 ** ray_intersect_sweep -- the first contact of a sphere or a capsule moved
 ** along a line through a committed scene: Unity's SphereCast and
@@ -2464,17 +2483,30 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 ** the same masks, filters (RAY_FILTER_INTERSECT: a sweep is a nearest
 ** query), instances and statuses as ray_intersect.
 **
-** The shape at t is the capsule of radius "radius" around the segment
-** [a + t dir, b + t dir] (a == b: a sphere), for t in [tmin, tmax].
-** Returns 1 with *c filled for the first contact, 0 when the shape
-** touches nothing over the interval (*c untouched), or a negated status:
-** -RAY_EINVAL for a NULL scene, sweep or c, a non-finite a, b or dir, a
-** zero dir (no motion), a b - a or a tmin dir that overflows, a radius
-** that is negative or not finite, a tmin that is not finite, tmax NaN
-** or not above tmin (after tmax 0 is taken as 1); -RAY_ESTATE for a scene not committed (or changed
-** since), or a sweep that meets an instance whose scene was changed.
+** The shape at t is sweep->shape moved by t dir: the capsule of radius
+** "radius" around the segment [a + t dir, b + t dir] (a == b: a
+** sphere), for t in [tmin, tmax].  Returns 1 with *c filled for the
+** first contact, 0 when the shape touches nothing over the interval (*c
+** untouched), or a negated status: -RAY_EINVAL for a NULL scene, sweep
+** or c, a shape kind that is not RAY_SHAPE_*, a non-finite a, b or dir,
+** a b - a or a tmin dir that overflows, a radius that is negative or
+** not finite, a tmin that is not finite, tmax NaN or not above tmin
+** (after tmax 0 is taken as 1); -RAY_ENOTSUP for a RAY_SHAPE_BOX shape
+** (a box is not swept, moving or not: its arguments are checked as
+** ray_box checks them, -RAY_EINVAL first); -RAY_ESTATE for a scene not
+** committed (or changed since), or a sweep that meets an instance whose
+** scene was changed.
 **
-**   * radius 0 with a == b is a ray: the answer is ray_intersect's
+**   * dir 0 (no motion) is an overlap test at t = tmin: 1 with the
+**     deepest overlap (RAY_CONTACT_OVERLAP, its depth and the normal n
+**     that frees the shape: moved by depth along n it touches at most;
+**     a character standing in a wall asks this to get out), or 0 when
+**     the shape overlaps nothing (touching within rounding is no
+**     overlap).  The overlap is the moving sweep's at tmin (below),
+**     with its rules and its conservative bound; a radius-0 point
+**     overlaps only solids it is inside.
+**
+**   * radius 0 with a == b (and dir not 0) is a ray: the answer is ray_intersect's
 **     for the ray (a, dir, tmin, tmax), its t, p, ids as the hit's and n
 **     the hit's normal turned against dir; on the open interval.
 **   * Already touching or overlapping at tmin: an overlap (the shape's
@@ -2517,14 +2549,14 @@ RAY_API int ray_scene_add_user(ray_scene *scene,
 ** allocates nothing.
 **
 ** Zero is the default: tmax 0 means 1, the whole motion dir, so a
-** sweep written as { .a = p, .b = p, .radius = r, .dir = d } (tmin 0)
-** moves the shape from p to p + d.  A sweep meant to end at t = 0 is
-** written with dir reversed.
+** sweep written as { .shape = { .a = p, .b = p, .radius = r }, .dir = d }
+** (tmin 0) moves the shape from p to p + d.  A sweep meant to end at t =
+** 0 is written with dir reversed.
 */
 typedef struct ray_sweep {
-    ray_vec3 a, b;               /* the segment at t = 0 (a == b: sphere) */
-    double radius;               /* >= 0 */
-    ray_vec3 dir;                /* the motion: at t the shape moved t dir */
+    ray_shape shape;             /* the shape at t = 0 */
+    ray_vec3 dir;                /* the motion: at t the shape moved t dir
+                                    (0: an overlap test) */
     double tmin, tmax;           /* the part of the motion swept;
                                     tmax 0: 1 */
 } ray_sweep;
@@ -2549,23 +2581,24 @@ RAY_API int ray_intersect_sweep(const ray_scene *scene,
                                 ray_contact *c);
 
 /*
-** ray_overlap_sphere, ray_overlap_box -- every primitive of a committed
-** scene that meets a sphere or an oriented box: triggers, AI perception,
-** a broad phase (Unity's OverlapSphere and OverlapBox, Bullet's
-** contactTest, Jolt's CollideShape).  Each one found is handed to "fn"
-** (with "ud" first), once, in no particular order, as a ray_overlap:
-** its geom_id, prim_id (the triangle's index in a mesh, else 0) and
-** inst_id as a ray's hit would name it.  fn returns 0 to go on, non-zero
-** to stop the search.  The functions return how many were handed to fn
-** (>= 0, at most INT_MAX), or a negated status: -RAY_EINVAL for a NULL
-** scene, box or fn, a centre that is not finite, a radius that is
-** negative or not finite, a box ray_box refuses; -RAY_ESTATE for a scene
-** not committed or changed since, or one that instances a scene changed
-** since (checked before fn is first called).  "box" is the oriented box
-** of ray_box_params (an axis-aligned one: axis_x = (1, 0, 0), axis_y =
-** (0, 1, 0)).
+** ray_overlap_shape -- every primitive of a committed scene that meets a
+** shape (a sphere, a capsule or an oriented box): triggers, AI
+** perception, a broad phase (Unity's OverlapSphere, OverlapCapsule and
+** OverlapBox, Bullet's contactTest, Jolt's CollideShape).  Each one
+** found is handed to "fn" (with "ud" first), once, in no particular
+** order, as a ray_overlap: its geom_id, prim_id (the triangle's index in
+** a mesh, else 0) and inst_id as a ray's hit would name it.  fn returns
+** 0 to go on, non-zero to stop the search.  The function returns how
+** many were handed to fn (>= 0, at most INT_MAX), or a negated status:
+** -RAY_EINVAL for a NULL scene, shape or fn, a kind that is not
+** RAY_SHAPE_*, a capsule's a or b that is not finite (or b - a that
+** overflows), a radius that is negative or not finite, a box ray_box
+** refuses; -RAY_ESTATE for a scene not committed or changed since, or
+** one that instances a scene changed since (checked before fn is first
+** called).  A box shape is the oriented box of ray_box_params (an
+** axis-aligned one: axis_x = (1, 0, 0), axis_y = (0, 1, 0)).
 **
-** ray_overlap_sphere_all, ray_overlap_box_all -- the same into the
+** ray_overlap_shape_all -- the same into the
 ** caller's array, like ray_intersect_all: the "cap" first of them in
 ** (inst_id, geom_id, prim_id) order into found[] (so the answer does not
 ** depend on the BVH), their total into *count (may exceed cap: call
@@ -2580,11 +2613,15 @@ RAY_API int ray_intersect_sweep(const ray_scene *scene,
 ** one meets it.  All exact to rounding (a pair that touches within a
 ** few ulps of their coordinates may be reported either way): distances
 ** for the sphere (the nearest point of each primitive, as
-** ray_closest_point finds it, within the radius, inclusive), separating
-** axes for the box; through an instance's transform, whatever it is, in
-** world space (a box through it is a parallelepiped; a sphere an
-** ellipsoid and a capsule a swept ellipsoid, tested by their nearest
-** points or in their own space).  Tori, implicit, parametric and Bezier
+** ray_closest_point finds it, within the radius, inclusive) and for the
+** capsule (the nearest points of its segment and the primitive, within
+** the radius, inclusive), separating axes for the box; through an
+** instance's transform, whatever it is, in world space (a box through it
+** is a parallelepiped; a sphere an ellipsoid and a capsule a swept
+** ellipsoid, tested by their nearest points or in their own space) but
+** for one pair: a capsule shape (a != b) against a capsule through a
+** transform that is not a similarity is answered by that capsule's box
+** (through the transform), flagged RAY_CONTACT_BOUNDS.  Tori, implicit, parametric and Bezier
 ** surfaces and user geometry are found by their boxes (through the
 ** transform: the box's image), flagged RAY_CONTACT_BOUNDS: a superset,
 ** never a miss.  Masks apply as for ray_intersect (q NULL or its
@@ -2600,19 +2637,13 @@ typedef struct ray_overlap {
 
 typedef int (*ray_overlap_fn)(void *ud, const ray_overlap *found);
 
-RAY_API int ray_overlap_sphere(const ray_scene *scene, ray_vec3 center,
-                               double radius, const ray_query *q,
-                               ray_overlap_fn fn, void *ud);
-RAY_API int ray_overlap_box(const ray_scene *scene, const ray_box_params *box,
-                            const ray_query *q, ray_overlap_fn fn, void *ud);
-RAY_API int ray_overlap_sphere_all(const ray_scene *scene, ray_vec3 center,
-                                   double radius, const ray_query *q,
-                                   ray_overlap *found, size_t cap,
-                                   size_t *count);
-RAY_API int ray_overlap_box_all(const ray_scene *scene,
-                                const ray_box_params *box, const ray_query *q,
-                                ray_overlap *found, size_t cap,
-                                size_t *count);
+RAY_API int ray_overlap_shape(const ray_scene *scene, const ray_shape *shape,
+                              const ray_query *q, ray_overlap_fn fn,
+                              void *ud);
+RAY_API int ray_overlap_shape_all(const ray_scene *scene,
+                                  const ray_shape *shape, const ray_query *q,
+                                  ray_overlap *found, size_t cap,
+                                  size_t *count);
 
 /*
 ** ray_surface_point -- the hit record of a point of the scene's own

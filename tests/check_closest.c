@@ -1020,7 +1020,7 @@ static void *counted(void *ud, void *ptr, size_t osize, size_t nsize)
 ** is filled from it; ray_scene_add_mesh(3)).  Every query must agree: the
 ** overlaps reported it (as the point at its first corner) while
 ** ray_closest_point never found it; now none of ray_intersect,
-** ray_closest_point, ray_overlap_sphere, ray_overlap_box and a sphere
+** ray_closest_point, ray_overlap_shape (a sphere, a box) and a sphere
 ** sweep through its corners finds it.  A second, proper triangle of the
 ** same mesh is found by all, so the queries do reach the mesh.
 */
@@ -1053,24 +1053,24 @@ START_TEST(zero_area_triangles_should_be_skipped_by_every_query)
     r = make_ray(vec(0, 0, 5), vec(0, 0, -1), 0, HUGE_VAL);
     ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
     ck_assert_int_eq(ray_closest_point(s, vec(1, 1, 0), 2, &c), 0);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 2, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), NULL, o, 2, &n), 0);
     ck_assert_uint_eq(n, 0);
     b.center = vec(0, 0, 0);
     b.half_extents = vec(2, 2, 2);
     b.axis_x = vec(1, 0, 0);
     b.axis_y = vec(0, 1, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 2, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 2, &n), 0);
     ck_assert_uint_eq(n, 0);
     memset(&sw, 0, sizeof sw);
-    sw.a = sw.b = vec(0, 0, 5);
-    sw.radius = 0.5;
+    sw.shape.a = sw.shape.b = vec(0, 0, 5);
+    sw.shape.radius = 0.5;
     sw.dir = vec(0, 0, -10);
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &k), 0);
     /* The proper triangle: found by each. */
     ck_assert_int_eq(ray_closest_point(s, vec(10.25, 0.25, 1), 2, &c), 1);
     ck_assert_uint_eq(c.prim_id, 1);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(10.25, 0.25, 1), 2, NULL, o, 2, &n), 1);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(10.25, 0.25, 1), 2), NULL, o, 2, &n), 1);
     ck_assert_uint_eq(o[0].prim_id, 1);
     ray_scene_free(s);
 }

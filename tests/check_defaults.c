@@ -236,7 +236,7 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ray_batch b = {.rays = rays, .n = 4, .hits = got,
                        .results = res_got};
         ray_contact c0, c1;
-        ray_sweep sw = {.a = {0, 0, 0}, .b = {0, 0, 0}, .radius = 0.5,
+        ray_sweep sw = {.shape = {.radius = 0.5},
                         .dir = {0, 0, -4}};       /* tmax 0: the whole move */
         ray_sweep full = sw;
 
@@ -274,9 +274,24 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
         ck_assert_mem_eq(&c0, &c1, sizeof c0);
         ck_assert_double_eq_tol(c0.t, (3 - 0.5) / 4, 1e-12);
         /* Overlaps: everything within 10 of the origin. */
-        ck_assert_int_eq(ray_overlap_sphere(s, vec(0, 0, -4), 10, qs[k],
+        ck_assert_int_eq(ray_overlap_shape(s, TK_SPHERE(vec(0, 0, -4), 10), qs[k],
                                             counting, &n), 3);
         ck_assert_int_eq(n, 3);
+        /* A shape by designated initializer (kind 0: a sphere when a ==
+        ** b) is the sphere written out; {0} the point at the origin. */
+        {
+            ray_shape ball = {.a = {0, 0, -4}, .b = {0, 0, -4}, .radius = 10};
+            ray_shape zero_shape = {0};
+            ray_overlap f0[4], f1[4];
+            size_t n0, n1;
+            ck_assert_int_eq(ray_overlap_shape_all(s, &ball, qs[k], f0, 4, &n0), 3);
+            ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, -4), 10), NULL, f1, 4, &n1), 3);
+            ck_assert_mem_eq(f0, f1, 3 * sizeof f0[0]);
+            ck_assert_int_eq(ray_overlap_shape_all(s, &zero_shape, qs[k], f0, 4, &n0),
+                             ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 0), NULL, f1, 4, &n1));
+            ck_assert_uint_eq(n0, n1);
+            ck_assert_mem_eq(f0, f1, n0 * sizeof f0[0]);
+        }
     }
     {
         /* Each ray its own zeroed query, in a batch. */

@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** check_overlap.c -- ray_overlap_sphere, ray_overlap_box and their _all
-** forms: every primitive of the mixed scene (shapekit.h) that meets a
-** sphere or an oriented box, against brute force over every piece in
-** long double (distances for the sphere; separating axes computed by the
-** test for the box), at the origin and at 1e5; instances through affine
+** check_overlap.c -- ray_overlap_shape and its _all form: every
+** primitive of the mixed scene (shapekit.h) that meets a sphere, a
+** capsule or an oriented box, against brute force over every piece in
+** long double (distances for the sphere and the capsule; separating
+** axes computed by the test for the box), at the origin and at 1e5; instances through affine
 ** maps; ellipsoids; the kinds found by their boxes; masks; stopping;
 ** the array form's order, cap and count; misuse.
 */
@@ -116,12 +116,15 @@ static ld separation(const lpoly *a, const lpoly *b)
 }
 
 /* How far piece p is from the query (> 0: apart; <= 0: they meet): a
-** distance less the radius for the sphere, a separation for the box. */
-static ld apart(const piece *p, int is_box, const ray_box_params *box,
-                lvec c, ld r)
+** distance less the radius for the sphere and the capsule (the piece's
+** signed distance to the core, a point or a segment), a separation for
+** the box. */
+static ld apart(const piece *p, const ray_shape *sh)
 {
-    if (!is_box)
-        return kit_distance(p, c, c) - r;
+    const ray_box_params *box = &sh->box;
+
+    if (sh->kind != RAY_SHAPE_BOX)
+        return kit_distance(p, lv(sh->a), lv(sh->b)) - (ld)sh->radius;
     {
         lpoly q = lpoly_box(box), t;
         piece qb;
@@ -189,8 +192,7 @@ static int found_in(const ray_overlap *o, size_t n, unsigned g, unsigned i,
 ** one primitive -- the L polygon's triangles -- count as one: the
 ** nearest decides).
 */
-static void check_query(const kit *k, int is_box, const ray_box_params *box,
-                        ray_vec3 c, double r, ld tol, int n)
+static void check_query(const kit *k, const ray_shape *sh, ld tol, int n)
 {
     catch_list got;
     ray_overlap all[512];
@@ -198,11 +200,9 @@ static void check_query(const kit *k, int is_box, const ray_box_params *box,
     int rc;
 
     got.n = 0;
-    rc = is_box ? ray_overlap_box(k->s, box, NULL, catch_one, &got)
-                : ray_overlap_sphere(k->s, c, r, NULL, catch_one, &got);
+    rc = ray_overlap_shape(k->s, sh, NULL, catch_one, &got);
     ck_assert_int_eq(rc, (int)got.n);
-    rc = is_box ? ray_overlap_box_all(k->s, box, NULL, all, 512, &count)
-                : ray_overlap_sphere_all(k->s, c, r, NULL, all, 512, &count);
+    rc = ray_overlap_shape_all(k->s, sh, NULL, all, 512, &count);
     ck_assert_int_eq(rc, (int)count);
     ck_assert_uint_eq(count, got.n);
     for (i = 0; i < count; i++) {
@@ -227,7 +227,7 @@ static void check_query(const kit *k, int is_box, const ray_box_params *box,
             if (k->p[j].geom_id == p->geom_id &&
                 k->p[j].prim_id == p->prim_id &&
                 k->p[j].inst_id == p->inst_id)
-                d = fminl(d, apart(&k->p[j], is_box, box, lv(c), (ld)r));
+                d = fminl(d, apart(&k->p[j], sh));
         if (d < -tol)
             ck_assert_msg(found_in(all, count, p->geom_id, p->prim_id,
                                    p->inst_id),
@@ -257,9 +257,12 @@ static ray_box_params random_box(rng *g, ray_vec3 o, double spread, double h)
 }
 
 /*
-** Brute force: 300 spheres (radius 0.05 to 4) and 300 boxes (half
-** extents up to 3, random orientations) among the mixed scene, at the
-** origin and at 1e5; tolerance 2^-40 of 40 (the separations and
+** Brute force: 300 spheres (radius 0.05 to 4), 300 boxes (half
+** extents up to 3, random orientations) and 300 capsules (segments up
+** to 4 along each axis, radius 0.05 to 3: their reference is the long
+** double distance of each piece to the segment, shapekit.h's
+** kit_distance) among the mixed scene, at the origin and at 1e5;
+** tolerance 2^-40 of 40 (the separations and
 ** distances are computed to a few ulps of coordinates below 20 relative
 ** to o, and o itself at 1e5 adds its ulp, 1.5e-11).
 */
@@ -274,11 +277,17 @@ START_TEST(overlaps_should_match_brute_force)
     kit_build(&k, o, 1);
     for (i = 0; i < 300; i++) {
         ray_vec3 c = vadd(o, rng_point(&g, -10, 10));
-        check_query(&k, 0, NULL, c, rng_range(&g, 0.05, 4), tol, i);
+        check_query(&k, TK_SPHERE(c, rng_range(&g, 0.05, 4)), tol, i);
     }
     for (i = 0; i < 300; i++) {
         ray_box_params b = random_box(&g, o, 10, 3);
-        check_query(&k, 1, &b, vec(0, 0, 0), 0, tol, 1000 + i);
+        check_query(&k, TK_BOX(&b), tol, 1000 + i);
+    }
+    for (i = 0; i < 300; i++) {
+        ray_vec3 a = vadd(o, rng_point(&g, -10, 10));
+        ray_vec3 b = vadd(a, rng_point(&g, -4, 4));
+        check_query(&k, TK_CAPSULE(a, b, rng_range(&g, 0.05, 3)), tol,
+                    2000 + i);
     }
     kit_free(&k);
 }
@@ -288,7 +297,7 @@ END_TEST
 ** Through instances: the child of a mesh, a box and the L polygon under 8
 ** random affine maps, the sphere-and-capsule child under 4 similarities
 ** (shapekit.h's kit_build_instanced, the world the sweeps' instance test
-** uses too), 200 spheres and 200 boxes.
+** uses too), 200 spheres, 200 boxes and 200 capsules.
 */
 START_TEST(overlaps_should_be_exact_through_instances)
 {
@@ -299,11 +308,17 @@ START_TEST(overlaps_should_be_exact_through_instances)
 
     kit_build_instanced(&k, &g, child);
     for (i = 0; i < 200; i++)
-        check_query(&k, 0, NULL, rng_point(&g, -14, 14), rng_range(&g, 0.1, 3),
+        check_query(&k, TK_SPHERE(rng_point(&g, -14, 14), rng_range(&g, 0.1, 3)),
                     0x1p-40L * 60, i);
     for (i = 0; i < 200; i++) {
         ray_box_params b = random_box(&g, vec(0, 0, 0), 14, 3);
-        check_query(&k, 1, &b, vec(0, 0, 0), 0, 0x1p-40L * 60, 1000 + i);
+        check_query(&k, TK_BOX(&b), 0x1p-40L * 60, 1000 + i);
+    }
+    for (i = 0; i < 200; i++) {
+        ray_vec3 a = rng_point(&g, -14, 14);
+        ray_vec3 b = vadd(a, rng_point(&g, -4, 4));
+        check_query(&k, TK_CAPSULE(a, b, rng_range(&g, 0.1, 3)),
+                    0x1p-40L * 60, 2000 + i);
     }
     kit_free(&k);
     ray_scene_free(child[0]);
@@ -353,15 +368,15 @@ START_TEST(overlaps_should_meet_ellipsoids)
             ray_vec3 o = vec(out[k][0], out[k][1], out[k][2]);
             ray_box_params b;
             size_t n;
-            ck_assert_int_eq(ray_overlap_sphere_all(top[kind], vadd(t, vscale(o, 1 - 1e-9)), 1, NULL, NULL, 0, &n), 1);
-            ck_assert_int_eq(ray_overlap_sphere_all(top[kind], vadd(t, vscale(o, 1 + 1e-9)), 1, NULL, NULL, 0, &n), 0);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_SPHERE(vadd(t, vscale(o, 1 - 1e-9)), 1), NULL, NULL, 0, &n), 1);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_SPHERE(vadd(t, vscale(o, 1 + 1e-9)), 1), NULL, NULL, 0, &n), 0);
             b.axis_x = vec(1, 0, 0);
             b.axis_y = vec(0, 1, 0);
             b.half_extents = vec(1, 1, 1);
             b.center = vadd(t, vscale(o, 1 - 1e-9));
-            ck_assert_int_eq(ray_overlap_box_all(top[kind], &b, NULL, NULL, 0, &n), 1);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_BOX(&b), NULL, NULL, 0, &n), 1);
             b.center = vadd(t, vscale(o, 1 + 1e-9));
-            ck_assert_int_eq(ray_overlap_box_all(top[kind], &b, NULL, NULL, 0, &n), 0);
+            ck_assert_int_eq(ray_overlap_shape_all(top[kind], TK_BOX(&b), NULL, NULL, 0, &n), 0);
         }
     }
     for (kind = 0; kind < 2; kind++) {
@@ -403,27 +418,27 @@ START_TEST(overlaps_should_keep_their_rules)
     ck_assert_int_eq(ray_scene_add_torus(k.s, &tor, RAY_NO_MATERIAL, &id), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
     /* The hole of the torus is inside its box. */
-    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 20), 0.1, NULL, o, 4, &n), 1);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 20), 0.1), NULL, o, 4, &n), 1);
     ck_assert_uint_eq(o[0].geom_id, id);
     ck_assert_uint_eq(o[0].flags, RAY_CONTACT_BOUNDS);
     /* A sphere about the box (2) that reaches the icosphere (0): the
     ** box found, then hidden by a mask. */
-    ck_assert_int_ge(ray_overlap_sphere_all(k.s, vec(0, 4, -3), 3.2, NULL, big, 256, &n), 2);
+    ck_assert_int_ge(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 4, -3), 3.2), NULL, big, 256, &n), 2);
     ck_assert(found_in(big, n, 2, 0, RAY_INVALID_ID));
     ck_assert(big[0].geom_id == 0);
     ck_assert_int_eq(ray_scene_set_mask(k.s, 2, 4), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(k.s), RAY_OK);
     memset(&q, 0, sizeof q);
     q.ignore_mask = ~3u;
-    ck_assert_int_ge(ray_overlap_sphere_all(k.s, vec(0, 4, -3), 3.2, &q, big, 256, &n), 1);
+    ck_assert_int_ge(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 4, -3), 3.2), &q, big, 256, &n), 1);
     ck_assert(!found_in(big, n, 2, 0, RAY_INVALID_ID));
     /* Stop after the first. */
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), 30, NULL, stop_now, &calls), 1);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), 30), NULL, stop_now, &calls), 1);
     ck_assert_int_eq(calls, 1);
     /* The cap keeps the first in id order. */
-    ck_assert_int_gt(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 30, NULL, ref, 0, &n), 4);
+    ck_assert_int_gt(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 0), 30), NULL, ref, 0, &n), 4);
     m = n;
-    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 30, NULL, o, 4, &n), (int)m);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 0), 30), NULL, o, 4, &n), (int)m);
     ck_assert_uint_eq(o[0].geom_id, 0);
     ck_assert_uint_eq(o[0].prim_id, 0);
     ck_assert_uint_eq(o[3].prim_id, 3);
@@ -433,28 +448,28 @@ START_TEST(overlaps_should_keep_their_rules)
     b.half_extents = vec(1, 1, 1);
     b.axis_x = vec(1, 0, 0);
     b.axis_y = vec(1, 0, 0);                  /* parallel: refused */
-    ck_assert_int_eq(ray_overlap_sphere(NULL, vec(0, 0, 0), 1, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), 1, NULL, NULL, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec((double)NAN, 0, 0), 1, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), -1, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere(k.s, vec(0, 0, 0), HUGE_VAL, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box(k.s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box(k.s, NULL, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(NULL, TK_SPHERE(vec(0, 0, 0), 1), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), 1), NULL, NULL, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec((double)NAN, 0, 0), 1), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), -1), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_SPHERE(vec(0, 0, 0), HUGE_VAL), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_BOX(&b), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(k.s, NULL, NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_BOX(&b), NULL, o, 4, &n), -RAY_EINVAL);
     b.axis_y = vec(0, 1, 0);
-    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, NULL, 4, &n), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box_all(k.s, &b, NULL, o, 4, NULL), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere_all(k.s, vec(0, 0, 0), 1, NULL, NULL, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_BOX(&b), NULL, NULL, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_BOX(&b), NULL, o, 4, NULL), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(k.s, TK_SPHERE(vec(0, 0, 0), 1), NULL, NULL, 4, &n), -RAY_EINVAL);
     ck_assert_uint_eq(n, 77);
     ck_assert_int_eq(calls, 1);
     ck_assert_int_eq(ray_scene_new(&loose, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_overlap_sphere_all(loose, vec(0, 0, 0), 1, NULL, o, 4, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_overlap_shape_all(loose, TK_SPHERE(vec(0, 0, 0), 1), NULL, o, 4, &n), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(loose), RAY_OK);
-    ck_assert_int_eq(ray_overlap_box_all(loose, &b, NULL, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(loose, TK_BOX(&b), NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     ray_scene_free(loose);
     ck_assert_int_eq(ray_scene_add_sphere(k.s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_overlap_box(k.s, &b, NULL, stop_now, &calls), -RAY_ESTATE);
+    ck_assert_int_eq(ray_overlap_shape(k.s, TK_BOX(&b), NULL, stop_now, &calls), -RAY_ESTATE);
     kit_free(&k);
 }
 END_TEST
@@ -500,24 +515,31 @@ START_TEST(overlaps_should_hide_mask_zero_by_default)
     /* The ray queries hide them all. */
     r = make_ray(vec(0, 0, 10), vec(0, 0, -1), 0, HUGE_VAL);
     ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, &q, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), &q, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     n = 77;
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, &q, o, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), &q, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vec(-1, 0, 0), vec(1, 0, 0), 1), NULL, o, 4, &n), 0);
+    ck_assert_uint_eq(n, 0);
+    n = 77;
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vec(-1, 0, 0), vec(1, 0, 0), 1), &q, o, 4, &n), 0);
     ck_assert_uint_eq(n, 0);
     /* Masks back: all three found. */
     ck_assert_int_eq(ray_scene_set_mask(s, sph, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_set_mask(s, tri, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_set_mask(s, inst, ~0u), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 2, NULL, o, 4, &n), 3);
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 2), NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 3);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vec(-1, 0, 0), vec(1, 0, 0), 1), NULL, o, 4, &n), 3);
     ray_scene_free(s);
     ray_scene_free(child);
 }
@@ -548,13 +570,13 @@ START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
     b.axis_x = vec(1, 0, 0);
     b.axis_y = vec(0, 1, 0);
     ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box(s, &b, NULL, stop_now, &calls), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape(s, TK_BOX(&b), NULL, stop_now, &calls), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), -RAY_EINVAL);
     ck_assert_uint_eq(n, 77);
     ck_assert_int_eq(calls, 0);
     /* At the origin: accepted, and it holds the sphere. */
     b.center = vec(0, 0, 0);
-    ck_assert_int_eq(ray_overlap_box_all(s, &b, NULL, o, 4, &n), 1);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_BOX(&b), NULL, o, 4, &n), 1);
     ck_assert_uint_eq(n, 1);
     ray_scene_free(s);
 }
@@ -590,15 +612,23 @@ START_TEST(statuses_should_follow_the_documented_order)
     b.axis_y = vec(0, 1, 0);
     ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &box), RAY_OK);
     /* Not committed: bad arguments win. */
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec((double)NAN, 0, 0), 1, NULL, o, 1, &n), -RAY_EINVAL);
-    ck_assert_int_eq(ray_overlap_sphere_all(s, vec(0, 0, 0), 1, NULL, o, 1, &n), -RAY_ESTATE);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec((double)NAN, 0, 0), 1), NULL, o, 1, &n), -RAY_EINVAL);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 1), NULL, o, 1, &n), -RAY_ESTATE);
     ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), -1, &cl), -RAY_EINVAL);
     ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 0), 1, &cl), -RAY_ESTATE);
     memset(&sw, 0, sizeof sw);
-    sw.dir = vec(0, 0, 0);                    /* no motion */
+    sw.shape.radius = -1;                     /* a bad radius */
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_EINVAL);
+    sw.shape.radius = 0;
+    sw.dir = vec(0, 0, 0);   /* no motion: an overlap test, a good sweep */
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ESTATE);
     sw.dir = vec(0, 0, 1);
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ESTATE);
+    /* A box shape is an argument the sweep does not take: its status
+    ** before the state's. */
+    sw.shape = box_shape(&b);
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), -RAY_ENOTSUP);
+    memset(&sw, 0, sizeof sw);
     ck_assert_int_eq(ray_surface_point(s, box, 0, RAY_INVALID_ID, 0, 0, NULL), RAY_EINVAL);
     ck_assert_int_eq(ray_surface_point(s, 99, 0, RAY_INVALID_ID, 0, 0, &h), RAY_ESTATE);
     ck_assert_uint_eq(n, 77);
@@ -617,6 +647,224 @@ START_TEST(statuses_should_follow_the_documented_order)
 }
 END_TEST
 
+/*
+** The capsule at its radius, exactly: one primitive of each kind alone
+** in a scene moved to o (0 and 1e5 from the origin), and a capsule whose
+** segment is r + delta from it (its nearest point an end, inside the
+** segment, or against an edge), delta = -+ (1e-9 + 1e-14 |o|): found when
+** nearer than its radius, not when farther.  delta is far above the
+** tests' rounding (the distances are formed from coordinates below |o| +
+** 8 with a few dozen roundings: 64 ulps of that, 1e-12 at 1e5, test_tol's
+** bound) and far below any other feature, so either answer the other way
+** is a wrong one.
+*/
+typedef struct near_case {
+    int kind;                    /* 0 tri, 1 plane, 2 polygon, 3 box,
+                                    4 sphere, 5 capsule, 6 mesh */
+    double a[3], b[3];           /* the segment at delta 0, relative to o */
+    double n[3];                 /* the direction delta moves it */
+} near_case;
+
+static void add_near_geometry(ray_scene *s, int kind, ray_vec3 o)
+{
+    static const double sq[4][3] = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0},
+                                    {0, 4, 0}};
+    ray_vec3 v[4];
+    ray_box_params b;
+    ray_capsule_params c;
+    ray_mesh m;
+    unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    int k;
+
+    for (k = 0; k < 4; k++)
+        v[k] = vadd(o, vec(sq[k][0], sq[k][1], sq[k][2]));
+    switch (kind) {
+    case 0:
+        ck_assert_int_eq(ray_scene_add_triangle(s, v[0], v[1], v[2], RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 1:
+        ck_assert_int_eq(ray_scene_add_plane(s, o, vec(0, 0, 1), RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 2:
+        ck_assert_int_eq(ray_scene_add_polygon(s, v, 4, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 3:
+        b.center = vadd(o, vec(2, 2, -1));
+        b.half_extents = vec(2, 2, 1);
+        b.axis_x = vec(1, 0, 0);
+        b.axis_y = vec(0, 1, 0);
+        ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 4:
+        ck_assert_int_eq(ray_scene_add_sphere(s, vadd(o, vec(2, 2, -1)), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    case 5:
+        c.a = vadd(o, vec(0, 2, -0.5));
+        c.b = vadd(o, vec(4, 2, -0.5));
+        c.radius = 0.5;
+        ck_assert_int_eq(ray_scene_add_capsule(s, &c, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    default:
+        memset(&m, 0, sizeof m);
+        m.vertices = v;
+        m.vertex_count = 4;
+        m.indices = idx;
+        m.triangle_count = 2;
+        ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+        break;
+    }
+}
+
+START_TEST(capsules_should_meet_at_their_radius_exactly)
+{
+    /* Every solid's top and every surface lies at z = 0 (relative to
+    ** o) over [0, 4]^2; the sphere's top is (2, 2, 0), the capsule's
+    ** axis runs along x at y = 2. */
+    static const near_case cases[] = {
+        {0, {1, 0.5, 0.5}, {2, 0.5, 0.5}, {0, 0, 1}},    /* over the face */
+        {0, {1, 0.5, 0.5}, {1, 0.5, 3}, {0, 0, 1}},      /* its end */
+        {0, {-0.5, -1, 0}, {-0.5, 5, 0}, {-1, 0, 0}},    /* past edge x=0 */
+        {1, {-9, 3, 0.5}, {9, -3, 0.5}, {0, 0, 1}},
+        {2, {1, 1, 0.5}, {3, 3, 0.5}, {0, 0, 1}},
+        {2, {2, 4.5, -3}, {2, 4.5, 3}, {0, 1, 0}},       /* beside edge y=4 */
+        {2, {5, -1, 0}, {4.5, 2, 0}, {1, 0, 0}},         /* its end, sideways */
+        {3, {0.5, 1, 0.5}, {3.5, 3, 0.5}, {0, 0, 1}},
+        {3, {4.5, -3, -1}, {4.5, 7, -1}, {1, 0, 0}},     /* beside face x=4 */
+        {4, {-3, 2, 0.5}, {7, 2, 0.5}, {0, 0, 1}},       /* inside the segment */
+        {4, {2, 2, 0.5}, {2, 2, 6}, {0, 0, 1}},          /* its end */
+        {5, {2, -3, 0.5}, {2, 7, 0.5}, {0, 0, 1}},       /* crossing above */
+        {5, {5, 2, -0.5}, {9, 2, -0.5}, {1, 0, 0}},      /* end to end */
+        {6, {1, 1, 0.5}, {3, 1.5, 0.5}, {0, 0, 1}},
+        {6, {-0.5, -1, 0}, {-0.5, 5, 0}, {-1, 0, 0}},
+    };
+    const double r = 0.5;
+    ray_vec3 o = vec(test_offset(_i), test_offset(_i) / 3, -test_offset(_i));
+    double delta = 1e-9 + 1e-14 * test_offset(_i);
+    size_t c;
+
+    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        const near_case *k = &cases[c];
+        ray_vec3 n = vec(k->n[0], k->n[1], k->n[2]);
+        ray_vec3 a = vadd(o, vec(k->a[0], k->a[1], k->a[2]));
+        ray_vec3 b = vadd(o, vec(k->b[0], k->b[1], k->b[2]));
+        ray_scene *s;
+        ray_overlap f[2];
+        size_t cnt;
+        int side;
+
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        add_near_geometry(s, k->kind, o);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (side = -1; side <= 1; side += 2) {
+            ray_vec3 d = vscale(n, side * delta);
+            int want = side < 0;
+            /* (The mesh's segment over both its triangles finds two.) */
+            ck_assert_msg((ray_overlap_shape_all(s, TK_CAPSULE(vadd(a, d), vadd(b, d), r), NULL, f, 2, &cnt) > 0) == want,
+                          "case %zu, offset %g: %s its radius, %zu found", c,
+                          test_offset(_i), want ? "within" : "beyond", cnt);
+            if (want)
+                ck_assert_uint_eq(f[0].flags, 0);
+        }
+        /* Reversed, the same segment: the same answers. */
+        ck_assert_int_gt(ray_overlap_shape_all(s, TK_CAPSULE(vadd(b, vscale(n, -delta)), vadd(a, vscale(n, -delta)), r), NULL, NULL, 0, &cnt), 0);
+        ck_assert_int_eq(ray_overlap_shape_all(s, TK_CAPSULE(vadd(b, vscale(n, delta)), vadd(a, vscale(n, delta)), r), NULL, NULL, 0, &cnt), 0);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/*
+** The shape's zero default and its refusals: ray_shape {0} is a point
+** at the origin (a sphere of radius 0: found inside a solid and on a
+** surface through the origin, not by a sphere beside it); a capsule
+** through a non-similarity's capsule is found by its box, flagged; NaN
+** ends, a negative or infinite radius, b - a past DBL_MAX, an unknown
+** kind, a box ray_box refuses: -RAY_EINVAL, nothing written.
+*/
+START_TEST(shapes_should_default_and_refuse)
+{
+    ray_scene *s, *child, *top;
+    ray_shape zero = {0}, bad;
+    ray_capsule_params cap;
+    ray_transform xf;
+    ray_box_params b;
+    ray_overlap f[4];
+    size_t n = 77;
+    unsigned g_box, g_tri;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    b.center = vec(0, 0, 0);
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &g_box), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-5, -5, 0), vec(5, -5, 0), vec(0, 5, 0), RAY_NO_MATERIAL, &g_tri), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(3, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_overlap_shape_all(s, &zero, NULL, f, 4, &n), 2);
+    ck_assert_uint_eq(n, 2);
+    ck_assert_uint_eq(f[0].geom_id, g_box);
+    ck_assert_uint_eq(f[1].geom_id, g_tri);
+    ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 0), NULL, NULL, 0, &n), 2);
+    /* Refused. */
+    memset(f, 0xA5, sizeof f);
+    n = 77;
+    bad = zero, bad.a.x = (double)NAN;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.b.z = (double)NAN;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.b.y = HUGE_VAL;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.a.x = -1e308, bad.b.x = 1e308;        /* b - a: Inf */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.radius = -1;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.radius = HUGE_VAL;
+    ck_assert_int_eq(ray_overlap_shape(s, &bad, NULL, stop_now, NULL), -RAY_EINVAL);
+    bad = zero, bad.radius = (double)NAN;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.kind = 2;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad = zero, bad.kind = ~0u;
+    ck_assert_int_eq(ray_overlap_shape(s, &bad, NULL, stop_now, NULL), -RAY_EINVAL);
+    bad = zero, bad.kind = RAY_SHAPE_BOX;          /* a zero box */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad.box = b, bad.box.half_extents.z = 0;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    bad.box = b, bad.box.axis_y = vec(2, 0, 0);      /* parallel to x */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), -RAY_EINVAL);
+    ck_assert_uint_eq(n, 77);
+    ck_assert_uint_eq(f[0].geom_id, 0xA5A5A5A5u);
+    bad.box = b;                                     /* accepted again */
+    ck_assert_int_eq(ray_overlap_shape_all(s, &bad, NULL, f, 4, &n), 2);
+    ray_scene_free(s);
+
+    /* A capsule through diag(3, 1, 0.5): a swept ellipsoid, which a
+    ** capsule shape meets by its box (the image of [-1, 1]^3 about the
+    ** segment [(0,0,0), (1,0,0)] scaled: x in [-3, 6], |y| <= 1,
+    ** |z| <= 0.5), flagged; a sphere shape by its nearest point. */
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    cap.a = vec(0, 0, 0);
+    cap.b = vec(1, 0, 0);
+    cap.radius = 1;
+    ck_assert_int_eq(ray_scene_add_capsule(child, &cap, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 3;
+    xf.m[2][2] = 0.5;
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_overlap_shape_all(top, TK_CAPSULE(vec(0, -3, 0.9), vec(0, 3, 0.9), 0.5), NULL, f, 4, &n), 1);
+    ck_assert_uint_eq(f[0].flags, RAY_CONTACT_BOUNDS);
+    ck_assert_int_eq(ray_overlap_shape_all(top, TK_CAPSULE(vec(0, -3, 1.1), vec(0, 3, 1.1), 0.5), NULL, f, 4, &n), 0);
+    ck_assert_int_eq(ray_overlap_shape_all(top, TK_SPHERE(vec(0, 0, 0.9), 0.5), NULL, f, 4, &n), 1);
+    ck_assert_uint_eq(f[0].flags, 0);
+    ray_scene_free(top);
+    ray_scene_free(child);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -630,6 +878,9 @@ Suite *overlap_suite(void)
     tcase_add_test(tc, overlaps_should_hide_mask_zero_by_default);
     tcase_add_test(tc, overlap_boxes_should_be_refused_as_ray_box_refuses_them);
     tcase_add_test(tc, statuses_should_follow_the_documented_order);
+    tcase_add_loop_test(tc, capsules_should_meet_at_their_radius_exactly, 0,
+                        N_OFFSETS);
+    tcase_add_test(tc, shapes_should_default_and_refuse);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -933,12 +933,12 @@ START_TEST(sweeps_should_slide_over_inner_vertices)
                         continue;            /* across the ridge: not flat */
                     from = vadd(foot, vscale(up, r));
                     memset(&w, 0, sizeof w);
-                    w.a = w.b = from;
+                    w.shape.a = w.shape.b = from;
                     if (shape == 1)
-                        w.b = vadd(from, vscale(dir, 0.3 / vlen(dir)));
+                        w.shape.b = vadd(from, vscale(dir, 0.3 / vlen(dir)));
                     else if (shape == 2)
-                        w.b = vadd(from, vscale(across, 0.3));
-                    w.radius = r;
+                        w.shape.b = vadd(from, vscale(across, 0.3));
+                    w.shape.radius = r;
                     w.dir = dir;
                     slides++;
                     if (ray_intersect_sweep(s, &w, NULL, &c) != 0) {
@@ -949,8 +949,8 @@ START_TEST(sweeps_should_slide_over_inner_vertices)
                                       c.t, c.p.x, c.p.y, c.p.z, c.prim_id);
                     }
                     /* 1e-6 r nearer: an overlap from the start. */
-                    w.a = vsub(w.a, vscale(up, 1e-6 * r));
-                    w.b = vsub(w.b, vscale(up, 1e-6 * r));
+                    w.shape.a = vsub(w.shape.a, vscale(up, 1e-6 * r));
+                    w.shape.b = vsub(w.shape.b, vscale(up, 1e-6 * r));
                     ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
                     ck_assert(c.flags & RAY_CONTACT_OVERLAP);
                     ck_assert(c.t == 0);

@@ -27,10 +27,10 @@ static lsweep lsweep_of(const ray_sweep *w)
 {
     lsweep l;
 
-    l.a = lv(w->a);
-    l.b = lv(w->b);
+    l.a = lv(w->shape.a);
+    l.b = lv(w->shape.b);
     l.d = lv(w->dir);
-    l.r = (ld)w->radius;
+    l.r = (ld)w->shape.radius;
     l.t0 = (ld)w->tmin;
     l.t1 = w->tmax == 0 ? 1 : (ld)w->tmax;   /* zero: the whole motion */
     return l;
@@ -224,7 +224,7 @@ static int check_sweep(const kit *k, const ray_sweep *w, ld tol,
 */
 static ld tol_of(const ray_sweep *w)
 {
-    return 0x1p-40L * (20 + (ld)w->radius + (ld)vdist(w->a, w->b) +
+    return 0x1p-40L * (20 + (ld)w->shape.radius + (ld)vdist(w->shape.a, w->shape.b) +
                        (ld)vlen(vscale(w->dir, w->tmin)));
 }
 
@@ -248,10 +248,10 @@ START_TEST(sweeps_should_match_brute_force)
         ray_vec3 from = vadd(o, rng_point(&g, -12, 12));
         ray_vec3 to = vadd(o, rng_point(&g, -6, 6));
         memset(&w, 0, sizeof w);
-        w.a = w.b = from;
+        w.shape.a = w.shape.b = from;
         if (i >= 240)
-            w.b = vadd(from, vscale(rng_dir(&g), rng_range(&g, 0.2, 3)));
-        w.radius = rng_range(&g, 0.05, 3);
+            w.shape.b = vadd(from, vscale(rng_dir(&g), rng_range(&g, 0.2, 3)));
+        w.shape.radius = rng_range(&g, 0.05, 3);
         w.dir = vsub(to, from);
         if (i % 3 == 1) {
             w.tmin = 0.3;
@@ -281,10 +281,10 @@ START_TEST(sweeps_should_take_any_radius)
             ray_sweep w;
             ray_vec3 from = vscale(rng_dir(&g), 15 + 2 * radius[r]);
             memset(&w, 0, sizeof w);
-            w.a = w.b = from;
+            w.shape.a = w.shape.b = from;
             if (i % 2)
-                w.b = vadd(from, vscale(rng_dir(&g), 0.5));
-            w.radius = radius[r];
+                w.shape.b = vadd(from, vscale(rng_dir(&g), 0.5));
+            w.shape.radius = radius[r];
             w.dir = vsub(rng_point(&g, -4, 4), from);
             check_sweep(&k, &w, tol_of(&w), "radius", r * 100 + i);
         }
@@ -342,23 +342,23 @@ START_TEST(sweeps_should_slide_along_a_wall)
         ray_sweep w;
         ray_contact c;
         memset(&w, 0, sizeof w);
-        w.a = w.b = from;
+        w.shape.a = w.shape.b = from;
         if (i % 2)
-            w.b = vadd(from, vec(0.3 * sin(a), 0.3 * cos(a), 0));
-        w.radius = r;
+            w.shape.b = vadd(from, vec(0.3 * sin(a), 0.3 * cos(a), 0));
+        w.shape.radius = r;
         w.dir = vec(2 * cos(a), 2 * sin(a), 0);
         ck_assert_msg(ray_intersect_sweep(s, &w, NULL, &c) == 0,
                       "slide %d: a contact at t %.17g, n (%g, %g, %g)", i,
                       c.t, c.n.x, c.n.y, c.n.z);
-        w.a.z = w.b.z = r * (1 + 1e-9);
+        w.shape.a.z = w.shape.b.z = r * (1 + 1e-9);
         ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
-        w.a.z = w.b.z = r * (1 - 1e-9);
+        w.shape.a.z = w.shape.b.z = r * (1 - 1e-9);
         ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
         ck_assert(c.flags & RAY_CONTACT_OVERLAP);
         ck_assert_double_eq_tol(c.depth, r * 1e-9, r * 1e-12);
         ck_assert_double_eq_tol(c.n.z, 1, 1e-12);
         /* Sinking: z = r + 1e-3 - 1e-3 t: the face at t = 1. */
-        w.a.z = w.b.z = r + 1e-3;
+        w.shape.a.z = w.shape.b.z = r + 1e-3;
         w.dir.z = -1e-3;
         w.tmax = 2;
         ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
@@ -392,8 +392,8 @@ START_TEST(sweeps_should_start_in_contact)
         ray_vec3 into[3] = {{0.1, 0, -1}, {-1, 0.2, -0.5}, {-0.3, -0.4, 0.1}};
         double r = k == 0 ? 0.5 : k == 1 ? 0.5 : 0.5;
         memset(&w, 0, sizeof w);
-        w.a = w.b = from[k];
-        w.radius = r;
+        w.shape.a = w.shape.b = from[k];
+        w.shape.radius = r;
         w.dir = into[k];
         ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
         ck_assert_msg(c.t == 0, "start %d: t %.17g", k, c.t);
@@ -426,7 +426,7 @@ START_TEST(radius_zero_should_be_the_ray)
         ray_hit h;
         int a, b;
         memset(&w, 0, sizeof w);
-        w.a = w.b = r.org;
+        w.shape.a = w.shape.b = r.org;
         w.dir = r.dir;
         w.tmin = 0;
         w.tmax = HUGE_VAL;
@@ -490,10 +490,10 @@ START_TEST(sweeps_should_not_tunnel_through_closed_meshes)
                     out = vadd(out, vscale(rng_dir(&g), 0.5));
                     from = vadd(aim, vscale(out, 3 / vlen(out)));
                     memset(&w, 0, sizeof w);
-                    w.a = w.b = from;
+                    w.shape.a = w.shape.b = from;
                     if (e % 2)
-                        w.b = vadd(from, vscale(out, 0.5 / vlen(out)));
-                    w.radius = r;
+                        w.shape.b = vadd(from, vscale(out, 0.5 / vlen(out)));
+                    w.shape.radius = r;
                     w.dir = vsub(aim, from);
                     w.tmax = 2;
                     rc = ray_intersect_sweep(s, &w, NULL, &c);
@@ -533,10 +533,10 @@ START_TEST(sweeps_should_be_exact_through_instances)
         ray_sweep w;
         ray_vec3 from = rng_point(&g, -18, 18), to = rng_point(&g, -12, 12);
         memset(&w, 0, sizeof w);
-        w.a = w.b = from;
+        w.shape.a = w.shape.b = from;
         if (i % 2)
-            w.b = vadd(from, vscale(rng_dir(&g), rng_range(&g, 0.2, 2)));
-        w.radius = rng_range(&g, 0.05, 1.5);
+            w.shape.b = vadd(from, vscale(rng_dir(&g), rng_range(&g, 0.2, 2)));
+        w.shape.radius = rng_range(&g, 0.05, 1.5);
         w.dir = vsub(to, from);
         contacts += check_sweep(&k, &w, tol_of(&w), "instance", i);
     }
@@ -595,14 +595,14 @@ START_TEST(sweeps_should_meet_ellipsoids)
             ld tol, rr;
             int a, b, j, rc;
             memset(&w, 0, sizeof w);
-            w.a = w.b = vadd(vec(1, 0, 0), vscale(rng_dir(&g), 6));
+            w.shape.a = w.shape.b = vadd(vec(1, 0, 0), vscale(rng_dir(&g), 6));
             if (i % 2)
-                w.b = vadd(w.a, vscale(rng_dir(&g), 0.8));
-            w.radius = rng_range(&g, 0.1, 1);
+                w.shape.b = vadd(w.shape.a, vscale(rng_dir(&g), 0.8));
+            w.shape.radius = rng_range(&g, 0.1, 1);
             /* Toward the image of the centre (the segment's midpoint),
             ** within 0.1: inside (|L^-1|_2 < 2 keeps it within 0.2). */
             w.dir = vsub(vadd(kind == 0 ? vec(1, 0, 0) : vec(1.175, 0.15, 0.325),
-                              rng_point(&g, -0.1, 0.1)), w.a);
+                              rng_point(&g, -0.1, 0.1)), w.shape.a);
             tol = tol_of(&w);
             rc = ray_intersect_sweep(top[kind], &w, NULL, &c);
             ck_assert_int_eq(rc, 1);
@@ -624,15 +624,15 @@ START_TEST(sweeps_should_meet_ellipsoids)
                            : ldist(y, ref_segment(y, lv(cap.a), lv(cap.b))) - (ld)cap.radius;
             ck_assert_msg(fabsl(rr) <= 1e-12L, "kind %d sweep %d: preimage off by %Lg", kind, i, rr);
             {
-                lvec x0 = ladd(lv(w.a), lscale(lv(w.dir), (ld)c.t));
-                lvec x1 = ladd(lv(w.b), lscale(lv(w.dir), (ld)c.t));
+                lvec x0 = ladd(lv(w.shape.a), lscale(lv(w.dir), (ld)c.t));
+                lvec x1 = ladd(lv(w.shape.b), lscale(lv(w.dir), (ld)c.t));
                 ld d = ldist(ref_segment(lv(c.p), x0, x1), lv(c.p));
-                ck_assert_msg(fabsl(d - (ld)w.radius) <= tol, "kind %d sweep %d: p at %Lg", kind, i, d);
+                ck_assert_msg(fabsl(d - (ld)w.shape.radius) <= tol, "kind %d sweep %d: p at %Lg", kind, i, d);
             }
             for (j = 0; j <= 4; j++) {
                 ld t = (ld)c.t * j / 4;
-                lvec x0 = ladd(lv(w.a), lscale(lv(w.dir), t));
-                lvec x1 = ladd(lv(w.b), lscale(lv(w.dir), t));
+                lvec x0 = ladd(lv(w.shape.a), lscale(lv(w.dir), t));
+                lvec x1 = ladd(lv(w.shape.b), lscale(lv(w.dir), t));
                 int k2;
                 for (k2 = 0; k2 <= (kind == 0 ? 0 : 4); k2++) {
                     lvec o = kind == 0 ? lv3(0, 0, 0)
@@ -644,7 +644,7 @@ START_TEST(sweeps_should_meet_ellipsoids)
                             lvec wp;
                             e = ladd(o, lscale(lv3(sinl(th) * cosl(ph), sinl(th) * sinl(ph), cosl(th)), R));
                             wp = lv3(2.5L * e.x + 0.7L * e.y + 1, 0.6L * e.y, -0.4L * e.x + 1.3L * e.z);
-                            ck_assert_msg(ldist(ref_segment(wp, x0, x1), wp) >= (ld)w.radius - tol,
+                            ck_assert_msg(ldist(ref_segment(wp, x0, x1), wp) >= (ld)w.shape.radius - tol,
                                           "kind %d sweep %d: inside at t %Lg", kind, i, t);
                         }
                 }
@@ -683,8 +683,8 @@ START_TEST(sweeps_should_follow_masks_and_filters)
 
     kit_build(&k, vec(0, 0, 0), 0);
     memset(&w, 0, sizeof w);
-    w.a = w.b = vec(-6, 0.2, 0);
-    w.radius = 0.3;
+    w.shape.a = w.shape.b = vec(-6, 0.2, 0);
+    w.shape.radius = 0.3;
     w.dir = vec(20, 0, 0);
     ck_assert_int_eq(ray_intersect_sweep(k.s, &w, NULL, &c), 1);
     ck_assert_uint_eq(c.geom_id, 0);
@@ -732,8 +732,8 @@ START_TEST(other_kinds_should_answer_by_their_boxes)
     ck_assert_int_eq(ray_scene_add_torus(s, &tor, RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     memset(&w, 0, sizeof w);
-    w.a = w.b = vec(0, 0, 2);
-    w.radius = 0.2;
+    w.shape.a = w.shape.b = vec(0, 0, 2);
+    w.shape.radius = 0.2;
     w.dir = vec(0, 0, -4);
     ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
     ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
@@ -746,9 +746,11 @@ END_TEST
 
 /*
 ** Misuse is a negated status, *c untouched: NULLs, NaN in any input, a
-** negative or infinite radius, no motion, an empty or reversed interval,
-** an uncommitted scene, a scene changed since its commit, an instance
-** whose scene changed.
+** negative or infinite radius, an unknown shape kind, an empty or
+** reversed interval, an uncommitted scene, a scene changed since its
+** commit, an instance whose scene changed; a box shape is not swept
+** (-RAY_ENOTSUP, after its params are checked as ray_box checks them).
+** No motion is no misuse: the overlap test, here clear of the sphere (0).
 */
 START_TEST(sweeps_should_refuse_misuse)
 {
@@ -762,27 +764,41 @@ START_TEST(sweeps_should_refuse_misuse)
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
     memset(&w, 0, sizeof w);
-    w.a = w.b = vec(0, 0, 5);
-    w.radius = 0.5;
+    w.shape.a = w.shape.b = vec(0, 0, 5);
+    w.shape.radius = 0.5;
     w.dir = vec(0, 0, -5);
     ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), -RAY_ESTATE);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_intersect_sweep(NULL, &w, NULL, &c), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect_sweep(s, NULL, NULL, &c), -RAY_EINVAL);
     ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, NULL), -RAY_EINVAL);
-    bad = w, bad.a.x = (double)NAN;
+    bad = w, bad.shape.a.x = (double)NAN;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
-    bad = w, bad.b.y = HUGE_VAL;
+    bad = w, bad.shape.b.y = HUGE_VAL;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
     bad = w, bad.dir.z = (double)NAN;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
-    bad = w, bad.radius = -1;
+    bad = w, bad.shape.radius = -1;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
-    bad = w, bad.radius = (double)NAN;
+    bad = w, bad.shape.radius = (double)NAN;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
-    bad = w, bad.radius = HUGE_VAL;
+    bad = w, bad.shape.radius = HUGE_VAL;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
     bad = w, bad.dir = vec(0, 0, 0);
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), 0);
+    bad = w, bad.shape.kind = 2;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.shape.kind = ~0u;
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad = w, bad.shape.kind = RAY_SHAPE_BOX;     /* box all zero: refused */
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
+    bad.shape.box.half_extents = vec(1, 1, 1);
+    bad.shape.box.axis_x = vec(1, 0, 0);
+    bad.shape.box.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_ENOTSUP);
+    bad.dir = vec(0, 0, 0);
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_ENOTSUP);
+    bad.shape.box.half_extents.y = (double)NAN;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
     bad = w, bad.tmin = 1, bad.tmax = 1;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
@@ -853,9 +869,9 @@ START_TEST(capsules_with_subnormal_segments_should_sweep_as_their_sphere)
         ray_sweep sw;
         ray_contact c;
         memset(&sw, 0, sizeof sw);
-        sw.a = vec(0, 0, 0);
-        sw.b = tiny[i];
-        sw.radius = 0.5;
+        sw.shape.a = vec(0, 0, 0);
+        sw.shape.b = tiny[i];
+        sw.shape.radius = 0.5;
         sw.dir = vec(-1, -1, -1e-310);
         sw.tmax = 1;
         ck_assert_msg(ray_intersect_sweep(s, &sw, NULL, &c) == 0,
@@ -924,7 +940,7 @@ START_TEST(radius_zero_sweeps_should_ask_user_geometry_itself)
     ck_assert_int_eq(ray_scene_add_user(s, &g, RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     memset(&sw, 0, sizeof sw);
-    sw.a = sw.b = vec(0.5, 0.25, 5);
+    sw.shape.a = sw.shape.b = vec(0.5, 0.25, 5);
     sw.dir = vec(0, 0, -1);
     sw.tmax = 10;
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
@@ -932,20 +948,177 @@ START_TEST(radius_zero_sweeps_should_ask_user_geometry_itself)
     ck_assert(c.p.x == 0.5 && c.p.y == 0.25 && c.p.z == 0);
     ck_assert_uint_eq(c.flags, 0);
     /* Outside the square but inside its box: a ray passes. */
-    sw.a = sw.b = vec(1.5, 0, 5);
+    sw.shape.a = sw.shape.b = vec(1.5, 0, 5);
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 0);
     /* A radius: the box. */
-    sw.radius = 1e-9;
+    sw.shape.radius = 1e-9;
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
     ck_assert_double_eq_tol(c.t, 4 - 1e-9, 1e-12);
     ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
     /* A capsule of radius 0: the box too. */
-    sw.radius = 0;
-    sw.b = vec(1.5, 0.5, 5);
+    sw.shape.radius = 0;
+    sw.shape.b = vec(1.5, 0.5, 5);
     ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
     ck_assert_double_eq_tol(c.t, 4, 1e-12);
     ck_assert_uint_eq(c.flags, RAY_CONTACT_BOUNDS);
     ray_scene_free(s);
+}
+END_TEST
+
+/*
+** No motion (dir 0) is the overlap test at tmin: a sphere or a capsule
+** standing in a wall, in a floor mesh, inside a box, in a corner (the
+** deeper of two), through a rotated and non-uniformly scaled instance of
+** a box and through one of a sphere (an ellipsoid) reports the deepest
+** overlap: t = tmin, RAY_CONTACT_OVERLAP, the depth and the normal that
+** frees it, the same bits as a moving sweep's overlap at its start (the
+** same computation).  Pushed by depth (plus 1e-9, far above the sweep's
+** eps of about 1e-13 here and far below every feature) along n, the
+** shape overlaps nothing (the corner takes two pushes); touching at
+** exactly the radius is no overlap.  Depths and normals: tol_at (64 ulps
+** of the coordinates' magnitude: a few dozen roundings on exact inputs),
+** the ellipsoid's 1e-9 (its nearest point is iterated to within a few
+** ulps of its semi-axes, ray__ellipsoid_closest, with 1e-9 to spare).
+*/
+typedef struct still_case {
+    double a[3], b[3], r;        /* the shape, relative to o */
+    double depth, n[3];          /* the expected overlap (depth 0: none) */
+    int pushes;                  /* how many pushes free it */
+} still_case;
+
+START_TEST(zero_motion_should_report_the_deepest_overlap)
+{
+    static const still_case cases[] = {
+        {{-2.8, 0, 2.5}, {-2.8, 0, 2.5}, 0.5, 0.3, {1, 0, 0}, 1},   /* wall */
+        {{0, 0, 0.3}, {0, 0, 1.3}, 0.5, 0.2, {0, 0, 1}, 1},         /* floor */
+        {{-1, -1, 0.1}, {1, -1, 0.1}, 0.5, 0.4, {0, 0, 1}, 1},      /* lying */
+        {{3, 0.2, 1.7}, {3, 0.2, 1.7}, 0.2, 0.5, {0, 0, 1}, 1},     /* in box */
+        {{-2.7, 0, 0.1}, {-2.7, 0, 0.1}, 0.5, 0.4, {0, 0, 1}, 2},   /* corner */
+        {{0.2, 11.8, 1}, {0.2, 11.8, 1}, 0.5, 0.7, {0, 1, 0}, 1},   /* instance */
+        {{2.3, -10, 3}, {2.3, -10, 3}, 0.5, 0.2, {1, 0, 0}, 1},     /* ellipsoid */
+        {{0, 0, 3}, {0, 0, 3}, 0.5, 0, {0, 0, 0}, 0},               /* clear */
+        {{0, 0, 0.5}, {1, 0, 0.5}, 0.5, 0, {0, 0, 0}, 0},           /* touching */
+    };
+    static const double floor_v[4][3] = {{-5, -5, 0}, {5, -5, 0}, {5, 5, 0},
+                                         {-5, 5, 0}};
+    static const double wall_v[4][3] = {{-3, -5, 0}, {-3, 5, 0}, {-3, 5, 5},
+                                        {-3, -5, 5}};
+    static const unsigned quad[6] = {0, 1, 2, 0, 2, 3};
+    ray_vec3 o = vec(test_offset(_i), test_offset(_i) / 3, -test_offset(_i));
+    ray_scene *s, *cbox, *cball;
+    ray_vec3 fv[4], wv[4];
+    ray_mesh m;
+    ray_box_params b;
+    ray_transform xf;
+    size_t k;
+    int j;
+
+    for (j = 0; j < 4; j++) {
+        fv[j] = vadd(o, vec(floor_v[j][0], floor_v[j][1], floor_v[j][2]));
+        wv[j] = vadd(o, vec(wall_v[j][0], wall_v[j][1], wall_v[j][2]));
+    }
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    memset(&m, 0, sizeof m);
+    m.vertex_count = 4;
+    m.indices = quad;
+    m.triangle_count = 2;
+    m.vertices = fv;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    m.vertices = wv;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    b.center = vadd(o, vec(3, 0, 1));
+    b.half_extents = vec(1, 1, 1);
+    b.axis_x = vec(1, 0, 0);
+    b.axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    /* A unit box scaled by (2, 1, 1), turned 90 degrees about z (x -> y):
+    ** |x| <= 1, |y - 10| <= 2, |z - 1| <= 1 about o. */
+    ck_assert_int_eq(ray_scene_new(&cbox, NULL, NULL), RAY_OK);
+    b.center = vec(0, 0, 0);
+    ck_assert_int_eq(ray_scene_add_box(cbox, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(cbox), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 0, xf.m[0][1] = -1;
+    xf.m[1][0] = 2, xf.m[1][1] = 0;
+    xf.m[0][3] = o.x, xf.m[1][3] = o.y + 10, xf.m[2][3] = o.z + 1;
+    ck_assert_int_eq(ray_scene_add_instance(s, cbox, &xf, NULL), RAY_OK);
+    /* A unit sphere scaled by (2, 1, 1): an ellipsoid about (0, -10, 3). */
+    ck_assert_int_eq(ray_scene_new(&cball, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(cball, vec(0, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(cball), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][0] = 2;
+    xf.m[0][3] = o.x, xf.m[1][3] = o.y - 10, xf.m[2][3] = o.z + 3;
+    ck_assert_int_eq(ray_scene_add_instance(s, cball, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const still_case *e = &cases[k];
+        double tol = k == 6 ? 1e-9 : tol_at(test_offset(_i));
+        ray_sweep w, moving;
+        ray_contact c, cm, ref;
+        int push;
+
+        memset(&w, 0, sizeof w);
+        w.shape.a = vadd(o, vec(e->a[0], e->a[1], e->a[2]));
+        w.shape.b = vadd(o, vec(e->b[0], e->b[1], e->b[2]));
+        w.shape.radius = e->r;
+        w.tmin = 0.25;                 /* t = tmin, whatever tmin is */
+        memset(&ref, 0xA5, sizeof ref);
+        c = ref;
+        if (e->depth == 0) {
+            ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+            ck_assert(memcmp(&c, &ref, sizeof c) == 0);
+            continue;
+        }
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert(c.t == 0.25);
+        ck_assert_uint_eq(c.flags & RAY_CONTACT_OVERLAP, RAY_CONTACT_OVERLAP);
+        ck_assert_msg(fabs(c.depth - e->depth) <= tol,
+                      "case %zu: depth %.17g, want %g", k, c.depth, e->depth);
+        ck_assert_msg(fabs(c.n.x - e->n[0]) <= tol && fabs(c.n.y - e->n[1]) <= tol &&
+                      fabs(c.n.z - e->n[2]) <= tol,
+                      "case %zu: n (%g, %g, %g)", k, c.n.x, c.n.y, c.n.z);
+        /* The moving sweep's overlap at its start (tmin 0: the shape
+        ** where it stands): the same bits. */
+        moving = w;
+        moving.dir = vec(0.5, -1, 2);
+        moving.tmin = 0;
+        ck_assert_int_eq(ray_intersect_sweep(s, &moving, NULL, &cm), 1);
+        ck_assert(cm.t == 0 && cm.depth == c.depth && cm.flags == c.flags);
+        ck_assert(cm.n.x == c.n.x && cm.n.y == c.n.y && cm.n.z == c.n.z);
+        ck_assert(cm.geom_id == c.geom_id && cm.prim_id == c.prim_id &&
+                  cm.inst_id == c.inst_id);
+        /* Pushed out along n by depth (and 1e-9): free. */
+        for (push = 0; push < e->pushes; push++) {
+            ray_vec3 d;
+            ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+            d = vscale(c.n, c.depth + 1e-9);
+            w.shape.a = vadd(w.shape.a, d);
+            w.shape.b = vadd(w.shape.b, d);
+        }
+        c = ref;
+        ck_assert_msg(ray_intersect_sweep(s, &w, NULL, &c) == 0,
+                      "case %zu: still overlapping after %d pushes", k,
+                      e->pushes);
+        ck_assert(memcmp(&c, &ref, sizeof c) == 0);
+    }
+    /* A point (radius 0) standing still: inside the box, 1 deep. */
+    {
+        ray_sweep w;
+        ray_contact c;
+        memset(&w, 0, sizeof w);
+        w.shape.a = w.shape.b = vadd(o, vec(3, 0, 1));
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+        ck_assert_uint_eq(c.flags, RAY_CONTACT_OVERLAP);
+        ck_assert_double_eq_tol(c.depth, 1, tol_at(test_offset(_i)));
+        /* On the floor's surface, a point overlaps nothing. */
+        w.shape.a = w.shape.b = vadd(o, vec(0, 0, 0));
+        ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+    }
+    ray_scene_free(s);
+    ray_scene_free(cbox);
+    ray_scene_free(cball);
 }
 END_TEST
 
@@ -968,6 +1141,8 @@ Suite *sweep_suite(void)
     tcase_add_test(tc, sweeps_should_refuse_misuse);
     tcase_add_test(tc, capsules_with_subnormal_segments_should_sweep_as_their_sphere);
     tcase_add_test(tc, radius_zero_sweeps_should_ask_user_geometry_itself);
+    tcase_add_loop_test(tc, zero_motion_should_report_the_deepest_overlap, 0,
+                        N_OFFSETS);
     suite_add_tcase(s, tc);
     return s;
 }

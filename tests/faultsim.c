@@ -815,21 +815,21 @@ static void digest_shapes(env *e, const ray_scene *s, const ray_ray *r,
     int rc;
 
     memset(&w, 0, sizeof w);
-    w.a = w.b = r->org;
-    w.radius = 0.3;
+    w.shape.a = w.shape.b = r->org;
+    w.shape.radius = 0.3;
     w.dir = r->dir;
     w.tmax = 20;
     memset(&c, 0, sizeof c);
     rc = ray_intersect_sweep(s, &w, NULL, &c);
     digest_bytes(e, &rc, sizeof rc);
     digest_bytes(e, &c, sizeof c);
-    w.b = vec(r->org.x + 0.5, r->org.y, r->org.z);
+    w.shape.b = vec(r->org.x + 0.5, r->org.y, r->org.z);
     memset(&c, 0, sizeof c);
     rc = ray_intersect_sweep(s, &w, NULL, &c);
     digest_bytes(e, &rc, sizeof rc);
     digest_bytes(e, &c, sizeof c);
     memset(o, 0, sizeof o);
-    rc = ray_overlap_sphere_all(s, vec(r->org.x, 0, r->org.z), 1.5, NULL, o,
+    rc = ray_overlap_shape_all(s, TK_SPHERE(vec(r->org.x, 0, r->org.z), 1.5), NULL, o,
                                 8, &n);
     digest_bytes(e, &rc, sizeof rc);
     digest_bytes(e, o, sizeof o);

@@ -205,4 +205,39 @@ static inline int nop_scene_new(ray_scene **out, ray_alloc_fn alloc,
     return RAY_OK;
 }
 
+/* Shapes of the shape queries (ray_overlap_shape, ray_intersect_sweep):
+** a sphere, a capsule, an oriented box; TK_SPHERE, TK_CAPSULE and TK_BOX make a
+** pointer to one for a call's argument (a compound literal: it lives to
+** the end of the enclosing block). */
+static inline ray_shape capsule_shape(ray_vec3 a, ray_vec3 b, double r)
+{
+    ray_shape k;
+
+    memset(&k, 0, sizeof k);
+    k.kind = RAY_SHAPE_CAPSULE;
+    k.a = a;
+    k.b = b;
+    k.radius = r;
+    return k;
+}
+
+static inline ray_shape sphere_shape(ray_vec3 c, double r)
+{
+    return capsule_shape(c, c, r);
+}
+
+static inline ray_shape box_shape(const ray_box_params *b)
+{
+    ray_shape k;
+
+    memset(&k, 0, sizeof k);
+    k.kind = RAY_SHAPE_BOX;
+    k.box = *b;
+    return k;
+}
+
+#define TK_SPHERE(c, r) ((const ray_shape[]){sphere_shape((c), (r))})
+#define TK_CAPSULE(a, b, r) ((const ray_shape[]){capsule_shape((a), (b), (r))})
+#define TK_BOX(b) ((const ray_shape[]){box_shape(b)})
+
 #endif

@@ -3,8 +3,9 @@
 ** overlap.c -- do two shapes meet?  A box (any parallelepiped: an
 ** oriented box, or a box through an instance's affine map) against a
 ** triangle, a polygon, a plane, another parallelepiped, a point and a
-** segment: the narrow phase of ray_overlap_box and ray_overlap_sphere
-** (query/overlap.c).  Plain geometry, no scene.
+** segment: the narrow phase of ray_overlap_shape's boxes, and of its
+** spheres' and capsules' tests against boxes (query/overlap.c).  Plain
+** geometry, no scene.
 **
 ** Separating axes (Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996;
 ** Akenine-Moller, "Fast 3D Triangle-Box Overlap Testing", JGT 6(1),
@@ -267,4 +268,30 @@ int ray__pped_overlaps_polygon(const ray__pped *p, const ray_vec3 *v,
             }
         }
     return 0;
+}
+
+/* A box is refused as ray_box and ray_scene_add_box refuse the same
+** params (ray__box_check: also a box whose world bounds, with their
+** rounding margin, pass DBL_MAX; issue 38, defect 1), so that no query
+** answers for a box no other call accepts. */
+int ray__shape_check(const ray_shape *k, ray__pped *p)
+{
+    ray__pped b;
+    ray_vec3 lo, hi;
+    char why[8];
+
+    if (k == NULL)
+        return 0;
+    if (k->kind == RAY_SHAPE_CAPSULE)
+        return v3_isfinite(k->a) && v3_isfinite(k->b) &&
+               v3_isfinite(v3_sub(k->b, k->a)) &&
+               k->radius >= 0 && k->radius < HUGE_VAL;
+    if (k->kind != RAY_SHAPE_BOX ||
+        !ray__box_check(&k->box, &lo, &hi, why, sizeof why) ||
+        !ray__pped_of_box(&k->box, &b) || !v3_isfinite(b.e[0]) ||
+        !v3_isfinite(b.e[1]) || !v3_isfinite(b.e[2]))
+        return 0;
+    if (p != NULL)
+        *p = b;
+    return 1;
 }

@@ -37,4 +37,13 @@ int ray__pped_contains(const ray__pped *p, ray_vec3 x);
 double ray__pped_signed(const ray__pped *p, ray_vec3 x, ray_vec3 *near);
 double ray__pped_segment(const ray__pped *p, ray_vec3 a, ray_vec3 b);
 
+/*
+** Does the shape queries' shape k (ray_intersect_sweep, ray_overlap_shape)
+** pass their checks (ray.h)?  A capsule: a, b and b - a finite, radius
+** in [0, Inf); a box: params ray_box (and ray_scene_add_box) accept,
+** whose parallelepiped is finite; another kind: no.  *p, when p is not
+** NULL, receives a box's parallelepiped.
+*/
+int ray__shape_check(const ray_shape *k, ray__pped *p);
+
 #endif /* RAY_OVERLAP_H */

@@ -200,19 +200,11 @@ int ray__sweep_plane(ray__sweep *sw, ray_vec3 point, ray_vec3 nrm,
 
 /* ------------------------------------------------ polygons and boxes */
 
-/*
-** The distance between the core [x0, x0 + s] (s = 0: the point x0) and
-** a scene polygon (mapped by xf), with the points that realise it: 0
-** where the segment crosses the polygon's inside, else the nearest of
-** the ends' nearest points and of the segment's to each edge (the
-** polygon is the region inside its outline: a segment that does not
-** cross it is nearest it at an end or at the outline).
-*/
-static double core_polygon(const ray__sweep *sw, const ray_vec3 *v,
-                           size_t count, const ray_transform *xf,
-                           ray_vec3 *q, ray_vec3 *p, ray_vec3 *nrm)
+double ray__segment_polygon(ray_vec3 a, ray_vec3 b, const ray_vec3 *v,
+                            size_t count, const ray_transform *xf,
+                            ray_vec3 *q, ray_vec3 *p, ray_vec3 *nrm)
 {
-    ray_vec3 c, a = sw->x0, b = v3_add(sw->x0, sw->s), x, y, cs, ct;
+    ray_vec3 c, s = v3_sub(b, a), x, y, cs, ct;
     double best, d, ha, hb;
     size_t i;
 
@@ -221,12 +213,12 @@ static double core_polygon(const ray__sweep *sw, const ray_vec3 *v,
         return HUGE_VAL;
     *q = a;
     best = ray__distance(a, *p);
-    if (!(max_abs(sw->s) > 0))
+    if (!(max_abs(s) > 0))
         return best;
     ha = v3_dot(v3_sub(a, c), *nrm);
     hb = v3_dot(v3_sub(b, c), *nrm);
     if ((ha <= 0) != (hb <= 0) && ha != hb) {
-        x = v3_madd(a, ha / (ha - hb), sw->s);
+        x = v3_madd(a, ha / (ha - hb), s);
         if (ray__polygon_contains(v, count, xf, x)) {
             *q = *p = x;
             return 0;
@@ -249,6 +241,16 @@ static double core_polygon(const ray__sweep *sw, const ray_vec3 *v,
         }
     }
     return best;
+}
+
+/* The distance between the core [x0, x0 + s] (s = 0: the point x0) and
+** a scene polygon: ray__segment_polygon. */
+static double core_polygon(const ray__sweep *sw, const ray_vec3 *v,
+                           size_t count, const ray_transform *xf,
+                           ray_vec3 *q, ray_vec3 *p, ray_vec3 *nrm)
+{
+    return ray__segment_polygon(sw->x0, v3_add(sw->x0, sw->s), v, count, xf,
+                                q, p, nrm);
 }
 
 int ray__sweep_polygon(ray__sweep *sw, const ray_vec3 *v, size_t count,

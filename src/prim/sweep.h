@@ -117,6 +117,20 @@ int ray__sweep_ellipsoid(ray__sweep *sw, const ray__ellipsoid *el,
 ray_vec3 ray__segment_point(ray_vec3 p, ray_vec3 a, ray_vec3 b);
 
 /*
+** The distance between segment [a, b] (a == b: the point a) and the
+** polygon v[0 .. count-1] mapped by xf (NULL: not; the region inside its
+** outline, even-odd), with the points *q on the segment and *p on the
+** polygon that realise it and the polygon's unit Newell normal *nrm
+** (sweep.c): 0 where the segment crosses the polygon's inside, else the
+** nearest of the ends' nearest points and of the segment's to each edge
+** (a segment that does not cross the region is nearest it at an end or
+** at the outline); +Inf for a polygon of no area.
+*/
+double ray__segment_polygon(ray_vec3 a, ray_vec3 b, const ray_vec3 *v,
+                            size_t count, const ray_transform *xf,
+                            ray_vec3 *q, ray_vec3 *p, ray_vec3 *nrm);
+
+/*
 ** Polygon helpers (polygon.c), for vertices v mapped by xf (NULL: not):
 ** ray__polygon_contains -- does the foot of point x on the polygon's
 ** plane lie inside it (even-odd, Haines' crossings test in the plane's

@@ -112,6 +112,8 @@ int ray__sweep_ellipsoid(ray__sweep *sw, const ray__ellipsoid *el,
         return 0;
     if (ray__sweep_overlap(sw, dist, q, p, n, eps, best))
         return 1;
+    if (!(sw->d_len > 0))
+        return 0;                       /* no motion: the overlap alone */
     for (k = 0; k < 64; k++) {
         double g = dist - sw->r, rate;
         if (!v3_normalize(v3_sub(q, p), &dir))

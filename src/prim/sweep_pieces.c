@@ -80,12 +80,19 @@ static double max_abs(ray_vec3 v)
 ** The direction scaled by a power of two (exact) so that its largest
 ** component lies in [1, 2): t is then measured in those units (t0, t1
 ** scaled by the inverse), so that neither a tiny nor a huge
-** displacement over- or underflows the quadratics' coefficients.
+** displacement over- or underflows the quadratics' coefficients.  No
+** motion (d = 0: ray_intersect_sweep's overlap test) keeps t in the
+** caller's units (k = 1) and the shape at its start (x0 = 0): every
+** piece then sees no velocity toward it (b = 0 for a ball or a
+** cylinder, d . n = 0 for a slab) and offers nothing, and
+** ray__sweep_ellipsoid stops after its overlap test, so only the
+** overlap at t0 is ever offered.
 */
 void ray__sweep_start(ray__sweep *sw, ray_vec3 d, ray_vec3 s, double r,
                       double t0, double t1)
 {
-    double m = max_abs(d), k = ray__pow2(-ray__exponent_of(m));
+    double m = max_abs(d);
+    double k = m > 0 ? ray__pow2(-ray__exponent_of(m)) : 1.0;
 
     sw->d = v3_scale(d, k);
     sw->t_unit = k;

@@ -1,20 +1,22 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** overlap.c -- ray_overlap_sphere and ray_overlap_box: every primitive
-** of a committed scene that meets a sphere or an oriented box.  The
+** overlap.c -- ray_overlap_shape: every primitive of a committed scene
+** that meets a sphere, a capsule or an oriented box.  The
 ** structures are the ray queries' (intersect.c): the planes, then both
 ** BVHs, every node whose box meets the region's box entered (instances
 ** descended into with the region's image in the child's space), every
 ** primitive tested in world space by the narrow phase (prim/overlap.h:
-** distances for the sphere, separating axes for the box).
+** distances for the sphere and the capsule, separating axes for the
+** box).
 */
 #include "query/query.h"
 #include "prim/overlap.h"
 
-/* The query region, in world space: a sphere (c, r) or a box. */
+/* The query region, in world space: a sphere (c, r), a capsule (the
+** segment [c, c2], r; is_capsule) or a box. */
 typedef struct region {
-    int is_box;
-    ray_vec3 c;
+    int is_box, is_capsule;
+    ray_vec3 c, c2;
     double r;
     ray__pped box;
 } region;
@@ -109,6 +111,8 @@ static int meets_pped(const searcher *w, const ray__pped *p)
 {
     if (w->q.is_box)
         return ray__pped_overlaps_pped(&w->q.box, p);
+    if (w->q.is_capsule)
+        return ray__pped_segment(p, w->q.c, w->q.c2) <= w->q.r;
     return ray__pped_signed(p, w->q.c, NULL) <= w->q.r;
 }
 
@@ -170,6 +174,9 @@ static unsigned meets_SPHERE(const searcher *w, const ray_scene *s,
         double R = p->radius * (in != NULL ? in->similarity : 1);
         if (w->q.is_box)
             return ray__pped_signed(&w->q.box, c, NULL) <= R;
+        if (w->q.is_capsule)
+            return ray__distance(ray__segment_closest(c, w->q.c, w->q.c2),
+                                 c) <= R + w->q.r;
         return ray__distance(c, w->q.c) <= R + w->q.r;
     }
     if (!(in->sv[0] > 0))
@@ -182,6 +189,17 @@ static unsigned meets_SPHERE(const searcher *w, const ray_scene *s,
     }
     for (k = 0; k < 3; k++)
         e[k] = p->radius * in->sv[k];
+    if (w->q.is_capsule) {
+        /* The segment [c, c2] meets the ellipsoid E grown by r where the
+        ** point c meets E swept by c - c2 grown by r (the Minkowski
+        ** trick: |c + s (c2 - c) - x| = |c - (x - s (c2 - c))|). */
+        int inside;
+        if (!ray__ellipsoid_sweep_closest(c, v3_sub(w->q.c, w->q.c2),
+                                          (const double(*)[3])in->axes, e,
+                                          w->q.c, &pt, &n, &inside))
+            return 0;
+        return inside || ray__distance(pt, w->q.c) <= w->q.r;
+    }
     if (!ray__ellipsoid_closest(c, (const double(*)[3])in->axes, e, w->q.c,
                                 &pt, &n))
         return 0;
@@ -195,6 +213,15 @@ static unsigned meets_PLANE(const searcher *w, const ray_scene *s,
     (void)s;
     if (w->q.is_box)
         return ray__pped_overlaps_plane(&w->q.box, p->a, p->b) ? 1u : 0u;
+    if (w->q.is_capsule) {
+        /* A segment whose ends lie on both sides (or on it) crosses it;
+        ** else its nearer end is nearest. */
+        double ha = v3_dot(v3_sub(w->q.c, p->a), p->b);
+        double hb = v3_dot(v3_sub(w->q.c2, p->a), p->b);
+        if ((ha <= 0) != (hb <= 0) || ha == 0 || hb == 0)
+            return 1;
+        return fmin(fabs(ha), fabs(hb)) <= w->q.r;
+    }
     return fabs(v3_dot(v3_sub(w->q.c, p->a), p->b)) <= w->q.r;
 }
 
@@ -228,6 +255,11 @@ static unsigned meets_POLYGON(const searcher *w, const ray_scene *s,
     if (w->q.is_box)
         return ray__pped_overlaps_polygon(&w->q.box, v, p->count, xf) ? 1u
                                                                       : 0u;
+    if (w->q.is_capsule) {
+        ray_vec3 q;
+        return ray__segment_polygon(w->q.c, w->q.c2, v, p->count, xf, &q,
+                                    &pt, &n) <= w->q.r;
+    }
     return ray__polygon_closest_mapped(v, p->count, xf, w->q.c, &pt, &n) &&
            ray__distance(pt, w->q.c) <= w->q.r;
 }
@@ -256,11 +288,18 @@ static unsigned meets_CAPSULE(const searcher *w, const ray_scene *s,
         double R = k->radius * (in != NULL ? in->similarity : 1);
         if (w->q.is_box)
             return ray__pped_segment(&w->q.box, a, b) <= R;
+        if (w->q.is_capsule) {
+            ray_vec3 ps, pk;
+            ray__segments_closest(w->q.c, w->q.c2, a, b, &ps, &pk);
+            return ray__distance(ps, pk) <= R + w->q.r;
+        }
         return ray__distance(ray__segment_closest(w->q.c, a, b), w->q.c) <=
                R + w->q.r;
     }
     if (!(in->sv[0] > 0))
         return 0;
+    if (w->q.is_capsule)     /* a swept ellipsoid: its box (ray.h) */
+        return by_bounds(w, s, p);
     if (w->q.is_box) {
         /* In the capsule's own space, where it is a capsule. */
         ray__pped q = box_in_object(in, &w->q.box, 1, v3(0, 0, 0));
@@ -341,7 +380,22 @@ static void region_box(searcher *w)
     ray_vec3 c;
     int i, k;
 
-    if (w->in == NULL) {
+    if (w->q.is_capsule) {
+        /* The segment's ends (in that space) +- the ball's reach. */
+        ray_vec3 a = w->q.c, b = w->q.c2;
+        if (w->in != NULL) {
+            a = ray__instance_point_to_object(w->in, a);
+            b = ray__instance_point_to_object(w->in, b);
+        }
+        c = v3_scale(v3_add(a, b), 0.5);
+        for (i = 0; i < 3; i++)
+            h[i] = 0.5 * fabs(v3_axis(b, i) - v3_axis(a, i)) +
+                   (w->in == NULL
+                        ? w->q.r
+                        : w->q.r * v3_length(v3(w->in->inv[i][0],
+                                                w->in->inv[i][1],
+                                                w->in->inv[i][2])));
+    } else if (w->in == NULL) {
         c = w->q.is_box ? w->q.box.c : w->q.c;
         for (i = 0; i < 3; i++)
             h[i] = w->q.r;
@@ -436,7 +490,11 @@ static void visit_triangle(searcher *w, const ray_scene *s, unsigned i)
     c = world(w, c);
     if (w->q.is_box)
         meets = ray__pped_overlaps_triangle(&w->q.box, a, b, c);
-    else
+    else if (w->q.is_capsule) {
+        ray_vec3 ps, pt;
+        ray__segment_triangle_closest(w->q.c, w->q.c2, a, b, c, &ps, &pt);
+        meets = ray__distance(ps, pt) <= w->q.r;
+    } else
         meets = ray__distance(ray__triangle_closest(a, b, c, w->q.c),
                               w->q.c) <= w->q.r;
     if (meets)
@@ -532,33 +590,19 @@ static int overlap_run(const ray_scene *s, const region *q,
     return f->count > (size_t)0x7fffffff ? 0x7fffffff : (int)f->count;
 }
 
-static int sphere_region(ray_vec3 c, double r, region *q)
+/* The shape's region: 0 for a shape the queries refuse (ray.h,
+** ray__shape_check).  A capsule with a == b is the sphere. */
+static int shape_region(const ray_shape *k, region *q)
 {
-    if (!v3_isfinite(c) || !(r >= 0 && r < HUGE_VAL))
+    if (!ray__shape_check(k, &q->box))
         return 0;
-    q->is_box = 0;
-    q->c = c;
-    q->r = r;
+    q->is_box = k->kind == RAY_SHAPE_BOX;
+    q->is_capsule = !q->is_box && (k->a.x != k->b.x || k->a.y != k->b.y ||
+                                   k->a.z != k->b.z);
+    q->c = q->is_box ? k->box.center : k->a;
+    q->c2 = q->is_box ? q->c : k->b;
+    q->r = q->is_box ? 0 : k->radius;
     return 1;
-}
-
-/* A box region: refused as ray_box and ray_scene_add_box refuse the same
-** params (ray__box_check: also a box whose world bounds, with their
-** rounding margin, pass DBL_MAX; issue 38, defect 1), so that no query
-** answers for a box no other call accepts. */
-static int box_region(const ray_box_params *b, region *q)
-{
-    ray_vec3 lo, hi;
-    char why[8];
-
-    if (b == NULL || !ray__box_check(b, &lo, &hi, why, sizeof why) ||
-        !ray__pped_of_box(b, &q->box))
-        return 0;
-    q->is_box = 1;
-    q->c = b->center;
-    q->r = 0;
-    return v3_isfinite(q->box.e[0]) && v3_isfinite(q->box.e[1]) &&
-           v3_isfinite(q->box.e[2]);
 }
 
 static int run_fn(const ray_scene *s, const region *q, const ray_query *opt,
@@ -594,46 +638,24 @@ static int run_all(const ray_scene *s, const region *q, const ray_query *opt,
     return rc;
 }
 
-int ray_overlap_sphere(const ray_scene *s, ray_vec3 center, double radius,
-                       const ray_query *q, ray_overlap_fn fn, void *ud)
+int ray_overlap_shape(const ray_scene *s, const ray_shape *shape,
+                      const ray_query *q, ray_overlap_fn fn, void *ud)
 {
     region r;
 
-    if (s == NULL || fn == NULL || !sphere_region(center, radius, &r))
+    if (s == NULL || fn == NULL || !shape_region(shape, &r))
         return -RAY_EINVAL;
     return run_fn(s, &r, q, fn, ud);
 }
 
-int ray_overlap_box(const ray_scene *s, const ray_box_params *box,
-                    const ray_query *q, ray_overlap_fn fn, void *ud)
-{
-    region r;
-
-    if (s == NULL || fn == NULL || !box_region(box, &r))
-        return -RAY_EINVAL;
-    return run_fn(s, &r, q, fn, ud);
-}
-
-int ray_overlap_sphere_all(const ray_scene *s, ray_vec3 center, double radius,
-                           const ray_query *q, ray_overlap *found, size_t cap,
-                           size_t *count)
+int ray_overlap_shape_all(const ray_scene *s, const ray_shape *shape,
+                          const ray_query *q, ray_overlap *found, size_t cap,
+                          size_t *count)
 {
     region r;
 
     if (s == NULL || count == NULL || (found == NULL && cap > 0) ||
-        !sphere_region(center, radius, &r))
-        return -RAY_EINVAL;
-    return run_all(s, &r, q, found, cap, count);
-}
-
-int ray_overlap_box_all(const ray_scene *s, const ray_box_params *box,
-                        const ray_query *q, ray_overlap *found, size_t cap,
-                        size_t *count)
-{
-    region r;
-
-    if (s == NULL || count == NULL || (found == NULL && cap > 0) ||
-        !box_region(box, &r))
+        !shape_region(shape, &r))
         return -RAY_EINVAL;
     return run_all(s, &r, q, found, cap, count);
 }

@@ -13,7 +13,7 @@
 ** watertight).
 */
 #include "query/query.h"
-#include "prim/sweep.h"
+#include "prim/overlap.h"
 
 /* The search's state. */
 typedef struct sweeper {
@@ -569,17 +569,22 @@ static const ray__gate *sweep_gate(const ray_scene *s, const ray_query *q,
     return g;
 }
 
-/* Misuse (ray.h): RAY_OK, or the status to negate. */
+/* Misuse (ray.h): RAY_OK, or the status to negate.  A box shape is
+** checked as ray_box checks its params (RAY_EINVAL), then refused as
+** not swept (RAY_ENOTSUP). */
 static int sweep_misuse(const ray_scene *s, const ray_sweep *sw,
                         const ray_contact *c)
 {
-    if (s == NULL || sw == NULL || c == NULL || !v3_isfinite(sw->a) ||
-        !v3_isfinite(sw->b) || !v3_isfinite(sw->dir) ||
-        !(sw->radius >= 0 && sw->radius < HUGE_VAL) ||
+    const ray_shape *k = sw != NULL ? &sw->shape : NULL;
+
+    if (s == NULL || sw == NULL || c == NULL || !v3_isfinite(sw->dir) ||
         !(sw->tmin > -HUGE_VAL && sw->tmin < HUGE_VAL) ||
-        !(sw->tmax > sw->tmin) || max_abs(sw->dir) == 0 ||
-        !v3_isfinite(v3_scale(sw->dir, sw->tmin)) ||
-        !v3_isfinite(v3_sub(sw->b, sw->a)))
+        !(sw->tmax > sw->tmin) ||
+        !v3_isfinite(v3_scale(sw->dir, sw->tmin)))
+        return RAY_EINVAL;
+    if (k->kind == RAY_SHAPE_BOX)
+        return ray__shape_check(k, NULL) ? RAY_ENOTSUP : RAY_EINVAL;
+    if (!ray__shape_check(k, NULL))
         return RAY_EINVAL;
     return s->committed ? RAY_OK : RAY_ESTATE;
 }
@@ -592,7 +597,7 @@ static int sweep_ray(const ray_scene *s, const ray_sweep *sw,
     ray_hit h;
     int rc;
 
-    r.org = sw->a;
+    r.org = sw->shape.a;
     r.dir = sw->dir;
     r.tmin = sw->tmin;
     r.tmax = sw->tmax;
@@ -629,15 +634,20 @@ int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
     if (rc != RAY_OK)
         return -rc;
     w.gate = sweep_gate(s, q, &g);
-    if (sw->radius == 0 && sw->a.x == sw->b.x && sw->a.y == sw->b.y &&
-        sw->a.z == sw->b.z)
+    /* A point moving is a ray; a point standing still (dir 0) is the
+    ** overlap test below, as every shape standing still. */
+    if (sw->shape.radius == 0 && sw->shape.a.x == sw->shape.b.x &&
+        sw->shape.a.y == sw->shape.b.y && sw->shape.a.z == sw->shape.b.z &&
+        max_abs(sw->dir) > 0)
         return sweep_ray(s, sw, w.gate, c);
     memset(&w.best, 0, sizeof w.best);
     w.best.t = HUGE_VAL;
-    w.o = sw->a;
-    ray__sweep_start(&w.sw, sw->dir, v3_sub(sw->b, sw->a), sw->radius,
-                     sw->tmin, sw->tmax);
-    w.path.org = sw->a;
+    w.o = sw->shape.a;
+    /* dir 0: the narrow phase's overlap at t0 alone (ray__sweep_start
+    ** gives it no motion, so no piece enters: sweep.h). */
+    ray__sweep_start(&w.sw, sw->dir, v3_sub(sw->shape.b, sw->shape.a),
+                     sw->shape.radius, sw->tmin, sw->tmax);
+    w.path.org = sw->shape.a;
     w.path.dir = sw->dir;
     w.path.tmin = sw->tmin;
     w.path.tmax = sw->tmax;
