@@ -291,10 +291,10 @@ enum {
                             weight, fan-out), iterations, image load */
     RAY_EEFFECT,         /* a material asked for an undeclared effect */
     RAY_ENOTSUP,         /* not supported by this build (PNG I/O in a
-                            library built with make PNG=0), or not
-                            offered (a box shape's sweep) */
-    RAY_EKIND            /* the geometry's kind has no such thing (a
-                            box's surface points: ray_surface_point) */
+                            library built with make PNG=0) */
+    RAY_EKIND            /* the geometry's or shape's kind has no such
+                            thing (a box's surface points, a box shape's
+                            sweep) */
 };
 
 /*
@@ -2491,8 +2491,8 @@ typedef struct ray_shape {
 ** or c, a shape kind that is not RAY_SHAPE_*, a non-finite a, b or dir,
 ** a b - a or a tmin dir that overflows, a radius that is negative or
 ** not finite, a tmin that is not finite, tmax NaN or not above tmin
-** (after tmax 0 is taken as 1); -RAY_ENOTSUP for a RAY_SHAPE_BOX shape
-** (a box is not swept, moving or not: its arguments are checked as
+** (after tmax 0 is taken as 1); -RAY_EKIND for a RAY_SHAPE_BOX shape
+** (a box is not swept, moving or not, in any build: its arguments are checked as
 ** ray_box checks them, -RAY_EINVAL first); -RAY_ESTATE for a scene not
 ** committed (or changed since), or a sweep that meets an instance whose
 ** scene was changed.

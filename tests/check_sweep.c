@@ -749,7 +749,7 @@ END_TEST
 ** negative or infinite radius, an unknown shape kind, an empty or
 ** reversed interval, an uncommitted scene, a scene changed since its
 ** commit, an instance whose scene changed; a box shape is not swept
-** (-RAY_ENOTSUP, after its params are checked as ray_box checks them).
+** (-RAY_EKIND, after its params are checked as ray_box checks them).
 ** No motion is no misuse: the overlap test, here clear of the sphere (0).
 */
 START_TEST(sweeps_should_refuse_misuse)
@@ -795,9 +795,9 @@ START_TEST(sweeps_should_refuse_misuse)
     bad.shape.box.half_extents = vec(1, 1, 1);
     bad.shape.box.axis_x = vec(1, 0, 0);
     bad.shape.box.axis_y = vec(0, 1, 0);
-    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_ENOTSUP);
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EKIND);
     bad.dir = vec(0, 0, 0);
-    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_ENOTSUP);
+    ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EKIND);
     bad.shape.box.half_extents.y = (double)NAN;
     ck_assert_int_eq(ray_intersect_sweep(s, &bad, NULL, &c), -RAY_EINVAL);
     bad = w, bad.tmin = 1, bad.tmax = 1;

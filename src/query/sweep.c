@@ -571,7 +571,7 @@ static const ray__gate *sweep_gate(const ray_scene *s, const ray_query *q,
 
 /* Misuse (ray.h): RAY_OK, or the status to negate.  A box shape is
 ** checked as ray_box checks its params (RAY_EINVAL), then refused as
-** not swept (RAY_ENOTSUP). */
+** not swept (RAY_EKIND: the shape's kind has no sweep, in every build). */
 static int sweep_misuse(const ray_scene *s, const ray_sweep *sw,
                         const ray_contact *c)
 {
@@ -583,7 +583,7 @@ static int sweep_misuse(const ray_scene *s, const ray_sweep *sw,
         !v3_isfinite(v3_scale(sw->dir, sw->tmin)))
         return RAY_EINVAL;
     if (k->kind == RAY_SHAPE_BOX)
-        return ray__shape_check(k, NULL) ? RAY_ENOTSUP : RAY_EINVAL;
+        return ray__shape_check(k, NULL) ? RAY_EKIND : RAY_EINVAL;
     if (!ray__shape_check(k, NULL))
         return RAY_EINVAL;
     return s->committed ? RAY_OK : RAY_ESTATE;
