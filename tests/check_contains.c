@@ -644,28 +644,30 @@ static ray_vec3 xfm_point(const ray_transform *t, ray_vec3 v)
               m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z + m[2][3]);
 }
 
-/* Through instances: a holed icosphere placed twice, by a rotation with
-** a uniform scale and by a shear with a non-uniform scale and a mirror
-** (det < 0: its faces turn inward), far from the origin; the reference
+/* Through instances: a holed icosphere placed three times, by a rotation
+** with a uniform scale, by a shear with a non-uniform scale and a mirror
+** (det < 0: its faces turn inward), and by a translation alone, far from
+** the origin; the reference
 ** is the long double sum over both images' triangles in world space
 ** (the expansions are taken to world space, winding.c). */
 START_TEST(fast_winding_instances)
 {
     hc_mesh m = damaged(v3(0, 0, 0), 0), ref;
     ray_scene *child = scene_of(&m, 1), *s = NULL;
-    ray_transform t[2] = {{{{0, -1.5, 0, 1e5}, {1.5, 0, 0, 2}, {0, 0, 1.5, 3}}},
+    ray_transform t[3] = {{{{0, -1.5, 0, 1e5}, {1.5, 0, 0, 2}, {0, 0, 1.5, 3}}},
                           {{{2, 0.5, 0, 1e5 + 7}, {0, -0.5, 0.3, 1},
-                            {0.2, 0, 1, 3}}}};
+                            {0.2, 0, 1, 3}}},
+                          {{{1, 0, 0, 1e5 - 6}, {0, 1, 0, 2}, {0, 0, 1, 4}}}};
     ray_vec3 *pts;
     size_t n, i;
     int k;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ref.nv = 2 * m.nv;
-    ref.nt = 2 * m.nt;
+    ref.nv = 3 * m.nv;
+    ref.nt = 3 * m.nt;
     ref.v = malloc(ref.nv * sizeof *ref.v);
     ref.idx = malloc(3 * ref.nt * sizeof *ref.idx);
-    for (k = 0; k < 2; k++) {
+    for (k = 0; k < 3; k++) {
         ck_assert_int_eq(ray_scene_add_instance(s, child, &t[k], NULL),
                          RAY_OK);
         for (i = 0; i < m.nv; i++)

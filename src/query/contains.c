@@ -363,10 +363,7 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
         return -RAY_ENOMEM;     /* which meshes are closed: found once */
     if ((flags & RAY_CONTAINS_WINDING) == 0 && !has_exact(s, ignore))
         return -RAY_EDEGENERATE;
-    /* The expansions of the winding number: made once (winding.c). */
-    if ((flags & RAY_CONTAINS_WINDING_EXACT) == 0 &&
-        ray__wexp_ensure(s, (flags & RAY_CONTAINS_WINDING) != 0) != RAY_OK)
-        return -RAY_ENOMEM;
+
     /* Instances first, as ray_intersect_all: a stale one fails the call
     ** before anything is written. */
     for (i = 0; i < s->n_prims; i++) {
@@ -378,6 +375,11 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
         if (!in->child->committed || in->child->generation != in->generation)
             return -RAY_ESTATE;
     }
+    /* The expansions of the winding number: made once (winding.c), once
+    ** no instance is stale (its child's triangles are then as committed). */
+    if ((flags & RAY_CONTAINS_WINDING_EXACT) == 0 &&
+        ray__wexp_ensure(s, (flags & RAY_CONTAINS_WINDING) != 0) != RAY_OK)
+        return -RAY_ENOMEM;
     if ((flags & RAY_CONTAINS_WINDING) == 0)
         ray__cgrid_ensure(s);
     for (i = 0; i < n; i++) {

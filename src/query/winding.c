@@ -273,8 +273,9 @@ int ray__wexp_ensure(const ray_scene *s, int all)
 /* ----------------------------------------------------------- the query */
 
 /* The frame an expansion is read in: world space through instance "in"
-** (L, cof(L) = det(L) L^-T, the translation c, |L|_2 or a bound of it),
-** or the scene's own (id). */
+** (L, cof(L) = det(L) L^-T, the translation c, |L|_2 or a bound of it;
+** id: L is the identity, only c moves it), or the scene's own (id, c
+** 0). */
 typedef struct wframe {
     int id;
     double l[3][3], cof[3][3], c[3], norm;
@@ -286,6 +287,7 @@ static void wind_frame_of(const ray__instance *in, wframe *f)
     double det, fro = 0;
 
     f->id = in == NULL || in->linear_identity;
+    f->c[0] = f->c[1] = f->c[2] = 0;
     if (in == NULL)
         return;
     for (i = 0; i < 3; i++) {
@@ -318,7 +320,7 @@ static double far_field(const ray__wexp *e, const wframe *f, ray_vec3 qw,
 
     if (f->id) {
         for (i = 0; i < 3; i++)
-            d[i] = e->p[i] - (i == 0 ? qw.x : i == 1 ? qw.y : qw.z);
+            d[i] = e->p[i] + f->c[i] - (i == 0 ? qw.x : i == 1 ? qw.y : qw.z);
     } else {
         for (i = 0; i < 3; i++)
             d[i] = f->l[i][0] * e->p[0] + f->l[i][1] * e->p[1] +
