@@ -29,12 +29,11 @@
 /* The fast winding number (the default: Barill et al.'s order-2
 ** far-field expansion through the BVH, beta 2) is approximate: a cluster
 ** of radius r seen from d > 2 r away contributes an error of order
-** (r / d)^2 of its own solid angle (measured for one triangle: 2.4e-2
-** of it at d = 2.25 r, 1/2.25 of that at each step of 1.5 in d), and
+** (r / d)^2 of its own solid angle (the Taylor series' next term), and
 ** the clusters at the edge of acceptance add up.  Measured
 ** (RAY_TEST_WINDING_ERR=1): the largest error of these tests' points is
 ** 2.8e-2, at a uniform point inside the holed icosphere of level 3 (3.5e-2
-** at 2000 such points, of which fast_winding_soup asks 1000), and 1.9e-2
+** at 2000 such points, of which fast_winding_soup asks 1000), and 2.4e-2
 ** on the 59k bunny (bench/contains.c); ray.h documents 5e-2, the
 ** tolerance here, which stays below ray_contains' margin of 0.2 about
 ** 1/2 within which it sums exactly (so inside is compared exactly). */
