@@ -26,8 +26,10 @@
 ** errors against CGAL's answer at each sample (ray_contains' where CGAL
 ** is not built), on the closed bunny and on one with holes (8 triangles
 ** removed: nothing closed, so libray answers by the winding number,
-** RAY_CONTAINS_WINDING, summed over every triangle: only a subsample of
-** the lattice is asked there).  HAVE_CGAL, HAVE_OPENVDB: the Makefile
+** RAY_CONTAINS_WINDING: only a subsample of the lattice is asked there).
+** The winding number's own table: the closed and the holed bunny's
+** winding number through the BVH against the sum over every triangle
+** (RAY_CONTAINS_WINDING_EXACT), their speeds and the largest difference.  HAVE_CGAL, HAVE_OPENVDB: the Makefile
 ** defines them where Debian's libcgal-dev / libopenvdb-dev is installed
 ** (bench/cgal_vdb.cpp); without them the libray columns alone.  Prints
 ** Markdown; asserts nothing.  BENCH_QUICK=1: fewer points, a 32^3
@@ -194,6 +196,54 @@ static void contains_row(const char *name, const ray_scene *s,
     free(c);
 }
 
+/*
+** One row of the winding number's table: points a second of the winding
+** number summed over every triangle (RAY_CONTAINS_WINDING_EXACT) and
+** through the BVH's far-field expansions (the default), medians of reps
+** interleaved passes over the same points, with "flags" (the closed
+** bunny: RAY_CONTAINS_WINDING, every mesh by the winding number); the
+** largest |fast - exact| seen, the points whose inside differs, and the
+** points within 0.2 of 1/2 (which the fast path sums again exactly:
+** ray.h's ray_contains).
+*/
+static void winding_row(const char *name, const ray_scene *s, unsigned flags,
+                        const ray_vec3 *pts, size_t n, int reps)
+{
+    double exact[16], fast[16], ratio[16], err = 0;
+    ray_inside *re = xmalloc(n * sizeof *re), *rf = xmalloc(n * sizeof *rf);
+    ray_contains_options oe = {0}, of = {0};
+    size_t i, differ = 0, near = 0;
+    int k;
+
+    oe.flags = flags | RAY_CONTAINS_WINDING_EXACT;
+    of.flags = flags;
+    for (k = -1; k < reps; k++) {             /* k = -1: warm-up */
+        double t0 = now();
+        if (ray_contains(s, pts, k < 0 ? 1 : n, &oe, re) < 0)
+            die("ray_contains (exact winding) failed");
+        if (k >= 0)
+            exact[k] = (double)n / (now() - t0);
+        t0 = now();
+        if (ray_contains(s, pts, n, &of, rf) < 0)
+            die("ray_contains (fast winding) failed");
+        if (k >= 0) {
+            fast[k] = (double)n / (now() - t0);
+            ratio[k] = fast[k] / exact[k];
+        }
+    }
+    for (i = 0; i < n; i++) {
+        double e = fabs(rf[i].winding - re[i].winding);
+        err = e > err ? e : err;
+        differ += rf[i].inside != re[i].inside;
+        near += fabs(re[i].winding - 0.5) < 0.2;
+    }
+    printf("| %s | %zu | %.2f | %.1f | %.0f | %.1e | %zu | %zu |\n", name, n,
+           median(exact, reps) / 1e3, median(fast, reps) / 1e3,
+           median(ratio, reps), err, differ, near);
+    free(re);
+    free(rf);
+}
+
 /* The lattice's sample (i, j, k), as ray_distance_grid computes it. */
 static ray_vec3 sample(ray_vec3 lo, ray_vec3 hi, unsigned n, unsigned i,
                        unsigned j, unsigned k)
@@ -233,6 +283,10 @@ int main(int argc, char **argv)
     const size_t n_uniform = quick ? 100000 : 1000000;
     const unsigned gn = quick ? 32 : 128, sub = quick ? 8 : 16;
     const unsigned holes = 8;
+    /* The exact winding number costs a pass over 59k triangles a point
+    ** (milliseconds): a few thousand points. */
+    const size_t n_wind = quick ? 200 : 2000;
+    const int wreps = quick ? 1 : 3;
     char path[1024], err[2048];
     obj_mesh om;
     ray_mesh m, hm;
@@ -301,8 +355,56 @@ int main(int argc, char **argv)
     contains_row("uniform in the box + 10%", s, cgal, uni, n_uniform, reps);
     contains_row("vertices and edge midpoints", s, cgal, hard, n_hard, reps);
     printf("\n");
+
+    /* The holed bunny: 8 triangles from the middle of the list left out. */
+    hidx = xmalloc(3 * m.triangle_count * sizeof *hidx);
+    {
+        size_t t, h = 0, first = m.triangle_count / 2;
+        for (t = 0; t < m.triangle_count; t++)
+            if (t < first || t >= first + holes) {
+                memcpy(hidx + 3 * h, m.indices + 3 * t, 3 * sizeof *hidx);
+                h++;
+            }
+        hm = m;
+        hm.indices = hidx;
+        hm.triangle_count = h;
+    }
+    if (ray_scene_new(&hs, NULL, NULL) != RAY_OK ||
+        ray_scene_add_mesh(hs, &hm, RAY_NO_MATERIAL, NULL) != RAY_OK ||
+        ray_scene_commit(hs) != RAY_OK)
+        die("libray's holed scene");
+
+    printf("### The winding number: through the BVH against every "
+           "triangle\n\n");
+    printf("The generalized winding number on the 59k bunny, one thread, "
+           "thousands of points a second, median of %d interleaved passes "
+           "over the first %zu of the uniform points: \"exact\" sums every "
+           "triangle's solid angle (RAY_CONTAINS_WINDING_EXACT), \"fast\" "
+           "takes a cluster farther than twice its radius by its order-2 "
+           "expansion (Barill et al. 2018; the default).  The closed "
+           "bunny and the holed one (%u triangles removed: nothing "
+           "closed) are asked with RAY_CONTAINS_WINDING (every mesh by the "
+           "winding number).  \"max error\": the largest |fast - exact| winding "
+           "number; \"differ\": points inside by one and not the other; "
+           "\"near 1/2\": points whose winding number is within 0.2 of "
+           "1/2, which the fast path sums again exactly.\n\n",
+           wreps, n_wind, holes);
+    printf("| mesh | n | exact (k/s) | fast (k/s) | fast / exact "
+           "| max error | differ | near 1/2 |\n"
+           "|---|---|---|---|---|---|---|---|\n");
+    winding_row("closed bunny, RAY_CONTAINS_WINDING", s,
+                RAY_CONTAINS_WINDING, uni, n_wind, wreps);
+    winding_row("holed bunny, RAY_CONTAINS_WINDING", hs,
+                RAY_CONTAINS_WINDING, uni, n_wind, wreps);
+    printf("\nThe expansions of the closed bunny: %.0f kB (%zu nodes, %.1f "
+           "bytes a triangle), made by its first fast query.\n\n",
+           (double)(s->n_wexp * sizeof *s->wexp) / 1e3, s->n_wexp,
+           (double)(s->n_wexp * sizeof *s->wexp) /
+               (double)m.triangle_count);
     if (!others()) {
         ray_scene_free(s);
+        ray_scene_free(hs);
+        free(hidx);
         free(uni);
         free(hard);
         obj_free(&om);
@@ -340,32 +442,14 @@ int main(int argc, char **argv)
         free(r);
     }
 
-    /* The holed bunny: 8 triangles from the middle of the list left out. */
-    hidx = xmalloc(3 * m.triangle_count * sizeof *hidx);
-    {
-        size_t t, h = 0, first = m.triangle_count / 2;
-        for (t = 0; t < m.triangle_count; t++)
-            if (t < first || t >= first + holes) {
-                memcpy(hidx + 3 * h, m.indices + 3 * t, 3 * sizeof *hidx);
-                h++;
-            }
-        hm = m;
-        hm.indices = hidx;
-        hm.triangle_count = h;
-    }
-    if (ray_scene_new(&hs, NULL, NULL) != RAY_OK ||
-        ray_scene_add_mesh(hs, &hm, RAY_NO_MATERIAL, NULL) != RAY_OK ||
-        ray_scene_commit(hs) != RAY_OK)
-        die("libray's holed scene");
-
     printf("### Distance-field grids: ray_distance_grid against OpenVDB\n\n");
     printf("A %u^3 lattice over the bunny's box grown by 10%% (a cube), "
            "two threads on both sides, seconds, median of %d interleaved "
            "bakes (%d for the full field); sign errors: samples whose sign is not CGAL's inside or "
            "outside%s (on the surface: libray's 0 exactly, OpenVDB's "
            "either sign).  The holed bunny has %u triangles removed; "
-           "libray answers it by the winding number summed over every "
-           "triangle, asked at every %u-th sample on each axis "
+           "libray answers it by the winding number (through the BVH), "
+           "asked at every %u-th sample on each axis "
            "(%u^3 points), its time in microseconds a point.\n\n",
            gn, grid_reps[1], grid_reps[0],
 #ifdef HAVE_CGAL
@@ -421,7 +505,7 @@ int main(int argc, char **argv)
         }
     }
     /* The holed bunny: OpenVDB's whole field; libray's sign at the
-    ** subsample (the winding number over every triangle). */
+    ** subsample (the winding number through the BVH). */
     {
         unsigned a, b, c;
         ray_vec3 *p;

@@ -109,7 +109,7 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     splice "$doc" cones "$plots/cones.md"
     awk '/^\| threads \|/{on=1} on&&!/^\|/{exit} on' "$out" > "$plots/threads.md"
     splice "$doc" threads "$plots/threads.md"
-    awk '/^## What exactness costs/{exit} /^## What a query costs/{exit} /^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
+    awk '/^## What exactness costs/{exit} /^## What a query costs/{exit} /^## Inside or outside/{exit} /^## Packets:/{exit} /^## Games and tools/{exit} /^Memory on a /{on=1} on' "$out" > "$plots/mesh.md"
     splice "$doc" mesh "$plots/mesh.md"
     awk '/^## Packets:/{exit} /^## What exactness costs/{on=1; next} on' "$out" |
         sed -e '/./,$!d' > "$plots/filter.md"

@@ -26,6 +26,19 @@
 ** from edges, or on a face an ulp off, where the angle is +-2 pi). */
 #define WIND_TOL 1e-9
 
+/* The fast winding number (the default: Barill et al.'s order-2
+** far-field expansion through the BVH, beta 2) is approximate: a cluster
+** of radius r seen from d > 2 r away contributes an error of order
+** (r / d)^2 of its own solid angle (the Taylor series' next term), and
+** the clusters at the edge of acceptance add up.  Measured
+** (RAY_TEST_WINDING_ERR=1): the largest error of these tests' points is
+** 2.8e-2, at a uniform point inside the holed icosphere of level 3 (3.5e-2
+** at 2000 such points, of which fast_winding_soup asks 1000), and 2.4e-2
+** on the 59k bunny (bench/contains.c); ray.h documents 5e-2, the
+** tolerance here, which stays below ray_contains' margin of 0.2 about
+** 1/2 within which it sums exactly (so inside is compared exactly). */
+#define FAST_TOL 5e-2
+
 static ray_scene *scene_of(const hc_mesh *m, int commit)
 {
     ray_scene *s = NULL;
@@ -198,6 +211,75 @@ static size_t hard_points(const hc_mesh *m, ray_vec3 centre, size_t n,
     return k;
 }
 
+/* hard_points' every third hard point and n uniform ones: the fast
+** winding tests' points, few enough that each test stays well under a
+** second (every point costs three passes over the triangles: the
+** reference, near_edge and the exact sum). */
+static size_t some_points(const hc_mesh *m, ray_vec3 centre, size_t n,
+                          ray_vec3 **out)
+{
+    size_t all = hard_points(m, centre, n, out), hard = all - n, i, k = 0;
+
+    for (i = 0; i < all; i++)
+        if (i >= hard || i % 3 == 0)
+            (*out)[k++] = (*out)[i];
+    return k;
+}
+
+/* A largest error seen by check_fast, for the comment on FAST_TOL
+** (RAY_TEST_WINDING_ERR=1 prints it). */
+static void report_err(const char *what, double err)
+{
+    if (getenv("RAY_TEST_WINDING_ERR") != NULL)
+        fprintf(stderr, "%s: fast winding error %.3g\n", what, err);
+}
+
+/* The fast winding number (flags without RAY_CONTAINS_WINDING_EXACT)
+** at points pts of scene s, whose triangles in world space are ref's:
+** inside and on_surface as the exact sum's (RAY_CONTAINS_WINDING_EXACT)
+** at every point; off the edges (near_edge: undefined there), the exact
+** sum within WIND_TOL and the fast one within FAST_TOL of the long
+** double sum.  Returns the largest fast error. */
+static double check_fast(const ray_scene *s, const hc_mesh *ref,
+                         const ray_vec3 *pts, size_t n, unsigned flags)
+{
+    ray_inside *f = malloc(n * sizeof *f), *e = malloc(n * sizeof *e);
+    ray_contains_options of = {0}, oe = {0};
+    double worst = 0;
+    size_t i;
+    int fast_in, exact_in;
+
+    of.flags = flags;
+    oe.flags = flags | RAY_CONTAINS_WINDING_EXACT;
+    fast_in = ray_contains(s, pts, n, &of, f);
+    exact_in = ray_contains(s, pts, n, &oe, e);
+    ck_assert_int_ge(fast_in, 0);
+    ck_assert_int_eq(fast_in, exact_in);
+    for (i = 0; i < n; i++) {
+        double w, err;
+        ck_assert_msg(f[i].inside == e[i].inside &&
+                          f[i].on_surface == e[i].on_surface,
+                      "point %zu (%.17g, %.17g, %.17g): fast %d (%.17g), "
+                      "exact %d (%.17g)", i, pts[i].x, pts[i].y, pts[i].z,
+                      f[i].inside, f[i].winding, e[i].inside, e[i].winding);
+        if (near_edge(ref, pts[i]))
+            continue;
+        w = winding_ref(ref, pts[i]);
+        ck_assert_msg(fabs(e[i].winding - w) <= WIND_TOL,
+                      "point %zu: exact winding %.17g, reference %.17g", i,
+                      e[i].winding, w);
+        err = fabs(f[i].winding - w);
+        ck_assert_msg(err <= FAST_TOL,
+                      "point %zu (%.17g, %.17g, %.17g): fast winding %.17g, "
+                      "reference %.17g", i, pts[i].x, pts[i].y, pts[i].z,
+                      f[i].winding, w);
+        worst = err > worst ? err : worst;
+    }
+    free(f);
+    free(e);
+    return worst;
+}
+
 /* A convex closed mesh at its hard points: inside and on_surface as the
 ** faces' signs say, the parity walk as the brute force's, and the
 ** winding number (off the surface) as the long double sum. */
@@ -230,7 +312,7 @@ static void check_convex(hc_mesh m, ray_vec3 centre, int winding)
     ck_assert_int_ge(in, (int)m.nv);
     ck_assert_int_eq(ray_contains(s, pts, n, NULL, NULL), count);
     if (winding) {
-        o.flags = RAY_CONTAINS_WINDING;
+        o.flags = RAY_CONTAINS_WINDING | RAY_CONTAINS_WINDING_EXACT;
         ck_assert_int_ge(ray_contains(s, pts, n, &o, out), 0);
         for (i = 0; i < n; i++) {
             double w = winding_ref(&m, pts[i]);
@@ -243,6 +325,7 @@ static void check_convex(hc_mesh m, ray_vec3 centre, int winding)
             /* Convex and closed: 1 inside, 0 outside. */
             ck_assert_msg(fabs(w - (ref == 2)) <= WIND_TOL, "w %g", w);
         }
+        report_err("convex", check_fast(s, &m, pts, n, RAY_CONTAINS_WINDING));
     }
     free(out);
     free(pts);
@@ -373,7 +456,7 @@ START_TEST(hole_crack_flip)
             /* Nothing closed: the exact answer is refused. */
             ck_assert_int_eq(ray_contains(s, pts, n, NULL, out),
                              -RAY_EDEGENERATE);
-            o.flags = RAY_CONTAINS_WINDING;
+            o.flags = RAY_CONTAINS_WINDING | RAY_CONTAINS_WINDING_EXACT;
         }
         ck_assert_int_ge(ray_contains(s, pts, n, &o, out), 0);
         for (i = 0; i < n; i++) {
@@ -393,11 +476,255 @@ START_TEST(hole_crack_flip)
                 ck_assert_int_eq(out[i].inside, w > 0.5);
             }
         }
+        report_err("hole_crack_flip",
+                   check_fast(s, &m, pts, n, RAY_CONTAINS_WINDING));
         free(out);
         free(pts);
         ray_scene_free(s);
         hc_mesh_free(&m);
         hc_mesh_free(&orig);
+    }
+}
+END_TEST
+
+/* The icosphere of level 2 (320 triangles: the BVH has inner nodes,
+** whose expansions are read) with a hole, a crack or a flipped
+** triangle, as hole_crack_flip's, at offsets 0, 1e5 and 1e6. */
+static hc_mesh damaged(ray_vec3 c, int kind)
+{
+    hc_mesh m = hc_icosphere(c, 2);
+
+    if (kind == 0) {
+        m.nt -= 3;                       /* a hole of three triangles */
+    } else if (kind == 1) {
+        unsigned *t = m.idx;             /* a crack */
+        m.v = realloc(m.v, (m.nv + 2) * sizeof *m.v);
+        m.v[m.nv] = m.v[t[0]];
+        m.v[m.nv + 1] = m.v[t[1]];
+        t[0] = (unsigned)m.nv;
+        t[1] = (unsigned)m.nv + 1;
+        m.nv += 2;
+    } else {
+        unsigned x = m.idx[3 * 7];       /* a flip */
+        m.idx[3 * 7] = m.idx[3 * 7 + 1];
+        m.idx[3 * 7 + 1] = x;
+    }
+    return m;
+}
+
+/* Mesh m and, beside it, a closed cube (centre c + (6, 0, 0)): ray_contains
+** then answers without RAY_CONTAINS_WINDING too, m by the winding number
+** (its out.winding m's alone) and the cube by parity, the BVH's nodes
+** mixing both classes of triangles (winding.c). */
+static ray_scene *scene_with_cube(const hc_mesh *m, ray_vec3 c,
+                                  unsigned flags, unsigned *geom,
+                                  hc_mesh *cube)
+{
+    ray_scene *s = NULL;
+    ray_mesh rm = hc_ray_mesh(m), rc;
+
+    rm.flags = flags;                    /* RAY_MESH_BORROW or 0 */
+    *cube = hc_cube(v3_add(c, v3(6, 0, 0)));
+    rc = hc_ray_mesh(cube);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &rm, RAY_NO_MATERIAL, geom), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &rc, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+/* The fast winding number against the long double sum and the exact
+** sum's answers (check_fast) on damaged icospheres: the three kinds at
+** the origin, the hole at offsets 1e5 and 1e6; every winding number
+** (RAY_CONTAINS_WINDING), and the open ones' by default beside a closed
+** cube. */
+START_TEST(fast_winding_damaged)
+{
+    static const double off[3] = {0, 1e5, 1e6};
+    double worst = 0;
+    int k, kind;
+
+    for (k = 0; k < 3; k++)
+        for (kind = 0; kind < 3; kind++) {
+            ray_vec3 c = v3(off[k], -off[k] * 0.4, off[k] * 0.9);
+            hc_mesh m, cube;
+            ray_scene *s;
+            ray_vec3 *pts;
+            size_t n;
+            unsigned geom;
+            if (k > 0 && kind > 0)
+                continue;
+            m = damaged(c, kind);
+            n = some_points(&m, c, 500, &pts);
+            s = scene_of(&m, 1);
+            worst = fmax(worst, check_fast(s, &m, pts, n,
+                                           RAY_CONTAINS_WINDING));
+            ray_scene_free(s);
+            if (kind < 2) {
+                s = scene_with_cube(&m, c, 0, &geom, &cube);
+                worst = fmax(worst, check_fast(s, &m, pts, n, 0));
+                ray_scene_free(s);
+                hc_mesh_free(&cube);
+            }
+            free(pts);
+            hc_mesh_free(&m);
+        }
+    report_err("damaged", worst);
+}
+END_TEST
+
+/* The same on a soup of 200 random triangles (offsets 0 and 1e6) beside
+** a closed cube, and on the finer icosphere of level 3 with a hole at
+** 1000 uniform points, where the largest error was seen (FAST_TOL). */
+START_TEST(fast_winding_soup)
+{
+    static const double off[2] = {0, 1e6};
+    double worst = 0;
+    int k;
+
+    for (k = 0; k < 2; k++) {
+        ray_vec3 c = v3(off[k] * 0.5, off[k], -off[k] * 0.2);
+        rng g = {77};
+        hc_mesh m, cube;
+        unsigned geom;
+        ray_scene *s;
+        ray_vec3 *pts;
+        size_t i, n;
+        m.nt = 200;
+        m.nv = 3 * m.nt;
+        m.v = malloc(m.nv * sizeof *m.v);
+        m.idx = malloc(3 * m.nt * sizeof *m.idx);
+        for (i = 0; i < m.nt; i++) {
+            ray_vec3 a = v3(rng_range(&g, -1, 1), rng_range(&g, -1, 1),
+                            rng_range(&g, -1, 1));
+            int j;
+            for (j = 0; j < 3; j++) {
+                m.v[3 * i + (size_t)j] =
+                    v3_add(c, v3_add(a, v3(rng_range(&g, -0.3, 0.3),
+                                           rng_range(&g, -0.3, 0.3),
+                                           rng_range(&g, -0.3, 0.3))));
+                m.idx[3 * i + (size_t)j] = (unsigned)(3 * i + (size_t)j);
+            }
+        }
+        s = scene_with_cube(&m, c, 0, &geom, &cube);
+        n = some_points(&m, c, 1000, &pts);
+        worst = fmax(worst, check_fast(s, &m, pts, n, 0));
+        free(pts);
+        ray_scene_free(s);
+        hc_mesh_free(&m);
+        hc_mesh_free(&cube);
+    }
+    {
+        hc_mesh m = hc_icosphere(v3(0, 0, 0), 3), cube;
+        ray_vec3 *pts;
+        size_t n;
+        unsigned geom;
+        ray_scene *s;
+        m.nt -= 3;
+        s = scene_with_cube(&m, v3(0, 0, 0), 0, &geom, &cube);
+        n = hard_points(&m, v3(0, 0, 0), 1000, &pts);
+        worst = fmax(worst, check_fast(s, &m, pts + (n - 1000), 1000, 0));
+        free(pts);
+        ray_scene_free(s);
+        hc_mesh_free(&m);
+        hc_mesh_free(&cube);
+    }
+    report_err("soup", worst);
+}
+END_TEST
+
+/* v's image under the 3 x 4 transform t. */
+static ray_vec3 xfm_point(const ray_transform *t, ray_vec3 v)
+{
+    const double (*m)[4] = t->m;
+
+    return v3(m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z + m[0][3],
+              m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z + m[1][3],
+              m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z + m[2][3]);
+}
+
+/* Through instances: a holed icosphere placed three times, by a rotation
+** with a uniform scale, by a shear with a non-uniform scale and a mirror
+** (det < 0: its faces turn inward), and by a translation alone, far from
+** the origin; the reference
+** is the long double sum over both images' triangles in world space
+** (the expansions are taken to world space, winding.c). */
+START_TEST(fast_winding_instances)
+{
+    hc_mesh m = damaged(v3(0, 0, 0), 0), ref;
+    ray_scene *child = scene_of(&m, 1), *s = NULL;
+    ray_transform t[3] = {{{{0, -1.5, 0, 1e5}, {1.5, 0, 0, 2}, {0, 0, 1.5, 3}}},
+                          {{{2, 0.5, 0, 1e5 + 7}, {0, -0.5, 0.3, 1},
+                            {0.2, 0, 1, 3}}},
+                          {{{1, 0, 0, 1e5 - 6}, {0, 1, 0, 2}, {0, 0, 1, 4}}}};
+    ray_vec3 *pts;
+    size_t n, i;
+    int k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ref.nv = 3 * m.nv;
+    ref.nt = 3 * m.nt;
+    ref.v = malloc(ref.nv * sizeof *ref.v);
+    ref.idx = malloc(3 * ref.nt * sizeof *ref.idx);
+    for (k = 0; k < 3; k++) {
+        ck_assert_int_eq(ray_scene_add_instance(s, child, &t[k], NULL),
+                         RAY_OK);
+        for (i = 0; i < m.nv; i++)
+            ref.v[(size_t)k * m.nv + i] = xfm_point(&t[k], m.v[i]);
+        for (i = 0; i < 3 * m.nt; i++)
+            ref.idx[(size_t)k * 3 * m.nt + i] =
+                m.idx[i] + (unsigned)((size_t)k * m.nv);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    n = some_points(&ref, v3(1e5 + 3, 2, 3), 1000, &pts);
+    report_err("instances", check_fast(s, &ref, pts, n, RAY_CONTAINS_WINDING));
+    free(pts);
+    ray_scene_free(s);
+    ray_scene_free(child);
+    hc_mesh_free(&m);
+    hc_mesh_free(&ref);
+}
+END_TEST
+
+/* An update that moves an open mesh's vertices or changes its indices
+** makes the next query's expansions anew: the fast
+** answers follow the brute force of the mesh as it is now, at points
+** that the mesh left and entered. */
+START_TEST(fast_winding_follows_updates)
+{
+    int borrow;
+
+    for (borrow = 0; borrow < 2; borrow++) {
+        hc_mesh m = damaged(v3(0, 0, 0), 0), cube;
+        ray_mesh rm = hc_ray_mesh(&m);
+        ray_scene *s;
+        ray_vec3 *pts;
+        size_t n, i;
+        unsigned geom;
+        int step;
+
+        rm.flags = borrow ? RAY_MESH_BORROW : 0;
+        s = scene_with_cube(&m, v3(0, 0, 0), rm.flags, &geom, &cube);
+        for (step = 0; step < 3; step++) {
+            n = some_points(&m, v3(1.5 * step, 0, 0), 300, &pts);
+            report_err("updates", check_fast(s, &m, pts, n, 0));
+            free(pts);
+            if (step == 0) {            /* moved and squashed: a refit */
+                for (i = 0; i < m.nv; i++)
+                    m.v[i] = v3(m.v[i].x * 0.5 + 3, m.v[i].y, m.v[i].z);
+            } else {                    /* new indices: two triangles
+                                           turned into copies of a third */
+                for (i = 0; i < 6; i++)
+                    m.idx[i] = m.idx[3 * (5 + (size_t)step) + i % 3];
+            }
+            ck_assert_int_eq(ray_scene_update_mesh(s, geom,
+                                                   borrow ? NULL : &rm),
+                             RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        }
+        ray_scene_free(s);
+        hc_mesh_free(&m);
+        hc_mesh_free(&cube);
     }
 }
 END_TEST
@@ -491,7 +818,7 @@ START_TEST(misuse)
     ck_assert_int_eq(ray_contains(s, p, 2, NULL, &r), -RAY_EINVAL);
     p[1].y = HUGE_VAL;
     ck_assert_int_eq(ray_contains(s, p, 2, NULL, &r), -RAY_EINVAL);
-    o.flags = 2;
+    o.flags = 4;
     ck_assert_int_eq(ray_contains(s, p, 1, &o, &r), -RAY_EINVAL);
     ck_assert_int_eq(ray_signed_distance(s, p[1], HUGE_VAL, NULL, &d, NULL),
                      -RAY_EINVAL);
@@ -984,6 +1311,10 @@ Suite *contains_suite(void)
     tcase_add_test(tc, icosphere_at_offsets);
     tcase_add_test(tc, nested_and_apart);
     tcase_add_test(tc, hole_crack_flip);
+    tcase_add_test(tc, fast_winding_damaged);
+    tcase_add_test(tc, fast_winding_soup);
+    tcase_add_test(tc, fast_winding_instances);
+    tcase_add_test(tc, fast_winding_follows_updates);
     tcase_add_test(tc, solids_instances_masks);
     tcase_add_test(tc, misuse);
     tcase_add_test(tc, signed_distance);

@@ -15,14 +15,31 @@
 ** and Strackee's formula ("The Solid Angle of a Plane Triangle", IEEE
 ** Trans. Biomed. Eng. 30(2), 1983), over 4 pi; its determinant's sign
 ** is the exact one, so a point an ulp off a face gets the side it is
-** on.  Summed over every triangle: Barill et al.'s far-field expansion
-** through the BVH ("Fast Winding Numbers for Soups and Clouds", 2018)
-** is not here yet.
+** on.  Through the BVH with Barill et al.'s far-field expansion ("Fast
+** Winding Numbers for Soups and Clouds", 2018: winding.c), or summed
+** over every triangle (RAY_CONTAINS_WINDING_EXACT, a mask that leaves
+** some of the triangles out, or no expansions); a point whose fast
+** winding number lies within WINDING_MARGIN of 1/2 is summed again
+** exactly, so that the expansion's error never decides its side.
 */
 #include <limits.h>
 
 #include "core/predicates.h"
 #include "query/query.h"
+
+/* A fast winding number this near 1/2 is summed again over every
+** triangle before it decides inside or outside: the expansion's error
+** (order 2, beta 2) stayed below 3.5e-2 wherever measured (the soups,
+** holes, cracks and instances of tests/check_contains.c, whose FAST_TOL
+** says where; 2.4e-2 on the 59k bunny at 2000 uniform points,
+** bench/contains.c), and ray.h documents 5e-2: a margin of four times
+** that leaves no point whose side the expansion decides wrongly there,
+** while points this near 1/2 are few (a hole's rim, the surface itself,
+** a soup's folds). */
+#define WINDING_MARGIN 0.2
+
+/* The flags ray_contains knows. */
+#define KNOWN_FLAGS (RAY_CONTAINS_WINDING | RAY_CONTAINS_WINDING_EXACT)
 
 /* A query's state, for one point and scene (the top one, or an
 ** instance's child, searched with q in its space). */
@@ -33,6 +50,8 @@ typedef struct cquery {
     unsigned ignore;             /* options->ignore_mask: the query's
                                     mask is ~ignore */
     int winding_all;             /* RAY_CONTAINS_WINDING */
+    int exact;                   /* RAY_CONTAINS_WINDING_EXACT */
+    int fast;                    /* some angles came from expansions */
     int parity_only;             /* open triangles not summed: only the
                                     solids and closed meshes
                                     (ray__solid_holds) */
@@ -42,41 +61,11 @@ typedef struct cquery {
     double angle;                /* sum of signed solid angles */
 } cquery;
 
-/* ------------------------------------------------- the winding number */
-
-/* Triangle a, b, c's signed solid angle seen from q (world space), by
-** Van Oosterom and Strackee: tan(omega / 2) = det[a b c] / (|a||b||c| +
-** (a.b)|c| + (b.c)|a| + (c.a)|b|), with a, b, c taken from q.  Positive
-** for a triangle seen clockwise from q (q behind an outward face); 0 for
-** q in its plane (on the triangle: the mean of the two sides' +-2 pi). */
-static double solid_angle(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q)
-{
-    double det = ray__orient3d(a, b, c, q), la, lb, lc, den;
-    ray_vec3 x, y, z;
-
-    if (det == 0)
-        return 0;
-    x = v3_sub(a, q), y = v3_sub(b, q), z = v3_sub(c, q);
-    la = v3_length(x), lb = v3_length(y), lc = v3_length(z);
-    den = la * lb * lc + v3_dot(x, y) * lc + v3_dot(y, z) * la +
-          v3_dot(z, x) * lb;
-    return 2 * atan2(det, den);
-}
-
 /* ------------------------------------------------------------ the scene */
 
 static int counted(const cquery *cq, const ray__prim *p)
 {
     return p->enabled && !p->removed && (p->mask & ~cq->ignore) != 0;
-}
-
-/* Whether triangle slot i is answered by parity (a closed mesh's). */
-static int by_parity(const ray_scene *s, const cquery *cq, unsigned i)
-{
-    const ray__prim *p = &s->prims[s->tri_ids[i].geom_id];
-
-    return !cq->winding_all && p->kind == RAY__KIND_MESH &&
-           s->meshes[p->mesh].closed;
 }
 
 static void search_in(const ray_scene *s, cquery *cq);
@@ -104,6 +93,7 @@ static void visit_instance(const ray_scene *s, const ray__prim *p,
     child.angle = 0;
     search_in(in->child, &child);
     cq->stale |= child.stale;
+    cq->fast |= child.fast;
     cq->on |= child.on;
     cq->parity ^= child.parity;
     cq->angle += child.angle;
@@ -187,45 +177,30 @@ static void walk_solids(const ray_scene *s, cquery *cq)
     }
 }
 
-/* The winding part: every live triangle not answered by parity, its
-** solid angle in world space. */
-static void sum_angles(const ray_scene *s, cquery *cq)
-{
-    size_t i;
-
-    for (i = 0; i < s->n_live_tris; i++) {
-        ray__tri t;
-        if (by_parity(s, cq, (unsigned)i) ||
-            !counted(cq, &s->prims[s->tri_ids[i].geom_id]))
-            continue;
-        t = ray__tri_of(s, i);
-        if (cq->in != NULL) {
-            t.a = ray__instance_point_to_world(cq->in, t.a);
-            t.b = ray__instance_point_to_world(cq->in, t.b);
-            t.c = ray__instance_point_to_world(cq->in, t.c);
-        }
-        cq->angle += solid_angle(t.a, t.b, t.c, cq->qw);
-    }
-}
-
-/* Whether s has counted triangles answered by the winding number (so
-** that every one of its slots must be visited), whether it has counted
-** instances, and whether every enabled closed mesh is counted (so that
-** the grid's labels apply, scene/parity.c): a scan of its geometry
-** records, not its triangles. */
+/* Whether s has counted triangles answered by the winding number,
+** whether some enabled ones of theirs are left out by the mask (hidden:
+** then the expansions, which hold them all, do not apply), whether it
+** has counted instances, and whether every enabled closed mesh is
+** counted (so that the grid's labels apply, scene/parity.c): a scan of
+** its geometry records, not its triangles. */
 static void kinds_in(const ray_scene *s, const cquery *cq, int *open,
-                     int *instances, int *all_closed)
+                     int *hidden, int *instances, int *all_closed)
 {
     size_t i;
 
-    *open = *instances = 0;
+    *open = *hidden = *instances = 0;
     *all_closed = 1;
     for (i = 0; i < s->n_prims; i++) {
         const ray__prim *p = &s->prims[i];
         if (!counted(cq, p)) {
-            if (p->kind == RAY__KIND_MESH && p->enabled && !p->removed &&
-                s->meshes[p->mesh].closed)
+            int closed = p->kind == RAY__KIND_MESH && s->meshes[p->mesh].closed;
+            if (!p->enabled || p->removed)
+                continue;
+            if (closed)
                 *all_closed = 0;
+            if (p->kind == RAY__KIND_TRIANGLE ||
+                (p->kind == RAY__KIND_MESH && (cq->winding_all || !closed)))
+                *hidden = 1;
             continue;
         }
         if (p->kind == RAY__KIND_INSTANCE)
@@ -243,9 +218,9 @@ static void kinds_in(const ray_scene *s, const cquery *cq, int *open,
 static void search_in(const ray_scene *s, cquery *cq)
 {
     size_t i;
-    int open, instances, all_closed;
+    int open, hidden, instances, all_closed;
 
-    kinds_in(s, cq, &open, &instances, &all_closed);
+    kinds_in(s, cq, &open, &hidden, &instances, &all_closed);
     walk_solids(s, cq);
     if (!cq->winding_all) {
         unsigned parity;
@@ -261,8 +236,17 @@ static void search_in(const ray_scene *s, cquery *cq)
         cq->on |= on;
         cq->parity ^= parity;
     }
-    if (open && !cq->parity_only)
-        sum_angles(s, cq);
+    if (open && !cq->parity_only) {
+        double a;
+        if (!cq->exact && !hidden &&
+            ray__winding_fast(s, cq->qw, cq->in, cq->winding_all, &a)) {
+            cq->angle += a;
+            cq->fast = 1;
+        } else {
+            cq->angle += ray__winding_exact(s, cq->qw, cq->in, cq->ignore,
+                                            cq->winding_all);
+        }
+    }
     for (i = 0; instances && i < s->n_prims; i++) {
         const ray__prim *p = &s->prims[i];
         if (p->kind == RAY__KIND_INSTANCE && counted(cq, p))
@@ -293,12 +277,14 @@ static int has_exact(const ray_scene *s, unsigned ignore)
 
 /* A query's state for point q of the top scene, nothing counted yet. */
 static void cquery_start(cquery *cq, ray_vec3 q, unsigned ignore,
-                         int winding_all, int parity_only)
+                         unsigned flags, int parity_only)
 {
     cq->q = cq->qw = q;
     cq->in = NULL;
     cq->ignore = ignore;
-    cq->winding_all = winding_all;
+    cq->winding_all = (flags & RAY_CONTAINS_WINDING) != 0;
+    cq->exact = (flags & RAY_CONTAINS_WINDING_EXACT) != 0;
+    cq->fast = 0;
     cq->parity_only = parity_only;
     cq->parity = 0;
     cq->on = 0;
@@ -309,16 +295,24 @@ static void cquery_start(cquery *cq, ray_vec3 q, unsigned ignore,
 /* One point's answer: 1 inside (on the surface included), 0 outside, or
 ** -RAY_ESTATE. */
 static int contains_one(const ray_scene *s, ray_vec3 q, unsigned ignore,
-                        int winding_all, ray_inside *out)
+                        unsigned flags, ray_inside *out)
 {
     cquery cq;
     double w;
 
-    cquery_start(&cq, q, ignore, winding_all, 0);
+    cquery_start(&cq, q, ignore, flags, 0);
     search_in(s, &cq);
     if (cq.stale)
         return -RAY_ESTATE;
     w = cq.angle / (4 * RAY__PI);
+    if (cq.fast && fabs(w - 0.5) < WINDING_MARGIN) {
+        /* Near 1/2: the exact sum decides (WINDING_MARGIN). */
+        cquery_start(&cq, q, ignore, flags | RAY_CONTAINS_WINDING_EXACT, 0);
+        search_in(s, &cq);
+        if (cq.stale)
+            return -RAY_ESTATE;
+        w = cq.angle / (4 * RAY__PI);
+    }
     out->on_surface = cq.on;
     out->winding = w;
     /* Parity and winding combine as crossings do: a point inside an
@@ -345,7 +339,7 @@ int ray__solid_holds(const ray_scene *s, ray_vec3 q)
 
     if (ray__closed_ensure(s) != RAY_OK)
         return 0;           /* out of memory: no closed mesh to be in */
-    cquery_start(&cq, q, 0, 0, 1);
+    cquery_start(&cq, q, 0, 0u, 1);
     search_in(s, &cq);
     return !cq.stale && (cq.on || (cq.parity & 1u) != 0);
 }
@@ -359,7 +353,7 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
     int inside = 0;
 
     if (s == NULL || (points == NULL && n > 0) || n > INT_MAX ||
-        (flags & ~RAY_CONTAINS_WINDING) != 0)
+        (flags & ~KNOWN_FLAGS) != 0)
         return -RAY_EINVAL;
     for (i = 0; i < n; i++)
         if (!v3_isfinite(points[i]))
@@ -370,6 +364,7 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
         return -RAY_ENOMEM;     /* which meshes are closed: found once */
     if ((flags & RAY_CONTAINS_WINDING) == 0 && !has_exact(s, ignore))
         return -RAY_EDEGENERATE;
+
     /* Instances first, as ray_intersect_all: a stale one fails the call
     ** before anything is written. */
     for (i = 0; i < s->n_prims; i++) {
@@ -381,12 +376,16 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
         if (!in->child->committed || in->child->generation != in->generation)
             return -RAY_ESTATE;
     }
+    /* The expansions of the winding number: made once (winding.c), once
+    ** no instance is stale (its child's triangles are then as committed). */
+    if ((flags & RAY_CONTAINS_WINDING_EXACT) == 0 &&
+        ray__wexp_ensure(s, (flags & RAY_CONTAINS_WINDING) != 0) != RAY_OK)
+        return -RAY_ENOMEM;
     if ((flags & RAY_CONTAINS_WINDING) == 0)
         ray__cgrid_ensure(s);
     for (i = 0; i < n; i++) {
         ray_inside r;
-        int rc = contains_one(s, points[i], ignore,
-                              (flags & RAY_CONTAINS_WINDING) != 0, &r);
+        int rc = contains_one(s, points[i], ignore, flags, &r);
         if (rc < 0)
             return rc;
         inside += rc;

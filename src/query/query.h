@@ -35,6 +35,32 @@ typedef struct ray__gate {
 int ray__solid_holds(const ray_scene *s, ray_vec3 q);
 
 /*
+** The generalized winding number's parts (winding.c), as sums of signed
+** solid angles (4 pi per turn) at the world point qw of scene s's
+** triangles, their corners taken to world space through instance "in"
+** (NULL: s is the top scene).  all: every triangle; else those of single
+** triangles and open meshes (not a closed mesh's: ray__closed_ensure
+** first).
+** ray__solid_angle -- one triangle's (Van Oosterom and Strackee).
+** ray__winding_exact -- summed over every live triangle whose geometry
+** is enabled and has a mask bit outside "ignore".
+** ray__wexp_ensure -- the expansions of s and of its instances'
+** children made, where their queries need them (all: any triangle),
+** under each scene's lock: RAY_OK or RAY_ENOMEM (a later call tries
+** again).
+** ray__winding_fast -- through the BVH and the expansions, every
+** triangle of the class counted (the caller checks that no mask leaves
+** one out): 1 with *angle set, or 0 where s has no expansions (no lock
+** made them), nothing set.
+*/
+double ray__solid_angle(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q);
+double ray__winding_exact(const ray_scene *s, ray_vec3 qw,
+                          const ray__instance *in, unsigned ignore, int all);
+int ray__wexp_ensure(const ray_scene *s, int all);
+int ray__winding_fast(const ray_scene *s, ray_vec3 qw,
+                      const ray__instance *in, int all, double *angle);
+
+/*
 ** Nearest hit / any hit over the scene, counting intersection tests, in
 ** all and by kind of primitive, into *st (may be NULL), with the
 ** scene's filters of that kind of query: ray_trace's and the shadow

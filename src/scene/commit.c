@@ -294,6 +294,16 @@ int ray_scene_commit(ray_scene *s)
     ** (out of memory here: the queries answer RAY_ENOMEM). */
     if (s->dirty & (RAY__DIRTY_TRIS | RAY__DIRTY_REFIT))
         s->closed_known = s->cgrid_lock == NULL && ray__closed_all(s) == RAY_OK;
+    /* The winding number's expansions (query/winding.c) follow the
+    ** triangles and their closedness: dropped here, made again by the
+    ** first query that needs them (none without the lock: every
+    ** triangle is summed then). */
+    if (s->dirty & (RAY__DIRTY_TRIS | RAY__DIRTY_REFIT)) {
+        ray__free(s, s->wexp, s->n_wexp * sizeof *s->wexp);
+        s->wexp = NULL;
+        s->n_wexp = 0;
+        s->wexp_known = 0;
+    }
     s->dirty = 0;
     scene_summary(s);
     scene_box(s);

@@ -214,6 +214,22 @@ typedef struct ray__cgrid {
     size_t bytes;
 } ray__cgrid;
 
+/*
+** The far-field expansion of the winding number over the triangles under
+** one wide node of tri_bvh (query/winding.c: Barill et al. 2018's order
+** 2): the centre p (area-weighted centroid), a radius r that every corner
+** under the node is within, and per class (0: the triangles the winding
+** number answers by default, single triangles and open meshes'; 1: the
+** closed meshes', which only RAY_CONTAINS_WINDING sums) the vector area
+** sum n = sum a_t n_t and the tensor m[3 i + j] = sum a_t (c_t - p)_i
+** n_t,j.  classes: bit c set where class c has a triangle there.
+*/
+typedef struct ray__wexp {
+    double p[3], r, area;
+    double n[2][3], m[2][9];
+    unsigned classes;
+} ray__wexp;
+
 struct ray_scene {
     ray__allocator alloc;    /* the user's, or libc's */
     ray__prim *prims;
@@ -251,6 +267,12 @@ struct ray_scene {
     int closed_known;        /* every mesh's "closed" found since the last
                                 commit that changed a mesh (guarded by
                                 cgrid_lock: ray__closed_ensure) */
+    ray__wexp *wexp;         /* ray_contains' expansions, one per wide node
+                                of tri_bvh (query/winding.c), made by the
+                                first query that needs them after a commit
+                                that changed a mesh (under cgrid_lock) */
+    size_t n_wexp;           /* their count (0: none made) */
+    int wexp_known;          /* wexp made since that commit */
     ray__bvh prim_bvh;       /* over bounded prims: spheres, polygons */
     unsigned *planes;        /* the unbounded prims, tested apart */
     size_t n_planes;

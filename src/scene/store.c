@@ -131,6 +131,7 @@ void ray_scene_free(ray_scene *s)
     ** freed here rather than through it, so that no two files call each
     ** other). */
     ray__free(s, s->cgrid.block, s->cgrid.bytes);
+    ray__free(s, s->wexp, s->n_wexp * sizeof *s->wexp);
     ray__mutex_free(&s->alloc, s->cgrid_lock);
     ray__free(s, s->planes, s->n_planes * sizeof *s->planes);
     ray__free(s, s->prims, s->cap_prims * sizeof *s->prims);
