@@ -455,7 +455,7 @@ static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
     ray_ray rr;
     ray_hit h;
 
-    if (!ray__ray_usable(r) || s->tri_bvh.n_wide == 0)
+    if (!trav_usable(r) || s->tri_bvh.n_wide == 0)
         return 0;
     counts_light(&qc, 0);
     rr = *r;
@@ -475,7 +475,7 @@ static int query_any_tris(const ray_scene *s, const ray_ray *r)
     trav tr;
     ray_ray rr;
 
-    if (!ray__ray_usable(r) || s->tri_bvh.n_wide == 0)
+    if (!trav_usable(r) || s->tri_bvh.n_wide == 0)
         return 0;
     counts_light(&qc, 1);
     rr = *r;
@@ -494,7 +494,7 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
 
     if (g == NULL && st == NULL && tris_only(s))
         return query_nearest_tris(s, r, hit);
-    if (!ray__ray_usable(r))
+    if (!trav_usable(r))
         return 0;
     rr = *r;
     counts_start(&qc, g, 0);
@@ -517,7 +517,7 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
 
     if (g == NULL && st == NULL && tris_only(s))
         return query_any_tris(s, r);
-    if (!ray__ray_usable(r))
+    if (!trav_usable(r))
         return 0;
     rr = *r;
     counts_start(&qc, g, 1);
@@ -559,7 +559,7 @@ static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
     tri_best tb;
     trav tr;
 
-    if (!ray__ray_usable(r))
+    if (!trav_usable(r))
         return 0;
     if (!tris_only(child)) {
         if (qc->any)
