@@ -448,6 +448,71 @@ START_TEST(plain_queries_should_answer_as_the_general_ones)
 END_TEST
 
 /*
+** Which rays a query takes: the AVX copy tests a ray's usability in two
+** registers (slab.h's trav_usable), the baseline by ray__ray_usable.
+** Every field of a ray that hits (origin, direction, tmin, tmax) set in
+** turn to NaN, +-Inf, +-0 and a huge value: both copies, nearest and
+** any hit, answer a hit exactly when ray__ray_usable takes the ray and
+** the triangle under it is hit, and nothing otherwise.
+*/
+START_TEST(unusable_rays_should_miss_in_every_copy)
+{
+    const double odd[] = {(double)NAN, HUGE_VAL, -HUGE_VAL, 0.0, -0.0,
+                          1e308};
+    ray_vec3 v[3] = {{-100, -100, 0}, {100, -100, 0}, {0, 100, 0}};
+    unsigned idx[3] = {0, 1, 2};
+    ray_mesh m = {0};
+    unsigned mat;
+    ray_scene *s = new_scene(&mat);
+    ray_ray base = make_ray(v3(0.25, 0.5, 5), v3(0.01, 0.02, -1), 0,
+                            HUGE_VAL);
+    size_t f, k;
+
+    m.vertices = v;
+    m.vertex_count = 3;
+    m.indices = idx;
+    m.triangle_count = 1;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    /* Fields 0-7 one at a time; 8: the whole direction; 9: tmin at
+    ** tmax, about where the hit lies. */
+    for (f = 0; f < 10; f++)
+        for (k = 0; k < sizeof odd / sizeof odd[0]; k++) {
+            ray_ray r = base;
+            double x = odd[k];
+            ray_hit a, b;
+            int want;
+            switch (f) {
+            case 0: r.org.x = x; break;
+            case 1: r.org.y = x; break;
+            case 2: r.org.z = x; break;
+            case 3: r.dir.x = x; break;
+            case 4: r.dir.y = x; break;
+            case 5: r.dir.z = x; break;
+            case 6: r.tmin = x; break;
+            case 7: r.tmax = x; break;
+            case 8: r.dir = v3(x, x, x); break;
+            default: r.tmin = r.tmax = 5 + x * 0; break; /* NaN stays */
+            }
+            want = ray__ray_usable(&r) &&
+                   ray_triangle_watertight(&r, v[0], v[1], v[2], &a);
+            ck_assert_msg(ray_intersect(s, &r, &a, NULL) == want,
+                          "field %zu value %g", f, x);
+            ck_assert_int_eq(ray_occluded(s, &r, NULL), want);
+            ck_assert_int_eq(ray__intersect_tris_base(s, &r, &b), want);
+            ck_assert_int_eq(ray__occluded_tris_base(s, &r), want);
+#if RAY__AVX2_COPY
+            if (ray__cpu_has_avx2()) {
+                ck_assert_int_eq(ray__intersect_tris_avx2(s, &r, &b), want);
+                ck_assert_int_eq(ray__occluded_tris_avx2(s, &r), want);
+            }
+#endif
+        }
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
 ** The AVX copy sets a ray's traversal data up with the three axes in one
 ** register (slab.h's trav_init); the baseline one axis at a time.  The
 ** same bits, on rays whose origins lie on floats, between two floats, at
@@ -1383,6 +1448,7 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, mesh_should_build_a_million_triangles_in_bounded_memory);
     tcase_add_test(mesh, float_mesh_should_build_a_million_triangles_in_80_bytes_each);
     tcase_add_test(mesh, leaf_corners_should_be_the_geometrys);
+    tcase_add_test(mesh, unusable_rays_should_miss_in_every_copy);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_at_every_thread_count);
     tcase_add_test(mesh, threaded_refit_should_fit_the_same_boxes_at_every_thread_count);
     tcase_add_test(mesh, threaded_build_should_fail_cleanly_and_stage_its_setting);

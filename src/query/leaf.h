@@ -83,6 +83,92 @@ static inline void tri_hit(unsigned i, const float *rows, unsigned n,
 }
 
 /*
+** ray__triangle_fill (prim/triangle.c) on the corners *c: the record of
+** a triangle hit.  The AVX2 copy computes it in the lanes of a register
+** (x, y, z and a lane not used) with the same operations in the same
+** order, lane for lane -- the cross product's products and difference,
+** the division by the largest component and the product by 1 / |n|, the
+** point's and its error bound's sums of products: IEEE arithmetic rounds
+** each the same in a lane as alone -- so the same bits (tests/check_bvh.c
+** compares the records with ray_triangle_watertight's), at about half
+** the instructions of the call (callgrind, bench/raycost's camera rays
+** that hit, issue 34).  The plain copy calls it.
+*/
+#if defined(__AVX2__) && !defined(RAY_NO_SIMD)
+static inline __m256d corner_lanes(const ray_vec3 *v)
+{
+    /* x, y, z and 0: not a read past the corner (the last corner of
+    ** leaf_tri ends its array). */
+    return _mm256_maskload_pd(&v->x, _mm256_set_epi64x(0, -1, -1, -1));
+}
+
+static inline void vec_from_lanes(ray_vec3 *v, __m256d x)
+{
+    double l[4];
+
+    _mm256_storeu_pd(l, x);
+    v->x = l[0];
+    v->y = l[1];
+    v->z = l[2];
+}
+
+static inline int tri_fill(const ray__tri *c, double t, double beta,
+                           double gamma, ray_hit *hit)
+{
+    __m256d a = corner_lanes(&c->a), b = corner_lanes(&c->b);
+    __m256d cc = corner_lanes(&c->c);
+    __m256d e1 = _mm256_sub_pd(b, a), e2 = _mm256_sub_pd(cc, a);
+    /* yzx and zxy: v3_cross's x = e1.y e2.z - e1.z e2.y and the others */
+    __m256d cr = _mm256_sub_pd(
+        _mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 0, 2, 1)),
+                      _mm256_permute4x64_pd(e2, _MM_SHUFFLE(3, 1, 0, 2))),
+        _mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 1, 0, 2)),
+                      _mm256_permute4x64_pd(e2, _MM_SHUFFLE(3, 0, 2, 1))));
+    double alpha = 1.0 - beta - gamma, m, len, q[4];
+    ray_vec3 n;
+    __m256d pa, pb, pc, err, ok;
+
+    vec_from_lanes(&n, cr);
+    if (!v3_normalizable(n))            /* v3_normalize's test */
+        return 0;
+    m = dmax(dmax(fabs(n.x), fabs(n.y)), fabs(n.z));
+    cr = _mm256_div_pd(cr, _mm256_set1_pd(m));
+    _mm256_storeu_pd(q, cr);
+    len = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    cr = _mm256_mul_pd(cr, _mm256_set1_pd(1.0 / len));
+    pa = _mm256_mul_pd(a, _mm256_set1_pd(alpha));
+    pb = _mm256_mul_pd(b, _mm256_set1_pd(beta));
+    pc = _mm256_mul_pd(cc, _mm256_set1_pd(gamma));
+    {
+        __m256d sign = _mm256_set1_pd(-0.0);
+        err = _mm256_add_pd(_mm256_add_pd(_mm256_andnot_pd(sign, pa),
+                                          _mm256_andnot_pd(sign, pb)),
+                            _mm256_andnot_pd(sign, pc));
+    }
+    err = _mm256_add_pd(_mm256_mul_pd(err, _mm256_set1_pd(ray__gamma(7))),
+                        _mm256_set1_pd(4 * RAY__TINY));
+    /* err finite in x, y, z (ray__triangle_fill says why that is p's) */
+    ok = _mm256_cmp_pd(_mm256_sub_pd(err, err), _mm256_setzero_pd(),
+                       _CMP_EQ_OQ);
+    if ((_mm256_movemask_pd(ok) & 7) != 7)
+        return 0;
+    hit->t = t;
+    vec_from_lanes(&hit->p, _mm256_add_pd(_mm256_add_pd(pa, pb), pc));
+    vec_from_lanes(&hit->n, cr);
+    hit->u = beta;
+    hit->v = gamma;
+    vec_from_lanes(&hit->p_err, err);
+    return 1;
+}
+#else
+static inline int tri_fill(const ray__tri *c, double t, double beta,
+                           double gamma, ray_hit *hit)
+{
+    return ray__triangle_fill(c->a, c->b, c->c, t, beta, gamma, hit);
+}
+#endif
+
+/*
 ** The hit record of b (a triangle found: index != TRI_NONE) at t, in the
 ** space of scene s, into *h: 1, or 0 if it did not fill -- which cannot
 ** happen, as a triangle that was hit has a normal (ray__tri_of).  Every
@@ -92,9 +178,10 @@ static inline void tri_hit(unsigned i, const float *rows, unsigned n,
 static inline int tri_record(const ray_scene *s, const tri_best *b,
                              double t, ray_hit *h)
 {
-    ray__tri c = ray__leaf_tri(s, b->index, b->rows, b->n);
+    ray__tri copy;
+    const ray__tri *c = ray__leaf_tri_at(s, b->index, b->rows, b->n, &copy);
 
-    if (!ray__triangle_fill(c.a, c.b, c.c, t, b->beta, b->gamma, h))
+    if (!tri_fill(c, t, b->beta, b->gamma, h))
         return 0;
     h->geom_id = s->tri_ids[b->index].geom_id;
     h->prim_id = s->tri_ids[b->index].prim_id;
@@ -211,6 +298,10 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
     unsigned n = end - first, j0;
     int found = 0;
 
+    /* The double corners the exact test reads for the filter's
+    ** survivors, asked for before the filter runs on the rows. */
+    if (s->leaf_tri != NULL)
+        prefetch_bytes(s->leaf_tri + first, n * sizeof *s->leaf_tri);
     if (s->watertight && !trav_frame(tr, r, s))
         return 0;
     for (j0 = 0; j0 < n; j0 += RAY__LEAF_MAX) {

@@ -10,6 +10,7 @@
 
 #if defined(_MSC_VER)
 #include <intrin.h>             /* _BitScanForward (lowest_bit) */
+#include <xmmintrin.h>          /* _mm_prefetch (RAY__PREFETCH) */
 #endif
 
 #include "query/query.h"
@@ -176,6 +177,34 @@ static inline __m128 floats_step(__m256d x, int up)
 #endif
 
 /*
+** ray__ray_usable (prim/prim.h) for this copy's queries: in the AVX copy
+** in two registers -- the origin and the direction's x, then the
+** direction and tmin -- where the plain form's six subtractions, sums
+** and three compares were a tenth of a query that misses the scene's
+** box (callgrind, issue 34).  The same answer: x - x == 0 exactly when x
+** is finite (the plain form sums the six differences, 0 only if each is
+** 0); a non-zero direction component; tmin < tmax (NaN: not).
+*/
+static inline int trav_usable(const ray_ray *r)
+{
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+    __m256d a = _mm256_loadu_pd(&r->org.x);          /* org, dir.x */
+    __m256d d = _mm256_loadu_pd(&r->dir.x);          /* dir, tmin */
+    __m256d zero = _mm256_setzero_pd();
+    /* bits 0-2: the origin's and the direction's x, y, z finite */
+    int finite = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(a, a), zero,
+                                                  _CMP_EQ_OQ)) &
+                 _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(d, d), zero,
+                                                  _CMP_EQ_OQ));
+    int nonzero = _mm256_movemask_pd(_mm256_cmp_pd(d, zero, _CMP_NEQ_UQ)) & 7;
+
+    return ((finite & 7) == 7) & (nonzero != 0) & (r->tmin < r->tmax);
+#else
+    return ray__ray_usable(r);
+#endif
+}
+
+/*
 ** The traversal data of r, a ray that passed ray__ray_usable.  Free of
 ** branches on the ray's signs and roundings (each a coin toss for
 ** incoherent rays): the choices are made by indexing, and the axes are
@@ -254,6 +283,33 @@ static inline int lowest_bit(unsigned mask)
         k++;
     return k;
 #endif
+}
+
+/*
+** Ask the cache for the lines of [p, p + bytes) now, so that their misses
+** overlap the work done before they are read, as a traversal's work
+** between deciding to visit a slot and reading it is otherwise stalled
+** behind each miss in turn.  On the 940k bunny a camera ray that hits
+** visits leaves whose float rows and double corners (leaf_tri, 72 bytes
+** a triangle) lie far apart, and a random ray's are cold: the measured
+** gain is in the closing note of issue 34 (bench/raycost, bench/mesh).
+** A hint only: no fault, no effect on any answer.
+*/
+#if defined(__GNUC__)
+#define RAY__PREFETCH(p) __builtin_prefetch(p)
+#elif defined(_MSC_VER)
+#define RAY__PREFETCH(p) _mm_prefetch((const char *)(p), _MM_HINT_T0)
+#else
+#define RAY__PREFETCH(p) ((void)(p))
+#endif
+#define RAY__CACHE_LINE 64
+
+static inline void prefetch_bytes(const void *p, size_t bytes)
+{
+    const char *at = (const char *)p, *stop = at + bytes;
+
+    for (; at < stop; at += RAY__CACHE_LINE)
+        RAY__PREFETCH(at);
 }
 
 /* Node q's bound array at byte offset "at" (one of trav's offsets). */

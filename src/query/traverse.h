@@ -138,6 +138,20 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
     return 1;
 }
 
+/* A slot pushed on the traversal stack: what it will read first (an
+** inner node's boxes, a triangle leaf's float rows) asked of the cache
+** now, as it is popped after the nearer slot's work. */
+static inline void prefetch_slot(const ray_scene *s, const ray__bvh *bvh,
+                                 unsigned child, unsigned count, int leaf)
+{
+    if (count == 0)
+        prefetch_bytes(&bvh->wide[child], sizeof(ray__wnode));
+    else if (leaf == LEAF_TRIANGLES)
+        prefetch_bytes(s->leaf_f + RAY__LEAF_ROWS * (size_t)child,
+                       RAY__LEAF_ROWS * sizeof(float) *
+                           (count & ~RAY__LEAF));
+}
+
 /* A node's slot waiting on the traversal stack: child and count as in
 ** ray__wnode, and where the ray enters its box. */
 typedef struct pending {
@@ -193,6 +207,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
                 int far = near == k0 ? k1 : k0;
                 stack[sp].child = q->child[far];
                 stack[sp].count = q->count[far];
+                prefetch_slot(s, bvh, q->child[far], q->count[far], leaf);
                 stack[sp++].t = entry[far];
                 child = q->child[near];
                 count = q->count[near];
@@ -207,6 +222,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
                 p.child = q->child[k];
                 p.count = q->count[k];
                 p.t = entry[k];
+                prefetch_slot(s, bvh, p.child, p.count, leaf);
                 for (j = sp; !any && j > base && stack[j - 1].t < p.t; j--)
                     stack[j] = stack[j - 1];
                 stack[j] = p;
@@ -439,7 +455,7 @@ static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
     ray_ray rr;
     ray_hit h;
 
-    if (!ray__ray_usable(r) || s->tri_bvh.n_wide == 0)
+    if (!trav_usable(r) || s->tri_bvh.n_wide == 0)
         return 0;
     counts_light(&qc, 0);
     rr = *r;
@@ -459,7 +475,7 @@ static int query_any_tris(const ray_scene *s, const ray_ray *r)
     trav tr;
     ray_ray rr;
 
-    if (!ray__ray_usable(r) || s->tri_bvh.n_wide == 0)
+    if (!trav_usable(r) || s->tri_bvh.n_wide == 0)
         return 0;
     counts_light(&qc, 1);
     rr = *r;
@@ -478,7 +494,7 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
 
     if (g == NULL && st == NULL && tris_only(s))
         return query_nearest_tris(s, r, hit);
-    if (!ray__ray_usable(r))
+    if (!trav_usable(r))
         return 0;
     rr = *r;
     counts_start(&qc, g, 0);
@@ -501,7 +517,7 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
 
     if (g == NULL && st == NULL && tris_only(s))
         return query_any_tris(s, r);
-    if (!ray__ray_usable(r))
+    if (!trav_usable(r))
         return 0;
     rr = *r;
     counts_start(&qc, g, 1);
@@ -543,7 +559,7 @@ static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
     tri_best tb;
     trav tr;
 
-    if (!ray__ray_usable(r))
+    if (!trav_usable(r))
         return 0;
     if (!tris_only(child)) {
         if (qc->any)
