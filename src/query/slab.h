@@ -9,8 +9,7 @@
 #include <string.h>
 
 #if defined(_MSC_VER)
-#include <intrin.h>             /* _BitScanForward (lowest_bit) */
-#include <xmmintrin.h>          /* _mm_prefetch (RAY__PREFETCH) */
+#include <intrin.h>             /* _BitScanForward, _mm_prefetch */
 #endif
 
 #include "query/query.h"
@@ -297,7 +296,7 @@ static inline int lowest_bit(unsigned mask)
 */
 #if defined(__GNUC__)
 #define RAY__PREFETCH(p) __builtin_prefetch(p)
-#elif defined(_MSC_VER)
+#elif defined(_MSC_VER) && (defined(_M_X64) || defined(_M_IX86))
 #define RAY__PREFETCH(p) _mm_prefetch((const char *)(p), _MM_HINT_T0)
 #else
 #define RAY__PREFETCH(p) ((void)(p))
