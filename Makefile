@@ -16,6 +16,17 @@ DESTDIR    ?=
 CC         ?= cc
 CXX        ?= c++
 CFLAGS     ?= -O2 -g
+
+# A quiet build: one short line a file ("CC src/scene/commit.c"), the
+# commands themselves with V=1 (as Linux's and Git's Makefiles).
+V ?= 0
+ifeq ($(V),1)
+Q :=
+say := @:
+else
+Q := @
+say := @printf '  %-5s %s\n'
+endif
 LDFLAGS    ?=
 BUILD      ?= $(if $(filter 0,$(PNG)),build/nopng,build)
 -include config.mak
@@ -134,7 +145,8 @@ AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
 # installed.
 $(BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | deps-build
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Isrc -fPIC -fvisibility=hidden -DRAY_BUILD \
+	$(say) CC $<
+	$(Q)$(CC) $(ALL_CFLAGS) -Isrc -fPIC -fvisibility=hidden -DRAY_BUILD \
 	    $(if $(filter src/image/png.c,$<),$(PNG_CFLAGS)) \
 	    $(if $(filter src/query/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
 
@@ -146,16 +158,18 @@ $(BUILD)/png.config: FORCE
 	@echo "PNG=$(PNG)" | cmp -s - $@ || echo "PNG=$(PNG)" > $@
 
 $(STATIC): $(LIB_OBJS) $(BUILD)/png.config
-	rm -f $@
-	$(AR) rcs $@ $(LIB_OBJS)
+	$(say) AR $@
+	$(Q)rm -f $@
+	$(Q)$(AR) rcs $@ $(LIB_OBJS)
 
 # Exports through a version script (src/libray.map): ray_* in node
 # LIBRAY_0, everything else local, whatever -fvisibility says.
 $(SHARED): $(LIB_OBJS) src/libray.map $(BUILD)/png.config
-	$(CC) $(CFLAGS) $(LDFLAGS) -shared -Wl,-soname,libray.so.$(SOMAJOR) \
+	$(say) LD $@
+	$(Q)$(CC) $(CFLAGS) $(LDFLAGS) -shared -Wl,-soname,libray.so.$(SOMAJOR) \
 	    -Wl,--version-script=src/libray.map -o $@ $(LIB_OBJS) $(LIBS)
-	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so.$(SOMAJOR)
-	ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
+	$(Q)ln -sf libray.so.$(VERSION) $(BUILD)/libray.so.$(SOMAJOR)
+	$(Q)ln -sf libray.so.$(VERSION) $(BUILD)/libray.so
 
 # ------------------------------------------------------------------ tests
 # The suites are built with the library's warning list: a float constant
@@ -167,11 +181,13 @@ TEST_OBJS = $(patsubst tests/%.c,$(BUILD)/tests/obj/%.o,tests/check_main.c $(TES
 $(BUILD)/tests/obj/%.o: tests/%.c $(wildcard tests/*.h) $(wildcard examples/*.h) bench/bench.h \
                         include/ray.h $(PRIVATE_HEADERS) | deps-check
 	@mkdir -p $(@D)
-	$(CC) $(WARN) -Iinclude -Isrc -Iexamples -Ibench -Itests $(CFLAGS) $(STD_CFLAGS) \
+	$(say) CC $<
+	$(Q)$(CC) $(WARN) -Iinclude -Isrc -Iexamples -Ibench -Itests $(CFLAGS) $(STD_CFLAGS) \
 	    $(CHECK_CFLAGS) $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) -c $< -o $@
 $(TEST_BIN): $(TEST_OBJS) $(STATIC) | deps-check
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(TEST_OBJS) $(STATIC) $(CHECK_LIBS) $(LIBS)
+	$(say) LD $@
+	$(Q)$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(TEST_OBJS) $(STATIC) $(CHECK_LIBS) $(LIBS)
 
 # The allocation-failure sweep (tests/faultsim.c): the library's calls to
 # these land in the program's __wrap_* functions, which fail them in turn.
@@ -181,12 +197,14 @@ FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
     $(if $(filter 1,$(PNG)),png_image_write_to_memory)
 $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
+	$(say) CC $@
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
 $(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+	$(say) CC $<
+	$(Q)$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
 
 examples: $(EXAMPLES)
 
@@ -238,7 +256,8 @@ BULLET_OBJ = $(if $(BULLET_FLAGS),$(BUILD)/bench/bullet.o)
 BULLET_LIBS = $(if $(BULLET_FLAGS),-lBulletCollision -lLinearMath -lstdc++)
 $(BUILD)/bench/bullet.o: bench/bullet.cpp bench/shapes.h
 	@mkdir -p $(@D)
-	$(CXX) -O2 -g -Wall -Wextra -I/usr/include/bullet -Ibench -c $< -o $@
+	$(say) CXX $<
+	$(Q)$(CXX) -O2 -g -Wall -Wextra -I/usr/include/bullet -Ibench -c $< -o $@
 $(BUILD)/bench/shapes: $(BULLET_OBJ)
 # tinybvh (../shared/ext/tiny_bvh.h, MIT) is the fastest float BVH set
 # beside Embree by bench/raycost.c, when the header is there: C++, built
@@ -249,7 +268,8 @@ TINYBVH_OBJ = $(if $(TINYBVH_FLAGS),$(BUILD)/bench/tinybvh.o)
 TINYBVH_LIBS = $(if $(TINYBVH_FLAGS),-lstdc++)
 $(BUILD)/bench/tinybvh.o: bench/tinybvh.cpp bench/tinybvh.h
 	@mkdir -p $(@D)
-	$(CXX) -O2 -mavx2 -mfma -w -I$(TINYBVH_DIR) -Ibench -c $< -o $@
+	$(say) CXX $<
+	$(Q)$(CXX) -O2 -mavx2 -mfma -w -I$(TINYBVH_DIR) -Ibench -c $< -o $@
 $(BUILD)/bench/raycost: $(TINYBVH_OBJ)
 # CGAL and OpenVDB are optional too (issue 39): bench/contains.c sets
 # ray_contains beside CGAL's Side_of_triangle_mesh (Debian's libcgal-dev,
@@ -268,14 +288,16 @@ CGAL_VDB_LIBS = $(if $(CGAL_FLAGS),-lmpfr -lgmp) \
                 $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(shell $(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) $(if $(CGAL_VDB_OBJ),-lstdc++)
 $(BUILD)/bench/cgal_vdb.o: bench/cgal_vdb.cpp bench/cgal_vdb.h
 	@mkdir -p $(@D)
-	$(CXX) -std=c++17 -O2 -g -frounding-math -Wall -Wextra $(CGAL_VDB_FLAGS) -Ibench -c $< -o $@
+	$(say) CXX $<
+	$(Q)$(CXX) -std=c++17 -O2 -g -frounding-math -Wall -Wextra $(CGAL_VDB_FLAGS) -Ibench -c $< -o $@
 $(BUILD)/bench/contains: $(CGAL_VDB_OBJ)
 # Benchmarks mix float, double and long double on purpose (float variants,
 # long double references), so -Wdouble-promotion, which guards the
 # library's geometry code, is off for them.
 $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wildcard tests/*.h) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_FLAGS)) \
+	$(say) CC $<
+	$(Q)$(CC) $(ALL_CFLAGS) -Wno-double-promotion -Iexamples -Itests -Isrc $(if $(filter $(EMBREE_BENCHES),$<),$(EMBREE_FLAGS)) \
 	    $(if $(filter bench/shapes.c,$<),$(BULLET_FLAGS)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_FLAGS)) \
 	    $(if $(filter bench/contains.c,$<),$(CGAL_VDB_FLAGS)) $(PNG_CFLAGS) -DBENCH_PNG=$(PNG) \
 	    $(LDFLAGS) -o $@ $< $(if $(filter bench/shapes.c,$<),$(BULLET_OBJ)) $(if $(filter bench/raycost.c,$<),$(TINYBVH_OBJ)) \
@@ -519,7 +541,8 @@ FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
 
 $(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+	$(say) CC $<
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
 
 fuzz-replay: $(FUZZ_REPLAYS)
 	@for t in $(FUZZ_TARGETS); do \
