@@ -7,7 +7,8 @@
 ** icosphere, needles and caps, grazing rays -- with meshes whose
 ** vertices are floats and meshes whose are not, at 0, 1e5 and 1e6 from
 ** the origin; and its bound is tight: half of it loses hits on worst
-** cases built for it, so a test fails when the bound is halved.
+** cases built for it, for float and for double meshes, so a test fails
+** when the bound or its origin term is halved.
 */
 #include <stdlib.h>
 
@@ -180,6 +181,55 @@ START_TEST(filter_bound_halved_should_lose_hits_on_its_worst_cases)
 }
 END_TEST
 
+/*
+** The same worst case for a mesh whose vertices are not floats, the
+** bound's other regime (filter.h: FILTER_XI_O, twice FILTER_XI_O_EXACT,
+** as each vertex's own rounding adds to the origin's): every vertex a
+** little less than half a float ulp (1/16) off the float grid, toward
+** the side whose rounding adds to the origin's shift -- x and y just
+** below a grid point (rounded up), z just above (rounded down) -- so the
+** projected triangle moves by about (1/4, 1/4) in float, twice the float
+** mesh's shift, against a bound twice the float mesh's.  The full bound
+** keeps every hit; with FILTER_XI_O halved (the slip make mutants tries
+** as filter-xi-o), the origin term no longer covers the vertices'
+** rounding and hits are lost, as they are with the whole bound halved:
+** 206 of the 565 of these 625 triangles that the exact test hits.
+*/
+START_TEST(filter_bound_halved_should_lose_hits_on_double_meshes)
+{
+    const double F = 1048577.0, h = 0.0625, q = 0.125, z = F + 10;
+    /* Just under half an ulp of the floats near 2^20 (1/8): the nearest
+    ** float is the grid point, a rounding of 1/16 - 2^-30. */
+    const double dv = h - 0x1p-30;
+    const int W = 32;
+    ray_ray r;
+    int d1, d2, e1, e2, lost = 0, hits = 0;
+
+    r.org = v3(F + h - 0x1p-30, F + h - 0x1p-30, F - h + 0x1p-30);
+    r.dir = v3(1, 1, 1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    for (d1 = -2; d1 <= 2; d1++)
+        for (d2 = -2; d2 <= 2; d2++)
+            for (e1 = -2; e1 <= 2; e1++)
+                for (e2 = -2; e2 <= 2; e2++) {
+                    ray_vec3 a = v3(z + (W + 1) * q - dv,
+                                    z + (W + 1) * q - dv, z + dv);
+                    ray_vec3 b = v3(z + (W + 1 + d1) * q - dv,
+                                    z + (-W + 1 + d2) * q - dv, z + dv);
+                    ray_vec3 c = v3(z + (-W + 1 + e1) * q - dv,
+                                    z + (W + 1 + e2) * q - dv, z + dv);
+                    int exact, full = filtered_hit(a, b, c, &r, 1.0, &exact);
+                    int half = filtered_hit(a, b, c, &r, 0.5, &exact);
+                    ck_assert_int_eq(full, exact);
+                    hits += exact > 0;
+                    lost += exact > 0 && half == 0;
+                }
+    ck_assert_int_eq(hits, 565);           /* the exact test's, fixed */
+    ck_assert_msg(lost > 0, "half the bound lost none of %d hits", hits);
+}
+END_TEST
+
 Suite *filter_suite(void)
 {
     Suite *s = suite_create("filter");
@@ -188,6 +238,7 @@ Suite *filter_suite(void)
     tcase_set_timeout(t, 300);
     tcase_add_test(t, filter_should_change_no_answer_on_ten_million_hard_rays);
     tcase_add_test(t, filter_bound_halved_should_lose_hits_on_its_worst_cases);
+    tcase_add_test(t, filter_bound_halved_should_lose_hits_on_double_meshes);
     suite_add_tcase(s, t);
     return s;
 }
