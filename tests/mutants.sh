@@ -169,10 +169,12 @@ for o in $objs; do
     cp -p "$o" "$scratch/pristine/$o"
 done
 
-# All the suites at once, shared among the workers (the unmutated run).
+# All the suites at once, shared among the workers (the unmutated run),
+# MUTANTS_TIMEOUT seconds a suite.
 run_suites() {
     CK_TIMEOUT_MULTIPLIER=${CK_TIMEOUT_MULTIPLIER:-10} RAY_CHECK_JOBS=$jobs \
-        RAY_CHECK_SUITES="$1" timeout "$limit" "$bin" >"$scratch/run.log" 2>&1
+        RAY_CHECK_SUITES="$1" timeout $((limit * $(echo $1 | wc -w))) "$bin" \
+        >"$scratch/run.log" 2>&1
 }
 
 # A mutant's suites one after the other, in the list's order, up to the
