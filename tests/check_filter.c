@@ -230,6 +230,49 @@ START_TEST(filter_bound_halved_should_lose_hits_on_double_meshes)
 }
 END_TEST
 
+/*
+** RAY__TRI_FLOAT, the float tracer the benches compare with (filter.h's
+** tri_float_hit, no bound, leaks and all), still keeps the contract on
+** easy rays: straight down onto a triangle at z = 5 whose vertices are
+** floats, well inside its edges, it hits at t = 5 as the exact test does,
+** and a ray that starts on the triangle's plane (t = 0 = tmin) misses,
+** as tmin < t demands.  (make mutants' filter-hit-sign, a hit refused
+** whenever an edge function is not zero, and filter-hit-tmin, t = tmin
+** taken as a hit: neither reached the suite before, as no test ran this
+** mode.)
+*/
+START_TEST(float_mode_should_hit_inside_and_miss_at_tmin)
+{
+    ray_scene *s;
+    ray_ray r;
+    ray_hit h;
+    int i, j;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, v3(0, 0, 5), v3(4, 0, 5),
+                                            v3(0, 4, 5), RAY_NO_MATERIAL,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray__scene_set_tri_mode(s, RAY__TRI_FLOAT);
+    r.dir = v3(0, 0, 1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    for (i = 1; i <= 5; i++)
+        for (j = 1; j <= 5 - i; j++) {
+            r.org = v3(0.5 * i, 0.5 * j, 0);
+            ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+            /* Every float step exact here (small integers and halves,
+            ** z differences of 5, shear 0): t is 5 exactly. */
+            ck_assert_double_eq(h.t, 5.0);
+            ck_assert_uint_eq(h.geom_id, 0);
+        }
+    r.org = v3(1, 1, 5);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *filter_suite(void)
 {
     Suite *s = suite_create("filter");
@@ -239,6 +282,7 @@ Suite *filter_suite(void)
     tcase_add_test(t, filter_should_change_no_answer_on_ten_million_hard_rays);
     tcase_add_test(t, filter_bound_halved_should_lose_hits_on_its_worst_cases);
     tcase_add_test(t, filter_bound_halved_should_lose_hits_on_double_meshes);
+    tcase_add_test(t, float_mode_should_hit_inside_and_miss_at_tmin);
     suite_add_tcase(s, t);
     return s;
 }
