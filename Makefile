@@ -112,7 +112,8 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test cmake-test abi-test abi-baseline exports-test \
         version-test dist distcheck print-srcs print-version deps-embed \
-        snippets-test pages-test bench-docs-test windows-build windows-check
+        snippets-test pages-test bench-docs-test windows-build windows-check \
+        coverage coverage-run mutants
 
 all: lib
 
@@ -122,7 +123,8 @@ lib: deps-build $(STATIC) $(SHARED)
 # root or with password-less sudo); plain make and make install only check
 # and print the apt-get command to run.  deps-check waits for deps-build,
 # so two apt-get never run at once.
-SHOWCASE_GOALS = check check-long bench-smoke test demo mpi-demo bench numerics sanitize tsan examples
+SHOWCASE_GOALS = check check-long bench-smoke test demo mpi-demo bench numerics sanitize tsan examples \
+    coverage mutants
 DEPS_MODE = $(if $(filter $(SHOWCASE_GOALS),$(MAKECMDGOALS)),--install,--check)
 DEPS_BUILD = pkg-config $(if $(filter 1,$(PNG)),libpng)
 deps-build:
@@ -618,6 +620,40 @@ TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 tsan:
 	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) RAY_CHECK_LONG=1 \
 	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0 EMBED_CHECK=0
+
+# ----------------------------------------------------- coverage, mutants
+# Line and branch coverage of src/ by what make check runs that exercises
+# it (issue 38): the Check suite, the allocation-failure sweep, the fuzz
+# replays and the examples' runs, built with gcc's --coverage in a build
+# of their own (COVERAGE_BUILD), reported per file by gcovr, and held to a
+# floor (scripts/coverage.sh; doc/TESTING.md, "Coverage").  -O1: -O0
+# makes the long loops several times slower, -O2 folds away lines that
+# then read as never run.  -fprofile-update=atomic: the renderer and the
+# BVH build are threaded, and plain counters updated by two threads at
+# once come out wrong (gcov's "branch taken -1", which gcovr refuses).
+# The counters are zeroed first, so that each run reports itself alone.
+# Not part of make check (a few minutes more), nor of CI.
+COVERAGE_BUILD ?= build/coverage
+COVERAGE_FLAGS = -O1 -g --coverage -fprofile-update=atomic
+COVERAGE_ARGS = BUILD=$(COVERAGE_BUILD) CFLAGS="$(COVERAGE_FLAGS)" LDFLAGS="--coverage" \
+    CHECK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER)
+coverage: deps-check
+	@scripts/deps.sh $(DEPS_MODE) gcovr
+	@mkdir -p $(COVERAGE_BUILD)
+	find $(COVERAGE_BUILD) -name '*.gcda' -delete
+	$(MAKE) $(COVERAGE_ARGS) coverage-run
+	scripts/coverage.sh $(COVERAGE_BUILD)
+coverage-run: check-suite check-faultsim fuzz-replay check-examples-run
+
+# The mutation run (issue 38): each mutant of tests/mutants.txt applied in
+# turn to a scratch copy of the tree, the suites that cover its file run
+# against it; prints killed or survived for each and the kill rate
+# (tests/mutants.sh; doc/TESTING.md, "Mutants").  About an hour of two
+# cores for the whole list; MUTANTS="id ..." runs some.  Not part of make
+# check, nor of CI.
+MUTANTS ?=
+mutants: deps-check
+	MUTANTS_JOBS=$(CHECK_JOBS) tests/mutants.sh $(MUTANTS)
 
 demo: deps-build lib $(BUILD)/examples/whitted
 	$(BUILD)/examples/whitted whitted.png

@@ -8,6 +8,7 @@
 #   mpi (OpenMPI's mpicc and mpirun: make mpi-demo)
 #   cmake, abigail (abidw and abidiff): make check's CMake subproject and
 #   ABI tests (mk/release.mk)
+#   gcovr (make coverage's report)
 # Each present dependency costs one quick probe.  With --check (the
 # default; plain make and make install), missing ones are reported with
 # the exact apt-get command and the script fails.  With --install (only
@@ -36,6 +37,7 @@ for need in "$@"; do
     mpi)        { command -v mpicc >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; } \
                     || missing="$missing libopenmpi-dev openmpi-bin" ;;
     cmake)      command -v cmake >/dev/null 2>&1 || missing="$missing cmake" ;;
+    gcovr)      command -v gcovr >/dev/null 2>&1 || missing="$missing gcovr" ;;
     abigail)    { command -v abidw >/dev/null 2>&1 && command -v abidiff >/dev/null 2>&1; } \
                     || missing="$missing abigail-tools" ;;
     *)          echo "deps.sh: unknown dependency '$need'" >&2; exit 2 ;;

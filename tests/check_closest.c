@@ -1370,6 +1370,37 @@ START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 }
 END_TEST
 
+/*
+** The nearest points of two segments whose lines come nearest beyond an
+** end of one (src/prim/nearest.c, ray__segments_closest, under capsule
+** closest points, overlaps and sweeps): P along x from 0 to 10, Q from
+** (3, -2, 1) to (4, -0.5, 1).  The lines come nearest at Q's parameter
+** 4/3, past q1; clamped to q1 = (4, -0.5, 1), P's point must be found
+** again for q1, x = 4, not kept at the lines' x = 13/3.  Every value is a
+** small binary fraction or its exact quotient's rounding, so within a few
+** ulps of 4 (4 * DBL_EPSILON of slack, for the quotients' rounding).
+** (make mutants' near-seg-clamp, t > 2 for t > 1: P's point was left at
+** the lines' solution.)  The same from the other end, Q reversed.
+*/
+START_TEST(segments_nearest_beyond_an_end_should_clamp_both)
+{
+    const double tol = 4 * 4 * DBL_EPSILON;
+    ray_vec3 ps, qs;
+
+    ray__segments_closest(v3(0, 0, 0), v3(10, 0, 0), v3(3, -2, 1),
+                          v3(4, -0.5, 1), &ps, &qs);
+    ck_assert_double_eq_tol(qs.x, 4, tol);
+    ck_assert_double_eq_tol(qs.y, -0.5, tol);
+    ck_assert_double_eq_tol(ps.x, 4, tol);
+    ck_assert_double_eq_tol(ps.y, 0, tol);
+    ck_assert_double_eq_tol(ps.z, 0, tol);
+    ray__segments_closest(v3(0, 0, 0), v3(10, 0, 0), v3(4, -0.5, 1),
+                          v3(3, -2, 1), &ps, &qs);
+    ck_assert_double_eq_tol(qs.x, 4, tol);
+    ck_assert_double_eq_tol(ps.x, 4, tol);
+}
+END_TEST
+
 Suite *closest_suite(void)
 {
     Suite *s = suite_create("closest");
@@ -1390,6 +1421,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
     tcase_add_test(tc, closest_points_on_slivers_should_keep_the_documented_bound);
     tcase_add_test(tc, surface_points_should_refuse_what_has_no_point);
+    tcase_add_test(tc, segments_nearest_beyond_an_end_should_clamp_both);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -7,7 +7,8 @@
 ** icosphere, needles and caps, grazing rays -- with meshes whose
 ** vertices are floats and meshes whose are not, at 0, 1e5 and 1e6 from
 ** the origin; and its bound is tight: half of it loses hits on worst
-** cases built for it, so a test fails when the bound is halved.
+** cases built for it, for float and for double meshes, so a test fails
+** when the bound or its origin term is halved.
 */
 #include <stdlib.h>
 
@@ -180,6 +181,98 @@ START_TEST(filter_bound_halved_should_lose_hits_on_its_worst_cases)
 }
 END_TEST
 
+/*
+** The same worst case for a mesh whose vertices are not floats, the
+** bound's other regime (filter.h: FILTER_XI_O, twice FILTER_XI_O_EXACT,
+** as each vertex's own rounding adds to the origin's): every vertex a
+** little less than half a float ulp (1/16) off the float grid, toward
+** the side whose rounding adds to the origin's shift -- x and y just
+** below a grid point (rounded up), z just above (rounded down) -- so the
+** projected triangle moves by about (1/4, 1/4) in float, twice the float
+** mesh's shift, against a bound twice the float mesh's.  The full bound
+** keeps every hit; with FILTER_XI_O halved (the slip make mutants tries
+** as filter-xi-o), the origin term no longer covers the vertices'
+** rounding and hits are lost, as they are with the whole bound halved:
+** 206 of the 565 of these 625 triangles that the exact test hits.
+*/
+START_TEST(filter_bound_halved_should_lose_hits_on_double_meshes)
+{
+    const double F = 1048577.0, h = 0.0625, q = 0.125, z = F + 10;
+    /* Just under half an ulp of the floats near 2^20 (1/8): the nearest
+    ** float is the grid point, a rounding of 1/16 - 2^-30. */
+    const double dv = h - 0x1p-30;
+    const int W = 32;
+    ray_ray r;
+    int d1, d2, e1, e2, lost = 0, hits = 0;
+
+    r.org = v3(F + h - 0x1p-30, F + h - 0x1p-30, F - h + 0x1p-30);
+    r.dir = v3(1, 1, 1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    for (d1 = -2; d1 <= 2; d1++)
+        for (d2 = -2; d2 <= 2; d2++)
+            for (e1 = -2; e1 <= 2; e1++)
+                for (e2 = -2; e2 <= 2; e2++) {
+                    ray_vec3 a = v3(z + (W + 1) * q - dv,
+                                    z + (W + 1) * q - dv, z + dv);
+                    ray_vec3 b = v3(z + (W + 1 + d1) * q - dv,
+                                    z + (-W + 1 + d2) * q - dv, z + dv);
+                    ray_vec3 c = v3(z + (-W + 1 + e1) * q - dv,
+                                    z + (W + 1 + e2) * q - dv, z + dv);
+                    int exact, full = filtered_hit(a, b, c, &r, 1.0, &exact);
+                    int half = filtered_hit(a, b, c, &r, 0.5, &exact);
+                    ck_assert_int_eq(full, exact);
+                    hits += exact > 0;
+                    lost += exact > 0 && half == 0;
+                }
+    ck_assert_int_eq(hits, 565);           /* the exact test's, fixed */
+    ck_assert_msg(lost > 0, "half the bound lost none of %d hits", hits);
+}
+END_TEST
+
+/*
+** RAY__TRI_FLOAT, the float tracer the benches compare with (filter.h's
+** tri_float_hit, no bound, leaks and all), still keeps the contract on
+** easy rays: straight down onto a triangle at z = 5 whose vertices are
+** floats, well inside its edges, it hits at t = 5 as the exact test does,
+** and a ray that starts on the triangle's plane (t = 0 = tmin) misses,
+** as tmin < t demands.  (make mutants' filter-hit-sign, a hit refused
+** whenever an edge function is not zero, and filter-hit-tmin, t = tmin
+** taken as a hit: neither reached the suite before, as no test ran this
+** mode.)
+*/
+START_TEST(float_mode_should_hit_inside_and_miss_at_tmin)
+{
+    ray_scene *s;
+    ray_ray r;
+    ray_hit h;
+    int i, j;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, v3(0, 0, 5), v3(4, 0, 5),
+                                            v3(0, 4, 5), RAY_NO_MATERIAL,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray__scene_set_tri_mode(s, RAY__TRI_FLOAT);
+    r.dir = v3(0, 0, 1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    for (i = 1; i <= 5; i++)
+        for (j = 1; j <= 5 - i; j++) {
+            r.org = v3(0.5 * i, 0.5 * j, 0);
+            ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+            /* Every float step exact here (small integers and halves,
+            ** z differences of 5, shear 0): t is 5 exactly. */
+            ck_assert_double_eq(h.t, 5.0);
+            ck_assert_uint_eq(h.geom_id, 0);
+        }
+    r.org = v3(1, 1, 5);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    ck_assert_int_eq(ray_occluded(s, &r, NULL), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *filter_suite(void)
 {
     Suite *s = suite_create("filter");
@@ -188,6 +281,8 @@ Suite *filter_suite(void)
     tcase_set_timeout(t, 300);
     tcase_add_test(t, filter_should_change_no_answer_on_ten_million_hard_rays);
     tcase_add_test(t, filter_bound_halved_should_lose_hits_on_its_worst_cases);
+    tcase_add_test(t, filter_bound_halved_should_lose_hits_on_double_meshes);
+    tcase_add_test(t, float_mode_should_hit_inside_and_miss_at_tmin);
     suite_add_tcase(s, t);
     return s;
 }
