@@ -707,11 +707,11 @@ static void fs_make(fs_scene *sc, int which, ray_vec3 centre, rng *g)
     sc->pn[1] = rng_dir(g);
 }
 
-/* The count of rays a scene: 200000 under make check-long, 8000 under
+/* The count of rays a scene: 50000 under make check-long, 8000 under
 ** make check, or RAY_FEW_SPHERES_RAYS. */
 static size_t fs_rays(void)
 {
-    return test_count("RAY_FEW_SPHERES_RAYS", 200000, 8000);
+    return test_count("RAY_FEW_SPHERES_RAYS", 50000, 8000);
 }
 
 START_TEST(few_spheres_should_answer_as_each_primitive_bit_for_bit)
