@@ -188,16 +188,17 @@ END_TEST
 ** moved by "off" (0 for a float mesh; else just under half a step, so
 ** that each coordinate's float is the grid point and its rounding error
 ** d = u (O + M) is at its largest, in the direction that adds to the
-** origin's).  Counts the exact test's hits and those the filter loses
-** with its bound times "scale"; asserts that with the whole bound it
-** loses none, and that the corners are or are not floats as meant.
+** origin's); W: the half-width, in steps, of the triangles' edge bc
+** across the ray (32 above).  Counts the exact test's hits and those
+** the filter loses with its bound times "scale"; asserts that with the
+** whole bound it loses none, and that the corners are or are not floats
+** as meant.
 */
 static void family_losses(const char *name, const ray_ray *r, double z0,
-                          ray_vec3 off, int floats, double scale, int *hits,
-                          int *lost)
+                          int W, ray_vec3 off, int floats, double scale,
+                          int *hits, int *lost)
 {
     const double q = 0.125;
-    const int W = 32;
     double t = (z0 - r->org.z) / r->dir.z;
     double cx = floor((r->org.x + t * r->dir.x) / q) * q;
     double cy = floor((r->org.y + t * r->dir.y) / q) * q;
@@ -279,7 +280,7 @@ START_TEST(filter_bound_halved_should_lose_hits_in_every_regime)
     /* Origin-dominated, double mesh. */
     r.org = v3(F + h - 0x1p-30, F + h - 0x1p-30, F - h + 0x1p-30);
     r.dir = v3(1, 1, 1);
-    family_losses("origin, double mesh", &r, z, v3(-dv, -dv, dv), 0, 0.5,
+    family_losses("origin, double mesh", &r, z, 32, v3(-dv, -dv, dv), 0, 0.5,
                   &hits, &lost);
     ck_assert_int_eq(hits, 565);        /* the exact test's, fixed */
     ck_assert_msg(lost > 0, "origin, double mesh: half the bound lost none "
@@ -287,16 +288,34 @@ START_TEST(filter_bound_halved_should_lose_hits_in_every_regime)
     /* Vertex-dominated, float mesh and double mesh. */
     r.org = v3(h - 0x1p-24, h - 0x1p-24, -h + 0x1p-24);
     r.dir = v3(1 - e, 1 - e, 1);
-    family_losses("vertex, float mesh", &r, z, v3(0, 0, 0), 1, 0.5, &hits,
-                  &lost);
+    family_losses("vertex, float mesh", &r, z, 32, v3(0, 0, 0), 1, 0.5,
+                  &hits, &lost);
     ck_assert_int_eq(hits, 142);
     ck_assert_msg(lost > 0, "vertex, float mesh: half the bound lost none "
                   "of %d hits", hits);
-    family_losses("vertex, double mesh", &r, z, v3(-dv, -dv, dv), 0, 0.5,
+    family_losses("vertex, double mesh", &r, z, 32, v3(-dv, -dv, dv), 0, 0.5,
                   &hits, &lost);
     ck_assert_int_eq(hits, 455);
     ck_assert_msg(lost > 0, "vertex, double mesh: half the bound lost none "
                   "of %d hits", hits);
+    /* The same with triangles that span much of the box: W = 2^19 and
+    ** 2^20 steps (a projected extent W of 2^16 and 2^17 against M of
+    ** 2^21), the plane z0 moved so that every coordinate stays in
+    ** [2^20, 2^21), where a float's step is 1/8.  (The products'
+    ** rounding, 4.0001 u P^2, cannot dominate the bound: xi >= xi0 + u
+    ** W and xi0 >= 4 u M >= 2 u W, so it is at most a quarter of it.) */
+    family_losses("vertex, float mesh, W 2^19", &r,
+                  1048576.0 + 0x1p19 * 0.125 * 1.5, 1 << 19, v3(0, 0, 0), 1,
+                  0.5, &hits, &lost);
+    ck_assert_int_eq(hits, 122);
+    ck_assert_msg(lost > 0, "vertex, float mesh, W 2^19: half the bound "
+                  "lost none of %d hits", hits);
+    family_losses("vertex, double mesh, W 2^20", &r,
+                  1048576.0 + 0x1p20 * 0.125 * 1.5, 1 << 20, v3(-dv, -dv, dv),
+                  0, 0.5, &hits, &lost);
+    ck_assert_int_eq(hits, 435);
+    ck_assert_msg(lost > 0, "vertex, double mesh, W 2^20: half the bound "
+                  "lost none of %d hits", hits);
 }
 END_TEST
 
