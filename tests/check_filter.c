@@ -303,7 +303,11 @@ START_TEST(filter_bound_halved_should_lose_hits_in_every_regime)
     ** 2^21), the plane z0 moved so that every coordinate stays in
     ** [2^20, 2^21), where a float's step is 1/8.  (The products'
     ** rounding, 4.0001 u P^2, cannot dominate the bound: xi >= xi0 + u
-    ** W and xi0 >= 4 u M >= 2 u W, so it is at most a quarter of it.) */
+    ** W and xi0 >= 4 u M >= 2 u W, so it is at most a quarter of it.
+    ** Halved, to 2.0001 u P^2, it is still a bound, so no test can fail
+    ** on that: of the three roundings it counts, the subtraction's cannot
+    ** take e_f below -B when p0 - p1 is not (rounding is monotonic and
+    ** -B is a float), and the two products' are at most u W_f^2 each.) */
     family_losses("vertex, float mesh, W 2^19", &r,
                   1048576.0 + 0x1p19 * 0.125 * 1.5, 1 << 19, v3(0, 0, 0), 1,
                   0.5, &hits, &lost);
