@@ -546,14 +546,15 @@ static int fs_ld_root(const ray_ray *r, ray_vec3 c, double R,
                       long double tol, long double *t)
 {
     long double f[3], d[3], a, b, l2, s, t0, t1;
+    long double lo = (long double)r->tmin, hi = (long double)r->tmax;
     int k;
 
-    f[0] = (long double)r->org.x - c.x;
-    f[1] = (long double)r->org.y - c.y;
-    f[2] = (long double)r->org.z - c.z;
-    d[0] = r->dir.x;
-    d[1] = r->dir.y;
-    d[2] = r->dir.z;
+    f[0] = (long double)r->org.x - (long double)c.x;
+    f[1] = (long double)r->org.y - (long double)c.y;
+    f[2] = (long double)r->org.z - (long double)c.z;
+    d[0] = (long double)r->dir.x;
+    d[1] = (long double)r->dir.y;
+    d[2] = (long double)r->dir.z;
     a = b = 0;
     for (k = 0; k < 3; k++) {
         a += d[k] * d[k];
@@ -566,18 +567,18 @@ static int fs_ld_root(const ray_ray *r, ray_vec3 c, double R,
         long double l = f[k] - b / a * d[k];
         l2 += l * l;
     }
-    if (!(l2 <= 0.25L * R * R))
+    if (!(l2 <= 0.25L * (long double)R * (long double)R))
         return -1;
-    s = sqrtl(((long double)R * R - l2) / a);
+    s = sqrtl(((long double)R * (long double)R - l2) / a);
     t0 = -b / a - s;
     t1 = -b / a + s;
     /* A root within the tolerance of tmin or tmax: either answer. */
-    if (fabsl(t0 - r->tmin) <= tol || fabsl(t1 - r->tmin) <= tol ||
-        fabsl(t0 - r->tmax) <= tol || fabsl(t1 - r->tmax) <= tol)
+    if (fabsl(t0 - lo) <= tol || fabsl(t1 - lo) <= tol ||
+        fabsl(t0 - hi) <= tol || fabsl(t1 - hi) <= tol)
         return -1;
-    if (t0 > r->tmin && t0 < r->tmax)
+    if (t0 > lo && t0 < hi)
         *t = t0;
-    else if (t1 > r->tmin && t1 < r->tmax)
+    else if (t1 > lo && t1 < hi)
         *t = t1;
     else
         return 0;

@@ -1084,18 +1084,18 @@ START_TEST(sweep_contact_should_be_outside_and_within_two_eps)
                 if (ray_intersect_sweep(s, &sw, NULL, &c) == 1 &&
                     !(c.flags & RAY_CONTACT_OVERLAP)) {
                     ld p[3], A[3], B[3], C[3], d, eps;
-                    p[0] = (ld)c.t * sw.dir.x;
-                    p[1] = (ld)c.t * sw.dir.y;
-                    p[2] = (ld)c.t * sw.dir.z;
-                    A[0] = (ld)v[0].x - sw.a.x;
-                    A[1] = (ld)v[0].y - sw.a.y;
-                    A[2] = (ld)v[0].z - sw.a.z;
-                    B[0] = (ld)v[1].x - sw.a.x;
-                    B[1] = (ld)v[1].y - sw.a.y;
-                    B[2] = (ld)v[1].z - sw.a.z;
-                    C[0] = (ld)v[2].x - sw.a.x;
-                    C[1] = (ld)v[2].y - sw.a.y;
-                    C[2] = (ld)v[2].z - sw.a.z;
+                    p[0] = (ld)c.t * (ld)sw.dir.x;
+                    p[1] = (ld)c.t * (ld)sw.dir.y;
+                    p[2] = (ld)c.t * (ld)sw.dir.z;
+                    A[0] = (ld)v[0].x - (ld)sw.a.x;
+                    A[1] = (ld)v[0].y - (ld)sw.a.y;
+                    A[2] = (ld)v[0].z - (ld)sw.a.z;
+                    B[0] = (ld)v[1].x - (ld)sw.a.x;
+                    B[1] = (ld)v[1].y - (ld)sw.a.y;
+                    B[2] = (ld)v[1].z - (ld)sw.a.z;
+                    C[0] = (ld)v[2].x - (ld)sw.a.x;
+                    C[1] = (ld)v[2].y - (ld)sw.a.y;
+                    C[2] = (ld)v[2].z - (ld)sw.a.z;
                     for (k = 0; k < 3; k++) {
                         ray_vec3 e = v3_sub(v[k], sw.a);
                         m = fmax(m, fmax(fabs(e.x),
@@ -1103,8 +1103,8 @@ START_TEST(sweep_contact_should_be_outside_and_within_two_eps)
                     }
                     /* gamma(64) = 64 u / (1 - 64 u), u = 2^-53. */
                     eps = 64 * 0x1p-53L / (1 - 64 * 0x1p-53L) *
-                          ((ld)m + r);
-                    d = bound_tri_dist(p, A, B, C) - r;
+                          ((ld)m + (ld)r);
+                    d = bound_tri_dist(p, A, B, C) - (ld)r;
                     ck_assert_msg(d >= 0 && d <= 2 * eps,
                                   "offset %g, kind %d, sweep %zu: the "
                                   "shape at t is %Lg eps from touching",
