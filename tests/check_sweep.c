@@ -1017,15 +1017,14 @@ static ld bound_tri_dist(const ld p[3], const ld a[3], const ld b[3],
 ** 100, aimed within 1.2 radii of a point in a face (kind 0), on an edge
 ** (1) or at a vertex (2), at 0, 1e5 and 1e6 from the origin; the shape's
 ** distance at t in long double, relative to a (where it is exact to
-** 2^-64 of the coordinates, below 2^-8 eps).  The smallest distance
-** found is about r + 0.04 eps on faces and r + 0.0003 eps at vertices;
-** without the inflation (eps 0) the rounding puts the shape up to 0.09
-** eps (5.6 u (M + r)) inside, so the test fails.  (Cut to gamma(8), the
-** inflation still covers the rounding met here: the worst is r +
-** 0.00004 eps64 at a vertex, in 120000 sweeps.)
+** 2^-64 of the coordinates, below 2^-8 eps).  Without the inflation
+** (eps 0) the rounding puts the shape inside, and the test fails at its
+** first sweep.  Cut to gamma(8), the inflation still covered the
+** rounding of every sweep tried, so no test here fails on that cut
+** (issue 38's closing note gives the search).
 */
 /* 2000 sweeps for each offset and kind (0.2 s), or RAY_SWEEP_BOUND_SWEEPS:
-** the 120000 above found nothing more, so make check-long (which would
+** ten times as many found nothing more, so make check-long (which would
 ** run the whole sweep suite again) does not raise it. */
 static size_t bound_sweeps(void)
 {
