@@ -497,7 +497,7 @@ endif
 # rays as one million, ...), make check-long runs the suites that hold
 # them with RAY_CHECK_LONG=1, at the full counts.  CI runs both, so no
 # count is lost; doc/TESTING.md lists them.
-CHECK_LONG_SUITES = filter bvh
+CHECK_LONG_SUITES = filter bvh sphere
 check-long: deps-check lib $(TEST_BIN)
 	CK_TIMEOUT_MULTIPLIER=$${CK_TIMEOUT_MULTIPLIER:-$(CHECK_TIMEOUT_MULTIPLIER)} \
 	    RAY_CHECK_LONG=1 RAY_CHECK_SUITES="$(CHECK_LONG_SUITES)" \

@@ -1365,6 +1365,88 @@ START_TEST(threaded_build_should_make_the_same_tree_on_a_scheduler)
 END_TEST
 
 /*
+** The threaded build's node regions at their fullest (accel/build.c:
+** subtree task j writes its nodes from region[j] on, 2 m - 2 of them at
+** most for m items, the bound the regions are sized by).  A subtree
+** uses all 2 m - 2 only when it splits down to single items, which the
+** triangles' trees never do (a node of RAY__LEAF_MAX or fewer is a leaf)
+** but the other kinds' do (their leaves hold one item: commit.c,
+** prim_costs): 10240 spheres of radius 0.05 on a grid of spacing 1, so
+** that every split separates them, in subtree tasks of at most 4096
+** (build.c, top_limit), built on 2 and on 3 threads.  Checked: every
+** leaf of the wide tree holds one sphere (so every region was used to
+** its last node), and every sphere is found, as ray_sphere finds it, by
+** a ray aimed at it from 0.3 away (nearer than any other sphere); and
+** random rays through the grid give brute force's nearest, bit for bit.
+** With the regions one node short, neighbouring subtrees overwrite each
+** other's last node and spheres are lost.
+*/
+enum { G_X = 16, G_Y = 16, G_Z = 40, G_N = G_X * G_Y * G_Z };
+
+static ray_vec3 grid_centre(size_t i)
+{
+    return vec((double)(i % G_X), (double)(i / G_X % G_Y),
+               (double)(i / (G_X * G_Y)));
+}
+
+START_TEST(threaded_build_should_fill_its_regions_to_the_last_node)
+{
+    const double R = 0.05;
+    unsigned threads;
+
+    for (threads = 2; threads <= 3; threads++) {
+        ray_scene *s;
+        size_t i, k, singles = 0;
+        rng g = {threads};
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        for (i = 0; i < G_N; i++) {
+            unsigned id;
+            ck_assert_int_eq(ray_scene_add_sphere(s, grid_centre(i), R,
+                                                  RAY_NO_MATERIAL, &id),
+                             RAY_OK);
+            ck_assert_uint_eq(id, i);
+        }
+        ck_assert_int_eq(ray_scene_set_build_threads(s, threads), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (i = 0; i < s->prim_bvh.n_wide; i++)
+            for (k = 0; k < RAY__WIDTH; k++) {
+                unsigned c = s->prim_bvh.wide[i].count[k];
+                singles += c == (RAY__LEAF | 1u);
+            }
+        ck_assert_uint_eq(singles, G_N);
+        for (i = 0; i < G_N; i++) {
+            ray_vec3 u = rng_dir(&g), c = grid_centre(i);
+            ray_ray r = ray_from(v3_add(c, v3_scale(u, 0.3)),
+                                 v3_scale(u, -1));
+            ray_hit h, want;
+            ck_assert_int_eq(ray_sphere(&r, c, R, &want), 1);
+            ck_assert_msg(ray_intersect(s, &r, &h, NULL) == 1 &&
+                          h.geom_id == i && h.t == want.t,
+                          "sphere %zu not found (%u threads)", i, threads);
+        }
+        for (i = 0; i < 200; i++) {
+            ray_ray r = ray_from(rng_point(&g, -1, 17), rng_dir(&g));
+            ray_hit h, hj, want;
+            int found = 0;
+            size_t j;
+            memset(&want, 0, sizeof want);
+            for (j = 0; j < G_N; j++)
+                if (ray_sphere(&r, grid_centre(j), R, &hj) &&
+                    (!found || hj.t < want.t)) {
+                    want = hj;
+                    want.geom_id = (unsigned)j;
+                    found = 1;
+                }
+            ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), found);
+            if (found)
+                ck_assert(h.t == want.t && h.geom_id == want.geom_id);
+        }
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
+/*
 ** Out of memory in a threaded commit: every allocation it makes fails in
 ** turn (an allocator that fails after "left" more); each failure is
 ** RAY_ENOMEM with the scene uncommitted, and the commit retried with
@@ -1429,6 +1511,7 @@ Suite *bvh_suite(void)
     Suite *s = suite_create("bvh");
     TCase *eq = tcase_create("equivalence");
     TCase *mesh = tcase_create("mesh");
+    TCase *regions = tcase_create("regions");
 
     tcase_set_timeout(eq, 120);
     tcase_set_timeout(mesh, 120);
@@ -1453,7 +1536,9 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, threaded_refit_should_fit_the_same_boxes_at_every_thread_count);
     tcase_add_test(mesh, threaded_build_should_fail_cleanly_and_stage_its_setting);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_on_a_scheduler);
+    tcase_add_test(regions, threaded_build_should_fill_its_regions_to_the_last_node);
     suite_add_tcase(s, eq);
     suite_add_tcase(s, mesh);
+    suite_add_tcase(s, regions);
     return s;
 }

@@ -3,7 +3,11 @@
 ** check_sphere.c -- ray_sphere: normal cases, hard cases, bad input and a
 ** fixed-seed property test.
 */
+#include <math.h>
+#include <string.h>
+
 #include "tests.h"
+#include "scene/scene.h"
 
 START_TEST(sphere_should_hit_front_at_exact_t)
 {
@@ -420,12 +424,396 @@ START_TEST(sphere_should_beat_naive_formula_when_far)
 }
 END_TEST
 
+
+/*
+** The few-spheres path (scene/commit.c, FEW_SPHERES: a scene of at most
+** four spheres, and planes, tests its spheres one after another instead
+** of traversing a BVH, with the ray's part of the test taken once:
+** query/traverse.h, prims_along).  Its answers must be ray_sphere's and
+** ray_plane's on each primitive, the nearest taken by hand, bit for bit:
+** every field of the record compared with == (or memcmp for the ids), on
+** rays at 0, 1e5 and 1e6 from the origin -- aimed, grazing, from points
+** on the surfaces, with tmin or tmax between the two roots, random -- in
+** scenes of tiny and huge spheres, with four spheres (the fast path) and
+** with the same four and a fifth no ray meets (the BVH's path), so that
+** the two paths are compared with each other too.  ray_sphere shares the
+** quadratic with the fast path, so a slip there would be copied on both
+** sides: the well-conditioned rays are also checked against the roots
+** in long double.
+*/
+enum { FS_MAX = 5 };
+
+typedef struct fs_scene {
+    ray_scene *s;
+    unsigned n_sph, n_pl;
+    ray_vec3 c[FS_MAX];
+    double r[FS_MAX];
+    unsigned sph_id[FS_MAX];
+    ray_vec3 pp[2], pn[2];
+    unsigned pl_id[2];
+} fs_scene;
+
+/* n_sph spheres of sc (their first n_sph) and n_pl planes, committed. */
+static void fs_build(fs_scene *out, const fs_scene *sc, unsigned n_sph,
+                     unsigned n_pl)
+{
+    unsigned i;
+
+    *out = *sc;
+    out->n_sph = n_sph;
+    out->n_pl = n_pl;
+    ck_assert_int_eq(ray_scene_new(&out->s, NULL, NULL), RAY_OK);
+    /* The planes first, so that the spheres' ids are the same with four
+    ** and with five spheres. */
+    for (i = 0; i < n_pl; i++)
+        ck_assert_int_eq(ray_scene_add_plane(out->s, sc->pp[i], sc->pn[i],
+                                             RAY_NO_MATERIAL,
+                                             &out->pl_id[i]), RAY_OK);
+    for (i = 0; i < n_sph; i++)
+        ck_assert_int_eq(ray_scene_add_sphere(out->s, sc->c[i], sc->r[i],
+                                              RAY_NO_MATERIAL,
+                                              &out->sph_id[i]), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(out->s), RAY_OK);
+    /* The scene keeps a plane's normal normalised (ray_scene_add_plane),
+    ** and tests the plane as ray_plane with that normal: the reference
+    ** is given it too (the unit normal's t may differ in the last bit
+    ** from the raw one's). */
+    for (i = 0; i < n_pl; i++)
+        out->pn[i] = out->s->prims[out->pl_id[i]].b;
+    /* The path under test: the fast one for four spheres or fewer. */
+    ck_assert_int_eq(out->s->few_spheres, n_sph <= 4);
+}
+
+/* The nearest of ray_sphere's and ray_plane's answers on each primitive,
+** the scene's ids set as the scene sets them; *tie: another primitive hit
+** at the same t (the scene may then report either: ray_intersect(3)). */
+static int fs_reference(const fs_scene *sc, const ray_ray *r, ray_hit *best,
+                        int *tie)
+{
+    unsigned i;
+    int found = 0;
+
+    *tie = 0;
+    for (i = 0; i < sc->n_sph + sc->n_pl; i++) {
+        ray_hit h;
+        int k;
+        memset(&h, 0, sizeof h);
+        if (i < sc->n_sph)
+            k = ray_sphere(r, sc->c[i], sc->r[i], &h);
+        else
+            k = ray_plane(r, sc->pp[i - sc->n_sph], sc->pn[i - sc->n_sph],
+                          &h);
+        if (!k)
+            continue;
+        h.geom_id = i < sc->n_sph ? sc->sph_id[i] : sc->pl_id[i - sc->n_sph];
+        h.prim_id = 0;
+        h.inst_id = RAY_INVALID_ID;
+        if (found && h.t == best->t)
+            *tie = 1;
+        if (!found || h.t < best->t) {
+            if (found && h.t < best->t)
+                *tie = 0;
+            *best = h;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+/* Two records the same, field by field (== on the doubles: -0 and +0
+** would pass, which the library never tells apart either). */
+static int fs_same(const ray_hit *a, const ray_hit *b)
+{
+    return a->t == b->t && a->p.x == b->p.x && a->p.y == b->p.y &&
+           a->p.z == b->p.z && a->n.x == b->n.x && a->n.y == b->n.y &&
+           a->n.z == b->n.z && a->u == b->u && a->v == b->v &&
+           a->p_err.x == b->p_err.x && a->p_err.y == b->p_err.y &&
+           a->p_err.z == b->p_err.z && a->geom_id == b->geom_id &&
+           a->prim_id == b->prim_id && a->inst_id == b->inst_id;
+}
+
+/*
+** The roots of sphere (c, R) along r in long double (64-bit significand
+** on x86; where long double is double this is the double formula, still
+** an independent one), for rays whose line passes within R / 2 of the
+** centre: the roots then differ by at least sqrt(3) R / |d| and each is
+** within a few units of roundoff of |f| / |d| (f = org - c) of the exact
+** one, as the discriminant is at least 3/4 of a R^2, far from 0.  1 and
+** *t: the nearest root in (tmin, tmax); 0: none; -1: not such a ray, or
+** a root within tol of tmin or tmax (a ray from the surface).
+*/
+static int fs_ld_root(const ray_ray *r, ray_vec3 c, double R,
+                      long double tol, long double *t)
+{
+    long double f[3], d[3], a, b, l2, s, t0, t1;
+    long double lo = (long double)r->tmin, hi = (long double)r->tmax;
+    int k;
+
+    f[0] = (long double)r->org.x - (long double)c.x;
+    f[1] = (long double)r->org.y - (long double)c.y;
+    f[2] = (long double)r->org.z - (long double)c.z;
+    d[0] = (long double)r->dir.x;
+    d[1] = (long double)r->dir.y;
+    d[2] = (long double)r->dir.z;
+    a = b = 0;
+    for (k = 0; k < 3; k++) {
+        a += d[k] * d[k];
+        b += f[k] * d[k];
+    }
+    /* The line's distance^2 from the centre, as |f - (f.d / d.d) d|^2:
+    ** ff - b^2 / a would cancel ~|f|^2 away (Hearn and Baker). */
+    l2 = 0;
+    for (k = 0; k < 3; k++) {
+        long double l = f[k] - b / a * d[k];
+        l2 += l * l;
+    }
+    if (!(l2 <= 0.25L * (long double)R * (long double)R))
+        return -1;
+    s = sqrtl(((long double)R * (long double)R - l2) / a);
+    t0 = -b / a - s;
+    t1 = -b / a + s;
+    /* A root within the tolerance of tmin or tmax: either answer. */
+    if (fabsl(t0 - lo) <= tol || fabsl(t1 - lo) <= tol ||
+        fabsl(t0 - hi) <= tol || fabsl(t1 - hi) <= tol)
+        return -1;
+    if (t0 > lo && t0 < hi)
+        *t = t0;
+    else if (t1 > lo && t1 < hi)
+        *t = t1;
+    else
+        return 0;
+    return 1;
+}
+
+/* A point on sphere i of sc, at random. */
+static ray_vec3 fs_surface(const fs_scene *sc, unsigned i, rng *g)
+{
+    return v3_add(sc->c[i], v3_scale(rng_dir(g), sc->r[i]));
+}
+
+/*
+** Ray k of the set for sc (its spheres 0 .. n - 1), of kind k % 6: 0
+** aimed at a point of a sphere from up to 60 of its radii or 40 units
+** away; 1 grazing (its line at R (1 + e) from the centre, |e| from 2^-52
+** to 2^-20, either sign); 2 from a point on the surface (outward, inward
+** or along it); 3 through the centre with tmin or tmax between the two
+** roots, or just past one; 4 random; 5 aimed at the centre from far
+** (1e3 to 1e7 radii).  Its direction's length from 2^-20 to 2^20, so the
+** power-of-two scaling (ray__scaled_dir) varies too.
+*/
+static ray_ray fs_ray(const fs_scene *sc, unsigned n, rng *g, unsigned k,
+                      ray_vec3 centre)
+{
+    unsigned i = (unsigned)(rng_unit(g) * n) % n;
+    ray_vec3 c = sc->c[i], o, target;
+    double R = sc->r[i], scale = ldexp(1.0, (int)(rng_unit(g) * 41) - 20);
+    ray_ray r;
+
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    switch (k % 6) {
+    case 0:
+        target = fs_surface(sc, i, g);
+        o = v3_add(target, v3_scale(rng_dir(g), rng_unit(g) < 0.5
+                                                    ? 60 * R * rng_unit(g)
+                                                    : 40 * rng_unit(g)));
+        r.dir = v3_sub(target, o);
+        break;
+    case 1: {
+        ray_vec3 u = rng_dir(g), w = v3_cross(u, rng_dir(g));
+        double e = ldexp(1.0, -20 - (int)(rng_unit(g) * 33));
+        double len = v3_length(w);
+        w = v3_scale(w, 1 / len);
+        if (rng_unit(g) < 0.5)
+            e = -e;
+        /* The closest point of the line, at R (1 + e) from c along w. */
+        target = v3_add(c, v3_scale(w, R * (1 + e)));
+        o = v3_sub(target, v3_scale(u, R * rng_range(g, 1.5, 50)));
+        r.dir = u;
+        break;
+    }
+    case 2: {
+        ray_vec3 nrm;
+        o = fs_surface(sc, i, g);
+        nrm = v3_sub(o, c);
+        r.dir = rng_dir(g);
+        if (rng_unit(g) < 0.3)      /* along the surface, nearly */
+            r.dir = v3_sub(r.dir, v3_scale(nrm, v3_dot(r.dir, nrm) /
+                                                    v3_dot(nrm, nrm)));
+        break;
+    }
+    case 3: {
+        double dist = R * rng_range(g, 1.5, 100), t0, t1, cut;
+        r.dir = rng_dir(g);
+        o = v3_sub(c, v3_scale(r.dir, dist));
+        /* Unit direction: the roots near dist -+ R. */
+        t0 = dist - R;
+        t1 = dist + R;
+        switch ((unsigned)(rng_unit(g) * 4)) {
+        case 0: r.tmin = 0.5 * (t0 + t1); break;
+        case 1: r.tmax = 0.5 * (t0 + t1); break;
+        case 2: cut = t0 * (1 + 0x1p-40); r.tmin = cut; break;
+        default: cut = t1 * (1 - 0x1p-40); r.tmax = cut; break;
+        }
+        r.dir = v3_scale(r.dir, scale);
+        r.tmin /= scale;
+        if (r.tmax < HUGE_VAL)
+            r.tmax /= scale;
+        r.org = o;
+        return r;
+    }
+    case 4:
+        o = v3_add(centre, rng_point(g, -30, 30));
+        r.dir = rng_dir(g);
+        break;
+    default:
+        target = c;
+        o = v3_add(c, v3_scale(rng_dir(g),
+                               R * pow(10.0, rng_range(g, 3, 7))));
+        r.dir = v3_sub(target, o);
+        break;
+    }
+    r.org = o;
+    r.dir = v3_scale(r.dir, scale / v3_length(r.dir));
+    return r;
+}
+
+/* The spheres and planes of scene "which" around centre: 0 four spheres
+** of radii 0.01 to 10 near each other; 1 a tiny sphere (1e-6), a huge one
+** (1e5, its top near the centre) and two of unit size, one inside the
+** other; both with a fifth sphere of radius 1e-3 at 1e9 from the centre
+** (for the five-sphere scene: no ray meets it), and two planes. */
+static void fs_make(fs_scene *sc, int which, ray_vec3 centre, rng *g)
+{
+    unsigned i;
+
+    memset(sc, 0, sizeof *sc);
+    for (i = 0; i < 4; i++) {
+        sc->c[i] = v3_add(centre, rng_point(g, -10, 10));
+        sc->r[i] = pow(10.0, rng_range(g, -2, 1));
+    }
+    if (which == 1) {
+        sc->r[0] = 1e-6;
+        sc->c[1] = v3_add(centre, vec(0, -1e5 - 1, 0));
+        sc->r[1] = 1e5;
+        sc->r[2] = 1;
+        sc->c[3] = v3_add(sc->c[2], vec(0.25, 0, 0));
+        sc->r[3] = 0.5;
+    }
+    sc->c[4] = v3_add(centre, vec(0, 0, 1e9));
+    sc->r[4] = 1e-3;
+    sc->pp[0] = v3_add(centre, vec(0, -20, 0));
+    sc->pn[0] = vec(0, 1, 0);
+    sc->pp[1] = v3_add(centre, rng_point(g, -5, 5));
+    sc->pn[1] = rng_dir(g);
+}
+
+/* The count of rays a scene: 50000 under make check-long, 8000 under
+** make check, or RAY_FEW_SPHERES_RAYS. */
+static size_t fs_rays(void)
+{
+    return test_count("RAY_FEW_SPHERES_RAYS", 50000, 8000);
+}
+
+START_TEST(few_spheres_should_answer_as_each_primitive_bit_for_bit)
+{
+    static const double offsets[3] = {0, 1e5, 1e6};
+    size_t n = fs_rays(), i, hits = 0, checked_ld = 0, total = 0;
+    int o, which, planes;
+
+    for (o = 0; o < 3; o++)
+        for (which = 0; which < 2; which++)
+            for (planes = 0; planes <= 2; planes += 2) {
+                ray_vec3 centre = vec(offsets[o], -0.5 * offsets[o],
+                                      0.25 * offsets[o]);
+                rng g = {(uint64_t)(1000 + 10 * o + which + 100 * planes)};
+                fs_scene sc, four, five;
+                fs_make(&sc, which, centre, &g);
+                fs_build(&four, &sc, 4, (unsigned)planes);
+                fs_build(&five, &sc, 5, (unsigned)planes);
+                for (i = 0; i < n; i++) {
+                    ray_ray r = fs_ray(&sc, 4, &g, (unsigned)i, centre);
+                    ray_hit want, want4, h4, h5;
+                    int tie, tie4, k, k4, k5, j;
+                    memset(&want, 0, sizeof want);
+                    memset(&want4, 0, sizeof want4);
+                    memset(&h4, 0, sizeof h4);
+                    memset(&h5, 0, sizeof h5);
+                    k = fs_reference(&five, &r, &want, &tie);
+                    /* The fifth sphere is never met: the same nearest. */
+                    ck_assert_int_eq(fs_reference(&four, &r, &want4, &tie4),
+                                     k);
+                    ck_assert(!k || fs_same(&want4, &want));
+                    k4 = ray_intersect(four.s, &r, &h4, NULL);
+                    k5 = ray_intersect(five.s, &r, &h5, NULL);
+                    ck_assert_msg(k4 == k && k5 == k,
+                                  "ray %zu: %d, %d, want %d (offset %g, "
+                                  "scene %d)", i, k4, k5, k, offsets[o],
+                                  which);
+                    ck_assert_int_eq(ray_occluded(four.s, &r, NULL), k);
+                    ck_assert_int_eq(ray_occluded(five.s, &r, NULL), k);
+                    /* The long double roots, where well conditioned:
+                    ** tol = 2^-40 (|f| + R) / |d| is 2^12 times a
+                    ** double's rounding of t (ray_sphere's t is within
+                    ** a few ulps of it: ray-numerics(7)), and below
+                    ** 2^-16 of the roots' distance 2 R / |d| as long
+                    ** as |f| <= 1e7 R (the farthest rays here): a wrong
+                    ** root or a lost hit fails. */
+                    for (j = 0; j < 4; j++) {
+                        long double t, tol = 0x1p-40L * (long double)(
+                            (v3_length(v3_sub(r.org, sc.c[j])) + sc.r[j]) /
+                            v3_length(r.dir));
+                        int kl = fs_ld_root(&r, sc.c[j], sc.r[j], tol, &t);
+                        ray_hit hj;
+                        int kj;
+                        if (kl < 0)
+                            continue;
+                        kj = ray_sphere(&r, sc.c[j], sc.r[j], &hj);
+                        checked_ld++;
+                        ck_assert_msg(kj == kl, "ray %zu, sphere %d: %d, "
+                                      "long double %d", i, j, kj, kl);
+                        if (kj)
+                            ck_assert_msg(fabsl((long double)hj.t - t) <=
+                                              tol,
+                                          "ray %zu, sphere %d: t %a, long "
+                                          "double %La (org %a %a %a, dir "
+                                          "%a %a %a)", i, j, hj.t, t,
+                                          r.org.x, r.org.y, r.org.z,
+                                          r.dir.x, r.dir.y, r.dir.z);
+                    }
+                    total++;
+                    if (!k)
+                        continue;
+                    hits++;
+                    if (tie) {       /* either primitive: the same t */
+                        ck_assert(h4.t == want.t && h5.t == want.t);
+                        continue;
+                    }
+                    ck_assert_msg(fs_same(&h4, &want) && fs_same(&h5, &want),
+                                  "ray %zu: t %a, %a, want %a (geom %u, "
+                                  "%u, want %u; offset %g, scene %d)", i,
+                                  h4.t, h5.t, want.t, h4.geom_id,
+                                  h5.geom_id, want.geom_id, offsets[o],
+                                  which);
+                }
+                ray_scene_free(four.s);
+                ray_scene_free(five.s);
+            }
+    /* Most rays hit something, and many went through the long double
+    ** check: the test is not vacuous. */
+    ck_assert_msg(hits > total / 2, "%zu hits of %zu", hits, total);
+    ck_assert_msg(checked_ld > total / 10, "%zu long double checks of %zu",
+                  checked_ld, total);
+}
+END_TEST
+
 Suite *sphere_suite(void)
 {
     Suite *s = suite_create("sphere");
     TCase *core = tcase_create("hits");
     TCase *hard = tcase_create("hard");
     TCase *prop = tcase_create("property");
+    TCase *scene = tcase_create("scene");
 
     tcase_add_loop_test(core, sphere_should_hit_front_at_exact_t, 0, N_OFFSETS);
     tcase_add_test(core, sphere_should_give_texture_coordinates_at_poles_and_equator);
@@ -442,6 +830,9 @@ Suite *sphere_suite(void)
     tcase_add_test(prop, sphere_should_reproduce_aimed_points);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);
+    tcase_add_test(scene, few_spheres_should_answer_as_each_primitive_bit_for_bit);
+    tcase_set_timeout(scene, 60);
     suite_add_tcase(s, prop);
+    suite_add_tcase(s, scene);
     return s;
 }
