@@ -90,7 +90,8 @@ static inline void tri_hit(unsigned i, const float *rows, unsigned n,
 ** the division by the largest component and the product by 1 / |n|, the
 ** point's and its error bound's sums of products: IEEE arithmetic rounds
 ** each the same in a lane as alone -- so the same bits (tests/check_bvh.c
-** compares the records with ray_triangle_watertight's), at about half
+** compares every record of the AVX2 copy with the plain copy's, which
+** calls ray__triangle_fill, byte for byte: hit_same), at about half
 ** the instructions of the call (callgrind, bench/raycost's camera rays
 ** that hit, issue 34).  The plain copy calls it.
 */
