@@ -440,6 +440,16 @@ static int mesh_nan_vertex(ray_scene *s)
     return ray_scene_add_mesh(s, &d.m, 0, NULL);
 }
 
+/* -inf, and a vertex that is not the last: mesh.c's quick test of the
+** whole array (the sum of x * 0) must see every sign and position. */
+static int mesh_minus_inf_vertex(ray_scene *s)
+{
+    mesh_data d;
+    mesh_init(&d);
+    d.v[0].z = -(double)INFINITY;
+    return ray_scene_add_mesh(s, &d.m, 0, NULL);
+}
+
 static int mesh_infinite_normal(ray_scene *s)
 {
     mesh_data d;
@@ -814,6 +824,8 @@ static const errcase cases[] = {
      "ray_scene_add_mesh: triangle 1 index 3 out of range (3 vertices)"},
     {mesh_nan_vertex, RAY_EINVAL,
      "ray_scene_add_mesh: vertex 2 (nan, 1, 0) is not finite"},
+    {mesh_minus_inf_vertex, RAY_EINVAL,
+     "ray_scene_add_mesh: vertex 0 (0, 0, -inf) is not finite"},
     {mesh_infinite_normal, RAY_EINVAL,
      "ray_scene_add_mesh: normal 1 (0, inf, 1) is not finite"},
     {mesh_nan_texcoord, RAY_EINVAL,

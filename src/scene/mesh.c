@@ -155,6 +155,67 @@ static int mesh_vertex_check(ray_scene *s, const ray_mesh *m, size_t i)
     return RAY_OK;
 }
 
+/*
+** Are the n vectors v all finite?  x * 0 is 0 for a finite x and NaN for
+** an infinite or NaN one, and a sum with a NaN term is NaN: the sum of
+** x * 0 is 0 exactly when every x is finite.  A multiply and an add a
+** value, no branch (one sum an axis, so that the adds do not wait on
+** each other), where testing each vertex (mesh_vertex_check) was two
+** fifths of an update of positions (callgrind, bench/game's refit, issue
+** 36); the vertex by vertex check runs only to name a failure.
+*/
+static int vec3s_finite(const ray_vec3 *v, size_t n)
+{
+    double x = 0, y = 0, z = 0;
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        x += v[i].x * 0.0;
+        y += v[i].y * 0.0;
+        z += v[i].z * 0.0;
+    }
+    return x + y + z == 0;
+}
+
+/* The same test of strided positions (mesh_vertex), and of n pairs of
+** texture coordinates. */
+static int strided_finite(const ray_mesh *m)
+{
+    double x = 0, y = 0, z = 0;
+    size_t i;
+
+    for (i = 0; i < m->vertex_count; i++) {
+        ray_vec3 v = mesh_vertex(m, i);
+        x += v.x * 0.0;
+        y += v.y * 0.0;
+        z += v.z * 0.0;
+    }
+    return x + y + z == 0;
+}
+
+static int pairs_finite(const double *st, size_t n)
+{
+    double s = 0, t = 0;
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        s += st[2 * i] * 0.0;
+        t += st[2 * i + 1] * 0.0;
+    }
+    return s + t == 0;
+}
+
+/* Are every vertex and attribute of m finite, by the quick test? */
+static int mesh_finite(const ray_mesh *m)
+{
+    size_t n = m->vertex_count;
+
+    return (m->vertices != NULL ? vec3s_finite(m->vertices, n)
+                                : strided_finite(m)) &&
+           (m->normals == NULL || vec3s_finite(m->normals, n)) &&
+           (m->texcoords == NULL || pairs_finite(m->texcoords, n));
+}
+
 /* Every index in range, every vertex and attribute finite: RAY_OK, or the
 ** first failure, named by triangle and corner, or by vertex. */
 static int mesh_check(ray_scene *s, const ray_mesh *m, int indices_known)
@@ -170,6 +231,8 @@ static int mesh_check(ray_scene *s, const ray_mesh *m, int indices_known)
                              "of range (%zu vertices)", m->indices != NULL ?
                              "" : "index_data: ", i / 3, mesh_index(m, i),
                              m->vertex_count);
+    if (mesh_finite(m))
+        return RAY_OK;
     for (i = 0; i < m->vertex_count; i++) {
         rc = mesh_vertex_check(s, m, i);
         if (rc != RAY_OK)
@@ -365,21 +428,45 @@ static int mesh_rewritable(const ray__mesh *cur, const ray_mesh *m)
                       (m->texcoords == NULL) == (cur->texcoords == NULL));
 }
 
+/*
+** Is every coordinate of the n = m->vertex_count positions pos (m's, as
+** doubles) a float?  Those of float positions are (a finite float is a
+** double exactly: mesh_vertex); doubles are tested up to the first that
+** is not, where a test of all was a fifth of an update of a double mesh
+** (callgrind, bench/game's refit, issue 36).
+*/
+static int positions_floats(const ray_vec3 *pos, const ray_mesh *m)
+{
+    size_t i;
+
+    if (m->vertices == NULL && m->position_type == RAY_FLOAT32)
+        return 1;
+    for (i = 0; i < m->vertex_count; i++)
+        if (!(ray__is_float(pos[i].x) & ray__is_float(pos[i].y) &
+              ray__is_float(pos[i].z)))
+            return 0;
+    return 1;
+}
+
 /* The update written over the mesh's arrays (mesh_rewritable): the
-** values mesh_keep would have copied, in the same arrays.  Cannot fail. */
-static void mesh_rewrite(ray__mesh *cur, const ray_mesh *m)
+** values mesh_keep would have copied, in the same arrays, but for
+** indices the same as those kept (indices_same: indices_kept).  Cannot
+** fail. */
+static void mesh_rewrite(ray__mesh *cur, const ray_mesh *m,
+                         int indices_same)
 {
     size_t i, n = 3 * m->triangle_count;
-    int floats = 1;
 
-    for (i = 0; i < m->vertex_count; i++) {
-        cur->pos[i] = mesh_vertex(m, i);
-        floats &= ray__is_float(cur->pos[i].x) &
-                  ray__is_float(cur->pos[i].y) & ray__is_float(cur->pos[i].z);
-    }
-    cur->pos_floats = floats;
+    if (m->vertices != NULL)
+        memcpy(cur->pos, m->vertices, m->vertex_count * sizeof *cur->pos);
+    else
+        for (i = 0; i < m->vertex_count; i++)
+            cur->pos[i] = mesh_vertex(m, i);
+    cur->pos_floats = positions_floats(cur->pos, m);
     if (!cur->own_indices)
         cur->indices = m->indices;
+    else if (indices_same)
+        ;                       /* indices_kept: the same bytes */
     else if (m->indices != NULL)
         memcpy(ray__unconst(cur->indices), m->indices, n * sizeof(unsigned));
     else {
@@ -478,7 +565,7 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
     ray__mesh shading;
     ray_mesh again;
     ray__prim *p;
-    int rc = ray__begin(s, "ray_scene_update_mesh");
+    int kept, rc = ray__begin(s, "ray_scene_update_mesh");
 
     if (rc != RAY_OK)
         return rc;
@@ -498,11 +585,11 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
         return ray__fail(s, RAY_EINVAL, "triangle_count %zu: the mesh has "
                          "%zu (an update keeps the count: remove it and add "
                          "another)", m->triangle_count, p->count);
-    if ((rc = mesh_check(s, m, indices_kept(&s->meshes[p->mesh], m))) !=
-        RAY_OK)
+    kept = indices_kept(&s->meshes[p->mesh], m);
+    if ((rc = mesh_check(s, m, kept)) != RAY_OK)
         return rc;
     if (mesh_rewritable(&s->meshes[p->mesh], m)) {
-        mesh_rewrite(&s->meshes[p->mesh], m);
+        mesh_rewrite(&s->meshes[p->mesh], m, kept);
         ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
         return RAY_OK;
     }

@@ -89,19 +89,18 @@ static inline int row_fits(double x)
 ** float.  A triangle with a coordinate beyond RAY__LEAF_FLOAT_MAX (where
 ** the filter's arithmetic could overflow, and where a conversion to
 ** float could be out of range) gets NaN in all nine, which the filter
-** never rejects: the exact test decides it.
+** never rejects: the exact test decides it (fits: whether every
+** coordinate is within it).
 */
-static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
+static inline void leaf_rows_fitting(const ray__tri *t, float *rows,
+                                     size_t stride, int fits)
 {
     /* Written out, not looped over an array of nine: a refit writes every
     ** triangle's rows, and the loops were two fifths of its instructions
     ** (callgrind, bench/game's 59k refit, issue 36). */
-    int ok = row_fits(t->a.x) & row_fits(t->a.y) & row_fits(t->a.z) &
-             row_fits(t->b.x) & row_fits(t->b.y) & row_fits(t->b.z) &
-             row_fits(t->c.x) & row_fits(t->c.y) & row_fits(t->c.z);
     float *r = rows;
 
-    if (ok) {
+    if (fits) {
         r[0] = (float)t->a.x, r += stride;
         r[0] = (float)t->a.y, r += stride;
         r[0] = (float)t->a.z, r += stride;
@@ -116,6 +115,18 @@ static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
         for (k = 0; k < RAY__LEAF_ROWS; k++)
             rows[(size_t)k * stride] = (float)NAN;
     }
+}
+
+/* leaf_rows_fitting with the test of every coordinate (fits: each is
+** within RAY__LEAF_FLOAT_MAX). */
+static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
+{
+    leaf_rows_fitting(t, rows, stride,
+                      row_fits(t->a.x) & row_fits(t->a.y) &
+                      row_fits(t->a.z) & row_fits(t->b.x) &
+                      row_fits(t->b.y) & row_fits(t->b.z) &
+                      row_fits(t->c.x) & row_fits(t->c.y) &
+                      row_fits(t->c.z));
 }
 
 /*
@@ -386,41 +397,82 @@ int ray__triangles_rebuild(ray_scene *s)
 }
 
 /*
+** The corners of live slot "slot" for a refit, as ray__tri_by_id reads
+** them; *m caches the mesh of geometry *m_geom, so that a leaf's run of
+** one mesh's triangles (the usual case) looks its mesh up once.
+*/
+static inline void refit_corners(const ray_scene *s, size_t slot,
+                                 const ray__mesh **m, unsigned *m_geom,
+                                 ray__tri *t)
+{
+    const ray__tri_id *id = &s->tri_ids[slot];
+
+    if (id->geom_id != *m_geom) {
+        const ray__prim *p = &s->prims[id->geom_id];
+        if (p->kind != RAY__KIND_MESH) {
+            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+            return;
+        }
+        *m = &s->meshes[p->mesh];
+        *m_geom = id->geom_id;
+    }
+    ray__mesh_tri(*m, id->prim_id, t);
+}
+
+/*
 ** A refit's leaf: the box of slots first .. first + n - 1, from the
 ** geometry's vertices as they are now, and their float corners written
 ** again in the leaf's rows (ud: the scene, whose leaf_f the refit
 ** rewrites: each leaf its own rows).
+**
+** The same corners, the same operations in the same order as the build's
+** (corners_grow: the box's minima and maxima, signed zeros included;
+** leaf_rows: the floats), so the same bits; written for the refit, which
+** does it for every triangle of every frame (issue 36).  A mesh's
+** triangle is read through ray__mesh_tri, inline, where ray__tri_of was
+** a call returning 72 bytes through memory (a store-forwarding stall a
+** triangle: perf put a quarter of a 59k refit there).  Whether the nine
+** coordinates fit the rows (|x| <= RAY__LEAF_FLOAT_MAX, leaf_rows's
+** test) is read from the triangle's own box: |x| <= M for the three
+** corners of an axis exactly when their minimum is >= -M and their
+** maximum <= M (vertices are finite), six comparisons for nine.
 */
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
                        float hi[3])
 {
-    ray_scene *s = ray__unconst(ud);
+    const ray_scene *s = ud;
     float *rows = s->leaf_f + RAY__LEAF_ROWS * first;
+    ray__tri *copy = s->leaf_tri != NULL ? s->leaf_tri + first : NULL;
+    const ray__mesh *m = NULL;
+    unsigned m_geom = (unsigned)-1;
+    const double big = RAY__LEAF_FLOAT_MAX;
     ray_vec3 a = {0, 0, 0}, b = a;
     size_t j;
 
-    /*
-    ** A mesh's triangle is read here through ray__mesh_tri, inline, where
-    ** ray__tri_of was a call returning 72 bytes through memory, read
-    ** back in 16-byte loads over its 8-byte stores (a store-forwarding
-    ** stall a triangle: perf put a quarter of a 59k refit there); the
-    ** same corners, the same operations in the same order (corners_grow,
-    ** leaf_rows), so the same floats.
-    */
     for (j = 0; j < n; j++) {
-        const ray__tri_id *id = &s->tri_ids[first + j];
-        const ray__prim *p = &s->prims[id->geom_id];
         ray__tri t;
-        if (p->kind == RAY__KIND_MESH)
-            ray__mesh_tri(&s->meshes[p->mesh], id->prim_id, &t);
-        else
-            t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+        ray_vec3 tlo, thi;
+        refit_corners(s, first + j, &m, &m_geom, &t);
+        tlo.x = min3(t.a.x, t.b.x, t.c.x);
+        tlo.y = min3(t.a.y, t.b.y, t.c.y);
+        tlo.z = min3(t.a.z, t.b.z, t.c.z);
+        thi.x = max3(t.a.x, t.b.x, t.c.x);
+        thi.y = max3(t.a.y, t.b.y, t.c.y);
+        thi.z = max3(t.a.z, t.b.z, t.c.z);
         if (j == 0)
             a = b = t.a;
-        corners_grow(&t, &a, &b);
-        leaf_rows(&t, rows + j, n);
-        if (s->leaf_tri != NULL)
-            s->leaf_tri[first + j] = t;
+        a.x = min2(a.x, tlo.x);
+        a.y = min2(a.y, tlo.y);
+        a.z = min2(a.z, tlo.z);
+        b.x = max2(b.x, thi.x);
+        b.y = max2(b.y, thi.y);
+        b.z = max2(b.z, thi.z);
+        leaf_rows_fitting(&t, rows + j, n,
+                          (tlo.x >= -big) & (tlo.y >= -big) &
+                          (tlo.z >= -big) & (thi.x <= big) &
+                          (thi.y <= big) & (thi.z <= big));
+        if (copy != NULL)
+            copy[j] = t;
     }
     box_out(a, b, lo, hi);
 }
