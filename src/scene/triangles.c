@@ -92,6 +92,14 @@ static inline int row_fits(double x)
 ** never rejects: the exact test decides it (fits: whether every
 ** coordinate is within it).
 */
+static inline void rows_nan(float *rows, size_t stride)
+{
+    int k;
+
+    for (k = 0; k < RAY__LEAF_ROWS; k++)
+        rows[(size_t)k * stride] = (float)NAN;
+}
+
 static inline void leaf_rows_fitting(const ray__tri *t, float *rows,
                                      size_t stride, int fits)
 {
@@ -110,11 +118,8 @@ static inline void leaf_rows_fitting(const ray__tri *t, float *rows,
         r[0] = (float)t->c.x, r += stride;
         r[0] = (float)t->c.y, r += stride;
         r[0] = (float)t->c.z;
-    } else {
-        int k;
-        for (k = 0; k < RAY__LEAF_ROWS; k++)
-            rows[(size_t)k * stride] = (float)NAN;
-    }
+    } else
+        rows_nan(rows, stride);
 }
 
 /* leaf_rows_fitting with the test of every coordinate (fits: each is
@@ -397,6 +402,187 @@ int ray__triangles_rebuild(ray_scene *s)
 }
 
 /*
+** A refit's leaf: the box of slots first .. first + n - 1, from the
+** geometry's vertices as they are now, and their float corners written
+** again in the leaf's rows (ud: the scene, whose leaf_f the refit
+** rewrites: each leaf its own rows).
+**
+** The same corners, the same operations in the same order as the build's
+** (corners_grow: the box's minima and maxima, signed zeros included;
+** leaf_rows: the floats), so the same bits; written for the refit, which
+** does it for every triangle of every frame (issue 36).  A mesh's
+** triangle is read through ray__mesh_tri, inline, where ray__tri_of was
+** a call returning 72 bytes through memory (a store-forwarding stall a
+** triangle: perf put a quarter of a 59k refit there).  Whether the nine
+** coordinates fit the rows (|x| <= RAY__LEAF_FLOAT_MAX, leaf_rows's
+** test) is read from the triangle's own box: |x| <= M for the three
+** corners of an axis exactly when their minimum is >= -M and their
+** maximum <= M (vertices are finite), six comparisons for nine.
+*/
+#if RAY__SSE2
+#include <emmintrin.h>
+
+/*
+** With SSE2 (every x86-64), x and y in one register and z in another:
+** the operations of the scalar loop below, lane by lane, so the same
+** bits.  _mm_min_pd(p, q) is p < q ? p : q in each lane (MINPD returns
+** its second operand for equal values, signed zeros, and NaN), which is
+** min2's expression; _mm_cvtpd_ps rounds as a cast does, to nearest.
+** The cross product that ray__corners_usable tests is formed with its
+** y component negated (e1.x e2.z - e1.z e2.x for e1.z e2.x - e1.x e2.z):
+** rounding to nearest is symmetric, so its magnitude, all the test
+** reads, is the same.  Half the instructions of the scalar loop
+** (callgrind, the 59k bunny's refit, issue 36).
+*/
+typedef struct refit_box {
+    __m128d lo_xy, lo_z, hi_xy, hi_z;
+} refit_box;
+
+/* Do a triangle's corners give it a normal (ray__corners_usable)? */
+static inline int corners_usable_sse2(__m128d a, __m128d az, __m128d b,
+                                      __m128d bz, __m128d c, __m128d cz)
+{
+    const __m128d sign = _mm_set1_pd(-0.0), zero = _mm_setzero_pd(),
+                  inf = _mm_set1_pd(HUGE_VAL);
+    __m128d e1 = _mm_sub_pd(b, a), e1z = _mm_sub_sd(bz, az);
+    __m128d e2 = _mm_sub_pd(c, a), e2z = _mm_sub_sd(cz, az);
+    __m128d e1s = _mm_shuffle_pd(e1, e1, 1), e2s = _mm_shuffle_pd(e2, e2, 1);
+    __m128d nxy = _mm_sub_pd(_mm_mul_pd(e1s, _mm_unpacklo_pd(e2z, e2z)),
+                             _mm_mul_pd(_mm_unpacklo_pd(e1z, e1z), e2s));
+    __m128d r = _mm_mul_pd(e1, e2s);
+    __m128d nz = _mm_sub_sd(r, _mm_unpackhi_pd(r, r));
+    int pos, fin;
+
+    nxy = _mm_andnot_pd(sign, nxy);
+    nz = _mm_andnot_pd(sign, nz);
+    pos = _mm_movemask_pd(_mm_cmpgt_pd(nxy, zero)) |
+          (_mm_movemask_pd(_mm_cmpgt_sd(nz, zero)) & 1);
+    fin = _mm_movemask_pd(_mm_cmplt_pd(nxy, inf)) == 3 &&
+          (_mm_movemask_pd(_mm_cmplt_sd(nz, inf)) & 1);
+    return pos != 0 && fin;
+}
+
+/* The nine floats of a triangle in its rows (leaf_rows_fitting's). */
+static inline void rows_sse2(float *r, size_t stride, __m128d a, __m128d az,
+                             __m128d b, __m128d bz, __m128d c, __m128d cz)
+{
+    __m128 f;
+
+    f = _mm_cvtpd_ps(a);
+    _mm_store_ss(r, f);
+    _mm_store_ss(r + stride, _mm_shuffle_ps(f, f, 1));
+    _mm_store_ss(r + 2 * stride, _mm_cvtsd_ss(f, az));
+    f = _mm_cvtpd_ps(b);
+    _mm_store_ss(r + 3 * stride, f);
+    _mm_store_ss(r + 4 * stride, _mm_shuffle_ps(f, f, 1));
+    _mm_store_ss(r + 5 * stride, _mm_cvtsd_ss(f, bz));
+    f = _mm_cvtpd_ps(c);
+    _mm_store_ss(r + 6 * stride, f);
+    _mm_store_ss(r + 7 * stride, _mm_shuffle_ps(f, f, 1));
+    _mm_store_ss(r + 8 * stride, _mm_cvtsd_ss(f, cz));
+}
+
+/* Triangle t (its corners at pa, pb, pc) refitted: the leaf's box *x
+** grown (set by the first, "first"), its rows and its copy written. */
+static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
+                                  const ray_vec3 *pc, int check, int first,
+                                  refit_box *x, float *rows, size_t stride,
+                                  ray__tri *copy)
+{
+    const __m128d big = _mm_set1_pd(RAY__LEAF_FLOAT_MAX),
+                  nbig = _mm_set1_pd(-RAY__LEAF_FLOAT_MAX);
+    __m128d a = _mm_loadu_pd(&pa->x), az = _mm_load_sd(&pa->z);
+    __m128d b = _mm_loadu_pd(&pb->x), bz = _mm_load_sd(&pb->z);
+    __m128d c = _mm_loadu_pd(&pc->x), cz = _mm_load_sd(&pc->z);
+    __m128d lo, loz, hi, hiz;
+
+    if (check && !corners_usable_sse2(a, az, b, bz, c, cz)) {
+        b = c = a;
+        bz = cz = az;
+    }
+    lo = _mm_min_pd(_mm_min_pd(a, b), c);
+    loz = _mm_min_sd(_mm_min_sd(az, bz), cz);
+    hi = _mm_max_pd(_mm_max_pd(a, b), c);
+    hiz = _mm_max_sd(_mm_max_sd(az, bz), cz);
+    if (first) {
+        x->lo_xy = x->hi_xy = a;
+        x->lo_z = x->hi_z = az;
+    }
+    x->lo_xy = _mm_min_pd(x->lo_xy, lo);
+    x->lo_z = _mm_min_sd(x->lo_z, loz);
+    x->hi_xy = _mm_max_pd(x->hi_xy, hi);
+    x->hi_z = _mm_max_sd(x->hi_z, hiz);
+    if (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_pd(lo, nbig),
+                                   _mm_cmple_pd(hi, big))) == 3 &&
+        (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_sd(loz, nbig),
+                                    _mm_cmple_sd(hiz, big))) & 1))
+        rows_sse2(rows, stride, a, az, b, bz, c, cz);
+    else
+        rows_nan(rows, stride);
+    if (copy != NULL) {
+        _mm_storeu_pd(&copy->a.x, a);
+        _mm_store_sd(&copy->a.z, az);
+        _mm_storeu_pd(&copy->b.x, b);
+        _mm_store_sd(&copy->b.z, bz);
+        _mm_storeu_pd(&copy->c.x, c);
+        _mm_store_sd(&copy->c.z, cz);
+    }
+}
+
+static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
+                       float hi[3])
+{
+    const ray_scene *s = ud;
+    float *rows = s->leaf_f + RAY__LEAF_ROWS * first;
+    ray__tri *copy = s->leaf_tri != NULL ? s->leaf_tri + first : NULL;
+    const ray__mesh *m = NULL;
+    unsigned m_geom = (unsigned)-1;
+    refit_box x;
+    ray_vec3 a, b;
+    double out[2];
+    size_t j;
+
+    x.lo_xy = x.hi_xy = x.lo_z = x.hi_z = _mm_setzero_pd();
+    for (j = 0; j < n; j++) {
+        const ray__tri_id *id = &s->tri_ids[first + j];
+        const ray_vec3 *pa, *pb, *pc;
+        ray__tri t;
+        int mesh = id->geom_id == m_geom;
+        if (!mesh) {
+            const ray__prim *p = &s->prims[id->geom_id];
+            if ((mesh = p->kind == RAY__KIND_MESH) != 0) {
+                m = &s->meshes[p->mesh];
+                m_geom = id->geom_id;
+            }
+        }
+        if (mesh) {
+            const unsigned *k = m->indices + 3 * (size_t)id->prim_id;
+            pa = &m->pos[k[0]];
+            pb = &m->pos[k[1]];
+            pc = &m->pos[k[2]];
+        } else {
+            /* A single triangle: its own corners, usable (its add
+            ** refused any other). */
+            t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+            pa = &t.a;
+            pb = &t.b;
+            pc = &t.c;
+        }
+        refit_tri_sse2(pa, pb, pc, mesh, j == 0, &x, rows + j, n,
+                       copy != NULL ? copy + j : NULL);
+    }
+    _mm_storeu_pd(out, x.lo_xy);
+    a.x = out[0];
+    a.y = out[1];
+    _mm_store_sd(&a.z, x.lo_z);
+    _mm_storeu_pd(out, x.hi_xy);
+    b.x = out[0];
+    b.y = out[1];
+    _mm_store_sd(&b.z, x.hi_z);
+    box_out(a, b, lo, hi);
+}
+#else
+/*
 ** The corners of live slot "slot" for a refit, as ray__tri_by_id reads
 ** them; *m caches the mesh of geometry *m_geom, so that a leaf's run of
 ** one mesh's triangles (the usual case) looks its mesh up once.
@@ -419,24 +605,6 @@ static inline void refit_corners(const ray_scene *s, size_t slot,
     ray__mesh_tri(*m, id->prim_id, t);
 }
 
-/*
-** A refit's leaf: the box of slots first .. first + n - 1, from the
-** geometry's vertices as they are now, and their float corners written
-** again in the leaf's rows (ud: the scene, whose leaf_f the refit
-** rewrites: each leaf its own rows).
-**
-** The same corners, the same operations in the same order as the build's
-** (corners_grow: the box's minima and maxima, signed zeros included;
-** leaf_rows: the floats), so the same bits; written for the refit, which
-** does it for every triangle of every frame (issue 36).  A mesh's
-** triangle is read through ray__mesh_tri, inline, where ray__tri_of was
-** a call returning 72 bytes through memory (a store-forwarding stall a
-** triangle: perf put a quarter of a 59k refit there).  Whether the nine
-** coordinates fit the rows (|x| <= RAY__LEAF_FLOAT_MAX, leaf_rows's
-** test) is read from the triangle's own box: |x| <= M for the three
-** corners of an axis exactly when their minimum is >= -M and their
-** maximum <= M (vertices are finite), six comparisons for nine.
-*/
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
                        float hi[3])
 {
@@ -476,6 +644,8 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
     }
     box_out(a, b, lo, hi);
 }
+
+#endif
 
 void ray__triangles_refit(ray_scene *s)
 {
