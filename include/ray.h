@@ -834,6 +834,9 @@ RAY_API int ray_scene_set_watertight(ray_scene *scene, int enabled);
 ** it returns; no more than the build can use, at most 64).  The tree is
 ** the same, bit for bit, at every thread count, so are the queries'
 ** answers; a thread that cannot be started only means fewer threads.
+** Besides the subtrees, a large mesh's triangle boxes, the binning of
+** the top nodes (16,384 items and more) and the leaves' rows run on the
+** threads.
 ** A commit that refits (after ray_scene_update_mesh) fits the leaves of
 ** a large mesh (2,048 leaves or more) on the same threads: the same
 ** boxes.  The scene's allocator is still called on the committing thread
@@ -886,9 +889,11 @@ typedef struct ray_scheduler {
 ** ray_scene_set_scheduler -- run the scene's parallel work on the
 ** program's job system: "scheduler" is COPIED (its ud is BORROWED: it
 ** must outlive every use), NULL (the default) for the built-in threads.
-** ray_scene_commit's BVH builds then hand it all their subtrees (the
+** ray_scene_commit's BVH builds then hand it all their parallel work
+** (the subtrees; for a large mesh also the triangles' boxes, the top
+** nodes' binning and the leaves' rows; a refit's leaves), where the
 ** build threads setting no longer applies: the scheduler chooses the
-** threads), and ray_render and ray_photon_map_build use it unless their
+** threads, and ray_render and ray_photon_map_build use it unless their
 ** options name one.  Both are needed: a commit has no options to carry
 ** one, while a committed scene may be rendered from several threads at
 ** once, each render on its own pool, which a setting cannot give (a

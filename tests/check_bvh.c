@@ -1318,8 +1318,10 @@ END_TEST
 ** The build on the program's scheduler (ray_scene_set_scheduler): the
 ** same tree as the one-thread build, its subtrees run last first, in a
 ** random order, and on a pool of 3 threads of the test's own; the
-** scheduler got every subtree of both BVHs as a task (two runs, the
-** triangles' with several tasks).
+** scheduler got the parallel work of both builds: at least the subtrees
+** of both BVHs and, for the 40,000 triangles (three runs of sah.c's
+** BIN_RUN 16,384 and triangles.c's SLOT_RUN), their records and their
+** rows -- four runs -- and the large nodes' bins besides (issue 36).
 */
 START_TEST(threaded_build_should_make_the_same_tree_on_a_scheduler)
 {
@@ -1354,7 +1356,7 @@ START_TEST(threaded_build_should_make_the_same_tree_on_a_scheduler)
                              RAY_OK);
         ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
         assert_same_trees(one, s);
-        ck_assert_uint_eq(log->runs, 2);
+        ck_assert_uint_ge(log->runs, 4);
         ck_assert_uint_gt(log->tasks, 4);
         ray_scene_free(s);
     }

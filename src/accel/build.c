@@ -65,6 +65,9 @@ static void build_subtree(const build_job *job, subtree *st)
     bd.refs = job->refs;
     bd.nodes = job->nodes;
     bd.n_nodes = st->region;
+    bd.alloc = NULL;
+    bd.sched = NULL;
+    bd.threads = 1;
     stack[0] = st->root;
     while (sp > 0) {
         task t = stack[--sp];
@@ -150,7 +153,14 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     if (n > 0x7fffffffu)
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
+    if (threads == 0)
+        threads = ray__online_cpus();
+    if (threads > MAX_BUILD_THREADS)
+        threads = MAX_BUILD_THREADS;
     bd.costs = costs;
+    bd.alloc = a;
+    bd.sched = sched;
+    bd.threads = threads;
     bd.refs = scratch;
     if (scratch == NULL)
         bd.refs = ray__allocate(a, n * sizeof *bd.refs);
@@ -209,10 +219,6 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
             job.nodes = bd.nodes;
             job.tasks = tasks;
             job.order = order;
-            if (threads == 0)
-                threads = ray__online_cpus();
-            if (threads > MAX_BUILD_THREADS)
-                threads = MAX_BUILD_THREADS;
             /* On the scheduler, or the calling thread and threads - 1
             ** started ones: fewer if a thread cannot be started, or if the
             ** runner's lock cannot be made (the caller builds them all),

@@ -77,6 +77,12 @@ typedef struct builder {
     ref *refs;
     ray__node *nodes;
     size_t n_nodes;
+    /* Where a large node's binning may run in parallel (sah.c's
+    ** bin_node): the top of a threaded build; threads 1 and sched NULL
+    ** elsewhere (a subtree task is already one thread's work). */
+    const ray__allocator *alloc;
+    const ray_scheduler *sched;
+    unsigned threads;
 } builder;
 
 /* The boxes a node needs before it is split: its items' box and the box

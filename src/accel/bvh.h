@@ -60,8 +60,8 @@ typedef struct ray__bvh {
 ** "sched" if it has a run, else for up to "threads" threads (0: one per
 ** online CPU; the calling thread is one of them, the others are started
 ** and joined inside).  The tree is the same, bit for bit, at every
-** thread count and in every task order.  box and the allocator are
-** called on the calling thread only.
+** thread count and in every task order.  The allocator is called on
+** the calling thread only, and so is box unless costs->box_threads.
 ** On success *out holds the nodes and the item permutation (through
 ** allocator a).  RAY_OK or RAY_ENOMEM (nothing kept); a thread that
 ** cannot be started only means fewer threads.  ray__bvh_free gives them
@@ -72,6 +72,9 @@ typedef void (*ray__box_fn)(const void *ud, size_t i, float lo[3],
 typedef struct ray__bvh_costs {
     float traversal;         /* a split's cost, in item tests */
     unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
+    int box_threads;         /* box may run on the build's threads at once
+                                (reads only what no thread writes); 0:
+                                on the calling thread only */
 } ray__bvh_costs;
 /*
 ** scratch: NULL, or a block of at least RAY__BVH_SCRATCH(n) bytes, which

@@ -14,9 +14,11 @@
 /*
 ** The BVH over the bounded kinds but triangles: a curved surface's test
 ** costs up to thousands of box tests, so every split the SAH finds is
-** taken, down to single primitives (accel/sah.c).
+** taken, down to single primitives (accel/sah.c).  The boxes on the
+** calling thread: a user kind's comes from the caller's bounds callback,
+** which may not be thread-safe.
 */
-static const ray__bvh_costs prim_costs = {1.0f, 1};
+static const ray__bvh_costs prim_costs = {1.0f, 1, 0};
 
 /* The bounded primitives' ids, for the box callback. */
 typedef struct prim_list {

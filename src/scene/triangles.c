@@ -8,6 +8,7 @@
 */
 #include <string.h>
 
+#include "core/tasks.h"
 #include "scene/scene.h"
 
 /*
@@ -16,9 +17,10 @@
 ** float filter (query/filter.h) tests a leaf's triangles eight at a time
 ** in one pass, so a leaf of eight costs about what a leaf of one does,
 ** and a wide node tests all its boxes at once, whatever their number:
-** bench/mesh measured (issue 27).
+** bench/mesh measured (issue 27).  A triangle's box (tri_box) reads only
+** the scene, so the build may make them on its threads.
 */
-static const ray__bvh_costs tri_costs = {1.5f, RAY__LEAF_MAX};
+static const ray__bvh_costs tri_costs = {1.5f, RAY__LEAF_MAX, 1};
 
 /* The smaller and larger of two, of three finite numbers (no libm call:
 ** the NaN rules of fmin are not needed here, vertices are finite). */
@@ -67,11 +69,40 @@ static void box_out(ray_vec3 lo, ray_vec3 hi, float flo[3], float fhi[3])
     fhi[2] = ray__float_up(hi.z);
 }
 
+/*
+** The corners of live slot "slot", as ray__tri_of reads them; *m caches
+** the mesh of geometry *m_geom, so that a run of one mesh's triangles
+** (the usual case) looks its mesh up once, and a mesh's triangle is read
+** inline (ray__mesh_tri).
+*/
+static inline void refit_corners(const ray_scene *s, size_t slot,
+                                 const ray__mesh **m, unsigned *m_geom,
+                                 ray__tri *t)
+{
+    const ray__tri_id *id = &s->tri_ids[slot];
+
+    if (id->geom_id != *m_geom) {
+        const ray__prim *p = &s->prims[id->geom_id];
+        if (p->kind != RAY__KIND_MESH) {
+            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+            return;
+        }
+        *m = &s->meshes[p->mesh];
+        *m_geom = id->geom_id;
+    }
+    ray__mesh_tri(*m, id->prim_id, t);
+}
+
 /* The float box of slot i, rounded outward (the build's box callback). */
 static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
 {
-    ray__tri t = ray__tri_of(ud, i);
-    ray_vec3 a = t.a, b = t.a;
+    const ray__mesh *m = NULL;
+    unsigned m_geom = (unsigned)-1;
+    ray__tri t;
+    ray_vec3 a, b;
+
+    refit_corners(ud, i, &m, &m_geom, &t);
+    a = b = t.a;
 
     corners_grow(&t, &a, &b);
     box_out(a, b, lo, hi);
@@ -132,6 +163,82 @@ static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
                       row_fits(t->b.y) & row_fits(t->b.z) &
                       row_fits(t->c.x) & row_fits(t->c.y) &
                       row_fits(t->c.z));
+}
+
+/*
+** fn(s, begin, end, out) over the n live slots in runs of SLOT_RUN, on
+** the scene's build threads or scheduler (ray_scene_set_build_threads):
+** the commit's passes that read every triangle once and write what is
+** the slot's own (its rows, its copy), so the runs share nothing and the
+** bytes are the same at any thread count.  They were two fifths of a
+** 940k build's time on the calling thread while the others waited
+** (callgrind, one thread each, issue 36).
+*/
+#define SLOT_RUN 16384
+
+typedef void (*slot_fn)(const ray_scene *s, size_t begin, size_t end,
+                        void *out);
+
+typedef struct slot_job {
+    const ray_scene *s;
+    size_t n;
+    slot_fn fn;
+    void *out;
+} slot_job;
+
+static void slot_task(void *ud, unsigned k)
+{
+    const slot_job *job = ud;
+    size_t begin = (size_t)k * SLOT_RUN;
+
+    job->fn(job->s, begin,
+            job->n - begin > SLOT_RUN ? begin + SLOT_RUN : job->n, job->out);
+}
+
+static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
+{
+    size_t runs = (n + SLOT_RUN - 1) / SLOT_RUN;
+    slot_job job;
+
+    job.s = s;
+    job.n = n;
+    job.fn = fn;
+    job.out = out;
+    if (runs > 0xffffffffu) {               /* beyond the task count */
+        fn(s, 0, n, out);
+        return;
+    }
+    ray__tasks_run(&s->scheduler, &s->alloc, s->build_threads, 0,
+                   (unsigned)runs, slot_task, &job);
+}
+
+/* Slots begin .. end - 1's rows, by slot, into out (leaves_make). */
+static void rows_by_slot(const ray_scene *s, size_t begin, size_t end,
+                         void *out)
+{
+    float *by_slot = out;
+    const ray__mesh *m = NULL;
+    unsigned m_geom = (unsigned)-1;
+    size_t i;
+
+    for (i = begin; i < end; i++) {
+        ray__tri t;
+        refit_corners(s, i, &m, &m_geom, &t);
+        leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
+    }
+}
+
+/* Slots begin .. end - 1's corners copied into out (leaf_tris_make). */
+static void copies_by_slot(const ray_scene *s, size_t begin, size_t end,
+                           void *out)
+{
+    ray__tri *copy = out;
+    const ray__mesh *m = NULL;
+    unsigned m_geom = (unsigned)-1;
+    size_t i;
+
+    for (i = begin; i < end; i++)
+        refit_corners(s, i, &m, &m_geom, &copy[i]);
 }
 
 /*
@@ -215,16 +322,13 @@ static void gather_leaf(void *ud, unsigned first, unsigned n)
 static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
                        float *by_slot)
 {
-    size_t floats = RAY__LEAF_ROWS * n + RAY__LEAF_PAD, i;
+    size_t floats = RAY__LEAF_ROWS * n + RAY__LEAF_PAD;
     float *out = ray__alloc(s, floats * sizeof *out);
     leaf_gather g;
 
     if (out == NULL)
         return RAY_ENOMEM;
-    for (i = 0; i < n; i++) {
-        ray__tri t = ray__tri_of(s, i);
-        leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
-    }
+    slots_run(s, n, rows_by_slot, by_slot);
     g.out = out;
     g.by_slot = by_slot;
     g.items = fresh->items;
@@ -321,15 +425,12 @@ static void leaves_free(ray_scene *s)
 */
 static void leaf_tris_make(ray_scene *s, size_t n)
 {
-    size_t i;
-
     if (s->float_exact)
         return;
     s->leaf_tri = ray__alloc(s, n * sizeof *s->leaf_tri);
     if (s->leaf_tri == NULL)
         return;
-    for (i = 0; i < n; i++)
-        s->leaf_tri[i] = ray__tri_of(s, i);
+    slots_run(s, n, copies_by_slot, s->leaf_tri);
 }
 
 /*
@@ -582,29 +683,6 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
     box_out(a, b, lo, hi);
 }
 #else
-/*
-** The corners of live slot "slot" for a refit, as ray__tri_by_id reads
-** them; *m caches the mesh of geometry *m_geom, so that a leaf's run of
-** one mesh's triangles (the usual case) looks its mesh up once.
-*/
-static inline void refit_corners(const ray_scene *s, size_t slot,
-                                 const ray__mesh **m, unsigned *m_geom,
-                                 ray__tri *t)
-{
-    const ray__tri_id *id = &s->tri_ids[slot];
-
-    if (id->geom_id != *m_geom) {
-        const ray__prim *p = &s->prims[id->geom_id];
-        if (p->kind != RAY__KIND_MESH) {
-            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
-            return;
-        }
-        *m = &s->meshes[p->mesh];
-        *m_geom = id->geom_id;
-    }
-    ray__mesh_tri(*m, id->prim_id, t);
-}
-
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
                        float hi[3])
 {
