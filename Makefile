@@ -809,6 +809,13 @@ RUN_LDCONFIG = if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && \
         echo "libray: ldconfig not run (not root, or not found): programs find $(LIBDIR)/libray.so.$(SOMAJOR) through libray.pc's rpath$(if $(filter 0,$(PC_RPATH)), (none: PC_RPATH=0; run ldconfig as root))"; \
     fi
 
+# pkg-config --static --cflags --libs libray links libray.a, not
+# libray.so (libray.pc.in: -Wl,-Bstatic before -lray, -Wl,-Bdynamic after
+# it), where the linker takes -Bstatic: GNU ld, gold and lld do, Apple's
+# ld does not (PC_BSTATIC=0 there: --static then links libray.so, as
+# pkg-config has no other way to choose the archive).
+PC_BSTATIC ?= $(if $(findstring darwin,$(shell $(CC) -dumpmachine 2>/dev/null)),0,1)
+
 libray.pc:
 	@mkdir -p $(BUILD)
 	sed -e 's|@PREFIX@|$(PREFIX)|' \
@@ -817,6 +824,7 @@ libray.pc:
 	    -e 's|@VERSION@|$(VERSION)|' \
 	    -e 's|@RPATH@|$(if $(filter 1,$(PC_RPATH)), -Wl$(comma)-rpath$(comma)$${libdir})|' \
 	    $(if $(filter 1,$(PNG)),-e 's|@PNG_REQUIRES@|libpng|',-e '/@PNG_REQUIRES@/d') \
+	    $(if $(filter 1,$(PC_BSTATIC)),-e 's|@BDYNAMIC@|-Wl$(comma)-Bdynamic |',-e 's|@BDYNAMIC@||' -e '/^Cflags.private:/d') \
 	    libray.pc.in > $(BUILD)/libray.pc
 
 # Written here, not by CMake: installing needs no CMake.

@@ -161,6 +161,9 @@ version-test: $(STATIC) $(SHARED) $(AMALG_DIR)/libray.c | deps-embed
 # never build output or fetched data (data/), which git does not track.
 DIST = libray-$(VERSION)
 DIST_DIR = $(BUILD)/dist
+# Where the tarball goes (scripts/check-cmake.sh puts one beside the
+# project that fetches it, as doc/EMBEDDING.md's FetchContent block has it).
+DIST_TARBALL = $(DIST).tar.gz
 
 dist:
 	@if ! git rev-parse --is-inside-work-tree >/dev/null 2>&1; then \
@@ -171,8 +174,8 @@ dist:
 	    while IFS= read -r f; do [ ! -f "$$f" ] || echo "$$f"; done \
 	    > $(DIST_DIR)/files
 	tar -cf - -T $(DIST_DIR)/files | tar -C $(DIST_DIR)/$(DIST) -xf -
-	tar -C $(DIST_DIR) -cf - $(DIST) | gzip -9 -n > $(DIST).tar.gz
-	@echo "dist: $(DIST).tar.gz: $$(wc -l < $(DIST_DIR)/files) files, $$(wc -c < $(DIST).tar.gz) bytes"
+	tar -C $(DIST_DIR) -cf - $(DIST) | gzip -9 -n > $(DIST_TARBALL)
+	@echo "dist: $(DIST_TARBALL): $$(wc -l < $(DIST_DIR)/files) files, $$(wc -c < $(DIST_TARBALL)) bytes"
 
 # make check in the tarball, unpacked in a temporary directory: it holds
 # all make check needs, and nothing built.

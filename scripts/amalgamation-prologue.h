@@ -2,9 +2,12 @@
 /*
 ** libray.c -- libray @VERSION@ in one file, the amalgamation: written by
 ** "make amalgamation" (scripts/amalgamate.c) from the sources in src/, so
-** do not edit it, edit them.  With ray.h beside it:
+** do not edit it, edit them.  With ray.h beside it, the PNG calls where
+** pkg-config finds libpng (doc/EMBEDDING.md):
 **
-**     cc -std=c99 -O2 -c libray.c        link the program with -lm -lpthread
+**   png=$(pkg-config --exists libpng && echo "-DRAY_PNG=1 $(pkg-config --cflags libpng)")
+**   cc -std=c99 -O2 $png -c libray.c
+**   cc -I. app.c libray.o ${png:+$(pkg-config --libs libpng)} -lm -lpthread
 **
 ** Switches, each a -D on the command line (doc/EMBEDDING.md):
 **   RAY_PNG=1    ray_write_png and ray_image_load_png on libpng (its header

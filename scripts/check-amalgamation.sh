@@ -4,9 +4,17 @@
 # make check): the one-file library DIR/libray.c (with DIR/ray.h), which
 # make amalgamation writes, is the library.
 #
-#  1. It builds with the command doc/EMBEDDING.md gives, and nothing else:
-#     $CC -std=c99 -O2 -c libray.c; tests/cmake-consumer/main.c linked
-#     with that object (and -lm -lpthread) runs, without libpng.
+#  0. doc/EMBEDDING.md's amalgamation lines, as written (read from the
+#     page by scripts/doc-block.sh), in a directory holding libray.c, ray.h
+#     and app.c, build and link each program of README.md and doc/ that
+#     snippets-test runs (check-snippets.sh SNIPPETS_EXTRACT), and
+#     tests/cmake-consumer/main.c, as app.c; each runs, and the consumer
+#     writes a PNG exactly where pkg-config finds libpng.  libray.c is
+#     compiled once, for the first; the lines that compile it are left
+#     out for the others.  cc is $CC (LDFLAGS after it).
+#  1. It builds with the command doc/EMBEDDING.md gives for no libpng, and
+#     nothing else: $CC -std=c99 -O2 -c libray.c; tests/cmake-consumer/main.c
+#     linked with that object (and -lm -lpthread) runs, without libpng.
 #  2. With gcc and with clang (each where installed), in GNU C mode
 #     (-std=gnu99, where gcc fuses a*b+c into an FMA by default) and with
 #     FMA instructions available (-mfma on x86), under the library's
@@ -31,6 +39,39 @@ trap 'rm -rf "$tmp"' EXIT
 fail() { echo "amalgamation-test: $*" >&2; exit 1; }
 werror=""
 case " $CFLAGS " in *" -Werror "*) werror=-Werror ;; esac
+
+# 0. The page's lines, as written, for every program the pages show.
+mkdir "$tmp/doc" "$tmp/programs"
+cp "$dir/libray.c" "$dir/ray.h" "$tmp/doc/"
+"$top/scripts/doc-block.sh" amalgamation > "$tmp/doc-lines" ||
+    fail "doc/EMBEDDING.md shows no amalgamation lines"
+SNIPPETS_EXTRACT="$tmp/programs" "$top/scripts/check-snippets.sh" "$build" "$png"
+cp "$top/tests/cmake-consumer/main.c" "$tmp/programs/consumer.c"
+if pkg-config --exists libpng 2>/dev/null; then found=1; else found=0; fi
+# shellcheck disable=SC2016 # expanded by the sh that runs the line
+printf '%s\n' 'cc() { command $CC "$@" $LDFLAGS; }' > "$tmp/first.sh"
+cp "$tmp/first.sh" "$tmp/next.sh"
+cat "$tmp/doc-lines" >> "$tmp/first.sh"
+grep -v -e '-c libray\.c' "$tmp/doc-lines" >> "$tmp/next.sh"
+script=first.sh
+count=0
+for prog in "$tmp/programs"/*.c; do
+    name=$(basename "$prog")
+    cp "$prog" "$tmp/doc/app.c"
+    cp "$tmp/$script" "$tmp/doc/"
+    rm -f "$tmp/doc/a.out"
+    (cd "$tmp/doc" && CC="$CC" LDFLAGS="$LDFLAGS" sh -e "$script") ||
+        fail "doc/EMBEDDING.md's amalgamation lines failed on $name as app.c"
+    script=next.sh
+    mkdir "$tmp/doc/run-$name"
+    arg=""
+    [ "$name" != consumer.c ] || [ "$found" = 0 ] || arg=out.png
+    # shellcheck disable=SC2086 # no argument, or one
+    (cd "$tmp/doc/run-$name" && ../a.out $arg >/dev/null) ||
+        fail "$name, built by doc/EMBEDDING.md's amalgamation lines, failed${arg:+ (the consumer writing a PNG: libpng is found)}"
+    count=$((count + 1))
+done
+echo "amalgamation-test: doc/EMBEDDING.md's amalgamation lines, as written: $count programs (the pages' and the consumer) built and ran; PNG calls $([ $found = 1 ] && echo on, libpng found || echo off, no libpng)"
 
 # 1. The documented command, alone.
 # shellcheck disable=SC2086 # the flags are lists

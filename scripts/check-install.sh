@@ -19,7 +19,8 @@
 #     cannot open shared object file"); install and uninstall ran ldconfig
 #     exactly when it applies (root, DESTDIR empty: a stand-in LDCONFIG
 #     records the calls), and libray.pc has no rpath for the loader's own
-#     directories (PREFIX=/usr).
+#     directories (PREFIX=/usr).  And doc/EMBEDDING.md's pkg-config lines,
+#     as written: the --static one links libray.a (pkg_config_lines).
 #
 # CC, CFLAGS and LDFLAGS come from the environment (the Makefile's).
 set -eu
@@ -31,6 +32,41 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/libray-install-test.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "install-test: $*" >&2; exit 1; }
 mk() { $make --no-print-directory -s BUILD="$build" PNG="$png" "$@" >/dev/null; }
+
+# pkg_config_lines PREFIX: doc/EMBEDDING.md's pkg-config lines, as
+# written (scripts/doc-block.sh), each run in a directory of its own with
+# app.c the consumer and PKG_CONFIG_PATH at PREFIX; cc is the build's
+# compiler with its flags (a sanitizer's runtime must be linked too).
+# The program a line without --static builds needs libray.so.MAJOR; the
+# one with --static does not (readelf -d: no NEEDED entry for it), and
+# both run.
+pkg_config_lines() {
+    n=0
+    "$top/scripts/doc-block.sh" pkg-config > "$tmp/pc-lines" ||
+        fail "doc/EMBEDDING.md shows no pkg-config lines"
+    while IFS= read -r line; do
+        n=$((n + 1))
+        dir=$tmp/pc-line$n
+        mkdir "$dir"
+        cp "$top/tests/cmake-consumer/main.c" "$dir/app.c"
+        # shellcheck disable=SC2016 # expanded by the sh that runs the line
+        printf '%s\n' 'cc() { command $CC $CFLAGS "$@" $LDFLAGS; }' "$line" > "$dir/line.sh"
+        (cd "$dir" && PKG_CONFIG_PATH="$1/lib/pkgconfig" CC="$CC" \
+            CFLAGS="$CFLAGS" LDFLAGS="$LDFLAGS" sh -e line.sh) ||
+            fail "doc/EMBEDDING.md's '$line' failed against PREFIX=$1"
+        (cd "$dir" && env -u LD_LIBRARY_PATH ./a.out) ||
+            fail "doc/EMBEDDING.md's '$line' built a program that fails"
+        needs=$(readelf -d "$dir/a.out" | grep NEEDED | grep -c 'libray\.so' || true)
+        case $line in
+        *--static*) [ "$needs" -eq 0 ] ||
+            fail "'$line' built a program that needs libray.so: $(readelf -d "$dir/a.out" | grep NEEDED)" ;;
+        *) [ "$needs" -eq 1 ] ||
+            fail "'$line' built a program that does not need libray.so" ;;
+        esac
+    done < "$tmp/pc-lines"
+    [ "$n" -ge 2 ] || fail "doc/EMBEDDING.md shows $n pkg-config lines, not the shared and the --static one"
+    echo "install-test: doc/EMBEDDING.md's $n pkg-config lines built and ran as written; --static's program needs no libray.so"
+}
 
 # 1. A moved install.
 mk install DESTDIR="$tmp/stage" PREFIX=/opt/libray
@@ -122,6 +158,7 @@ rc=0
 env -u LD_LIBRARY_PATH "$tmp/live-consumer" "$tmp/live.png" || rc=$?
 [ "$rc" -eq 0 ] ||
     fail "cc app.c \$(pkg-config --cflags --libs libray) for PREFIX=$live built a program that exits $rc"
+pkg_config_lines "$live"
 mk uninstall PREFIX="$live" LDCONFIG="$tmp/ldconfig"
 calls=0
 [ ! -e "$tmp/ldconfig.log" ] || calls=$(wc -l < "$tmp/ldconfig.log")

@@ -3,7 +3,7 @@
 # check-mpi.sh BUILD -- examples/mpi_render (issue 20), run by make check
 # where mpicc and mpirun exist:
 #
-#   * its command line keeps the examples' conventions (--help exits 0, a
+#   * its command line keeps the examples' conventions (-h and --help exit 0, a
 #     bad argument 2, before MPI starts);
 #   * the picture is byte-identical (cmp) to the plain example's PNG of the
 #     same scene and options, at 1, 2 and 3 ranks and several band sizes
@@ -56,11 +56,13 @@ mpi() {
 }
 
 # The conventions, without mpirun: the arguments are read before MPI.
-rc=0
-"$exe" --help > "$tmp/out" 2> "$tmp/err" || rc=$?
-checks=$((checks + 1))
-[ "$rc" -eq 0 ] || fail "mpi_render --help: exit $rc, expected 0"
-grep -q "^usage: mpi_render" "$tmp/out" || fail "--help: no usage on stdout"
+for help in --help -h; do
+    rc=0
+    "$exe" "$help" > "$tmp/out" 2> "$tmp/err" || rc=$?
+    checks=$((checks + 1))
+    [ "$rc" -eq 0 ] || fail "mpi_render $help: exit $rc, expected 0"
+    grep -q "^usage: mpi_render" "$tmp/out" || fail "$help: no usage on stdout"
+done
 for bad in "whitted x.png -5 3" "whitted x.png 12abc 3" \
            "whitted x.png 8 8 0" "--bogus"; do
     rc=0

@@ -72,6 +72,16 @@ for page in README.md doc/*.md; do
         { mark = "" }' "$page"
 done
 
+# SNIPPETS_EXTRACT=DIR: only copy the programs into DIR (N.c each), for
+# scripts/check-amalgamation.sh to build them with doc/EMBEDDING.md's
+# amalgamation lines.
+if [ -n "${SNIPPETS_EXTRACT:-}" ]; then
+    awk '$1 == "program" {print $2}' "$tmp/list" | while read -r n; do
+        cp "$tmp/$n.c" "$SNIPPETS_EXTRACT/"
+    done
+    exit 0
+fi
+
 failures=0
 programs=0
 outputs=0

@@ -5,7 +5,12 @@
 ** initializer, answers real queries and renders exactly as the defaults
 ** do (NULL options, or the fields set to their documented values); and
 ** the init functions that remain: the documented values, each struct
-** accepted by the call that consumes it, and NULL a no-op.
+** accepted by the call that consumes it, and NULL a no-op.  The structs
+** filled so: ray_query, ray_batch, ray_sweep, ray_shape,
+** ray_render_options, ray_camera, ray_scheduler, ray_glass_params,
+** ray_contains_options, ray_distance_grid_options and
+** ray_image_load_options; those whose zeros are not their defaults
+** (ray_limits, ray_light, ray_phong_params) through their init functions.
 */
 #include <string.h>
 
@@ -452,6 +457,122 @@ START_TEST(zeroed_contains_and_grid_options_should_be_null)
 }
 END_TEST
 
+/*
+** ray_sweep {0} and a zero-motion sweep by designated initializer answer
+** as the same sweeps written out (tmin 0, tmax 1): {0} is a point at the
+** origin, where zero_scene has nothing, tested for overlap; a ball of
+** radius 0.5 half a unit above the centre of zero_scene's unit sphere
+** overlaps it, and is freed by moving it 1 = 1 - 0.5 + 0.5 along +y.
+*/
+START_TEST(zeroed_sweep_should_be_the_overlap_test_written_out)
+{
+    ray_scene *s = zero_scene();
+    ray_sweep zero = {0};
+    ray_sweep zero_full = {.shape = {.a = {0, 0, 0}, .b = {0, 0, 0},
+                                     .radius = 0},
+                           .dir = {0, 0, 0}, .tmin = 0, .tmax = 1};
+    ray_sweep in = {.shape = {.a = {0, 0.5, -6}, .b = {0, 0.5, -6},
+                              .radius = 0.5}};
+    ray_sweep in_full = in;
+    ray_contact c0, c1;
+
+    in_full.tmax = 1;
+    memset(&c0, 0x5a, sizeof c0);
+    ck_assert_int_eq(ray_intersect_sweep(s, &zero, NULL, &c0), 0);
+    ck_assert_int_eq(ray_intersect_sweep(s, &zero_full, NULL, &c0), 0);
+    memset(&c0, 0, sizeof c0);
+    memset(&c1, 0, sizeof c1);
+    ck_assert_int_eq(ray_intersect_sweep(s, &in, NULL, &c0), 1);
+    ck_assert_int_eq(ray_intersect_sweep(s, &in_full, NULL, &c1), 1);
+    ck_assert_mem_eq(&c0, &c1, sizeof c0);
+    ck_assert_uint_eq(c0.geom_id, 0);                  /* the sphere */
+    ck_assert(c0.flags & RAY_CONTACT_OVERLAP);
+    ck_assert_double_eq(c0.t, 0);
+    /* Sphere against sphere in closed form: a few ulps of the inputs. */
+    ck_assert_double_eq_tol(c0.depth, 1, 1e-12);
+    ck_assert_double_eq_tol(c0.n.y, 1, 1e-12);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** ray_batch {0} asks for no rays: RAY_OK from both batch calls, nothing
+** read or written (its NULL arrays are allowed with n 0); a ray_render_options
+** {0} has no size, which has no default: refused, as is a camera {0},
+** whose look_at is its position.
+*/
+START_TEST(zeroed_batch_and_render_options_should_ask_for_nothing)
+{
+    ray_scene *s = zero_scene();
+    ray_batch none = {0};
+    ray_render_options o = {0}, sized = {.width = 2, .height = 2};
+    ray_camera cam = {.look_at = {0, 0, -1}}, zero_cam = {0};
+    float img[3 * 2 * 2];
+
+    ck_assert_int_eq(ray_intersect_batch(s, &none), RAY_OK);
+    ck_assert_int_eq(ray_occluded_batch(s, &none), RAY_OK);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_EINVAL);
+    ck_assert_int_eq(ray_render(s, &zero_cam, &sized, img, NULL),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_render(s, &cam, &sized, img, NULL), RAY_OK);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** ray_image_load_options {0} and by designated initializer with its
+** zeros (each 0: the documented default limit) load doc/cornell.png as
+** NULL options do, to the pixel; a limit set below the picture's width
+** is read (RAY_ELIMIT).  Without libpng every load is RAY_ENOTSUP alike.
+*/
+START_TEST(zeroed_load_options_should_be_the_default_limits)
+{
+    const char *path = "doc/cornell.png";
+    ray_image_load_options zero = {0}, named = {.max_width = 0,
+                                                .max_chunk_bytes = 0};
+    ray_image_load_options tiny = {.max_width = 1};
+    const ray_image_load_options *opts[2] = {&zero, &named};
+    ray_image *want = NULL, *got = NULL;
+    unsigned w = 0, h = 0, w2 = 0, h2 = 0;
+    int k, i;
+
+#if RAY_TEST_PNG
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &want), RAY_OK);
+    ray_image_size(want, &w, &h);
+    ck_assert_uint_gt(w, 1);
+    ck_assert_uint_gt(h, 0);
+    for (k = 0; k < 2; k++) {
+        ck_assert_int_eq(ray_image_load_png(path, opts[k], &got), RAY_OK);
+        ray_image_size(got, &w2, &h2);
+        ck_assert_uint_eq(w2, w);
+        ck_assert_uint_eq(h2, h);
+        for (i = 0; i < 5; i++) {
+            /* Texel centres along the diagonal: the stored pixels, bit
+            ** for bit, as both images hold the same file. */
+            double st = (i + 0.5) / 5;
+            ray_rgb a, b;
+            ck_assert_int_eq(ray_image_sample(want, st, st, 0, &a), RAY_OK);
+            ck_assert_int_eq(ray_image_sample(got, st, st, 0, &b), RAY_OK);
+            ck_assert(a.r == b.r && a.g == b.g && a.b == b.b);
+        }
+        ray_image_free(got);
+        got = NULL;
+    }
+    ck_assert_int_eq(ray_image_load_png(path, &tiny, &got), RAY_ELIMIT);
+    ck_assert_ptr_null(got);
+    ray_image_free(want);
+#else
+    (void)w; (void)h; (void)w2; (void)h2; (void)i; (void)want;
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &got), RAY_ENOTSUP);
+    for (k = 0; k < 2; k++)
+        ck_assert_int_eq(ray_image_load_png(path, opts[k], &got),
+                         RAY_ENOTSUP);
+    ck_assert_int_eq(ray_image_load_png(path, &tiny, &got), RAY_ENOTSUP);
+    ck_assert_ptr_null(got);
+#endif
+}
+END_TEST
+
 Suite *defaults_suite(void)
 {
     Suite *s = suite_create("defaults");
@@ -467,6 +588,9 @@ Suite *defaults_suite(void)
     tcase_add_test(tc, query_options_should_reach_the_triangles_fast_path);
     tcase_add_test(tc, zeroed_render_options_and_camera_should_render_the_defaults);
     tcase_add_test(tc, zeroed_contains_and_grid_options_should_be_null);
+    tcase_add_test(tc, zeroed_sweep_should_be_the_overlap_test_written_out);
+    tcase_add_test(tc, zeroed_batch_and_render_options_should_ask_for_nothing);
+    tcase_add_test(tc, zeroed_load_options_should_be_the_default_limits);
     suite_add_tcase(s, tc);
     return s;
 }
