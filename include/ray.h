@@ -1579,19 +1579,26 @@ RAY_API int ray_closest_point(const ray_scene *scene, ray_vec3 q,
 **
 ** options (NULL: the defaults; a zeroed struct is the defaults):
 ** RAY_CONTAINS_WINDING in flags answers every mesh and triangle by the
-** winding number, closed or not, and fills out[i].winding (without it,
-** winding sums the open meshes only).  The winding number is computed
-** fast through the BVH (Barill et al., "Fast Winding Numbers for Soups
-** and Clouds", 2018: a cluster of triangles farther than twice its
-** radius is taken by its order-2 far-field expansion), in about O(log
-** triangles) per point away from the surface: out[i].winding is then
-** approximate, within 5e-2 of the exact sum wherever measured
-** (ray_contains(3)), and a point whose fast winding number lies within
-** 0.2 of 1/2 is summed again exactly, so that the approximation does not
-** decide its side.  RAY_CONTAINS_WINDING_EXACT sums every triangle's
-** solid angle instead: O(triangles) per point, the winding number
-** within 1e-9 of a long double sum; so does a query whose ignore_mask
-** leaves out some of the triangles the winding number answers.
+** winding number, closed or not (without it, the open meshes and single
+** triangles only).  To tell inside from outside, the winding number is
+** computed fast through the BVH (Barill et al., "Fast Winding Numbers
+** for Soups and Clouds", 2018: a cluster of triangles farther than twice
+** its radius is taken by its order-2 far-field expansion), in about
+** O(log triangles) per point away from the surface, and a point whose
+** fast winding number lies within 0.2 of 1/2 is summed again exactly,
+** so that the approximation never decides its side.  The winding number
+** ITSELF is asked for with RAY_CONTAINS_WINDING_EXACT: every triangle's
+** solid angle is summed, O(triangles) per point, and out[i].winding is
+** within 1e-9 of a long double sum wherever the number is well
+** conditioned (off the edges: at vertices, on and an ulp off faces, far
+** from the origin), inside following from it.  (The expansions come
+** within 1e-9 only when a cluster must be some 200 radii away, not 2,
+** and are then slower than the plain sum: ray_contains(3).)  Without
+** it, out[i].winding is the estimate that decided the point's side (the
+** exact sum for a point summed again): within 5e-2 of the winding
+** number wherever measured, a hint, not the number.  A query whose
+** ignore_mask leaves out some of the triangles the winding number
+** answers sums every triangle too.
 **
 ** Returns the number of points inside (on_surface ones included), after
 ** writing out[i] for each of points[0 .. n-1] (out NULL: only the
@@ -1625,8 +1632,9 @@ typedef struct ray_contains_options {
 typedef struct ray_inside {
     int inside;                  /* 1 inside (or on the surface), else 0 */
     int on_surface;              /* 1: exactly on a closed mesh */
-    double winding;              /* the winding number (0: none; fast:
-                                    approximate, see above) */
+    double winding;              /* the winding number: within 1e-9 with
+                                    RAY_CONTAINS_WINDING_EXACT, else the
+                                    fast estimate (see above); 0: none */
 } ray_inside;
 
 RAY_API int ray_contains(const ray_scene *scene, const ray_vec3 *points,

@@ -573,6 +573,76 @@ START_TEST(fast_winding_damaged)
 }
 END_TEST
 
+/* The winding number asked for (RAY_CONTAINS_WINDING_EXACT, ray.h) at
+** every hard point of scene s, whose triangles the number sums are
+** ref's: within WIND_TOL of the long double sum wherever it is well
+** conditioned (vertices, faces and their ulp neighbours, uniform points:
+** all but near_edge's), and inside as that sum says (beyond WIND_TOL of
+** 1/2; the scenes' cube holds none of these points).  Returns the points
+** checked. */
+static size_t check_asked(const ray_scene *s, const hc_mesh *ref,
+                          const ray_vec3 *pts, size_t n, unsigned flags)
+{
+    ray_inside *out = malloc(n * sizeof *out);
+    ray_contains_options o = {0};
+    size_t i, checked = 0;
+
+    o.flags = flags | RAY_CONTAINS_WINDING_EXACT;
+    ck_assert_int_ge(ray_contains(s, pts, n, &o, out), 0);
+    for (i = 0; i < n; i++) {
+        double w;
+        if (near_edge(ref, pts[i]))
+            continue;
+        w = winding_ref(ref, pts[i]);
+        ck_assert_msg(fabs(out[i].winding - w) <= WIND_TOL,
+                      "point %zu (%.17g, %.17g, %.17g): winding %.17g, "
+                      "reference %.17g", i, pts[i].x, pts[i].y, pts[i].z,
+                      out[i].winding, w);
+        if (fabs(w - 0.5) > WIND_TOL)
+            ck_assert_int_eq(out[i].inside, w > 0.5);
+        checked++;
+    }
+    free(out);
+    return checked;
+}
+
+/* The number asked for on the icosphere with a hole, a crack and a
+** flipped triangle (damaged), each at offsets 0, 1e5 and 1e6, at all of
+** its hard points: every mesh by the winding number
+** (RAY_CONTAINS_WINDING), and, for the two that are not closed, the
+** default flags beside a closed cube (the number is then the open
+** mesh's alone). */
+START_TEST(winding_number_asked)
+{
+    static const double off[3] = {0, 1e5, 1e6};
+    int k, kind;
+
+    for (k = 0; k < 3; k++)
+        for (kind = 0; kind < 3; kind++) {
+            ray_vec3 c = v3(-off[k] * 0.6, off[k], off[k] * 0.3);
+            hc_mesh m = damaged(c, kind), cube;
+            ray_scene *s = scene_of(&m, 1);
+            ray_vec3 *pts;
+            size_t n = hard_points(&m, c, 200, &pts), checked;
+            unsigned geom;
+
+            checked = check_asked(s, &m, pts, n, RAY_CONTAINS_WINDING);
+            /* Every vertex, face centroid and their ulp neighbours but
+            ** those near an edge, and the uniform points. */
+            ck_assert_uint_ge(checked, m.nv + 3 * m.nt + 200);
+            ray_scene_free(s);
+            if (kind < 2) {
+                s = scene_with_cube(&m, c, 0, &geom, &cube);
+                check_asked(s, &m, pts, n, 0);
+                ray_scene_free(s);
+                hc_mesh_free(&cube);
+            }
+            free(pts);
+            hc_mesh_free(&m);
+        }
+}
+END_TEST
+
 /* The same on a soup of 200 random triangles (offsets 0 and 1e6) beside
 ** a closed cube, and on the finer icosphere of level 3 with a hole at
 ** 1000 uniform points, where the largest error was seen (FAST_TOL). */
@@ -1313,6 +1383,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, hole_crack_flip);
     tcase_add_test(tc, fast_winding_damaged);
     tcase_add_test(tc, fast_winding_soup);
+    tcase_add_test(tc, winding_number_asked);
     tcase_add_test(tc, fast_winding_instances);
     tcase_add_test(tc, fast_winding_follows_updates);
     tcase_add_test(tc, solids_instances_masks);

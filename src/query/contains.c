@@ -17,8 +17,9 @@
 ** is the exact one, so a point an ulp off a face gets the side it is
 ** on.  Through the BVH with Barill et al.'s far-field expansion ("Fast
 ** Winding Numbers for Soups and Clouds", 2018: winding.c), or summed
-** over every triangle (RAY_CONTAINS_WINDING_EXACT, a mask that leaves
-** some of the triangles out, or no expansions); a point whose fast
+** over every triangle (RAY_CONTAINS_WINDING_EXACT: the caller asks for
+** the number itself, within 1e-9; a mask that leaves some of the
+** triangles out; or no expansions); a point whose fast
 ** winding number lies within WINDING_MARGIN of 1/2 is summed again
 ** exactly, so that the expansion's error never decides its side.
 */
