@@ -53,6 +53,39 @@ static ray_vec3 mesh_vertex(const ray_mesh *m, size_t i)
     return v;
 }
 
+/*
+** All the positions, as mesh_vertex reads them one by one, into pos: the
+** array copied, or the strided floats converted in a loop of their own
+** (a game's skinned mesh), where a call a vertex deciding the layout
+** again was a seventh of a refit after ray_scene_update_mesh (callgrind,
+** bench/game's frame, issue 36).
+*/
+static void positions_read(const ray_mesh *m, ray_vec3 *pos)
+{
+    size_t i, n = m->vertex_count, stride;
+    const unsigned char *p;
+
+    if (m->vertices != NULL) {
+        memcpy(pos, m->vertices, n * sizeof *pos);
+        return;
+    }
+    if (m->position_type != RAY_FLOAT32) {
+        for (i = 0; i < n; i++)
+            pos[i] = mesh_vertex(m, i);
+        return;
+    }
+    stride = m->position_stride != 0 ? m->position_stride
+                                     : position_size(m);
+    p = m->positions;
+    for (i = 0; i < n; i++, p += stride) {
+        float f[3];
+        memcpy(f, p, sizeof f);
+        pos[i].x = (double)f[0];
+        pos[i].y = (double)f[1];
+        pos[i].z = (double)f[2];
+    }
+}
+
 /* Index i (of 3 * triangle_count), from indices or from index_data. */
 static unsigned mesh_index(const ray_mesh *m, size_t i)
 {
@@ -179,11 +212,30 @@ static int vec3s_finite(const ray_vec3 *v, size_t n)
 
 /* The same test of strided positions (mesh_vertex), and of n pairs of
 ** texture coordinates. */
+static int strided_floats_finite(const ray_mesh *m)
+{
+    size_t i, stride = m->position_stride != 0 ? m->position_stride
+                                               : position_size(m);
+    const unsigned char *p = m->positions;
+    float x = 0, y = 0, z = 0;
+
+    for (i = 0; i < m->vertex_count; i++, p += stride) {
+        float f[3];
+        memcpy(f, p, sizeof f);
+        x += f[0] * 0.0f;
+        y += f[1] * 0.0f;
+        z += f[2] * 0.0f;
+    }
+    return x + y + z == 0;
+}
+
 static int strided_finite(const ray_mesh *m)
 {
     double x = 0, y = 0, z = 0;
     size_t i;
 
+    if (m->position_type == RAY_FLOAT32)
+        return strided_floats_finite(m);
     for (i = 0; i < m->vertex_count; i++) {
         ray_vec3 v = mesh_vertex(m, i);
         x += v.x * 0.0;
@@ -276,24 +328,38 @@ static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
     return RAY_OK;
 }
 
+/*
+** Is every coordinate of the n = m->vertex_count positions pos (m's, as
+** doubles) a float?  Those of float positions are (a finite float is a
+** double exactly: mesh_vertex); doubles are tested up to the first that
+** is not, where a test of all was a fifth of an update of a double mesh
+** (callgrind, bench/game's refit, issue 36).
+*/
+static int positions_floats(const ray_vec3 *pos, const ray_mesh *m)
+{
+    size_t i;
+
+    if (m->vertices == NULL && m->position_type == RAY_FLOAT32)
+        return 1;
+    for (i = 0; i < m->vertex_count; i++)
+        if (!(ray__is_float(pos[i].x) & ray__is_float(pos[i].y) &
+              ray__is_float(pos[i].z)))
+            return 0;
+    return 1;
+}
+
 /* The positions as doubles, the scene's own copy: what the exact
 ** triangle test reads (through the indices), whatever the input type. */
 static int copy_positions(const ray_scene *s, const ray_mesh *m,
                           ray_vec3 **dst, int *floats)
 {
-    size_t i;
-
     if (m->vertex_count > (size_t)-1 / sizeof **dst)
         return RAY_ENOMEM;
     *dst = ray__alloc(s, m->vertex_count * sizeof **dst);
     if (*dst == NULL)
         return RAY_ENOMEM;
-    *floats = 1;
-    for (i = 0; i < m->vertex_count; i++) {
-        (*dst)[i] = mesh_vertex(m, i);
-        *floats &= ray__is_float((*dst)[i].x) & ray__is_float((*dst)[i].y) &
-                   ray__is_float((*dst)[i].z);
-    }
+    positions_read(m, *dst);
+    *floats = positions_floats(*dst, m);
     return RAY_OK;
 }
 
@@ -428,25 +494,6 @@ static int mesh_rewritable(const ray__mesh *cur, const ray_mesh *m)
                       (m->texcoords == NULL) == (cur->texcoords == NULL));
 }
 
-/*
-** Is every coordinate of the n = m->vertex_count positions pos (m's, as
-** doubles) a float?  Those of float positions are (a finite float is a
-** double exactly: mesh_vertex); doubles are tested up to the first that
-** is not, where a test of all was a fifth of an update of a double mesh
-** (callgrind, bench/game's refit, issue 36).
-*/
-static int positions_floats(const ray_vec3 *pos, const ray_mesh *m)
-{
-    size_t i;
-
-    if (m->vertices == NULL && m->position_type == RAY_FLOAT32)
-        return 1;
-    for (i = 0; i < m->vertex_count; i++)
-        if (!(ray__is_float(pos[i].x) & ray__is_float(pos[i].y) &
-              ray__is_float(pos[i].z)))
-            return 0;
-    return 1;
-}
 
 /* The update written over the mesh's arrays (mesh_rewritable): the
 ** values mesh_keep would have copied, in the same arrays, but for
@@ -457,11 +504,7 @@ static void mesh_rewrite(ray__mesh *cur, const ray_mesh *m,
 {
     size_t i, n = 3 * m->triangle_count;
 
-    if (m->vertices != NULL)
-        memcpy(cur->pos, m->vertices, m->vertex_count * sizeof *cur->pos);
-    else
-        for (i = 0; i < m->vertex_count; i++)
-            cur->pos[i] = mesh_vertex(m, i);
+    positions_read(m, cur->pos);
     cur->pos_floats = positions_floats(cur->pos, m);
     if (!cur->own_indices)
         cur->indices = m->indices;
