@@ -351,8 +351,8 @@ static inline void example_usage(const example_cli *c, FILE *f)
     } else {
         fprintf(f, "The picture is %u x %u pixels.\n", c->width, c->height);
     }
-    fprintf(f, "Exit status: 0 written; 1 a file or memory failed; 2 a bad "
-               "argument, or -h/--help.\n");
+    fprintf(f, "Exit status: 0 written, or -h/--help; 1 a file or memory "
+               "failed; 2 a bad argument.\n");
 }
 
 static inline int example_bad(const example_cli *c, const char *fmt, ...)
