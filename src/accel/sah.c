@@ -395,6 +395,12 @@ static split best_split(const builder *bd, size_t begin, size_t end,
 */
 #define BIN_RUN 16384
 
+/* May the builder's work run on threads (builder.threads, sched)? */
+static int builder_parallel(const builder *bd)
+{
+    return bd->threads > 1 || (bd->sched != NULL && bd->sched->run != NULL);
+}
+
 typedef struct bin_job {
     const builder *bd;
     size_t begin, end;
@@ -419,8 +425,7 @@ static void bin_node(const builder *bd, size_t begin, size_t end,
                      bin_set *out)
 {
     size_t runs = (end - begin + BIN_RUN - 1) / BIN_RUN, k;
-    int parallel = bd->threads > 1 ||
-                   (bd->sched != NULL && bd->sched->run != NULL);
+    int parallel = builder_parallel(bd);
     bin_job job;
 
     job.sets = NULL;
@@ -548,9 +553,7 @@ void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
                    size_t n, bounds *root)
 {
     size_t runs = (n + BIN_RUN - 1) / BIN_RUN, i;
-    int parallel = bd->costs->box_threads &&
-                   (bd->threads > 1 ||
-                    (bd->sched != NULL && bd->sched->run != NULL));
+    int parallel = bd->costs->box_threads && builder_parallel(bd);
     bounds4 b;
 
     bounds4_empty(&b);

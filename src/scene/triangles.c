@@ -70,27 +70,54 @@ static void box_out(ray_vec3 lo, ray_vec3 hi, float flo[3], float fhi[3])
 }
 
 /*
-** The corners of live slot "slot", as ray__tri_of reads them; *m caches
-** the mesh of geometry *m_geom, so that a run of one mesh's triangles
-** (the usual case) looks its mesh up once, and a mesh's triangle is read
-** inline (ray__mesh_tri).
+** Where the corners of live slot "slot" lie, as ray__tri_of reads them:
+** a mesh's triangle through its indices, p[0..2] into its positions (1:
+** whether it has a normal is the caller's to test, ray__corners_usable),
+** a single triangle's copied into *t (0: usable, as its add refused any
+** other).  *m caches the mesh of geometry *m_geom, so that a run of one
+** mesh's triangles (the usual case) looks its mesh up once.
 */
+RAY__HOT_INLINE int slot_corners_at(const ray_scene *s, size_t slot,
+                                    const ray__mesh **m, unsigned *m_geom,
+                                    ray__tri *t, const ray_vec3 *p[3])
+{
+    const ray__tri_id *id = &s->tri_ids[slot];
+    const unsigned *k;
+
+    if (id->geom_id != *m_geom) {
+        const ray__prim *prim = &s->prims[id->geom_id];
+        if (prim->kind != RAY__KIND_MESH) {
+            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+            p[0] = &t->a;
+            p[1] = &t->b;
+            p[2] = &t->c;
+            return 0;
+        }
+        *m = &s->meshes[prim->mesh];
+        *m_geom = id->geom_id;
+    }
+    k = (*m)->indices + 3 * (size_t)id->prim_id;
+    p[0] = &(*m)->pos[k[0]];
+    p[1] = &(*m)->pos[k[1]];
+    p[2] = &(*m)->pos[k[2]];
+    return 1;
+}
+
+/* The corners of live slot "slot" into *t, as ray__tri_of reads them
+** (slot_corners_at; *m and *m_geom its cache). */
 static inline void refit_corners(const ray_scene *s, size_t slot,
                                  const ray__mesh **m, unsigned *m_geom,
                                  ray__tri *t)
 {
-    const ray__tri_id *id = &s->tri_ids[slot];
+    const ray_vec3 *p[3];
 
-    if (id->geom_id != *m_geom) {
-        const ray__prim *p = &s->prims[id->geom_id];
-        if (p->kind != RAY__KIND_MESH) {
-            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
-            return;
-        }
-        *m = &s->meshes[p->mesh];
-        *m_geom = id->geom_id;
+    if (slot_corners_at(s, slot, m, m_geom, t, p)) {
+        t->a = *p[0];
+        t->b = *p[1];
+        t->c = *p[2];
+        if (!ray__corners_usable(t->a, t->b, t->c))
+            t->b = t->c = t->a;
     }
-    ray__mesh_tri(*m, id->prim_id, t);
 }
 
 /* The float box of slot i, rounded outward (the build's box callback). */
@@ -645,31 +672,10 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
 
     x.lo_xy = x.hi_xy = x.lo_z = x.hi_z = _mm_setzero_pd();
     for (j = 0; j < n; j++) {
-        const ray__tri_id *id = &s->tri_ids[first + j];
-        const ray_vec3 *pa, *pb, *pc;
+        const ray_vec3 *p[3];
         ray__tri t;
-        int mesh = id->geom_id == m_geom;
-        if (!mesh) {
-            const ray__prim *p = &s->prims[id->geom_id];
-            if ((mesh = p->kind == RAY__KIND_MESH) != 0) {
-                m = &s->meshes[p->mesh];
-                m_geom = id->geom_id;
-            }
-        }
-        if (mesh) {
-            const unsigned *k = m->indices + 3 * (size_t)id->prim_id;
-            pa = &m->pos[k[0]];
-            pb = &m->pos[k[1]];
-            pc = &m->pos[k[2]];
-        } else {
-            /* A single triangle: its own corners, usable (its add
-            ** refused any other). */
-            t = ray__tri_by_id(s, id->geom_id, id->prim_id);
-            pa = &t.a;
-            pb = &t.b;
-            pc = &t.c;
-        }
-        refit_tri_sse2(pa, pb, pc, mesh, j == 0, &x, rows + j, n,
+        int mesh = slot_corners_at(s, first + j, &m, &m_geom, &t, p);
+        refit_tri_sse2(p[0], p[1], p[2], mesh, j == 0, &x, rows + j, n,
                        copy != NULL ? copy + j : NULL);
     }
     _mm_storeu_pd(out, x.lo_xy);
