@@ -295,6 +295,32 @@ START_TEST(triangle_should_reproduce_aimed_points)
 }
 END_TEST
 
+/*
+** M = n . d past DBL_MAX from finite inputs (edges of 0.95e154, whose
+** normal (L^2, L^2, 0) is finite, and the direction (1, 1, 0)): a miss,
+** as documented, from tmin -1 as from 0, inside the triangle's shadow or
+** not.  Every finite numerator divided by an infinite M is a zero, which
+** the range tests take for t = 0 and barycentrics 0 where tmin < 0: a
+** hit on vertex a wherever the ray went (true t here is 0.5), which
+** ray_triangle reported before it refused an infinite M (issue 38).
+*/
+START_TEST(triangle_should_miss_where_m_overflows)
+{
+    const double L = 0.95e154;
+    const double ox[3] = {-0.5, -0.5 - 1e-3, -0.5 + 1e-3};
+    ray_vec3 a = vec(0, 0, 0), b = vec(0, 0, L), c = vec(L, -L, 0);
+    int k;
+
+    for (k = 0; k < 6; k++) {
+        ray_ray r = ray_from(vec(ox[k % 3], -0.5, 1e150), vec(1, 1, 0));
+        ray_hit h;
+        r.tmin = k < 3 ? -1 : 0;
+        ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 0);
+        ck_assert_int_eq(ray_triangle_watertight(&r, a, b, c, &h), 0);
+    }
+}
+END_TEST
+
 Suite *triangle_suite(void)
 {
     Suite *s = suite_create("triangle");
@@ -312,6 +338,7 @@ Suite *triangle_suite(void)
     tcase_add_test(hard, triangle_should_miss_degenerate_triangles);
     tcase_add_test(hard, triangle_should_hit_tiny_triangles);
     tcase_add_test(hard, triangle_should_miss_on_bad_input);
+    tcase_add_test(hard, triangle_should_miss_where_m_overflows);
     tcase_add_loop_test(hard, triangle_should_not_leak_through_shared_edge, 0, N_OFFSETS);
     tcase_add_test(prop, triangle_should_reproduce_aimed_points);
     suite_add_tcase(s, core);
