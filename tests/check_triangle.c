@@ -304,8 +304,8 @@ END_TEST
 ** random origins, for both tests.  The watertight test's u = V / det and
 ** v = W / det, each rounded, can sum to one ulp above 1: it divides
 ** both by their sum then (watertight.h's clamp; make mutants'
-** wt-clamp), and Cramer's rule keeps v <= 1 - u.  Zero tolerance: the bound is the
-** contract's, and the code meets it exactly.
+** wt-clamp), and Cramer's rule keeps v <= 1 - u.  Zero tolerance: the
+** bound is the contract's, and the code meets it exactly.
 */
 START_TEST(triangle_barycentrics_should_sum_to_at_most_one)
 {
@@ -438,9 +438,10 @@ END_TEST
 ** outside the edge from a by d / 2L, which is below the smallest
 ** subnormal for d = 1e-230 and 1e-290: its numerator divided by M
 ** underflows to -0, which "v >= 0" takes, so only the sign test on the
-** numerators (exact, before the divisions) refuses it.  tmin -1: t = d/2 is within
-** its own error bound of 0.  From (+d, 0, 1), inside by as much, they
-** hit (make mutants' tri-sign-filter, that test's && made ||, hit both).
+** numerators (exact, before the divisions) refuses it.  tmin -1: t =
+** d/2 is within its own error bound of 0.  From (+d, 0, 1), inside by
+** as much, they hit (make mutants' tri-sign-filter, that test's && made
+** ||, hit both).
 */
 START_TEST(triangle_should_miss_a_hair_outside_where_v_underflows)
 {
@@ -480,7 +481,8 @@ Suite *triangle_suite(void)
     tcase_add_test(hard, triangle_should_hit_tiny_triangles);
     tcase_add_test(hard, triangle_should_miss_on_bad_input);
     tcase_add_test(hard, triangle_should_miss_where_m_overflows);
-    tcase_add_test(hard, triangle_should_miss_a_hair_outside_where_v_underflows);
+    tcase_add_test(hard,
+                   triangle_should_miss_a_hair_outside_where_v_underflows);
     tcase_add_loop_test(hard, triangle_should_not_leak_through_shared_edge, 0, N_OFFSETS);
     tcase_add_test(prop, triangle_should_reproduce_aimed_points);
     tcase_add_test(prop, triangle_barycentrics_should_sum_to_at_most_one);
