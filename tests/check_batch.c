@@ -333,6 +333,91 @@ static int not_my_body(void *ud, const ray_ray *r, const ray_hit *h,
 }
 
 /*
+** Unusable rays inside a coherent group of eight, which goes in a packet
+** all the same (coherence reads only the directions, and takes one of
+** infinite length along the others' mean): an empty interval (tmin ==
+** tmax at the mesh, tmin above tmax around it), a NaN end, an infinite
+** or NaN origin, a direction (0, 0, -Inf) from tmin 0 and -1.  A single
+** ray misses each of them (ray__ray_usable), so the packet must leave
+** those lanes out: traced, the infinite direction's frame scales z by
+** 1 / Inf = 0, so the triangles on its axis give t = 0, a hit from tmin
+** -1 (make mutants' batch-usable).  Every kind in every lane, in a scene
+** of triangles alone where the packets take the group (batch_packets
+** says so where the CPU has AVX2), against the single-ray answers, and
+** the other seven lanes still hit.
+*/
+START_TEST(unusable_rays_in_a_packet_should_miss_as_single_rays)
+{
+    ray_vec3 c = v3(0, 0, 0), eye = v3(0.3, 0.7, 9);
+    hc_mesh m = hc_icosphere(c, 3);
+    ray_scene *s = mesh_scene(&m, 1);
+    ray_ray rays[8];
+    ray_hit hits[8];
+    int res[8];
+    ray_stats st;
+    int lane, kind, k, avx2 = 0;
+
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(RAY_NO_SIMD) && !defined(RAY_NO_AVX2)
+    avx2 = __builtin_cpu_supports("avx2");
+#endif
+    for (kind = 0; kind < 8; kind++)
+        for (lane = 0; lane < 8; lane++) {
+            for (k = 0; k < 8; k++)        /* a 4 x 2 block at the sphere */
+                rays[k] = make_ray(eye, v3_sub(v3(0.1 * (k % 4), 0.1 * (k / 4),
+                                                  0), eye), 0, HUGE_VAL);
+            switch (kind) {
+            case 0:                         /* empty at the sphere (t ~ 0.8) */
+                rays[lane].tmin = rays[lane].tmax = 0.8;
+                break;
+            case 1:                         /* tmin above tmax, around it */
+                rays[lane].tmin = 2;
+                rays[lane].tmax = 0.5;
+                break;
+            case 2:
+                rays[lane].tmin = (double)NAN;
+                break;
+            case 3:
+                rays[lane].tmax = (double)NAN;
+                break;
+            case 4:
+                rays[lane].org.x = HUGE_VAL;
+                break;
+            case 5:
+                rays[lane].org.z = (double)NAN;
+                break;
+            default:                        /* straight down, infinitely */
+                rays[lane].dir = v3(0, 0, -HUGE_VAL);
+                rays[lane].tmin = kind == 6 ? 0 : -1;
+                break;
+            }
+            memset(&st, 0, sizeof st);
+            ck_assert_int_eq(ray_intersect_batch(s, &(ray_batch){
+                                 .rays = rays, .n = 8, .hits = hits,
+                                 .results = res, .stats = &st}), RAY_OK);
+            ck_assert_uint_eq(st.batch_packets, avx2 ? 8 : 0);
+            for (k = 0; k < 8; k++) {
+                ray_hit one;
+                int rc = ray_intersect(s, &rays[k], &one, NULL);
+                ck_assert_int_eq(rc, k != lane);
+                ck_assert_msg(res[k] == rc, "kind %d lane %d ray %d: batch "
+                              "%d, single %d", kind, lane, k, res[k], rc);
+                if (rc > 0)
+                    ck_assert(hit_same(&hits[k], &one));
+            }
+            ck_assert_int_eq(ray_occluded_batch(s, &(ray_batch){
+                                 .rays = rays, .n = 8, .results = res}),
+                             RAY_OK);
+            for (k = 0; k < 8; k++)
+                ck_assert_msg(res[k] == (k != lane), "kind %d lane %d ray "
+                              "%d: occluded batch %d", kind, lane, k, res[k]);
+        }
+    ray_scene_free(s);
+    hc_mesh_free(&m);
+}
+END_TEST
+
+/*
 ** Per-ray options (ray_intersect_batch): AI agents' lines of sight, each
 ** ray with its own mask (agent k's mask hides the mesh of agent k, a mask
 ** bit each) or its own query_ud (a filter that drops the agent's own
@@ -631,6 +716,7 @@ Suite *batch_suite(void)
     tcase_add_test(tc, ties_between_geometries_should_go_to_the_lower_geom_id);
     tcase_add_test(tc, batch_should_take_each_rays_own_options);
     tcase_add_test(tc, batch_should_say_which_path_it_took);
+    tcase_add_test(tc, unusable_rays_in_a_packet_should_miss_as_single_rays);
     tcase_add_test(tc, batch_should_refuse_misuse);
     suite_add_tcase(s, tc);
     return s;

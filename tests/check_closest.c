@@ -423,6 +423,67 @@ START_TEST(radius_should_bound_the_search)
 END_TEST
 
 /*
+** The radius is inclusive, and no box holding a point within it is
+** skipped: a query repeated with the distance it found as its radius
+** finds the same point again, at the same distance.  Around the cube
+** mesh [-1, 1]^3 (its float box is its own, exactly), alone and through
+** an instance moved by (8, -4, 2) (exact: every offset is), from the
+** 7^3 lattice points of components -3, -1.5, -0.5, 0, 0.5, 1.5, 3
+** (inside, on the surface, beyond faces, edges and vertices).  Where
+** the nearest point faces q along an axis or at a vertex, the box's
+** distance is the point's exactly, so a box distance rounded up by a
+** few ulps instead of down (boxes_d2's shrink), or a radius squared
+** and rounded down (set_best), skips the point.  Exact comparisons:
+** both calls compute the same distance from the same point.
+*/
+START_TEST(radius_found_should_find_the_point_again)
+{
+    static const double at[7] = {-3, -1.5, -0.5, 0, 0.5, 1.5, 3};
+    const ray_vec3 move = vec(8, -4, 2);
+    hc_mesh cube = hc_cube(v3(0, 0, 0));
+    ray_mesh rm = hc_ray_mesh(&cube);
+    ray_scene *child, *top;
+    ray_transform xf;
+    int x, y, z, inst;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &rm, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ray_transform_identity(&xf);
+    xf.m[0][3] = move.x;
+    xf.m[1][3] = move.y;
+    xf.m[2][3] = move.z;
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    for (inst = 0; inst < 2; inst++)
+        for (x = 0; x < 7; x++)
+            for (y = 0; y < 7; y++)
+                for (z = 0; z < 7; z++) {
+                    ray_scene *s = inst ? top : child;
+                    ray_vec3 q = vec(at[x], at[y], at[z]);
+                    ray_closest first, again;
+                    if (inst)
+                        q = vadd(q, move);
+                    ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL,
+                                                       &first), 1);
+                    ck_assert_msg(ray_closest_point(s, q, first.distance,
+                                                    &again) == 1,
+                                  "q (%g, %g, %g)%s: nothing within the "
+                                  "distance found, %.17g", q.x, q.y, q.z,
+                                  inst ? " (instance)" : "",
+                                  first.distance);
+                    ck_assert(again.distance == first.distance);
+                    ck_assert_vec_eq(again.p, first.p);
+                }
+    ray_scene_free(top);
+    ray_scene_free(child);
+    hc_mesh_free(&cube);
+}
+END_TEST
+
+/*
 ** Points on the surface, exactly: on the plane z = 0 (its foot is q
 ** itself, distance 0), on a face of an axis-aligned box (local
 ** coordinates exact: p = q), on a sphere's pole; and every vertex of the
@@ -1409,6 +1470,7 @@ Suite *closest_suite(void)
     tcase_set_timeout(tc, 120);
     tcase_add_loop_test(tc, should_match_brute_force, 0, N_OFFSETS);
     tcase_add_test(tc, radius_should_bound_the_search);
+    tcase_add_test(tc, radius_found_should_find_the_point_again);
     tcase_add_loop_test(tc, should_find_points_on_the_surface, 0, N_OFFSETS);
     tcase_add_test(tc, should_answer_inside_and_far_beyond);
     tcase_add_test(tc, empty_scenes_should_find_nothing);

@@ -415,6 +415,32 @@ START_TEST(nested_and_apart)
 }
 END_TEST
 
+/* The icosphere of level 2 (320 triangles: the BVH has inner nodes,
+** whose expansions are read) around c, damaged by kind: 0 a hole of
+** "hole" triangles, 1 a crack (triangle 0's first two corners
+** duplicated), 2 a flipped triangle. */
+static hc_mesh damaged(ray_vec3 c, int kind, size_t hole)
+{
+    hc_mesh m = hc_icosphere(c, 2);
+
+    if (kind == 0) {
+        m.nt -= hole;
+    } else if (kind == 1) {
+        unsigned *t = m.idx;
+        m.v = realloc(m.v, (m.nv + 2) * sizeof *m.v);
+        m.v[m.nv] = m.v[t[0]];
+        m.v[m.nv + 1] = m.v[t[1]];
+        t[0] = (unsigned)m.nv;
+        t[1] = (unsigned)m.nv + 1;
+        m.nv += 2;
+    } else {
+        unsigned x = m.idx[3 * 7];
+        m.idx[3 * 7] = m.idx[3 * 7 + 1];
+        m.idx[3 * 7 + 1] = x;
+    }
+    return m;
+}
+
 /* An icosphere with a hole (a triangle removed), a crack (one edge's
 ** vertices duplicated on one side) and a flipped triangle: the first two
 ** are not closed and answer by the winding number (within WIND_TOL of the
@@ -426,29 +452,14 @@ START_TEST(hole_crack_flip)
     int kind;
 
     for (kind = 0; kind < 3; kind++) {
-        hc_mesh m = hc_icosphere(c, 2), orig = hc_icosphere(c, 2);
+        /* The hole one triangle wide. */
+        hc_mesh m = damaged(c, kind, 1), orig = hc_icosphere(c, 2);
         ray_scene *s;
         ray_vec3 *pts;
         ray_inside *out;
         ray_contains_options o = {0};
         size_t n, i;
 
-        if (kind == 0) {
-            m.nt--;                          /* the hole */
-        } else if (kind == 1) {
-            /* the crack: triangle 0's first two corners duplicated */
-            unsigned *t = m.idx;
-            m.v = realloc(m.v, (m.nv + 2) * sizeof *m.v);
-            m.v[m.nv] = m.v[t[0]];
-            m.v[m.nv + 1] = m.v[t[1]];
-            t[0] = (unsigned)m.nv;
-            t[1] = (unsigned)m.nv + 1;
-            m.nv += 2;
-        } else {
-            unsigned x = m.idx[3 * 7];      /* the flip */
-            m.idx[3 * 7] = m.idx[3 * 7 + 1];
-            m.idx[3 * 7 + 1] = x;
-        }
         s = scene_of(&m, 1);
         n = hard_points(&m, c, 300, &pts);
         out = malloc(n * sizeof *out);
@@ -486,31 +497,6 @@ START_TEST(hole_crack_flip)
     }
 }
 END_TEST
-
-/* The icosphere of level 2 (320 triangles: the BVH has inner nodes,
-** whose expansions are read) with a hole, a crack or a flipped
-** triangle, as hole_crack_flip's, at offsets 0, 1e5 and 1e6. */
-static hc_mesh damaged(ray_vec3 c, int kind)
-{
-    hc_mesh m = hc_icosphere(c, 2);
-
-    if (kind == 0) {
-        m.nt -= 3;                       /* a hole of three triangles */
-    } else if (kind == 1) {
-        unsigned *t = m.idx;             /* a crack */
-        m.v = realloc(m.v, (m.nv + 2) * sizeof *m.v);
-        m.v[m.nv] = m.v[t[0]];
-        m.v[m.nv + 1] = m.v[t[1]];
-        t[0] = (unsigned)m.nv;
-        t[1] = (unsigned)m.nv + 1;
-        m.nv += 2;
-    } else {
-        unsigned x = m.idx[3 * 7];       /* a flip */
-        m.idx[3 * 7] = m.idx[3 * 7 + 1];
-        m.idx[3 * 7 + 1] = x;
-    }
-    return m;
-}
 
 /* Mesh m and, beside it, a closed cube (centre c + (6, 0, 0)): ray_contains
 ** then answers without RAY_CONTAINS_WINDING too, m by the winding number
@@ -554,7 +540,7 @@ START_TEST(fast_winding_damaged)
             unsigned geom;
             if (k > 0 && kind > 0)
                 continue;
-            m = damaged(c, kind);
+            m = damaged(c, kind, 3);
             n = some_points(&m, c, 500, &pts);
             s = scene_of(&m, 1);
             worst = fmax(worst, check_fast(s, &m, pts, n,
@@ -721,7 +707,7 @@ static ray_vec3 xfm_point(const ray_transform *t, ray_vec3 v)
 ** (the expansions are taken to world space, winding.c). */
 START_TEST(fast_winding_instances)
 {
-    hc_mesh m = damaged(v3(0, 0, 0), 0), ref;
+    hc_mesh m = damaged(v3(0, 0, 0), 0, 3), ref;
     ray_scene *child = scene_of(&m, 1), *s = NULL;
     ray_transform t[3] = {{{{0, -1.5, 0, 1e5}, {1.5, 0, 0, 2}, {0, 0, 1.5, 3}}},
                           {{{2, 0.5, 0, 1e5 + 7}, {0, -0.5, 0.3, 1},
@@ -765,7 +751,7 @@ START_TEST(fast_winding_follows_updates)
     int borrow;
 
     for (borrow = 0; borrow < 2; borrow++) {
-        hc_mesh m = damaged(v3(0, 0, 0), 0), cube;
+        hc_mesh m = damaged(v3(0, 0, 0), 0, 3), cube;
         ray_mesh rm = hc_ray_mesh(&m);
         ray_scene *s;
         ray_vec3 *pts;

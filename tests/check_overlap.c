@@ -582,6 +582,21 @@ START_TEST(overlap_boxes_should_be_refused_as_ray_box_refuses_them)
 }
 END_TEST
 
+/* A new scene, not committed, holding the axis-aligned box of half
+** extents 1 at the origin: its params in *b, its geometry id in *id. */
+static ray_scene *unit_box_scene(ray_box_params *b, unsigned *id)
+{
+    ray_scene *s;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    b->center = vec(0, 0, 0);
+    b->half_extents = vec(1, 1, 1);
+    b->axis_x = vec(1, 0, 0);
+    b->axis_y = vec(0, 1, 0);
+    ck_assert_int_eq(ray_scene_add_box(s, b, RAY_NO_MATERIAL, id), RAY_OK);
+    return s;
+}
+
 /*
 ** Issue 38, documented answer: which status wins when two apply (ray.h,
 ** "Shape queries" and each page's ERRORS).  The arguments are checked
@@ -605,12 +620,7 @@ START_TEST(statuses_should_follow_the_documented_order)
     size_t n = 77;
     unsigned box;
 
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    b.center = vec(0, 0, 0);
-    b.half_extents = vec(1, 1, 1);
-    b.axis_x = vec(1, 0, 0);
-    b.axis_y = vec(0, 1, 0);
-    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &box), RAY_OK);
+    s = unit_box_scene(&b, &box);
     /* Not committed: bad arguments win. */
     ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec((double)NAN, 0, 0), 1), NULL, o, 1, &n), -RAY_EINVAL);
     ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(0, 0, 0), 1), NULL, o, 1, &n), -RAY_ESTATE);
@@ -792,12 +802,7 @@ START_TEST(shapes_should_default_and_refuse)
     size_t n = 77;
     unsigned g_box, g_tri;
 
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    b.center = vec(0, 0, 0);
-    b.half_extents = vec(1, 1, 1);
-    b.axis_x = vec(1, 0, 0);
-    b.axis_y = vec(0, 1, 0);
-    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, &g_box), RAY_OK);
+    s = unit_box_scene(&b, &g_box);
     ck_assert_int_eq(ray_scene_add_triangle(s, vec(-5, -5, 0), vec(5, -5, 0), vec(0, 5, 0), RAY_NO_MATERIAL, &g_tri), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(3, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);

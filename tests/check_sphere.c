@@ -152,11 +152,15 @@ START_TEST(sphere_should_classify_tangent_rays)
 }
 END_TEST
 
-/* The near root of ray r against the sphere (c, R) in long double, from
-** the stored inputs: the reference of the oblique tangent test. */
-static long double sphere_t_ref(const ray_ray *r, ray_vec3 c, double R)
+/* Ray r's line against a sphere centred at c, in long double from the
+** stored inputs (f = org - c, d = dir): *a = d.d, *b = f.d and *l2, the
+** line's squared distance from c, as |f - (f.d / d.d) d|^2: ff - b^2 / a
+** would cancel ~|f|^2 away (Hearn and Baker).  The references' shared
+** start. */
+static void ld_line(const ray_ray *r, ray_vec3 c, long double *a,
+                    long double *b, long double *l2)
 {
-    long double f[3], d[3], a = 0, b = 0, l2 = 0;
+    long double f[3], d[3];
     int k;
 
     f[0] = (long double)r->org.x - (long double)c.x;
@@ -165,15 +169,25 @@ static long double sphere_t_ref(const ray_ray *r, ray_vec3 c, double R)
     d[0] = (long double)r->dir.x;
     d[1] = (long double)r->dir.y;
     d[2] = (long double)r->dir.z;
+    *a = *b = *l2 = 0;
     for (k = 0; k < 3; k++) {
-        a += d[k] * d[k];
-        b -= f[k] * d[k];
+        *a += d[k] * d[k];
+        *b += f[k] * d[k];
     }
     for (k = 0; k < 3; k++) {
-        long double lk = f[k] + b / a * d[k];
-        l2 += lk * lk;
+        long double l = f[k] - *b / *a * d[k];
+        *l2 += l * l;
     }
-    return (b - sqrtl(a * ((long double)R * (long double)R - l2))) / a;
+}
+
+/* The near root of ray r against the sphere (c, R) in long double, from
+** the stored inputs: the reference of the oblique tangent test. */
+static long double sphere_t_ref(const ray_ray *r, ray_vec3 c, double R)
+{
+    long double a, b, l2;
+
+    ld_line(r, c, &a, &b, &l2);
+    return (-b - sqrtl(a * ((long double)R * (long double)R - l2))) / a;
 }
 
 /*
@@ -545,28 +559,10 @@ static int fs_same(const ray_hit *a, const ray_hit *b)
 static int fs_ld_root(const ray_ray *r, ray_vec3 c, double R,
                       long double tol, long double *t)
 {
-    long double f[3], d[3], a, b, l2, s, t0, t1;
+    long double a, b, l2, s, t0, t1;
     long double lo = (long double)r->tmin, hi = (long double)r->tmax;
-    int k;
 
-    f[0] = (long double)r->org.x - (long double)c.x;
-    f[1] = (long double)r->org.y - (long double)c.y;
-    f[2] = (long double)r->org.z - (long double)c.z;
-    d[0] = (long double)r->dir.x;
-    d[1] = (long double)r->dir.y;
-    d[2] = (long double)r->dir.z;
-    a = b = 0;
-    for (k = 0; k < 3; k++) {
-        a += d[k] * d[k];
-        b += f[k] * d[k];
-    }
-    /* The line's distance^2 from the centre, as |f - (f.d / d.d) d|^2:
-    ** ff - b^2 / a would cancel ~|f|^2 away (Hearn and Baker). */
-    l2 = 0;
-    for (k = 0; k < 3; k++) {
-        long double l = f[k] - b / a * d[k];
-        l2 += l * l;
-    }
+    ld_line(r, c, &a, &b, &l2);
     if (!(l2 <= 0.25L * (long double)R * (long double)R))
         return -1;
     s = sqrtl(((long double)R * (long double)R - l2) / a);

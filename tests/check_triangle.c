@@ -2,6 +2,8 @@
 /*
 ** check_triangle.c -- ray_triangle (Cramer's rule).
 */
+#include <float.h>
+
 #include "tests.h"
 
 /* The unit right triangle (0,0,0), (1,0,0), (0,1,0) moved by (o,o,o). */
@@ -295,6 +297,172 @@ START_TEST(triangle_should_reproduce_aimed_points)
 }
 END_TEST
 
+/*
+** The barycentrics of every hit keep the contract, u, v >= 0 and u + v
+** <= 1 as computed in double, exactly: on rays aimed at points of the
+** edge bc (where u + v is 1 but for rounding) of random triangles, from
+** random origins, for both tests.  The watertight test's u = V / det and
+** v = W / det, each rounded, can sum to one ulp above 1: it divides
+** both by their sum then (watertight.h's clamp; make mutants'
+** wt-clamp), and Cramer's rule keeps v <= 1 - u.  Zero tolerance: the
+** bound is the contract's, and the code meets it exactly.
+*/
+START_TEST(triangle_barycentrics_should_sum_to_at_most_one)
+{
+    rng g = {2024};
+    int i, kind, hits = 0, n = 20000;
+
+    for (i = 0; i < n; i++) {
+        ray_vec3 a = rng_point(&g, -10, 10), b = rng_point(&g, -10, 10),
+                 c = rng_point(&g, -10, 10);
+        double s = rng_unit(&g);
+        ray_vec3 P = vadd(vscale(b, 1 - s), vscale(c, s));
+        ray_ray r = ray_from(rng_point(&g, -30, 30), vec(0, 0, 0));
+        r.dir = vsub(P, r.org);
+        for (kind = 0; kind < 2; kind++) {
+            ray_hit h;
+            int rc = kind ? ray_triangle_watertight(&r, a, b, c, &h)
+                          : ray_triangle(&r, a, b, c, &h);
+            if (rc != 1)
+                continue;
+            hits++;
+            ck_assert_msg(h.u >= 0 && h.v >= 0 && h.u + h.v <= 1,
+                          "%s, ray %d: u %.17g v %.17g, u + v - 1 = %.3g",
+                          kind ? "watertight" : "Cramer", i, h.u, h.v,
+                          h.u + h.v - 1);
+        }
+    }
+    /* P is within rounding of the edge: about half the rays hit. */
+    ck_assert_int_gt(hits, n / 2);
+}
+END_TEST
+
+/*
+** A hit's exact t lies past tmin, also where t is least certain: rays
+** grazing random triangles (their direction 1e-6 radians off the
+** plane, so that M = n . d cancels to a millionth of |n| |d| and its
+** rounding moves t by a millionth of t's own precision), aimed at a
+** point well inside, with tmin just past the exact t (long double from
+** the stored inputs: its error, a few LDBL_EPSILON / 1e-6 relative, is
+** within the margin of 16 LDBL_EPSILON / 1e-6).  Every one must miss:
+** only a t whose whole error interval lies past tmin is a hit, and the
+** interval must count M's error (cramer_t_error's |t| dm; without it
+** about 1 in 4000 of these hit).  With tmin 0 each of them hits: the
+** rays are aimed inside.
+*/
+START_TEST(triangle_should_refuse_grazing_hits_at_tmin)
+{
+    const long double margin = 16 * LDBL_EPSILON / 1e-6L;
+    rng g = {31};
+    int i, n = 100000, tested = 0;
+
+    for (i = 0; i < n; i++) {
+        ray_vec3 a = rng_point(&g, -2, 2), b = rng_point(&g, -2, 2),
+                 c = rng_point(&g, -2, 2);
+        long double e1[3], e2[3], nv[3], nl, el, tn, tm, t;
+        double beta = 0.2 + 0.3 * rng_unit(&g);
+        double gamma = 0.2 + 0.3 * rng_unit(&g), len = 1 + 3 * rng_unit(&g);
+        ray_vec3 P;
+        ray_ray r;
+        ray_hit h;
+        int k;
+
+        e1[0] = (long double)b.x - a.x;
+        e1[1] = (long double)b.y - a.y;
+        e1[2] = (long double)b.z - a.z;
+        e2[0] = (long double)c.x - a.x;
+        e2[1] = (long double)c.y - a.y;
+        e2[2] = (long double)c.z - a.z;
+        for (k = 0; k < 3; k++)
+            nv[k] = e1[(k + 1) % 3] * e2[(k + 2) % 3] -
+                    e1[(k + 2) % 3] * e2[(k + 1) % 3];
+        nl = sqrtl(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+        el = sqrtl(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        if (nl < 0.5L)                  /* not a sliver: M's size is n's */
+            continue;
+        P = vadd(a, vadd(vscale(vsub(b, a), beta), vscale(vsub(c, a), gamma)));
+        /* Along edge ab, tilted 1e-6 toward the normal. */
+        r.dir = vec((double)(e1[0] / el + 1e-6L * nv[0] / nl),
+                    (double)(e1[1] / el + 1e-6L * nv[1] / nl),
+                    (double)(e1[2] / el + 1e-6L * nv[2] / nl));
+        r.org = vsub(P, vscale(r.dir, len));
+        tn = ((long double)a.x - r.org.x) * nv[0] +
+             ((long double)a.y - r.org.y) * nv[1] +
+             ((long double)a.z - r.org.z) * nv[2];
+        tm = (long double)r.dir.x * nv[0] + (long double)r.dir.y * nv[1] +
+             (long double)r.dir.z * nv[2];
+        t = tn / tm;
+        r.tmax = HUGE_VAL;
+        r.tmin = (double)(t * (1 + margin));
+        ck_assert_msg(ray_triangle(&r, a, b, c, &h) == 0,
+                      "ray %d: exact t %.17Lg, tmin %.17g, hit at %.17g", i,
+                      t, r.tmin, h.t);
+        r.tmin = 0;
+        ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 1);
+        tested++;
+    }
+    ck_assert_int_gt(tested, n / 2);
+}
+END_TEST
+
+/*
+** M = n . d past DBL_MAX from finite inputs (edges of 0.95e154, whose
+** normal (L^2, L^2, 0) is finite, and the direction (1, 1, 0)): a miss,
+** as documented, from tmin -1 as from 0, inside the triangle's shadow or
+** not.  Every finite numerator divided by an infinite M is a zero, which
+** the range tests take for t = 0 and barycentrics 0 where tmin < 0: a
+** hit on vertex a wherever the ray went (true t here is 0.5), which
+** ray_triangle reported before it refused an infinite M (issue 38).
+*/
+START_TEST(triangle_should_miss_where_m_overflows)
+{
+    const double L = 0.95e154;
+    const double ox[3] = {-0.5, -0.5 - 1e-3, -0.5 + 1e-3};
+    ray_vec3 a = vec(0, 0, 0), b = vec(0, 0, L), c = vec(L, -L, 0);
+    int k;
+
+    for (k = 0; k < 6; k++) {
+        ray_ray r = ray_from(vec(ox[k % 3], -0.5, 1e150), vec(1, 1, 0));
+        ray_hit h;
+        r.tmin = k < 3 ? -1 : 0;
+        ck_assert_int_eq(ray_triangle(&r, a, b, c, &h), 0);
+        ck_assert_int_eq(ray_triangle_watertight(&r, a, b, c, &h), 0);
+    }
+}
+END_TEST
+
+/*
+** A hair outside an edge misses also where the barycentric underflows:
+** the triangle (0, 0, 0), (0, 0, L), (L, -L, 0) of L = 1e150 and 1e100,
+** rays along (1, 1, 0) from (-d, 0, 1) meet its plane at (-d/2, d/2, 1),
+** outside the edge from a by d / 2L, which is below the smallest
+** subnormal for d = 1e-230 and 1e-290: its numerator divided by M
+** underflows to -0, which "v >= 0" takes, so only the sign test on the
+** numerators (exact, before the divisions) refuses it.  tmin -1: t =
+** d/2 is within its own error bound of 0.  From (+d, 0, 1), inside by
+** as much, they hit (make mutants' tri-sign-filter, that test's && made
+** ||, hit both).
+*/
+START_TEST(triangle_should_miss_a_hair_outside_where_v_underflows)
+{
+    const double sizes[2] = {1e150, 1e100}, hair[2] = {1e-230, 1e-290};
+    int i, k, side;
+
+    for (i = 0; i < 2; i++)
+        for (k = 0; k < 2; k++)
+            for (side = -1; side <= 1; side += 2) {
+                double L = sizes[i];
+                ray_ray r = ray_from(vec(side * hair[k], 0, 1),
+                                     vec(1, 1, 0));
+                ray_hit h;
+                r.tmin = -1;
+                ck_assert_int_eq(ray_triangle(&r, vec(0, 0, 0), vec(0, 0, L),
+                                              vec(L, -L, 0), &h),
+                                 side > 0);
+            }
+}
+END_TEST
+
 Suite *triangle_suite(void)
 {
     Suite *s = suite_create("triangle");
@@ -312,8 +480,13 @@ Suite *triangle_suite(void)
     tcase_add_test(hard, triangle_should_miss_degenerate_triangles);
     tcase_add_test(hard, triangle_should_hit_tiny_triangles);
     tcase_add_test(hard, triangle_should_miss_on_bad_input);
+    tcase_add_test(hard, triangle_should_miss_where_m_overflows);
+    tcase_add_test(hard,
+                   triangle_should_miss_a_hair_outside_where_v_underflows);
     tcase_add_loop_test(hard, triangle_should_not_leak_through_shared_edge, 0, N_OFFSETS);
     tcase_add_test(prop, triangle_should_reproduce_aimed_points);
+    tcase_add_test(prop, triangle_barycentrics_should_sum_to_at_most_one);
+    tcase_add_test(prop, triangle_should_refuse_grazing_hits_at_tmin);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);
     suite_add_tcase(s, prop);

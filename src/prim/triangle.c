@@ -129,10 +129,14 @@ static double cramer_t_error(double a, double b, double c, double d,
 ** their errors, divided by M, are at most about u |A-e| / altitude, a few
 ** ulps of the barycentric as a distance (the bench's u and v columns).
 **
-** Only M == 0 exactly is rejected.  The 1997 Moeller-Trumbore code rejects
-** |M| < 1e-6, which is scale-dependent and drops every triangle with edges
-** shorter than ~1e-3; here a NaN or infinite M falls out of the NaN-safe
-** range tests below instead.
+** Only M == 0 exactly is rejected for its size.  The 1997 Moeller-Trumbore
+** code rejects |M| < 1e-6, which is scale-dependent and drops every
+** triangle with edges shorter than ~1e-3.  A NaN M, or one past DBL_MAX
+** (finite inputs whose products overflow: edges near 1e154 and a long
+** direction), is a miss too, refused with M == 0: the range tests below
+** would not refuse an infinite M, as every finite numerator divided by it
+** is a zero, which passes them where tmin < 0 (a hit at t = 0 on vertex A
+** wherever the ray went; issue 38, found by make mutants' tri-sign-filter).
 */
 int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
                        ray_vec3 vc, double *t_out, double *beta_out,
@@ -149,7 +153,8 @@ int ray__triangle_test(const ray_ray *r, ray_vec3 va, ray_vec3 vb,
     double m = nx * g + ny * h + nz * i;
     double t_num, gamma_num, beta_num, sign, t, beta, gamma;
 
-    if (m == 0)                  /* parallel ray, or zero-area triangle */
+    /* A parallel ray or a zero-area triangle; M NaN or overflowed. */
+    if (m == 0 || !(fabs(m) <= DBL_MAX))
         return 0;
     /*
     ** Sign filters on the numerators first, exact and division-free: for
