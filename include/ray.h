@@ -1451,11 +1451,38 @@ RAY_API int ray_write_png(const char *path, const float *rgb,
 ** who only sets query_ud leaves there, hides nothing (a zero visibility
 ** mask would hide everything, silently: libray 0.1's trap).  The same
 ** spelling as ray_contains_options.ignore_mask.
+**
+** Why a query refused: a query that returns a negated status (misuse:
+** -RAY_EINVAL, -RAY_ESTATE, -RAY_EKIND ...; the batch calls and
+** ray_distance_grid: a status other than RAY_OK) writes the reason in words
+** into why[0 .. why_size - 1] when why is not NULL: "ray_intersect_sweep:
+** sweep->shape.radius is -1: negative or not finite", naming the call,
+** the argument (for an array, the index: "points[3]"), and the value it
+** was given, at every digit.  Cut to fit, always terminated; 256 bytes
+** hold every reason.  Nothing is written on any other return (a hit, a
+** miss, a count), so the buffer costs a query that answers nothing: read
+** it only after a negative return.  Queries without options give no
+** reason; neither do ray_closest_point and ray_surface_point, whose
+** reasons are those of ray.h's lists (a NULL or a value out of range).
+**
+** Why a buffer of the caller's reached through the options, and not
+** ray_scene_errmsg or a check call as ray_render_check: a committed
+** scene is const and queried by any number of threads at once, so a
+** message kept in it would be a race and one query's reason could
+** overwrite another's; and a check call would have to take every
+** query's arguments again.  The buffer is written by the refused call
+** alone, from its thread: give each thread its own ray_query (or its
+** own why) where several may refuse at once, as several threads must not
+** write one buffer.  ray_batch and ray_contains_options carry a why of
+** their own, for the batch calls and for ray_contains, ray_signed_distance
+** and ray_distance_grid.
 */
 typedef struct ray_query {
     unsigned ignore_mask;    /* geometry whose mask has no bit outside
                                 these is unseen; 0: all geometry seen */
     void *query_ud;          /* handed to every filter this query calls */
+    char *why;               /* a refusal's reason goes here (NULL: none) */
+    size_t why_size;         /* why's size in bytes */
 } ray_query;
 
 /*
@@ -1615,6 +1642,8 @@ typedef struct ray_contains_options {
     unsigned flags;              /* RAY_CONTAINS_*; 0: the defaults */
     unsigned ignore_mask;        /* as ray_query's: the mask's bits turned
                                     off; 0: all geometry seen */
+    char *why;                   /* as ray_query's: a refusal's reason */
+    size_t why_size;             /* why's size in bytes */
 } ray_contains_options;
 
 typedef struct ray_inside {
@@ -1890,6 +1919,9 @@ typedef struct ray_batch {
     ray_stats *stats;            /* counters added here; may be NULL */
     const ray_query *query;      /* every ray's options when queries is
                                     NULL; NULL: the defaults */
+    char *why;                   /* as ray_query's: why the batch was
+                                    refused (the rays' why are not used) */
+    size_t why_size;             /* why's size in bytes */
 } ray_batch;
 
 RAY_API int ray_intersect_batch(const ray_scene *scene, const ray_batch *b);
