@@ -912,10 +912,47 @@ RAY_API int ray_scene_set_scheduler(ray_scene *scene,
 ** committed again) does nothing and returns RAY_OK.  Returns RAY_OK,
 ** RAY_EINVAL (NULL, or an instanced scene that now has planes or
 ** instances), RAY_ESTATE (an instanced scene changed and not committed
-** again: commit it first) or RAY_ENOMEM (acceleration structures); on
-** failure the changes stay staged and the commit may be retried.
+** again: commit it first), RAY_ENOMEM (acceleration structures) or
+** RAY_ECANCELED (the progress callback cancelled the build:
+** ray_scene_set_progress); on failure the changes stay staged and the
+** commit may be retried.
 */
 RAY_API int ray_scene_commit(ray_scene *scene);
+
+/*
+** Progress of long work, and its cancel: called with how much is done of
+** how much there is, and returns non-zero to cancel.  A render calls it
+** after each finished row (ray_render_options: its counts are rows); a
+** commit as it builds its BVHs (ray_scene_set_progress: its counts are
+** primitives).
+*/
+typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
+                               unsigned rows_total);
+
+/*
+** ray_scene_set_progress -- report a commit's BVH builds to "fn" (with
+** "ud" first), and let it cancel them (NULL: no callback, the default),
+** as Embree's build progress monitor: for a large mesh, a progress bar
+** and a Cancel button.  A commit that rebuilds a BVH calls fn(ud, done,
+** total) with done the primitives placed in the trees so far and total
+** those the commit builds over (the live triangles of a changed mesh
+** set and the other bounded geometry, when each is rebuilt), every 4096
+** or more, done rising, and last with done == total once every tree is
+** built; a commit that rebuilds nothing (a refit, a no-op) does not call
+** it.  The calls come from the committing thread, or from the build's
+** threads (ray_scene_set_build_threads, ray_scene_set_scheduler) one at
+** a time, never again once fn has returned non-zero.  Non-zero cancels:
+** the build stops at its threads' next report and the commit returns
+** RAY_ECANCELED (ray_scene_errmsg says where), leaving the scene as
+** before the commit -- not committed, its changes staged, queries
+** -RAY_ESTATE -- so that a later commit builds the same trees and the
+** same answers, bit for bit.  The callback costs one call per 4096
+** primitives or more; it must not change or query the scene.  A setting
+** like the others: staged, rebuilding nothing.  RAY_OK, RAY_EINVAL (NULL
+** scene).
+*/
+RAY_API int ray_scene_set_progress(ray_scene *scene, ray_progress_fn fn,
+                                   void *ud);
 
 /* ---------------------------------------------------------- 6. textures */
 
@@ -1170,10 +1207,6 @@ typedef struct ray_camera {
     double aperture;
     double focus_distance;
 } ray_camera;
-
-/* Called after each finished row: return non-zero to cancel the render. */
-typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
-                               unsigned rows_total);
 
 typedef struct ray_render_options {
     unsigned width, height;  /* the whole frame, in pixels */

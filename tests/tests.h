@@ -41,6 +41,7 @@ Suite *null_suite(void);
 Suite *defaults_suite(void);
 Suite *errmsg_suite(void);
 Suite *why_suite(void);
+Suite *progress_suite(void);
 Suite *box_suite(void);
 Suite *direct_suite(void);
 Suite *capsule_suite(void);
