@@ -510,7 +510,7 @@ int main(int argc, char **argv)
         unsigned a, b, c;
         ray_vec3 *p;
         ray_inside *r;
-        ray_contains_options co = {RAY_CONTAINS_WINDING, 0};
+        ray_contains_options co = {.flags = RAY_CONTAINS_WINDING};
         size_t k = 0, e_ours = 0, e_vdb = 0;
         double t0, t_ours, t_vdb = 0;
         nsub = (size_t)((gn + sub - 1) / sub);

@@ -917,10 +917,47 @@ RAY_API int ray_scene_set_scheduler(ray_scene *scene,
 ** committed again) does nothing and returns RAY_OK.  Returns RAY_OK,
 ** RAY_EINVAL (NULL, or an instanced scene that now has planes or
 ** instances), RAY_ESTATE (an instanced scene changed and not committed
-** again: commit it first) or RAY_ENOMEM (acceleration structures); on
-** failure the changes stay staged and the commit may be retried.
+** again: commit it first), RAY_ENOMEM (acceleration structures) or
+** RAY_ECANCELED (the progress callback cancelled the build:
+** ray_scene_set_progress); on failure the changes stay staged and the
+** commit may be retried.
 */
 RAY_API int ray_scene_commit(ray_scene *scene);
+
+/*
+** Progress of long work, and its cancel: called with how much is done of
+** how much there is, and returns non-zero to cancel.  A render calls it
+** after each finished row (ray_render_options: its counts are rows); a
+** commit as it builds its BVHs (ray_scene_set_progress: its counts are
+** primitives).
+*/
+typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
+                               unsigned rows_total);
+
+/*
+** ray_scene_set_progress -- report a commit's BVH builds to "fn" (with
+** "ud" first), and let it cancel them (NULL: no callback, the default),
+** as Embree's build progress monitor: for a large mesh, a progress bar
+** and a Cancel button.  A commit that rebuilds a BVH calls fn(ud, done,
+** total) with done the primitives placed in the trees so far and total
+** those the commit builds over (the live triangles of a changed mesh
+** set and the other bounded geometry, when each is rebuilt), every 4096
+** or more, done rising, and last with done == total once every tree is
+** built; a commit that rebuilds nothing (a refit, a no-op) does not call
+** it.  The calls come from the committing thread, or from the build's
+** threads (ray_scene_set_build_threads, ray_scene_set_scheduler) one at
+** a time, never again once fn has returned non-zero.  Non-zero cancels:
+** the build stops at its threads' next report and the commit returns
+** RAY_ECANCELED (ray_scene_errmsg says where), leaving the scene as
+** before the commit -- not committed, its changes staged, queries
+** -RAY_ESTATE -- so that a later commit builds the same trees and the
+** same answers, bit for bit.  The callback costs one call per 4096
+** primitives or more; it must not change or query the scene.  A setting
+** like the others: staged, rebuilding nothing.  RAY_OK, RAY_EINVAL (NULL
+** scene).
+*/
+RAY_API int ray_scene_set_progress(ray_scene *scene, ray_progress_fn fn,
+                                   void *ud);
 
 /* ---------------------------------------------------------- 6. textures */
 
@@ -1175,10 +1212,6 @@ typedef struct ray_camera {
     double aperture;
     double focus_distance;
 } ray_camera;
-
-/* Called after each finished row: return non-zero to cancel the render. */
-typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
-                               unsigned rows_total);
 
 typedef struct ray_render_options {
     unsigned width, height;  /* the whole frame, in pixels */
@@ -1456,11 +1489,38 @@ RAY_API int ray_write_png(const char *path, const float *rgb,
 ** who only sets query_ud leaves there, hides nothing (a zero visibility
 ** mask would hide everything, silently: libray 0.1's trap).  The same
 ** spelling as ray_contains_options.ignore_mask.
+**
+** Why a query refused: a query that returns a negated status (misuse:
+** -RAY_EINVAL, -RAY_ESTATE, -RAY_EKIND ...; the batch calls and
+** ray_distance_grid: a status other than RAY_OK) writes the reason in words
+** into why[0 .. why_size - 1] when why is not NULL: "ray_intersect_sweep:
+** sweep->shape.radius is -1: negative or not finite", naming the call,
+** the argument (for an array, the index: "points[3]"), and the value it
+** was given, at every digit.  Cut to fit, always terminated; 256 bytes
+** hold every reason.  Nothing is written on any other return (a hit, a
+** miss, a count), so the buffer costs a query that answers nothing: read
+** it only after a negative return.  Queries without options give no
+** reason; neither do ray_closest_point and ray_surface_point, whose
+** reasons are those of ray.h's lists (a NULL or a value out of range).
+**
+** Why a buffer of the caller's reached through the options, and not
+** ray_scene_errmsg or a check call as ray_render_check: a committed
+** scene is const and queried by any number of threads at once, so a
+** message kept in it would be a race and one query's reason could
+** overwrite another's; and a check call would have to take every
+** query's arguments again.  The buffer is written by the refused call
+** alone, from its thread: give each thread its own ray_query (or its
+** own why) where several may refuse at once, as several threads must not
+** write one buffer.  ray_batch and ray_contains_options carry a why of
+** their own, for the batch calls and for ray_contains, ray_signed_distance
+** and ray_distance_grid.
 */
 typedef struct ray_query {
     unsigned ignore_mask;    /* geometry whose mask has no bit outside
                                 these is unseen; 0: all geometry seen */
     void *query_ud;          /* handed to every filter this query calls */
+    char *why;               /* a refusal's reason goes here (NULL: none) */
+    size_t why_size;         /* why's size in bytes */
 } ray_query;
 
 /*
@@ -1627,6 +1687,8 @@ typedef struct ray_contains_options {
     unsigned flags;              /* RAY_CONTAINS_*; 0: the defaults */
     unsigned ignore_mask;        /* as ray_query's: the mask's bits turned
                                     off; 0: all geometry seen */
+    char *why;                   /* as ray_query's: a refusal's reason */
+    size_t why_size;             /* why's size in bytes */
 } ray_contains_options;
 
 typedef struct ray_inside {
@@ -1903,6 +1965,9 @@ typedef struct ray_batch {
     ray_stats *stats;            /* counters added here; may be NULL */
     const ray_query *query;      /* every ray's options when queries is
                                     NULL; NULL: the defaults */
+    char *why;                   /* as ray_query's: why the batch was
+                                    refused (the rays' why are not used) */
+    size_t why_size;             /* why's size in bytes */
 } ray_batch;
 
 RAY_API int ray_intersect_batch(const ray_scene *scene, const ray_batch *b);

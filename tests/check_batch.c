@@ -577,7 +577,8 @@ START_TEST(batch_should_say_which_path_it_took)
         ** every bit hides the mesh, ray by ray; per-ray queries, when
         ** given, win over it. */
         int me = 3, *want = malloc(n * sizeof *want);
-        ray_query zero = {0}, named = {.query_ud = &me}, hide = {~0u, NULL};
+        ray_query zero = {0}, named = {.query_ud = &me};
+    ray_query hide = {.ignore_mask = ~0u};
         ray_query *per = calloc(n, sizeof *per);
         const ray_query *shared[2] = {&zero, &named};
         int k;

@@ -216,7 +216,8 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
 {
     ray_scene *s = zero_scene();
     int me = 7, k;
-    ray_query zero = {0}, named = {.query_ud = &me}, hide = {~0u, NULL};
+    ray_query zero = {0}, named = {.query_ud = &me};
+    ray_query hide = {.ignore_mask = ~0u};
     const ray_query *qs[3] = {NULL, &zero, &named};
     ray_ray rays[4];
     ray_hit want[4], got[4];
@@ -300,7 +301,7 @@ START_TEST(zeroed_query_and_batch_should_see_everything)
     }
     {
         /* Each ray its own zeroed query, in a batch. */
-        ray_query per[4] = {{0, NULL}, {0, &me}, {0, NULL}, {0, NULL}};
+        ray_query per[4] = {{0}, {.query_ud = &me}, {0}, {0}};
         ray_batch b = {.rays = rays, .queries = per, .n = 4, .hits = got,
                        .results = res_got};
         ck_assert_int_eq(ray_intersect_batch(s, &b), RAY_OK);
@@ -329,7 +330,8 @@ START_TEST(query_options_should_reach_the_triangles_fast_path)
     ray_mesh m = {0};
     ray_scene *s;
     int me = 7, k;
-    ray_query zero = {0}, named = {.query_ud = &me}, hide = {~0u, NULL};
+    ray_query zero = {0}, named = {.query_ud = &me};
+    ray_query hide = {.ignore_mask = ~0u};
     const ray_query *qs[3] = {NULL, &zero, &named};
     ray_ray r = ray_from(vec(0.25, 0.125, 0), vec(0, 0, -1));
     ray_hit want, h;

@@ -147,7 +147,7 @@ START_TEST(child_of_triangles_should_answer_as_the_general_query)
     hc_mesh ball = hc_icosphere(vec(0, 0, 0), 2);
     ray_mesh m = hc_ray_mesh(&ball);
     ray_scene *child[2], *top[2];
-    ray_query q = {0x2u, NULL};
+    ray_query q = {.ignore_mask = 0x2u};
     ray_ray rays[64];
     ray_hit all[2][8], batch[2][64];
     int res[2][64];

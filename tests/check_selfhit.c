@@ -377,6 +377,57 @@ START_TEST(floor_and_walls_should_render_their_analytic_light)
 }
 END_TEST
 
+/*
+** ray_surface_point on a kind without surface points (a torus, an
+** implicit surface, a Bezier patch, a box, a capsule, user geometry)
+** answers RAY_EKIND, its own status ("not available for this kind of
+** geometry"), not RAY_ENOTSUP ("not supported by this build": no build
+** has them), in the scene itself and through an instance, with *hit
+** untouched; every other kind never answers RAY_EKIND.  Coordinates
+** (0.25, 0.25) are finite, so the kind decides (check_overlap.c holds
+** the order of the statuses).
+*/
+START_TEST(surface_point_should_say_which_kinds_have_no_points)
+{
+    sh_kind k = (sh_kind)_i;
+    int none = k == SH_TORUS || k == SH_IMPLICIT || k == SH_BEZIER ||
+               k == SH_BOX || k == SH_CAPSULE || k == SH_USER;
+    ray_transform t;
+    ray_scene *s, *top;
+    ray_hit h;
+    sh_prim p;
+    unsigned inst = RAY_INVALID_ID;
+    int rc;
+
+    sh_place(&p, k, 0, 0);
+    s = sh_scene(&p);
+    ck_assert_ptr_nonnull(s);
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&t);
+    t.m[0][3] = 10;                  /* a translation: world space moves */
+    /* A plane has no bounds: no instance takes it (ray.h). */
+    if (k != SH_PLANE)
+        ck_assert_int_eq(ray_scene_add_instance(top, s, &t, &inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    hit_poison(&h);
+    rc = ray_surface_point(s, 0, 0, RAY_INVALID_ID, 0.25, 0.25, &h);
+    if (none) {
+        ck_assert_msg(rc == RAY_EKIND, "%s: %d", sh_kind_name[k], rc);
+        ck_assert(hit_is_poisoned(&h));
+        ck_assert_int_eq(ray_surface_point(top, 0, 0, inst, 0.25, 0.25, &h),
+                         RAY_EKIND);
+        ck_assert(hit_is_poisoned(&h));
+    } else {
+        ck_assert_msg(rc != RAY_EKIND, "%s: %d", sh_kind_name[k], rc);
+        if (k != SH_PLANE)
+            ck_assert_int_ne(ray_surface_point(top, 0, 0, inst, 0.25, 0.25,
+                                               &h), RAY_EKIND);
+    }
+    ray_scene_free(top);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *selfhit_suite(void)
 {
     Suite *s = suite_create("selfhit");
@@ -390,6 +441,9 @@ Suite *selfhit_suite(void)
     tcase_add_loop_test(tc, float_floor_should_not_rehit, 0, 12);
     tcase_add_test(tc, sphere_should_not_depend_on_direction_length);
     tcase_add_test(tc, floor_and_walls_should_render_their_analytic_light);
+    tcase_add_loop_test(tc,
+                        surface_point_should_say_which_kinds_have_no_points,
+                        0, SH_KINDS);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -40,6 +40,8 @@ Suite *selfhit_suite(void);
 Suite *null_suite(void);
 Suite *defaults_suite(void);
 Suite *errmsg_suite(void);
+Suite *why_suite(void);
+Suite *progress_suite(void);
 Suite *box_suite(void);
 Suite *direct_suite(void);
 Suite *capsule_suite(void);

@@ -4,6 +4,8 @@
 ** from its root by sah.c's splits, its lower subtrees on threads, then
 ** collapsed into wide nodes (wide.c); and ray__bvh_free.
 */
+#include <limits.h>
+
 #include "accel/builder.h"
 #include "core/platform.h"
 #include "core/tasks.h"
@@ -52,13 +54,53 @@ typedef struct build_job {
     ray__node *nodes;
     subtree *tasks;
     const size_t *order;     /* tasks by size, largest first */
+    ray__progress *prog;     /* NULL: no reports */
 } build_job;
 
-/* Build one subtree, depth first, into its region. */
+int ray__progress_add(ray__progress *p, size_t items)
+{
+    int cancelled;
+
+    if (p->lock != NULL)
+        ray__mutex_lock(p->lock);
+    p->done += items;
+    p->reported = p->done;
+    /* The callback's counts are unsigned: a commit of more than 2^32 - 1
+    ** items reports them clamped (one BVH holds at most 2^31 - 1). */
+    if (!p->cancelled &&
+        p->fn(p->ud, p->done < UINT_MAX ? (unsigned)p->done : UINT_MAX,
+              p->total < UINT_MAX ? (unsigned)p->total : UINT_MAX) != 0)
+        p->cancelled = 1;
+    cancelled = p->cancelled;
+    if (p->lock != NULL)
+        ray__mutex_unlock(p->lock);
+    return cancelled;
+}
+
+/*
+** Count a leaf's items toward the next report: every RAY__PROGRESS_STEP
+** items or more (the callback costs one call per thousands of items,
+** not one per item).  Returns whether the build is cancelled.
+*/
+static int leaf_done(ray__progress *prog, size_t *pending, size_t items)
+{
+    if (prog == NULL)
+        return 0;
+    *pending += items;
+    if (*pending < RAY__PROGRESS_STEP)
+        return 0;
+    items = *pending;
+    *pending = 0;
+    return ray__progress_add(prog, items);
+}
+
+/* Build one subtree, depth first, into its region; it stops where the
+** progress callback cancels the build (the tree is then thrown away). */
 static void build_subtree(const build_job *job, subtree *st)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
+    size_t pending = 0;
     int sp = 1;
 
     bd.costs = job->costs;
@@ -71,8 +113,14 @@ static void build_subtree(const build_job *job, subtree *st)
     stack[0] = st->root;
     while (sp > 0) {
         task t = stack[--sp];
-        sp += ray__bvh_split(&bd, &t, stack + sp);
+        int children = ray__bvh_split(&bd, &t, stack + sp);
+        sp += children;
+        if (children == 0 &&
+            leaf_done(job->prog, &pending, t.end - t.begin))
+            return;
     }
+    if (pending > 0)
+        (void)ray__progress_add(job->prog, pending);
     st->used = bd.n_nodes - st->region;
 }
 
@@ -137,11 +185,11 @@ static size_t close_up(ray__node *nodes, const subtree *tasks,
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
-                   void *scratch, ray__bvh *out)
+                   void *scratch, ray__progress *prog, ray__bvh *out)
 {
     builder bd;
     task stack[2 * MAX_DEPTH + 4];
-    size_t cap, i, limit, region, n_tasks = 0, cap_tasks = 0;
+    size_t cap, i, limit, region, n_tasks = 0, cap_tasks = 0, pending = 0;
     subtree *tasks = NULL;
     size_t *order = NULL;
     unsigned *items;
@@ -183,7 +231,15 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     while (sp > 0) {
         task t = stack[--sp];
         if (t.end - t.begin > limit) {
-            sp += ray__bvh_split(&bd, &t, stack + sp);
+            int children = ray__bvh_split(&bd, &t, stack + sp);
+            sp += children;
+            /* A node the SAH leaves whole (items that cannot be told
+            ** apart) is a leaf of the top. */
+            if (children == 0 &&
+                leaf_done(prog, &pending, t.end - t.begin)) {
+                rc = RAY_ECANCELED;
+                goto done;
+            }
             continue;
         }
         if (n_tasks == cap_tasks) {
@@ -199,6 +255,10 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
             cap_tasks = more;
         }
         tasks[n_tasks++].root = t;
+    }
+    if (pending > 0 && ray__progress_add(prog, pending)) {
+        rc = RAY_ECANCELED;
+        goto done;
     }
     if (n_tasks > 0) {
         order = ray__allocate(a, n_tasks * sizeof *order);
@@ -219,6 +279,7 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
             job.nodes = bd.nodes;
             job.tasks = tasks;
             job.order = order;
+            job.prog = prog;
             /* On the scheduler, or the calling thread and threads - 1
             ** started ones: fewer if a thread cannot be started, or if the
             ** runner's lock cannot be made (the caller builds them all),
@@ -226,6 +287,12 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
             ** above) fits an unsigned. */
             ray__tasks_run(sched, a, threads, 0, (unsigned)n_tasks,
                            build_task, &job);
+        }
+        /* Read once every task has returned (ray__tasks_run joins them):
+        ** a cancelled build left subtrees unfinished. */
+        if (prog != NULL && prog->cancelled) {
+            rc = RAY_ECANCELED;
+            goto done;
         }
     }
     for (i = 0; i < n; i++)

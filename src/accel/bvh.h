@@ -86,10 +86,36 @@ typedef struct ray__bvh_costs {
 ** issue 36).
 */
 #define RAY__BVH_SCRATCH(n) ((n) * (size_t)32)
+
+/*
+** A build's progress (ray_scene_set_progress): items placed in leaves so
+** far of the total the commit builds over, reported to fn every
+** RAY__PROGRESS_STEP items or more, one call at a time (under "lock"
+** when the build runs on several threads), and never again once fn has
+** asked to cancel: "cancelled" is then set and the builds stop at their
+** next report, returning RAY_ECANCELED.  "done" and "cancelled" are read
+** and written under the lock alone while a build's tasks run.
+*/
+#define RAY__PROGRESS_STEP 4096
+typedef struct ray__progress {
+    ray_progress_fn fn;
+    void *ud;
+    struct ray__mutex *lock;
+    size_t done, total;
+    size_t reported;         /* done at the last call (0: none yet) */
+    int cancelled;
+} ray__progress;
+
+/* Add "items" to p->done and call fn; returns whether the work is
+** cancelled (fn asked now or before). */
+int ray__progress_add(ray__progress *p, size_t items);
+
+/* prog: NULL, or where the build reports (and learns it is cancelled:
+** RAY_ECANCELED, nothing built, as for RAY_ENOMEM). */
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
-                   void *scratch, ray__bvh *out);
+                   void *scratch, ray__progress *prog, ray__bvh *out);
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
 /*

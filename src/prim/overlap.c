@@ -21,6 +21,8 @@
 ** touches (projections meeting within that) may go either way, and
 ** nothing else: the test is exact to rounding.
 */
+#include <stdio.h>
+
 #include "prim/overlap.h"
 
 int ray__pped_of_box(const ray_box_params *b, ray__pped *p)
@@ -294,4 +296,37 @@ int ray__shape_check(const ray_shape *k, ray__pped *p)
     if (p != NULL)
         *p = b;
     return 1;
+}
+
+void ray__shape_why(const ray_shape *k, const char *name, char *why,
+                    size_t size)
+{
+    ray__pped b;
+    ray_vec3 lo, hi;
+    char box_why[160];
+
+    if (k == NULL)
+        snprintf(why, size, "shape is NULL");   /* ray_overlap_shape's */
+    else if (k->kind == RAY_SHAPE_CAPSULE && !v3_isfinite(k->a))
+        snprintf(why, size, "%sa (%.17g, %.17g, %.17g) is not finite", name,
+                 k->a.x, k->a.y, k->a.z);
+    else if (k->kind == RAY_SHAPE_CAPSULE && !v3_isfinite(k->b))
+        snprintf(why, size, "%sb (%.17g, %.17g, %.17g) is not finite", name,
+                 k->b.x, k->b.y, k->b.z);
+    else if (k->kind == RAY_SHAPE_CAPSULE &&
+             !v3_isfinite(v3_sub(k->b, k->a)))
+        snprintf(why, size, "%sb - %sa overflows (a (%.17g, %.17g, %.17g), "
+                 "b (%.17g, %.17g, %.17g))", name, name, k->a.x, k->a.y,
+                 k->a.z, k->b.x, k->b.y, k->b.z);
+    else if (k->kind == RAY_SHAPE_CAPSULE)
+        snprintf(why, size, "%sradius is %.17g: negative or not finite",
+                 name, k->radius);
+    else if (k->kind != RAY_SHAPE_BOX)
+        snprintf(why, size, "%skind is %u: not a RAY_SHAPE_*", name,
+                 k->kind);
+    else if (!ray__box_check(&k->box, &lo, &hi, box_why, sizeof box_why))
+        snprintf(why, size, "%sbox: %s", name, box_why);
+    else
+        snprintf(why, size, "%sbox's corners overflow (its %s)", name,
+                 ray__pped_of_box(&k->box, &b) ? "edges" : "axes");
 }

@@ -46,4 +46,10 @@ double ray__pped_segment(const ray__pped *p, ray_vec3 a, ray_vec3 b);
 */
 int ray__shape_check(const ray_shape *k, ray__pped *p);
 
+/* Why ray__shape_check refused k, in words, into why[size]: the field
+** (its name after "name": "shape->" or "sweep->shape."), and its value.
+** For the refusal path only. */
+void ray__shape_why(const ray_shape *k, const char *name, char *why,
+                    size_t size);
+
 #endif /* RAY_OVERLAP_H */

@@ -24,9 +24,11 @@
 ** exactly, so that the expansion's error never decides its side.
 */
 #include <limits.h>
+#include <string.h>
 
 #include "core/predicates.h"
 #include "query/query.h"
+#include "query/why.h"
 
 /* A fast winding number this near 1/2 is summed again over every
 ** triangle before it decides inside or outside: the expansion's error
@@ -345,8 +347,54 @@ int ray__solid_holds(const ray_scene *s, ray_vec3 q)
     return !cq.stale && (cq.on || (cq.parity & 1u) != 0);
 }
 
-int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
-                 const ray_contains_options *o, ray_inside *out)
+/*
+** Why ray_contains (or ray_signed_distance: op) refused with rc (ray.h,
+** ray_contains_options.why): contains_run's checks again, in their
+** order, on the refusal path only.
+*/
+static int contains_refused(const ray_contains_options *o, const char *op,
+                            int rc, const ray_scene *s,
+                            const ray_vec3 *points, size_t n)
+{
+    char *why = o != NULL ? o->why : NULL;
+    size_t size = o != NULL ? o->why_size : 0;
+    size_t i;
+
+    if (why == NULL)
+        return rc;
+    if (s == NULL)
+        return ray__why(why, size, rc, op, "scene is NULL");
+    if (points == NULL && n > 0)
+        return ray__why(why, size, rc, op, "points is NULL with n = %zu", n);
+    if (n > INT_MAX)
+        return ray__why(why, size, rc, op, "n is %zu: more than INT_MAX", n);
+    if ((o->flags & ~KNOWN_FLAGS) != 0)
+        return ray__why(why, size, rc, op, "options->flags 0x%x has unknown "
+                        "bits 0x%x", o->flags, o->flags & ~KNOWN_FLAGS);
+    for (i = 0; i < n; i++) {
+        if (v3_isfinite(points[i]))
+            continue;
+        if (strcmp(op, "ray_signed_distance") == 0)     /* its q */
+            return ray__why(why, size, rc, op, "q " RAY__WHY_V3 " is not "
+                            "finite", RAY__WHY_V3ARGS(points[i]));
+        return ray__why(why, size, rc, op, "points[%zu] " RAY__WHY_V3
+                        " is not finite", i, RAY__WHY_V3ARGS(points[i]));
+    }
+    if (rc == -RAY_ENOMEM)
+        return ray__why(why, size, rc, op, "out of memory finding which "
+                        "meshes are closed or the winding number's "
+                        "expansions (a later call tries again)");
+    if (rc == -RAY_EDEGENERATE)
+        return ray__why(why, size, rc, op, "no closed mesh, sphere, box or "
+                        "capsule that options->ignore_mask 0x%x leaves seen "
+                        "answers exactly: ask for RAY_CONTAINS_WINDING",
+                        o->ignore_mask);
+    return ray__why_state(why, size, rc, op, s);
+}
+
+int ray__contains_run(const ray_scene *s, const ray_vec3 *points,
+                        size_t n, const ray_contains_options *o,
+                        ray_inside *out, const char *op)
 {
     unsigned flags = o != NULL ? o->flags : 0;
     unsigned ignore = o != NULL ? o->ignore_mask : 0;
@@ -355,16 +403,16 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
 
     if (s == NULL || (points == NULL && n > 0) || n > INT_MAX ||
         (flags & ~KNOWN_FLAGS) != 0)
-        return -RAY_EINVAL;
+        return contains_refused(o, op, -RAY_EINVAL, s, points, n);
     for (i = 0; i < n; i++)
         if (!v3_isfinite(points[i]))
-            return -RAY_EINVAL;
+            return contains_refused(o, op, -RAY_EINVAL, s, points, n);
     if (!s->committed)
-        return -RAY_ESTATE;
+        return contains_refused(o, op, -RAY_ESTATE, s, points, n);
     if (ray__closed_ensure(s) != RAY_OK)
-        return -RAY_ENOMEM;     /* which meshes are closed: found once */
+        return contains_refused(o, op, -RAY_ENOMEM, s, points, n);
     if ((flags & RAY_CONTAINS_WINDING) == 0 && !has_exact(s, ignore))
-        return -RAY_EDEGENERATE;
+        return contains_refused(o, op, -RAY_EDEGENERATE, s, points, n);
 
     /* Instances first, as ray_intersect_all: a stale one fails the call
     ** before anything is written. */
@@ -375,20 +423,20 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
             continue;
         in = &s->instances[p->surface];
         if (!in->child->committed || in->child->generation != in->generation)
-            return -RAY_ESTATE;
+            return contains_refused(o, op, -RAY_ESTATE, s, points, n);
     }
     /* The expansions of the winding number: made once (winding.c), once
     ** no instance is stale (its child's triangles are then as committed). */
     if ((flags & RAY_CONTAINS_WINDING_EXACT) == 0 &&
         ray__wexp_ensure(s, (flags & RAY_CONTAINS_WINDING) != 0) != RAY_OK)
-        return -RAY_ENOMEM;
+        return contains_refused(o, op, -RAY_ENOMEM, s, points, n);
     if ((flags & RAY_CONTAINS_WINDING) == 0)
         ray__cgrid_ensure(s);
     for (i = 0; i < n; i++) {
         ray_inside r;
         int rc = contains_one(s, points[i], ignore, flags, &r);
         if (rc < 0)
-            return rc;
+            return contains_refused(o, op, rc, s, points, n);
         inside += rc;
         if (out != NULL) {
             out[i].inside = r.inside;
@@ -399,22 +447,34 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
     return inside;
 }
 
+int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
+                 const ray_contains_options *o, ray_inside *out)
+{
+    return ray__contains_run(s, points, n, o, out, "ray_contains");
+}
+
 int ray_signed_distance(const ray_scene *s, ray_vec3 q, double radius,
                         const ray_contains_options *o, double *distance,
                         ray_closest *closest)
 {
+    static const char op[] = "ray_signed_distance";
     ray_closest c;
     ray_inside in;
     int rc, found;
 
     if (distance == NULL)
-        return -RAY_EINVAL;
-    rc = ray_contains(s, &q, 1, o, &in);
+        return o == NULL ? -RAY_EINVAL
+                         : ray__why(o->why, o->why_size, -RAY_EINVAL, op,
+                                    "distance is NULL");
+    rc = ray__contains_run(s, &q, 1, o, &in, op);
     if (rc < 0)
         return rc;
     found = ray_closest_point(s, q, radius, &c);
-    if (found < 0)
-        return found;
+    if (found < 0)          /* q and the scene passed: the radius */
+        return o == NULL ? found
+                         : ray__why(o->why, o->why_size, found, op,
+                                    "radius is %.17g: NaN or negative",
+                                    radius);
     if (found) {
         *distance = in.on_surface ? 0.0 : in.inside ? -c.distance
                                                     : c.distance;

@@ -10,6 +10,7 @@
 
 #include "core/tasks.h"
 #include "query/query.h"
+#include "query/why.h"
 
 typedef struct grid_job {
     const ray_scene *s;
@@ -55,6 +56,36 @@ static double spacing(double lo, double hi, unsigned n)
     return n > 1 ? (hi - lo) / (double)(n - 1) : 0.0;
 }
 
+/*
+** Why the grid refused (ray.h, ray_contains_options.why): the checks
+** below again, in their order, on the refusal path only; the scene's
+** statuses have their reason from ray__contains_run.
+*/
+static int grid_refused(const ray_distance_grid_options *o, const ray_scene *s,
+                        ray_vec3 lo, ray_vec3 hi, unsigned nx, unsigned ny,
+                        unsigned nz, const float *out)
+{
+    static const char op[] = "ray_distance_grid";
+    char *why = o->contains.why;
+    size_t size = o->contains.why_size;
+
+    if (s == NULL || out == NULL)
+        return ray__why(why, size, RAY_EINVAL, op, "%s is NULL",
+                        s == NULL ? "scene" : "out");
+    if (!v3_isfinite(lo) || !v3_isfinite(hi))
+        return ray__why(why, size, RAY_EINVAL, op, "%s " RAY__WHY_V3
+                        " is not finite", !v3_isfinite(lo) ? "lo" : "hi",
+                        RAY__WHY_V3ARGS(!v3_isfinite(lo) ? lo : hi));
+    if (nx == 0 || ny == 0 || nz == 0)
+        return ray__why(why, size, RAY_EINVAL, op, "a count is 0 (nx %u, "
+                        "ny %u, nz %u)", nx, ny, nz);
+    if (!(o->band >= 0) || !(o->band < HUGE_VAL))
+        return ray__why(why, size, RAY_EINVAL, op, "options->band is %.17g: "
+                        "NaN, negative or infinite", o->band);
+    return ray__why(why, size, RAY_EINVAL, op, "nx * ny * nz floats overflow "
+                    "size_t (nx %u, ny %u, nz %u)", nx, ny, nz);
+}
+
 int ray_distance_grid(const ray_scene *s, ray_vec3 lo, ray_vec3 hi,
                       unsigned nx, unsigned ny, unsigned nz,
                       const ray_distance_grid_options *o, float *out)
@@ -73,11 +104,12 @@ int ray_distance_grid(const ray_scene *s, ray_vec3 lo, ray_vec3 hi,
         nx == 0 || ny == 0 || nz == 0 || !(o->band >= 0) ||
         !(o->band < HUGE_VAL) ||
         (size_t)nx * ny > ((size_t)-1) / sizeof(float) / nz)
-        return RAY_EINVAL;
+        return grid_refused(o, s, lo, hi, nx, ny, nz, out);
     /* The statuses every sample would share, asked once, before anything
     ** is written: bad flags, an uncommitted scene, a stale instance,
     ** nothing closed. */
-    rc = ray_contains(s, NULL, 0, &o->contains, NULL);
+    rc = ray__contains_run(s, NULL, 0, &o->contains, NULL,
+                           "ray_distance_grid");
     if (rc < 0)
         return -rc;
     g.s = s;
@@ -89,6 +121,9 @@ int ray_distance_grid(const ray_scene *s, ray_vec3 lo, ray_vec3 hi,
     g.nz = nz;
     g.radius = o->band > 0 ? o->band : HUGE_VAL;
     g.contains = o->contains;
+    /* The samples run on several threads: none may write a reason into
+    ** the one buffer (a sample overflowed to Inf is refused, below). */
+    g.contains.why = NULL;
     g.out = out;
     sched = ray__scheduler_pick(o->scheduler, &s->scheduler);
     n = ray__task_count(o->threads, sched);

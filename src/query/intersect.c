@@ -7,6 +7,7 @@
 ** so every later box and primitive is tested against the nearest so far.
 */
 #include "query/traverse.h"
+#include "query/why.h"
 
 /* The queries of traverse.h for the baseline instruction set, and the
 ** choice of the AVX2 copy (intersect_avx2.c) where the CPU has it: the
@@ -155,9 +156,35 @@ static int plain_tris(const ray_scene *s, const ray_ray *r)
            tris_only(s);
 }
 
+/*
+** Why a ray query (op) refused with rc (ray.h, ray_query.why): its
+** checks again, in their order (query_misuse, then the output's, then the
+** scene's state or a stale instance met), on the refusal path only.
+** "out" names the output argument that was NULL, when that was the
+** reason left.
+*/
+static int ray_refused(const ray_query *q, const char *op, int rc,
+                       const ray_scene *s, const ray_ray *r, const char *out)
+{
+    char *why = q != NULL ? q->why : NULL;
+    size_t size = q != NULL ? q->why_size : 0;
+
+    if (why == NULL)
+        return rc;
+    if (s == NULL)
+        return ray__why(why, size, rc, op, "scene is NULL");
+    if (r == NULL)
+        return ray__why(why, size, rc, op, "r is NULL");
+    if (rc == -RAY_ESTATE)
+        return ray__why_state(why, size, rc, op, s);
+    return ray__why(why, size, rc, op, "%s", out);
+}
+
 int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
                   const ray_query *q)
 {
+    int rc;
+
     if (q == NULL && hit != NULL && plain_tris(s, r)) {
 #if RAY__AVX2_COPY
         if (HAS_AVX2(s))
@@ -165,11 +192,15 @@ int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 #endif
         return query_nearest_tris(s, r, hit);
     }
-    return intersect_opt(s, r, hit, q);
+    rc = intersect_opt(s, r, hit, q);
+    return rc >= 0 ? rc
+                   : ray_refused(q, "ray_intersect", rc, s, r, "hit is NULL");
 }
 
 int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
 {
+    int rc;
+
     if (q == NULL && plain_tris(s, r)) {
 #if RAY__AVX2_COPY
         if (HAS_AVX2(s))
@@ -177,7 +208,8 @@ int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
 #endif
         return query_any_tris(s, r);
     }
-    return occluded_opt(s, r, q);
+    rc = occluded_opt(s, r, q);
+    return rc >= 0 ? rc : ray_refused(q, "ray_occluded", rc, s, r, "");
 }
 
 /* Can ray__packets_avx2 take this scene and gate?  Triangles alone (the
@@ -288,30 +320,47 @@ static int batch_check(const ray_scene *s, const ray_ray *rays, size_t n,
     return s->committed ? RAY_OK : RAY_ESTATE;
 }
 
+/* Why a batch (op) was refused with rc, batch_check's checks again in
+** their order, into b->why: the refusal path only. */
+static int batch_refused(const ray_batch *b, const char *op, int rc,
+                         const ray_scene *s)
+{
+    if (s == NULL)
+        return ray__why(b->why, b->why_size, rc, op, "scene is NULL");
+    if (rc == RAY_ESTATE)
+        return ray__why_state(b->why, b->why_size, rc, op, s);
+    return ray__why(b->why, b->why_size, rc, op, "b->%s is NULL with b->n "
+                    "= %zu", b->rays == NULL ? "rays"
+                    : b->results == NULL ? "results" : "hits",
+                    b->n);
+}
+
 /* ray_intersect_batch and ray_occluded_batch ("any"): each ray its own
 ** options (queries), or one set for all (query), through the same
 ** batch_run and so the same packets. */
-static int batch_of(const ray_scene *s, const ray_batch *b, int any)
+static int batch_of(const ray_scene *s, const ray_batch *b, int any,
+                    const char *op)
 {
     int rc;
 
     if (b == NULL)
-        return RAY_EINVAL;
+        return RAY_EINVAL;       /* no batch: no buffer for a reason */
     rc = batch_check(s, b->rays, b->n, b->hits, b->results, any);
-    if (rc == RAY_OK)
-        batch_run(s, b->rays, b->n, b->queries, b->query,
-                  any ? NULL : b->hits, b->results, any, b->stats);
+    if (rc != RAY_OK)
+        return batch_refused(b, op, rc, s);
+    batch_run(s, b->rays, b->n, b->queries, b->query, any ? NULL : b->hits,
+              b->results, any, b->stats);
     return rc;
 }
 
 int ray_intersect_batch(const ray_scene *s, const ray_batch *b)
 {
-    return batch_of(s, b, 0);
+    return batch_of(s, b, 0, "ray_intersect_batch");
 }
 
 int ray_occluded_batch(const ray_scene *s, const ray_batch *b)
 {
-    return batch_of(s, b, 1);
+    return batch_of(s, b, 1, "ray_occluded_batch");
 }
 
 /* Sort the collected hits nearest first (insertion sort: a ray crosses
@@ -329,6 +378,15 @@ static void sort_hits(ray_hit *h, size_t n)
     }
 }
 
+/* ray_intersect_all's hits NULL with room asked for, in words. */
+static int all_refused(const ray_query *q, size_t cap)
+{
+    if (q == NULL)
+        return -RAY_EINVAL;
+    return ray__why(q->why, q->why_size, -RAY_EINVAL, "ray_intersect_all",
+                    "hits is NULL with cap = %zu", cap);
+}
+
 /*
 ** Every hit: an any-hit traversal whose gate records each candidate that
 ** passes masks and filters and then rejects it, so nothing stops the
@@ -344,13 +402,16 @@ int ray_intersect_all(const ray_scene *s, const ray_ray *r,
     size_t kept;
 
     if (rc != RAY_OK)
-        return rc;
-    if (count == NULL || (hits == NULL && cap > 0))
-        return -RAY_EINVAL;
+        return ray_refused(q, "ray_intersect_all", rc, s, r, "");
+    if (count == NULL)
+        return ray_refused(q, "ray_intersect_all", -RAY_EINVAL, s, r,
+                           "count is NULL");
+    if (hits == NULL && cap > 0)
+        return all_refused(q, cap);
     /* Checked before the traversal, so that a stale instance cannot
     ** leave hits[] half written. */
     if (ray__scene_stale(s))
-        return -RAY_ESTATE;
+        return ray_refused(q, "ray_intersect_all", -RAY_ESTATE, s, r, "");
     c.hits = hits;
     c.cap = cap;
     c.count = 0;
@@ -358,7 +419,7 @@ int ray_intersect_all(const ray_scene *s, const ray_ray *r,
     g.all = &c;
     rc = ray__occluded_gated(s, r, &g, NULL);
     if (rc < 0)
-        return rc;
+        return ray_refused(q, "ray_intersect_all", rc, s, r, "");
     kept = c.count < cap ? c.count : cap;
     sort_hits(hits, kept);
     *count = c.count;

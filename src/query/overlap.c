@@ -9,7 +9,10 @@
 ** distances for the sphere and the capsule, separating axes for the
 ** box).
 */
+#include <stdio.h>
+
 #include "query/query.h"
+#include "query/why.h"
 #include "prim/overlap.h"
 
 /* The query region, in world space: a sphere (c, r), a capsule (the
@@ -638,14 +641,42 @@ static int run_all(const ray_scene *s, const region *q, const ray_query *opt,
     return rc;
 }
 
+/*
+** Why an overlap (op) refused with rc (ray.h, ray_query.why): the checks
+** below again, in their order, on the refusal path only; "out" is the
+** output argument's reason when the scene and shape passed.
+*/
+static int overlap_refused(const ray_query *q, const char *op, int rc,
+                           const ray_scene *s, const ray_shape *shape,
+                           const char *out)
+{
+    char shape_why[256];
+
+    if (q == NULL || q->why == NULL)
+        return rc;
+    if (s == NULL)
+        return ray__why(q->why, q->why_size, rc, op, "scene is NULL");
+    if (rc == -RAY_ESTATE)
+        return ray__why_state(q->why, q->why_size, rc, op, s);
+    if (out != NULL)
+        return ray__why(q->why, q->why_size, rc, op, "%s", out);
+    ray__shape_why(shape, "shape->", shape_why, sizeof shape_why);
+    return ray__why(q->why, q->why_size, rc, op, "%s", shape_why);
+}
+
 int ray_overlap_shape(const ray_scene *s, const ray_shape *shape,
                       const ray_query *q, ray_overlap_fn fn, void *ud)
 {
     region r;
+    int rc;
 
     if (s == NULL || fn == NULL || !shape_region(shape, &r))
-        return -RAY_EINVAL;
-    return run_fn(s, &r, q, fn, ud);
+        return overlap_refused(q, "ray_overlap_shape", -RAY_EINVAL, s, shape,
+                               s != NULL && fn == NULL ? "fn is NULL"
+                                                       : NULL);
+    rc = run_fn(s, &r, q, fn, ud);
+    return rc >= 0 ? rc : overlap_refused(q, "ray_overlap_shape", rc, s,
+                                          shape, NULL);
 }
 
 int ray_overlap_shape_all(const ray_scene *s, const ray_shape *shape,
@@ -653,9 +684,20 @@ int ray_overlap_shape_all(const ray_scene *s, const ray_shape *shape,
                           size_t *count)
 {
     region r;
+    char out[64];
+    int rc;
 
     if (s == NULL || count == NULL || (found == NULL && cap > 0) ||
-        !shape_region(shape, &r))
-        return -RAY_EINVAL;
-    return run_all(s, &r, q, found, cap, count);
+        !shape_region(shape, &r)) {
+        if (count == NULL)
+            snprintf(out, sizeof out, "count is NULL");
+        else if (found == NULL && cap > 0)
+            snprintf(out, sizeof out, "found is NULL with cap = %zu", cap);
+        return overlap_refused(q, "ray_overlap_shape_all", -RAY_EINVAL, s,
+                               shape, count == NULL ||
+                               (found == NULL && cap > 0) ? out : NULL);
+    }
+    rc = run_all(s, &r, q, found, cap, count);
+    return rc >= 0 ? rc : overlap_refused(q, "ray_overlap_shape_all", rc, s,
+                                          shape, NULL);
 }

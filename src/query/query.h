@@ -34,6 +34,12 @@ typedef struct ray__gate {
 ** ray_render_check's test of the camera's eye. */
 int ray__solid_holds(const ray_scene *s, ray_vec3 q);
 
+/* ray_contains, its reasons (ray_contains_options.why) given in the name
+** of op: ray_contains, ray_signed_distance or ray_distance_grid. */
+int ray__contains_run(const ray_scene *s, const ray_vec3 *points, size_t n,
+                      const ray_contains_options *o, ray_inside *out,
+                      const char *op);
+
 /*
 ** The generalized winding number's parts (winding.c), as sums of signed
 ** solid angles (4 pi per turn) at the world point qw of scene s's

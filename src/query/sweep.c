@@ -13,6 +13,7 @@
 ** watertight).
 */
 #include "query/query.h"
+#include "query/why.h"
 #include "prim/overlap.h"
 
 /* The search's state. */
@@ -589,6 +590,45 @@ static int sweep_misuse(const ray_scene *s, const ray_sweep *sw,
     return s->committed ? RAY_OK : RAY_ESTATE;
 }
 
+/*
+** Why a sweep refused with rc (ray.h, ray_query.why): sweep_misuse's
+** checks again, in their order, on the refusal path only.
+*/
+static int sweep_refused(const ray_query *q, int rc, const ray_scene *s,
+                         const ray_sweep *sw, const ray_contact *c)
+{
+    static const char op[] = "ray_intersect_sweep";
+    char *why = q != NULL ? q->why : NULL;
+    size_t size = q != NULL ? q->why_size : 0;
+    char shape_why[256];
+
+    if (why == NULL)
+        return rc;
+    if (s == NULL || sw == NULL || c == NULL)
+        return ray__why(why, size, rc, op, "%s is NULL", s == NULL ? "scene"
+                        : sw == NULL ? "sweep" : "c");
+    if (!v3_isfinite(sw->dir))
+        return ray__why(why, size, rc, op, "sweep->dir " RAY__WHY_V3
+                        " is not finite", RAY__WHY_V3ARGS(sw->dir));
+    if (!(sw->tmin > -HUGE_VAL && sw->tmin < HUGE_VAL))
+        return ray__why(why, size, rc, op, "sweep->tmin is %.17g: not "
+                        "finite", sw->tmin);
+    if (!(sw->tmax > sw->tmin))
+        return ray__why(why, size, rc, op, "sweep->tmax is %.17g: not above "
+                        "tmin %.17g (a tmax of 0 is 1)", sw->tmax, sw->tmin);
+    if (!v3_isfinite(v3_scale(sw->dir, sw->tmin)))
+        return ray__why(why, size, rc, op, "sweep->tmin * dir overflows "
+                        "(tmin %.17g, dir " RAY__WHY_V3 ")", sw->tmin,
+                        RAY__WHY_V3ARGS(sw->dir));
+    if (rc == -RAY_EKIND)
+        return ray__why(why, size, rc, op, "sweep->shape.kind is "
+                        "RAY_SHAPE_BOX: a box is not swept");
+    if (rc == -RAY_ESTATE)
+        return ray__why_state(why, size, rc, op, s);
+    ray__shape_why(&sw->shape, "sweep->shape.", shape_why, sizeof shape_why);
+    return ray__why(why, size, rc, op, "%s", shape_why);
+}
+
 /* Radius 0 and a == b: a ray, answered by the ray query itself. */
 static int sweep_ray(const ray_scene *s, const ray_sweep *sw,
                      const ray__gate *g, ray_contact *c)
@@ -632,14 +672,16 @@ int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
     }
     rc = sweep_misuse(s, sw, c);
     if (rc != RAY_OK)
-        return -rc;
+        return sweep_refused(q, -rc, s, sw, c);
     w.gate = sweep_gate(s, q, &g);
     /* A point moving is a ray; a point standing still (dir 0) is the
     ** overlap test below, as every shape standing still. */
     if (sw->shape.radius == 0 && sw->shape.a.x == sw->shape.b.x &&
         sw->shape.a.y == sw->shape.b.y && sw->shape.a.z == sw->shape.b.z &&
-        max_abs(sw->dir) > 0)
-        return sweep_ray(s, sw, w.gate, c);
+        max_abs(sw->dir) > 0) {
+        rc = sweep_ray(s, sw, w.gate, c);
+        return rc >= 0 ? rc : sweep_refused(q, rc, s, sw, c);
+    }
     memset(&w.best, 0, sizeof w.best);
     w.best.t = HUGE_VAL;
     w.o = sw->shape.a;
@@ -662,7 +704,7 @@ int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
     w.br = w.sw.r;
     search_in(&w, s);
     if (w.stale)
-        return -RAY_ESTATE;
+        return sweep_refused(q, -RAY_ESTATE, s, sw, c);
     /* In the caller's units t may leave the doubles (a tiny motion, a
     ** contact far along it), or the contact point may (geometry within
     ** rounding of DBL_MAX): then it is no contact, as a ray's hit whose

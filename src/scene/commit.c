@@ -6,6 +6,7 @@
 ** scene's effects, gate and box summed up.  Read-only until the next
 ** change.
 */
+#include <stdio.h>
 #include <string.h>
 
 #include "core/platform.h"
@@ -57,7 +58,7 @@ static int prim_live(const ray_scene *s, size_t i, ray__class c)
 ** on every ray; of enabled geometry only.  Built aside and swapped in, so
 ** a failure keeps the old ones.
 */
-static int rebuild_prims(ray_scene *s)
+static int rebuild_prims(ray_scene *s, ray__progress *prog)
 {
     size_t n_bounded = 0, n_planes = 0, nb = 0, np = 0, i, k;
     unsigned *ids = NULL, *planes = NULL;
@@ -84,7 +85,7 @@ static int rebuild_prims(ray_scene *s)
         pl.s = s;
         pl.ids = ids;
         rc = ray__bvh_build(&s->alloc, prim_box, &pl, n_bounded, &prim_costs,
-                            &s->scheduler, s->build_threads, NULL,
+                            &s->scheduler, s->build_threads, NULL, prog,
                             &fresh);
     }
     if (rc == RAY_OK) {
@@ -247,15 +248,102 @@ static int refresh_instances(ray_scene *s)
     return RAY_OK;
 }
 
+/* A commit's failure to build, in words: out of memory, or cancelled by
+** the progress callback; either way nothing is committed. */
+static int build_failed(ray_scene *s, int rc, const ray__progress *prog,
+                        const char *what)
+{
+    if (rc == RAY_ECANCELED)
+        return ray__fail(s, rc, "cancelled by the progress callback at %zu "
+                         "of %zu primitives, building the BVH over %s (not "
+                         "committed: the changes stay staged)", prog->done,
+                         prog->total, what);
+    return ray__fail(s, rc, "out of memory building the BVH over %s (not "
+                     "committed: retry)", what);
+}
+
+/*
+** The BVHs that changed, rebuilt (the triangles' refitted when only
+** their vertices moved), reporting to prog (NULL: no callback).
+*/
+static int build_changed(ray_scene *s, ray__progress *prog)
+{
+    char what[64];
+    int rc;
+
+    if ((s->dirty & RAY__DIRTY_PRIMS) &&
+        (rc = rebuild_prims(s, prog)) != RAY_OK)
+        return build_failed(s, rc, prog, "the spheres, polygons, surfaces "
+                            "and instances");
+    s->dirty &= ~RAY__DIRTY_PRIMS;
+    if (s->dirty & RAY__DIRTY_TRIS) {
+        if ((rc = ray__triangles_rebuild(s, prog)) != RAY_OK) {
+            snprintf(what, sizeof what, "%zu triangles", s->n_tris);
+            return build_failed(s, rc, prog, what);
+        }
+    } else if (s->dirty & RAY__DIRTY_REFIT)
+        ray__triangles_refit(s);
+    return RAY_OK;
+}
+
+/*
+** The commit's progress record, when the scene has a callback and the
+** commit rebuilds a BVH: the total is every primitive the rebuilds place
+** (ray_scene_set_progress).  Returns RAY_OK with *out NULL (nothing to
+** report) or ready, or RAY_ENOMEM (no lock for the build's threads).
+*/
+static int progress_start(ray_scene *s, ray__progress *p,
+                          ray__progress **out)
+{
+    size_t i;
+
+    *out = NULL;
+    if (s->progress == NULL ||
+        !(s->dirty & (RAY__DIRTY_PRIMS | RAY__DIRTY_TRIS)))
+        return RAY_OK;
+    p->fn = s->progress;
+    p->ud = s->progress_ud;
+    p->done = p->total = p->reported = 0;
+    p->cancelled = 0;
+    if (s->dirty & RAY__DIRTY_PRIMS)
+        for (i = 0; i < s->n_prims; i++)
+            p->total += (size_t)prim_live(s, i, RAY__CLASS_BOUNDED);
+    if (s->dirty & RAY__DIRTY_TRIS)
+        p->total += ray__triangles_live(s);
+    if (ray__mutex_new(&s->alloc, &p->lock) != RAY_OK)
+        return ray__fail(s, RAY_ENOMEM, "out of memory making the progress "
+                         "callback's lock (not committed: retry)");
+    *out = p;
+    return RAY_OK;
+}
+
+/* The last report, done == total, once every BVH is built. */
+static int progress_end(ray_scene *s, ray__progress *p, int rc)
+{
+    if (p == NULL)
+        return rc;
+    /* The builds' last report may have been done == total already: the
+    ** callback hears it once (a scene of nothing to place hears 0 of 0). */
+    if (rc == RAY_OK && (p->reported < p->total || p->total == 0)) {
+        p->done = p->total;
+        if (ray__progress_add(p, 0))
+            rc = build_failed(s, RAY_ECANCELED, p, "the scene");
+    }
+    ray__mutex_free(&s->alloc, p->lock);
+    return rc;
+}
+
 /*
 ** Build what changed (all of it the first time); the scene is then
-** read-only until the next change.  A failure (out of memory) leaves the
-** scene uncommitted with its changes still staged, so commit can be
-** retried.  A commit with nothing to do is a no-op.
+** read-only until the next change.  A failure (out of memory, or a
+** cancel from the progress callback) leaves the scene uncommitted with
+** its changes still staged, so commit can be retried, and builds the
+** same trees then.  A commit with nothing to do is a no-op.
 */
 int ray_scene_commit(ray_scene *s)
 {
     int rc = ray__begin(s, "ray_scene_commit");
+    ray__progress record, *prog;
 
     if (rc != RAY_OK)
         return rc;
@@ -263,18 +351,11 @@ int ray_scene_commit(ray_scene *s)
         return rc;
     if (s->committed && s->dirty == 0)
         return RAY_OK;
-    if ((s->dirty & RAY__DIRTY_PRIMS) && (rc = rebuild_prims(s)) != RAY_OK)
-        return ray__fail(s, rc, "out of memory building the BVH over the "
-                         "spheres, polygons, surfaces and instances (not "
-                         "committed: retry)");
-    s->dirty &= ~RAY__DIRTY_PRIMS;
-    if (s->dirty & RAY__DIRTY_TRIS) {
-        if ((rc = ray__triangles_rebuild(s)) != RAY_OK)
-            return ray__fail(s, rc, "out of memory building the BVH over "
-                             "%zu triangles (not committed: retry)",
-                             s->n_tris);
-    } else if (s->dirty & RAY__DIRTY_REFIT)
-        ray__triangles_refit(s);
+    if ((rc = progress_start(s, &record, &prog)) != RAY_OK)
+        return rc;
+    rc = progress_end(s, prog, build_changed(s, prog));
+    if (rc != RAY_OK)
+        return rc;
     /* ray_contains' labels follow the triangles (parity.c), but are built
     ** by the first ray_contains after a rebuild, not here: a commit of a
     ** scene that is never asked what contains a point does not pay for

@@ -293,6 +293,8 @@ struct ray_scene {
                                 0: one per online CPU */
     ray_scheduler scheduler; /* ray_scene_set_scheduler; run NULL: the
                                 built-in threads */
+    ray_progress_fn progress; /* ray_scene_set_progress; NULL: none */
+    void *progress_ud;
     unsigned effects;        /* what the scene can need, set by commit */
     unsigned material_effects; /* the effects of the materials its
                                   enabled geometry uses (what an instance
@@ -544,11 +546,14 @@ static inline const ray__tri *ray__leaf_tri_at(const ray_scene *s, size_t i,
 /*
 ** At commit (triangles.c): ray__triangles_rebuild builds the triangle
 ** BVH over the live slots, puts them in its leaf order and writes their
-** float corners (RAY_OK, or RAY_ENOMEM with no triangle BVH, the scene
-** left uncommitted); ray__triangles_refit fits the boxes and the float
-** corners of the same tree to the vertices as they are now.
+** float corners (RAY_OK, or RAY_ENOMEM or RAY_ECANCELED -- prog, NULL or
+** the commit's progress, was cancelled -- with no triangle BVH, the scene
+** left uncommitted); ray__triangles_live counts the slots it would build
+** over; ray__triangles_refit fits the boxes and the float corners of the
+** same tree to the vertices as they are now.
 */
-int ray__triangles_rebuild(ray_scene *s);
+int ray__triangles_rebuild(ray_scene *s, ray__progress *prog);
+size_t ray__triangles_live(const ray_scene *s);
 void ray__triangles_refit(ray_scene *s);
 
 /*

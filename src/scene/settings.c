@@ -251,6 +251,20 @@ int ray_scene_set_scheduler(ray_scene *s, const ray_scheduler *scheduler)
     return RAY_OK;
 }
 
+/* The commit's progress callback (NULL: none); staged like the build
+** threads, which it reports on. */
+int ray_scene_set_progress(ray_scene *s, ray_progress_fn fn, void *ud)
+{
+    int rc = ray__begin(s, "ray_scene_set_progress");
+
+    if (rc != RAY_OK)
+        return rc;
+    s->progress = fn;
+    s->progress_ud = fn != NULL ? ud : NULL;
+    ray__touch(s, 0);
+    return RAY_OK;
+}
+
 unsigned ray_scene_effects(const ray_scene *s)
 {
     return s != NULL && s->committed ? s->effects : 0u;

@@ -470,7 +470,17 @@ static void leaf_tris_make(ray_scene *s, size_t n)
 ** is; a failure (out of memory) leaves the scene without a triangle BVH,
 ** uncommitted, its changes staged for the next commit.
 */
-int ray__triangles_rebuild(ray_scene *s)
+size_t ray__triangles_live(const ray_scene *s)
+{
+    size_t n = 0, i;
+
+    for (i = 0; i < s->n_tris; i++)
+        n += (size_t)(!s->prims[s->tri_ids[i].geom_id].removed &&
+                      tri_live(s, i));
+    return n;
+}
+
+int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
 {
     size_t n = 0, i, scratch_bytes;
     void *scratch = NULL;
@@ -501,7 +511,8 @@ int ray__triangles_rebuild(ray_scene *s)
                   (scratch = ray__alloc(s, scratch_bytes)) == NULL))
         return RAY_ENOMEM;
     rc = ray__bvh_build(&s->alloc, tri_box, s, n, &tri_costs,
-                        &s->scheduler, s->build_threads, scratch, &fresh);
+                        &s->scheduler, s->build_threads, scratch, prog,
+                        &fresh);
     if (rc != RAY_OK) {
         ray__free(s, scratch, scratch_bytes);
         return rc;
