@@ -606,7 +606,7 @@ START_TEST(winding_number_asked)
     for (k = 0; k < 3; k++)
         for (kind = 0; kind < 3; kind++) {
             ray_vec3 c = v3(-off[k] * 0.6, off[k], off[k] * 0.3);
-            hc_mesh m = damaged(c, kind), cube;
+            hc_mesh m = damaged(c, kind, 3), cube;
             ray_scene *s = scene_of(&m, 1);
             ray_vec3 *pts;
             size_t n = hard_points(&m, c, 200, &pts), checked;
