@@ -13,9 +13,12 @@
 ** asserts nothing.
 **
 **     filter DATA_DIR          (bunny.obj, bunny-2.obj, bunny-4.obj)
-**     filter --profile MESH primary|incoherent|refit
+**     filter --profile MESH primary|incoherent|refit|build [THREADS]
 **                              (one row's rays alone, 20 times, or 200
-**                              refits: make profile)
+**                              refits, or 20 cold builds of a fresh scene,
+**                              the commits on THREADS build threads,
+**                              default 1: make profile; issue 36's
+**                              before-and-after timings)
 **
 ** Method: medians of REPS runs, the three modes in turn within each run
 ** so that a noisy neighbour slows all three; each ratio is the median of
@@ -204,13 +207,15 @@ static void bench_bunny(const char *path, unsigned res)
 ** the commit that refits the tree.  Prints the fastest in ms.
 */
 static void profile_refit(ray_scene *s, obj_mesh *obj, double diag,
-                          int times)
+                          int times, unsigned threads)
 {
     ray_mesh mesh = obj_as_ray_mesh(obj);
     double best = HUGE_VAL;
     size_t i;
     int k;
 
+    if (ray_scene_set_build_threads(s, threads) != RAY_OK)
+        exit(1);
     for (k = 0; k < times; k++) {
         double t;
         for (i = 0; i < obj->vertex_count; i++)
@@ -222,8 +227,35 @@ static void profile_refit(ray_scene *s, obj_mesh *obj, double diag,
         t = now_seconds() - t;
         best = t < best ? t : best;
     }
-    printf("profile: %zu triangles, %d refits: %.2f ms (fastest)\n",
-           obj->triangle_count, times, best * 1e3);
+    printf("profile: %zu triangles, %d refits on %u threads: %.2f ms "
+           "(fastest)\n", obj->triangle_count, times, threads, best * 1e3);
+}
+
+/*
+** A cold build, "times" times over: a fresh scene, the mesh added, the
+** commit on "threads" build threads, the scene freed.  Prints the
+** fastest in ms.
+*/
+static void profile_build(const obj_mesh *obj, int times, unsigned threads)
+{
+    ray_mesh mesh = obj_as_ray_mesh(obj);
+    double best = HUGE_VAL;
+    int k;
+
+    for (k = 0; k < times; k++) {
+        ray_scene *s;
+        double t = now_seconds();
+        if (nop_scene_new(&s, NULL, NULL) != RAY_OK ||
+            ray_scene_set_build_threads(s, threads) != RAY_OK ||
+            ray_scene_add_mesh(s, &mesh, 0, NULL) != RAY_OK ||
+            ray_scene_commit(s) != RAY_OK)
+            exit(1);
+        ray_scene_free(s);
+        t = now_seconds() - t;
+        best = t < best ? t : best;
+    }
+    printf("profile: %zu triangles, %d cold builds on %u threads: %.2f ms "
+           "(fastest)\n", obj->triangle_count, times, threads, best * 1e3);
 }
 
 /*
@@ -232,7 +264,8 @@ static void profile_refit(ray_scene *s, obj_mesh *obj, double diag,
 ** profile), which spends its time on nothing else.  Prints the Mrays/s of
 ** the fastest pass.
 */
-static int profile(const char *path, const char *kind, int times)
+static int profile(const char *path, const char *kind, int times,
+                   unsigned threads)
 {
     obj_mesh obj;
     ray_scene *s;
@@ -243,13 +276,20 @@ static int profile(const char *path, const char *kind, int times)
     double diag, bytes, best = HUGE_VAL;
     int incoherent = strcmp(kind, "incoherent") == 0, k;
     int refit = strcmp(kind, "refit") == 0;
+    int build = strcmp(kind, "build") == 0;
 
-    if (!incoherent && !refit && strcmp(kind, "primary") != 0)
+    if (!incoherent && !refit && !build && strcmp(kind, "primary") != 0)
         return 2;
     if (!load(path, &obj, &s, &c, &diag, &bytes))
         return 1;
+    if (build) {
+        ray_scene_free(s);
+        profile_build(&obj, times, threads);
+        obj_free(&obj);
+        return 0;
+    }
     if (refit) {
-        profile_refit(s, &obj, diag, 10 * times);
+        profile_refit(s, &obj, diag, 10 * times, threads);
         ray_scene_free(s);
         obj_free(&obj);
         return 0;
@@ -340,8 +380,9 @@ int main(int argc, char **argv)
     size_t k;
     char path[1024];
 
-    if (argc == 4 && strcmp(argv[1], "--profile") == 0)
-        return profile(argv[2], argv[3], 20);
+    if ((argc == 4 || argc == 5) && strcmp(argv[1], "--profile") == 0)
+        return profile(argv[2], argv[3], 20,
+                       argc == 5 ? (unsigned)strtoul(argv[4], NULL, 10) : 1);
     if (quick)
         reps = 3;
     printf("## What exactness costs: the float filter\n\n");

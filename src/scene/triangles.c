@@ -105,9 +105,9 @@ RAY__HOT_INLINE int slot_corners_at(const ray_scene *s, size_t slot,
 
 /* The corners of live slot "slot" into *t, as ray__tri_of reads them
 ** (slot_corners_at; *m and *m_geom its cache). */
-static inline void refit_corners(const ray_scene *s, size_t slot,
-                                 const ray__mesh **m, unsigned *m_geom,
-                                 ray__tri *t)
+RAY__HOT_INLINE void refit_corners(const ray_scene *s, size_t slot,
+                                    const ray__mesh **m, unsigned *m_geom,
+                                    ray__tri *t)
 {
     const ray_vec3 *p[3];
 
