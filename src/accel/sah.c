@@ -11,6 +11,8 @@
 ** caller's (ray__bvh_costs: triangles and the costlier curved surfaces
 ** differ).
 */
+#include <stdint.h>
+
 #include "accel/builder.h"
 #include "core/tasks.h"
 
@@ -395,6 +397,12 @@ static split best_split(const builder *bd, size_t begin, size_t end,
 */
 #define BIN_RUN 16384
 
+/* The sets' alignment: SSE registers (bins4) are read and written with
+** aligned loads and stores, and the scene's allocator promises no more
+** than any block of its own (ray_alloc_fn): the block is taken that much
+** larger and the sets start at the first multiple of it. */
+#define BIN_ALIGN 16
+
 /* May the builder's work run on threads (builder.threads, sched)? */
 static int builder_parallel(const builder *bd)
 {
@@ -424,13 +432,18 @@ static void bin_node(const builder *bd, size_t begin, size_t end,
                      const box *cb, const float scale[3], int nb,
                      bin_set *out)
 {
-    size_t runs = (end - begin + BIN_RUN - 1) / BIN_RUN, k;
+    size_t runs = (end - begin + BIN_RUN - 1) / BIN_RUN, k, bytes = 0;
     int parallel = builder_parallel(bd);
+    unsigned char *raw = NULL;
     bin_job job;
 
     job.sets = NULL;
-    if (parallel && runs >= 2 && runs <= 0xffffffffu)
-        job.sets = ray__allocate(bd->alloc, runs * sizeof *job.sets);
+    if (parallel && runs >= 2 && runs <= 0xffffffffu &&
+        (raw = ray__allocate(bd->alloc, bytes = runs * sizeof *job.sets +
+                                                 BIN_ALIGN - 1)) != NULL)
+        job.sets = (bin_set *)(void *)(raw + (BIN_ALIGN - (uintptr_t)raw %
+                                                          BIN_ALIGN) %
+                                                 BIN_ALIGN);
     if (job.sets == NULL) {                 /* one thread, or no memory */
         bin_items(bd, begin, end, cb, scale, nb, out);
         return;
@@ -446,7 +459,7 @@ static void bin_node(const builder *bd, size_t begin, size_t end,
     *out = job.sets[0];
     for (k = 1; k < runs; k++)
         bins_merge(out, &job.sets[k], nb);
-    ray__release(bd->alloc, job.sets, runs * sizeof *job.sets);
+    ray__release(bd->alloc, raw, bytes);
 }
 
 #if RAY__SSE2

@@ -77,9 +77,9 @@ static void positions_read(const ray_mesh *m, ray_vec3 *pos)
     stride = m->position_stride != 0 ? m->position_stride
                                      : position_size(m);
     p = m->positions;
-    for (i = 0; i < n; i++, p += stride) {
+    for (i = 0; i < n; i++) {
         float f[3];
-        memcpy(f, p, sizeof f);
+        memcpy(f, p + i * stride, sizeof f);
         pos[i].x = (double)f[0];
         pos[i].y = (double)f[1];
         pos[i].z = (double)f[2];
@@ -189,72 +189,82 @@ static int mesh_vertex_check(ray_scene *s, const ray_mesh *m, size_t i)
 }
 
 /*
-** Are the n vectors v all finite?  x * 0 is 0 for a finite x and NaN for
-** an infinite or NaN one, and a sum with a NaN term is NaN: the sum of
-** x * 0 is 0 exactly when every x is finite.  A multiply and an add a
-** value, no branch (one sum an axis, so that the adds do not wait on
-** each other), where testing each vertex (mesh_vertex_check) was two
-** fifths of an update of positions (callgrind, bench/game's refit, issue
-** 36); the vertex by vertex check runs only to name a failure.
+** Infinite or NaN: the exponent field all ones.  Read from the bits, so
+** that no floating-point exception is raised (a program that traps
+** FE_INVALID must get RAY_EINVAL for an infinite vertex, not a signal),
+** and without a branch: the exponent field plus one in its lowest place
+** carries into the sign bit exactly when the field is all ones, so the
+** loops below OR these over whole arrays and test one bit at the end.
+** Testing each vertex (mesh_vertex_check) was two fifths of an update of
+** positions (callgrind, bench/game's refit, issue 36); the vertex by
+** vertex check runs only to name a failure.
 */
-static int vec3s_finite(const ray_vec3 *v, size_t n)
+static inline uint64_t double_bad(double x)
 {
-    double x = 0, y = 0, z = 0;
-    size_t i;
+    const uint64_t exponent = UINT64_C(0x7ff0000000000000);
+    uint64_t u;
 
-    for (i = 0; i < n; i++) {
-        x += v[i].x * 0.0;
-        y += v[i].y * 0.0;
-        z += v[i].z * 0.0;
-    }
-    return x + y + z == 0;
+    memcpy(&u, &x, sizeof u);
+    return (u & exponent) + (UINT64_C(1) << 52);
 }
 
-/* The same test of strided positions (mesh_vertex), and of n pairs of
-** texture coordinates. */
-static int strided_floats_finite(const ray_mesh *m)
+static inline uint64_t float_bad(float x)
+{
+    const uint32_t exponent = UINT32_C(0x7f800000);
+    uint32_t u;
+
+    memcpy(&u, &x, sizeof u);
+    return (uint64_t)((u & exponent) + (UINT32_C(1) << 23)) << 32;
+}
+
+/* No value ORed into "bad" (double_bad, float_bad) was infinite or NaN. */
+static inline int none_bad(uint64_t bad)
+{
+    return (bad >> 63) == 0;
+}
+
+/* Are the n vectors v all finite? */
+static int vec3s_finite(const ray_vec3 *v, size_t n)
+{
+    uint64_t bad = 0;
+    size_t i;
+
+    for (i = 0; i < n; i++)
+        bad |= double_bad(v[i].x) | double_bad(v[i].y) | double_bad(v[i].z);
+    return none_bad(bad);
+}
+
+/* The same of strided positions: floats read in place, anything else
+** through mesh_vertex. */
+static int strided_finite(const ray_mesh *m)
 {
     size_t i, stride = m->position_stride != 0 ? m->position_stride
                                                : position_size(m);
-    const unsigned char *p = m->positions;
-    float x = 0, y = 0, z = 0;
+    const unsigned char *base = m->positions;
+    uint64_t bad = 0;
 
-    for (i = 0; i < m->vertex_count; i++, p += stride) {
-        float f[3];
-        memcpy(f, p, sizeof f);
-        x += f[0] * 0.0f;
-        y += f[1] * 0.0f;
-        z += f[2] * 0.0f;
-    }
-    return x + y + z == 0;
-}
-
-static int strided_finite(const ray_mesh *m)
-{
-    double x = 0, y = 0, z = 0;
-    size_t i;
-
-    if (m->position_type == RAY_FLOAT32)
-        return strided_floats_finite(m);
     for (i = 0; i < m->vertex_count; i++) {
-        ray_vec3 v = mesh_vertex(m, i);
-        x += v.x * 0.0;
-        y += v.y * 0.0;
-        z += v.z * 0.0;
+        if (m->position_type == RAY_FLOAT32) {
+            float f[3];
+            memcpy(f, base + i * stride, sizeof f);
+            bad |= float_bad(f[0]) | float_bad(f[1]) | float_bad(f[2]);
+        } else {
+            ray_vec3 v = mesh_vertex(m, i);
+            bad |= double_bad(v.x) | double_bad(v.y) | double_bad(v.z);
+        }
     }
-    return x + y + z == 0;
+    return none_bad(bad);
 }
 
+/* The same of n pairs of texture coordinates. */
 static int pairs_finite(const double *st, size_t n)
 {
-    double s = 0, t = 0;
+    uint64_t bad = 0;
     size_t i;
 
-    for (i = 0; i < n; i++) {
-        s += st[2 * i] * 0.0;
-        t += st[2 * i + 1] * 0.0;
-    }
-    return s + t == 0;
+    for (i = 0; i < 2 * n; i++)
+        bad |= double_bad(st[i]);
+    return none_bad(bad);
 }
 
 /* Are every vertex and attribute of m finite, by the quick test? */
@@ -329,18 +339,17 @@ static int copy_indices(const ray_scene *s, const ray_mesh *m, void **dst)
 }
 
 /*
-** Is every coordinate of the n = m->vertex_count positions pos (m's, as
-** doubles) a float?  Those of float positions are (a finite float is a
-** double exactly: mesh_vertex); doubles are tested up to the first that
-** is not, where a test of all was a fifth of an update of a double mesh
-** (callgrind, bench/game's refit, issue 36).
+** Is every coordinate of the n = m->vertex_count positions pos a float
+** (ray__is_float, in the caller's floating-point environment)?  Tested up
+** to the first that is not, where a test of all was a fifth of an update
+** of a double mesh (callgrind, bench/game's refit, issue 36).  Float
+** positions are tested too: under flush-to-zero a subnormal float
+** converts to 0, and its rows would not be its corners.
 */
 static int positions_floats(const ray_vec3 *pos, const ray_mesh *m)
 {
     size_t i;
 
-    if (m->vertices == NULL && m->position_type == RAY_FLOAT32)
-        return 1;
     for (i = 0; i < m->vertex_count; i++)
         if (!(ray__is_float(pos[i].x) & ray__is_float(pos[i].y) &
               ray__is_float(pos[i].z)))

@@ -8,6 +8,7 @@
 */
 #include <string.h>
 
+#include "core/platform.h"
 #include "core/tasks.h"
 #include "scene/scene.h"
 
@@ -225,6 +226,9 @@ static void slot_task(void *ud, unsigned k)
 static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
 {
     size_t runs = (n + SLOT_RUN - 1) / SLOT_RUN;
+    /* 0: one a CPU, as the build's own threads (build.c). */
+    unsigned threads = s->build_threads != 0 ? s->build_threads
+                                             : ray__online_cpus();
     slot_job job;
 
     job.s = s;
@@ -235,8 +239,8 @@ static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
         fn(s, 0, n, out);
         return;
     }
-    ray__tasks_run(&s->scheduler, &s->alloc, s->build_threads, 0,
-                   (unsigned)runs, slot_task, &job);
+    ray__tasks_run(&s->scheduler, &s->alloc, threads, 0, (unsigned)runs,
+                   slot_task, &job);
 }
 
 /* Slots begin .. end - 1's rows, by slot, into out (leaves_make). */
@@ -562,33 +566,42 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
 #include <emmintrin.h>
 
 /*
-** With SSE2 (every x86-64), x and y in one register and z in another:
-** the operations of the scalar loop below, lane by lane, so the same
-** bits.  _mm_min_pd(p, q) is p < q ? p : q in each lane (MINPD returns
-** its second operand for equal values, signed zeros, and NaN), which is
-** min2's expression; _mm_cvtpd_ps rounds as a cast does, to nearest.
-** The cross product that ray__corners_usable tests is formed with its
-** y component negated (e1.x e2.z - e1.z e2.x for e1.z e2.x - e1.x e2.z):
-** rounding to nearest is symmetric, so its magnitude, all the test
-** reads, is the same.  Half the instructions of the scalar loop
-** (callgrind, the 59k bunny's refit, issue 36).
+** With SSE2 (every x86-64), x and y of a corner in one register and z in
+** another: the operations of the scalar loop below, lane by lane, so the
+** same bits in any rounding mode.  _mm_min_pd(p, q) is p < q ? p : q in
+** each lane (MINPD returns its second operand for equal values, signed
+** zeros, and NaN), which is min2's expression; _mm_cvtpd_ps rounds as a
+** cast does, in the current mode.  About as many instructions as the
+** scalar loop, but shorter chains: a 59k refit a third faster (bench/
+** filter --profile refit, issue 36).  Registers travel in a struct by
+** address: 32-bit MSVC passes no more than three by value.
 */
+typedef struct corners2 {
+    __m128d a, az, b, bz, c, cz;     /* x and y, then z, of each corner */
+} corners2;
+
 typedef struct refit_box {
     __m128d lo_xy, lo_z, hi_xy, hi_z;
 } refit_box;
 
-/* Do a triangle's corners give it a normal (ray__corners_usable)? */
-static inline int corners_usable_sse2(__m128d a, __m128d az, __m128d b,
-                                      __m128d bz, __m128d c, __m128d cz)
+/*
+** Do a triangle's corners give it a normal (ray__corners_usable)?  Its
+** cross product v3_cross(b - a, c - a), component for component:
+** (e1.y e2.z - e1.z e2.y, e1.z e2.x - e1.x e2.z) in one register, the
+** same products and differences as the scalar one.
+*/
+static inline int corners_usable_sse2(const corners2 *k)
 {
     const __m128d sign = _mm_set1_pd(-0.0), zero = _mm_setzero_pd(),
                   inf = _mm_set1_pd(HUGE_VAL);
-    __m128d e1 = _mm_sub_pd(b, a), e1z = _mm_sub_sd(bz, az);
-    __m128d e2 = _mm_sub_pd(c, a), e2z = _mm_sub_sd(cz, az);
-    __m128d e1s = _mm_shuffle_pd(e1, e1, 1), e2s = _mm_shuffle_pd(e2, e2, 1);
-    __m128d nxy = _mm_sub_pd(_mm_mul_pd(e1s, _mm_unpacklo_pd(e2z, e2z)),
-                             _mm_mul_pd(_mm_unpacklo_pd(e1z, e1z), e2s));
-    __m128d r = _mm_mul_pd(e1, e2s);
+    __m128d e1 = _mm_sub_pd(k->b, k->a), e1z = _mm_sub_sd(k->bz, k->az);
+    __m128d e2 = _mm_sub_pd(k->c, k->a), e2z = _mm_sub_sd(k->cz, k->az);
+    __m128d p = _mm_mul_pd(_mm_shuffle_pd(e1, e1z, 1),      /* e1.y e1.z */
+                           _mm_unpacklo_pd(e2z, e2));       /* e2.z e2.x */
+    __m128d q = _mm_mul_pd(_mm_unpacklo_pd(e1z, e1),        /* e1.z e1.x */
+                           _mm_shuffle_pd(e2, e2z, 1));     /* e2.y e2.z */
+    __m128d nxy = _mm_sub_pd(p, q);
+    __m128d r = _mm_mul_pd(e1, _mm_shuffle_pd(e2, e2, 1));  /* x y, y x */
     __m128d nz = _mm_sub_sd(r, _mm_unpackhi_pd(r, r));
     int pos, fin;
 
@@ -602,23 +615,22 @@ static inline int corners_usable_sse2(__m128d a, __m128d az, __m128d b,
 }
 
 /* The nine floats of a triangle in its rows (leaf_rows_fitting's). */
-static inline void rows_sse2(float *r, size_t stride, __m128d a, __m128d az,
-                             __m128d b, __m128d bz, __m128d c, __m128d cz)
+static inline void rows_sse2(float *r, size_t stride, const corners2 *k)
 {
     __m128 f;
 
-    f = _mm_cvtpd_ps(a);
+    f = _mm_cvtpd_ps(k->a);
     _mm_store_ss(r, f);
     _mm_store_ss(r + stride, _mm_shuffle_ps(f, f, 1));
-    _mm_store_ss(r + 2 * stride, _mm_cvtsd_ss(f, az));
-    f = _mm_cvtpd_ps(b);
+    _mm_store_ss(r + 2 * stride, _mm_cvtsd_ss(f, k->az));
+    f = _mm_cvtpd_ps(k->b);
     _mm_store_ss(r + 3 * stride, f);
     _mm_store_ss(r + 4 * stride, _mm_shuffle_ps(f, f, 1));
-    _mm_store_ss(r + 5 * stride, _mm_cvtsd_ss(f, bz));
-    f = _mm_cvtpd_ps(c);
+    _mm_store_ss(r + 5 * stride, _mm_cvtsd_ss(f, k->bz));
+    f = _mm_cvtpd_ps(k->c);
     _mm_store_ss(r + 6 * stride, f);
     _mm_store_ss(r + 7 * stride, _mm_shuffle_ps(f, f, 1));
-    _mm_store_ss(r + 8 * stride, _mm_cvtsd_ss(f, cz));
+    _mm_store_ss(r + 8 * stride, _mm_cvtsd_ss(f, k->cz));
 }
 
 /* Triangle t (its corners at pa, pb, pc) refitted: the leaf's box *x
@@ -630,22 +642,26 @@ static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
 {
     const __m128d big = _mm_set1_pd(RAY__LEAF_FLOAT_MAX),
                   nbig = _mm_set1_pd(-RAY__LEAF_FLOAT_MAX);
-    __m128d a = _mm_loadu_pd(&pa->x), az = _mm_load_sd(&pa->z);
-    __m128d b = _mm_loadu_pd(&pb->x), bz = _mm_load_sd(&pb->z);
-    __m128d c = _mm_loadu_pd(&pc->x), cz = _mm_load_sd(&pc->z);
     __m128d lo, loz, hi, hiz;
+    corners2 k;
 
-    if (check && !corners_usable_sse2(a, az, b, bz, c, cz)) {
-        b = c = a;
-        bz = cz = az;
+    k.a = _mm_loadu_pd(&pa->x);
+    k.az = _mm_load_sd(&pa->z);
+    k.b = _mm_loadu_pd(&pb->x);
+    k.bz = _mm_load_sd(&pb->z);
+    k.c = _mm_loadu_pd(&pc->x);
+    k.cz = _mm_load_sd(&pc->z);
+    if (check && !corners_usable_sse2(&k)) {
+        k.b = k.c = k.a;
+        k.bz = k.cz = k.az;
     }
-    lo = _mm_min_pd(_mm_min_pd(a, b), c);
-    loz = _mm_min_sd(_mm_min_sd(az, bz), cz);
-    hi = _mm_max_pd(_mm_max_pd(a, b), c);
-    hiz = _mm_max_sd(_mm_max_sd(az, bz), cz);
+    lo = _mm_min_pd(_mm_min_pd(k.a, k.b), k.c);
+    loz = _mm_min_sd(_mm_min_sd(k.az, k.bz), k.cz);
+    hi = _mm_max_pd(_mm_max_pd(k.a, k.b), k.c);
+    hiz = _mm_max_sd(_mm_max_sd(k.az, k.bz), k.cz);
     if (first) {
-        x->lo_xy = x->hi_xy = a;
-        x->lo_z = x->hi_z = az;
+        x->lo_xy = x->hi_xy = k.a;
+        x->lo_z = x->hi_z = k.az;
     }
     x->lo_xy = _mm_min_pd(x->lo_xy, lo);
     x->lo_z = _mm_min_sd(x->lo_z, loz);
@@ -655,16 +671,16 @@ static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
                                    _mm_cmple_pd(hi, big))) == 3 &&
         (_mm_movemask_pd(_mm_and_pd(_mm_cmpge_sd(loz, nbig),
                                     _mm_cmple_sd(hiz, big))) & 1))
-        rows_sse2(rows, stride, a, az, b, bz, c, cz);
+        rows_sse2(rows, stride, &k);
     else
         rows_nan(rows, stride);
     if (copy != NULL) {
-        _mm_storeu_pd(&copy->a.x, a);
-        _mm_store_sd(&copy->a.z, az);
-        _mm_storeu_pd(&copy->b.x, b);
-        _mm_store_sd(&copy->b.z, bz);
-        _mm_storeu_pd(&copy->c.x, c);
-        _mm_store_sd(&copy->c.z, cz);
+        _mm_storeu_pd(&copy->a.x, k.a);
+        _mm_store_sd(&copy->a.z, k.az);
+        _mm_storeu_pd(&copy->b.x, k.b);
+        _mm_store_sd(&copy->b.z, k.bz);
+        _mm_storeu_pd(&copy->c.x, k.c);
+        _mm_store_sd(&copy->c.z, k.cz);
     }
 }
 
