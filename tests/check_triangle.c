@@ -367,12 +367,12 @@ START_TEST(triangle_should_refuse_grazing_hits_at_tmin)
         ray_hit h;
         int k;
 
-        e1[0] = (long double)b.x - a.x;
-        e1[1] = (long double)b.y - a.y;
-        e1[2] = (long double)b.z - a.z;
-        e2[0] = (long double)c.x - a.x;
-        e2[1] = (long double)c.y - a.y;
-        e2[2] = (long double)c.z - a.z;
+        e1[0] = (long double)b.x - (long double)a.x;
+        e1[1] = (long double)b.y - (long double)a.y;
+        e1[2] = (long double)b.z - (long double)a.z;
+        e2[0] = (long double)c.x - (long double)a.x;
+        e2[1] = (long double)c.y - (long double)a.y;
+        e2[2] = (long double)c.z - (long double)a.z;
         for (k = 0; k < 3; k++)
             nv[k] = e1[(k + 1) % 3] * e2[(k + 2) % 3] -
                     e1[(k + 2) % 3] * e2[(k + 1) % 3];
@@ -386,9 +386,9 @@ START_TEST(triangle_should_refuse_grazing_hits_at_tmin)
                     (double)(e1[1] / el + 1e-6L * nv[1] / nl),
                     (double)(e1[2] / el + 1e-6L * nv[2] / nl));
         r.org = vsub(P, vscale(r.dir, len));
-        tn = ((long double)a.x - r.org.x) * nv[0] +
-             ((long double)a.y - r.org.y) * nv[1] +
-             ((long double)a.z - r.org.z) * nv[2];
+        tn = ((long double)a.x - (long double)r.org.x) * nv[0] +
+             ((long double)a.y - (long double)r.org.y) * nv[1] +
+             ((long double)a.z - (long double)r.org.z) * nv[2];
         tm = (long double)r.dir.x * nv[0] + (long double)r.dir.y * nv[1] +
              (long double)r.dir.z * nv[2];
         t = tn / tm;
