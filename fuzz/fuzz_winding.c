@@ -130,12 +130,12 @@ static double winding_ref(const ray_vec3 *w, const unsigned *idx, size_t nt,
 
     for (i = 0; i < nt; i++) {
         ray_vec3 A = w[idx[3 * i]], B = w[idx[3 * i + 1]], C = w[idx[3 * i + 2]];
-        long double a[3] = {(long double)A.x - q.x, (long double)A.y - q.y,
-                            (long double)A.z - q.z};
-        long double b[3] = {(long double)B.x - q.x, (long double)B.y - q.y,
-                            (long double)B.z - q.z};
-        long double c[3] = {(long double)C.x - q.x, (long double)C.y - q.y,
-                            (long double)C.z - q.z};
+        long double a[3] = {(long double)A.x - (long double)q.x, (long double)A.y - (long double)q.y,
+                            (long double)A.z - (long double)q.z};
+        long double b[3] = {(long double)B.x - (long double)q.x, (long double)B.y - (long double)q.y,
+                            (long double)B.z - (long double)q.z};
+        long double c[3] = {(long double)C.x - (long double)q.x, (long double)C.y - (long double)q.y,
+                            (long double)C.z - (long double)q.z};
         long double det = a[0] * (b[1] * c[2] - b[2] * c[1]) -
                           a[1] * (b[0] * c[2] - b[2] * c[0]) +
                           a[2] * (b[0] * c[1] - b[1] * c[0]);
@@ -168,10 +168,10 @@ static int near_edge(const ray_vec3 *w, const unsigned *idx, size_t nt,
         for (k = 0; k < 3; k++) {
             ray_vec3 a = w[idx[3 * i + (size_t)k]];
             ray_vec3 b = w[idx[3 * i + (size_t)(k + 1) % 3]];
-            long double ab[3] = {(long double)b.x - a.x, (long double)b.y - a.y,
-                                 (long double)b.z - a.z};
-            long double aq[3] = {(long double)q.x - a.x, (long double)q.y - a.y,
-                                 (long double)q.z - a.z};
+            long double ab[3] = {(long double)b.x - (long double)a.x, (long double)b.y - (long double)a.y,
+                                 (long double)b.z - (long double)a.z};
+            long double aq[3] = {(long double)q.x - (long double)a.x, (long double)q.y - (long double)a.y,
+                                 (long double)q.z - (long double)a.z};
             long double ll = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
             long double t, d2 = 0;
             int j;
@@ -184,7 +184,7 @@ static int near_edge(const ray_vec3 *w, const unsigned *idx, size_t nt,
                 long double e = aq[j] - t * ab[j];
                 d2 += e * e;
             }
-            if (d2 < (long double)NEAR_EDGE * NEAR_EDGE)
+            if (d2 < (long double)NEAR_EDGE * (long double)NEAR_EDGE)
                 return 1;
         }
     return 0;
