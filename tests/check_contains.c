@@ -1032,6 +1032,53 @@ START_TEST(distance_grid)
 }
 END_TEST
 
+/* Each sample's search starts within the distance to the row's previous
+** sample's point (grid.c: warm_radius), which must not change a bit:
+** every sample of a finer grid, whose rows cross the surface many times,
+** equals its own search from the band (or the whole scene), near the
+** origin and 2^17 away (the closest points' roundings there are what
+** the radius' margin covers). */
+START_TEST(distance_grid_warm_start)
+{
+    static const double offsets[2] = {0, 0x1p17};
+    enum { NX = 41, NY = 17, NZ = 5, N = NX * NY * NZ };
+    float *a = malloc(N * sizeof *a);
+    int f, b;
+
+    for (f = 0; f < 2; f++) {
+        ray_vec3 c = v3(offsets[f], -offsets[f], 0.5 * offsets[f]);
+        hc_mesh m = hc_icosphere(c, 3);
+        ray_scene *s = scene_of(&m, 1);
+        ray_vec3 lo = v3_add(c, v3(-2.6, -2.3, -0.4));
+        ray_vec3 hi = v3_add(c, v3(2.6, 2.3, 0.4));
+        for (b = 0; b < 2; b++) {
+            ray_distance_grid_options o = {0};
+            double radius = b ? 0.3 : HUGE_VAL;
+            unsigned i, j, k;
+            o.threads = 1;
+            o.band = b ? radius : 0;
+            ck_assert_int_eq(ray_distance_grid(s, lo, hi, NX, NY, NZ, &o, a),
+                             RAY_OK);
+            for (k = 0; k < NZ; k++)
+                for (j = 0; j < NY; j++)
+                    for (i = 0; i < NX; i++) {
+                        ray_vec3 p = v3(lo.x + (hi.x - lo.x) / (NX - 1) * i,
+                                        lo.y + (hi.y - lo.y) / (NY - 1) * j,
+                                        lo.z + (hi.z - lo.z) / (NZ - 1) * k);
+                        double d;
+                        ck_assert_int_ge(ray_signed_distance(s, p, radius,
+                                                             NULL, &d, NULL),
+                                         0);
+                        ck_assert(a[(k * NY + j) * NX + i] == (float)d);
+                    }
+        }
+        ray_scene_free(s);
+        hc_mesh_free(&m);
+    }
+    free(a);
+}
+END_TEST
+
 /*
 ** The grid of labels (scene/parity.c) against brute force, for a mesh m
 ** in scene s (its only geometry): a cell is marked touched exactly when
@@ -1376,6 +1423,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, misuse);
     tcase_add_test(tc, signed_distance);
     tcase_add_test(tc, distance_grid);
+    tcase_add_test(tc, distance_grid_warm_start);
     tcase_add_test(tc, grid_labels);
     tcase_add_test(tc, grid_masks_and_updates);
     tcase_add_test(tc, closedness_matches_brute_force);

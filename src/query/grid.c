@@ -5,6 +5,8 @@
 ** built-in threads).  A sample is ray_signed_distance at its position,
 ** which is computed from (i, j, k) alone, so a slice's floats are the
 ** same whichever thread bakes it: the same bytes at any thread count.
+** Each search starts from the row's previous sample's answer (below),
+** which changes how much of the scene it must search, not what it finds.
 */
 #include <limits.h>
 
@@ -28,25 +30,67 @@ static double at(double lo, double step, unsigned i)
     return lo + step * (double)i;
 }
 
+/*
+** The search radius for sample p whose row's previous sample found the
+** surface point *prev (NULL: it found none): the distance from p to
+** *prev, a surface point, so the nearest lies no farther -- grown by a
+** millionth and by 2^-40 of the coordinates for the roundings of that
+** point (within ulps of its primitive) and of both distances -- when it
+** is below the grid's radius, which is otherwise kept.
+**
+** A search within a smaller radius visits the same boxes in the same
+** order (nearest first) but for those wholly beyond it, whose points are
+** all farther than the nearest: so it finds the same point, at the same
+** computed distance, where it finds one (bit for bit: tests/
+** check_contains.c bakes grids both ways).  Where the roundings put the
+** nearest just past the smaller radius, it finds none and the sample is
+** searched again within the grid's radius (ray_signed_distance's 0).
+** Neighbouring samples lie a grid step apart, so the first search is
+** bounded by the distance plus a step instead of the band (or the whole
+** scene, band 0): a narrow band's samples search a few triangles, not
+** the dozens within the band (issue 39: the band against OpenVDB).
+*/
+static double warm_radius(const grid_job *g, ray_vec3 p,
+                          const ray_closest *prev)
+{
+    double d, m;
+
+    if (prev == NULL)
+        return g->radius;
+    d = ray__distance(p, prev->p);
+    m = fmax(fmax(fabs(prev->p.x), fabs(prev->p.y)), fabs(prev->p.z));
+    d = d * (1 + 0x1p-20) + m * 0x1p-40;
+    return d < g->radius ? d : g->radius;
+}
+
 static void grid_task(void *ud, unsigned k)
 {
     const grid_job *g = ud;
     float *row = g->out + (size_t)k * g->ny * g->nx;
     unsigned i, j;
 
-    for (j = 0; j < g->ny; j++)
+    for (j = 0; j < g->ny; j++) {
+        ray_closest near;
+        int have = 0;
         for (i = 0; i < g->nx; i++) {
             ray_vec3 p = v3(at(g->lo.x, g->step.x, i),
                             at(g->lo.y, g->step.y, j),
                             at(g->lo.z, g->step.z, k));
             double d = g->radius;
+            double r = warm_radius(g, p, have ? &near : NULL);
             /* The checks below (ray_distance_grid) leave no failure for
             ** a finite point; a point that overflowed to Inf (a box near
-            ** DBL_MAX) keeps +radius. */
-            (void)ray_signed_distance(g->s, p, g->radius, &g->contains, &d,
-                                      NULL);
+            ** DBL_MAX) keeps +radius (have stays 0). */
+            have = ray_signed_distance(g->s, p, r, &g->contains, &d,
+                                       &near) > 0;
+            if (!have && r < g->radius) {
+                d = g->radius;
+                have = ray_signed_distance(g->s, p, g->radius, &g->contains,
+                                           &d, &near) > 0;
+            }
             row[(size_t)j * g->nx + i] = (float)d;
         }
+    }
 }
 
 /* The spacing of n samples over [lo, hi]: (hi - lo) / (n - 1), 0 for one
