@@ -1336,6 +1336,55 @@ START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
 END_TEST
 
 /*
+** The sliver test's quick answer (nearest.c: surely_not_sliver) at its
+** edge: triangles whose smallest angle has sine 1/16 (1 + delta), delta
+** within +-2^-18, where the quick test answers for some and leaves the
+** others to the accurate one, and the accurate one takes either path;
+** 200 triangles, 10 to 1e4 long, turned at random, 20 query points each
+** within 3 of them, against the long-double brute force with the bound
+** of the slivers' test above (the documented one).
+*/
+START_TEST(closest_points_at_the_sliver_threshold_should_keep_the_bound)
+{
+    rng g = {0x5117e2u};
+    double worst = 0;
+    int it, k;
+
+    for (it = 0; it < 200; it++) {
+        double L = pow(10, 1 + 3 * rng_unit(&g));
+        double sn = (1 + 0x1p-18 * rng_range(&g, -1, 1)) / 16;
+        double cs = sqrt(1 - sn * sn), phi = 6.283185307179586 * rng_unit(&g);
+        ray_vec3 a = vec(rng_range(&g, -1, 1), rng_range(&g, -1, 1), rng_range(&g, -1, 1));
+        ray_vec3 u = vec(cos(phi), sin(phi), 0), v = vec(-sin(phi), cos(phi), 0);
+        ray_vec3 b = vec(a.x + L * u.x, a.y + L * u.y, a.z + 0.25);
+        ray_vec3 c = vec(a.x + L * (cs * u.x + sn * v.x),
+                         a.y + L * (cs * u.y + sn * v.y), a.z - 0.25);
+        ray_scene *s;
+
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        for (k = 0; k < 20; k++) {
+            double t = rng_unit(&g), M, err;
+            ray_vec3 q = vec(a.x + t * (b.x - a.x) + 3 * rng_range(&g, -1, 1),
+                             a.y + t * (b.y - a.y) + 3 * rng_range(&g, -1, 1),
+                             a.z + 3 * rng_range(&g, -1, 1));
+            ray_closest cl;
+            lvec r = ref_triangle(lv(q), lv(a), lv(b), lv(c));
+            ld d = ldist(lv(q), r);
+            ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
+            M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
+            M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
+            err = (double)fabsl((long double)cl.distance - d) / (DBL_EPSILON * (M + (double)d));
+            worst = fmax(worst, err);
+        }
+        ray_scene_free(s);
+    }
+    ck_assert_msg(worst <= 32, "worst %g DBL_EPSILON (M + d)", worst);
+}
+END_TEST
+
+/*
 ** Issue 38, documented answers of ray_surface_point (its page): a mesh
 ** triangle of zero area has no surface point (RAY_EINVAL: no ray hits
 ** it, and no query finds it), and a plane's point whose p or error bound
@@ -1482,6 +1531,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_points_should_be_found_where_q_maps_beyond_the_doubles);
     tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
     tcase_add_test(tc, closest_points_on_slivers_should_keep_the_documented_bound);
+    tcase_add_test(tc, closest_points_at_the_sliver_threshold_should_keep_the_bound);
     tcase_add_test(tc, surface_points_should_refuse_what_has_no_point);
     tcase_add_test(tc, segments_nearest_beyond_an_end_should_clamp_both);
     suite_add_tcase(s, tc);
