@@ -453,6 +453,26 @@ int ray_contains(const ray_scene *s, const ray_vec3 *points, size_t n,
     return ray__contains_run(s, points, n, o, out, "ray_contains");
 }
 
+/* *distance (and *closest, when not NULL) from q's containment *in and
+** its closest-point search's answer within radius: found (1 with *c, or
+** 0): ray_signed_distance's rule. */
+static void signed_answer(const ray_inside *in, int found,
+                          const ray_closest *c, double radius,
+                          double *distance, ray_closest *closest)
+{
+    if (found) {
+        *distance = in->on_surface ? 0.0 : in->inside ? -c->distance
+                                                      : c->distance;
+        if (closest != NULL)
+            *closest = *c;
+    } else {
+        /* On the surface is distance 0 even where no closest point is
+        ** found: a closed mesh's triangle of no area holds q, and
+        ** ray_closest_point skips such triangles. */
+        *distance = in->on_surface ? 0.0 : in->inside ? -radius : radius;
+    }
+}
+
 int ray_signed_distance(const ray_scene *s, ray_vec3 q, double radius,
                         const ray_contains_options *o, double *distance,
                         ray_closest *closest)
@@ -475,16 +495,25 @@ int ray_signed_distance(const ray_scene *s, ray_vec3 q, double radius,
                          : ray__why(o->why, o->why_size, found, op,
                                     "radius is %.17g: NaN or negative",
                                     radius);
-    if (found) {
-        *distance = in.on_surface ? 0.0 : in.inside ? -c.distance
-                                                    : c.distance;
-        if (closest != NULL)
-            *closest = c;
-    } else {
-        /* On the surface is distance 0 even where no closest point is
-        ** found: a closed mesh's triangle of no area holds q, and
-        ** ray_closest_point skips such triangles. */
-        *distance = in.on_surface ? 0.0 : in.inside ? -radius : radius;
-    }
+    signed_answer(&in, found, &c, radius, distance, closest);
+    return found;
+}
+
+int ray__signed_distance_at(const ray_scene *s, ray_vec3 q, double radius,
+                            const ray_contains_options *o, double *distance,
+                            ray_closest *closest)
+{
+    ray_closest c;
+    ray_inside in;
+    int rc, found;
+
+    rc = contains_one(s, q, o != NULL ? o->ignore_mask : 0,
+                      o != NULL ? o->flags : 0, &in);
+    if (rc < 0)
+        return rc;
+    found = ray_closest_point(s, q, radius, &c);
+    if (found < 0)
+        return found;
+    signed_answer(&in, found, &c, radius, distance, closest);
     return found;
 }

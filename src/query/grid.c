@@ -81,11 +81,11 @@ static void grid_task(void *ud, unsigned k)
             /* The checks below (ray_distance_grid) leave no failure for
             ** a finite point; a point that overflowed to Inf (a box near
             ** DBL_MAX) keeps +radius (have stays 0). */
-            have = ray_signed_distance(g->s, p, r, &g->contains, &d,
+            have = ray__signed_distance_at(g->s, p, r, &g->contains, &d,
                                        &near) > 0;
             if (!have && r < g->radius) {
                 d = g->radius;
-                have = ray_signed_distance(g->s, p, g->radius, &g->contains,
+                have = ray__signed_distance_at(g->s, p, g->radius, &g->contains,
                                            &d, &near) > 0;
             }
             row[(size_t)j * g->nx + i] = (float)d;

@@ -40,6 +40,14 @@ int ray__contains_run(const ray_scene *s, const ray_vec3 *points, size_t n,
                       const ray_contains_options *o, ray_inside *out,
                       const char *op);
 
+/* ray_signed_distance at finite q for a caller that ran
+** ray__contains_run(s, .., o, ..) and had RAY_OK: its checks passed and
+** what the answers read is made (ray_distance_grid's samples), so none
+** of its locks is taken again; ray_signed_distance's answers. */
+int ray__signed_distance_at(const ray_scene *s, ray_vec3 q, double radius,
+                            const ray_contains_options *o, double *distance,
+                            ray_closest *closest);
+
 /*
 ** The generalized winding number's parts (winding.c), as sums of signed
 ** solid angles (4 pi per turn) at the world point qw of scene s's
