@@ -503,13 +503,17 @@ static double tri_box_d2(ray_vec3 a, ray_vec3 b, ray_vec3 c,
 /* Triangle i of the scene (leaf order), through the instance's transform
 ** when searched inside one (the world triangle's nearest point); its
 ** normal as ray_triangle's, (b - a) x (c - a) normalised (through an
-** instance, as its hits have it), computed only for a nearer point. */
-static void visit_triangle(const ray_scene *s, unsigned i, query *qs)
+** instance, as its hits have it), computed only for a nearer point.  Its
+** corners as the ray queries read them (ray__leaf_tri: from its leaf's
+** rows, at stride n_rows, or the leaf-order copy), next to the leaf's
+** other triangles, rather than through the mesh's indices. */
+static void visit_triangle(const ray_scene *s, unsigned i,
+                           const float *rows, unsigned n_rows, query *qs)
 {
-    ray_vec3 a, b, c, p, n;
+    ray__tri t = ray__leaf_tri(s, i, rows, n_rows);
+    ray_vec3 a = t.a, b = t.b, c = t.c, p, n;
     double d;
 
-    ray__tri_corners(s, i, &a, &b, &c);
     if (!(tri_box_d2(a, b, c, qs) <= qs->best2))
         return;
     if (qs->in == NULL)
@@ -632,10 +636,11 @@ static void walk(const ray_scene *s, const ray__bvh *bvh, int leaf,
                 sp++;
             }
         } else {
-            unsigned i, end = child + (count & ~RAY__LEAF);
+            unsigned i, n = count & ~RAY__LEAF, end = child + n;
             for (i = child; i < end; i++) {
                 if (leaf == LEAF_TRIANGLES)
-                    visit_triangle(s, i, qs);
+                    visit_triangle(s, i, s->leaf_f + RAY__LEAF_ROWS *
+                                       (size_t)child + (i - child), n, qs);
                 else
                     visit_prim(s, bvh->items[i], qs);
             }
