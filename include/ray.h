@@ -320,14 +320,14 @@ RAY_API const char *ray_strerror(int code);
 
 /* The version, set here alone: the Makefile, CMakeLists.txt and what they
 ** write read these three lines (make version-test). */
-#define RAY_VERSION_MAJOR 0
-#define RAY_VERSION_MINOR 1
+#define RAY_VERSION_MAJOR 1
+#define RAY_VERSION_MINOR 0
 #define RAY_VERSION_PATCH 0
 /* major*10000 + minor*100 + patch, for compile-time comparisons. */
 #define RAY_VERSION_NUMBER \
     (RAY_VERSION_MAJOR * 10000 + RAY_VERSION_MINOR * 100 + RAY_VERSION_PATCH)
 /* "major.minor.patch" (make version-test holds it to the three). */
-#define RAY_VERSION_STRING "0.1.0"
+#define RAY_VERSION_STRING "1.0.0"
 
 /*
 ** The version of the library actually linked, to compare with
