@@ -927,9 +927,10 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 /*
 ** Progress of long work, and its cancel: called with how much is done of
 ** how much there is, and returns non-zero to cancel.  A render calls it
-** after each finished row (ray_render_options: its counts are rows); a
-** commit as it builds its BVHs (ray_scene_set_progress: its counts are
-** primitives).
+** after each finished row (ray_render_options: its counts are rows), and
+** before the rows as its photon pass traces caustics' photons, as
+** ray_photon_map_build does (its counts are photons); a commit as it
+** builds its BVHs (ray_scene_set_progress: its counts are primitives).
 */
 typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
                                unsigned rows_total);
@@ -1301,9 +1302,13 @@ typedef struct ray_render_options {
 ** "stats", if not NULL, receives the counters summed over the tasks.
 **
 ** The progress callback is called from the render's threads, one call at
-** a time, and never again after it asked to cancel.  Returns RAY_OK;
+** a time, and never again after it asked to cancel.  A render that
+** traces photons (below) reports its photon pass first, done the photons
+** traced of total = options->photons (a call per 4096, last done ==
+** total), then its rows, done 1 .. y1 - y0.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
-** unspecified); RAY_ESTATE, before anything is rendered, for a scene not
+** unspecified; cancelled in the photon pass, before any row: rgb and
+** *stats untouched); RAY_ESTATE, before anything is rendered, for a scene not
 ** committed (never, or changed since), as the queries answer, or one
 ** that instances a scene changed since its own commit (commit the scene
 ** after its instanced scenes); RAY_EINVAL for NULLs, zero sizes,
@@ -1412,13 +1417,20 @@ RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
 **
 ** ray_photon_map_build -- the same photon pass outside ray_render, for
 ** programs that call ray_trace themselves: options->photons (1 ..
-** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads and
-** scheduler are read, the rest ignored.  A scene without caustics gives
-** an empty map.  RAY_OK; RAY_EINVAL (NULLs, photons 0 or above the cap,
-** a radius NaN, negative, infinite or whose pi r^2 under- or overflows);
-** RAY_ESTATE (the scene not committed, never or since a change, or an
-** instanced scene changed since the commit); RAY_ENOMEM.  *out is
-** untouched on failure.
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads,
+** scheduler, progress and progress_ud are read, the rest ignored.  A
+** scene without caustics gives an empty map.  The progress callback
+** (NULL: none) hears done photons traced of total = photons, from the
+** pass's threads one call at a time, after every 4096 (a chunk) and last
+** with done == total; a pass that traces nothing (no caustics, no light
+** of any power) does not call it.  Non-zero cancels: each thread stops
+** at its next report, never calling it again, and the pass returns
+** RAY_ECANCELED, keeping nothing; the map of a pass not cancelled is the
+** same bits with or without the callback.  RAY_OK; RAY_EINVAL (NULLs,
+** photons 0 or above the cap, a radius NaN, negative, infinite or whose
+** pi r^2 under- or overflows); RAY_ESTATE (the scene not committed,
+** never or since a change, or an instanced scene changed since the
+** commit); RAY_ECANCELED; RAY_ENOMEM.  *out is untouched on failure.
 ** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
 ** it must outlive the use; NULL: none) in this context.  RAY_OK, or
 ** RAY_EINVAL (ctx NULL, or a map built for another scene).
