@@ -165,7 +165,7 @@ $(STATIC): $(LIB_OBJS) $(BUILD)/png.config
 	$(Q)$(AR) rcs $@ $(LIB_OBJS)
 
 # Exports through a version script (src/libray.map): ray_* in node
-# LIBRAY_0, everything else local, whatever -fvisibility says.
+# LIBRAY_$(SOMAJOR), everything else local, whatever -fvisibility says.
 $(SHARED): $(LIB_OBJS) src/libray.map $(BUILD)/png.config
 	$(say) LD $@
 	$(Q)$(CC) $(CFLAGS) $(LDFLAGS) -shared -Wl,-soname,libray.so.$(SOMAJOR) \
@@ -352,15 +352,17 @@ header-test: include/ray.h tests/header_c99.c
 	else echo "header-test: no C++ compiler ($(CXX)), C++ check skipped"; fi
 
 # Only ray_* symbols may leave the shared library, each in version node
-# LIBRAY_0 (objdump -T prints the node before the name); ray.h's static
-# inline helpers (ray_vec3_*, ray_rgb_*) none.
+# LIBRAY_<major version of ray.h> (objdump -T prints the node before the
+# name; src/libray.map names it, so a major version moved without the
+# node fails here); ray.h's static inline helpers (ray_vec3_*, ray_rgb_*)
+# none.
 symbols-test: $(SHARED)
 	@bad=$$(nm -D --defined-only $(SHARED) | awk '$$2 != "A" {print $$3}' | grep -v '^ray_' || true); \
 	if [ -n "$$bad" ]; then echo "symbols-test: unexpected exports: $$bad"; exit 1; fi; \
 	inline=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -E '^ray_(vec3|rgb)_' || true); \
 	if [ -n "$$inline" ]; then echo "symbols-test: ray.h's static inline helpers exported: $$inline"; exit 1; fi; \
-	unversioned=$$(objdump -T $(SHARED) | awk '$$NF ~ /^ray_/ && $$(NF-1) != "LIBRAY_0" {print $$NF}'); \
-	if [ -n "$$unversioned" ]; then echo "symbols-test: not in LIBRAY_0: $$unversioned"; exit 1; fi; \
+	unversioned=$$(objdump -T $(SHARED) | awk '$$NF ~ /^ray_/ && $$(NF-1) != "LIBRAY_$(SOMAJOR)" {print $$NF}'); \
+	if [ -n "$$unversioned" ]; then echo "symbols-test: not in LIBRAY_$(SOMAJOR): $$unversioned"; exit 1; fi; \
 	echo "symbols-test: exports: $$(nm -D --defined-only $(SHARED) | awk '$$2 != "A" {print $$3}' | tr '\n' ' ')"
 
 # Every file says its licence (scripts/check-spdx.sh: which files, and
@@ -784,7 +786,7 @@ CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%
 SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
 CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
 
-# A program linked with `pkg-config --libs libray` must find libray.so.0
+# A program linked with `pkg-config --libs libray` must find libray.so.1
 # when it runs.  The dynamic loader searches its default directories
 # (/lib, /usr/lib, their lib64 and multiarch forms) by itself; for any
 # other LIBDIR (/usr/local/lib included, which Debian's loader knows only

@@ -56,18 +56,31 @@ static inline int progress_bar(void *ud, unsigned done, unsigned total)
     return 0;
 }
 
+/* What the progress callbacks are told of the render: the program's
+** name, and whether the photon pass reports first (its counts are
+** photons, until its last report, done == total; then the rows'). */
+typedef struct example_progress {
+    const char *name;
+    int photons;
+    unsigned quarter;        /* the last quarter printed (0: none) */
+} example_progress;
+
 /* The progress into a pipe or a log, where '\r' would pile up a line of
-** bars: one plain line per quarter, "NAME: 25% (12 of 48 rows)".  ud
-** points to the program's name (a const char *). */
+** bars: one plain line per quarter, "NAME: 25% (12 of 48 rows)" (or
+** "photons" while the photon pass reports).  ud: an example_progress. */
 static inline int progress_lines(void *ud, unsigned done, unsigned total)
 {
-    const char *name = *(const char *const *)ud;
+    example_progress *p = ud;
     unsigned quarter = (unsigned)((unsigned long long)done * 4 / total);
 
-    if (quarter == (unsigned)((unsigned long long)(done - 1) * 4 / total))
+    /* The photons come 4096 at a time: a report may pass a quarter. */
+    if (quarter <= p->quarter)
         return 0;
-    fprintf(stderr, "%s: %u%% (%u of %u rows)\n", name, 25 * quarter, done,
-            total);
+    fprintf(stderr, "%s: %u%% (%u of %u %s)\n", p->name, 25 * quarter, done,
+            total, p->photons ? "photons" : "rows");
+    p->quarter = quarter;
+    if (done == total)       /* the pass is over: the rows come next */
+        p->photons = 0, p->quarter = 0;
     return 0;
 }
 
@@ -564,6 +577,7 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
 {
     ray_render_options opt;
     ray_stats stats;
+    example_progress progress;
     float *image = NULL;
     double t;
     int rc;
@@ -572,7 +586,12 @@ static inline int render_to_png(example_args *a, const ray_scene *scene,
     opt.samples = a->samples;
     opt.threads = a->threads;
     opt.progress = isatty(fileno(stderr)) ? progress_bar : progress_lines;
-    opt.progress_ud = &a->name;
+    /* The pass reports only where it traces photons (ray_render(3)). */
+    progress.name = a->name;
+    progress.quarter = 0;
+    progress.photons = a->photons > 0 &&
+                       (ray_scene_effects(scene) & RAY_EFFECT_CAUSTICS);
+    opt.progress_ud = &progress;
     if (a->adaptive_threshold > 0)
         opt.adaptive_threshold = a->adaptive_threshold;
     if (a->adaptive_depth > 0)

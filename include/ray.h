@@ -320,14 +320,14 @@ RAY_API const char *ray_strerror(int code);
 
 /* The version, set here alone: the Makefile, CMakeLists.txt and what they
 ** write read these three lines (make version-test). */
-#define RAY_VERSION_MAJOR 0
-#define RAY_VERSION_MINOR 1
+#define RAY_VERSION_MAJOR 1
+#define RAY_VERSION_MINOR 0
 #define RAY_VERSION_PATCH 0
 /* major*10000 + minor*100 + patch, for compile-time comparisons. */
 #define RAY_VERSION_NUMBER \
     (RAY_VERSION_MAJOR * 10000 + RAY_VERSION_MINOR * 100 + RAY_VERSION_PATCH)
 /* "major.minor.patch" (make version-test holds it to the three). */
-#define RAY_VERSION_STRING "0.1.0"
+#define RAY_VERSION_STRING "1.0.0"
 
 /*
 ** The version of the library actually linked, to compare with
@@ -559,12 +559,15 @@ enum {
 };
 
 typedef struct ray_light {
-    int kind;                /* RAY_LIGHT_* */
+    int kind;                /* RAY_LIGHT_*; 0: a point light */
     ray_vec3 position;
-    ray_vec3 direction;      /* directional lights */
-    ray_vec3 edge1, edge2;   /* rectangular lights */
-    double radius;           /* spherical lights */
-    ray_rgb intensity;
+    ray_vec3 direction;      /* directional lights; (0, 0, 0): (0, -1, 0),
+                                straight down */
+    ray_vec3 edge1, edge2;   /* rectangular lights; (0, 0, 0): (1, 0, 0)
+                                and (0, 0, 1), the unit square that
+                                emits downward */
+    double radius;           /* spherical lights; 0: 1 */
+    ray_rgb intensity;       /* no default: (0, 0, 0) is a dark light */
     unsigned samples;        /* area lights: shadow rays per shading
                                 point, rounded up to a square; 0 = 16;
                                 at most RAY_MAX_LIGHT_SAMPLES (checked
@@ -572,12 +575,21 @@ typedef struct ray_light {
 } ray_light;
 
 /*
+** Zero is the default of every field whose zero was no light at all (a
+** zero direction, radius or edge, which ray_scene_add_light refused
+** before 1.0), so {.kind = RAY_LIGHT_RECT, .position = p, .intensity =
+** c} is a unit square light.  The intensity is the one field without a
+** default: it is a colour, and a colour's zero is black everywhere in
+** libray (a light dimmed to 0 stays dark; ray_render_check warns,
+** RAY_RENDER_WARN_UNLIT, when every light is).
+**
 ** ray_light_init -- *l as a light of "kind" (RAY_LIGHT_*) with every
 ** other field at its default: at the origin, intensity (1, 1, 1),
 ** direction (0, -1, 0) (straight down), radius 1, edges (1, 0, 0) and
-** (0, 0, 1) (a unit square emitting downward), 16 samples.  Structs that
-** may grow in later versions come with such an init function (ray(7),
-** "Versions and ABI"); fields added later default to what init sets.
+** (0, 0, 1) (a unit square emitting downward), 16 samples: the zeros'
+** defaults, and a white light.  Optional, as every init function is
+** (ray(7), "Versions and ABI"); fields added later default to what init
+** sets, which is what their zeros mean.
 */
 RAY_API void ray_light_init(ray_light *l, int kind);
 
@@ -608,7 +620,17 @@ typedef struct ray_limits {
 #define RAY_DEFAULT_MIN_WEIGHT (1.0 / 256)  /* below one 8-bit level */
 #define RAY_DEFAULT_MAX_FANOUT 2            /* a reflection + a refraction */
 
-/* ray_limits_init -- *l set to the defaults above, pruning on. */
+/*
+** ray_limits_init -- *l set to the defaults above, pruning on.  The one
+** struct whose zeros are all values, kept so: max_depth 0 traces the
+** eye's rays alone (no bounce), min_weight 0 cuts no path by its weight,
+** max_fanout 0 lets a hit spawn no secondary ray; each is a setting a
+** program may want (a depth-0 preview, a reference render without the
+** weight cut), and no other value of the field means the same.  So
+** {0} is not the defaults here: ray_scene_set_limits(scene, NULL) is,
+** and ray_limits_init fills a struct to change one field of them
+** (no_pruning, whose zero is pruning on, is a default as usual).
+*/
 RAY_API void ray_limits_init(ray_limits *l);
 
 /*
@@ -927,9 +949,10 @@ RAY_API int ray_scene_commit(ray_scene *scene);
 /*
 ** Progress of long work, and its cancel: called with how much is done of
 ** how much there is, and returns non-zero to cancel.  A render calls it
-** after each finished row (ray_render_options: its counts are rows); a
-** commit as it builds its BVHs (ray_scene_set_progress: its counts are
-** primitives).
+** after each finished row (ray_render_options: its counts are rows), and
+** before the rows as its photon pass traces caustics' photons, as
+** ray_photon_map_build does (its counts are photons); a commit as it
+** builds its BVHs (ray_scene_set_progress: its counts are primitives).
 */
 typedef int (*ray_progress_fn)(void *ud, unsigned rows_done,
                                unsigned rows_total);
@@ -1087,13 +1110,19 @@ RAY_API ray_texture ray_texture_image(const ray_image *img);
 ** reflect is non-zero).  Glass blocks shadow rays like any surface.
 */
 typedef struct ray_phong_params {
-    ray_rgb diffuse;
-    ray_rgb specular;
-    double shininess;
-    int blinn;
-    ray_rgb reflect;
+    ray_rgb diffuse;         /* no default: (0, 0, 0) is black */
+    ray_rgb specular;        /* (0, 0, 0): no highlight */
+    double shininess;        /* the lobe's exponent; 0:
+                                RAY_DEFAULT_SHININESS */
+    int blinn;               /* 0: Phong's lobe; non-zero: Blinn's */
+    ray_rgb reflect;         /* (0, 0, 0): no mirror term */
     ray_texture texture;     /* fn != NULL: diffuse is multiplied by it */
 } ray_phong_params;
+
+/* The specular lobe's exponent where shininess is 0: a cos^0 lobe, as
+** bright at grazing angles as head-on, is no highlight at all (an
+** exponent of 1e-9 still gives it, to the eye), so zero is a default. */
+#define RAY_DEFAULT_SHININESS 32
 
 typedef struct ray_glass_params {
     double ior;              /* index of refraction inside; 0: 1.5,
@@ -1102,9 +1131,12 @@ typedef struct ray_glass_params {
 } ray_glass_params;
 
 /* ray_phong_params_init -- a grey Lambertian surface: diffuse (0.8, 0.8,
-** 0.8), no specular (shininess 32 if one is set), Phong's lobe, no
-** reflection, no texture.  A glass's zeros are its defaults: ior 0 is
-** 1.5 (window glass), absorption 0 none, so {0} is window glass. */
+** 0.8), no specular (shininess RAY_DEFAULT_SHININESS if one is set),
+** Phong's lobe, no reflection, no texture.  Its one value that {0} does
+** not give is the diffuse colour: a colour's zero is black (a glossy
+** black surface is specular alone), so a surface names its colour, or
+** starts here.  A glass's zeros are its defaults: ior 0 is 1.5 (window
+** glass), absorption 0 none, so {0} is window glass. */
 RAY_API void ray_phong_params_init(ray_phong_params *p);
 
 typedef struct ray_checker_params {
@@ -1301,9 +1333,13 @@ typedef struct ray_render_options {
 ** "stats", if not NULL, receives the counters summed over the tasks.
 **
 ** The progress callback is called from the render's threads, one call at
-** a time, and never again after it asked to cancel.  Returns RAY_OK;
+** a time, and never again after it asked to cancel.  A render that
+** traces photons (below) reports its photon pass first, done the photons
+** traced of total = options->photons (a call per 4096, last done ==
+** total), then its rows, done 1 .. y1 - y0.  Returns RAY_OK;
 ** RAY_ECANCELED if it cancelled (finished rows are kept, the rest is
-** unspecified); RAY_ESTATE, before anything is rendered, for a scene not
+** unspecified; cancelled in the photon pass, before any row: rgb and
+** *stats untouched); RAY_ESTATE, before anything is rendered, for a scene not
 ** committed (never, or changed since), as the queries answer, or one
 ** that instances a scene changed since its own commit (commit the scene
 ** after its instanced scenes); RAY_EINVAL for NULLs, zero sizes,
@@ -1412,13 +1448,20 @@ RAY_API int ray_render_check(const ray_scene *scene, const ray_camera *camera,
 **
 ** ray_photon_map_build -- the same photon pass outside ray_render, for
 ** programs that call ray_trace themselves: options->photons (1 ..
-** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads and
-** scheduler are read, the rest ignored.  A scene without caustics gives
-** an empty map.  RAY_OK; RAY_EINVAL (NULLs, photons 0 or above the cap,
-** a radius NaN, negative, infinite or whose pi r^2 under- or overflows);
-** RAY_ESTATE (the scene not committed, never or since a change, or an
-** instanced scene changed since the commit); RAY_ENOMEM.  *out is
-** untouched on failure.
+** RAY_MAX_PHOTONS; 0 is refused here), photon_radius, seed, threads,
+** scheduler, progress and progress_ud are read, the rest ignored.  A
+** scene without caustics gives an empty map.  The progress callback
+** (NULL: none) hears done photons traced of total = photons, from the
+** pass's threads one call at a time, after every 4096 (a chunk) and last
+** with done == total; a pass that traces nothing (no caustics, no light
+** of any power) does not call it.  Non-zero cancels: each thread stops
+** at its next report, never calling it again, and the pass returns
+** RAY_ECANCELED, keeping nothing; the map of a pass not cancelled is the
+** same bits with or without the callback.  RAY_OK; RAY_EINVAL (NULLs,
+** photons 0 or above the cap, a radius NaN, negative, infinite or whose
+** pi r^2 under- or overflows); RAY_ESTATE (the scene not committed,
+** never or since a change, or an instanced scene changed since the
+** commit); RAY_ECANCELED; RAY_ENOMEM.  *out is untouched on failure.
 ** ray_ctx_set_photon_map -- make ray_caustics_at read "map" (BORROWED:
 ** it must outlive the use; NULL: none) in this context.  RAY_OK, or
 ** RAY_EINVAL (ctx NULL, or a map built for another scene).

@@ -107,7 +107,7 @@ expect_fail appended "$tmp/appended/src" "a field appended to ray_camera" \
 
 # 4. A function removed from the exports.
 mkdir -p "$tmp/removed"
-printf 'LIBRAY_0 {\n    global:\n        ray_*;\n    local:\n        ray_version_string;\n        *;\n};\n' \
+printf 'LIBRAY_%s {\n    global:\n        ray_*;\n    local:\n        ray_version_string;\n        *;\n};\n' "$somajor" \
     > "$tmp/removed.map"
 shared removed "$tmp/removed.map" "$tmp/pristine/libray.o"
 expect_fail removed "$dir" "ray_version_string removed" \

@@ -9,8 +9,10 @@
 ** filled so: ray_query, ray_batch, ray_sweep, ray_shape,
 ** ray_render_options, ray_camera, ray_scheduler, ray_glass_params,
 ** ray_contains_options, ray_distance_grid_options and
-** ray_image_load_options; those whose zeros are not their defaults
-** (ray_limits, ray_light, ray_phong_params) through their init functions.
+** ray_image_load_options; ray_light and ray_phong_params, zeroed but for
+** the colours (a colour's zero is black: ray.h), as their init functions
+** give them; and ray_limits, whose zeros are all values (ray.h: depth 0
+** traces no bounce), so {0} is not the defaults there but NULL is.
 */
 #include <string.h>
 
@@ -575,6 +577,163 @@ START_TEST(zeroed_load_options_should_be_the_default_limits)
 }
 END_TEST
 
+/* ------------------------------------ lights, surfaces, limits */
+
+enum { LW = 12, LH = 9 };
+
+/*
+** A sphere (material "sphere") over a floor (grey), lit by *light alone,
+** with *limits (NULL: the defaults), seen LW x LH from above the floor;
+** the counters in *st.
+*/
+static void render_lit(const ray_light *light,
+                       const ray_phong_params *sphere,
+                       const ray_limits *limits, float *img, ray_stats *st)
+{
+    static ray_phong_params grey;
+    static const ray_vec3 floor_v[3] = {{-20, -1, 5}, {20, -1, 5},
+                                        {0, -1, -40}};
+    static const unsigned idx[3] = {0, 1, 2};
+    ray_mesh mesh = {.vertices = floor_v, .vertex_count = 3, .indices = idx,
+                     .triangle_count = 1};
+    ray_camera cam = {.position = {0, 0.5, 2}, .look_at = {0, -0.5, -5}};
+    ray_render_options o = {.width = LW, .height = LH};
+    ray_material m[2];
+    ray_scene *s;
+
+    ray_phong_params_init(&grey);
+    m[0] = ray_material_phong(&grey);
+    m[1] = ray_material_phong(sphere);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m[0], NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m[1], NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, light, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, 1, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_set_limits(s, limits), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, st), RAY_OK);
+    ray_scene_free(s);
+}
+
+/* The largest channel of the image.  The tests ask for more than 0.05
+** where a light must reach the floor: the grey floor (0.8) under
+** intensity 20 from about 5 away is lit near 0.8 * 20 / 25 = 0.6, so
+** 0.05 tells lit from black (0) with a margin of ten either way. */
+static float brightest(const float *img, size_t n)
+{
+    float most = 0;
+    size_t i;
+
+    for (i = 0; i < n; i++)
+        if (img[i] > most)
+            most = img[i];
+    return most;
+}
+
+static ray_phong_params grey_sphere(void)
+{
+    ray_phong_params p;
+
+    ray_phong_params_init(&p);
+    return p;
+}
+
+/*
+** Every kind of light with only its kind, position and intensity given
+** (a zero direction, radius and edges: their defaults, 1.0) renders the
+** bytes of ray_light_init's light with the same three fields, and lights
+** the scene; a rect light with one edge given takes the other's default.
+*/
+START_TEST(zeroed_lights_should_be_the_init_lights)
+{
+    static const int kinds[4] = {RAY_LIGHT_POINT, RAY_LIGHT_DIRECTIONAL,
+                                 RAY_LIGHT_SPHERE, RAY_LIGHT_RECT};
+    static float want[3 * LW * LH], got[3 * LW * LH];
+    const ray_phong_params sphere = grey_sphere();
+    ray_light init, zero;
+    int k;
+
+    for (k = 0; k < 4; k++) {
+        ray_light_init(&init, kinds[k]);
+        init.position = vec(0.5, 4, -3);
+        init.intensity = rgb(20, 20, 20);
+        zero = (ray_light){.kind = kinds[k], .position = {0.5, 4, -3},
+                           .intensity = {20, 20, 20}};
+        render_lit(&init, &sphere, NULL, want, NULL);
+        render_lit(&zero, &sphere, NULL, got, NULL);
+        ck_assert_mem_eq(got, want, sizeof want);
+        ck_assert_msg(brightest(want, 3 * LW * LH) > 0.05f,
+                      "light kind %d lights nothing", kinds[k]);
+    }
+    /* Hard case: one edge given, the other zero; and -0 is zero. */
+    init.edge1 = zero.edge1 = vec(2, 0, 0);
+    zero.edge2 = vec(-0.0, 0, -0.0);
+    render_lit(&init, &sphere, NULL, want, NULL);
+    render_lit(&zero, &sphere, NULL, got, NULL);
+    ck_assert_mem_eq(got, want, sizeof want);
+}
+END_TEST
+
+/*
+** A Phong surface with a specular colour and no shininess is lit with
+** RAY_DEFAULT_SHININESS's lobe, as ray_phong_params_init's exponent; a
+** highlight that an exponent of 1 draws differently (so the lobe is
+** there to see).
+*/
+START_TEST(zeroed_shininess_should_be_the_default_lobe)
+{
+    static float want[3 * LW * LH], got[3 * LW * LH], wide[3 * LW * LH];
+    const ray_phong_params zero = {.diffuse = {0.4, 0.4, 0.4},
+                                   .specular = {0.6, 0.6, 0.6}};
+    ray_phong_params named = zero, dull = zero, init = grey_sphere();
+    ray_light light;
+
+    ck_assert_double_eq(init.shininess, RAY_DEFAULT_SHININESS);
+    named.shininess = RAY_DEFAULT_SHININESS;
+    dull.shininess = 1;
+    ray_light_init(&light, RAY_LIGHT_POINT);
+    light.position = vec(0.5, 4, -3);
+    light.intensity = rgb(20, 20, 20);
+    render_lit(&light, &named, NULL, want, NULL);
+    render_lit(&light, &zero, NULL, got, NULL);
+    render_lit(&light, &dull, NULL, wide, NULL);
+    ck_assert_mem_eq(got, want, sizeof want);
+    ck_assert(memcmp(wide, want, sizeof want) != 0);
+}
+END_TEST
+
+/*
+** ray_limits keeps its zeros as values (ray.h): {0} traces no bounce (a
+** mirror shows nothing, every reflection cut by depth), NULL and
+** ray_limits_init the defaults (the mirror reflects), the same bytes.
+*/
+START_TEST(zeroed_limits_should_be_values_and_null_the_defaults)
+{
+    static float want[3 * LW * LH], got[3 * LW * LH], flat[3 * LW * LH];
+    ray_phong_params mirror = grey_sphere();
+    const ray_limits zero = {0};
+    ray_limits init;
+    ray_light light;
+    ray_stats a, b, c;
+
+    mirror.reflect = rgb(0.8, 0.8, 0.8);
+    ray_limits_init(&init);
+    ray_light_init(&light, RAY_LIGHT_POINT);
+    light.position = vec(0.5, 4, -3);
+    light.intensity = rgb(20, 20, 20);
+    render_lit(&light, &mirror, NULL, want, &a);
+    render_lit(&light, &mirror, &init, got, &b);
+    render_lit(&light, &mirror, &zero, flat, &c);
+    ck_assert_mem_eq(got, want, sizeof want);
+    ck_assert_uint_gt(a.rays[RAY_KIND_REFLECTION], 0);
+    ck_assert_uint_eq(c.rays[RAY_KIND_REFLECTION], 0);
+    ck_assert_uint_gt(c.cut_depth, 0);
+    ck_assert(memcmp(flat, want, sizeof want) != 0);
+}
+END_TEST
+
 Suite *defaults_suite(void)
 {
     Suite *s = suite_create("defaults");
@@ -593,6 +752,9 @@ Suite *defaults_suite(void)
     tcase_add_test(tc, zeroed_sweep_should_be_the_overlap_test_written_out);
     tcase_add_test(tc, zeroed_batch_and_render_options_should_ask_for_nothing);
     tcase_add_test(tc, zeroed_load_options_should_be_the_default_limits);
+    tcase_add_test(tc, zeroed_lights_should_be_the_init_lights);
+    tcase_add_test(tc, zeroed_shininess_should_be_the_default_lobe);
+    tcase_add_test(tc, zeroed_limits_should_be_values_and_null_the_defaults);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -676,17 +676,19 @@ static int light_point_nan_position(ray_scene *s)
     return ray_scene_add_light(s, &l, NULL);
 }
 
-static int light_directional_zero(ray_scene *s)
+/* A zero direction and a zero radius are the defaults (ray.h, 1.0): what
+** is refused is a direction not finite and a radius below zero. */
+static int light_directional_nan(ray_scene *s)
 {
     ray_light l = light_ok(RAY_LIGHT_DIRECTIONAL);
-    l.direction = vec(0, 0, 0);
+    l.direction = vec((double)NAN, 0, 0);
     return ray_scene_add_light(s, &l, NULL);
 }
 
-static int light_sphere_zero_radius(ray_scene *s)
+static int light_sphere_negative_radius(ray_scene *s)
 {
     ray_light l = light_ok(RAY_LIGHT_SPHERE);
-    l.radius = 0;
+    l.radius = -1;
     return ray_scene_add_light(s, &l, NULL);
 }
 
@@ -886,14 +888,16 @@ static const errcase cases[] = {
      "ray_scene_add_light: unknown kind 17 (not a RAY_LIGHT_*)"},
     {light_point_nan_position, RAY_EINVAL,
      "ray_scene_add_light: position (nan, 0, 0) is not finite"},
-    {light_directional_zero, RAY_EINVAL,
-     "ray_scene_add_light: direction (0, 0, 0) is zero or not finite"},
-    {light_sphere_zero_radius, RAY_EINVAL,
-     "ray_scene_add_light: sphere light radius 0 is not positive and finite"},
+    {light_directional_nan, RAY_EINVAL,
+     "ray_scene_add_light: direction (nan, 0, 0) is not finite, or too "
+     "short to normalise"},
+    {light_sphere_negative_radius, RAY_EINVAL,
+     "ray_scene_add_light: sphere light radius -1 is not positive and "
+     "finite"},
     {light_sphere_infinite_position, RAY_EINVAL,
      "ray_scene_add_light: position (0, inf, 0) is not finite"},
     {light_rect_parallel_edges, RAY_EINVAL, "ray_scene_add_light: edges "
-     "(1, 0, 0) and (2, 0, 0) are parallel, zero or not finite"},
+     "(1, 0, 0) and (2, 0, 0) are parallel, too short or not finite"},
     {light_rect_nan_position, RAY_EINVAL,
      "ray_scene_add_light: position (0, 0, nan) is not finite"},
     {light_too_many_samples, RAY_EINVAL, "ray_scene_add_light: samples 65537 "

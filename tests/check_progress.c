@@ -5,11 +5,17 @@
 ** cancel at the first report, at one in the middle and at the last one
 ** returns RAY_ECANCELED and leaves the scene as before the commit, which
 ** then commits again and answers every ray bit for bit as a scene never
-** cancelled does, on one build thread and on four.
+** cancelled does, on one build thread and on four.  And the photon pass
+** of ray_photon_map_build and ray_render (ray_render_options.progress):
+** a report per chunk of 4096 photons, rising to done == total, then the
+** render's rows; a cancel in the pass returns RAY_ECANCELED with the map,
+** the image and the counters untouched, and the scene renders the same
+** bytes afterwards.
 */
 #include <string.h>
 
 #include "tests.h"
+#include "scenes.h"
 
 /* A terrain of GRID x GRID quads (2 GRID^2 triangles, some thousands of
 ** reports' worth: 4 reports or more) and a row of spheres over it. */
@@ -190,15 +196,171 @@ START_TEST(a_small_commit_should_report_once)
 }
 END_TEST
 
+/* ------------------------------------------------------ the photon pass */
+
+#define W 40
+#define H 30
+/* 5 chunks of 4096 photons (the pass's unit of work and of report), the
+** last one partial: 5 reports, and every one of 3 tasks has a chunk. */
+#define PHOTONS 20000u
+#define CHUNKS 5u
+
+static ray_render_options photon_options(unsigned threads)
+{
+    ray_render_options o = {.width = W, .height = H};
+
+    o.threads = threads;
+    o.photons = PHOTONS;
+    return o;
+}
+
+/* Photon pass threads of the loop tests: one (reports in chunk order)
+** and three (chunks finish in any order, reports still rise). */
+static const unsigned pass_threads[2] = {1, 3};
+
+/*
+** ray_photon_map_build's reports: one a chunk, done rising to PHOTONS,
+** total PHOTONS in each; ray_render's: the same, then one a row (total
+** H, done 1 .. H); the render with reports is the render without, byte
+** for byte, with the same photons stored.
+*/
+START_TEST(photon_pass_should_report_every_chunk_then_the_rows)
+{
+    static float ref[3 * W * H], img[3 * W * H];
+    ray_camera cam;
+    ray_scene *s = caustics_scene(&cam);
+    ray_render_options o = photon_options(pass_threads[_i]);
+    recorder *r = calloc(1, sizeof *r);
+    ray_photon_map *map = NULL;
+    ray_stats a, b;
+    unsigned k;
+
+    ck_assert_ptr_nonnull(r);
+    ck_assert_int_eq(ray_render(s, &cam, &o, ref, &a), RAY_OK);
+    o.progress = record;
+    o.progress_ud = r;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_ptr_nonnull(map);
+    ck_assert_uint_eq(r->calls, CHUNKS);
+    for (k = 0; k < CHUNKS; k++) {
+        ck_assert_uint_eq(r->total[k], PHOTONS);
+        ck_assert_uint_le(r->done[k], PHOTONS);
+        if (k > 0)
+            ck_assert_uint_gt(r->done[k], r->done[k - 1]);
+    }
+    ck_assert_uint_eq(r->done[CHUNKS - 1], PHOTONS);
+    ray_photon_map_free(map);
+    memset(r, 0, sizeof *r);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, &b), RAY_OK);
+    ck_assert_mem_eq(img, ref, sizeof ref);
+    ck_assert_uint_eq(b.photons_stored, a.photons_stored);
+    ck_assert_uint_gt(b.photons_stored, 0);
+    ck_assert_uint_eq(r->calls, CHUNKS + H);
+    ck_assert_uint_eq(r->done[CHUNKS - 1], PHOTONS);
+    for (k = 0; k < H; k++) {
+        ck_assert_uint_eq(r->total[CHUNKS + k], H);
+        ck_assert_uint_eq(r->done[CHUNKS + k], k + 1);
+    }
+    ray_scene_free(s);
+    free(r);
+}
+END_TEST
+
+/*
+** Cancel the pass at its first report, a middle one and its last (done
+** == total): RAY_ECANCELED and no call after it, from
+** ray_photon_map_build (*out untouched) and from ray_render (the image
+** and the counters untouched: no row was started); then the render
+** without the callback gives the reference bytes.
+*/
+START_TEST(cancelled_photon_pass_should_keep_nothing)
+{
+    static float ref[3 * W * H], img[3 * W * H], poison[3 * W * H];
+    static const unsigned cancel_at[3] = {1, (CHUNKS + 1) / 2, CHUNKS};
+    ray_camera cam;
+    ray_scene *s = caustics_scene(&cam);
+    ray_render_options o = photon_options(pass_threads[_i / 3]);
+    recorder *r = calloc(1, sizeof *r);
+    ray_photon_map *map = (ray_photon_map *)&o;      /* a sentinel */
+    ray_stats st, st_poison;
+
+    ck_assert_ptr_nonnull(r);
+    ck_assert_int_eq(ray_render(s, &cam, &o, ref, NULL), RAY_OK);
+    o.progress = record;
+    o.progress_ud = r;
+    r->cancel_at = cancel_at[_i % 3];
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_ECANCELED);
+    ck_assert_ptr_eq(map, (ray_photon_map *)&o);
+    ck_assert_uint_eq(r->calls, r->cancel_at);
+    memset(r->done, 0, sizeof r->done);
+    r->calls = 0;
+    memset(poison, 0x5a, sizeof poison);
+    memcpy(img, poison, sizeof img);
+    memset(&st_poison, 0x5a, sizeof st_poison);
+    st = st_poison;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, &st), RAY_ECANCELED);
+    ck_assert_uint_eq(r->calls, r->cancel_at);   /* no row reported */
+    ck_assert_mem_eq(img, poison, sizeof img);
+    ck_assert_mem_eq(&st, &st_poison, sizeof st);
+    o.progress = NULL;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+    ck_assert_mem_eq(img, ref, sizeof ref);
+    ray_scene_free(s);
+    free(r);
+}
+END_TEST
+
+/* A pass that traces nothing (a scene without caustics) reports
+** nothing: the render's reports are its rows alone. */
+START_TEST(photon_pass_without_caustics_should_not_report)
+{
+    static float img[3 * W * H];
+    ray_camera cam = {.position = {0, 0, 5}, .look_at = {0, 0, 0}};
+    ray_scene *s;
+    ray_material m = plain();
+    ray_light l;
+    ray_render_options o = photon_options(2);
+    recorder *r = calloc(1, sizeof *r);
+    ray_photon_map *map = NULL;
+
+    ck_assert_ptr_nonnull(r);
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(0, 5, 5);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(ray_scene_effects(s) & RAY_EFFECT_CAUSTICS, 0);
+    o.progress = record;
+    o.progress_ud = r;
+    ck_assert_int_eq(ray_photon_map_build(s, &o, &map), RAY_OK);
+    ck_assert_uint_eq(r->calls, 0);
+    ray_photon_map_free(map);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+    ck_assert_uint_eq(r->calls, H);
+    ck_assert_uint_eq(r->total[0], H);
+    ray_scene_free(s);
+    free(r);
+}
+END_TEST
+
 Suite *progress_suite(void)
 {
     Suite *s = suite_create("progress");
     TCase *tc = tcase_create("commit");
+    TCase *pass = tcase_create("photons");
 
     tcase_add_loop_test(tc, progress_should_rise_to_done, 0, 2);
     tcase_add_loop_test(tc, a_cancelled_commit_should_commit_again_the_same,
                         0, 6);
     tcase_add_test(tc, a_small_commit_should_report_once);
     suite_add_tcase(s, tc);
+    tcase_add_loop_test(pass, photon_pass_should_report_every_chunk_then_the_rows,
+                        0, 2);
+    tcase_add_loop_test(pass, cancelled_photon_pass_should_keep_nothing, 0, 6);
+    tcase_add_test(pass, photon_pass_without_caustics_should_not_report);
+    suite_add_tcase(s, pass);
     return s;
 }

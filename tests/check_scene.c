@@ -72,11 +72,16 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     memset(&l, 0, sizeof l);
     l.kind = 17;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
-    l.kind = RAY_LIGHT_DIRECTIONAL;     /* zero direction */
+    /* Zeros are defaults (check_defaults.c); these are not lights. */
+    l.kind = RAY_LIGHT_DIRECTIONAL;     /* a direction not finite */
+    l.direction = vec(0, (double)NAN, 0);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
-    l.kind = RAY_LIGHT_SPHERE;          /* zero radius */
+    l.kind = RAY_LIGHT_SPHERE;          /* a negative radius */
+    l.radius = -0.5;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
-    l.kind = RAY_LIGHT_RECT;            /* parallel (zero) edges */
+    l.kind = RAY_LIGHT_RECT;            /* parallel edges */
+    l.edge1 = vec(0, 0, 1);
+    l.edge2 = vec(0, 0, -3);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
     l.kind = RAY_LIGHT_POINT;
     l.intensity.g = -1;

@@ -84,16 +84,25 @@ END_TEST
 
 /*
 ** The built-in threads at several counts, and the same counts of tasks on
-** the pool, with photons and a progress callback (called once a row, one
-** call at a time): one image, and the same photons stored.
+** the pool, with photons and a progress callback (called once a chunk of
+** 4096 photons, then once a row, one call at a time): one image, and the
+** same photons stored.
 */
-static int count_rows(void *ud, unsigned done, unsigned total)
+typedef struct reports {
+    unsigned chunks, rows;
+} reports;
+
+static int count_reports(void *ud, unsigned done, unsigned total)
 {
-    unsigned *rows = ud;
+    reports *r = ud;
 
     (void)done;
-    (void)total;
-    (*rows)++;               /* one call at a time (ray.h) */
+    /* One call at a time (ray.h); the photon pass's total is its photons,
+    ** 20000, the rows' H. */
+    if (total == H)
+        r->rows++;
+    else
+        r->chunks++;
     return 0;
 }
 
@@ -106,7 +115,8 @@ START_TEST(built_in_threads_and_pool_should_agree_at_every_count)
     ray_scheduler sched = pool_scheduler(pool);
     ray_render_options o;
     ray_stats a, b;
-    unsigned threads, rows;
+    unsigned threads;
+    reports rep;
 
     reference(s, &cam, ref);
     for (threads = 1; threads <= 4; threads++) {
@@ -114,13 +124,14 @@ START_TEST(built_in_threads_and_pool_should_agree_at_every_count)
         ck_assert_int_eq(ray_render(s, &cam, &o, img, &a), RAY_OK);
         ck_assert(memcmp(img, ref, sizeof img) == 0);
         o.scheduler = &sched;
-        rows = 0;
-        o.progress = count_rows;
-        o.progress_ud = &rows;
+        rep.chunks = rep.rows = 0;
+        o.progress = count_reports;
+        o.progress_ud = &rep;
         memset(img, 0, sizeof img);
         ck_assert_int_eq(ray_render(s, &cam, &o, img, &b), RAY_OK);
         ck_assert(memcmp(img, ref, sizeof img) == 0);
-        ck_assert_uint_eq(rows, H);
+        ck_assert_uint_eq(rep.rows, H);
+        ck_assert_uint_eq(rep.chunks, 5);    /* 20000 photons: 5 chunks */
         ck_assert_uint_eq(a.photons_stored, b.photons_stored);
         ck_assert_uint_gt(b.photons_stored, 0);
     }

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** defaults.c -- the init functions of the public structs whose zeros are
-** values (a black light, no bounce): each sets every field, so a field
-** added in a later version gets its default in programs that call them
-** (ray(7), "Versions and ABI").
+** defaults.c -- the init functions of the public structs with a zero that
+** is a value (a black light or surface, no bounce): each sets every
+** field, so a field added in a later version gets its default in
+** programs that call them (ray(7), "Versions and ABI").  Where a zero is
+** a default, init writes the value it stands for: the same light.
 ** NULL is a no-op, as for every function returning nothing.
 */
 #include <string.h>
@@ -45,5 +46,5 @@ void ray_phong_params_init(ray_phong_params *p)
         return;
     memset(p, 0, sizeof *p);
     p->diffuse = grey(0.8);
-    p->shininess = 32;
+    p->shininess = RAY_DEFAULT_SHININESS;
 }

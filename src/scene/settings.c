@@ -78,8 +78,9 @@ static int light_shape(ray_scene *s, const ray_light *l, ray_vec3 *axis)
         if (v3_isfinite(l->direction) &&
             v3_normalize(v3_scale(l->direction, -1.0), axis))
             return RAY_OK;
-        return ray__fail(s, RAY_EINVAL, "direction " RAY__V3FMT " is zero "
-                         "or not finite", RAY__V3ARGS(l->direction));
+        return ray__fail(s, RAY_EINVAL, "direction " RAY__V3FMT " is not "
+                         "finite, or too short to normalise",
+                         RAY__V3ARGS(l->direction));
     case RAY_LIGHT_SPHERE:
         if (!(l->radius > 0 && l->radius < HUGE_VAL))
             return ray__fail(s, RAY_EINVAL, "sphere light radius %g is not "
@@ -89,7 +90,8 @@ static int light_shape(ray_scene *s, const ray_light *l, ray_vec3 *axis)
         if (!v3_isfinite(l->edge1) || !v3_isfinite(l->edge2) ||
             !v3_normalize(v3_cross(l->edge1, l->edge2), axis))
             return ray__fail(s, RAY_EINVAL, "edges " RAY__V3FMT " and "
-                             RAY__V3FMT " are parallel, zero or not finite",
+                             RAY__V3FMT " are parallel, too short or not "
+                             "finite",
                              RAY__V3ARGS(l->edge1), RAY__V3ARGS(l->edge2));
         return light_position(s, l);
     default:
@@ -98,16 +100,44 @@ static int light_shape(ray_scene *s, const ray_light *l, ray_vec3 *axis)
     }
 }
 
-int ray_scene_add_light(ray_scene *s, const ray_light *light, unsigned *id)
+static int v3_is_zero(ray_vec3 v)
+{
+    return v.x == 0 && v.y == 0 && v.z == 0;
+}
+
+/* *in with its zeros read as their defaults (ray.h): those of
+** ray_light_init, the one place they are written, for a zero direction,
+** radius or edge, which were no light at all; the intensity is left. */
+static ray_light light_defaults(const ray_light *in)
+{
+    ray_light l = *in, d;
+
+    ray_light_init(&d, in->kind);
+    if (v3_is_zero(l.direction))
+        l.direction = d.direction;
+    if (l.radius == 0)
+        l.radius = d.radius;
+    if (v3_is_zero(l.edge1))
+        l.edge1 = d.edge1;
+    if (v3_is_zero(l.edge2))
+        l.edge2 = d.edge2;
+    return l;
+}
+
+int ray_scene_add_light(ray_scene *s, const ray_light *light_in,
+                        unsigned *id)
 {
     void *p;
     ray_vec3 axis;
+    ray_light lit;
+    const ray_light *light = &lit;
     int rc = ray__begin(s, "ray_scene_add_light");
 
     if (rc != RAY_OK)
         return rc;
-    if (light == NULL)
+    if (light_in == NULL)
         return ray__fail(s, RAY_EINVAL, "light is NULL");
+    lit = light_defaults(light_in);
     if (!rgb_valid(light->intensity))
         return ray__fail(s, RAY_EINVAL, "intensity (%g, %g, %g) is negative "
                          "or not finite", light->intensity.r,

@@ -94,7 +94,10 @@ static double specular_term(const ray_phong_params *p, ray_vec3 n,
         ray_vec3 r = ray_reflect(l, n);       /* l mirrored, sign flipped */
         c = -dot(r, v);
     }
-    return c > 0 ? pow(c, p->shininess) : 0;
+    /* Zero is the default (ray.h): a cos^0 lobe is no highlight. */
+    return c > 0 ? pow(c, p->shininess != 0 ? p->shininess
+                                            : RAY_DEFAULT_SHININESS)
+                 : 0;
 }
 
 /* The diffuse colour at the hit: the parameter, times the texture's

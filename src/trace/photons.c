@@ -15,6 +15,9 @@
 ** buffers are joined in chunk order: the same map, bit for bit, at any
 ** thread count, in any task order.  The grid's cells list their photons in that order,
 ** so a gather sums them in the same order every time.
+** Progress (ray_render_options.progress): a task reports each chunk it
+** has traced and stops at its next report once the callback cancelled;
+** a cancelled pass keeps nothing, so the reports never change a map.
 */
 #include <float.h>
 #include <math.h>
@@ -330,6 +333,7 @@ typedef struct pass {
     size_t n_chunks;
     unsigned threads;            /* tasks */
     struct pass_worker *workers; /* one per task */
+    ray__progress *prog;         /* NULL: no callback */
 } pass;
 
 typedef struct pass_worker {
@@ -454,28 +458,56 @@ static void pass_task(void *ud, unsigned index)
     size_t k;
 
     for (k = index; k < job->n_chunks; k += job->threads) {
-        unsigned long long i = (unsigned long long)k * CHUNK;
-        unsigned long long end = i + CHUNK < job->photons ? i + CHUNK
-                                                          : job->photons;
-        for (; i < end && !job->chunks[k].failed; i++)
+        unsigned long long first = (unsigned long long)k * CHUNK, i;
+        unsigned long long end = first + CHUNK < job->photons
+                                     ? first + CHUNK : job->photons;
+        for (i = first; i < end && !job->chunks[k].failed; i++)
             trace_photon(job, &w->ctx, i, &job->chunks[k]);
+        if (job->prog != NULL &&
+            ray__progress_add(job->prog, (size_t)(end - first)))
+            return;          /* cancelled: the pass keeps nothing */
     }
+}
+
+/* The pass's progress record in *p, if there is a callback: every photon
+** its total, a lock when tasks share it.  RAY_OK or RAY_ENOMEM. */
+static int progress_start(pass *job, const ray_render_options *o,
+                          ray__progress *p)
+{
+    memset(p, 0, sizeof *p);
+    job->prog = NULL;
+    if (o->progress == NULL)
+        return RAY_OK;
+    p->fn = o->progress;
+    p->ud = o->progress_ud;
+    p->total = (size_t)job->photons;       /* <= RAY_MAX_PHOTONS, 2^26 */
+    if (job->threads > 1 &&
+        ray__mutex_new(&job->s->alloc, &p->lock) != RAY_OK)
+        return RAY_ENOMEM;
+    job->prog = p;
+    return RAY_OK;
 }
 
 /* Trace every chunk as job->threads tasks: on the scheduler, or on as
 ** many threads, the caller's one of them (a task whose thread could not
 ** start is run by the caller too). */
 static int run_pass(pass *job, const ray_scene *s,
-                    const ray_scheduler *sched, unsigned long long *tests)
+                    const ray_scheduler *sched,
+                    const ray_render_options *o, unsigned long long *tests)
 {
+    ray__progress record;
     pass_worker *w;
     unsigned n = job->threads, i;
     size_t k;
     int rc = RAY_OK;
 
-    w = ray__alloc(s, n * sizeof *w);
-    if (w == NULL)
+    if (progress_start(job, o, &record) != RAY_OK)
         return RAY_ENOMEM;
+    w = ray__alloc(s, n * sizeof *w);
+    if (w == NULL) {
+        ray__mutex_free(&s->alloc, record.lock);
+        return RAY_ENOMEM;
+    }
     memset(w, 0, n * sizeof *w);
     for (i = 0; i < n; i++)
         w[i].ctx.scene = s;
@@ -486,6 +518,9 @@ static int run_pass(pass *job, const ray_scene *s,
     for (k = 0; k < job->n_chunks; k++)
         if (job->chunks[k].failed)
             rc = RAY_ENOMEM;
+    if (record.cancelled)
+        rc = RAY_ECANCELED;  /* the caller's word wins: nothing is kept */
+    ray__mutex_free(&s->alloc, record.lock);
     ray__free(s, w, n * sizeof *w);
     return rc;
 }
@@ -632,7 +667,7 @@ int ray__photon_map_make(const ray_scene *s, const ray_render_options *o,
             job.e.cdf[i] = job.e.total;
         }
         if (job.e.total > 0 && job.e.total < HUGE_VAL) {
-            rc = run_pass(&job, s, sched, &m->tests);
+            rc = run_pass(&job, s, sched, o, &m->tests);
             m->emitted = photons;
         }
         if (rc == RAY_OK)
