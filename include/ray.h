@@ -1102,8 +1102,8 @@ RAY_API ray_texture ray_texture_image(const ray_image *img);
 **   refraction (Snell; total internal reflection), optional Beer-Lambert
 **   absorption per unit distance inside.
 ** ray_material_checker: picks "even" or "odd" by the parity of
-**   floor(u*scale) + floor(v*scale) and shades with it (with the union of
-**   the two materials' effects).
+**   floor(u*scale) + floor(v*scale) (scale 0: 1) and shades with it
+**   (with the union of the two materials' effects).
 **
 ** The effects are fixed when the material is made, from the parameter
 ** block as it is then (Phong declares RAY_EFFECT_REFLECTION only if
@@ -1141,7 +1141,9 @@ RAY_API void ray_phong_params_init(ray_phong_params *p);
 
 typedef struct ray_checker_params {
     ray_material even, odd;
-    double scale;
+    double scale;            /* squares per unit of u and v; 0: 1 (a
+                                zero scale would be one square, never
+                                a checkerboard) */
 } ray_checker_params;
 
 RAY_API ray_material ray_material_phong(const ray_phong_params *p);

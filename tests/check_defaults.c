@@ -167,6 +167,58 @@ START_TEST(zeroed_glass_params_should_be_window_glass)
 }
 END_TEST
 
+/* A lit plane under the camera with a checkerboard of scale "scale"
+** (red and blue Lambertian squares), rendered W x H. */
+static void render_checker(double scale, float *img, unsigned w, unsigned h)
+{
+    static ray_phong_params red, blue;
+    ray_checker_params cp = {.scale = scale};
+    ray_camera cam = {.position = {0, 3, 0}, .look_at = {0, 0, -6}};
+    ray_render_options o = {.width = w, .height = h};
+    ray_material m;
+    ray_light light;
+    ray_scene *s;
+
+    red.diffuse = ray_rgb_make(0.8, 0.1, 0.1);
+    blue.diffuse = ray_rgb_make(0.1, 0.1, 0.8);
+    cp.even = ray_material_phong(&red);
+    cp.odd = ray_material_phong(&blue);
+    m = ray_material_checker(&cp);
+    ray_light_init(&light, RAY_LIGHT_POINT);
+    light.position = vec(0, 5, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, -1, 0), vec(0, 1, 0), 0,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+    ray_scene_free(s);
+}
+
+/* A zeroed ray_checker_params' scale is 1 (issue 37: 0 gave one square,
+** every hit the even material): the bytes of scale 1, not those of 2,
+** and both colours on screen. */
+START_TEST(zeroed_checker_scale_should_be_one)
+{
+    enum { W = 16, H = 12 };
+    static float want[3 * W * H], got[3 * W * H], fine[3 * W * H];
+    int k, reds = 0, blues = 0;
+
+    render_checker(1, want, W, H);
+    render_checker(0, got, W, H);
+    render_checker(2, fine, W, H);
+    ck_assert_mem_eq(got, want, sizeof want);
+    ck_assert(memcmp(fine, want, sizeof want) != 0);
+    for (k = 0; k < W * H; k++) {
+        reds += got[3 * k] > 2 * got[3 * k + 2];
+        blues += got[3 * k + 2] > 2 * got[3 * k];
+    }
+    ck_assert_int_gt(reds, 0);
+    ck_assert_int_gt(blues, 0);
+}
+END_TEST
+
 /* ----------------------------------------------- zero is the default */
 
 /* A sphere, a triangle in front of it and a box, a light: every query
@@ -743,6 +795,7 @@ Suite *defaults_suite(void)
     tcase_add_test(tc, light_init_should_give_every_kind_a_valid_light);
     tcase_add_test(tc, limits_mesh_and_material_params_should_init_to_defaults);
     tcase_add_test(tc, zeroed_glass_params_should_be_window_glass);
+    tcase_add_test(tc, zeroed_checker_scale_should_be_one);
     suite_add_tcase(s, tc);
     tc = tcase_create("zero");
     tcase_add_test(tc, zeroed_query_and_batch_should_see_everything);

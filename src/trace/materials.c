@@ -319,12 +319,14 @@ ray_material ray_material_glass(const ray_glass_params *p)
 
 /* ------------------------------------------------------------ checkerboard */
 
-/* The material of the square the hit lies in.  fmod, not a cast to an
-** integer: u * scale may be huge or not finite. */
+/* The material of the square the hit lies in (scale 0: 1, so that {0}
+** is a checkerboard).  fmod, not a cast to an integer: u * scale may be
+** huge or not finite. */
 static const ray_material *checker_pick(const ray_checker_params *p,
                                         const ray_shade_args *a)
 {
-    double cell = floor(a->u * p->scale) + floor(a->v * p->scale);
+    double scale = p->scale != 0 ? p->scale : 1.0;
+    double cell = floor(a->u * scale) + floor(a->v * scale);
     return fabs(fmod(cell, 2.0)) == 1.0 ? &p->odd : &p->even;
 }
 
