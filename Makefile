@@ -104,7 +104,7 @@ MLINKS = $(shell for f in man/man3/*.3; do \
         name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
         if (n != "" && n != p) print p ":" n}' "$$f"; done)
 
-.PHONY: all lib check test demo caustics-png sanitize tsan examples header-test symbols-test layers-test \
+.PHONY: all lib check test demo bench-counts caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench profile numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
@@ -315,9 +315,17 @@ $(BUILD)/bench/%: bench/%.c $(wildcard bench/*.h) $(wildcard examples/*.h) $(wil
 # (installed here like the other targets' packages).  BENCH_QUICK=1 for a
 # short run, written to bench/RESULTS-quick.md and accuracy-quick.png
 # (untracked) so that it never replaces the documented figures.
-bench: deps-bench lib $(BENCHES)
+bench: deps-bench lib $(BENCHES) bench-counts
 	@if command -v $(MPICC) >/dev/null 2>&1; then $(MAKE) --no-print-directory $(MPI_RENDER); fi
 	bench/run.sh $(BUILD)
+
+# The queries' work per ray (issue 34): bench/raycost against the library
+# compiled with -DRAY_BENCH_COUNTS, in a build of its own, which prints
+# the work counters (src/query/query.h: RAY__WORK) instead of times;
+# bench/run.sh runs it after the timed raycost.  Never the library proper.
+bench-counts: deps-bench
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)/counts \
+	    CFLAGS="$(CFLAGS) -DRAY_BENCH_COUNTS" $(BUILD)/counts/bench/raycost
 
 # Where a query's time goes (issue 27): perf's samples of bench/filter's
 # camera rays and cosine rays alone, and of its refits (filter --profile),

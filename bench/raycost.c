@@ -24,7 +24,10 @@
 ** tools agree.  Prints Markdown; asserts nothing.  BENCH_QUICK=1: fewer
 ** rays and repetitions; RAYCOST_TOOLS and RAYCOST_ROWS pick columns and
 ** rows (for A/B runs and profiles); RAYCOST_CPU_TIME=1 times by thread
-** CPU time (a machine busy with others' work).
+** CPU time (a machine busy with others' work).  Built against the
+** library's counted build (make bench-counts, -DRAY_BENCH_COUNTS), it
+** prints instead the work of libray's queries per ray: nodes, leaves,
+** triangles filtered, exact tests (issue 34).
 */
 #include <time.h>
 
@@ -194,6 +197,25 @@ static int row_wanted(int k)
     return pick == NULL || strchr(pick, '0' + k) != NULL;
 }
 
+#ifdef RAY_BENCH_COUNTS
+/* The counted build (make bench-counts): what one pass of libray's
+** queries over the rays did, per ray, from the library's work counters
+** (query/query.h), instead of times. */
+extern unsigned long long ray__work[4];
+
+static void count_row(const tools *t, const ray_set *rs)
+{
+    double n = (double)rs->n;
+    size_t hits;
+
+    memset(ray__work, 0, sizeof ray__work);
+    hits = pass(t, TOOL_OURS, rs);
+    printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f |\n", rs->name,
+           rs->n, hits, (double)ray__work[0] / n, (double)ray__work[1] / n,
+           (double)ray__work[2] / n, (double)ray__work[3] / n);
+}
+#endif
+
 static void row(const tools *t, const ray_set *rs, int reps)
 {
     static int index;
@@ -203,6 +225,12 @@ static void row(const tools *t, const ray_set *rs, int reps)
 
     if (!row_wanted(index++))
         return;
+#ifdef RAY_BENCH_COUNTS
+    (void)reps, (void)ns, (void)ratio, (void)med, (void)hits, (void)k,
+        (void)tool;
+    count_row(t, rs);
+    return;
+#endif
     for (k = -1; k < reps; k++)                       /* k = -1: warm-up */
         for (tool = 0; tool < TOOLS; tool++) {
             double t0;
@@ -388,12 +416,24 @@ int main(int argc, char **argv)
                           0.5 + 99 * rng_unit(&g), 10),
             ray_vec3_make(0, 0, -1));
 
+#ifdef RAY_BENCH_COUNTS
+    printf("### The work of a query\n\n");
+    printf("libray's queries on the rays above, per ray, counted by the "
+           "library's counted build (make bench-counts: -DRAY_BENCH_COUNTS,"
+           " never the library proper): inner nodes tested (8 boxes "
+           "each), triangle leaves reached, triangles through the float "
+           "filter (up to 8 a pass), exact tests (the filter's "
+           "survivors).\n\n");
+    printf("| rays | n | hits | nodes | leaves | filtered triangles "
+           "| exact tests |\n|---|---|---|---|---|---|---|\n");
+#else
     printf("## What a query costs\n\n");
     printf("ns a ray, one thread, median of %d interleaved passes; 59k "
            "bunny and a 20k-triangle grid; ratios are theirs / ours in "
            "time (above 1: ours is faster).\n\n", reps);
     printf("| rays | n | libray | Embree | tinybvh | Embree / libray "
            "| tinybvh / libray |\n|---|---|---|---|---|---|---|\n");
+#endif
     row(&bunny, &miss_box, reps);
     row(&bunny, &enter_miss, reps);
     row(&bunny, &hit, reps);

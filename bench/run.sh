@@ -56,6 +56,11 @@ if [ "$mode" = run ]; then
         "$build/bench/surfaces"
         "$build/bench/mesh" data
         "$build/bench/raycost" data
+        # The same rays' work per ray, from the counted build (make
+        # bench-counts), where it was built.
+        if [ -x "$build/counts/bench/raycost" ]; then
+            RAYCOST_TOOLS=0 "$build/counts/bench/raycost" data
+        fi
         "$build/bench/contains" data
         "$build/bench/filter" data
         "$build/bench/packets" data

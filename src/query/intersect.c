@@ -9,6 +9,10 @@
 #include "query/traverse.h"
 #include "query/why.h"
 
+#ifdef RAY_BENCH_COUNTS
+unsigned long long ray__work[RAY__WORK_KINDS];
+#endif
+
 /* The queries of traverse.h for the baseline instruction set, and the
 ** choice of the AVX2 copy (intersect_avx2.c) where the CPU has it: the
 ** scene's avx2, which its commit asked of the CPU (ray__cpu_has_avx2:

@@ -264,6 +264,7 @@ static inline int tri_slot(const ray_scene *s, trav *tr, unsigned i,
         t = ray__leaf_tri_at(s, i, rows, n, &copy);
     } else {
         t = ray__leaf_tri_at(s, i, rows, n, &copy);
+        RAY__WORK(RAY__WORK_EXACT, 1);
         if (s->watertight) {
             hit = ray__triangle_watertight_pre(&tr->wt, r->tmin, limit,
                                                &t->a, &t->b, &t->c, &th,
@@ -323,6 +324,8 @@ static inline int tri_leaf(const ray_scene *s, trav *tr,
         unsigned keep = s->watertight && tr->flt.on
                             ? tri_filter_leaf(&tr->flt, rows + j0, n, count)
                             : (1u << count) - 1u;
+        RAY__WORK(RAY__WORK_FILTERED,
+                  s->watertight && tr->flt.on ? count : 0);
         for (; keep != 0; keep &= keep - 1) {
             unsigned j = j0 + (unsigned)lowest_bit(keep);
             if (tri_slot(s, tr, first + j, rows + j, n, r, best, qc)) {

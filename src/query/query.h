@@ -16,6 +16,23 @@
 ** collector that every accepted candidate goes to (then rejected, so the
 ** traversal goes on).
 */
+/*
+** The work of the queries, counted in the bench's counted build alone
+** (make bench-counts: the library compiled with -DRAY_BENCH_COUNTS, for
+** bench/raycost's work-per-ray table, issue 34): inner nodes tested,
+** triangle leaves reached, triangles through the float filter, exact
+** tests.  Global counters, so never in the library proper, which keeps
+** no global state: there RAY__WORK is nothing.
+*/
+#ifdef RAY_BENCH_COUNTS
+enum { RAY__WORK_NODES, RAY__WORK_LEAVES, RAY__WORK_FILTERED,
+       RAY__WORK_EXACT, RAY__WORK_KINDS };
+extern unsigned long long ray__work[RAY__WORK_KINDS];
+#define RAY__WORK(kind, n) (ray__work[kind] += (n))
+#else
+#define RAY__WORK(kind, n) ((void)0)
+#endif
+
 typedef struct ray__collect {
     ray_hit *hits;
     size_t cap, count;

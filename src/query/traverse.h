@@ -189,6 +189,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
             unsigned mask = boxes_hit(q, &l, tmax, entry);
             int k0, k1, base, j;
 
+            RAY__WORK(RAY__WORK_NODES, 1);
             if (mask == 0)
                 goto pop;
             k0 = lowest_bit(mask);
@@ -236,6 +237,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
         if (leaf == LEAF_TRIANGLES) {               /* a leaf */
             unsigned n = count & ~RAY__LEAF;
             qc->tests[RAY_PRIM_TRIANGLE] += n;
+            RAY__WORK(RAY__WORK_LEAVES, 1);
             if (tri_leaf(s, tr, child, child + n, r, best, any, qc)) {
                 found = 1;
                 if (any)
