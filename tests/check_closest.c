@@ -1282,6 +1282,38 @@ START_TEST(closest_normals_at_corners_should_face_the_query_point)
 }
 END_TEST
 
+/* The largest error of ray_closest_point's distance to triangle abc, in
+** units of DBL_EPSILON (M + d) (M the largest coordinate magnitude),
+** over "points" query points within 3 of it (drawn from g), against the
+** long-double brute force (ldgeom.h's ref_triangle on the same doubles). */
+static double triangle_worst_error(ray_vec3 a, ray_vec3 b, ray_vec3 c,
+                                   rng *g, int points)
+{
+    ray_scene *s;
+    double worst = 0;
+    int k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (k = 0; k < points; k++) {
+        double t = rng_unit(g), M, err;
+        ray_vec3 q = vec(a.x + t * (b.x - a.x) + 3 * rng_range(g, -1, 1),
+                         a.y + t * (b.y - a.y) + 3 * rng_range(g, -1, 1),
+                         a.z + 3 * rng_range(g, -1, 1));
+        ray_closest cl;
+        lvec r = ref_triangle(lv(q), lv(a), lv(b), lv(c));
+        ld d = ldist(lv(q), r);
+        ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
+        M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
+        M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
+        err = (double)fabsl((long double)cl.distance - d) / (DBL_EPSILON * (M + (double)d));
+        worst = fmax(worst, err);
+    }
+    ray_scene_free(s);
+    return worst;
+}
+
 /*
 ** Issue 38, defect 6: ray_closest_point on slivers.  Ericson's region
 ** walk divides determinants that cancel as sin^2 of the smallest angle:
@@ -1297,12 +1329,11 @@ START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
 {
     rng g = {0x51173u};
     double worst = 0;
-    int it, k;
+    int it;
 
     for (it = 0; it < 400; it++) {
         double L = pow(10, 1 + 4 * rng_unit(&g)), w = pow(10, -3 + 5 * rng_unit(&g));
         ray_vec3 a = vec(rng_range(&g, -1, 1), rng_range(&g, -1, 1), rng_range(&g, -1, 1)), b, c;
-        ray_scene *s;
 
         if (w > L / 16)
             w = L / 100;       /* keep it a sliver */
@@ -1312,24 +1343,7 @@ START_TEST(closest_points_on_slivers_should_keep_the_documented_bound)
                     a.z + 0.5 * rng_range(&g, -1, 1));
         else                    /* a needle: c beside b */
             c = vec(b.x - w * 0.6, b.y + w * 0.8, b.z);
-        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        for (k = 0; k < 50; k++) {
-            double t = rng_unit(&g), M, err;
-            ray_vec3 q = vec(a.x + t * (b.x - a.x) + 3 * rng_range(&g, -1, 1),
-                             a.y + t * (b.y - a.y) + 3 * rng_range(&g, -1, 1),
-                             a.z + 3 * rng_range(&g, -1, 1));
-            ray_closest cl;
-            lvec r = ref_triangle(lv(q), lv(a), lv(b), lv(c));
-            ld d = ldist(lv(q), r);
-            ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
-            M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
-            M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
-            err = (double)fabsl((long double)cl.distance - d) / (DBL_EPSILON * (M + (double)d));
-            worst = fmax(worst, err);
-        }
-        ray_scene_free(s);
+        worst = fmax(worst, triangle_worst_error(a, b, c, &g, 50));
     }
     ck_assert_msg(worst <= 32, "worst %g DBL_EPSILON (M + d)", worst);
 }
@@ -1348,7 +1362,7 @@ START_TEST(closest_points_at_the_sliver_threshold_should_keep_the_bound)
 {
     rng g = {0x5117e2u};
     double worst = 0;
-    int it, k;
+    int it;
 
     for (it = 0; it < 200; it++) {
         double L = pow(10, 1 + 3 * rng_unit(&g));
@@ -1359,26 +1373,8 @@ START_TEST(closest_points_at_the_sliver_threshold_should_keep_the_bound)
         ray_vec3 b = vec(a.x + L * u.x, a.y + L * u.y, a.z + 0.25);
         ray_vec3 c = vec(a.x + L * (cs * u.x + sn * v.x),
                          a.y + L * (cs * u.y + sn * v.y), a.z - 0.25);
-        ray_scene *s;
 
-        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL, NULL), RAY_OK);
-        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-        for (k = 0; k < 20; k++) {
-            double t = rng_unit(&g), M, err;
-            ray_vec3 q = vec(a.x + t * (b.x - a.x) + 3 * rng_range(&g, -1, 1),
-                             a.y + t * (b.y - a.y) + 3 * rng_range(&g, -1, 1),
-                             a.z + 3 * rng_range(&g, -1, 1));
-            ray_closest cl;
-            lvec r = ref_triangle(lv(q), lv(a), lv(b), lv(c));
-            ld d = ldist(lv(q), r);
-            ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &cl), 1);
-            M = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(b.x), fabs(b.y)));
-            M = fmax(M, fmax(fabs(c.x), fabs(c.y)));
-            err = (double)fabsl((long double)cl.distance - d) / (DBL_EPSILON * (M + (double)d));
-            worst = fmax(worst, err);
-        }
-        ray_scene_free(s);
+        worst = fmax(worst, triangle_worst_error(a, b, c, &g, 20));
     }
     ck_assert_msg(worst <= 32, "worst %g DBL_EPSILON (M + d)", worst);
 }

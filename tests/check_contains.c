@@ -969,6 +969,16 @@ static void run_backwards(void *ud, unsigned count, ray_task_fn task,
         task(task_ud, i);
 }
 
+/* Sample (i, j, k) of an nx x ny x nz grid over [lo, hi], as
+** ray_distance_grid places it (ray.h). */
+static ray_vec3 grid_point(ray_vec3 lo, ray_vec3 hi, unsigned nx, unsigned ny,
+                           unsigned nz, unsigned i, unsigned j, unsigned k)
+{
+    return v3(lo.x + (hi.x - lo.x) / (nx - 1) * i,
+              lo.y + (hi.y - lo.y) / (ny - 1) * j,
+              lo.z + (hi.z - lo.z) / (nz - 1) * k);
+}
+
 /* The grid: each sample is ray_signed_distance at its point rounded to
 ** float (compared exactly: the same computation), the same bytes on 1
 ** and 3 threads and in reverse task order; a narrow band clamps to
@@ -989,9 +999,7 @@ START_TEST(distance_grid)
     for (k = 0; k < NZ; k++)
         for (j = 0; j < NY; j++)
             for (i = 0; i < NX; i++) {
-                ray_vec3 p = v3(lo.x + (hi.x - lo.x) / (NX - 1) * i,
-                                lo.y + (hi.y - lo.y) / (NY - 1) * j,
-                                lo.z + (hi.z - lo.z) / (NZ - 1) * k);
+                ray_vec3 p = grid_point(lo, hi, NX, NY, NZ, i, j, k);
                 double d;
                 ck_assert_int_eq(ray_signed_distance(s, p, HUGE_VAL, NULL,
                                                      &d, NULL), 1);
@@ -1062,9 +1070,8 @@ START_TEST(distance_grid_warm_start)
             for (k = 0; k < NZ; k++)
                 for (j = 0; j < NY; j++)
                     for (i = 0; i < NX; i++) {
-                        ray_vec3 p = v3(lo.x + (hi.x - lo.x) / (NX - 1) * i,
-                                        lo.y + (hi.y - lo.y) / (NY - 1) * j,
-                                        lo.z + (hi.z - lo.z) / (NZ - 1) * k);
+                        ray_vec3 p = grid_point(lo, hi, NX, NY, NZ, i,
+                                                j, k);
                         double d;
                         ck_assert_int_ge(ray_signed_distance(s, p, radius,
                                                              NULL, &d, NULL),

@@ -113,6 +113,32 @@ START_TEST(limits_mesh_and_material_params_should_init_to_defaults)
 }
 END_TEST
 
+/* A new scene with materials m[0 .. n - 1] (ids 0 ..) and a point light
+** at (0, 5, 0), for a test's geometry. */
+static ray_scene *lit_scene(const ray_material *m, unsigned n)
+{
+    ray_light light;
+    ray_scene *s;
+    unsigned i;
+
+    ray_light_init(&light, RAY_LIGHT_POINT);
+    light.position = vec(0, 5, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    for (i = 0; i < n; i++)
+        ck_assert_int_eq(ray_scene_add_material(s, &m[i], NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
+    return s;
+}
+
+/* Commit s, render it with cam and o into img, and free it. */
+static void render_and_free(ray_scene *s, const ray_camera *cam,
+                            const ray_render_options *o, float *img)
+{
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_render(s, cam, o, img, NULL), RAY_OK);
+    ray_scene_free(s);
+}
+
 /* A glass sphere of the given params in front of a lit grey triangle,
 ** rendered W x H from the origin down -z. */
 static void render_glass(const ray_glass_params *g, float *img,
@@ -126,24 +152,16 @@ static void render_glass(const ray_glass_params *g, float *img,
     ray_camera cam = {.look_at = {0, 0, -1}};
     ray_render_options o = {.width = w, .height = h};
     ray_material m[2];
-    ray_light light;
     ray_scene *s;
 
     ray_phong_params_init(&grey);
     m[0] = ray_material_phong(&grey);
     m[1] = ray_material_glass(g);
-    ray_light_init(&light, RAY_LIGHT_POINT);
-    light.position = vec(0, 5, 0);
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m[0], NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m[1], NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
+    s = lit_scene(m, 2);
     ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, 0, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -4), 1.5, 1, NULL),
                      RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
-    ray_scene_free(s);
+    render_and_free(s, &cam, &o, img);
 }
 
 /*
@@ -176,7 +194,6 @@ static void render_checker(double scale, float *img, unsigned w, unsigned h)
     ray_camera cam = {.position = {0, 3, 0}, .look_at = {0, 0, -6}};
     ray_render_options o = {.width = w, .height = h};
     ray_material m;
-    ray_light light;
     ray_scene *s;
 
     red.diffuse = ray_rgb_make(0.8, 0.1, 0.1);
@@ -184,16 +201,10 @@ static void render_checker(double scale, float *img, unsigned w, unsigned h)
     cp.even = ray_material_phong(&red);
     cp.odd = ray_material_phong(&blue);
     m = ray_material_checker(&cp);
-    ray_light_init(&light, RAY_LIGHT_POINT);
-    light.position = vec(0, 5, 0);
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_light(s, &light, NULL), RAY_OK);
+    s = lit_scene(&m, 1);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, -1, 0), vec(0, 1, 0), 0,
                                          NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
-    ray_scene_free(s);
+    render_and_free(s, &cam, &o, img);
 }
 
 /* A zeroed ray_checker_params' scale is 1 (issue 37: 0 gave one square,
