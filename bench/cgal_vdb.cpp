@@ -11,18 +11,26 @@
 #include <vector>
 
 #ifdef HAVE_CGAL
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
+#include <cmath>
 
 typedef CGAL::Exact_predicates_inexact_constructions_kernel Kernel;
 typedef Kernel::Point_3 Point;
 typedef CGAL::Surface_mesh<Point> Mesh;
 typedef CGAL::Side_of_triangle_mesh<Mesh, Kernel> Side;
+typedef CGAL::AABB_face_graph_triangle_primitive<Mesh> Primitive;
+typedef CGAL::AABB_traits<Kernel, Primitive> Traits;
+typedef CGAL::AABB_tree<Traits> Tree;
 
 struct cgal_side {
     Mesh mesh;
     Side *side;
+    Tree *tree;
 };
 
 extern "C" cgal_side *cgal_side_new(const double *xyz, size_t nv,
@@ -42,14 +50,29 @@ extern "C" cgal_side *cgal_side_new(const double *xyz, size_t nv,
         }
     c->side = new Side(c->mesh);
     (void)(*c->side)(Point(xyz[0], xyz[1], xyz[2]));  // builds its tree
+    c->tree = new Tree(faces(c->mesh).first, faces(c->mesh).second, c->mesh);
+    c->tree->accelerate_distance_queries();
+    (void)c->tree->closest_point(Point(xyz[0], xyz[1], xyz[2]));
     return c;
 }
 
 extern "C" void cgal_side_free(cgal_side *c)
 {
-    if (c != nullptr)
+    if (c != nullptr) {
         delete c->side;
+        delete c->tree;
+    }
     delete c;
+}
+
+extern "C" void cgal_closest_query(const cgal_side *c, const double *pts,
+                                   size_t n, double *dist)
+{
+    for (size_t i = 0; i < n; i++) {
+        Point q(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
+        dist[i] = std::sqrt(CGAL::to_double(
+            CGAL::squared_distance(c->tree->closest_point(q), q)));
+    }
 }
 
 extern "C" void cgal_side_query(const cgal_side *c, const double *pts,

@@ -28,6 +28,11 @@ void cgal_side_free(cgal_side *c);
 ** ON_BOUNDED_SIDE), 0 on the boundary, -1 outside. */
 void cgal_side_query(const cgal_side *c, const double *pts, size_t n,
                      signed char *out);
+/* For each of n points: the distance to the mesh's nearest point, by
+** CGAL's AABB_tree::closest_point over the same mesh (a tree of its own,
+** built with its distance queries' acceleration by cgal_side_new). */
+void cgal_closest_query(const cgal_side *c, const double *pts, size_t n,
+                        double *dist);
 
 /* OpenVDB's signed distance over a cubic lattice: n^3 samples at
 ** lo + step * (i, j, k), the mesh's triangles given in world space.
