@@ -1167,12 +1167,18 @@ int main(int argc, char **argv)
     obj_mesh mid;
 
     reps = quick ? 3 : REPS;
-    /* game DATA_DIR frame: the frame's table alone (perf record). */
+    /* game DATA_DIR frame: the frame's table alone (perf record);
+    ** game DATA_DIR instances: the instances' row alone (callgrind). */
     if (argc > 2 && strcmp(argv[2], "frame") == 0) {
         frame_row(quick);
         return 0;
     }
     mid = load(dir, "bunny-2.obj");
+    if (argc > 2 && strcmp(argv[2], "instances") == 0) {
+        instances_row(&mid, quick ? 256u : 512u);
+        obj_free(&mid);
+        return 0;
+    }
     printf("## Games and tools: live scenes\n\n");
 #ifdef HAVE_EMBREE
     printf("Median of %d runs; ours on one thread (but the column that "
