@@ -99,10 +99,14 @@ MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # name of a page's NAME section after its own (its .Nm lines, not those of
 # later sections), so a new page needs no list here; docs-test checks
 # that each is a function of ray.h shown in that page's SYNOPSIS.
-MLINKS = $(shell for f in man/man3/*.3; do \
+# Worked out once a make, on first use (an awk a page: docs-test, install
+# and uninstall each used to run them all again, and install-test's
+# installs more).
+MLINKS = $(eval MLINKS := $$(shell $$(MLINKS_CMD)))$(MLINKS)
+MLINKS_CMD = for f in man/man3/*.3; do \
     awk -v p="$$(basename $$f .3)" '/^\.Sh /{name = ($$2 == "NAME")} \
         name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
-        if (n != "" && n != p) print p ":" n}' "$$f"; done)
+        if (n != "" && n != p) print p ":" n}' "$$f"; done
 
 .PHONY: all lib check test demo caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
