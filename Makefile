@@ -114,7 +114,7 @@ MLINKS_CMD = for f in man/man3/*.3; do \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
         check-examples-run check-long bench-smoke \
         png-free-test install-test libray.pc cmake-config FORCE \
-        amalgamation amalgamation-test cmake-test abi-test abi-baseline exports-test \
+        amalgamation amalgamation-test amalgamation-test-long cmake-test cmake-test-long abi-test abi-baseline exports-test \
         version-test dist distcheck print-srcs print-version deps-embed \
         snippets-test pages-test bench-docs-test windows-build windows-check \
         coverage coverage-run mutants
@@ -514,9 +514,11 @@ endif
 # runs them reduced (tests/tests.h's test_count: the filter's ten million
 # rays as one million, ...), make check-long runs the suites that hold
 # them with RAY_CHECK_LONG=1, at the full counts.  CI runs both, so no
-# count is lost; doc/TESTING.md lists them.
+# count is lost; doc/TESTING.md lists them.  It also runs the embedding
+# checks' steps that make check leaves out (mk/release.mk): five
+# compiles of the amalgamation and the FetchContent build.
 CHECK_LONG_SUITES = filter bvh sphere
-check-long: deps-check lib $(TEST_BIN)
+check-long: deps-check lib $(TEST_BIN) amalgamation-test-long cmake-test-long
 	CK_TIMEOUT_MULTIPLIER=$${CK_TIMEOUT_MULTIPLIER:-$(CHECK_TIMEOUT_MULTIPLIER)} \
 	    RAY_CHECK_LONG=1 RAY_CHECK_SUITES="$(CHECK_LONG_SUITES)" \
 	    RAY_CHECK_JOBS=$(CHECK_JOBS) $(TEST_BIN)
