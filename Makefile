@@ -112,7 +112,7 @@ MLINKS_CMD = for f in man/man3/*.3; do \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench profile numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
-        check-examples-run check-long bench-smoke \
+        check-examples-run check-long check-long-suite bench-smoke \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test amalgamation-test-long cmake-test cmake-test-long abi-test abi-baseline exports-test \
         version-test dist distcheck print-srcs print-version deps-embed \
@@ -517,8 +517,11 @@ endif
 # count is lost; doc/TESTING.md lists them.  It also runs the embedding
 # checks' steps that make check leaves out (mk/release.mk): five
 # compiles of the amalgamation and the FetchContent build.
+# The suites first among the prerequisites, as the longest step: make -j
+# starts them beside the embedding steps rather than after them.
 CHECK_LONG_SUITES = filter bvh sphere
-check-long: deps-check lib $(TEST_BIN) amalgamation-test-long cmake-test-long
+check-long: check-long-suite amalgamation-test-long cmake-test-long
+check-long-suite: deps-check lib $(TEST_BIN)
 	CK_TIMEOUT_MULTIPLIER=$${CK_TIMEOUT_MULTIPLIER:-$(CHECK_TIMEOUT_MULTIPLIER)} \
 	    RAY_CHECK_LONG=1 RAY_CHECK_SUITES="$(CHECK_LONG_SUITES)" \
 	    RAY_CHECK_JOBS=$(CHECK_JOBS) $(TEST_BIN)
