@@ -127,7 +127,7 @@ ISO_HEADERS="assert.h complex.h ctype.h errno.h fenv.h float.h inttypes.h
 iso646.h limits.h locale.h math.h setjmp.h signal.h stdarg.h stdbool.h
 stddef.h stdint.h stdio.h stdlib.h string.h tgmath.h time.h wchar.h
 wctype.h emmintrin.h immintrin.h intrin.h"
-# shellcheck disable=SC2086 # the list on one line, between spaces
+# shellcheck disable=SC2086,SC2116 # the list on one line, between spaces
 iso_headers=" $(echo $ISO_HEADERS) "
 n_sys=0
 for f in "$src"/*/*.c "$src"/*/*.h; do
