@@ -99,18 +99,22 @@ MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # name of a page's NAME section after its own (its .Nm lines, not those of
 # later sections), so a new page needs no list here; docs-test checks
 # that each is a function of ray.h shown in that page's SYNOPSIS.
-MLINKS = $(shell for f in man/man3/*.3; do \
+# Worked out once a make, on first use (an awk a page: docs-test, install
+# and uninstall each used to run them all again, and install-test's
+# installs more).
+MLINKS = $(eval MLINKS := $$(shell $$(MLINKS_CMD)))$(MLINKS)
+MLINKS_CMD = for f in man/man3/*.3; do \
     awk -v p="$$(basename $$f .3)" '/^\.Sh /{name = ($$2 == "NAME")} \
         name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
-        if (n != "" && n != p) print p ":" n}' "$$f"; done)
+        if (n != "" && n != p) print p ":" n}' "$$f"; done
 
 .PHONY: all lib check test demo bench-counts caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
         deps-bench profile numerics links-test mpi-check mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
-        check-examples-run check-long bench-smoke \
+        check-examples-run check-long check-long-suite bench-smoke \
         png-free-test install-test libray.pc cmake-config FORCE \
-        amalgamation amalgamation-test cmake-test abi-test abi-baseline exports-test \
+        amalgamation amalgamation-test amalgamation-test-long cmake-test cmake-test-long abi-test abi-baseline exports-test \
         version-test dist distcheck print-srcs print-version deps-embed \
         snippets-test pages-test bench-docs-test windows-build windows-check \
         coverage coverage-run mutants
@@ -243,6 +247,20 @@ mpi-demo: deps-mpi lib
 	    mpirun -np 3 --oversubscribe --bind-to none $(MPI_RENDER) whitted mpi_render.png
 
 BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
+# make check builds the benchmarks so that none stops compiling unseen,
+# but without the optional C++ comparators below (tinybvh, Bullet, CGAL
+# and OpenVDB, where their headers are installed): those are other
+# projects' code, compiled only to be timed beside ours, and cost make
+# check 53 of its 535 CPU seconds where they are there (issue 38).  make
+# bench and make bench-smoke build them; BENCH_COMPARE=1 or 0 chooses.
+# The benchmarks that take them depend on BENCH_CONFIG, rewritten when
+# the choice changes, so make bench after make check links them again.
+BENCH_COMPARE ?= $(if $(filter check test,$(MAKECMDGOALS)),0,1)
+BENCH_CONFIG = $(BUILD)/bench/compare.config
+$(BENCH_CONFIG): FORCE
+	@mkdir -p $(@D)
+	@echo "BENCH_COMPARE=$(BENCH_COMPARE)" | cmp -s - $@ || echo "BENCH_COMPARE=$(BENCH_COMPARE)" > $@
+$(BUILD)/bench/shapes $(BUILD)/bench/raycost $(BUILD)/bench/contains: $(BENCH_CONFIG)
 # Embree is optional: used by the mesh, game and packets benchmarks when
 # its header is there.
 EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
@@ -252,8 +270,8 @@ EMBREE_BENCHES = bench/mesh.c bench/game.c bench/packets.c bench/raycost.c
 # Bullet is optional too: bench/shapes.c compares the sweeps with its
 # convexSweepTest and rayTest where Debian's libbullet-dev is installed.
 # Bullet is C++: bench/bullet.cpp is built with $(CXX), only then.
-BULLET_FLAGS = $(shell test -f /usr/include/bullet/btBulletCollisionCommon.h && \
-                 echo "-DHAVE_BULLET")
+BULLET_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(shell test -f /usr/include/bullet/btBulletCollisionCommon.h && \
+                 echo "-DHAVE_BULLET"))
 BULLET_OBJ = $(if $(BULLET_FLAGS),$(BUILD)/bench/bullet.o)
 BULLET_LIBS = $(if $(BULLET_FLAGS),-lBulletCollision -lLinearMath -lstdc++)
 $(BUILD)/bench/bullet.o: bench/bullet.cpp bench/shapes.h
@@ -265,7 +283,7 @@ $(BUILD)/bench/shapes: $(BULLET_OBJ)
 # beside Embree by bench/raycost.c, when the header is there: C++, built
 # with $(CXX) and AVX2 + FMA as its README asks, never part of the library.
 TINYBVH_DIR ?= ../shared/ext
-TINYBVH_FLAGS = $(shell test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH")
+TINYBVH_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(shell test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH"))
 TINYBVH_OBJ = $(if $(TINYBVH_FLAGS),$(BUILD)/bench/tinybvh.o)
 TINYBVH_LIBS = $(if $(TINYBVH_FLAGS),-lstdc++)
 $(BUILD)/bench/tinybvh.o: bench/tinybvh.cpp bench/tinybvh.h
@@ -284,10 +302,10 @@ CGAL_FLAGS = $(shell test -f /usr/include/CGAL/Side_of_triangle_mesh.h && \
                echo "-DHAVE_CGAL")
 OPENVDB_FLAGS = $(shell test -f /usr/include/openvdb/tools/MeshToVolume.h && \
                   echo "-DHAVE_OPENVDB")
-CGAL_VDB_FLAGS = $(strip $(CGAL_FLAGS) $(OPENVDB_FLAGS))
+CGAL_VDB_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(strip $(CGAL_FLAGS) $(OPENVDB_FLAGS)))
 CGAL_VDB_OBJ = $(if $(CGAL_VDB_FLAGS),$(BUILD)/bench/cgal_vdb.o)
-CGAL_VDB_LIBS = $(if $(CGAL_FLAGS),-lmpfr -lgmp) \
-                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(shell $(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) $(if $(CGAL_VDB_OBJ),-lstdc++)
+CGAL_VDB_LIBS = $(if $(CGAL_VDB_OBJ),$(if $(CGAL_FLAGS),-lmpfr -lgmp) \
+                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(shell $(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) -lstdc++)
 $(BUILD)/bench/cgal_vdb.o: bench/cgal_vdb.cpp bench/cgal_vdb.h
 	@mkdir -p $(@D)
 	$(say) CXX $<
@@ -506,9 +524,14 @@ endif
 # runs them reduced (tests/tests.h's test_count: the filter's ten million
 # rays as one million, ...), make check-long runs the suites that hold
 # them with RAY_CHECK_LONG=1, at the full counts.  CI runs both, so no
-# count is lost; doc/TESTING.md lists them.
+# count is lost; doc/TESTING.md lists them.  It also runs the embedding
+# checks' steps that make check leaves out (mk/release.mk): five
+# compiles of the amalgamation and the FetchContent build.
+# The suites first among the prerequisites, as the longest step: make -j
+# starts them beside the embedding steps rather than after them.
 CHECK_LONG_SUITES = filter bvh sphere
-check-long: deps-check lib $(TEST_BIN)
+check-long: check-long-suite amalgamation-test-long cmake-test-long
+check-long-suite: deps-check lib $(TEST_BIN)
 	CK_TIMEOUT_MULTIPLIER=$${CK_TIMEOUT_MULTIPLIER:-$(CHECK_TIMEOUT_MULTIPLIER)} \
 	    RAY_CHECK_LONG=1 RAY_CHECK_SUITES="$(CHECK_LONG_SUITES)" \
 	    RAY_CHECK_JOBS=$(CHECK_JOBS) $(TEST_BIN)

@@ -49,23 +49,30 @@ src=${SRCDIR:-$root/src}
 LAYERS="core prim image accel scene query trace render"
 MAX_LINES=${MAX_LINES:-800}
 
-# The layers that layer $1 may use besides itself.
-uses() {
+# The layers that layer $1 may use besides itself, in $below ("?" for a
+# folder that is no layer).  A variable, not output: may_use runs once an
+# include and once a call, and a $(...) is a process each time.
+layer_below() {
     case "$1" in
-    core) echo "" ;;
-    prim|image|accel) echo "core" ;;
-    scene) echo "core prim accel" ;;
-    query) echo "core prim accel scene" ;;
-    trace) echo "core prim image accel scene query" ;;
-    render) echo "core prim image accel scene query trace" ;;
-    *) echo "?" ;;
+    core) below="" ;;
+    prim|image|accel) below="core" ;;
+    scene) below="core prim accel" ;;
+    query) below="core prim accel scene" ;;
+    trace) below="core prim image accel scene query" ;;
+    render) below="core prim image accel scene query trace" ;;
+    *) below="?" ;;
     esac
+}
+uses() {
+    layer_below "$1"
+    echo "$below"
 }
 
 # 0 if layer $1 may use layer $2.
 may_use() {
     [ "$1" = "$2" ] && return 0
-    for l in $(uses "$1"); do [ "$l" = "$2" ] && return 0; done
+    layer_below "$1"
+    case " $below " in *" $2 "*) return 0 ;; esac
     return 1
 }
 
@@ -120,6 +127,8 @@ ISO_HEADERS="assert.h complex.h ctype.h errno.h fenv.h float.h inttypes.h
 iso646.h limits.h locale.h math.h setjmp.h signal.h stdarg.h stdbool.h
 stddef.h stdint.h stdio.h stdlib.h string.h tgmath.h time.h wchar.h
 wctype.h emmintrin.h immintrin.h intrin.h"
+# shellcheck disable=SC2086,SC2116 # the list on one line, between spaces
+iso_headers=" $(echo $ISO_HEADERS) "
 n_sys=0
 for f in "$src"/*/*.c "$src"/*/*.h; do
     [ -f "$f" ] || continue
@@ -127,7 +136,7 @@ for f in "$src"/*/*.c "$src"/*/*.h; do
     case "$rel" in core/platform*) continue ;; esac
     for h in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*<\([^>]*\)>.*/\1/p' "$f"); do
         n_sys=$((n_sys + 1))
-        case " $(echo $ISO_HEADERS) " in *" $h "*) continue ;; esac
+        case "$iso_headers" in *" $h "*) continue ;; esac
         [ "$h" = png.h ] && [ "$rel" = image/png.c ] && continue
         offence "$rel includes <$h>: a platform header outside src/core/platform* (platform.h asks the system)"
     done
@@ -149,12 +158,21 @@ done
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/check-layers.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT INT TERM
 # symbol object (every global definition) and object symbol (every use)
-for o in $objs; do
-    nm -g --defined-only "$obj/$o" | awk -v o="$o" 'NF == 3 {print $3, o}'
-done | sort > "$tmp/defs"
-for o in $objs; do
-    nm -u "$obj/$o" | awk -v o="$o" '{print $NF, o}'
-done | sort > "$tmp/uses"
+# One nm over all the objects for each list, -A putting its object's path
+# at the head of every line: two nm processes an object were most of
+# make check's layers-test and its self-test (142 for the library, about
+# 20 CPU seconds a run; issue 38).
+paths=$(for o in $objs; do echo "$obj/$o"; done)
+# The object's name below OBJDIR, from nm -A's "PATH:ADDRESS" or "PATH:".
+object_of='function object_of(f) {
+    sub(/:[0-9A-Fa-f]*$/, "", f); return substr(f, length(pre) + 1) }'
+# shellcheck disable=SC2086 # one path a word, as $objs
+nm -A -g --defined-only $paths |
+    awk -v pre="$obj/" "$object_of"' NF == 3 {print $3, object_of($1)}' |
+    sort > "$tmp/defs"
+# shellcheck disable=SC2086
+nm -A -u $paths | awk -v pre="$obj/" "$object_of"' {print $NF, object_of($1)}' |
+    sort > "$tmp/uses"
 # caller callee symbol, for the uses the library itself defines
 join "$tmp/uses" "$tmp/defs" | awk '$2 != $3 {print $2, $3, $1}' \
     | sort -u > "$tmp/calls"

@@ -254,7 +254,8 @@ static void summary(int passed, int failed)
 ** never coverage.
 */
 static const char *const slow_suites[] = {
-    "bvh", "sweep", "closest", "exact", "numerics", "filter", "games"
+    "sweep", "bvh", "closest", "exact", "contains", "overlap", "filter",
+    "numerics", "games", "sphere", "barycentric"
 };
 #define N_SLOW (sizeof slow_suites / sizeof *slow_suites)
 
