@@ -82,6 +82,8 @@ typedef struct ray__instance {
                                 more than this times the world one */
     double inv_spec;         /* |L^-1|_2 = 1 / L's smallest singular value,
                                 rounded up: the least such factor */
+    double inv_residual;     /* >= |inv L - I|_2: how far inv, as rounded,
+                                is from L's exact inverse */
     double axes[3][3];       /* L = U diag(sv) V^T: U (its columns), what a */
     double sv[3];            /* sphere's ellipsoid has for axes; sv
                                 descending (sv[0] = 0: none computed) */
