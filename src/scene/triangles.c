@@ -209,38 +209,31 @@ typedef void (*slot_fn)(const ray_scene *s, size_t begin, size_t end,
 
 typedef struct slot_job {
     const ray_scene *s;
-    size_t n;
     slot_fn fn;
     void *out;
 } slot_job;
 
-static void slot_task(void *ud, unsigned k)
+static void slot_task(void *ud, unsigned k, size_t begin, size_t end)
 {
     const slot_job *job = ud;
-    size_t begin = (size_t)k * SLOT_RUN;
 
-    job->fn(job->s, begin,
-            job->n - begin > SLOT_RUN ? begin + SLOT_RUN : job->n, job->out);
+    (void)k;
+    job->fn(job->s, begin, end, job->out);
 }
 
 static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
 {
-    size_t runs = (n + SLOT_RUN - 1) / SLOT_RUN;
     /* 0: one a CPU, as the build's own threads (build.c). */
     unsigned threads = s->build_threads != 0 ? s->build_threads
                                              : ray__online_cpus();
     slot_job job;
 
     job.s = s;
-    job.n = n;
     job.fn = fn;
     job.out = out;
-    if (runs > 0xffffffffu) {               /* beyond the task count */
+    if (!ray__tasks_runs(&s->scheduler, &s->alloc, threads, 0, n, SLOT_RUN,
+                         slot_task, &job))
         fn(s, 0, n, out);
-        return;
-    }
-    ray__tasks_run(&s->scheduler, &s->alloc, threads, 0, (unsigned)runs,
-                   slot_task, &job);
 }
 
 /* Slots begin .. end - 1's rows, by slot, into out (leaves_make). */
