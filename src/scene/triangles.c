@@ -104,21 +104,18 @@ RAY__HOT_INLINE int slot_corners_at(const ray_scene *s, size_t slot,
     return 1;
 }
 
-/* The corners of live slot "slot" into *t, as ray__tri_of reads them
-** (slot_corners_at; *m and *m_geom its cache). */
+/* The corners of live slot "slot" into *t, as ray__tri_of reads them:
+** found by slot_corners_at (*m and *m_geom its cache), a mesh's read
+** through ray__mesh_tri, which applies the rule for a triangle without
+** a normal (the pointers into its positions go unused). */
 RAY__HOT_INLINE void refit_corners(const ray_scene *s, size_t slot,
                                     const ray__mesh **m, unsigned *m_geom,
                                     ray__tri *t)
 {
     const ray_vec3 *p[3];
 
-    if (slot_corners_at(s, slot, m, m_geom, t, p)) {
-        t->a = *p[0];
-        t->b = *p[1];
-        t->c = *p[2];
-        if (!ray__corners_usable(t->a, t->b, t->c))
-            t->b = t->c = t->a;
-    }
+    if (slot_corners_at(s, slot, m, m_geom, t, p))
+        ray__mesh_tri(*m, s->tri_ids[slot].prim_id, t);
 }
 
 /* The float box of slot i, rounded outward (the build's box callback). */
