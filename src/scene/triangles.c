@@ -674,6 +674,19 @@ static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
     }
 }
 
+/* The point whose x and y are in xy's lanes and z in z's low lane. */
+static inline ray_vec3 vec3_sse2(__m128d xy, __m128d z)
+{
+    double out[2];
+    ray_vec3 v;
+
+    _mm_storeu_pd(out, xy);
+    v.x = out[0];
+    v.y = out[1];
+    _mm_store_sd(&v.z, z);
+    return v;
+}
+
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
                        float hi[3])
 {
@@ -683,8 +696,6 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
     const ray__mesh *m = NULL;
     unsigned m_geom = (unsigned)-1;
     refit_box x;
-    ray_vec3 a, b;
-    double out[2];
     size_t j;
 
     x.lo_xy = x.hi_xy = x.lo_z = x.hi_z = _mm_setzero_pd();
@@ -695,15 +706,7 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
         refit_tri_sse2(p[0], p[1], p[2], mesh, j == 0, &x, rows + j, n,
                        copy != NULL ? copy + j : NULL);
     }
-    _mm_storeu_pd(out, x.lo_xy);
-    a.x = out[0];
-    a.y = out[1];
-    _mm_store_sd(&a.z, x.lo_z);
-    _mm_storeu_pd(out, x.hi_xy);
-    b.x = out[0];
-    b.y = out[1];
-    _mm_store_sd(&b.z, x.hi_z);
-    box_out(a, b, lo, hi);
+    box_out(vec3_sse2(x.lo_xy, x.lo_z), vec3_sse2(x.hi_xy, x.hi_z), lo, hi);
 }
 #else
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
