@@ -454,6 +454,17 @@ static void leaf_tris_make(ray_scene *s, size_t n)
     slots_run(s, n, copies_by_slot, s->leaf_tri);
 }
 
+/* How many slots the rebuild below puts in the BVH: those tri_live
+** keeps, the filter its partition applies. */
+size_t ray__triangles_live(const ray_scene *s)
+{
+    size_t n = 0, i;
+
+    for (i = 0; i < s->n_tris; i++)
+        n += (size_t)tri_live(s, i);
+    return n;
+}
+
 /*
 ** The triangle BVH, rebuilt: removed geometry's slots go for good, the
 ** slots of enabled geometry are moved to the front (the others wait
@@ -464,16 +475,6 @@ static void leaf_tris_make(ray_scene *s, size_t n)
 ** is; a failure (out of memory) leaves the scene without a triangle BVH,
 ** uncommitted, its changes staged for the next commit.
 */
-size_t ray__triangles_live(const ray_scene *s)
-{
-    size_t n = 0, i;
-
-    for (i = 0; i < s->n_tris; i++)
-        n += (size_t)(!s->prims[s->tri_ids[i].geom_id].removed &&
-                      tri_live(s, i));
-    return n;
-}
-
 int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
 {
     size_t n = 0, i, scratch_bytes;
