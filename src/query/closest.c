@@ -52,7 +52,8 @@ typedef struct query {
                                 units, inside an instance, else 0 */
     double scale;            /* 2^-k */
     double best;             /* the search radius: radius, then nearest */
-    double best2;            /* >= (best widen scale)^2, what boxes face */
+    double best2;            /* >= ((best widen + margin) scale)^2, what
+                                boxes face (set_best) */
     int found;
     int stale;               /* met an instance whose child changed */
     ray_closest out;
