@@ -574,19 +574,19 @@ FUZZ_TIMEOUT ?= 25
 # more than this (issue 14, defect 4).
 FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
 
-$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
+$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h tests/winding_ref.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
 	$(say) CC $<
-	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
 
 fuzz-replay: $(FUZZ_REPLAYS)
 	@for t in $(FUZZ_TARGETS); do \
 	    $(BUILD)/fuzz-replay/$$t fuzz/corpus/$$t fuzz/crashes/$$t || exit 1; \
 	done
 
-$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
+$(BUILD)/fuzzers/%: fuzz/%.c fuzz/fuzz.h tests/winding_ref.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
+	$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests -fsanitize=fuzzer $(LDFLAGS) -o $@ $< \
 	    $(STATIC) $(LIBS)
 
 fuzz-build: lib $(FUZZ_TARGETS:%=$(BUILD)/fuzzers/%)

@@ -4,11 +4,12 @@
 ** one through the BVH (Barill et al.'s far-field expansions, winding.c)
 ** against the sum over every triangle (RAY_CONTAINS_WINDING_EXACT, how a
 ** caller asks for the number itself) and both against a long double sum
-** in this file, on meshes the input builds: a mesh of up to 32
-** triangles over up to 24 vertices on a lattice of sixteenths in [-8,
-** 8)^3 (open or closed, cracks, flips, repeats and degenerate triangles
-** alike), or a soup of up to 32 small triangles, each within a cube of
-** side 2 about a lattice point of its own; copied on a grid of up to 4 x
+** (tests/winding_ref.h, shared with tests/check_contains.c), on meshes
+** the input builds: a mesh of up to 32 triangles over up to 24 vertices
+** on a lattice of sixteenths in [-8, 8)^3 (open or closed, cracks,
+** flips, repeats and degenerate triangles alike), or a soup of up to 32
+** small triangles, each within a cube of side 2 about a lattice point of
+** its own; copied on a grid of up to 4 x
 ** 4 x 4 cells 1 to 16 apart (up to 2048 triangles: inner nodes of the
 ** BVH, and clusters that points see from afar, where the expansions are
 ** read); moved by 0, 1e5 or 1e6 and placed directly or through an
@@ -36,6 +37,7 @@
 
 #include "fuzz.h"
 #include "core/predicates.h"
+#include "winding_ref.h"
 
 #define MAX_POOL 24              /* a mesh's vertices */
 #define MAX_T 32                 /* a mesh's or a soup's triangles */
@@ -117,43 +119,6 @@ static ray_vec3 map_point(const ray_transform *t, ray_vec3 v)
     return ray_vec3_make(m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z + m[0][3],
                          m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z + m[1][3],
                          m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z + m[2][3]);
-}
-
-/* The winding number at q of triangles idx over w (world space), summed
-** in long double, each angle's sign the exact orientation's (the
-** library's, as tests/check_contains.c's winding_ref). */
-static double winding_ref(const ray_vec3 *w, const unsigned *idx, size_t nt,
-                          ray_vec3 q)
-{
-    long double sum = 0;
-    size_t i;
-
-    for (i = 0; i < nt; i++) {
-        ray_vec3 A = w[idx[3 * i]], B = w[idx[3 * i + 1]], C = w[idx[3 * i + 2]];
-        long double a[3] = {(long double)A.x - (long double)q.x, (long double)A.y - (long double)q.y,
-                            (long double)A.z - (long double)q.z};
-        long double b[3] = {(long double)B.x - (long double)q.x, (long double)B.y - (long double)q.y,
-                            (long double)B.z - (long double)q.z};
-        long double c[3] = {(long double)C.x - (long double)q.x, (long double)C.y - (long double)q.y,
-                            (long double)C.z - (long double)q.z};
-        long double det = a[0] * (b[1] * c[2] - b[2] * c[1]) -
-                          a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                          a[2] * (b[0] * c[1] - b[1] * c[0]);
-        long double la = sqrtl(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        long double lb = sqrtl(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        long double lc = sqrtl(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        long double den = la * lb * lc +
-                          (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
-                          (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la +
-                          (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]) * lb;
-        double sign = ray__orient3d(A, B, C, q);
-        if (sign == 0)
-            continue;
-        if ((det > 0) != (sign > 0))
-            det = -det;
-        sum += 2 * atan2l(det, den);
-    }
-    return (double)(sum / (4 * 3.141592653589793238462643383279503L));
 }
 
 /* Whether q lies within NEAR_EDGE of an edge of triangles idx over w,
@@ -372,7 +337,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                    "ray_contains: inside where the winding number exceeds 1/2");
         if (in_range(pw[i].x) && in_range(pw[i].y) && in_range(pw[i].z) &&
             !near_edge(w, m.idx, m.nt, pw[i]))
-            FUZZ_CHECK(fabs(we - winding_ref(w, m.idx, m.nt, pw[i])) <= WIND_TOL,
+            FUZZ_CHECK(fabs(we - winding_ref_sum(w, m.idx, m.nt, pw[i])) <= WIND_TOL,
                        "ray_contains: the number asked for, within 1e-9 of "
                        "the long double sum");
         if (fabs(we - 0.5) > FAST_ERR)

@@ -803,6 +803,93 @@ static int child_triangle(const child_ref *c, unsigned g, size_t k,
 }
 
 /*
+** An instance far from the origin: a child of a unit cube mesh
+** ([-0.5, 0.5]^3 moved by (0.1, 0.2, 0.3), so that no coordinate lies
+** on the doubles' grid near 2^40 and every world corner rounds) and an
+** icosphere of radius 1 (the BVH gets several leaves), placed at
+** (2^40, 2^40, 2^40), translated alone and rotated too.  Near 2^40 a
+** double's ulp is 2^-12, so the library's world triangles stand up to
+** half an ulp per component off the exact ones; a boxes' pruning that
+** measures the child's exact boxes against the rounded world distances
+** skipped the nearest triangle, and a query whose radius was the
+** distance it had just found found nothing in about half the cases (the
+** review of issue 38).  Against brute force over every world triangle
+** in long double, for 2,000 query points within 1.5 of the instance:
+** the distance within 4 ulps of 2^40 (a world corner's half ulp plus
+** the nearest point's gamma(3) (|a| + |b - a| + |c - a|), about 1.5
+** ulps, per component: 2 sqrt(3) < 4 ulps); the found distance as the
+** radius finds the same point again (the radius is compared with the
+** computed distance, inclusive: ray_closest_point(3)); and the brute
+** force's distance plus that tolerance as the radius finds a point.
+*/
+START_TEST(closest_points_should_keep_their_radius_through_far_instances)
+{
+    const double far = 0x1p40, tol = 4 * 0x1p-12;
+    hc_mesh cube = hc_cube(vec(0.2, 0.4, 0.6)), ball = hc_icosphere(vec(0, 0, 0), 2);
+    const hc_mesh *meshes[2];
+    ray_scene *child, *top;
+    ray_transform xf;
+    rng g = {4040};
+    size_t i;
+    int rot, k, m;
+
+    for (i = 0; i < cube.nv; i++)
+        cube.v[i] = vscale(cube.v[i], 0.5);
+    for (i = 0; i < ball.nv; i++)
+        ball.v[i] = vscale(ball.v[i], 0.5);
+    meshes[0] = &cube;
+    meshes[1] = &ball;
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    for (m = 0; m < 2; m++) {
+        ray_mesh rm = hc_ray_mesh(meshes[m]);
+        ck_assert_int_eq(ray_scene_add_mesh(child, &rm, RAY_NO_MATERIAL, NULL), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    for (rot = 0; rot < 2; rot++) {
+        ray_transform_identity(&xf);
+        if (rot) {
+            xf.m[0][0] = xf.m[1][1] = cos(0.6);
+            xf.m[0][1] = -sin(0.6);
+            xf.m[1][0] = sin(0.6);
+        }
+        xf.m[0][3] = xf.m[1][3] = xf.m[2][3] = far;
+        ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_instance(top, child, &xf, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+        for (k = 0; k < 2000; k++) {
+            ray_vec3 q = vec(far + rng_range(&g, -1.5, 1.5), far + rng_range(&g, -1.5, 1.5),
+                             far + rng_range(&g, -1.5, 1.5));
+            ld best = HUGE_VALL;
+            ray_closest r, again;
+            for (m = 0; m < 2; m++)
+                for (i = 0; i < meshes[m]->nt; i++) {
+                    const ray_vec3 *v = meshes[m]->v;
+                    const unsigned *t = meshes[m]->idx + 3 * i;
+                    lvec x = ref_triangle(lv(q), lxfm(&xf, v[t[0]]), lxfm(&xf, v[t[1]]),
+                                          lxfm(&xf, v[t[2]]));
+                    if (ldist(x, lv(q)) < best)
+                        best = ldist(x, lv(q));
+                }
+            ck_assert_int_eq(ray_closest_point(top, q, HUGE_VAL, &r), 1);
+            ck_assert_msg(fabsl((ld)r.distance - best) <= (ld)tol,
+                          "rotated %d, query %d: distance %.17g, brute force %.17Lg",
+                          rot, k, r.distance, best);
+            ck_assert_msg(ray_closest_point(top, q, r.distance, &again) == 1,
+                          "rotated %d, query %d: nothing within the distance found, %.17g",
+                          rot, k, r.distance);
+            ck_assert(again.distance == r.distance);
+            ck_assert_vec_eq(again.p, r.p);
+            ck_assert_int_eq(ray_closest_point(top, q, (double)best + tol, &again), 1);
+        }
+        ray_scene_free(top);
+    }
+    ray_scene_free(child);
+    hc_mesh_free(&cube);
+    hc_mesh_free(&ball);
+}
+END_TEST
+
+/*
 ** A sphere and a capsule through a non-uniform scale with a shear are an
 ** ellipsoid and an ellipsoid swept along a segment, whose nearest points
 ** have no formula: the library finds them by Eberly's bisection and a
@@ -1521,6 +1608,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, empty_scenes_should_find_nothing);
     tcase_add_test(tc, misuse_should_be_refused);
     tcase_add_test(tc, closest_points_should_be_exact_through_any_transform);
+    tcase_add_test(tc, closest_points_should_keep_their_radius_through_far_instances);
     tcase_add_test(tc, closest_points_should_find_ellipsoids);
     tcase_add_test(tc, queries_should_share_the_scene_and_allocate_nothing);
     tcase_add_test(tc, zero_area_triangles_should_be_skipped_by_every_query);

@@ -17,6 +17,7 @@
 #include "scene/scene.h"
 #include "tests.h"
 #include "hardcases.h"
+#include "winding_ref.h"
 
 /* Winding numbers: the library sums in double and the reference in long
 ** double; each of up to 1280 solid angles is within a few ulps of 4 pi
@@ -69,39 +70,11 @@ static int convex_ref(const hc_mesh *m, ray_vec3 q)
 }
 
 /* The winding number in long double over every triangle, its
-** determinant's sign the exact one (ray__orient3d). */
+** determinant's sign the exact one (winding_ref.h, which
+** fuzz/fuzz_winding.c shares). */
 static double winding_ref(const hc_mesh *m, ray_vec3 q)
 {
-    long double sum = 0;
-    size_t i;
-
-    for (i = 0; i < m->nt; i++) {
-        const unsigned *t = m->idx + 3 * i;
-        ray_vec3 A = m->v[t[0]], B = m->v[t[1]], C = m->v[t[2]];
-        long double a[3] = {(long double)A.x - (long double)q.x, (long double)A.y - (long double)q.y,
-                            (long double)A.z - (long double)q.z};
-        long double b[3] = {(long double)B.x - (long double)q.x, (long double)B.y - (long double)q.y,
-                            (long double)B.z - (long double)q.z};
-        long double c[3] = {(long double)C.x - (long double)q.x, (long double)C.y - (long double)q.y,
-                            (long double)C.z - (long double)q.z};
-        long double det = a[0] * (b[1] * c[2] - b[2] * c[1]) -
-                          a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                          a[2] * (b[0] * c[1] - b[1] * c[0]);
-        long double la = sqrtl(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        long double lb = sqrtl(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        long double lc = sqrtl(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        long double den = la * lb * lc +
-                          (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
-                          (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la +
-                          (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]) * lb;
-        double sign = ray__orient3d(A, B, C, q);
-        if (sign == 0)
-            continue;
-        if ((det > 0) != (sign > 0))
-            det = -det;
-        sum += 2 * atan2l(det, den);
-    }
-    return (double)(sum / (4 * 3.141592653589793238462643383279503L));
+    return winding_ref_sum(m->v, m->idx, m->nt, q);
 }
 
 /*

@@ -17,7 +17,9 @@
 #include <dirent.h>
 #include <errno.h>
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #if defined(_WIN32)
@@ -99,6 +101,99 @@ START_TEST(srgb8_should_follow_the_srgb_curve)
     ck_assert(out[11] == 243 || out[11] == 244);
     ck_assert_int_eq(ray_image_to_srgb8(NULL, 1, out), RAY_EINVAL);
     ck_assert_int_eq(ray_image_to_srgb8(in, 1, NULL), RAY_EINVAL);
+}
+END_TEST
+
+/*
+** The pow formula ray_image_to_srgb8 was written as, and is now a table
+** of thresholds for (src/image/srgb8.c): the IEC 61966-2-1 curve in
+** double, rounded to the byte.  The reference the table must equal
+** exactly: no tolerance, bytes are compared.
+*/
+static unsigned srgb8_formula(float x)
+{
+    double l = !(x > 0.0f) ? 0.0 : x < 1.0f ? (double)x : 1.0;
+    double e = l <= 0.0031308 ? 12.92 * l
+                              : 1.055 * pow(l, 1.0 / 2.4) - 0.055;
+
+    return (unsigned char)(e * 255.0 + 0.5);
+}
+
+/* The least float whose formula byte is k (1 .. 255): the decoding
+** curve's value at (k - 0.5) / 255 as a first guess, then moved a float
+** at a time until the float below has byte k - 1 and it has k. */
+static float srgb8_threshold(unsigned k)
+{
+    double e = (k - 0.5) / 255.0;
+    float x = (float)(e <= 0.04045 ? e / 12.92
+                                   : pow((e + 0.055) / 1.055, 2.4));
+
+    while (srgb8_formula(x) >= k)
+        x = nextafterf(x, 0.0f);
+    while (srgb8_formula(x) < k)
+        x = nextafterf(x, 2.0f);
+    return x;
+}
+
+/* The library's byte of one value. */
+static unsigned srgb8_library(float x)
+{
+    float rgb[3] = {x, x, x};
+    unsigned char out[3];
+
+    ck_assert_int_eq(ray_image_to_srgb8(rgb, 1, out), RAY_OK);
+    ck_assert(out[0] == out[1] && out[1] == out[2]);
+    return out[0];
+}
+
+/*
+** The same bytes as the pow formula for every input: at each of the 255
+** thresholds where the byte changes and 8 floats either side of it
+** (where a pow rounding differently could move a step; elsewhere
+** E(x) 255 + 0.5 is farther from an integer than pow's error, since a
+** float step moves it by about 2^-24 / 2.4 of itself), around the
+** curve's joint at 0.0031308, and over a sweep of every 127th float of
+** [0, 1] (8.4 million) in blocks of 4096 (one call each), plus the
+** values beyond: negative, over 1, infinite, NaN.
+*/
+START_TEST(srgb8_should_give_the_pow_formulas_bytes_for_every_float)
+{
+    static float in[3 * 4096];
+    static unsigned char out[3 * 4096];
+    const float beyond[] = {-0.0f, -1e-30f, -1.0f, 1.0f, 1.5f, 1e30f,
+                            INFINITY, -INFINITY, NAN};
+    float x;
+    uint32_t bits;
+    unsigned k, i, n = 0, wrong = 0;
+    int j;
+
+    for (k = 1; k <= 255; k++) {
+        float t = srgb8_threshold(k), y = t;
+        ck_assert_uint_eq(srgb8_library(t), k);
+        ck_assert_uint_eq(srgb8_library(nextafterf(t, 0.0f)), k - 1);
+        for (j = 0; j < 8; j++)
+            y = nextafterf(y, 0.0f);
+        for (j = 0; j < 17; j++, y = nextafterf(y, 2.0f))
+            ck_assert_uint_eq(srgb8_library(y), srgb8_formula(y));
+    }
+    x = 0.0031308f;
+    for (j = 0; j < 64; j++)
+        x = nextafterf(x, 0.0f);
+    for (j = 0; j < 129; j++, x = nextafterf(x, 2.0f))
+        ck_assert_uint_eq(srgb8_library(x), srgb8_formula(x));
+    for (i = 0; i < sizeof beyond / sizeof beyond[0]; i++)
+        ck_assert_uint_eq(srgb8_library(beyond[i]), srgb8_formula(beyond[i]));
+    /* Floats of [0, 1] by their bit patterns, 0 .. 0x3f800000. */
+    for (bits = 0; bits <= 0x3f800000u; bits += 127) {
+        memcpy(&in[n], &bits, sizeof bits);
+        if (++n == 3 * 4096 || bits + 127 > 0x3f800000u) {
+            ck_assert_int_eq(ray_image_to_srgb8(in, n / 3 + (n % 3 != 0), out), RAY_OK);
+            for (k = 0; k < n; k++)
+                wrong += out[k] != srgb8_formula(in[k]);
+            n = 0;
+        }
+    }
+    ck_assert_uint_eq(wrong, 0);
 }
 END_TEST
 
@@ -576,6 +671,7 @@ Suite *png_suite(void)
     TCase *tc = tcase_create("io");
 
     tcase_add_test(tc, srgb8_should_follow_the_srgb_curve);
+    tcase_add_test(tc, srgb8_should_give_the_pow_formulas_bytes_for_every_float);
 #if RAY_TEST_PNG
     tcase_add_test(tc, png8_should_read_back_identical_bytes);
     tcase_add_test(tc, png16_should_keep_linear_values);

@@ -92,16 +92,14 @@ typedef struct refit_job {
     ray__bvh *bvh;
     ray__range_box_fn range_box;
     const void *ud;
-    unsigned tasks;
 } refit_job;
 
-static void refit_task(void *arg, unsigned i)
+static void refit_task(void *arg, unsigned k, size_t begin, size_t end)
 {
     const refit_job *job = arg;
-    size_t n = job->bvh->n_leaves;
 
-    refit_leaf_run(job->bvh, job->range_box, job->ud, n * i / job->tasks,
-                   n * (i + 1) / job->tasks);
+    (void)k;
+    refit_leaf_run(job->bvh, job->range_box, job->ud, begin, end);
 }
 
 /*
@@ -129,12 +127,16 @@ static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
         threads = REFIT_MAX_THREADS;
     if ((threads > 1 || (sched != NULL && sched->run != NULL)) &&
         bvh->n_leaves >= REFIT_PARALLEL_LEAVES) {
+        size_t tasks = (size_t)threads * REFIT_RUNS_PER_THREAD;
         refit_job job;
         job.bvh = bvh;
         job.range_box = range_box;
         job.ud = ud;
-        job.tasks = threads * REFIT_RUNS_PER_THREAD;
-        ray__tasks_run(sched, a, threads, 0, job.tasks, refit_task, &job);
+        /* tasks runs (or a few fewer where they do not divide the
+        ** leaves), at most 256: a task number holds them. */
+        (void)ray__tasks_runs(sched, a, threads, 0, bvh->n_leaves,
+                              (bvh->n_leaves + tasks - 1) / tasks,
+                              refit_task, &job);
     } else {
         refit_leaf_run(bvh, range_box, ud, 0, bvh->n_leaves);
     }

@@ -411,18 +411,15 @@ static int builder_parallel(const builder *bd)
 
 typedef struct bin_job {
     const builder *bd;
-    size_t begin, end;
     const box *cb;
     const float *scale;
     int nb;
     bin_set *sets;
 } bin_job;
 
-static void bin_run_task(void *ud, unsigned k)
+static void bin_run_task(void *ud, unsigned k, size_t begin, size_t end)
 {
     const bin_job *job = ud;
-    size_t begin = job->begin + (size_t)k * BIN_RUN;
-    size_t end = job->end - begin > BIN_RUN ? begin + BIN_RUN : job->end;
 
     bin_items(job->bd, begin, end, job->cb, job->scale, job->nb,
               &job->sets[k]);
@@ -449,13 +446,12 @@ static void bin_node(const builder *bd, size_t begin, size_t end,
         return;
     }
     job.bd = bd;
-    job.begin = begin;
-    job.end = end;
     job.cb = cb;
     job.scale = scale;
     job.nb = nb;
-    ray__tasks_run(bd->sched, bd->alloc, bd->threads, 0, (unsigned)runs,
-                   bin_run_task, &job);
+    /* runs fits a task number (tested above): every run is binned. */
+    (void)ray__tasks_runs(bd->sched, bd->alloc, bd->threads, begin, end,
+                          BIN_RUN, bin_run_task, &job);
     *out = job.sets[0];
     for (k = 1; k < runs; k++)
         bins_merge(out, &job.sets[k], nb);
@@ -538,7 +534,6 @@ typedef struct refs_job {
     builder *bd;
     ray__box_fn box_of;
     const void *ud;
-    size_t n;
 } refs_job;
 
 static void refs_fill(builder *bd, ray__box_fn box_of, const void *ud,
@@ -553,31 +548,29 @@ static void refs_fill(builder *bd, ray__box_fn box_of, const void *ud,
     }
 }
 
-static void refs_task(void *ud, unsigned k)
+static void refs_task(void *ud, unsigned k, size_t begin, size_t end)
 {
     const refs_job *job = ud;
-    size_t begin = (size_t)k * BIN_RUN;
 
-    refs_fill(job->bd, job->box_of, job->ud, begin,
-              job->n - begin > BIN_RUN ? begin + BIN_RUN : job->n);
+    (void)k;
+    refs_fill(job->bd, job->box_of, job->ud, begin, end);
 }
 
 void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
                    size_t n, bounds *root)
 {
-    size_t runs = (n + BIN_RUN - 1) / BIN_RUN, i;
     int parallel = bd->costs->box_threads && builder_parallel(bd);
+    refs_job job;
     bounds4 b;
+    size_t i;
 
     bounds4_empty(&b);
-    if (parallel && runs >= 2 && runs <= 0xffffffffu) {
-        refs_job job;
-        job.bd = bd;
-        job.box_of = box_of;
-        job.ud = ud;
-        job.n = n;
-        ray__tasks_run(bd->sched, bd->alloc, bd->threads, 0, (unsigned)runs,
-                       refs_task, &job);
+    job.bd = bd;
+    job.box_of = box_of;
+    job.ud = ud;
+    if (parallel && n > BIN_RUN &&
+        ray__tasks_runs(bd->sched, bd->alloc, bd->threads, 0, n, BIN_RUN,
+                        refs_task, &job)) {
         /* The root's bounds in item order, as below: the same floats. */
         for (i = 0; i < n; i++)
             bounds4_grow(&b, &bd->refs[i]);

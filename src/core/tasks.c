@@ -150,3 +150,37 @@ void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
     job.ud = &in_env;
     run_threads(a, threads, stack, &job);
 }
+
+/* ray__tasks_runs's work: the range, its runs' size and the callback. */
+typedef struct runs_job {
+    size_t begin, end, run;
+    ray__run_fn fn;
+    void *ud;
+} runs_job;
+
+static void run_task(void *arg, unsigned k)
+{
+    const runs_job *job = arg;
+    size_t begin = job->begin + (size_t)k * job->run;
+
+    job->fn(job->ud, k, begin,
+            job->end - begin > job->run ? begin + job->run : job->end);
+}
+
+int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
+                    unsigned threads, size_t begin, size_t end, size_t run,
+                    ray__run_fn fn, void *ud)
+{
+    size_t runs = (end - begin) / run + ((end - begin) % run != 0);
+    runs_job job;
+
+    if (runs > 0xffffffffu)                 /* beyond the task count */
+        return 0;
+    job.begin = begin;
+    job.end = end;
+    job.run = run;
+    job.fn = fn;
+    job.ud = ud;
+    ray__tasks_run(scheduler, a, threads, 0, (unsigned)runs, run_task, &job);
+    return 1;
+}

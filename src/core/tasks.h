@@ -27,6 +27,21 @@ void ray__tasks_run(const ray_scheduler *scheduler, const ray__allocator *a,
                     unsigned threads, size_t stack, unsigned count,
                     ray_task_fn task, void *ud);
 
+/*
+** A range of items in runs, a task each: fn(ud, k, b, e) for run k, the
+** items b .. e - 1 of begin .. end - 1 cut into runs of "run" items (the
+** last one shorter), on ray__tasks_run's threads.  For the passes whose
+** runs write only their own items' outputs (or run k's own result), so
+** that the bytes are the same at any thread count.  Returns 0 and runs
+** nothing where the runs are more than a task number holds: the caller
+** then does the range itself.
+*/
+typedef void (*ray__run_fn)(void *ud, unsigned k, size_t begin, size_t end);
+
+int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
+                    unsigned threads, size_t begin, size_t end, size_t run,
+                    ray__run_fn fn, void *ud);
+
 /* How many tasks a render or photon pass makes: "threads" (its options')
 ** if not 0, else the scheduler's threads if it says, else one per online
 ** CPU. */

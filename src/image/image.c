@@ -3,9 +3,8 @@
 ** image.c -- images for textures, kept as linear RGB floats (loaded from
 ** PNG files by png.c, or copied from memory by ray_image_new) with their
 ** mip pyramid, sampled with wrap-around and bilinear filtering, or
-** trilinearly between two levels of the pyramid for a footprint; and the
-** sRGB encoding of float pixels, which needs no libpng (a build with
-** PNG=0 keeps it).
+** trilinearly between two levels of the pyramid for a footprint (the
+** sRGB encoding of float pixels is srgb8.c's).
 */
 #include <stdlib.h>
 #include <string.h>
@@ -217,26 +216,6 @@ const float *ray__image_level(const ray_image *img, unsigned k,
     *width = img->level[k].width;
     *height = img->level[k].height;
     return img->level[k].rgb;
-}
-
-/* The sRGB transfer function, IEC 61966-2-1:1999 section 5.2. */
-static double srgb_encode(double linear)
-{
-    if (linear <= 0.0031308)
-        return 12.92 * linear;
-    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
-}
-
-int ray_image_to_srgb8(const float *rgb, size_t count, unsigned char *out)
-{
-    size_t i;
-
-    if (rgb == NULL || out == NULL)
-        return RAY_EINVAL;
-    for (i = 0; i < 3 * count; i++)
-        out[i] = (unsigned char)(srgb_encode(ray__unit_clamp(rgb[i])) *
-                                 255.0 + 0.5);
-    return RAY_OK;
 }
 
 void ray_image_free(ray_image *img)

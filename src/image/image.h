@@ -26,13 +26,4 @@ unsigned ray__image_levels(const ray_image *img);
 const float *ray__image_level(const ray_image *img, unsigned k,
                               unsigned *width, unsigned *height);
 
-/* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN).  For
-** the 8-bit sRGB (image.c) and 16-bit linear (png.c) encodings. */
-static inline double ray__unit_clamp(float x)
-{
-    if (!(x > 0.0f))
-        return 0.0;
-    return x < 1.0f ? (double)x : 1.0;
-}
-
 #endif /* RAY_IMAGE_H */

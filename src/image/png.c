@@ -29,12 +29,22 @@
 #include "core/platform.h"
 #include "image/image.h"
 
+/* Clamp to [0, 1]; NaN goes to 0 (the comparison is false for NaN).  For
+** the 16-bit linear encoding (the 8-bit sRGB one, srgb8.c, clamps by its
+** table). */
+static double linear16_clamp(float x)
+{
+    if (!(x > 0.0f))
+        return 0.0;
+    return x < 1.0f ? (double)x : 1.0;
+}
+
 static void to_linear16(const float *rgb, size_t count, png_uint_16 *out)
 {
     size_t i;
 
     for (i = 0; i < 3 * count; i++)
-        out[i] = (png_uint_16)(ray__unit_clamp(rgb[i]) * 65535.0 + 0.5);
+        out[i] = (png_uint_16)(linear16_clamp(rgb[i]) * 65535.0 + 0.5);
 }
 
 /*

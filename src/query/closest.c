@@ -42,7 +42,9 @@ static inline double min2(double a, double b)
 ** ("widen").  That makes the answer the world's nearest point for any
 ** invertible affine transform (issue 30), where searching the child in
 ** its own metric and mapping its answer back is right only for a
-** similarity.
+** similarity.  The candidates' world points and q are rounded on their
+** way between the spaces, so the boxes face that radius grown by the
+** rounding margin that instance_margin derives ("margin").
 */
 typedef struct query {
     ray_vec3 q;              /* in the space of the scene searched */
@@ -51,28 +53,35 @@ typedef struct query {
     const ray__instance *in; /* the instance searched through, or NULL */
     unsigned inst_id;        /* its geometry id in the top scene */
     double widen;            /* |L^-1|_2 inside an instance, else 1 */
+    double margin;           /* the transforms' rounding, in the child's
+                                units, inside an instance, else 0 */
     double scale;            /* 2^-k */
     double best;             /* the search radius: radius, then nearest */
-    double best2;            /* >= (best widen scale)^2, what boxes face */
+    double best2;            /* >= ((best widen + margin) scale)^2, what
+                                boxes face (set_best) */
     int found;
     int stale;               /* met an instance whose child changed */
     ray_closest out;
 } query;
 
 /*
-** best2 from best: an upper bound on (best widen scale)^2: best widen
-** rounds once (relative u) and its scaling is exact but where it
-** underflows (off by at most 2^-1075), the square rounds once more
-** (relative u, or 2^-1075 where it underflows), so the rounded square
-** times 1 + gamma(4) (its own rounding included) plus two subnormals
-** covers it.  +Inf stays +Inf: nothing is pruned.
+** best2 from best: an upper bound on ((best (1 + 3u) widen + margin)
+** scale)^2.  A candidate kept at computed distance d <= best lies within
+** d (1 + 3u) of q (ray__distance's 3 ulps), so 1 + 6u for the square.
+** best widen and the sum round once each (relative u; the sum of two
+** non-negative terms, exact where margin is 0) and the scaling is exact
+** but where it underflows (off by at most 2^-1075), the square rounds
+** once more (relative u, or 2^-1075 where it underflows): with this
+** product's own rounding, (1 + 6u) (1 + u)^6 <= 1 + gamma(12), so the
+** rounded square times 1 + gamma(12) plus two subnormals covers it.
+** +Inf stays +Inf: nothing is pruned.
 */
 static void set_best(query *qs, double best)
 {
-    double b = best * qs->widen * qs->scale;
+    double b = (best * qs->widen + qs->margin) * qs->scale;
 
     qs->best = best;
-    qs->best2 = b * b * (1 + ray__gamma(4)) + 2 * RAY__TINY;
+    qs->best2 = b * b * (1 + ray__gamma(12)) + 2 * RAY__TINY;
     if (!(qs->best2 >= 0))      /* 0 times an infinite widen: prune nothing */
         qs->best2 = HUGE_VAL;
 }
@@ -436,6 +445,74 @@ static int prim_closest(const ray_scene *s, unsigned i, const query *qs,
 
 static void search_in(const ray_scene *s, query *qs);
 
+/* The largest |coordinate| along axis k of the child's box (its
+** geometry's, rounded outward at commit); 0 for an empty child. */
+static double child_extent(const ray_scene *c, int k)
+{
+    double lo = k == 0 ? c->lo.x : k == 1 ? c->lo.y : c->lo.z;
+    double hi = k == 0 ? c->hi.x : k == 1 ? c->hi.y : c->hi.z;
+
+    return lo <= hi ? fmax(fabs(lo), fabs(hi)) : 0.0;
+}
+
+/*
+** How far, in the child's units, an object point t of a candidate whose
+** world distance was computed as d from qw can lie from q (the child's
+** image of qw, as computed) beyond widen d: the boxes hold t, so a box
+** farther from q than (best widen + margin) holds no candidate nearer
+** than best (issue 38's review: through an instance at 2^40 the rounded
+** world triangles stood half an ulp of 2^40 nearer than the child's
+** exact boxes said, and a radius equal to a found distance found
+** nothing).  Three roundings, with M = inv as rounded and the child's
+** points within E_j = child_extent(j) per axis:
+**   world: the candidate's world point p, computed from the corners
+**     L a + c rounded (gamma(4) (|L| |a| + |c|) per component, as in
+**     ray__instance_to_world) and then its nearest point (on its
+**     triangle to gamma(3) (|a| + |b - a| + |c - a|), nearest.c; the
+**     other kinds to a few ulps of the same magnitudes), lies within
+**     (gamma(4) + 5 gamma(3)) (1 + gamma(4)) R per component of an exact
+**     point L t + c, R = max_k sum_j |L_kj| E_j + |c_k|: under 20 u R,
+**     and under 35 u R in the 2-norm (sqrt(3) 20 < 35), which gamma(64)
+**     R bounds with room for the other kinds' few ulps.  |p - qw|
+**     itself is within 3 ulps of d (ray__distance), which set_best
+**     covers;
+**   into the child: M (L t + c - c) = t + (M L - I) t, off t by at most
+**     inv_residual |t|, |t| <= E_0 + E_1 + E_2;
+**   q: M (qw - c) is computed with gamma(4) sum_j |M_kj| (|qw_j| + |c_j|)
+**     per component (the difference rounds once, the row's dot product
+**     three times; ray__instance_box forms the same terms), under their
+**     sum over k in the 2-norm.
+** With |M|_2 <= widen, |t - q| <= widen (d + world) + residual + q's:
+** the margin is the last three, rounded up by gamma(4) for their own
+** sums and products.  An overflowing term makes it +Inf: nothing is
+** pruned (or NaN, which set_best takes the same way).
+*/
+static double instance_margin(const ray__instance *in, ray_vec3 qw,
+                              double widen)
+{
+    const double (*m)[4] = in->xfm.m;
+    const double q[3] = {qw.x, qw.y, qw.z};
+    double e[3], reach = 0, t = 0, q_err = 0, world;
+    int j, k;
+
+    for (j = 0; j < 3; j++) {
+        e[j] = child_extent(in->child, j);
+        t += e[j];
+    }
+    for (k = 0; k < 3; k++) {
+        double row = fabs(m[k][3]), back = 0;
+        for (j = 0; j < 3; j++) {
+            row += fabs(m[k][j]) * e[j];
+            back += fabs(in->inv[k][j]) * (fabs(q[j]) + fabs(m[j][3]));
+        }
+        reach = fmax(reach, row);
+        q_err += ray__gamma(4) * back;
+    }
+    world = ray__gamma(64) * reach;
+    return (widen * world + in->inv_residual * t + q_err) *
+           (1 + ray__gamma(4));
+}
+
 /*
 ** Instance i: its child searched with q taken into its space and the
 ** world's search radius widened by |L^-1|_2 for its boxes, every
@@ -458,6 +535,7 @@ static void visit_instance(const ray_scene *s, unsigned i, query *qs)
     child.in = in;
     child.inst_id = i;
     child.widen = in->inv_spec;
+    child.margin = instance_margin(in, qs->qw, in->inv_spec);
     if (!child.q_ok) {
         /* q's image is past DBL_MAX (a transform with a row near 1e-307
         ** flattens the child, and q lies far off it: issue 38, defect 7),
@@ -469,6 +547,7 @@ static void visit_instance(const ray_scene *s, unsigned i, query *qs)
         ** parallelepiped's. */
         child.q = v3(0, 0, 0);
         child.widen = HUGE_VAL;
+        child.margin = 0;
     }
     search_in(in->child, &child);
     qs->stale |= child.stale;
@@ -684,6 +763,7 @@ int ray_closest_point(const ray_scene *s, ray_vec3 q, double radius,
     qs.in = NULL;
     qs.inst_id = RAY_INVALID_ID;
     qs.widen = 1;
+    qs.margin = 0;
     qs.best = radius;
     qs.found = 0;
     qs.stale = 0;

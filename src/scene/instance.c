@@ -149,6 +149,38 @@ static void singular_values(ray__instance *in)
 }
 
 /*
+** A bound on |M L - I|_2 for M = inv as rounded: what the closest-point
+** search (query/closest.c) adds for a point mapped into the child's
+** space by M, where the child's geometry was mapped out by L.  The
+** product M L formed in double is within gamma(3) |M| |L| of the exact
+** one, entry by entry (Higham, "Accuracy and Stability of Numerical
+** Algorithms", 2nd ed., 2002, eq. 3.13); the 2-norm is at most the
+** Frobenius norm, and the sums, squares and roots that form the two
+** Frobenius norms round a few times more, which gamma(4) for gamma(3)
+** and the final 1 + gamma(8) cover with room.  0 only where it is: an
+** L of powers of two on the diagonal, say, still gets gamma(4)'s part.
+*/
+static void inverse_residual(ray__instance *in)
+{
+    double r2 = 0, a2 = 0;
+    int i, j, k;
+
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            double p = 0, a = 0, r;
+            for (k = 0; k < 3; k++) {
+                p += in->inv[i][k] * in->xfm.m[k][j];
+                a += fabs(in->inv[i][k]) * fabs(in->xfm.m[k][j]);
+            }
+            r = p - (i == j ? 1.0 : 0.0);
+            r2 += r * r;
+            a2 += a * a;
+        }
+    in->inv_residual = (sqrt(r2) + ray__gamma(4) * sqrt(a2)) *
+                       (1 + ray__gamma(8));
+}
+
+/*
 ** Whether L is a rotation times a uniform scale s (L^T L = s^2 I): then
 ** distances scale by s exactly (to rounding) and a closest-point query
 ** through the instance is exact.  Within 64 ulps of s^2, entry by entry:
@@ -205,6 +237,7 @@ static int transform_set(ray_scene *s, ray__instance *in,
     }
     in->xfm = *t;
     similarity(in);
+    inverse_residual(in);
     in->linear_identity = 1;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)

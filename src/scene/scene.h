@@ -82,6 +82,8 @@ typedef struct ray__instance {
                                 more than this times the world one */
     double inv_spec;         /* |L^-1|_2 = 1 / L's smallest singular value,
                                 rounded up: the least such factor */
+    double inv_residual;     /* >= |inv L - I|_2: how far inv, as rounded,
+                                is from L's exact inverse */
     double axes[3][3];       /* L = U diag(sv) V^T: U (its columns), what a */
     double sv[3];            /* sphere's ellipsoid has for axes; sv
                                 descending (sv[0] = 0: none computed) */
@@ -437,9 +439,12 @@ static inline int ray__corners_usable(ray_vec3 a, ray_vec3 b, ray_vec3 c)
 ** is filled from it.
 */
 /* A mesh triangle's corners (ray__tri_by_id's for a mesh), into *t: a
-** small function that inlines where the refit reads every triangle. */
-static inline void ray__mesh_tri(const ray__mesh *m, unsigned prim_id,
-                                 ray__tri *t)
+** small function that inlines where the refit reads every triangle,
+** always (RAY__HOT_INLINE): with triangles.c's refit_corners calling it
+** too, gcc's choice changed the SSE2 refit_leaf's code, 0.4% more
+** instructions in bench/filter --profile refit (callgrind, issue 36). */
+RAY__HOT_INLINE void ray__mesh_tri(const ray__mesh *m, unsigned prim_id,
+                                   ray__tri *t)
 {
     const unsigned *k = m->indices + 3 * (size_t)prim_id;
 

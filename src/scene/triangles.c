@@ -104,21 +104,18 @@ RAY__HOT_INLINE int slot_corners_at(const ray_scene *s, size_t slot,
     return 1;
 }
 
-/* The corners of live slot "slot" into *t, as ray__tri_of reads them
-** (slot_corners_at; *m and *m_geom its cache). */
+/* The corners of live slot "slot" into *t, as ray__tri_of reads them:
+** found by slot_corners_at (*m and *m_geom its cache), a mesh's read
+** through ray__mesh_tri, which applies the rule for a triangle without
+** a normal (the pointers into its positions go unused). */
 RAY__HOT_INLINE void refit_corners(const ray_scene *s, size_t slot,
                                     const ray__mesh **m, unsigned *m_geom,
                                     ray__tri *t)
 {
     const ray_vec3 *p[3];
 
-    if (slot_corners_at(s, slot, m, m_geom, t, p)) {
-        t->a = *p[0];
-        t->b = *p[1];
-        t->c = *p[2];
-        if (!ray__corners_usable(t->a, t->b, t->c))
-            t->b = t->c = t->a;
-    }
+    if (slot_corners_at(s, slot, m, m_geom, t, p))
+        ray__mesh_tri(*m, s->tri_ids[slot].prim_id, t);
 }
 
 /* The float box of slot i, rounded outward (the build's box callback). */
@@ -209,38 +206,31 @@ typedef void (*slot_fn)(const ray_scene *s, size_t begin, size_t end,
 
 typedef struct slot_job {
     const ray_scene *s;
-    size_t n;
     slot_fn fn;
     void *out;
 } slot_job;
 
-static void slot_task(void *ud, unsigned k)
+static void slot_task(void *ud, unsigned k, size_t begin, size_t end)
 {
     const slot_job *job = ud;
-    size_t begin = (size_t)k * SLOT_RUN;
 
-    job->fn(job->s, begin,
-            job->n - begin > SLOT_RUN ? begin + SLOT_RUN : job->n, job->out);
+    (void)k;
+    job->fn(job->s, begin, end, job->out);
 }
 
 static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
 {
-    size_t runs = (n + SLOT_RUN - 1) / SLOT_RUN;
     /* 0: one a CPU, as the build's own threads (build.c). */
     unsigned threads = s->build_threads != 0 ? s->build_threads
                                              : ray__online_cpus();
     slot_job job;
 
     job.s = s;
-    job.n = n;
     job.fn = fn;
     job.out = out;
-    if (runs > 0xffffffffu) {               /* beyond the task count */
+    if (!ray__tasks_runs(&s->scheduler, &s->alloc, threads, 0, n, SLOT_RUN,
+                         slot_task, &job))
         fn(s, 0, n, out);
-        return;
-    }
-    ray__tasks_run(&s->scheduler, &s->alloc, threads, 0, (unsigned)runs,
-                   slot_task, &job);
 }
 
 /* Slots begin .. end - 1's rows, by slot, into out (leaves_make). */
@@ -464,6 +454,17 @@ static void leaf_tris_make(ray_scene *s, size_t n)
     slots_run(s, n, copies_by_slot, s->leaf_tri);
 }
 
+/* How many slots the rebuild below puts in the BVH: those tri_live
+** keeps, the filter its partition applies. */
+size_t ray__triangles_live(const ray_scene *s)
+{
+    size_t n = 0, i;
+
+    for (i = 0; i < s->n_tris; i++)
+        n += (size_t)tri_live(s, i);
+    return n;
+}
+
 /*
 ** The triangle BVH, rebuilt: removed geometry's slots go for good, the
 ** slots of enabled geometry are moved to the front (the others wait
@@ -474,16 +475,6 @@ static void leaf_tris_make(ray_scene *s, size_t n)
 ** is; a failure (out of memory) leaves the scene without a triangle BVH,
 ** uncommitted, its changes staged for the next commit.
 */
-size_t ray__triangles_live(const ray_scene *s)
-{
-    size_t n = 0, i;
-
-    for (i = 0; i < s->n_tris; i++)
-        n += (size_t)(!s->prims[s->tri_ids[i].geom_id].removed &&
-                      tri_live(s, i));
-    return n;
-}
-
 int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
 {
     size_t n = 0, i, scratch_bytes;
@@ -684,6 +675,19 @@ static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
     }
 }
 
+/* The point whose x and y are in xy's lanes and z in z's low lane. */
+static inline ray_vec3 vec3_sse2(__m128d xy, __m128d z)
+{
+    double out[2];
+    ray_vec3 v;
+
+    _mm_storeu_pd(out, xy);
+    v.x = out[0];
+    v.y = out[1];
+    _mm_store_sd(&v.z, z);
+    return v;
+}
+
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
                        float hi[3])
 {
@@ -693,8 +697,6 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
     const ray__mesh *m = NULL;
     unsigned m_geom = (unsigned)-1;
     refit_box x;
-    ray_vec3 a, b;
-    double out[2];
     size_t j;
 
     x.lo_xy = x.hi_xy = x.lo_z = x.hi_z = _mm_setzero_pd();
@@ -705,15 +707,7 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
         refit_tri_sse2(p[0], p[1], p[2], mesh, j == 0, &x, rows + j, n,
                        copy != NULL ? copy + j : NULL);
     }
-    _mm_storeu_pd(out, x.lo_xy);
-    a.x = out[0];
-    a.y = out[1];
-    _mm_store_sd(&a.z, x.lo_z);
-    _mm_storeu_pd(out, x.hi_xy);
-    b.x = out[0];
-    b.y = out[1];
-    _mm_store_sd(&b.z, x.hi_z);
-    box_out(a, b, lo, hi);
+    box_out(vec3_sse2(x.lo_xy, x.lo_z), vec3_sse2(x.hi_xy, x.hi_z), lo, hi);
 }
 #else
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
