@@ -143,7 +143,7 @@ static void closest_row(const char *name, const ray_scene *s,
     } else
 #endif
         printf("- | - | - |\n");
-    (void)worst, (void)diag;
+    (void)worst, (void)diag, (void)theirs, (void)ratio;
     free(d);
     free(c);
 }
