@@ -96,6 +96,67 @@ static int key_cmp(const void *pa, const void *pb)
     return (a > b) - (a < b);
 }
 
+/* One tool's pass over a row's n points, its answers into out. */
+typedef void (*row_pass)(const void *tool, const ray_vec3 *pts, size_t n,
+                         void *out);
+
+/*
+** A row's timing: after a warm-up pass, reps passes of libray's pass and
+** (where "theirs" is not NULL) the other tool's, interleaved so that a
+** noisy neighbour hits both: points a second in ours[k] and theirs[k],
+** and ratio[k] = ours[k] / theirs[k] (0 without the other tool).
+*/
+static void time_row(row_pass our_pass, const void *us, void *our_out,
+                     row_pass their_pass, const void *them, void *their_out,
+                     const ray_vec3 *pts, size_t n, int reps, double *ours,
+                     double *theirs, double *ratio)
+{
+    int k;
+
+    for (k = -1; k < reps; k++) {             /* k = -1: warm-up */
+        double t0 = now();
+        our_pass(us, pts, n, our_out);
+        if (k >= 0)
+            ours[k] = (double)n / (now() - t0);
+        if (their_pass == NULL || them == NULL) {
+            if (k >= 0)
+                theirs[k] = ratio[k] = 0;
+            continue;
+        }
+        t0 = now();
+        their_pass(them, pts, n, their_out);
+        if (k >= 0) {
+            theirs[k] = (double)n / (now() - t0);
+            ratio[k] = ours[k] / theirs[k];
+        }
+    }
+}
+
+/* libray's nearest-point distances, radius +Inf, into out (doubles). */
+static void closest_pass(const void *s, const ray_vec3 *pts, size_t n,
+                         void *out)
+{
+    double *d = out;
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        ray_closest cl;
+        if (ray_closest_point(s, pts[i], HUGE_VAL, &cl) != 1)
+            die("ray_closest_point found nothing");
+        d[i] = cl.distance;
+    }
+}
+
+#ifdef HAVE_CGAL
+static void cgal_closest_pass(const void *c, const ray_vec3 *pts, size_t n,
+                              void *out)
+{
+    cgal_closest_query(c, &pts[0].x, n, out);
+}
+#else
+#define cgal_closest_pass NULL
+#endif
+
 /* ray_closest_point (radius +Inf) against CGAL's AABB_tree::closest_point
 ** on the same points, one thread, reps interleaved passes: thousands of
 ** points a second, and the largest difference of the distances over the
@@ -106,36 +167,13 @@ static void closest_row(const char *name, const ray_scene *s,
 {
     double ours[16], theirs[16], ratio[16], worst = 0;
     double *d = xmalloc(n * sizeof *d), *c = xmalloc(n * sizeof *c);
-    size_t i;
-    int k;
 
-    (void)cgal;
-    for (k = -1; k < reps; k++) {             /* k = -1: warm-up */
-        double t0 = now();
-        for (i = 0; i < n; i++) {
-            ray_closest cl;
-            if (ray_closest_point(s, pts[i], HUGE_VAL, &cl) != 1)
-                die("ray_closest_point found nothing");
-            d[i] = cl.distance;
-        }
-        if (k >= 0)
-            ours[k] = (double)n / (now() - t0);
-#ifdef HAVE_CGAL
-        t0 = now();
-        if (cgal != NULL)
-            cgal_closest_query(cgal, &pts[0].x, n, c);
-        if (k >= 0) {
-            theirs[k] = (double)n / (now() - t0);
-            ratio[k] = ours[k] / theirs[k];
-        }
-#else
-        if (k >= 0)
-            theirs[k] = ratio[k] = 0;
-#endif
-    }
+    time_row(closest_pass, s, d, cgal_closest_pass, cgal, c, pts, n, reps,
+             ours, theirs, ratio);
     printf("| %s | %zu | %.1f | ", name, n, median(ours, reps) / 1e3);
 #ifdef HAVE_CGAL
     if (cgal != NULL) {
+        size_t i;
         for (i = 0; i < n; i++)
             worst = fmax(worst, fabs(d[i] - c[i]));
         printf("%.1f | %.2f | %.1e |\n", median(theirs, reps) / 1e3,
@@ -143,7 +181,7 @@ static void closest_row(const char *name, const ray_scene *s,
     } else
 #endif
         printf("- | - | - |\n");
-    (void)worst, (void)diag, (void)theirs, (void)ratio;
+    (void)worst, (void)diag;
     free(d);
     free(c);
 }
@@ -191,6 +229,24 @@ static cgal_side *cgal_of(const ray_mesh *m)
 }
 #endif
 
+/* libray's answers for the row (the batch call), into out (ray_inside). */
+static void contains_pass(const void *s, const ray_vec3 *pts, size_t n,
+                          void *out)
+{
+    if (ray_contains(s, pts, n, NULL, out) < 0)
+        die("ray_contains failed");
+}
+
+#ifdef HAVE_CGAL
+static void cgal_side_pass(const void *c, const ray_vec3 *pts, size_t n,
+                           void *out)
+{
+    cgal_side_query(c, &pts[0].x, n, out);
+}
+#else
+#define cgal_side_pass NULL
+#endif
+
 /* One row: points a second for libray (the batch call) and CGAL,
 ** medians of reps interleaved passes, and the points where they
 ** differ. */
@@ -202,28 +258,9 @@ static void contains_row(const char *name, const ray_scene *s,
     ray_inside *r = xmalloc(n * sizeof *r);
     signed char *c = xmalloc(n);
     size_t i, differ = 0, on_ours = 0, on_theirs = 0, in_ours = 0;
-    int k;
 
-    (void)cgal;
-    for (k = -1; k < reps; k++) {             /* k = -1: warm-up */
-        double t0 = now();
-        if (ray_contains(s, pts, n, NULL, r) < 0)
-            die("ray_contains failed");
-        if (k >= 0)
-            ours[k] = (double)n / (now() - t0);
-#ifdef HAVE_CGAL
-        t0 = now();
-        if (cgal != NULL)
-            cgal_side_query(cgal, &pts[0].x, n, c);
-        if (k >= 0) {
-            theirs[k] = (double)n / (now() - t0);
-            ratio[k] = ours[k] / theirs[k];
-        }
-#else
-        if (k >= 0)
-            theirs[k] = ratio[k] = 0;
-#endif
-    }
+    time_row(contains_pass, s, r, cgal_side_pass, cgal, c, pts, n, reps,
+             ours, theirs, ratio);
     for (i = 0; i < n; i++) {
         signed char o = side_of(&r[i]);
         on_ours += o == 0;
@@ -243,7 +280,6 @@ static void contains_row(const char *name, const ray_scene *s,
     else
         printf("- | - | - | %zu / - |", on_ours);
 #else
-    (void)theirs;
     (void)differ;
     (void)on_theirs;
     printf("- | - | - | %zu / - |", on_ours);
