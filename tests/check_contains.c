@@ -602,6 +602,56 @@ START_TEST(winding_number_asked)
 }
 END_TEST
 
+/* A point at a triangle's rounded centroid lies within rounding of its
+** plane, on it: the triangle subtends +-2 pi, the sign the exact
+** orientation's (4.6e-18 off the plane here, where a long double
+** determinant rounds to zero).  fuzz_winding found the reference taking
+** the zero's sign bit instead (winding_ref.h); this is its input, a
+** fan of three triangles, and the point moved an ulp across the plane.
+** The angle of 2 pi is exact to within atan2's rounding and the
+** remaining 1e-17 / |den| of the point's distance to the plane, so one
+** triangle's winding number is +-1/2 within 1e-15 (a few ulps of 1/2);
+** the fan's is compared with the reference within WIND_TOL. */
+START_TEST(winding_number_at_a_rounded_centroid)
+{
+    /* The first triangle raised by 2 and by 4 along z. */
+    static ray_vec3 v[9] = {{0, 0, 0}, {7.8125, -7.8125, -7.875},
+                            {-7.5, -7.9375, -7.875}, {0, 0, 2},
+                            {7.8125, -7.8125, -5.875},
+                            {-7.5, -7.9375, -5.875}, {0, 0, 4},
+                            {7.8125, -7.8125, -3.875},
+                            {-7.5, -7.9375, -3.875}};
+    static unsigned idx[9] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    hc_mesh one = {v, idx, 3, 1}, fan = {v, idx, 9, 3};
+    ray_contains_options o = {0};
+    ray_inside out[2];
+    ray_vec3 q[2];
+    ray_scene *s;
+    int i;
+
+    q[0] = v3((0 + 7.8125 - 7.5) / 3, (0 - 7.8125 - 7.9375) / 3,
+              (0 - 7.875 - 7.875) / 3);
+    q[1] = v3(nextafter(q[0].x, -HUGE_VAL), q[0].y, q[0].z);
+    ck_assert(ray__orient3d(v[0], v[1], v[2], q[0]) > 0);
+    ck_assert(ray__orient3d(v[0], v[1], v[2], q[1]) < 0);
+    o.flags = RAY_CONTAINS_WINDING | RAY_CONTAINS_WINDING_EXACT;
+    s = scene_of(&one, 1);
+    ck_assert_int_ge(ray_contains(s, q, 2, &o, out), 0);
+    ck_assert_double_eq_tol(out[0].winding, 0.5, 1e-15);
+    ck_assert_double_eq_tol(out[1].winding, -0.5, 1e-15);
+    for (i = 0; i < 2; i++)
+        ck_assert_double_eq_tol(winding_ref(&one, q[i]), out[i].winding,
+                                WIND_TOL);
+    ray_scene_free(s);
+    s = scene_of(&fan, 1);
+    ck_assert_int_ge(ray_contains(s, q, 2, &o, out), 0);
+    for (i = 0; i < 2; i++)
+        ck_assert_double_eq_tol(winding_ref(&fan, q[i]), out[i].winding,
+                                WIND_TOL);
+    ray_scene_free(s);
+}
+END_TEST
+
 /* The same on a soup of 200 random triangles (offsets 0 and 1e6) beside
 ** a closed cube, and on the finer icosphere of level 3 with a hole at
 ** 1000 uniform points, where the largest error was seen (FAST_TOL). */
@@ -1397,6 +1447,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, fast_winding_damaged);
     tcase_add_test(tc, fast_winding_soup);
     tcase_add_test(tc, winding_number_asked);
+    tcase_add_test(tc, winding_number_at_a_rounded_centroid);
     tcase_add_test(tc, fast_winding_instances);
     tcase_add_test(tc, fast_winding_follows_updates);
     tcase_add_test(tc, solids_instances_masks);

@@ -44,7 +44,14 @@ static inline double winding_ref_sum(const ray_vec3 *v, const unsigned *idx,
         double sign = ray__orient3d(A, B, C, q);
         if (sign == 0)
             continue;
-        if ((det > 0) != (sign > 0))
+        /* A point within rounding of the plane, on the triangle, can
+        ** round det to a zero of either sign, where atan2l would pick
+        ** +-pi from that zero's sign bit (a point at a triangle's
+        ** rounded centroid: fuzz/corpus/fuzz_winding); the exact
+        ** estimate stands in for it then. */
+        if (det == 0)
+            det = (long double)sign;
+        else if ((det > 0) != (sign > 0))
             det = -det;
         sum += 2 * atan2l(det, den);
     }
