@@ -143,6 +143,8 @@ deps-bench: deps-build
 
 # src/query/intersect_avx2.c is the BVH queries again, built with -mavx2 where
 # the compiler targets x86; intersect.c runs it only on CPUs with AVX2.
+# src/scene/refit_avx2.c, the refit's leaf, likewise (triangles.c).
+AVX2_SRCS = src/query/intersect_avx2.c src/scene/refit_avx2.c
 AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
                 $(shell $(CC) -dumpmachine 2>/dev/null)),-mavx2)
 
@@ -154,7 +156,7 @@ $(BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | deps-build
 	$(say) CC $<
 	$(Q)$(CC) $(ALL_CFLAGS) -Isrc -fPIC -fvisibility=hidden -DRAY_BUILD \
 	    $(if $(filter src/image/png.c,$<),$(PNG_CFLAGS)) \
-	    $(if $(filter src/query/intersect_avx2.c,$<),$(AVX2_CFLAGS)) -c $< -o $@
+	    $(if $(filter $(AVX2_SRCS),$<),$(AVX2_CFLAGS)) -c $< -o $@
 
 # The PNG setting the objects were built with: rewritten only when it
 # changes (as Linux's filechk), so that switching PNG in one BUILD
@@ -744,11 +746,11 @@ $(WIN_DEPS)/stamp: scripts/windows-deps.sh
 $(WIN_BUILD)/obj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
 	@mkdir -p $(@D)
 	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD \
-	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+	    $(if $(filter $(AVX2_SRCS),$<),-mavx2) -c $< -o $@
 $(WIN_BUILD)/dllobj/%.o: src/%.c $(PRIVATE_HEADERS) include/ray.h | $(WIN_DEPS)/stamp
 	@mkdir -p $(@D)
 	$(WIN_CC) $(WIN_ALL_CFLAGS) -Isrc -DRAY_BUILD -DRAY_DLL \
-	    $(if $(filter src/query/intersect_avx2.c,$<),-mavx2) -c $< -o $@
+	    $(if $(filter $(AVX2_SRCS),$<),-mavx2) -c $< -o $@
 
 $(WIN_STATIC): $(WIN_OBJS)
 	rm -f $@

@@ -18,10 +18,12 @@
 **   (-mavx2)     not a macro but the compiler's flag: the whole library is
 **                then built for AVX2 (eight-wide box tests and the ray
 **                packets of ray_intersect_batch), and needs a CPU with AVX2.
-**                Without it, the library's AVX2 copy of the queries
-**                (src/query/intersect_avx2.c, which the Makefile and CMake
-**                build with -mavx2 alone) is the baseline code once more:
-**                the same answers, bit for bit, at the baseline's speed.
+**                Without it, the library's AVX2 copies of the queries
+**                and of the refit's leaf (src/query/intersect_avx2.c,
+**                src/scene/refit_avx2.c, which the Makefile and CMake
+**                build with -mavx2 alone) are the baseline code once
+**                more: the same answers, bit for bit, at the baseline's
+**                speed.
 **   RAY_AMALGAMATION_INTERNALS  keeps the internal ray__* functions
 **                external (libray's own tests link them); by default they
 **                are static.

@@ -30,8 +30,9 @@
 # CMakeLists.txt writes), and in
 # compile_commands.json every library file compiled with -std=c99,
 # -ffp-contract=off, -fno-fast-math, -D_POSIX_C_SOURCE=200809L and
-# -fvisibility=hidden, and src/query/intersect_avx2.c alone with the
-# Makefile's AVX2 flag (AVX2_CFLAGS, empty off x86).
+# -fvisibility=hidden, and the AVX2 copies alone (src/query/intersect_avx2.c,
+# src/scene/refit_avx2.c: the Makefile's AVX2_SRCS) with the Makefile's
+# AVX2 flag (AVX2_CFLAGS, empty off x86).
 #
 # CC, CFLAGS, LDFLAGS, AVX2_CFLAGS, VERSION and SOMAJOR come from
 # the environment (the Makefile's).  Without cmake, says so and passes
@@ -146,12 +147,16 @@ $expected_sources"
             *) fail "$mode: $file compiled without $flag: $cmd" ;;
             esac
         done
-        case "$file:$AVX2_CFLAGS: $cmd " in
-        src/query/intersect_avx2.c::*" -mavx2 "*)
+        case $file in
+        src/query/intersect_avx2.c|src/scene/refit_avx2.c) copy=avx2 ;;
+        *) copy=base ;;
+        esac
+        case "$copy:$AVX2_CFLAGS: $cmd " in
+        avx2::*" -mavx2 "*)
             fail "$mode: $file compiled with -mavx2, which the Makefile does not give it here" ;;
-        src/query/intersect_avx2.c::*) ;;
-        src/query/intersect_avx2.c:*:*" $AVX2_CFLAGS "*) ;;
-        src/query/intersect_avx2.c:*)
+        avx2::*) ;;
+        avx2:*:*" $AVX2_CFLAGS "*) ;;
+        avx2:*)
             fail "$mode: $file compiled without $AVX2_CFLAGS: $cmd" ;;
         *" -mavx2 "*) fail "$mode: $file compiled with -mavx2: $cmd" ;;
         esac

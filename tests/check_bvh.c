@@ -13,6 +13,7 @@
 #include "bench.h"
 #include "core/platform.h"
 #include "query/query.h"
+#include "scene/slots.h"
 #include "scheduler_kit.h"
 #include "tests.h"
 
@@ -1371,6 +1372,120 @@ START_TEST(threaded_refit_should_fit_the_same_boxes_at_every_thread_count)
 END_TEST
 
 /*
+** The refit's two leaves (issue 36): src/scene/refit_avx2.c's, which a
+** CPU with AVX2 runs, against triangles.c's SSE2 one (the scene's avx2
+** cleared before the refit's commit), on a mesh of every case a leaf
+** meets: collinear triangles (no normal: read as their first corner),
+** a cross product that overflows (1e200 corners: no normal either),
+** corners beyond RAY__LEAF_FLOAT_MAX (NaN rows), signed zeros (the
+** minima's and maxima's choice between them), and single triangles
+** among the mesh's (the leaf's other lookup).  The boxes, rows, ids and
+** double corners, byte for byte.
+*/
+#define AVX2_TRIS 3000
+
+static ray_vec3 refit_case_corner(rng *g, size_t t, int k, double shift)
+{
+    /* A lattice of eighths, so that a collinear triangle's cross
+    ** product is exactly 0. */
+    ray_vec3 v = v3(floor(rng_range(g, -80, 80)) / 8 + shift,
+                    floor(rng_range(g, -80, 80)) / 8,
+                    floor(rng_range(g, -80, 80)) / 8);
+
+    if (t % 11 == 3 && k == 1)
+        v.y = t % 2 ? 1e19 : -1e19;            /* beyond the float rows */
+    if (t % 13 == 5)
+        v = v3(1e200 * (k + 1), -1e200 * k, 1e200);   /* overflowing */
+    if (t % 5 == 2)
+        v.z = k == 0 ? -0.0 : 0.0;              /* zeros of both signs */
+    return v;
+}
+
+static void refit_case_mesh(ray_vec3 *v, double shift, unsigned seed)
+{
+    rng g = {seed};
+    size_t t;
+    int k;
+
+    for (t = 0; t < AVX2_TRIS; t++) {
+        for (k = 0; k < 3; k++)
+            v[3 * t + (size_t)k] = refit_case_corner(&g, t, k, shift);
+        if (t % 7 == 1)                         /* collinear: c = 2b - a */
+            v[3 * t + 2] = v3(2 * v[3 * t + 1].x - v[3 * t].x,
+                              2 * v[3 * t + 1].y - v[3 * t].y,
+                              2 * v[3 * t + 1].z - v[3 * t].z);
+    }
+}
+
+static ray_scene *refit_case_scene(ray_vec3 *v, unsigned *idx, int avx2)
+{
+    ray_scene *s = NULL;
+    ray_mesh mesh;
+    size_t i;
+
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v;
+    mesh.vertex_count = 3 * AVX2_TRIS;
+    mesh.indices = idx;
+    mesh.triangle_count = AVX2_TRIS;
+    refit_case_mesh(v, 0, 5);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    for (i = 0; i < 40; i++)
+        ck_assert_int_eq(ray_scene_add_triangle(s, v3((double)i, 0, 0),
+                                                v3((double)i, 1, 0),
+                                                v3((double)i, 0, 1),
+                                                RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    refit_case_mesh(v, 0.25, 6);
+    ck_assert_int_eq(ray_scene_update_mesh(s, 0, &mesh), RAY_OK);
+    s->avx2 = avx2;
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+START_TEST(refit_leaves_should_be_the_same_with_and_without_avx2)
+{
+    ray_vec3 *v = malloc(3 * AVX2_TRIS * sizeof *v);
+    unsigned *idx = malloc(3 * AVX2_TRIS * sizeof *idx);
+    ray_scene *with, *without;
+    size_t i, nan_rows = 0, collapsed = 0;
+
+    if (!ray__cpu_has_avx2() || ray__refit_leaf_avx2() == NULL) {
+        free(v);
+        free(idx);
+        return;                 /* one leaf here: nothing to compare */
+    }
+    ck_assert(v != NULL && idx != NULL);
+    for (i = 0; i < 3 * AVX2_TRIS; i++)
+        idx[i] = (unsigned)i;
+    with = refit_case_scene(v, idx, 1);
+    without = refit_case_scene(v, idx, 0);
+    assert_same_trees(with, without);
+    ck_assert(with->leaf_tri != NULL && without->leaf_tri != NULL);
+    ck_assert(same_bytes(with->leaf_tri, without->leaf_tri,
+                         with->n_live_tris * sizeof *with->leaf_tri));
+    /* The cases were met: NaN rows, and triangles read as a point. */
+    for (i = 0; i < with->n_live_tris; i++) {
+        const ray__tri *t = &with->leaf_tri[i];
+        collapsed += t->b.x == t->a.x && t->b.y == t->a.y &&
+                     t->b.z == t->a.z && t->c.x == t->a.x;
+    }
+    for (i = 0; i < RAY__LEAF_ROWS * with->n_live_tris; i++)
+        if (isnan(with->leaf_f[i]))
+            nan_rows++;
+    ck_assert_uint_gt(nan_rows, 0);
+    ck_assert_uint_gt(collapsed, 0);
+    ray_scene_free(with);
+    ray_scene_free(without);
+    free(v);
+    free(idx);
+}
+END_TEST
+
+/*
 ** The build on the program's scheduler (ray_scene_set_scheduler): the
 ** same tree as the one-thread build, its subtrees run last first, in a
 ** random order, and on a pool of 3 threads of the test's own; the
@@ -1592,6 +1707,7 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, unusable_rays_should_miss_in_every_copy);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_at_every_thread_count);
     tcase_add_test(mesh, threaded_refit_should_fit_the_same_boxes_at_every_thread_count);
+    tcase_add_test(mesh, refit_leaves_should_be_the_same_with_and_without_avx2);
     tcase_add_test(mesh, threaded_build_should_fail_cleanly_and_stage_its_setting);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_on_a_scheduler);
     tcase_add_test(mesh, threaded_build_should_not_need_aligned_blocks);

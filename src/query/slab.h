@@ -294,15 +294,9 @@ static inline int lowest_bit(unsigned mask)
 ** ours in time, 5703337 against these prefetches on a quiet machine:
 ** the ground query 0.38 -> 0.45 (bench/raycost), the 940k bunny's
 ** camera rays 0.55 -> 0.65 and incoherent rays 0.43 -> 0.49 (bench/
-** mesh, issue 34).  A hint only: no fault, no effect on any answer.
+** mesh, issue 34).  A hint only (RAY__PREFETCH, core/vec.h): no fault,
+** no effect on any answer.
 */
-#if defined(__GNUC__)
-#define RAY__PREFETCH(p) __builtin_prefetch(p)
-#elif defined(_MSC_VER) && (defined(_M_X64) || defined(_M_IX86))
-#define RAY__PREFETCH(p) _mm_prefetch((const char *)(p), _MM_HINT_T0)
-#else
-#define RAY__PREFETCH(p) ((void)(p))
-#endif
 #define RAY__CACHE_LINE 64
 
 static inline void prefetch_bytes(const void *p, size_t bytes)

@@ -10,7 +10,7 @@
 
 #include "core/platform.h"
 #include "core/tasks.h"
-#include "scene/scene.h"
+#include "scene/slots.h"
 
 /*
 ** The triangle BVH's cost settings (accel/sah.c): a split costs 1.5
@@ -57,55 +57,8 @@ static inline void corners_grow(const ray__tri *t, ray_vec3 *lo,
     hi->z = max2(hi->z, max3(t->a.z, t->b.z, t->c.z));
 }
 
-/* The double box lo, hi rounded outward into float (once per box:
-** rounding outward is monotonic, so the union of rounded boxes is the
-** rounded union, bit for bit). */
-static void box_out(ray_vec3 lo, ray_vec3 hi, float flo[3], float fhi[3])
-{
-    flo[0] = ray__float_down(lo.x);
-    flo[1] = ray__float_down(lo.y);
-    flo[2] = ray__float_down(lo.z);
-    fhi[0] = ray__float_up(hi.x);
-    fhi[1] = ray__float_up(hi.y);
-    fhi[2] = ray__float_up(hi.z);
-}
-
-/*
-** Where the corners of live slot "slot" lie, as ray__tri_of reads them:
-** a mesh's triangle through its indices, p[0..2] into its positions (1:
-** whether it has a normal is the caller's to test, ray__corners_usable),
-** a single triangle's copied into *t (0: usable, as its add refused any
-** other).  *m caches the mesh of geometry *m_geom, so that a run of one
-** mesh's triangles (the usual case) looks its mesh up once.
-*/
-RAY__HOT_INLINE int slot_corners_at(const ray_scene *s, size_t slot,
-                                    const ray__mesh **m, unsigned *m_geom,
-                                    ray__tri *t, const ray_vec3 *p[3])
-{
-    const ray__tri_id *id = &s->tri_ids[slot];
-    const unsigned *k;
-
-    if (id->geom_id != *m_geom) {
-        const ray__prim *prim = &s->prims[id->geom_id];
-        if (prim->kind != RAY__KIND_MESH) {
-            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
-            p[0] = &t->a;
-            p[1] = &t->b;
-            p[2] = &t->c;
-            return 0;
-        }
-        *m = &s->meshes[prim->mesh];
-        *m_geom = id->geom_id;
-    }
-    k = (*m)->indices + 3 * (size_t)id->prim_id;
-    p[0] = &(*m)->pos[k[0]];
-    p[1] = &(*m)->pos[k[1]];
-    p[2] = &(*m)->pos[k[2]];
-    return 1;
-}
-
 /* The corners of live slot "slot" into *t, as ray__tri_of reads them:
-** found by slot_corners_at (*m and *m_geom its cache), a mesh's read
+** found by ray__slot_corners_at (*m and *m_geom its cache), a mesh's read
 ** through ray__mesh_tri, which applies the rule for a triangle without
 ** a normal (the pointers into its positions go unused). */
 RAY__HOT_INLINE void refit_corners(const ray_scene *s, size_t slot,
@@ -114,7 +67,7 @@ RAY__HOT_INLINE void refit_corners(const ray_scene *s, size_t slot,
 {
     const ray_vec3 *p[3];
 
-    if (slot_corners_at(s, slot, m, m_geom, t, p))
+    if (ray__slot_corners_at(s, slot, m, m_geom, t, p))
         ray__mesh_tri(*m, s->tri_ids[slot].prim_id, t);
 }
 
@@ -130,7 +83,7 @@ static void tri_box(const void *ud, size_t i, float lo[3], float hi[3])
     a = b = t.a;
 
     corners_grow(&t, &a, &b);
-    box_out(a, b, lo, hi);
+    ray__box_out_float(a, b, lo, hi);
 }
 
 /* Does x lie where the leaf rows keep floats (RAY__LEAF_FLOAT_MAX)? */
@@ -245,6 +198,8 @@ static void rows_by_slot(const ray_scene *s, size_t begin, size_t end,
     for (i = begin; i < end; i++) {
         ray__tri t;
         refit_corners(s, i, &m, &m_geom, &t);
+        if (m != NULL)
+            ray__prefetch_slots(s, i, m, m_geom);
         leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
     }
 }
@@ -258,8 +213,11 @@ static void copies_by_slot(const ray_scene *s, size_t begin, size_t end,
     unsigned m_geom = (unsigned)-1;
     size_t i;
 
-    for (i = begin; i < end; i++)
+    for (i = begin; i < end; i++) {
         refit_corners(s, i, &m, &m_geom, &copy[i]);
+        if (m != NULL)
+            ray__prefetch_slots(s, i, m, m_geom);
+    }
 }
 
 /*
@@ -703,11 +661,13 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
     for (j = 0; j < n; j++) {
         const ray_vec3 *p[3];
         ray__tri t;
-        int mesh = slot_corners_at(s, first + j, &m, &m_geom, &t, p);
+        int mesh = ray__slot_corners_at(s, first + j, &m, &m_geom, &t, p);
+        if (mesh)
+            ray__prefetch_slots(s, first + j, m, m_geom);
         refit_tri_sse2(p[0], p[1], p[2], mesh, j == 0, &x, rows + j, n,
                        copy != NULL ? copy + j : NULL);
     }
-    box_out(vec3_sse2(x.lo_xy, x.lo_z), vec3_sse2(x.hi_xy, x.hi_z), lo, hi);
+    ray__box_out_float(vec3_sse2(x.lo_xy, x.lo_z), vec3_sse2(x.hi_xy, x.hi_z), lo, hi);
 }
 #else
 static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
@@ -747,14 +707,18 @@ static void refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
         if (copy != NULL)
             copy[j] = t;
     }
-    box_out(a, b, lo, hi);
+    ray__box_out_float(a, b, lo, hi);
 }
 
 #endif
 
+/* The refit runs on a committed scene, so s->avx2 holds the CPU's
+** answer; the AVX2 leaf gives the SSE2 leaf's bits (refit_avx2.c). */
 void ray__triangles_refit(ray_scene *s)
 {
-    ray__bvh_refit(&s->alloc, &s->tri_bvh, refit_leaf, s, s->n_live_tris,
-                   &s->scheduler, s->build_threads);
+    ray__range_box_fn leaf = s->avx2 ? ray__refit_leaf_avx2() : NULL;
+
+    ray__bvh_refit(&s->alloc, &s->tri_bvh, leaf != NULL ? leaf : refit_leaf,
+                   s, s->n_live_tris, &s->scheduler, s->build_threads);
     s->float_exact = corners_are_floats(s);
 }

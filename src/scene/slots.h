@@ -1,0 +1,106 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** slots.h -- reading the triangle slots' corners in slot order, for the
+** passes that visit every slot once (triangles.c: the leaf rows, the
+** corner copies, the refit; refit_avx2.c: the refit's AVX2 leaf), and
+** rounding a leaf's box out to float.
+*/
+#ifndef RAY_SCENE_SLOTS_H
+#define RAY_SCENE_SLOTS_H
+
+#include "scene/scene.h"
+
+/*
+** Where the corners of live slot "slot" lie, as ray__tri_of reads them
+
+** a mesh's triangle through its indices, p[0..2] into its positions (1:
+** whether it has a normal is the caller's to test, ray__corners_usable),
+** a single triangle's copied into *t (0: usable, as its add refused any
+** other).  *m caches the mesh of geometry *m_geom, so that a run of one
+** mesh's triangles (the usual case) looks its mesh up once.
+*/
+RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
+                                         const ray__mesh **m,
+                                         unsigned *m_geom, ray__tri *t,
+                                         const ray_vec3 *p[3])
+{
+    const ray__tri_id *id = &s->tri_ids[slot];
+    const unsigned *k;
+
+    if (id->geom_id != *m_geom) {
+        const ray__prim *prim = &s->prims[id->geom_id];
+        if (prim->kind != RAY__KIND_MESH) {
+            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+            p[0] = &t->a;
+            p[1] = &t->b;
+            p[2] = &t->c;
+            return 0;
+        }
+        *m = &s->meshes[prim->mesh];
+        *m_geom = id->geom_id;
+    }
+    k = (*m)->indices + 3 * (size_t)id->prim_id;
+    p[0] = &(*m)->pos[k[0]];
+    p[1] = &(*m)->pos[k[1]];
+    p[2] = &(*m)->pos[k[2]];
+    return 1;
+}
+
+/*
+** The slots lie in the tree's leaf order and their corners wherever
+** their mesh's indices point, so in a large mesh each slot's index triple
+** and then its corners are two dependent cache misses: most of a 940k
+** refit's time sat on those two loads (perf annotate, bench/filter
+** --profile refit, issue 36).  A pass that visits the slots in order
+** knows the slots ahead: slot + PREFETCH_INDICES's index triple is
+** fetched, and slot + PREFETCH_CORNERS's corners, whose triple came
+** PREFETCH_INDICES - PREFETCH_CORNERS slots earlier.  Only slots of the
+** mesh at hand, *m of geometry m_geom (the usual case): another's would
+** cost a lookup.  The distances were measured (bench/filter --profile
+** refit on the 940k bunny: 8 and 4 gained little, 32 and 16 most).
+** Always inlined: GCC found a function of prefetches alone free of
+** effects and dropped its calls.
+*/
+#define PREFETCH_INDICES 32
+#define PREFETCH_CORNERS 16
+
+RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
+                                         const ray__mesh *m, unsigned m_geom)
+{
+    const ray__tri_id *id;
+
+    if (slot + PREFETCH_INDICES < s->n_live_tris) {
+        id = &s->tri_ids[slot + PREFETCH_INDICES];
+        if (id->geom_id == m_geom)
+            RAY__PREFETCH(m->indices + 3 * (size_t)id->prim_id);
+    }
+    if (slot + PREFETCH_CORNERS < s->n_live_tris) {
+        id = &s->tri_ids[slot + PREFETCH_CORNERS];
+        if (id->geom_id == m_geom) {
+            const unsigned *k = m->indices + 3 * (size_t)id->prim_id;
+            RAY__PREFETCH(&m->pos[k[0]]);
+            RAY__PREFETCH(&m->pos[k[1]]);
+            RAY__PREFETCH(&m->pos[k[2]]);
+        }
+    }
+}
+
+/* The double box lo, hi rounded outward into float (once per box:
+** rounding outward is monotonic, so the union of rounded boxes is the
+** rounded union, bit for bit). */
+static inline void ray__box_out_float(ray_vec3 lo, ray_vec3 hi, float flo[3],
+                                      float fhi[3])
+{
+    flo[0] = ray__float_down(lo.x);
+    flo[1] = ray__float_down(lo.y);
+    flo[2] = ray__float_down(lo.z);
+    fhi[0] = ray__float_up(hi.x);
+    fhi[1] = ray__float_up(hi.y);
+    fhi[2] = ray__float_up(hi.z);
+}
+
+/* The refit's leaf built for AVX2 (refit_avx2.c), which triangles.c
+** runs on a CPU with AVX2; NULL where that file was built without it. */
+ray__range_box_fn ray__refit_leaf_avx2(void);
+
+#endif /* RAY_SCENE_SLOTS_H */
