@@ -11,6 +11,7 @@
 ** meshes' vertices and edges at 0, 1e5 and 1e6), instances, masks and
 ** filters, the kinds answered by their boxes, misuse.
 */
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -807,6 +808,51 @@ START_TEST(sweep_ties_should_go_to_the_lower_ids_whatever_the_tree)
 END_TEST
 
 /*
+** A sweep whose dir is near DBL_MAX: a sphere of radius 0.5 from the
+** origin along (-DBL_MAX, 17.25, 17.25) reaches z = 16.75, the height
+** of a 34.5-wide square's plane less the radius, at t = 16.75 / 17.25,
+** with its centre at x = -1.7e308, nowhere near the square.  The face's
+** edge functions there overflow to NaN, which compared as inside: the
+** sweep reported a contact on the square at x = -1.7e308 whenever the
+** square shared a box with a triangle 1e150 wide (fuzz_live found it
+** as a refitted scene answering 1 where the same scene built afresh
+** answered 0).  The big triangle, at y = 10, is met at x = -9e307,
+** beyond its corners too: no contact at all.
+*/
+START_TEST(sweeps_should_not_touch_faces_beyond_their_corners)
+{
+    static const ray_vec3 square[4] = {
+        {0, 0, 17.25}, {34.5, 0, 17.25}, {0, 34.5, 17.25},
+        {34.5, 34.5, 17.25}
+    };
+    static const unsigned index[6] = {0, 1, 2, 1, 3, 2};
+    ray_scene *s;
+    ray_mesh m;
+    ray_sweep w;
+    ray_contact c;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    memset(&m, 0, sizeof m);
+    m.vertices = square;
+    m.vertex_count = 4;
+    m.indices = index;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1e150, 10, -1e150),
+                                            vec(1e150, 10, -1e150),
+                                            vec(0, 10, 1e150),
+                                            RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&w, 0, sizeof w);
+    w.shape.radius = 0.5;
+    w.dir = vec(-DBL_MAX, 17.25, 17.25);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
 ** The kinds with no sweep of their own answer against their box,
 ** flagged: a torus of major radius 1, minor 0.3 about z at the origin
 ** (box [-1.3, 1.3]^2 x [-0.3, 0.3]): a sphere of radius 0.2 falling
@@ -1406,6 +1452,7 @@ Suite *sweep_suite(void)
     tcase_add_test(tc, sweeps_should_meet_ellipsoids);
     tcase_add_test(tc, sweeps_should_follow_masks_and_filters);
     tcase_add_test(tc, sweep_ties_should_go_to_the_lower_ids_whatever_the_tree);
+    tcase_add_test(tc, sweeps_should_not_touch_faces_beyond_their_corners);
     tcase_add_test(tc, other_kinds_should_answer_by_their_boxes);
     tcase_add_test(tc, sweeps_should_refuse_misuse);
     tcase_add_test(tc, capsules_with_subnormal_segments_should_sweep_as_their_sphere);
