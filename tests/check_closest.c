@@ -1402,6 +1402,44 @@ static double triangle_worst_error(ray_vec3 a, ray_vec3 b, ray_vec3 c,
 }
 
 /*
+** A sliver thinner than its edges' rounding: corners (0, 0, 4e-270),
+** the origin and (0, 0.5, 0.5), in the plane x = 0.  The foot of q =
+** (22, 22, 22) on that plane, (0, 22, 22), lies on the line of the two
+** long edges, beyond the corner (0, 0.5, 0.5), and passed both their
+** edge tests (each rounds to 0): it was reported as the nearest point,
+** 22 from q, though 30 from the triangle, and a sphere of radius 30
+** about q met it (fuzz_live's finding, through a mesh refitted beside
+** the same mesh built afresh).  The nearest point is that corner,
+** |q - c| = sqrt(22^2 + 2 21.5^2); within 1e-12 relative: the distance
+** of a point to a corner is a few roundings of a square root.
+*/
+START_TEST(closest_points_should_stay_on_slivers_thinner_than_rounding)
+{
+    const ray_vec3 a = {0, 0, 4.2589879266133596e-270}, b = {0, 0, 0};
+    const ray_vec3 c = {0, 0.5, 0.5}, q = {22, 22, 22};
+    const double want = sqrt(22.0 * 22.0 + 2 * 21.5 * 21.5);
+    ray_overlap found[1];
+    ray_closest got;
+    ray_shape ball;
+    ray_scene *s;
+    size_t n;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, a, b, c, RAY_NO_MATERIAL,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_closest_point(s, q, HUGE_VAL, &got), 1);
+    ck_assert_double_eq_tol(got.distance, want, 1e-12 * want);
+    ck_assert_double_eq_tol(got.p.y, 0.5, 1e-12);
+    memset(&ball, 0, sizeof ball);
+    ball.a = ball.b = q;
+    ball.radius = 30;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &ball, NULL, found, 1, &n), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
 ** Issue 38, defect 6: ray_closest_point on slivers.  Ericson's region
 ** walk divides determinants that cancel as sin^2 of the smallest angle:
 ** on a cap sliver 4e4 long and 0.003 wide its distance was off by 24.
@@ -1616,6 +1654,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_normals_at_corners_should_face_the_query_point);
     tcase_add_test(tc, closest_points_on_slivers_should_keep_the_documented_bound);
     tcase_add_test(tc, closest_points_at_the_sliver_threshold_should_keep_the_bound);
+    tcase_add_test(tc, closest_points_should_stay_on_slivers_thinner_than_rounding);
     tcase_add_test(tc, surface_points_should_refuse_what_has_no_point);
     tcase_add_test(tc, segments_nearest_beyond_an_end_should_clamp_both);
     suite_add_tcase(s, tc);

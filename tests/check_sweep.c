@@ -11,6 +11,7 @@
 ** meshes' vertices and edges at 0, 1e5 and 1e6), instances, masks and
 ** filters, the kinds answered by their boxes, misuse.
 */
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -712,6 +713,146 @@ START_TEST(sweeps_should_follow_masks_and_filters)
 END_TEST
 
 /*
+** Ties are broken by ids whatever the tree (ray.h: "Ties in t: the
+** deeper overlap, then the lower (inst_id, geom_id, prim_id)").  A
+** hexahedron's corners, several of them on the plane x = 0: a sphere of
+** radius 0.5 falling from (0, 1000, 0) along -y first meets corner 5,
+** (0, 1, 0), which triangles 2, 3, 5, 10 and 11 share; each one's
+** contact there is the corner's own piece, so their t is the same
+** double, and triangle 2 is the answer.  The box holding triangle 2 is
+** entered a few ulps after that t when it is not grown by the narrow
+** phase's skin (gamma(64) of the coordinates relative to the start,
+** against the box's gamma(8) of its own): fuzz_live found a mesh
+** refitted (ray_scene_update_mesh) answering triangle 2 and the same
+** mesh built afresh answering 10 (5 here, without its filter).  The
+** start is 1000 away so that the skin, about 7e-12, also exceeds what an
+** instance's box already has to spare (2^-40 of the motion, 9e-13).
+** Exact comparisons: a tie is bit for bit.
+*/
+static const unsigned hex_index[36] = {
+    0, 2, 1, 1, 2, 3,   4, 5, 6, 5, 7, 6,   0, 1, 4, 1, 5, 4,
+    2, 6, 3, 3, 6, 7,   0, 4, 2, 2, 4, 6,   1, 3, 5, 3, 7, 5
+};
+
+static ray_scene *hex_scene(const ray_vec3 *v, size_t triangles,
+                            const unsigned *index)
+{
+    ray_scene *s;
+    ray_mesh m;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 8;
+    m.indices = index;
+    m.triangle_count = triangles;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+START_TEST(sweep_ties_should_go_to_the_lower_ids_whatever_the_tree)
+{
+    static const ray_vec3 v[8] = {
+        {0, 2, 2}, {2, 0, -1}, {0, -1, 0}, {0, 0, 0},
+        {0, 0, 0}, {0, 1, 0}, {0, 0, 10}, {0, 0, -1}
+    };
+    static const ray_vec3 before[8] = {
+        {-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1},
+        {-1, -1, 1}, {1, -1, 1}, {-1, 1, 1}, {1, 1, 1}
+    };
+    ray_scene *s = hex_scene(v, 12, hex_index);
+    ray_scene *one = hex_scene(v, 1, hex_index + 3 * 2);
+    ray_scene *top;
+    ray_transform id;
+    ray_contact c, alone;
+    ray_mesh m;
+    ray_sweep w;
+
+    memset(&w, 0, sizeof w);
+    w.shape.a = w.shape.b = vec(0, 1000, 0);
+    w.shape.radius = 0.5;
+    w.dir = vec(0, -1, 0);
+    w.tmax = HUGE_VAL;
+    ck_assert_int_eq(ray_intersect_sweep(one, &w, NULL, &alone), 1);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+    ck_assert_uint_eq(c.prim_id, 2);
+    ck_assert(c.t == alone.t);
+    /* Through an instance (identity: the child's own answer). */
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&id);
+    ck_assert_int_eq(ray_scene_add_instance(top, s, &id, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_intersect_sweep(top, &w, NULL, &c), 1);
+    ck_assert_uint_eq(c.inst_id, 0);
+    ck_assert_uint_eq(c.prim_id, 2);
+    ck_assert(c.t == alone.t);
+    ray_scene_free(top);
+    ray_scene_free(s);
+    /* Refitted from other corners: the same answer. */
+    s = hex_scene(before, 12, hex_index);
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 8;
+    m.indices = hex_index;
+    m.triangle_count = 12;
+    ck_assert_int_eq(ray_scene_update_mesh(s, 0, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 1);
+    ck_assert_uint_eq(c.prim_id, 2);
+    ck_assert(c.t == alone.t);
+    ray_scene_free(s);
+    ray_scene_free(one);
+}
+END_TEST
+
+/*
+** A sweep whose dir is near DBL_MAX: a sphere of radius 0.5 from the
+** origin along (-DBL_MAX, 17.25, 17.25) reaches z = 16.75, the height
+** of a 34.5-wide square's plane less the radius, at t = 16.75 / 17.25,
+** with its centre at x = -1.7e308, nowhere near the square.  The face's
+** edge functions there overflow to NaN, which compared as inside: the
+** sweep reported a contact on the square at x = -1.7e308 whenever the
+** square shared a box with a triangle 1e150 wide (fuzz_live found it
+** as a refitted scene answering 1 where the same scene built afresh
+** answered 0).  The big triangle, at y = 10, is met at x = -9e307,
+** beyond its corners too: no contact at all.
+*/
+START_TEST(sweeps_should_not_touch_faces_beyond_their_corners)
+{
+    static const ray_vec3 square[4] = {
+        {0, 0, 17.25}, {34.5, 0, 17.25}, {0, 34.5, 17.25},
+        {34.5, 34.5, 17.25}
+    };
+    static const unsigned index[6] = {0, 1, 2, 1, 3, 2};
+    ray_scene *s;
+    ray_mesh m;
+    ray_sweep w;
+    ray_contact c;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    memset(&m, 0, sizeof m);
+    m.vertices = square;
+    m.vertex_count = 4;
+    m.indices = index;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(-1e150, 10, -1e150),
+                                            vec(1e150, 10, -1e150),
+                                            vec(0, 10, 1e150),
+                                            RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&w, 0, sizeof w);
+    w.shape.radius = 0.5;
+    w.dir = vec(-DBL_MAX, 17.25, 17.25);
+    ck_assert_int_eq(ray_intersect_sweep(s, &w, NULL, &c), 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
 ** The kinds with no sweep of their own answer against their box,
 ** flagged: a torus of major radius 1, minor 0.3 about z at the origin
 ** (box [-1.3, 1.3]^2 x [-0.3, 0.3]): a sphere of radius 0.2 falling
@@ -1310,6 +1451,8 @@ Suite *sweep_suite(void)
     tcase_add_test(tc, sweeps_should_be_exact_through_instances);
     tcase_add_test(tc, sweeps_should_meet_ellipsoids);
     tcase_add_test(tc, sweeps_should_follow_masks_and_filters);
+    tcase_add_test(tc, sweep_ties_should_go_to_the_lower_ids_whatever_the_tree);
+    tcase_add_test(tc, sweeps_should_not_touch_faces_beyond_their_corners);
     tcase_add_test(tc, other_kinds_should_answer_by_their_boxes);
     tcase_add_test(tc, sweeps_should_refuse_misuse);
     tcase_add_test(tc, capsules_with_subnormal_segments_should_sweep_as_their_sphere);

@@ -49,6 +49,32 @@ static ray_vec3 cross_acc(ray_vec3 a, ray_vec3 b)
               ray__diff_of_products(a.x, b.y, a.y, b.x));
 }
 
+static double min3(double a, double b, double c)
+{
+    double m = a < b ? a : b;
+    return m < c ? m : c;
+}
+
+static double max3(double a, double b, double c)
+{
+    return max2(max2(a, b), c);
+}
+
+/*
+** Whether x lies in the box of a, b and c grown by tol(k) per axis:
+** every point of the triangle does.
+*/
+static int in_corners_box(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 x,
+                          ray_vec3 tol)
+{
+    return x.x >= min3(a.x, b.x, c.x) - tol.x &&
+           x.x <= max3(a.x, b.x, c.x) + tol.x &&
+           x.y >= min3(a.y, b.y, c.y) - tol.y &&
+           x.y <= max3(a.y, b.y, c.y) + tol.y &&
+           x.z >= min3(a.z, b.z, c.z) - tol.z &&
+           x.z <= max3(a.z, b.z, c.z) + tol.z;
+}
+
 /*
 ** The sliver path (issue 38, defect 6): a triangle whose smallest angle
 ** theta has sin theta < 1/16 (about 3.6 degrees).  Ericson's region
@@ -65,7 +91,14 @@ static ray_vec3 cross_acc(ray_vec3 a, ray_vec3 b)
 ** The foot is within a few ulps of |q| + |q - p| of the exact one, less
 ** the error of n, which tilts by about u (longest edge) / (width) of
 ** the triangle (the rounding of its edge vectors, inherent in them):
-** see ray_closest_point(3), Accuracy, for the bound this gives.  ab, ac,
+** see ray_closest_point(3), Accuracy, for the bound this gives.  A
+** triangle thinner than its edges' rounding (corners 4e-270 apart with
+** the third 0.7 away) has two edges parallel to rounding, and a foot on
+** their common line beyond the corner passes both edge tests (each
+** rounds to 0): so a foot outside the corners' box, grown by the
+** foot's and the corners' rounding, is no inside point whatever the
+** tests say (fuzz_live found such a foot 30 away from its triangle,
+** reported as the nearest point and met by ray_overlap_shape).  ab, ac,
 ** ap are the scaled edge vectors and q's offset (see below), s the
 ** scale.  Returns 0 (use the region walk) when the foot is not finite.
 */
@@ -83,11 +116,20 @@ static int sliver_closest(ray_vec3 a, ray_vec3 b, ray_vec3 c, ray_vec3 q,
     if (v3_dot(cross_acc(ab, pr), n) >= 0 &&
         v3_dot(cross_acc(bc, v3_sub(pr, ab)), n) >= 0 &&
         v3_dot(cross_acc(v3_scale(ac, -1), v3_sub(pr, ac)), n) >= 0) {
+        ray_vec3 tol;
         foot = v3_madd(q, -(h / s), n);
         if (!v3_isfinite(foot))
             return 0;
-        *p = foot;
-        return 1;
+        /* The foot rounds twice (the product and the difference), within
+        ** gamma(2) of |q| + |h / s| per component; the corners are the
+        ** stored ones, exact.  gamma(8) of both leaves room. */
+        tol.x = ray__gamma(8) * (fabs(q.x) + fabs(h / s) + fabs(foot.x));
+        tol.y = ray__gamma(8) * (fabs(q.y) + fabs(h / s) + fabs(foot.y));
+        tol.z = ray__gamma(8) * (fabs(q.z) + fabs(h / s) + fabs(foot.z));
+        if (in_corners_box(a, b, c, foot, tol)) {
+            *p = foot;
+            return 1;
+        }
     }
     *p = nearest_edge_point(a, b, c, q);
     return 1;

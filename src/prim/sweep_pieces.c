@@ -304,8 +304,44 @@ int ray__sweep_cylinder(const ray__sweep *sw, ray_vec3 p, ray_vec3 q, double rp,
     return offer(sw, &oo, sw->t0 + s, v3_madd(p, lam, e), n, rp, best);
 }
 
-/* Is x (on the face's plane, within rounding) on the face?  Convex: on
-** the inner side of every edge (edge functions against the normal). */
+/*
+** Is x within the box of the convex face's corners, grown by gamma(8) of
+** the magnitudes (x is a foot computed on the face's plane, a few
+** roundings off)?  Every point of the face is.  The edge functions below
+** overflow for an x near DBL_MAX (a sweep whose dir is near it: x is the
+** shape's centre at the contact), and a NaN edge function compares as
+** inside: fuzz_live found a sweep touching a 34-wide square at x =
+** -1.7e308.  Outside the box, x is on no face, whatever they say.
+*/
+static int face_box_holds(const ray__face *fc, ray_vec3 x)
+{
+    double lo[3], hi[3], xs[3], tol;
+    size_t i;
+    int k;
+
+    xs[0] = x.x, xs[1] = x.y, xs[2] = x.z;
+    lo[0] = hi[0] = fc->v[0].x;
+    lo[1] = hi[1] = fc->v[0].y;
+    lo[2] = hi[2] = fc->v[0].z;
+    for (i = 1; i < fc->n; i++) {
+        double vs[3];
+        vs[0] = fc->v[i].x, vs[1] = fc->v[i].y, vs[2] = fc->v[i].z;
+        for (k = 0; k < 3; k++) {
+            lo[k] = vs[k] < lo[k] ? vs[k] : lo[k];
+            hi[k] = vs[k] > hi[k] ? vs[k] : hi[k];
+        }
+    }
+    for (k = 0; k < 3; k++) {
+        tol = ray__gamma(8) * (fabs(lo[k]) + fabs(hi[k]) + fabs(xs[k]));
+        if (!(xs[k] >= lo[k] - tol && xs[k] <= hi[k] + tol))
+            return 0;
+    }
+    return 1;
+}
+
+/* Is x (on the face's plane, within rounding) on the face?  Convex: in
+** the corners' box and on the inner side of every edge (edge functions
+** against the normal); a face without corners is a whole plane. */
 static int face_holds(const ray__face *fc, ray_vec3 nrm, ray_vec3 x)
 {
     size_t i;
@@ -313,6 +349,8 @@ static int face_holds(const ray__face *fc, ray_vec3 nrm, ray_vec3 x)
     if (fc->pv != NULL)
         return ray__polygon_contains(fc->pv, fc->pn, fc->pxf,
                                      v3_add(x, fc->lift));
+    if (fc->n > 0 && !face_box_holds(fc, x))
+        return 0;                   /* (no corners: a plane, unbounded) */
     for (i = 0; i < fc->n; i++) {
         ray_vec3 a = fc->v[i], b = fc->v[(i + 1) % fc->n];
         if (v3_dot(ray__cross_exact(v3_sub(b, a), v3_sub(x, a)), nrm) < 0)

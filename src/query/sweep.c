@@ -33,6 +33,9 @@ typedef struct sweeper {
     ** radius that holds the shape's image (radius |L^-1|_2). */
     ray_vec3 bo, bd, bs;
     double br;
+    /* Inside an instance: the narrow phase's skin (below) for any of its
+    ** features, in the child's units; unused at the top. */
+    double inst_skin;
 } sweeper;
 
 /* The larger of a and b (operands that cannot be NaN). */
@@ -50,10 +53,40 @@ static double max_abs(ray_vec3 v)
 /* ------------------------------------------------------------ boxes */
 
 /*
+** The narrow phase's skin for any feature inside box [lo, hi]: it meets
+** each feature grown by ray__sweep_eps of the feature's coordinates
+** relative to the sweep's start o (sweep_pieces.c), up to gamma(64) of
+** them, so a contact comes that much before the shape itself touches.
+** The box must be grown by as much, or a box whose contact ties the
+** best one (or comes a skin before it) is skipped, and which of the two
+** is reported depends on the tree (a mesh refitted answered another
+** triangle of a tie than the same mesh built afresh: fuzz_live).  At
+** the top the box is the world's, and |x - o| <= |lo| + |hi| + |o| per
+** axis for x in it; inside an instance, its world box bounds every
+** feature, and the skin is mapped to the child's units as the radius is
+** (visit_instance).
+*/
+static double box_skin(const sweeper *w, const float lo[3],
+                       const float hi[3])
+{
+    double m = 0;
+    int k;
+
+    if (w->in != NULL)
+        return w->inst_skin;
+    for (k = 0; k < 3; k++) {
+        double o = k == 0 ? w->o.x : k == 1 ? w->o.y : w->o.z;
+        m = max2(m, fabs((double)lo[k]) + fabs((double)hi[k]) + fabs(o));
+    }
+    return ray__sweep_eps(&w->sw, m);
+}
+
+/*
 ** The interval of t over which the shape's path meets box [lo, hi] (in
 ** the space of the scene searched), grown by the shape: the capsule's
 ** end a lies in lo - r - max(s, 0) .. hi + r + max(-s, 0) per axis
-** whenever the capsule meets the box.  The box is grown further by
+** whenever the capsule meets the box.  The box is grown by the narrow
+** phase's skin (box_skin), further by
 ** gamma(8) of its magnitude (its bounds are floats rounded outward from
 ** the geometry; the growth's own sums round a few times), and each
 ** slab's t by 2 gamma(3) of itself (the two roundings of (bound - o) /
@@ -66,6 +99,7 @@ static int box_entry(const sweeper *w, const float lo[3], const float hi[3],
                      double *entry)
 {
     double o[3], d[3], s[3], t0 = w->sw.t0, t1 = w->best.t;
+    double reach = w->br + box_skin(w, lo, hi);
     int k;
 
     o[0] = w->bo.x, o[1] = w->bo.y, o[2] = w->bo.z;
@@ -77,7 +111,7 @@ static int box_entry(const sweeper *w, const float lo[3], const float hi[3],
         double l = (double)lo[k], h = (double)hi[k], grow, ta, tb;
         if (!(l <= h))
             return 0;                       /* an unused slot */
-        grow = w->br + ray__gamma(8) * (fabs(l) + fabs(h) + w->br +
+        grow = reach + ray__gamma(8) * (fabs(l) + fabs(h) + reach +
                                         fabs(s[k]) + fabs(o[k]));
         l -= grow + max2(s[k], 0);
         h += grow + max2(-s[k], 0);
@@ -413,7 +447,7 @@ static void visit_instance(sweeper *w, const ray_scene *s, unsigned i)
     const ray__instance *in = &s->instances[s->prims[i].surface];
     const ray__instance *outer = w->in;
     ray_vec3 bo = w->bo, bd = w->bd, bs = w->bs;
-    double br = w->br;
+    double br = w->br, skin = w->inst_skin, m;
     unsigned outer_id = w->in_id;
     ray_ray world, object;
 
@@ -433,6 +467,10 @@ static void visit_instance(sweeper *w, const ray_scene *s, unsigned i)
     /* The mapped differences round: 2^-40 relative more, far above it. */
     w->br = w->sw.r * in->inv_spec * (1 + 0x1p-40) +
             0x1p-40 * (max_abs(w->bd) + max_abs(w->bs));
+    /* The skin of its features (box_skin), from its world box. */
+    m = max2(max_abs(v3_sub(in->lo, w->o)), max_abs(v3_sub(in->hi, w->o)));
+    w->inst_skin = ray__sweep_eps(&w->sw, m * (1 + 0x1p-40)) * in->inv_spec *
+                   (1 + 0x1p-40);
     w->in = in;
     w->in_id = i;
     if (v3_isfinite(w->bo) && v3_isfinite(w->bd) && v3_isfinite(w->bs))
@@ -443,6 +481,7 @@ static void visit_instance(sweeper *w, const ray_scene *s, unsigned i)
     w->bd = bd;
     w->bs = bs;
     w->br = br;
+    w->inst_skin = skin;
 }
 
 /* Geometry i of s (a plane or a bounded primitive but a triangle). */
@@ -702,6 +741,7 @@ int ray_intersect_sweep(const ray_scene *s, const ray_sweep *sw,
     w.bd = w.sw.d;
     w.bs = w.sw.s;
     w.br = w.sw.r;
+    w.inst_skin = 0;
     search_in(&w, s);
     if (w.stale)
         return sweep_refused(q, -RAY_ESTATE, s, sw, c);
