@@ -199,6 +199,12 @@ static inline int ray__sphere_surely_missed(ray_vec3 f, ray_vec3 d,
 
 int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
                      ray_vec3 center, double radius, double *t);
+/* ray__sphere_t_at without its early out, for a caller that asked
+** ray__sphere_surely_missed of the same f, d, a and radius already (a
+** scene's few spheres, query/traverse.h): the same answer, the early
+** out's cross product and dot products not made twice. */
+int ray__sphere_t_near(const ray__sphere_ray *sr, const ray_ray *r,
+                       ray_vec3 center, double radius, double *t);
 int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
                  double *t);
 /* ray__plane_t for a non-NULL ray and a normal known to normalise (a

@@ -309,7 +309,7 @@ static RAY__INLINE int prims_along(const ray_scene *s, trav *tr, int *ready,
         ray__count_tests(qc, RAY_PRIM_SPHERE, 1);
         if (ray__sphere_surely_missed(v3_sub(r->org, p->a), sr.d, sr.a,
                                       p->radius))
-            continue;              /* as the test would: without a call */
+            continue;              /* as the test would, which then skips it */
         k = ray__sphere_candidate(s, idx, &sr, r, &h, qc->uv);
         if (!k)
             continue;

@@ -314,7 +314,7 @@ int ray__sphere_candidate(const ray_scene *s, unsigned i,
     const ray__prim *p = &s->prims[i];
     double t;
 
-    if (!ray__sphere_t_at(sr, r, p->a, p->radius, &t))
+    if (!ray__sphere_t_near(sr, r, p->a, p->radius, &t))
         return 0;
     if (!ray__sphere_fills(r, p->a, p->radius, t)) {
         if (!ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv),
@@ -349,7 +349,9 @@ static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
 {
     ray__sphere_ray sr;
 
-    if (!ray__sphere_ray_init(r, &sr))
+    if (!ray__sphere_ray_init(r, &sr) ||
+        ray__sphere_surely_missed(v3_sub(r->org, p->a), sr.d, sr.a,
+                                  p->radius))
         return 0;
     return ray__sphere_candidate(s, (unsigned)(p - s->prims), &sr, r, hit,
                                  qc->uv);
