@@ -99,6 +99,11 @@ int ray__photon_map_make(const ray_scene *s, const ray_render_options *o,
                          ray_photon_map **out);
 void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st);
 
+/* ray_caustics_at's estimate from map m at hit point p, n the shading
+** side's normal, into *irradiance (photons.c says how). */
+void ray__caustics_gather(const ray_photon_map *m, ray_vec3 p, ray_vec3 n,
+                          ray_rgb *irradiance);
+
 /* Is a photon radius acceptable (0: automatic, else finite and > 0)? */
 int ray__photon_radius_valid(double r);
 
