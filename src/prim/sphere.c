@@ -183,18 +183,6 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
     return 1;
 }
 
-/* The ray's part of the sphere test (prim.h): its direction scaled by
-** a power of two (ray__scaled_dir), d.d and tmin in those units. */
-int ray__sphere_ray_init(const ray_ray *r, ray__sphere_ray *sr)
-{
-    /* A zero (or NaN) direction misses; so does a NULL ray. */
-    if (r == NULL || !ray__scaled_dir(r->dir, &sr->d, &sr->e))
-        return 0;
-    sr->a = v3_dot(sr->d, sr->d);
-    sr->tmin = ray__scale_t(r->tmin, sr->e);
-    return 1;
-}
-
 /*
 ** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
 ** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
