@@ -275,7 +275,7 @@ START_TEST(checker_should_pick_the_square_of_the_floors_sum)
         {0x1p52 - 0.5, 0, 1}, {0x1p52 - 1.5, 0, 0}, {0x1p52, 0, 0},
         {0x1p52 + 1, 0, 1}, {-0x1p52 - 1, 0, 1}, {0x1p53, 1, 0},
         {0x1p52, 0x1p52 - 0.5, 1}, {1e300, 0.5, 0}, {HUGE_VAL, 0, 0},
-        {-HUGE_VAL, 0, 0}, {NAN, 0.5, 0}};
+        {-HUGE_VAL, 0, 0}, {(double)NAN, 0.5, 0}};
     static ray_checker_params cp;
     ray_material m;
     size_t i;
