@@ -18,6 +18,7 @@
 #define RAY_TRAVERSE_H
 
 #include "query/slab.h"
+#include "scene/candidate.h"
 
 enum { LEAF_TRIANGLES, LEAF_PRIMS };
 

@@ -7,7 +7,7 @@
 ** its column of the list.  The library is built with -Wswitch-enum, so a
 ** kind added to the list without them does not compile.
 */
-#include "scene/scene.h"
+#include "scene/candidate.h"
 
 /* ray_stats.tests_by_kind holds RAY_PRIM_KINDS_MAX counters (ray.h). */
 typedef char ray__counters_fit[RAY_PRIM_KINDS <= RAY_PRIM_KINDS_MAX ? 1 : -1];
