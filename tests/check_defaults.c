@@ -230,6 +230,70 @@ START_TEST(zeroed_checker_scale_should_be_one)
 }
 END_TEST
 
+/* A square's colour as the checker's shade callback paints it: the even
+** square writes 1 into red, the odd one 1 into blue. */
+static void paint_even(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                       ray_rgb *out)
+{
+    (void)ud, (void)ctx, (void)a;
+    out->r = 1;
+}
+
+static void paint_odd(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                      ray_rgb *out)
+{
+    (void)ud, (void)ctx, (void)a;
+    out->b = 1;
+}
+
+/* Does the checker put (u, v) on an odd square? */
+static int checker_says_odd(const ray_material *m, double u, double v)
+{
+    ray_shade_args a;
+    ray_rgb out = {0, 0, 0};
+
+    memset(&a, 0, sizeof a);
+    a.u = u;
+    a.v = v;
+    m->shade(m->ud, NULL, &a, &out);
+    ck_assert(out.r + out.b == 1);       /* exactly one square painted */
+    return out.b == 1;
+}
+
+/* The checker's square: odd where floor(u) + floor(v) is (issue 35 reads
+** the parity from an integer below 2^52 instead of libm's fmod), fmod's
+** answer at the edges: around 2^52 and 2^53 (where the sum rounds),
+** negative cells, -0, an infinity and a NaN (fmod's NaN: even). */
+START_TEST(checker_should_pick_the_square_of_the_floors_sum)
+{
+    static const struct {
+        double u, v;
+        int odd;
+    } cases[] = {
+        {0.5, 0.5, 0}, {1.5, 0.5, 1}, {1.5, 1.5, 0}, {-0.5, 0.25, 1},
+        {-1.5, -0.5, 1}, {-0.0, 0.0, 0}, {-2.5, 0.0, 1},
+        {0x1p52 - 0.5, 0, 1}, {0x1p52 - 1.5, 0, 0}, {0x1p52, 0, 0},
+        {0x1p52 + 1, 0, 1}, {-0x1p52 - 1, 0, 1}, {0x1p53, 1, 0},
+        {0x1p52, 0x1p52 - 0.5, 1}, {1e300, 0.5, 0}, {HUGE_VAL, 0, 0},
+        {-HUGE_VAL, 0, 0}, {(double)NAN, 0.5, 0}};
+    static ray_checker_params cp;
+    ray_material m;
+    size_t i;
+
+    cp.even.shade = paint_even;
+    cp.odd.shade = paint_odd;
+    cp.scale = 1;
+    m = ray_material_checker(&cp);
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        double cell = floor(cases[i].u) + floor(cases[i].v);
+        /* The listed answer is fmod's, the formula the pick replaced. */
+        ck_assert_int_eq(fabs(fmod(cell, 2.0)) == 1.0, cases[i].odd);
+        ck_assert_int_eq(checker_says_odd(&m, cases[i].u, cases[i].v),
+                         cases[i].odd);
+    }
+}
+END_TEST
+
 /* ----------------------------------------------- zero is the default */
 
 /* A sphere, a triangle in front of it and a box, a light: every query
@@ -807,6 +871,7 @@ Suite *defaults_suite(void)
     tcase_add_test(tc, limits_mesh_and_material_params_should_init_to_defaults);
     tcase_add_test(tc, zeroed_glass_params_should_be_window_glass);
     tcase_add_test(tc, zeroed_checker_scale_should_be_one);
+    tcase_add_test(tc, checker_should_pick_the_square_of_the_floors_sum);
     suite_add_tcase(s, tc);
     tc = tcase_create("zero");
     tcase_add_test(tc, zeroed_query_and_batch_should_see_everything);

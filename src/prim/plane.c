@@ -77,39 +77,6 @@ double ray__plane_t_error(ray_vec3 po, ray_vec3 n, ray_vec3 dir,
            ray__gamma(1) * at;
 }
 
-/*
-** t does not depend on the normal's length, so it is computed with the
-** normal as given and only a hit pays for normalising it.  d.n == 0 (a
-** parallel ray, or one lying in the plane: 0/0) is tested exactly; a
-** nearly parallel ray gets a large but finite t, and an overflow to Inf
-** or a NaN from bad input fails the NaN-safe range test.  A normal that
-** cannot be normalised (zero, infinite, NaN) misses.
-*/
-int ray__plane_t_valid(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
-                       double *t_out)
-{
-    double denom, num, t;
-    ray_vec3 po;
-
-    denom = v3_dot(r->dir, normal);
-    if (denom == 0)
-        return 0;
-    po = v3_sub(point, r->org);
-    num = v3_dot(po, normal);
-    /* Behind the origin (num and denom of opposite signs: t < 0, or -0
-    ** where the quotient underflows) with tmin >= 0: a miss, found
-    ** without the division's latency, on about half of a scene's rays
-    ** (those leaving a floor upward).  A NaN fails the test and goes on. */
-    if (num * denom < 0 && r->tmin >= 0)
-        return 0;
-    t = num / denom;
-    if (!(t > r->tmin && t < r->tmax) ||
-        !(t - ray__plane_t_error(po, normal, r->dir, denom, t) > r->tmin))
-        return 0;
-    *t_out = t;
-    return 1;
-}
-
 int ray__plane_t(const ray_ray *r, ray_vec3 point, ray_vec3 normal,
                  double *t_out)
 {

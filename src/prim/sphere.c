@@ -183,18 +183,6 @@ static int nearest_root_bounded(const sphere_quadratic *k, double tmin,
     return 1;
 }
 
-/* The ray's part of the sphere test (prim.h): its direction scaled by
-** a power of two (ray__scaled_dir), d.d and tmin in those units. */
-int ray__sphere_ray_init(const ray_ray *r, ray__sphere_ray *sr)
-{
-    /* A zero (or NaN) direction misses; so does a NULL ray. */
-    if (r == NULL || !ray__scaled_dir(r->dir, &sr->d, &sr->e))
-        return 0;
-    sr->a = v3_dot(sr->d, sr->d);
-    sr->tmin = ray__scale_t(r->tmin, sr->e);
-    return 1;
-}
-
 /*
 ** With f = e - c, the lecture's quadratic is a t^2 - 2b' t + c = 0 with
 ** a = d.d, b' = -f.d, c = f.f - R^2 (b' is the usual b over -2).
@@ -217,8 +205,8 @@ int ray__sphere_ray_init(const ray_ray *r, ray__sphere_ray *sr)
 ** t, tmin and tmax with it: once per ray (ray__sphere_ray_init), so that a
 ** scene query testing several spheres scales it once (ray__sphere_t_at).
 */
-int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
-                     ray_vec3 center, double radius, double *t_out)
+int ray__sphere_t_near(const ray__sphere_ray *sr, const ray_ray *r,
+                       ray_vec3 center, double radius, double *t_out)
 {
     ray_vec3 f, d = sr->d;
     sphere_quadratic k;
@@ -230,8 +218,6 @@ int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
         return 0;
     f = v3_sub(r->org, center);
     k.a = sr->a;
-    if (ray__sphere_surely_missed(f, d, k.a, radius))
-        return 0;
     k.b = -v3_dot(f, d);
     k.f_len = v3_length(f);
     k.c = (k.f_len - radius) * (k.f_len + radius);
@@ -262,6 +248,18 @@ int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
         return 0;
     *t_out = t;
     return 1;
+}
+
+/* The early out first, then the whole test: the early out answers
+** "missed" only where the test misses too (prim.h), and reads nothing
+** that the test could have changed, so the answer is the test's alone. */
+int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
+                     ray_vec3 center, double radius, double *t_out)
+{
+    if (ray__sphere_surely_missed(v3_sub(r->org, center), sr->d, sr->a,
+                                  radius))
+        return 0;
+    return ray__sphere_t_near(sr, r, center, radius, t_out);
 }
 
 int ray__sphere_t(const ray_ray *r, ray_vec3 center, double radius,

@@ -44,6 +44,7 @@ typedef struct render_job {
     unsigned y0, y1;
     unsigned side;           /* k if samples = k*k, else 0 */
     unsigned lattice;        /* n-rooks lattice generator (side == 0) */
+    unsigned long long frame;  /* ray__frame_hash(opt->seed), made once */
     float *rgb;
     void *workers;           /* one per task (worker_at) */
     ray__mutex *lock, *progress_lock;
@@ -160,7 +161,7 @@ static void render_pixel(render_job *job, ray_ctx *ctx, unsigned x,
         ray_ray r;
         ray_rgb c;
 
-        ray__ctx_start(ctx, ray__pixel_seed(o->seed, x, y, s));
+        ray__ctx_start(ctx, ray__pixel_seed_from(job->frame, x, y, s));
         if (o->samples > 1) {
             double cx, cy, cells;
             sample_cell(job, s, &cx, &cy, &cells);
@@ -218,10 +219,11 @@ static ray_rgb lattice_sample(render_job *job, ray_ctx *ctx,
     /* The lattice coordinates, folded into the 32-bit hash inputs; the
     ** sample index 0xA0000000 + depth keeps these apart from the uniform
     ** sampler's streams. */
-    ray__ctx_start(ctx, ray__pixel_seed(job->opt->seed,
-                                        (unsigned)(lx ^ (lx >> 32)),
-                                        (unsigned)(ly ^ (ly >> 32)),
-                                        0xA0000000u + job->opt->adaptive_depth));
+    ray__ctx_start(ctx, ray__pixel_seed_from(job->frame,
+                                             (unsigned)(lx ^ (lx >> 32)),
+                                             (unsigned)(ly ^ (ly >> 32)),
+                                             0xA0000000u +
+                                                 job->opt->adaptive_depth));
     if (job->cam.lens_radius > 0) {
         lens_x = 2 * ray_ctx_random(ctx) - 1;
         lens_y = 2 * ray_ctx_random(ctx) - 1;
@@ -629,6 +631,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera_in,
     job.y1 = opt->y1 ? opt->y1 : opt->height;
     job.scene = scene;
     job.opt = opt;
+    job.frame = ray__frame_hash(opt->seed);
     job.y0 = opt->y0;
     rc = ray__camera_setup(&job.cam, camera, opt->width, opt->height);
     if (rc != RAY_OK)

@@ -7,7 +7,7 @@
 ** its column of the list.  The library is built with -Wswitch-enum, so a
 ** kind added to the list without them does not compile.
 */
-#include "scene/scene.h"
+#include "scene/candidate.h"
 
 /* ray_stats.tests_by_kind holds RAY_PRIM_KINDS_MAX counters (ray.h). */
 typedef char ray__counters_fit[RAY_PRIM_KINDS <= RAY_PRIM_KINDS_MAX ? 1 : -1];
@@ -289,24 +289,6 @@ static int hit_USER(const ray_scene *s, const ray__prim *p,
 ** ray_sphere / ray_plane fill it, so a failed fill stays the miss it is
 ** there.
 */
-/* The plane's record, as ray_plane fills it (its normal made unit: p->c,
-** v3_normalize(p->b) made when the plane was added, geometry.c). */
-static int plane_fill(const ray__prim *p, const ray_ray *r, double t,
-                      ray_hit *hit)
-{
-    return ray__plane_fill(r, p->a, p->c, p->a, t, hit);
-}
-
-/* A full record of geometry i: its ids (geom_id i, no prim_id, no
-** instance), for every record the kinds fill here. */
-static int full_record(unsigned i, ray_hit *hit)
-{
-    hit->geom_id = i;
-    hit->prim_id = 0;
-    hit->inst_id = RAY_INVALID_ID;
-    return RAY__HIT_FULL;
-}
-
 int ray__sphere_candidate(const ray_scene *s, unsigned i,
                           const ray__sphere_ray *sr, const ray_ray *r,
                           ray_hit *hit, int uv)
@@ -314,31 +296,13 @@ int ray__sphere_candidate(const ray_scene *s, unsigned i,
     const ray__prim *p = &s->prims[i];
     double t;
 
-    if (!ray__sphere_t_at(sr, r, p->a, p->radius, &t))
+    if (!ray__sphere_t_near(sr, r, p->a, p->radius, &t))
         return 0;
     if (!ray__sphere_fills(r, p->a, p->radius, t)) {
         if (!ray__sphere_fill(r, p->a, p->radius, t, sphere_uv(s, p, uv),
                               hit))
             return 0;
-        return full_record(i, hit);
-    }
-    hit->t = t;
-    return RAY__HIT_T;
-}
-
-int ray__plane_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
-                         ray_hit *hit)
-{
-    const ray__prim *p = &s->prims[i];
-    double t;
-
-    /* The stored normal p->b normalised when the plane was added. */
-    if (!ray__plane_t_valid(r, p->a, p->b, &t))
-        return 0;
-    if (!ray__plane_fills(r, p->a, t)) {
-        if (!plane_fill(p, r, t, hit))
-            return 0;
-        return full_record(i, hit);
+        return ray__full_record(i, hit);
     }
     hit->t = t;
     return RAY__HIT_T;
@@ -349,7 +313,9 @@ static int cand_SPHERE(const ray_scene *s, const ray__prim *p,
 {
     ray__sphere_ray sr;
 
-    if (!ray__sphere_ray_init(r, &sr))
+    if (!ray__sphere_ray_init(r, &sr) ||
+        ray__sphere_surely_missed(v3_sub(r->org, p->a), sr.d, sr.a,
+                                  p->radius))
         return 0;
     return ray__sphere_candidate(s, (unsigned)(p - s->prims), &sr, r, hit,
                                  qc->uv);
@@ -373,7 +339,7 @@ static int fill_PLANE(const ray_scene *s, const ray__prim *p,
 {
     (void)s;
     (void)uv;                    /* cheap, and they decide the hit */
-    return plane_fill(p, r, t, hit);
+    return ray__plane_fill_prim(p, r, t, hit);
 }
 
 /* The other kinds fill their record on every candidate: hit_NAME. */
@@ -460,7 +426,7 @@ static inline int prim_answer(unsigned i, int ok, ray_hit *hit,
         return 0;
     }
     if (ok == RAY__HIT_FULL)
-        full_record(i, hit);
+        ray__full_record(i, hit);
     return ok;
 }
 
@@ -515,7 +481,7 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 #undef FILL_OF
     }
     if (ok)                      /* a sphere or a plane */
-        full_record(i, hit);
+        ray__full_record(i, hit);
     return ok;
 }
 

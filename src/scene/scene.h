@@ -704,12 +704,13 @@ int ray__prim_fill(const ray_scene *s, unsigned i, const ray_ray *r,
 /* ray__prim_candidate's answer for sphere i, with the ray's part of the
 ** test made once (ray__sphere_ray_init), and for plane i, uncounted and
 ** without the dispatch: for a query that tests a scene's few spheres and
-** its planes one after another (query/traverse.h, analytic scenes). */
+** its planes one after another (query/traverse.h, analytic scenes).
+** ray__sphere_candidate is for a sphere that ray__sphere_surely_missed
+** did not rule out (it tests with ray__sphere_t_near). */
 int ray__sphere_candidate(const ray_scene *s, unsigned i,
                           const ray__sphere_ray *sr, const ray_ray *r,
                           ray_hit *hit, int uv);
-int ray__plane_candidate(const ray_scene *s, unsigned i, const ray_ray *r,
-                         ray_hit *hit);
+/* ray__plane_candidate: inline, in scene/candidate.h. */
 
 /* ------------------------------------------------------------ instances */
 

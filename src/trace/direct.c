@@ -67,8 +67,12 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
         return RAY_EINVAL;
     b.shade = args;
     b.to_eye = toward_eye(args->ray->dir);
-    for (li = 0; li < ray_scene_light_count(ctx->scene); li++) {
-        unsigned ns = ray_light_samples(ctx->scene, li);
+    /* The scene's lights and their strata read here, as
+    ** ray_scene_light_count and ray_light_samples read them: the same
+    ** counts, without two calls a hit (exported functions, which the
+    ** compiler does not inline). */
+    for (li = 0; li < ctx->scene->n_lights; li++) {
+        unsigned side = ctx->scene->lights[li].side, ns = side * side;
         for (si = 0; si < ns; si++) {
             ray_light_sample ls;
 

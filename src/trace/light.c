@@ -6,14 +6,19 @@
 
 /* Samples per shading point: side * side (ray__light.side, made when
 ** the light was added: area lights round their count up to a square). */
+/* Light "light"'s samples, an index known to be in range. */
+static unsigned samples_of(const ray_scene *s, unsigned light)
+{
+    unsigned k = s->lights[light].side;
+
+    return k * k;
+}
+
 unsigned ray_light_samples(const ray_scene *s, unsigned light)
 {
-    unsigned k;
-
     if (s == NULL || light >= s->n_lights)
         return 0;
-    k = s->lights[light].side;
-    return k * k;
+    return samples_of(s, light);
 }
 
 /*
@@ -62,7 +67,7 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
 
     if (ctx == NULL || args == NULL || args->hit == NULL || out == NULL ||
         light >= ctx->scene->n_lights ||
-        index >= ray_light_samples(ctx->scene, light))
+        index >= samples_of(ctx->scene, light))
         return RAY_EINVAL;
     sl = &ctx->scene->lights[light];
     l = &sl->desc;

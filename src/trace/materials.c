@@ -319,15 +319,30 @@ ray_material ray_material_glass(const ray_glass_params *p)
 
 /* ------------------------------------------------------------ checkerboard */
 
+/*
+** Is the sum of two floors odd: fabs(fmod(cell, 2.0)) == 1.0, the same
+** answer, without libm's fmod call (80 instructions a floor hit in the
+** Whitted render, issue 35) where an integer can take it.  Below 2^52 in
+** magnitude, cell (a sum of integers, rounded to a double) is an integer
+** that a long long holds exactly, and the remainder's parity is fmod's
+** (exact for integers); -0 is even both ways.  From 2^52 up, a NaN or an
+** infinity: fmod itself (u * scale may be huge or not finite).
+*/
+static int cell_is_odd(double cell)
+{
+    if (fabs(cell) < 0x1p52)
+        return (long long)cell % 2 != 0;
+    return fabs(fmod(cell, 2.0)) == 1.0;
+}
+
 /* The material of the square the hit lies in (scale 0: 1, so that {0}
-** is a checkerboard).  fmod, not a cast to an integer: u * scale may be
-** huge or not finite. */
+** is a checkerboard). */
 static const ray_material *checker_pick(const ray_checker_params *p,
                                         const ray_shade_args *a)
 {
     double scale = p->scale != 0 ? p->scale : 1.0;
     double cell = floor(a->u * scale) + floor(a->v * scale);
-    return fabs(fmod(cell, 2.0)) == 1.0 ? &p->odd : &p->even;
+    return cell_is_odd(cell) ? &p->odd : &p->even;
 }
 
 static void checker_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,

@@ -724,32 +724,22 @@ int ray_ctx_set_photon_map(ray_ctx *ctx, const ray_photon_map *map)
 }
 
 /*
-** The disk estimate: the photons within r of the hit point that travel
-** against the side of the surface being shaded (dir . normal < 0), their
-** power summed, over pi r^2.  The cells the sphere of radius r around p
-** overlaps (at most 2 per axis: a cell is >= 2r) are visited in a fixed
-** order; a photon is counted only in its own cell, so two cells that
-** share a bucket count nothing twice.
+** The disk estimate: the photons of map m within r of the hit point p
+** that travel against the side of the surface being shaded (dir . n < 0,
+** n the shading side's normal), their power summed, over pi r^2.  The
+** cells the sphere of radius r around p overlaps (at most 2 per axis: a
+** cell is >= 2r) are visited in a fixed order; a photon is counted only
+** in its own cell, so two cells that share a bucket count nothing twice.
+** Not static, and apart from ray_caustics_at: a call that finds no map
+** (every render without photons, on every diffuse hit) then costs its
+** few tests, not this loop's register saves (Whitted render, issue 35).
 */
-int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
-                    ray_rgb *irradiance)
+void ray__caustics_gather(const ray_photon_map *m, ray_vec3 p, ray_vec3 n,
+                          ray_rgb *irradiance)
 {
-    const ray_photon_map *m;
-    ray_vec3 p, n;
     long long lo[3], hi[3], c[3];
     double sum[3] = {0, 0, 0};
 
-    if (ctx == NULL || args == NULL || args->hit == NULL ||
-        irradiance == NULL)
-        return RAY_EINVAL;
-    m = ctx->photons;
-    if (m == NULL || !(ctx->effects & RAY_EFFECT_CAUSTICS)) {
-        irradiance->r = irradiance->g = irradiance->b = 0.0;
-        return RAY_OK;
-    }
-    ctx->stats.photon_lookups++;
-    p = args->hit->p;
-    n = args->normal;
     if (m->n == 0 || !(p.x + m->radius >= m->lo.x &&
                        p.x - m->radius <= m->hi.x &&
                        p.y + m->radius >= m->lo.y &&
@@ -757,7 +747,7 @@ int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
                        p.z + m->radius >= m->lo.z &&
                        p.z - m->radius <= m->hi.z)) {
         irradiance->r = irradiance->g = irradiance->b = 0.0;
-        return RAY_OK;
+        return;
     }
     cell_of(m, v3_sub(p, v3(m->radius, m->radius, m->radius)), lo);
     cell_of(m, v3_add(p, v3(m->radius, m->radius, m->radius)), hi);
@@ -785,5 +775,22 @@ int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
     irradiance->r = fmin(sum[0] * m->inv_area, DBL_MAX);
     irradiance->g = fmin(sum[1] * m->inv_area, DBL_MAX);
     irradiance->b = fmin(sum[2] * m->inv_area, DBL_MAX);
+}
+
+int ray_caustics_at(ray_ctx *ctx, const ray_shade_args *args,
+                    ray_rgb *irradiance)
+{
+    const ray_photon_map *m;
+
+    if (ctx == NULL || args == NULL || args->hit == NULL ||
+        irradiance == NULL)
+        return RAY_EINVAL;
+    m = ctx->photons;
+    if (m == NULL || !(ctx->effects & RAY_EFFECT_CAUSTICS)) {
+        irradiance->r = irradiance->g = irradiance->b = 0.0;
+        return RAY_OK;
+    }
+    ctx->stats.photon_lookups++;
+    ray__caustics_gather(m, args->hit->p, args->normal, irradiance);
     return RAY_OK;
 }

@@ -60,13 +60,21 @@ static inline unsigned long long ray__mix64(unsigned long long z)
 }
 
 /* The sampler state of sample "s" of pixel (x, y) in a frame with "seed":
-** a hash of all four, independent of which thread renders the pixel. */
-static inline unsigned long long ray__pixel_seed(unsigned long long seed,
-                                                 unsigned x, unsigned y,
-                                                 unsigned s)
+** a hash of all four, independent of which thread renders the pixel.
+** In two steps: the frame's part, ray__frame_hash(seed), which a render
+** makes once, then the pixel's and the sample's (ray__pixel_seed_from). */
+static inline unsigned long long ray__frame_hash(unsigned long long seed)
 {
-    unsigned long long h = ray__mix64(seed + 0x9e3779b97f4a7c15ull);
-    h = ray__mix64(h ^ (((unsigned long long)y << 32) | x));
+    return ray__mix64(seed + 0x9e3779b97f4a7c15ull);
+}
+
+static inline unsigned long long ray__pixel_seed_from(unsigned long long
+                                                          frame,
+                                                      unsigned x, unsigned y,
+                                                      unsigned s)
+{
+    unsigned long long h = ray__mix64(frame ^
+                                      (((unsigned long long)y << 32) | x));
     return ray__mix64(h + s);
 }
 
@@ -90,6 +98,11 @@ void ray__shade_args(const ray_scene *s, const ray_ray *r,
 int ray__photon_map_make(const ray_scene *s, const ray_render_options *o,
                          ray_photon_map **out);
 void ray__photon_map_counts(const ray_photon_map *m, ray_stats *st);
+
+/* ray_caustics_at's estimate from map m at hit point p, n the shading
+** side's normal, into *irradiance (photons.c says how). */
+void ray__caustics_gather(const ray_photon_map *m, ray_vec3 p, ray_vec3 n,
+                          ray_rgb *irradiance);
 
 /* Is a photon radius acceptable (0: automatic, else finite and > 0)? */
 int ray__photon_radius_valid(double r);
