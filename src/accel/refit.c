@@ -92,11 +92,11 @@ static void refit_leaf_run(ray__bvh *bvh, ray__range_box_fn range_box,
     size_t i;
 
     for (i = begin; i < end; i++) {
-        if (i + REFIT_PREFETCH_LEAVES < end)
-            prefetch_node(bvh, i + REFIT_PREFETCH_LEAVES);
         ray__wnode *q = &bvh->wide[bvh->leaves[i] / RAY__WIDTH];
         int slot = (int)(bvh->leaves[i] % RAY__WIDTH);
         box b;
+        if (i + REFIT_PREFETCH_LEAVES < end)
+            prefetch_node(bvh, i + REFIT_PREFETCH_LEAVES);
         range_box(ud, q->child[slot], q->count[slot] & ~RAY__LEAF, b.lo,
                   b.hi);
         slot_fit(q, slot, &b);

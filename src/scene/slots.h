@@ -2,8 +2,9 @@
 /*
 ** slots.h -- reading the triangle slots' corners in slot order, for the
 ** passes that visit every slot once (triangles.c: the leaf rows, the
-** corner copies, the refit; refit_avx2.c: the refit's AVX2 leaf), and
-** rounding a leaf's box out to float.
+** corner copies, the refit; refit_avx2.c: the refit's AVX2 leaf),
+** fetching ahead where the slots are in the tree's order, and rounding a
+** leaf's box out to float.
 */
 #ifndef RAY_SCENE_SLOTS_H
 #define RAY_SCENE_SLOTS_H
@@ -52,8 +53,10 @@ RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
 ** and then its corners are two dependent cache misses: most of a 940k
 ** refit's time sat on those two loads (perf annotate, bench/filter
 ** --profile refit, issue 36).  A pass that visits the slots in order
-** knows the slots ahead: slot + PREFETCH_INDICES's index triple is
-** fetched, and slot + PREFETCH_CORNERS's corners, whose triple came
+** knows the slots ahead (the refit's leaves and the corner copies, which
+** run after the slots took the tree's order; the rows, made before, read
+** the geometry as it lies and need none): slot + PREFETCH_INDICES's index
+** triple is fetched, and slot + PREFETCH_CORNERS's corners, whose triple came
 ** PREFETCH_INDICES - PREFETCH_CORNERS slots earlier.  Only slots of the
 ** mesh at hand, *m of geometry m_geom (the usual case): another's would
 ** cost a lookup.  The distances were measured (bench/filter --profile

@@ -198,8 +198,6 @@ static void rows_by_slot(const ray_scene *s, size_t begin, size_t end,
     for (i = begin; i < end; i++) {
         ray__tri t;
         refit_corners(s, i, &m, &m_geom, &t);
-        if (m != NULL)
-            ray__prefetch_slots(s, i, m, m_geom);
         leaf_rows(&t, by_slot + RAY__LEAF_ROWS * i, 1);
     }
 }
