@@ -28,8 +28,22 @@
 ** library's counted build (make bench-counts, -DRAY_BENCH_COUNTS), it
 ** prints instead the work of libray's queries per ray: nodes, leaves,
 ** triangles filtered, exact tests (issue 34).
+**
+** RAYCOST_AB=path/to/libray.so: another build of libray (a change's base,
+** built in a worktree) as a fourth column, its scenes built the same way
+** and its passes interleaved with the others', with its ratio to this
+** build's: a change measured against its base in one run, so that a
+** noisy machine slows both alike (POSIX only: dlopen).  A shared
+** library runs a little slower than the static one linked here (position-
+** independent code: up to a tenth on these rows), so for a fair A/B give
+** this build's shared library too, as RAYCOST_AB_OURS: the libray column
+** then runs that.
 */
 #include <time.h>
+#if defined(__unix__) && !defined(RAY_BENCH_COUNTS)
+#define HAVE_AB 1
+#include <dlfcn.h>
+#endif
 
 #include "bench.h"
 #include "obj.h"
@@ -38,7 +52,87 @@
 #include "tinybvh.h"
 #endif
 
-enum { TOOL_OURS, TOOL_EMBREE, TOOL_TINY, TOOLS };
+enum { TOOL_OURS, TOOL_EMBREE, TOOL_TINY, TOOL_AB, TOOLS };
+
+#ifdef HAVE_AB
+static void die(const char *what);
+
+/* The other build's entry points (RAYCOST_AB). */
+typedef struct ab_lib {
+    int (*scene_new)(ray_scene **, ray_alloc_fn, void *);
+    int (*add_material)(ray_scene *, const ray_material *, unsigned *);
+    int (*add_mesh)(ray_scene *, const ray_mesh *, unsigned, unsigned *);
+    int (*commit)(ray_scene *);
+    void (*scene_free)(ray_scene *);
+    int (*intersect)(const ray_scene *, const ray_ray *, ray_hit *,
+                     ray_stats *);
+    int (*occluded)(const ray_scene *, const ray_ray *, ray_stats *);
+} ab_lib;
+
+static ab_lib ab[2];         /* RAYCOST_AB's, RAYCOST_AB_OURS's */
+
+/* Library k's entry points from "path" (k: 0 RAYCOST_AB's, 1
+** RAYCOST_AB_OURS's).  RTLD_DEEPBIND: its calls to its own public
+** functions stay inside it. */
+static void ab_open(int k, const char *path)
+{
+    ab_lib *l = &ab[k];
+    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+
+    if (h == NULL) {
+        fprintf(stderr, "raycost: %s: %s\n", path, dlerror());
+        exit(1);
+    }
+    *(void **)&l->scene_new = dlsym(h, "ray_scene_new");
+    *(void **)&l->add_material = dlsym(h, "ray_scene_add_material");
+    *(void **)&l->add_mesh = dlsym(h, "ray_scene_add_mesh");
+    *(void **)&l->commit = dlsym(h, "ray_scene_commit");
+    *(void **)&l->scene_free = dlsym(h, "ray_scene_free");
+    *(void **)&l->intersect = dlsym(h, "ray_intersect");
+    *(void **)&l->occluded = dlsym(h, "ray_occluded");
+    if (!l->scene_new || !l->add_material || !l->add_mesh || !l->commit ||
+        !l->scene_free || !l->intersect || !l->occluded) {
+        fprintf(stderr, "raycost: %s: not a libray\n", path);
+        exit(1);
+    }
+}
+
+/* Load the libraries asked for: bit 0 set if RAYCOST_AB's is loaded,
+** bit 1 if RAYCOST_AB_OURS's is. */
+static int ab_load(void)
+{
+    static int state = -1;
+    const char *path, *ours;
+
+    if (state >= 0)                 /* asked once a ray: no getenv then */
+        return state;
+    path = getenv("RAYCOST_AB");
+    ours = getenv("RAYCOST_AB_OURS");
+    state = 0;
+    if (path != NULL) {
+        ab_open(0, path);
+        state |= 1;
+    }
+    if (ours != NULL) {
+        ab_open(1, ours);
+        state |= 2;
+    }
+    return state;
+}
+
+/* Library k's scene of mesh m. */
+static ray_scene *ab_scene(int k, const ray_mesh *m)
+{
+    ray_material mat = plain();
+    ray_scene *s;
+
+    if (ab[k].scene_new(&s, NULL, NULL) != RAY_OK ||
+        ab[k].add_material(s, &mat, NULL) != RAY_OK ||
+        ab[k].add_mesh(s, m, 0, NULL) != RAY_OK || ab[k].commit(s) != RAY_OK)
+        die("RAYCOST_AB's scene");
+    return s;
+}
+#endif
 
 typedef struct ray_set {
     const char *name;
@@ -56,6 +150,9 @@ typedef struct tools {
 #endif
 #ifdef HAVE_TINYBVH
     tbvh *tiny;
+#endif
+#ifdef HAVE_AB
+    ray_scene *other[2];     /* RAYCOST_AB's and RAYCOST_AB_OURS's */
 #endif
 } tools;
 
@@ -118,6 +215,14 @@ static void tools_build(tools *t, const ray_mesh *m)
 #ifdef HAVE_TINYBVH
     t->tiny = tbvh_build(xyz, m->indices, m->triangle_count);
 #endif
+#ifdef HAVE_AB
+    {
+        int k;
+        for (k = 0; k < 2; k++)
+            if (ab_load() >> k & 1)
+                t->other[k] = ab_scene(k, m);
+    }
+#endif
     free(xyz);
 }
 
@@ -130,6 +235,14 @@ static void tools_free(tools *t)
 #endif
 #ifdef HAVE_TINYBVH
     tbvh_free(t->tiny);
+#endif
+#ifdef HAVE_AB
+    {
+        int k;
+        for (k = 0; k < 2; k++)
+            if (ab_load() >> k & 1)
+                ab[k].scene_free(t->other[k]);
+    }
 #endif
 }
 
@@ -150,6 +263,13 @@ static int have(int tool)
     if (tool == TOOL_TINY)
         return 0;
 #endif
+#ifdef HAVE_AB
+    if (tool == TOOL_AB)
+        return ab_load() & 1;
+#else
+    if (tool == TOOL_AB)
+        return 0;
+#endif
     (void)tool;
     return 1;
 }
@@ -161,6 +281,15 @@ static size_t pass(const tools *t, int tool, const ray_set *rs)
 
     for (i = 0; i < rs->n; i++) {
         const ray_ray *r = &rs->rays[i];
+#ifdef HAVE_AB
+        if (tool == TOOL_AB || (tool == TOOL_OURS && ab_load() & 2)) {
+            int k = tool == TOOL_AB ? 0 : 1;
+            ray_hit h;
+            hits += (size_t)(rs->any
+                                 ? ab[k].occluded(t->other[k], r, NULL)
+                                 : ab[k].intersect(t->other[k], r, &h, NULL));
+        } else
+#endif
         if (tool == TOOL_OURS) {
             ray_hit h;
             hits += (size_t)(rs->any ? ray_occluded(t->ours, r, NULL)
@@ -220,7 +349,7 @@ static void row(const tools *t, const ray_set *rs, int reps)
 {
     static int index;
     double ns[TOOLS][16], ratio[TOOLS][16], med[TOOLS];
-    size_t hits[TOOLS] = {0, 0, 0};
+    size_t hits[TOOLS] = {0, 0, 0, 0};
     int k, tool;
 
     if (!row_wanted(index++))
@@ -250,13 +379,17 @@ static void row(const tools *t, const ray_set *rs, int reps)
         med[tool] = median(ns[tool], reps);
     }
     printf("| %s | %zu |", rs->name, rs->n);
-    for (tool = 0; tool < TOOLS; tool++)
+    for (tool = 0; tool < TOOL_AB; tool++)
         if (have(tool))
             printf(" %.1f (%zu hits) |", med[tool], hits[tool]);
         else
             printf(" - |");
+    if (have(TOOL_AB))
+        printf(" %.1f (%zu hits) |", med[TOOL_AB], hits[TOOL_AB]);
     for (tool = 1; tool < TOOLS; tool++)
-        if (have(tool) && have(TOOL_OURS))
+        if (tool == TOOL_AB && !have(TOOL_AB))
+            continue;
+        else if (have(tool) && have(TOOL_OURS))
             printf(" %.2f |", median(ratio[tool], reps));
         else
             printf(" - |");
@@ -431,8 +564,13 @@ int main(int argc, char **argv)
     printf("ns a ray, one thread, median of %d interleaved passes; 59k "
            "bunny and a 20k-triangle grid; ratios are theirs / ours in "
            "time (above 1: ours is faster).\n\n", reps);
-    printf("| rays | n | libray | Embree | tinybvh | Embree / libray "
-           "| tinybvh / libray |\n|---|---|---|---|---|---|---|\n");
+    if (have(TOOL_AB))
+        printf("| rays | n | libray | Embree | tinybvh | RAYCOST_AB "
+               "| Embree / libray | tinybvh / libray | RAYCOST_AB / libray "
+               "|\n|---|---|---|---|---|---|---|---|---|\n");
+    else
+        printf("| rays | n | libray | Embree | tinybvh | Embree / libray "
+               "| tinybvh / libray |\n|---|---|---|---|---|---|---|\n");
 #endif
     row(&bunny, &miss_box, reps);
     row(&bunny, &enter_miss, reps);
