@@ -545,7 +545,7 @@ START_TEST(traversal_setup_should_be_the_same_with_and_without_avx2)
         return;
     for (i = 0; i < 200000; i++) {
         ray_ray r;
-        uint32_t fa[10], fb[10];
+        uint32_t fa[13], fb[13];
         size_t aa[6], ab[6];
         if (i < 100000) {
             r.org = vec(coords[rng_next(&g) % nc], coords[rng_next(&g) % nc],

@@ -32,7 +32,7 @@ int ray__occluded_gated_base(const ray_scene *s, const ray_ray *r,
     return query_any_gated(s, r, g, st);
 }
 
-void ray__trav_data_base(const ray_ray *r, uint32_t f[10], size_t at[6])
+void ray__trav_data_base(const ray_ray *r, uint32_t f[13], size_t at[6])
 {
     trav_data(r, f, at);
 }

@@ -147,7 +147,8 @@ static void packet_traverse(const ray_scene *s, packet *p, int any,
             for (m = sel; m != 0; m &= m - 1) {
                 unsigned b;
                 l = lowest_bit(m);
-                b = boxes_hit(q, &p->box[l], p->tmax[l], entry[l]);
+                b = boxes_hit(q, &p->box[l], p->tmax[l], p->tpop[l],
+                              entry[l]);
                 todo |= b;
                 for (; b != 0; b &= b - 1) {
                     k = lowest_bit(b);

@@ -154,11 +154,12 @@ int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r);
 ** A ray's traversal data (slab.h's trav_init) as each copy computes it,
 ** for the tests (the AVX set-up against the baseline's, bit for bit):
 ** f[0..2] the origin's near ends, f[3..5] its far ends, f[6..8] the
-** reciprocals, f[9] tmin, all as their float bits; at[0..2] the near
+** reciprocals, f[9] tmin, f[10..12] the far distances' grown
+** reciprocals (FAR_GROW), all as their float bits; at[0..2] the near
 ** offsets, at[3..5] the far ones.  r must pass ray__ray_usable.
 */
-void ray__trav_data_base(const ray_ray *r, uint32_t f[10], size_t at[6]);
-void ray__trav_data_avx2(const ray_ray *r, uint32_t f[10], size_t at[6]);
+void ray__trav_data_base(const ray_ray *r, uint32_t f[13], size_t at[6]);
+void ray__trav_data_avx2(const ray_ray *r, uint32_t f[13], size_t at[6]);
 
 /*
 ** ray_intersect_batch and ray_occluded_batch's packets (packet.h): n rays of a

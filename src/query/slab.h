@@ -31,7 +31,10 @@
 **     wrong way: tmin may be negative).  Ize proves with that bound that
 **     no hit is lost ("Robust BVH Ray Traversal", JCGT 2(2), 2013;
 **     pbrt-v4 Bounds3::IntersectP; Embree's robust mode); the popped
-**     entries get the same slack against tmax.
+**     entries get the same slack against tmax.  Where tmin >= 0 (nearly
+**     every query) the slack is carried by the far distances' own
+**     reciprocals instead, grown by FAR_GROW, off the node test's
+**     critical path (FAR_GROW says why that bound holds too).
 **   * The distances are in units of a direction scaled by a power of two
 **     (exact) so that its largest component lies in [1, 2): 1/d of that
 **     component is then a normal float whatever the ray's length.
@@ -49,6 +52,8 @@ typedef struct trav {
     float o_near[4], o_far[4];   /* the origin end used for near / far */
     float inv[4];                /* 1 / scaled direction (NaN: ignored);
                                     [3] of each: room for a vector store */
+    float inv_far[4];            /* inv times FAR_GROW: the far
+                                    distances' where tmin >= 0 */
     size_t near_at[3], far_at[3];/* offsets of the near / far bound arrays */
     float tmin;                  /* scaled, widened to a float */
     double t_scale;              /* distance units of the scaled direction */
@@ -65,6 +70,33 @@ typedef struct trav {
 #define FLOAT_U 5.9604644775390625e-8f
 #define FAR_SLACK (2.0f * (3.0f * FLOAT_U) / (1.0f - 3.0f * FLOAT_U) + \
                    4.0f * FLOAT_U)
+
+/*
+** Where the interval starts at or past zero (tmin >= 0: nearly every
+** query), the slack is put in the far distances themselves: each axis's
+** is computed with 1/d grown in magnitude by FAR_GROW and clipped to
+** tmax with its slack (with_slack), so the node test's critical path
+** (load, distances, min, compare, mask, next child: ~50 cycles a node,
+** 62% of a camera ray's nodes having one child entered) loses the min,
+** |t|, product and sum after it.  Why that is still Ize's bound: a box
+** the ray truly enters has exact far distances tf* >= tmin >= 0, and a
+** computed near distance is at most tn* (1 + gamma(3)) (negative when
+** tn* is); a grown far distance is at least tf* (1 + k)(1 - gamma(4))
+** (four roundings: the subtraction, the float inverse, the product by
+** FAR_GROW, the product), which is >= tn* (1 + gamma(3)) when k >=
+** gamma(3) + gamma(4) + O(u^2), about 7u; 12u leaves room for the double
+** division under the inverse.  A negative far distance only gets more
+** negative, so a negative tmin (where a box behind the origin counts)
+** keeps the slack after the min.  1 + 12u is a float (1 + 6 2^-23).
+** Without the growth, tests/check_bvh.c's rays at a flat grid's vertices
+** lose hits (bvh_should_not_lose_hits_on_flat_boxes; the mutants
+** slab-far-grow and slab-far-grown-tf).  Measured against the slack
+** after the min (bench/raycost, RAYCOST_AB, thread CPU time, medians of
+** six interleaved runs; before / after in time): camera rays that enter
+** the box and miss 1.09, camera hits 1.05, shadow rays 1.08, the ground
+** query 1.02, rays that miss the box 1.00 (issue 34).
+*/
+#define FAR_GROW (1.0f + 12.0f * FLOAT_U)
 
 /* The interval's end t in the scaled units, rounded up to a float. */
 static inline float trav_tmax(const trav *tr, double t)
@@ -123,6 +155,7 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
         choice[1] = (double)NAN;
         tr->inv[k] = (float)choice[(d != 0) & !(fabs(ds) >= 0x1p-126)];
     }
+    tr->inv_far[k] = tr->inv[k] * FAR_GROW;
     /* inv >= 0: near = (lo_plane - o_hi) * inv, far = (hi - o_lo) * inv;
     ** inv < 0:  near = (hi_plane - o_lo) * inv, far = (lo - o_hi) * inv. */
     tr->o_near[k] = ends[!neg];
@@ -234,6 +267,8 @@ static void trav_init(trav *tr, const ray_ray *r)
 
         inv = _mm256_blendv_pd(inv, _mm256_set1_pd((double)NAN), ignored);
         _mm_storeu_ps(tr->inv, _mm256_cvtpd_ps(inv));
+        _mm_storeu_ps(tr->inv_far, _mm_mul_ps(_mm256_cvtpd_ps(inv),
+                                              _mm_set1_ps(FAR_GROW)));
         /* inv >= 0 (sign clear): near from o_hi, far from o_lo. */
         _mm_storeu_ps(tr->o_near, _mm_blendv_ps(hi, lo, sign));
         _mm_storeu_ps(tr->o_far, _mm_blendv_ps(lo, hi, sign));
@@ -338,8 +373,9 @@ typedef __m128 vf;
 #endif
 
 typedef struct lanes {
-    vf o_near[3], o_far[3], inv[3], tmin, slack;
+    vf o_near[3], o_far[3], inv[3], inv_far[3], tmin, slack;
     size_t near_at[3], far_at[3];
+    int grown;                  /* far distances by inv_far (FAR_GROW) */
 } lanes;
 
 static inline void lanes_axis(lanes *l, const trav *tr, int a)
@@ -347,12 +383,14 @@ static inline void lanes_axis(lanes *l, const trav *tr, int a)
     l->o_near[a] = VF_SET1(tr->o_near[a]);
     l->o_far[a] = VF_SET1(tr->o_far[a]);
     l->inv[a] = VF_SET1(tr->inv[a]);
+    l->inv_far[a] = VF_SET1(l->grown ? tr->inv_far[a] : tr->inv[a]);
     l->near_at[a] = tr->near_at[a];
     l->far_at[a] = tr->far_at[a];
 }
 
 static void lanes_init(lanes *l, const trav *tr)
 {
+    l->grown = !(tr->tmin < 0);
     lanes_axis(l, tr, 0);           /* written out: no loop to exit */
     lanes_axis(l, tr, 1);
     lanes_axis(l, tr, 2);
@@ -372,24 +410,27 @@ static inline void slab8(const ray__wnode *q, const lanes *l, int a,
     __m256 np = _mm256_loadu_ps(bound_at(q, l->near_at[a]));
     __m256 fp = _mm256_loadu_ps(bound_at(q, l->far_at[a]));
     __m256 tn = _mm256_mul_ps(_mm256_sub_ps(np, l->o_near[a]), l->inv[a]);
-    __m256 tf = _mm256_mul_ps(_mm256_sub_ps(fp, l->o_far[a]), l->inv[a]);
+    __m256 tf = _mm256_mul_ps(_mm256_sub_ps(fp, l->o_far[a]), l->inv_far[a]);
 
     *t0 = _mm256_max_ps(tn, *t0);                    /* NaN tn: ignored */
     *t1 = _mm256_min_ps(tf, *t1);                    /* NaN tf: ignored */
 }
 
+/* tmax: the interval's end (trav_tmax); tpop: with its slack. */
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float entry[RAY__WIDTH])
+                                 float tmax, float tpop,
+                                 float entry[RAY__WIDTH])
 {
-    __m256 t0 = l->tmin, t1 = _mm256_set1_ps(HUGE_VALF);
+    __m256 t0 = l->tmin;
+    __m256 t1 = _mm256_set1_ps(l->grown ? tpop : tmax);
 
     slab8(q, l, 0, &t0, &t1);
     slab8(q, l, 1, &t0, &t1);
     slab8(q, l, 2, &t0, &t1);
-    t1 = _mm256_min_ps(t1, _mm256_set1_ps(tmax));
-    t1 = _mm256_add_ps(t1, _mm256_mul_ps(
-                               _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t1),
-                               l->slack));
+    if (!l->grown)                  /* the slack after the min: FAR_GROW */
+        t1 = _mm256_add_ps(t1, _mm256_mul_ps(
+                                   _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t1),
+                                   l->slack));
     _mm256_storeu_ps(entry, t0);
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
 }
@@ -408,7 +449,7 @@ static inline void slab4(const ray__wnode *q, const lanes *l, int a,
     __m128 np = _mm_loadu_ps(bound_at(q, l->near_at[a]) + lane);
     __m128 fp = _mm_loadu_ps(bound_at(q, l->far_at[a]) + lane);
     __m128 tn = _mm_mul_ps(_mm_sub_ps(np, l->o_near[a]), l->inv[a]);
-    __m128 tf = _mm_mul_ps(_mm_sub_ps(fp, l->o_far[a]), l->inv[a]);
+    __m128 tf = _mm_mul_ps(_mm_sub_ps(fp, l->o_far[a]), l->inv_far[a]);
 
     *t0 = _mm_max_ps(tn, *t0);                       /* NaN tn: ignored */
     *t1 = _mm_min_ps(tf, *t1);                       /* NaN tf: ignored */
@@ -417,25 +458,27 @@ static inline void slab4(const ray__wnode *q, const lanes *l, int a,
 static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
                                   __m128 vmax, int lane, float *entry)
 {
-    __m128 t0 = l->tmin, t1 = _mm_set1_ps(HUGE_VALF);
+    __m128 t0 = l->tmin, t1 = vmax;
 
     slab4(q, l, 0, lane, &t0, &t1);
     slab4(q, l, 1, lane, &t0, &t1);
     slab4(q, l, 2, lane, &t0, &t1);
-    /* Clipped to tmax, then the slack: t1 is never NaN; -Inf (a box
-    ** wholly outside a slab of a zero direction component) gives NaN,
-    ** a miss. */
-    t1 = _mm_min_ps(t1, vmax);
-    t1 = _mm_add_ps(t1, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), t1),
-                                   l->slack));
+    /* Clipped to tmax, then the slack (where the far distances do not
+    ** carry it: FAR_GROW): t1 is never NaN; -Inf (a box wholly outside a
+    ** slab of a zero direction component) gives NaN, a miss. */
+    if (!l->grown)
+        t1 = _mm_add_ps(t1, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), t1),
+                                       l->slack));
     _mm_storeu_ps(entry + lane, t0);
     return (unsigned)_mm_movemask_ps(_mm_cmple_ps(t0, t1)) << lane;
 }
 
+/* tmax: the interval's end (trav_tmax); tpop: with its slack. */
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float entry[RAY__WIDTH])
+                                 float tmax, float tpop,
+                                 float entry[RAY__WIDTH])
 {
-    __m128 vmax = _mm_set1_ps(tmax);
+    __m128 vmax = _mm_set1_ps(l->grown ? tpop : tmax);
 
     /* Written out for the two halves (-O2 does not unroll a loop). */
     return boxes_hit4(q, l, vmax, 0, entry) | boxes_hit4(q, l, vmax, 4, entry);
@@ -452,30 +495,32 @@ static void lanes_init(lanes *l, const trav *tr)
 }
 
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float entry[RAY__WIDTH])
+                                 float tmax, float tpop,
+                                 float entry[RAY__WIDTH])
 {
     const trav *tr = l->tr;
+    int grown = !(tr->tmin < 0);         /* as the SIMD lanes' */
     float t0[RAY__WIDTH], t1[RAY__WIDTH];
     unsigned mask = 0;
     int a, k;
 
     for (k = 0; k < RAY__WIDTH; k++) {
         t0[k] = tr->tmin;
-        t1[k] = HUGE_VALF;
+        t1[k] = grown ? tpop : tmax;
     }
     for (a = 0; a < 3; a++) {
         const float *np = bound_at(q, tr->near_at[a]);
         const float *fp = bound_at(q, tr->far_at[a]);
+        float inv_far = grown ? tr->inv_far[a] : tr->inv[a];
         for (k = 0; k < RAY__WIDTH; k++) {
             float tn = (np[k] - tr->o_near[a]) * tr->inv[a];
-            float tf = (fp[k] - tr->o_far[a]) * tr->inv[a];
+            float tf = (fp[k] - tr->o_far[a]) * inv_far;
             t0[k] = tn > t0[k] ? tn : t0[k];        /* NaN tn: ignored */
             t1[k] = tf < t1[k] ? tf : t1[k];        /* NaN tf: ignored */
         }
     }
     for (k = 0; k < RAY__WIDTH; k++) {
-        float far = t1[k] < tmax ? t1[k] : tmax;
-        far = with_slack(far);                  /* as the SSE lanes */
+        float far = grown ? t1[k] : with_slack(t1[k]);  /* as the SSE lanes */
         entry[k] = t0[k];
         mask |= (unsigned)(t0[k] <= far) << k;
     }

@@ -190,7 +190,7 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
         if (count == 0) {                           /* an inner node */
             const ray__wnode *q = &bvh->wide[child];
             float entry[RAY__WIDTH];
-            unsigned mask = boxes_hit(q, &l, tmax, entry);
+            unsigned mask = boxes_hit(q, &l, tmax, tpop, entry);
             int k0, k1, base, j;
 
             RAY__WORK(RAY__WORK_NODES, 1);
@@ -540,7 +540,7 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
 
 /* The traversal data of r as this copy computes it (query.h's
 ** ray__trav_data_*, for the tests). */
-static void trav_data(const ray_ray *r, uint32_t f[10], size_t at[6])
+static void trav_data(const ray_ray *r, uint32_t f[13], size_t at[6])
 {
     trav tr;
     int k;
@@ -550,6 +550,7 @@ static void trav_data(const ray_ray *r, uint32_t f[10], size_t at[6])
         memcpy(&f[k], &tr.o_near[k], sizeof f[k]);
         memcpy(&f[3 + k], &tr.o_far[k], sizeof f[k]);
         memcpy(&f[6 + k], &tr.inv[k], sizeof f[k]);
+        memcpy(&f[10 + k], &tr.inv_far[k], sizeof f[k]);
         at[k] = tr.near_at[k];
         at[3 + k] = tr.far_at[k];
     }
