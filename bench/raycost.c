@@ -23,7 +23,8 @@
 ** tool reports the same t; the hit counts are printed to show that the
 ** tools agree.  Prints Markdown; asserts nothing.  BENCH_QUICK=1: fewer
 ** rays and repetitions; RAYCOST_TOOLS and RAYCOST_ROWS pick columns and
-** rows (for A/B runs and profiles); RAYCOST_CPU_TIME=1 times by thread
+** rows (for A/B runs and profiles), RAYCOST_MESH another mesh of
+** DATA_DIR than bunny-2.obj; RAYCOST_CPU_TIME=1 times by thread
 ** CPU time (a machine busy with others' work).  Built against the
 ** library's counted build (make bench-counts, -DRAY_BENCH_COUNTS), it
 ** prints instead the work of libray's queries per ray: nodes, leaves,
@@ -481,7 +482,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: raycost DATA_DIR\n");
         return 2;
     }
-    snprintf(path, sizeof path, "%s/bunny-2.obj", argv[1]);
+    /* RAYCOST_MESH=bunny-4.obj: another mesh of DATA_DIR (for A/B runs
+    ** on a mesh past the caches); the 59k bunny by default. */
+    snprintf(path, sizeof path, "%s/%s", argv[1],
+             getenv("RAYCOST_MESH") != NULL ? getenv("RAYCOST_MESH")
+                                            : "bunny-2.obj");
     if (obj_load(path, &om, err, sizeof err) != 0) {
         printf("raycost: no %s (scripts/fetch-bunny.sh): skipped\n", path);
         return 0;
