@@ -556,7 +556,7 @@ endif
 # compiles of the amalgamation and the FetchContent build.
 # The suites first among the prerequisites, as the longest step: make -j
 # starts them beside the embedding steps rather than after them.
-CHECK_LONG_SUITES = filter bvh sphere
+CHECK_LONG_SUITES = filter bvh sphere sweep closest
 check-long: check-long-suite amalgamation-test-long cmake-test-long
 check-long-suite: deps-check lib $(TEST_BIN)
 	CK_TIMEOUT_MULTIPLIER=$${CK_TIMEOUT_MULTIPLIER:-$(CHECK_TIMEOUT_MULTIPLIER)} \
