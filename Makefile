@@ -495,10 +495,16 @@ CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test lice
 ifneq ($(filter check test,$(MAKECMDGOALS)),)
 $(CHECK_AFTER_SUITE) $(FAULTSIM) $(EXAMPLES) $(BENCHES) $(FUZZ_REPLAYS): | $(TEST_BIN)
 endif
-check: deps-check lib check-suite layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+# After the suite, the longest steps first (make -j starts them in this
+# order), each with what it builds: cmake-test and amalgamation-test
+# compile the library again, and mpi-check and install-test wait on
+# mpirun and cmake more than they compute, so they go while the rest
+# still has work for the CPUs, not last, alone.
+check: deps-check lib check-suite cmake-test amalgamation-test $(filter mpi-check,$(CHECK_RUNS)) install-test abi-test \
+       layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        snippets-test pages-test bench-docs-test \
-       install-test $(if $(filter 0,$(PNG)),png-free-test) \
-       version-test abi-test exports-test cmake-test amalgamation-test $(filter-out check-suite,$(CHECK_RUNS))
+       $(if $(filter 0,$(PNG)),png-free-test) \
+       version-test exports-test $(filter-out check-suite mpi-check,$(CHECK_RUNS))
 	@t=$$(( $$(date +%s) - $(CHECK_T0) )); \
 	echo "check: all passed in $$((t / 60))m$$((t % 60))s on $$(nproc 2>/dev/null || echo ?) CPUs$(if $(filter -j%,$(MAKEFLAGS)),, (make -j$(CHECK_JOBS) check runs its steps side by side))"; \
 	cat $(CHECK_SUMMARY)
