@@ -99,14 +99,16 @@ MANPAGES = $(wildcard man/man3/*.3) $(wildcard man/man7/*.7)
 # name of a page's NAME section after its own (its .Nm lines, not those of
 # later sections), so a new page needs no list here; docs-test checks
 # that each is a function of ray.h shown in that page's SYNOPSIS.
-# Worked out once a make, on first use (an awk a page: docs-test, install
-# and uninstall each used to run them all again, and install-test's
-# installs more).
+# Worked out once a make, on first use (docs-test, install and uninstall
+# each used to work it out again, and install-test's installs more).
 MLINKS = $(eval MLINKS := $$(shell $$(MLINKS_CMD)))$(MLINKS)
-MLINKS_CMD = for f in man/man3/*.3; do \
-    awk -v p="$$(basename $$f .3)" '/^\.Sh /{name = ($$2 == "NAME")} \
+# One awk over every page, not one (and a basename) a page: each make
+# that needs the list (install-test's eight sub-makes, cmake-test's,
+# version-test's) spent about a second of CPU on 94 processes for it.
+MLINKS_CMD = awk 'FNR == 1 {p = FILENAME; sub(/.*\//, "", p); sub(/\.3$$/, "", p); name = 0} \
+        /^\.Sh /{name = ($$2 == "NAME")} \
         name && /^\.Nm /{n=$$2; sub(/,$$/,"",n); \
-        if (n != "" && n != p) print p ":" n}' "$$f"; done
+        if (n != "" && n != p) print p ":" n}' man/man3/*.3
 
 .PHONY: all lib check test demo bench-counts caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
@@ -452,6 +454,23 @@ layers-test: $(OBJS)
 # by default.  check's own recipe only prints the summary: the time taken,
 # the -j hint, and last, alone on its line, "checks: N passed, N failed".
 CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+# Plain make check (the README's command) runs its steps side by side by
+# itself, CHECK_JOBS at once: one step at a time took 4 min 56 s of two
+# otherwise idle cores, make -j2 check well under half of that (issue 38).
+# A -j of the user's wins: GNU make 4.3 applies the command line's after
+# the makefile's, and 4.4, which shows it here, is skipped by the filter;
+# make -j1 check runs one step at a time.  Only in the top make
+# (MAKELEVEL 0): a sub-make that sets -j itself leaves its parent's
+# jobserver ("-jN forced in makefile: resetting jobserver mode"), so
+# make distcheck's and make sanitize's inner make check share the outer
+# make's slots, as many as it was given.
+ifneq ($(filter check test check-long,$(MAKECMDGOALS)),)
+ifeq ($(MAKELEVEL),0)
+ifeq ($(filter -j% --jobs%,$(MAKEFLAGS)),)
+MAKEFLAGS += -j$(CHECK_JOBS)
+endif
+endif
+endif
 # The time make check started at (seconds), for its summary.
 CHECK_T0 := $(shell date +%s)
 CHECK_SUMMARY = $(BUILD)/tests/summary
@@ -467,13 +486,25 @@ CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test lice
     links-test snippets-test pages-test bench-docs-test install-test png-free-test \
     version-test abi-test exports-test cmake-test amalgamation-test check-faultsim fuzz-replay \
     check-examples-run mpi-check bench-smoke
+# The programs the other steps build wait too: make starts a ready
+# target only when its pass over check's prerequisites reaches it, and a
+# pass blocks on each free slot, so a suite skipped early in the pass
+# (its program not yet linked) used to wait for the pass to start every
+# example, benchmark and fuzz replay build and most of the other steps:
+# make -j2 check started the suite 2 minutes after linking it.
 ifneq ($(filter check test,$(MAKECMDGOALS)),)
-$(CHECK_AFTER_SUITE): | $(TEST_BIN)
+$(CHECK_AFTER_SUITE) $(FAULTSIM) $(EXAMPLES) $(BENCHES) $(FUZZ_REPLAYS): | $(TEST_BIN)
 endif
-check: deps-check lib check-suite layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+# After the suite, the longest steps first (make -j starts them in this
+# order), each with what it builds: cmake-test and amalgamation-test
+# compile the library again, and mpi-check and install-test wait on
+# mpirun and cmake more than they compute, so they go while the rest
+# still has work for the CPUs, not last, alone.
+check: deps-check lib check-suite cmake-test amalgamation-test $(filter mpi-check,$(CHECK_RUNS)) install-test abi-test \
+       layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        snippets-test pages-test bench-docs-test \
-       install-test $(if $(filter 0,$(PNG)),png-free-test) \
-       version-test abi-test exports-test cmake-test amalgamation-test $(filter-out check-suite,$(CHECK_RUNS))
+       $(if $(filter 0,$(PNG)),png-free-test) \
+       version-test exports-test $(filter-out check-suite mpi-check,$(CHECK_RUNS))
 	@t=$$(( $$(date +%s) - $(CHECK_T0) )); \
 	echo "check: all passed in $$((t / 60))m$$((t % 60))s on $$(nproc 2>/dev/null || echo ?) CPUs$(if $(filter -j%,$(MAKEFLAGS)),, (make -j$(CHECK_JOBS) check runs its steps side by side))"; \
 	cat $(CHECK_SUMMARY)
@@ -531,7 +562,7 @@ endif
 # compiles of the amalgamation and the FetchContent build.
 # The suites first among the prerequisites, as the longest step: make -j
 # starts them beside the embedding steps rather than after them.
-CHECK_LONG_SUITES = filter bvh sphere
+CHECK_LONG_SUITES = filter bvh sphere sweep closest
 check-long: check-long-suite amalgamation-test-long cmake-test-long
 check-long-suite: deps-check lib $(TEST_BIN)
 	CK_TIMEOUT_MULTIPLIER=$${CK_TIMEOUT_MULTIPLIER:-$(CHECK_TIMEOUT_MULTIPLIER)} \

@@ -93,33 +93,60 @@ for d in "$src"/*/; do
     d=$(basename "$d")
     [ "$(uses "$d")" != "?" ] || offence "src/$d/ is not a layer ($LAYERS)"
 done
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/check-layers.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT INT TERM
+# The sources by their names under src/ (LAYER/FILE), read by one wc and
+# one awk for each kind of include, not by processes a file: the
+# self-test runs this script a dozen times, and those processes were most
+# of its time (issue 38).
+rels=$(cd "$src" && for f in */*.c */*.h; do
+           if [ -f "$f" ]; then echo "$f"; fi
+       done)
+# includes KIND: "LAYER/FILE NAME" for each #include "NAME" (KIND ")
+# or #include <NAME> (KIND >) of the sources, in their order.
+includes() {
+    [ -n "$rels" ] || return 0
+    # shellcheck disable=SC2086 # the names hold no space
+    (cd "$src" && awk -v q="$1" '
+        BEGIN { open = q == ">" ? "<" : "\""
+                re = "^[[:space:]]*#[[:space:]]*include[[:space:]]*" open \
+                     "[^" q "]*" q }
+        match($0, re) {
+            s = substr($0, 1, RLENGTH)
+            sub(/^[^"<]*["<]/, "", s)
+            s = substr(s, 1, length(s) - 1)
+            n = split(s, w, /[ \t]+/)
+            for (i = 1; i <= n; i++) if (w[i] != "") print FILENAME, w[i]
+        }' $rels)
+}
 biggest=0
-for f in "$src"/*/*.c "$src"/*/*.h; do
-    [ -f "$f" ] || continue
-    n=$(wc -l < "$f")
-    [ "$n" -le "$MAX_LINES" ] ||
-        offence "${f#"$src"/} has $n lines, more than $MAX_LINES: split it by concept"
-    [ "$n" -le "$biggest" ] || biggest=$n
-done
+if [ -n "$rels" ]; then
+    # shellcheck disable=SC2086 # the names hold no space
+    (cd "$src" && wc -l $rels) > "$tmp/lines"
+    while read -r n f; do
+        [ "$f" != total ] || continue     # wc's sum, after two files or more
+        [ "$n" -le "$MAX_LINES" ] ||
+            offence "$f has $n lines, more than $MAX_LINES: split it by concept"
+        [ "$n" -le "$biggest" ] || biggest=$n
+    done < "$tmp/lines"
+fi
 
 # --------------------------------------------------------- 1. includes
 n_inc=0
-for f in "$src"/*/*.c "$src"/*/*.h; do
-    [ -f "$f" ] || continue
-    layer=$(basename "$(dirname "$f")")
-    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f"); do
-        n_inc=$((n_inc + 1))
-        case "$dep" in
-        ray.h) continue ;;
-        */*) to=${dep%%/*} ;;
-        *) offence "${f#"$src"/} includes \"$dep\": name its layer (\"$layer/$dep\")"
-           continue ;;
-        esac
-        [ -f "$src/$dep" ] || { offence "${f#"$src"/} includes \"$dep\", which is not in src/"; continue; }
-        may_use "$layer" "$to" ||
-            offence "${f#"$src"/} includes \"$dep\": $to is not below $layer"
-    done
-done
+includes '"' > "$tmp/includes"
+while read -r rel dep; do
+    layer=${rel%%/*}
+    n_inc=$((n_inc + 1))
+    case "$dep" in
+    ray.h) continue ;;
+    */*) to=${dep%%/*} ;;
+    *) offence "$rel includes \"$dep\": name its layer (\"$layer/$dep\")"
+       continue ;;
+    esac
+    [ -f "$src/$dep" ] || { offence "$rel includes \"$dep\", which is not in src/"; continue; }
+    may_use "$layer" "$to" ||
+        offence "$rel includes \"$dep\": $to is not below $layer"
+done < "$tmp/includes"
 
 # ------------------------------------------------ 4. system headers
 # ISO C99's headers, and the compilers' intrinsics (not the OS's).
@@ -130,17 +157,14 @@ wctype.h emmintrin.h immintrin.h intrin.h"
 # shellcheck disable=SC2086,SC2116 # the list on one line, between spaces
 iso_headers=" $(echo $ISO_HEADERS) "
 n_sys=0
-for f in "$src"/*/*.c "$src"/*/*.h; do
-    [ -f "$f" ] || continue
-    rel=${f#"$src"/}
+includes '>' > "$tmp/system"
+while read -r rel h; do
     case "$rel" in core/platform*) continue ;; esac
-    for h in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*<\([^>]*\)>.*/\1/p' "$f"); do
-        n_sys=$((n_sys + 1))
-        case "$iso_headers" in *" $h "*) continue ;; esac
-        [ "$h" = png.h ] && [ "$rel" = image/png.c ] && continue
-        offence "$rel includes <$h>: a platform header outside src/core/platform* (platform.h asks the system)"
-    done
-done
+    n_sys=$((n_sys + 1))
+    case "$iso_headers" in *" $h "*) continue ;; esac
+    [ "$h" = png.h ] && [ "$rel" = image/png.c ] && continue
+    offence "$rel includes <$h>: a platform header outside src/core/platform* (platform.h asks the system)"
+done < "$tmp/system"
 
 # ------------------------------------------------------------ 2. calls
 if [ $# -gt 0 ]; then
@@ -155,8 +179,6 @@ fi
 for o in $objs; do
     [ -f "$obj/$o" ] || { echo "layers: no object $obj/$o" >&2; exit 1; }
 done
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/check-layers.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT INT TERM
 # symbol object (every global definition) and object symbol (every use)
 # One nm over all the objects for each list, -A putting its object's path
 # at the head of every line: two nm processes an object were most of

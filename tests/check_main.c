@@ -228,6 +228,12 @@ static int run_isolated(const char *self)
 }
 #endif
 
+/* What a check that passes calls (tests.h): nothing, out of the
+** compiler's sight in the suites' files. */
+void test_passed(void)
+{
+}
+
 /* The summary line, on stdout and in RAY_CHECK_SUMMARY's file. */
 static void summary(int passed, int failed)
 {

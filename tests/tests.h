@@ -8,6 +8,7 @@
 #define RAY_TESTS_H
 
 #include <check.h>
+#include "ckpass.h"   /* ck_assert_msg without a message a pass */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
