@@ -280,11 +280,16 @@ static size_t pass(const tools *t, int tool, const ray_set *rs)
 {
     size_t i, hits = 0;
 
+#ifdef HAVE_AB
+    /* Which loaded library runs this pass (-1: none), settled before the
+    ** timed loop rather than asked once a ray. */
+    int k = tool == TOOL_AB ? 0 : tool == TOOL_OURS && ab_load() & 2 ? 1 : -1;
+#endif
+
     for (i = 0; i < rs->n; i++) {
         const ray_ray *r = &rs->rays[i];
 #ifdef HAVE_AB
-        if (tool == TOOL_AB || (tool == TOOL_OURS && ab_load() & 2)) {
-            int k = tool == TOOL_AB ? 0 : 1;
+        if (k >= 0) {
             ray_hit h;
             hits += (size_t)(rs->any
                                  ? ab[k].occluded(t->other[k], r, NULL)

@@ -76,9 +76,8 @@ typedef struct trav {
 ** query), the slack is put in the far distances themselves: each axis's
 ** is computed with 1/d grown in magnitude by FAR_GROW and clipped to
 ** tmax with its slack (with_slack), so the node test's critical path
-** (load, distances, min, compare, mask, next child: ~50 cycles a node,
-** 62% of a camera ray's nodes having one child entered) loses the min,
-** |t|, product and sum after it.  Why that is still Ize's bound: a box
+** (load, distances, min, compare, mask, next child) loses the min, |t|,
+** product and sum after it.  Why that is still Ize's bound: a box
 ** the ray truly enters has exact far distances tf* >= tmin >= 0, and a
 ** computed near distance is at most tn* (1 + gamma(3)) (negative when
 ** tn* is); a grown far distance is at least tf* (1 + k)(1 - gamma(4))
