@@ -105,6 +105,13 @@ static inline float trav_tmax(const trav *tr, double t)
     return ray__float_up(t * tr->t_scale);
 }
 
+/* Do the far distances carry the slack themselves (FAR_GROW)?  Where the
+** interval starts at or past zero; the one place the rule is written. */
+static inline int trav_grown(const trav *tr)
+{
+    return !(tr->tmin < 0);
+}
+
 /* t moved away from zero by the slack. */
 static inline float with_slack(float t)
 {
@@ -391,7 +398,7 @@ static inline void lanes_axis(lanes *l, const trav *tr, int a)
 
 static void lanes_init(lanes *l, const trav *tr)
 {
-    l->grown = !(tr->tmin < 0);
+    l->grown = trav_grown(tr);
     lanes_axis(l, tr, 0);           /* written out: no loop to exit */
     lanes_axis(l, tr, 1);
     lanes_axis(l, tr, 2);
@@ -500,7 +507,7 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
                                  float entry[RAY__WIDTH])
 {
     const trav *tr = l->tr;
-    int grown = !(tr->tmin < 0);         /* as the SIMD lanes' */
+    int grown = trav_grown(tr);
     float t0[RAY__WIDTH], t1[RAY__WIDTH];
     unsigned mask = 0;
     int a, k;
