@@ -563,8 +563,8 @@ START_TEST(materials_without_parameters_should_do_nothing)
     m[1] = ray_material_mirror(NULL);
     m[2] = ray_material_glass(NULL);
     m[3] = ray_material_checker(NULL);
-    ck_assert_ptr_null(m[0].scatter);
-    ck_assert_ptr_null(m[3].scatter);
+    ck_assert(m[0].scatter == NULL);
+    ck_assert(m[3].scatter == NULL);
     for (i = 0; i < 4; i++) {
         ray_ray r = ray_from(vec(0.1, 0.2, -5), vec(0, 0, 1));
         ray_rgb c = rgb(7, 7, 7);
