@@ -33,11 +33,12 @@
 set -u
 
 # The floor, in percent: the figures measured when it was set (lines
-# 96.5 %, branches 84.2 %, 2026-12-05, doc/TESTING.md), rounded down to
-# a whole percent, as the threaded code's runs (the renderer, the BVH
-# build) need not take the same branches every time.
-LINES_MIN=${COVERAGE_LINES_MIN:-96}
-BRANCHES_MIN=${COVERAGE_BRANCHES_MIN:-84}
+# 97.9 %, branches 88.3 %, 2026-12-06, doc/TESTING.md: BUILD and BASE
+# merged, as make coverage runs them), rounded down to a whole percent,
+# as the threaded code's runs (the renderer, the BVH build) need not take
+# the same branches every time.
+LINES_MIN=${COVERAGE_LINES_MIN:-97}
+BRANCHES_MIN=${COVERAGE_BRANCHES_MIN:-88}
 
 build=${1:?usage: scripts/coverage.sh BUILD [BASE]}
 base=${2:-}
