@@ -33,7 +33,7 @@
 set -u
 
 # The floor, in percent: the figures measured when it was set (lines
-# 97.9 %, branches 88.3 %, 2026-12-06, doc/TESTING.md: BUILD and BASE
+# 97.9 %, branches 88.5 %, 2026-12-06, doc/TESTING.md: BUILD and BASE
 # merged, as make coverage runs them), rounded down to a whole percent,
 # as the threaded code's runs (the renderer, the BVH build) need not take
 # the same branches every time.
