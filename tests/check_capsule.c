@@ -767,6 +767,10 @@ START_TEST(scene_capsule_should_refuse_bad_params)
     ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat, &id), RAY_EINVAL);
     ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s),
                                  "ray_scene_add_capsule: radius -1"));
+    bad.radius = HUGE_VAL;
+    ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s),
+                                 "ray_scene_add_capsule: radius inf"));
     bad = c;
     bad.a.y = (double)NAN;
     ck_assert_int_eq(ray_scene_add_capsule(s, &bad, mat, &id), RAY_EINVAL);

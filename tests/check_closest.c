@@ -1552,6 +1552,110 @@ START_TEST(surface_points_should_refuse_what_has_no_point)
 }
 END_TEST
 
+/*
+** Issue 38, the rest of ray_surface_point's refusals (its page: RAY_EINVAL
+** for ids that name nothing, removed geometry, an instance where geometry
+** was asked for, (u, v) not finite or outside the primitive; RAY_ESTATE
+** for an instance whose scene changed since the commit), each with *hit
+** untouched: a triangle's barycentrics below 0 or a prim_id past its
+** mesh; a sphere's (u, v) outside [0, 1] or a prim_id other than 0; a
+** polygon's prim_id other than 0 or a point outside it; a plane point
+** whose position overflows (u = DBL_MAX along a tangent from a point at
+** 1e308); v NaN with u finite; the instance itself as geom_id; a removed
+** instance; an instance whose child was committed again.  Then the good
+** calls: a sphere's pole (v = 1: (0, 1, 0) from ray_sphere's v = acos(-n.y)
+** / pi), y within its p_err, x and z within 1e-15 (sin(pi) in doubles),
+** and the same point through an instance moved by (10, 0, 0).
+*/
+START_TEST(surface_points_should_refuse_bad_ids_and_coordinates)
+{
+    static const ray_vec3 tri[3] = {{0, 0, 5}, {1, 0, 5}, {0, 1, 5}};
+    static const ray_vec3 sq[4] = {{0, 0, 7}, {1, 0, 7}, {1, 1, 7}, {0, 1, 7}};
+    static const unsigned idx[3] = {0, 1, 2};
+    ray_scene *s, *top;
+    ray_transform t;
+    ray_mesh m;
+    ray_hit h, keep;
+    unsigned mesh, ball, poly, plane, inst, gone;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = tri;
+    m.vertex_count = 3;
+    m.indices = idx;
+    m.triangle_count = 1;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &mesh), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, RAY_NO_MATERIAL, &ball), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_polygon(s, sq, 4, RAY_NO_MATERIAL, &poly), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&keep, 0x5a, sizeof keep);
+    h = keep;
+#define REFUSED(call, rc)                                   \
+    do {                                                    \
+        ck_assert_int_eq(call, rc);                         \
+        ck_assert(memcmp(&h, &keep, sizeof h) == 0);        \
+    } while (0)
+    REFUSED(ray_surface_point(s, mesh, 0, RAY_INVALID_ID, -0.25, 0.25, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, mesh, 0, RAY_INVALID_ID, 0.25, -0.25, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, mesh, 1, RAY_INVALID_ID, 0.25, 0.25, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, mesh, 0, RAY_INVALID_ID, 0.25, (double)NAN, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, ball, 0, RAY_INVALID_ID, -0.5, 0.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, ball, 0, RAY_INVALID_ID, 1.5, 0.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, ball, 0, RAY_INVALID_ID, 0.5, -0.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, ball, 0, RAY_INVALID_ID, 0.5, 1.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, ball, 1, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, poly, 1, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(s, poly, 0, RAY_INVALID_ID, 5, 5, &h), RAY_EINVAL);
+    /* The proper ones: the sphere's pole, the polygon's inside. */
+    ck_assert_int_eq(ray_surface_point(s, ball, 0, RAY_INVALID_ID, 0.5, 1, &h), RAY_OK);
+    ck_assert(fabs(h.p.y - 1) <= h.p_err.y);
+    /* sin(pi) rounds to 1.2e-16, not 0: the point found is that far from
+    ** the pole (a point of the sphere, within p_err of an exact one). */
+    ck_assert(fabs(h.p.x) <= 1e-15 && fabs(h.p.z) <= 1e-15);
+    ck_assert_int_eq(ray_surface_point(s, poly, 0, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_OK);
+    ck_assert(fabs(h.p.z - 7) <= h.p_err.z);
+
+    /* Instances: of a scene without planes (an instance takes none). */
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    ray_transform_identity(&t);
+    t.m[0][3] = 10;
+    ck_assert_int_eq(ray_scene_add_instance(top, s, &t, &inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, s, &t, &gone), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert_int_eq(ray_scene_remove(top, gone), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    memset(&keep, 0x5a, sizeof keep);
+    h = keep;
+    REFUSED(ray_surface_point(top, inst, 0, RAY_INVALID_ID, 0.5, 0.5, &h), RAY_EINVAL);
+    REFUSED(ray_surface_point(top, ball, 0, gone, 0.5, 0.5, &h), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(top, ball, 0, inst, 0.5, 1, &h), RAY_OK);
+    ck_assert_uint_eq(h.inst_id, inst);
+    ck_assert_uint_eq(h.geom_id, ball);
+    ck_assert(fabs(h.p.y - 1) <= h.p_err.y);
+    ck_assert(fabs(h.p.x - 10) <= 1e-14 && fabs(h.p.z) <= 1e-15);
+    /* The child committed again: the instance is stale until top's
+    ** next commit. */
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, -5), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    h = keep;
+    REFUSED(ray_surface_point(top, ball, 0, inst, 0.5, 0.5, &h), RAY_ESTATE);
+    ray_scene_free(top);
+
+    /* A plane point past DBL_MAX: from a point at 1e308 on the x axis,
+    ** DBL_MAX along the tangent that ray_plane's frame gives for normal
+    ** +z (u along x) overflows; -DBL_MAX comes back to -8e307, a finite
+    ** point on the plane. */
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(1e308, 0, 0), vec(0, 0, 1), RAY_NO_MATERIAL, &plane), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    h = keep;
+    REFUSED(ray_surface_point(s, plane, 0, RAY_INVALID_ID, DBL_MAX, 0, &h), RAY_EINVAL);
+    ck_assert_int_eq(ray_surface_point(s, plane, 0, RAY_INVALID_ID, -DBL_MAX, 0, &h), RAY_OK);
+    ck_assert(isfinite(h.p.x) && isfinite(h.p_err.x) && fabs(h.p.z) <= h.p_err.z);
+#undef REFUSED
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(queries_should_share_the_scene_and_allocate_nothing)
 {
     static closest_job ref, got[CLOSEST_THREADS];
@@ -1658,6 +1762,7 @@ Suite *closest_suite(void)
     tcase_add_test(tc, closest_points_at_the_sliver_threshold_should_keep_the_bound);
     tcase_add_test(tc, closest_points_should_stay_on_slivers_thinner_than_rounding);
     tcase_add_test(tc, surface_points_should_refuse_what_has_no_point);
+    tcase_add_test(tc, surface_points_should_refuse_bad_ids_and_coordinates);
     tcase_add_test(tc, segments_nearest_beyond_an_end_should_clamp_both);
     suite_add_tcase(s, tc);
     return s;

@@ -705,6 +705,92 @@ START_TEST(all_hits_should_match_brute_force)
 }
 END_TEST
 
+/* The ray's t down onto the quad of the test below, or -1 for a miss. */
+static double quad_t(const ray_scene *s, double x, double y)
+{
+    ray_ray r;
+    ray_hit h;
+
+    r.org = vec(x, y, 5);
+    r.dir = vec(0, 0, -1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    return ray_intersect(s, &r, &h, NULL) == 1 ? h.t : -1;
+}
+
+/*
+** Issue 38: a mesh with normals and texture coordinates.  Refused
+** (RAY_EINVAL, the message naming the vertex) with a normal or either
+** texture coordinate not finite, for add and update alike.  Updated with
+** the same layout (positions, normals and texture coordinates, copied:
+** written over the arrays it keeps) and then with another (one vertex
+** more, unused; then without texture coordinates: copied afresh), each
+** after its commit answers at its new height: the quad z = h, hit from
+** z = 5 at t = 5 - h exactly (h and 5 - h are exact in doubles).
+*/
+START_TEST(mesh_updates_should_carry_normals_and_texcoords)
+{
+    static const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    ray_vec3 v[5], n[5], bad_n[5];
+    double uv[10], bad_uv[10];
+    ray_scene *s;
+    ray_mesh m, bad;
+    unsigned id;
+    int k;
+
+    for (k = 0; k < 5; k++) {
+        v[k] = vec(k == 1 || k == 2 ? 1 : -1, k >= 2 ? 1 : -1, 0);
+        n[k] = vec(0, 0, 1);
+        uv[2 * k] = v[k].x, uv[2 * k + 1] = v[k].y;
+    }
+    memcpy(bad_n, n, sizeof n);
+    memcpy(bad_uv, uv, sizeof uv);
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 4;
+    m.indices = idx;
+    m.triangle_count = 2;
+    m.normals = n;
+    m.texcoords = uv;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    bad = m, bad.normals = bad_n, bad_n[1].y = (double)NAN;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &bad, RAY_NO_MATERIAL, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "normal 1"));
+    bad = m, bad.texcoords = bad_uv, bad_uv[4] = HUGE_VAL;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &bad, RAY_NO_MATERIAL, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "texture coordinates 2"));
+    bad_uv[4] = uv[4], bad_uv[7] = (double)NAN;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &bad, RAY_NO_MATERIAL, &id), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "texture coordinates 3"));
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(quad_t(s, 0.25, 0.5) == 5);
+    /* The same layout: written over. */
+    for (k = 0; k < 5; k++)
+        v[k].z = 1, n[k] = vec(0, 0.6, 0.8);
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, &bad), RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(quad_t(s, 0.25, 0.5) == 4);
+    /* One vertex more: copied afresh. */
+    for (k = 0; k < 5; k++)
+        v[k].z = 2;
+    m.vertex_count = 5;
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(quad_t(s, 0.25, 0.5) == 3);
+    /* Without texture coordinates: copied afresh again. */
+    for (k = 0; k < 5; k++)
+        v[k].z = 3;
+    m.texcoords = NULL;
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(quad_t(s, 0.25, 0.5) == 2);
+    ck_assert(quad_t(s, 1.5, 0.5) == -1);
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *dynamic_suite(void)
 {
     Suite *s = suite_create("dynamic");
@@ -719,6 +805,7 @@ Suite *dynamic_suite(void)
     tcase_add_test(tc, filters_should_see_their_candidate_inside_the_ray);
     tcase_add_test(tc, filter_calls_should_be_counted_and_absent_without_filters);
     tcase_add_test(tc, all_hits_should_match_brute_force);
+    tcase_add_test(tc, mesh_updates_should_carry_normals_and_texcoords);
     suite_add_tcase(s, tc);
     return s;
 }

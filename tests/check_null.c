@@ -103,6 +103,107 @@ START_TEST(primitives_should_miss_on_null)
 }
 END_TEST
 
+/*
+** Issue 38: the primitive functions miss (0; ray_implicit and
+** ray_parametric -RAY_EINVAL, "invalid params" in ray.h), *hit untouched,
+** on parameters their pages call invalid, each field in turn, where the
+** same ray hits the valid shape: a torus with an infinite major radius,
+** a minor radius not below the major, or radii whose error bound
+** 2 (R + r) overflows, and a ray with tmin >= tmax or a direction whose
+** length overflows; an implicit surface's box with lo > hi in y or z or
+** a corner not finite, a lipschitz bound, step or tolerance infinite or
+** negative; a box's half extent in y or z zero or infinite, or beyond
+** 2^1021, or its y axis parallel to x; a sphere of infinite radius or a
+** zero direction; a parametric surface with a negative tolerance or an
+** empty domain.
+*/
+START_TEST(primitives_should_miss_on_invalid_parameters)
+{
+    ray_ray r = a_ray(), rt = a_ray();
+    ray_hit h, keep;
+    ray_torus_params tp, t;
+    ray_implicit_surface i0, is;
+    ray_box_params b0, b;
+    ray_parametric_surface p0, ps;
+    ray_vec3 cp[16];
+    int k;
+
+    memset(&keep, 0x5a, sizeof keep);
+    h = keep;
+    rt.org = vec(1, 0, 5);               /* over the tube, not the hole */
+    tp.center = vec(0, 0, 0), tp.axis = vec(0, 0, 1);
+    tp.major = 1, tp.minor = 0.25;
+    ck_assert_int_eq(ray__implicit_torus(&tp, &i0), RAY_OK);
+    b0.center = vec(0, 0, 0), b0.half_extents = vec(1, 1, 1);
+    b0.axis_x = vec(1, 0, 0), b0.axis_y = vec(0, 1, 0);
+    for (k = 0; k < 16; k++)
+        cp[k] = vec(k % 4 - 1.5, k / 4 - 1.5, 0);
+    ck_assert_int_eq(ray_bezier_surface(cp, &p0), RAY_OK);
+    /* The valid ones hit. */
+    ck_assert_int_eq(ray_torus(&rt, &tp, &h), 1);
+    ck_assert_int_eq(ray_implicit(&rt, &i0, &h), 1);
+    ck_assert_int_eq(ray_box(&r, &b0, &h), 1);
+    ck_assert_int_eq(ray_sphere(&r, vec(0, 0, 0), 1, &h), 1);
+    ck_assert_int_eq(ray_parametric(&r, &p0, &h), 1);
+    h = keep;
+#define MISSES(call, rc)                                 \
+    do {                                                 \
+        ck_assert_int_eq(call, rc);                      \
+        ck_assert(memcmp(&h, &keep, sizeof h) == 0);     \
+    } while (0)
+    t = tp, t.major = HUGE_VAL;
+    MISSES(ray_torus(&rt, &t, &h), 0);
+    t = tp, t.minor = 1;
+    MISSES(ray_torus(&rt, &t, &h), 0);
+    t = tp, t.major = 1e308, t.minor = 0.9e308;
+    MISSES(ray_torus(&rt, &t, &h), 0);
+    r.tmin = 1, r.tmax = 1;
+    MISSES(ray_torus(&r, &tp, &h), 0);
+    r = a_ray(), r.org = vec(1, 0, 5), r.dir = vec(0, DBL_MAX, -DBL_MAX);
+    MISSES(ray_torus(&r, &tp, &h), 0);
+    r = a_ray();
+    is = i0, is.lo.y = is.hi.y + 1;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    is = i0, is.lo.z = is.hi.z + 1;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    is = i0, is.hi.x = (double)NAN;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    is = i0, is.lipschitz = HUGE_VAL;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    is = i0, is.step = -1;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    is = i0, is.step = HUGE_VAL;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    is = i0, is.tolerance = HUGE_VAL;
+    MISSES(ray_implicit(&rt, &is, &h), -RAY_EINVAL);
+    b = b0, b.half_extents.y = 0;
+    MISSES(ray_box(&r, &b, &h), 0);
+    b = b0, b.half_extents.y = HUGE_VAL;
+    MISSES(ray_box(&r, &b, &h), 0);
+    b = b0, b.half_extents.z = 0;
+    MISSES(ray_box(&r, &b, &h), 0);
+    b = b0, b.half_extents.z = HUGE_VAL;
+    MISSES(ray_box(&r, &b, &h), 0);
+    b = b0, b.half_extents.z = 0x1p1022;
+    MISSES(ray_box(&r, &b, &h), 0);
+    b = b0, b.half_extents.y = 0x1p1022;
+    MISSES(ray_box(&r, &b, &h), 0);
+    b = b0, b.axis_y = vec(-2, 0, 0);
+    MISSES(ray_box(&r, &b, &h), 0);
+    MISSES(ray_sphere(&r, vec(0, 0, 0), HUGE_VAL, &h), 0);
+    r.dir = vec(0, 0, 0);
+    MISSES(ray_sphere(&r, vec(0, 0, 0), 1, &h), 0);
+    r = a_ray();
+    ps = p0, ps.tolerance = -1;
+    MISSES(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+    ps = p0, ps.u0 = 1, ps.u1 = 1, ps.v0 = 0, ps.v1 = 1;
+    MISSES(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+    ps = p0, ps.u0 = 0, ps.u1 = 1, ps.v0 = 0, ps.v1 = -1;
+    MISSES(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+#undef MISSES
+}
+END_TEST
+
 START_TEST(spawn_and_optics_should_refuse_null)
 {
     ray_ray r = a_ray(), out;
@@ -414,6 +515,7 @@ Suite *null_suite(void)
     TCase *tc = tcase_create("every function");
 
     tcase_add_test(tc, primitives_should_miss_on_null);
+    tcase_add_test(tc, primitives_should_miss_on_invalid_parameters);
     tcase_add_test(tc, spawn_and_optics_should_refuse_null);
     tcase_add_test(tc, scene_calls_should_refuse_null);
     tcase_add_test(tc, live_scene_calls_should_refuse_null);

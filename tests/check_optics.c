@@ -336,6 +336,90 @@ START_TEST(hit_error_bounds_should_be_their_documented_values)
 }
 END_TEST
 
+/*
+** Issue 38: the optics functions' refusals and clamps, as ray.h documents
+** them.  ray_refract: 0 (*out untouched) for an infinite eta, a normal
+** that is not finite, a zero or NaN direction.  A normal a rounding
+** longer than 1 (1 + 2^-52) head-on makes cos_i 1 + 2^-52, clamped to 1:
+** the ray goes straight through, (0, 0, -1) exactly up to the last
+** normalisation's rounding (2 ulps).  ray_fresnel: 1 (total reflection)
+** for an infinite eta or a NaN cosine; a cosine past 1 is 1's answer,
+** bit for bit.
+*/
+START_TEST(optics_should_refuse_what_is_not_finite)
+{
+    ray_vec3 t = vec(7, 7, 7);
+    double one_up = 1 + DBL_EPSILON;
+
+    ck_assert_int_eq(ray_refract(vec(0, 0, -1), vec(0, 0, 1), HUGE_VAL, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(0, 0, -1), vec(0, (double)NAN, 1), 1.5, &t), 0);
+    ck_assert_int_eq(ray_refract(vec(0, 0, 0), vec(0, 0, 1), 1.5, &t), 0);
+    ck_assert_int_eq(ray_refract(vec((double)NAN, 0, -1), vec(0, 0, 1), 1.5, &t), 0);
+    ck_assert(t.x == 7 && t.y == 7 && t.z == 7);
+    ck_assert_int_eq(ray_refract(vec(0, 0, -1), vec(0, 0, one_up), 1.5, &t), 1);
+    ck_assert(fabs(t.x) == 0 && fabs(t.y) == 0);
+    ck_assert_double_eq_tol(t.z, -1, 2 * DBL_EPSILON);
+    ck_assert(ray_fresnel(0.5, HUGE_VAL) == 1.0);
+    ck_assert(ray_fresnel((double)NAN, 1.5) == 1.0);
+    ck_assert(ray_fresnel(one_up, 1.5) == ray_fresnel(1, 1.5));
+    ck_assert(ray_fresnel(-one_up, 1.5) == ray_fresnel(1, 1.5));
+}
+END_TEST
+
+/*
+** Issue 38: ray_spawn and ray_spawn_to refuse (RAY_EINVAL, *out
+** untouched) a hit whose p, n or p_err is not finite, a direction that
+** is zero or not finite (each of its components the first nonzero one
+** in turn), a target at the hit's own point or not finite, and an
+** origin that the offset pushes past DBL_MAX; ray_spawn_to also a
+** target whose direction from the offset origin overflows.  A good
+** spawn from the same hit still works (origin finite, tmax HUGE_VAL).
+*/
+START_TEST(spawn_should_refuse_what_is_not_finite)
+{
+    ray_hit h, bad;
+    ray_ray r, keep;
+
+    memset(&h, 0, sizeof h);
+    h.p = vec(1, 2, 3);
+    h.n = vec(0, 0, 1);
+    h.p_err = vec(1e-15, 1e-15, 1e-15);
+    memset(&keep, 0x5a, sizeof keep);
+    r = keep;
+    bad = h, bad.p.y = (double)NAN;
+    ck_assert_int_eq(ray_spawn(&bad, vec(0, 0, 1), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&bad, vec(0, 0, 9), &r), RAY_EINVAL);
+    bad = h, bad.n.x = HUGE_VAL;
+    ck_assert_int_eq(ray_spawn(&bad, vec(0, 0, 1), &r), RAY_EINVAL);
+    bad = h, bad.p_err.z = (double)NAN;
+    ck_assert_int_eq(ray_spawn(&bad, vec(0, 0, 1), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&bad, vec(0, 0, 9), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn(&h, vec(0, 0, 0), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn(&h, vec(0, (double)NAN, 1), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(1, 2, 3), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(1, HUGE_VAL, 3), &r), RAY_EINVAL);
+    ck_assert(memcmp(&r, &keep, sizeof r) == 0);
+    /* Directions whose first nonzero component is y, then z; targets
+    ** likewise (the zero test looks at each in turn). */
+    ck_assert_int_eq(ray_spawn(&h, vec(0, 1, 0), &r), RAY_OK);
+    ck_assert_int_eq(ray_spawn(&h, vec(0, 0, -1), &r), RAY_OK);
+    ck_assert(r.tmax == HUGE_VAL && r.org.z < 3);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(1, 5, 3), &r), RAY_OK);
+    ck_assert_int_eq(ray_spawn_to(&h, vec(1, 2, 5), &r), RAY_OK);
+    ck_assert(r.tmax == 1 && r.org.z > 3);
+    /* An offset past DBL_MAX: p at DBL_MAX with an error bound of its
+    ** size, leaving along +z. */
+    r = keep;
+    bad = h, bad.p = vec(0, 0, DBL_MAX), bad.p_err = vec(0, 0, DBL_MAX);
+    ck_assert_int_eq(ray_spawn(&bad, vec(0, 0, 1), &r), RAY_EINVAL);
+    ck_assert_int_eq(ray_spawn_to(&bad, vec(0, 0, -1), &r), RAY_EINVAL);
+    /* A target whose direction from the origin overflows. */
+    bad = h, bad.p = vec(-DBL_MAX, 0, 0), bad.n = vec(-1, 0, 0);
+    ck_assert_int_eq(ray_spawn_to(&bad, vec(DBL_MAX, 0, 0), &r), RAY_EINVAL);
+    ck_assert(memcmp(&r, &keep, sizeof r) == 0);
+}
+END_TEST
+
 Suite *optics_suite(void)
 {
     Suite *s = suite_create("optics");
@@ -346,11 +430,13 @@ Suite *optics_suite(void)
     tcase_add_test(tc, refract_should_switch_to_tir_at_critical_angle);
     tcase_add_test(tc, refract_should_obey_snell);
     tcase_add_test(tc, reflect_should_mirror_about_the_normal);
+    tcase_add_test(tc, optics_should_refuse_what_is_not_finite);
     tcase_add_test(sp, spawn_should_not_rehit_the_surface);
     tcase_add_test(sp, spawn_to_should_end_before_the_target);
     tcase_add_test(sp, spawn_offset_should_follow_the_documented_rule);
     tcase_add_test(sp, hit_error_bounds_should_be_their_documented_values);
     tcase_add_test(sp, spawn_should_not_skip_thin_gaps);
+    tcase_add_test(sp, spawn_should_refuse_what_is_not_finite);
     suite_add_tcase(s, tc);
     suite_add_tcase(s, sp);
     return s;

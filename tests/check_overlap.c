@@ -870,6 +870,96 @@ START_TEST(shapes_should_default_and_refuse)
 }
 END_TEST
 
+/* User geometry for the test below: the unit sphere around *ud. */
+static void unit_bounds(void *ud, ray_vec3 *lo, ray_vec3 *hi)
+{
+    const ray_vec3 *c = (const ray_vec3 *)ud;
+
+    *lo = vec(c->x - 1, c->y - 1, c->z - 1);
+    *hi = vec(c->x + 1, c->y + 1, c->z + 1);
+}
+
+static int unit_hit(void *ud, const ray_ray *r, ray_hit *h)
+{
+    return ray_sphere(r, *(const ray_vec3 *)ud, 1.0, h);
+}
+
+/*
+** Issue 38, the kinds without routines of their own (ray.h, "Shape
+** queries" and ray_closest_point): a torus, an implicit surface (the same
+** torus), a parametric surface, a Bezier patch (both the flat square
+** [-1, 1]^2, z = 0) and user geometry (a unit sphere), each 10 apart
+** along x, and a unit sphere at x = 50.  ray_closest_point skips the
+** five: from (0, 0, 5) the sphere is nearest, at sqrt(50^2 + 5^2) - 1
+** (within 4 ulps).  A sphere of radius 0.5 at each one's centre overlaps
+** it by its box alone (RAY_CONTACT_BOUNDS) and nothing else; the real
+** sphere by its surface (flags 0).  A sphere of radius 0.25 swept down
+** from z = 5 meets each of the five at its box's top, flagged the same
+** (the parametric and Bezier patches' boxes are grown a little for
+** rounding: t within 1e-6 of 5 - 0.25 - the top of the box).
+*/
+START_TEST(box_found_kinds_should_say_so)
+{
+    static const double top[5] = {0.25, 0.25, 0, 0, 1};
+    ray_torus_params tp = {{0, 0, 0}, {0, 0, 1}, 1, 0.25}, ti;
+    ray_implicit_surface is;
+    ray_parametric_surface ps;
+    ray_user_geometry user;
+    ray_vec3 cp[2][16], uc = vec(40, 0, 0);
+    ray_closest cl;
+    ray_scene *s;
+    unsigned k;
+
+    ti = tp, ti.center = vec(10, 0, 0);
+    ck_assert_int_eq(ray__implicit_torus(&ti, &is), RAY_OK);
+    for (k = 0; k < 16; k++) {
+        cp[0][k] = vec(20 + (double)(k % 4) * 2 / 3 - 1, (double)(k / 4) * 2 / 3 - 1, 0);
+        cp[1][k] = vec(cp[0][k].x + 10, cp[0][k].y, 0);
+    }
+    ck_assert_int_eq(ray_bezier_surface(cp[0], &ps), RAY_OK);
+    memset(&user, 0, sizeof user);
+    user.bounds = unit_bounds;
+    user.intersect = unit_hit;
+    user.ud = &uc;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(s, &tp, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_implicit(s, &is, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_parametric(s, &ps, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_bezier(s, cp[1], RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_user(s, &user, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(50, 0, 0), 1, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+
+    ck_assert_int_eq(ray_closest_point(s, vec(0, 0, 5), HUGE_VAL, &cl), 1);
+    ck_assert_uint_eq(cl.geom_id, 5);
+    ck_assert_double_eq_tol(cl.distance, sqrt(2525.0) - 1, 4 * DBL_EPSILON * 50);
+    for (k = 0; k < 6; k++) {
+        ray_overlap o[2];
+        size_t n = 0;
+
+        ck_assert_int_eq(ray_overlap_shape_all(s, TK_SPHERE(vec(10.0 * k, 0, 0), 0.5), NULL, o, 2, &n), 1);
+        ck_assert_msg(n == 1, "geometry %u: %zu found", k, n);
+        ck_assert_uint_eq(o[0].geom_id, k);
+        ck_assert_uint_eq(o[0].flags, k < 5 ? RAY_CONTACT_BOUNDS : 0u);
+    }
+    for (k = 0; k < 5; k++) {
+        ray_sweep sw;
+        ray_contact c;
+
+        memset(&sw, 0, sizeof sw);
+        sw.shape = sphere_shape(vec(10.0 * k, 0, 5), 0.25);
+        sw.dir = vec(0, 0, -1);
+        sw.tmax = 10;
+        ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+        ck_assert_uint_eq(c.geom_id, k);
+        ck_assert(c.flags & RAY_CONTACT_BOUNDS);
+        ck_assert_msg(fabs(c.t - (4.75 - top[k])) <= 1e-6, "geometry %u: t %.17g",
+                      k, c.t);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
 Suite *overlap_suite(void)
 {
     Suite *s = suite_create("overlap");
@@ -886,6 +976,7 @@ Suite *overlap_suite(void)
     tcase_add_loop_test(tc, capsules_should_meet_at_their_radius_exactly, 0,
                         N_OFFSETS);
     tcase_add_test(tc, shapes_should_default_and_refuse);
+    tcase_add_test(tc, box_found_kinds_should_say_so);
     suite_add_tcase(s, tc);
     return s;
 }

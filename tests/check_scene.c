@@ -88,6 +88,41 @@ START_TEST(scene_should_reject_bad_geometry_atomically)
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
     l.intensity.g = (double)NAN;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    /* Issue 38: each channel negative or infinite in turn, an infinite
+    ** radius, a rectangle's edge not finite (either), a position not
+    ** finite. */
+    {
+        static const ray_rgb wrong[6] = {{-1, 1, 1}, {HUGE_VAL, 1, 1},
+                                         {1, HUGE_VAL, 1}, {1, 1, -1},
+                                         {1, 1, HUGE_VAL}, {1, -1, 1}};
+        int k;
+
+        for (k = 0; k < 6; k++) {
+            l.intensity = wrong[k];
+            ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+            ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "intensity"));
+        }
+    }
+    l.intensity = rgb(1, 1, 1);
+    l.kind = RAY_LIGHT_SPHERE;
+    l.radius = HUGE_VAL;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "radius inf"));
+    l.kind = RAY_LIGHT_RECT;
+    l.edge1 = vec(HUGE_VAL, 0, 0);
+    l.edge2 = vec(0, 0, 1);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.edge1 = vec(1, 0, 0);
+    l.edge2 = vec(0, 0, (double)NAN);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "edges"));
+    l.kind = RAY_LIGHT_DIRECTIONAL;
+    l.direction = vec(0, -HUGE_VAL, 0);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    l.kind = RAY_LIGHT_POINT;
+    l.position = vec(0, 0, HUGE_VAL);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
+    ck_assert_ptr_nonnull(strstr(ray_scene_errmsg(s), "position"));
     ck_assert_uint_eq(ray_scene_light_count(s), 0);
     ck_assert_uint_eq(id, 99);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, &id), RAY_OK);

@@ -117,6 +117,154 @@ START_TEST(scene_should_reject_bad_surfaces_and_add_nothing)
 }
 END_TEST
 
+/* A bounds callback that breaks its contract, as ud says: 0 a NaN
+** corner, 1 lo.y > hi.y, 2 lo.z > hi.z. */
+static void bad_bounds(void *ud, double u0, double u1, double v0, double v1,
+                       ray_vec3 *lo, ray_vec3 *hi)
+{
+    int how = *(const int *)ud;
+
+    wave_bounds(NULL, u0, u1, v0, v1, lo, hi);
+    if (how == 0)
+        lo->x = (double)NAN;
+    else if (how == 1)
+        lo->y = hi->y + 1;
+    else
+        lo->z = hi->z + 1;
+}
+
+/* The scene's message after a refusal holds "what". */
+#define REFUSED_WITH(s, call, what)                                        \
+    do {                                                                   \
+        ck_assert_int_eq(call, RAY_EINVAL);                                \
+        ck_assert_msg(strstr(ray_scene_errmsg(s), what) != NULL, "%s",     \
+                      ray_scene_errmsg(s));                                \
+    } while (0)
+
+/*
+** Issue 38: the rest of the curved surfaces' checks, each refusal with
+** RAY_EINVAL, the message that names the field at fault (ray_scene_errmsg),
+** and nothing added: a torus with a NaN centre, a NaN axis or an
+** infinite major radius; an implicit surface's box with a NaN corner
+** (either) or lo > hi in y or z, or a negative tolerance; a parametric
+** surface whose bounds callback answers a NaN corner or lo > hi in y or
+** z (ray_scene_add_parametric asks it for the whole domain).
+*/
+START_TEST(scene_should_name_what_is_wrong_with_a_surface)
+{
+    ray_scene *s = new_scene();
+    ray_torus_params t0 = {{0, 0, 0}, {0, 0, 1}, 1, 0.25}, t;
+    ray_implicit_surface i0, is;
+    ray_parametric_surface ps = wave_surface();
+    unsigned id = 77;
+    int how;
+
+    ck_assert_int_eq(ray__implicit_torus(&t0, &i0), RAY_OK);
+    t = t0, t.center.z = (double)NAN;
+    REFUSED_WITH(s, ray_scene_add_torus(s, &t, 0, &id), "center");
+    t = t0, t.axis.y = (double)NAN;
+    REFUSED_WITH(s, ray_scene_add_torus(s, &t, 0, &id), "axis");
+    t = t0, t.major = HUGE_VAL;
+    REFUSED_WITH(s, ray_scene_add_torus(s, &t, 0, &id), "major radius inf");
+    is = i0, is.lo.y = (double)NAN;
+    REFUSED_WITH(s, ray_scene_add_implicit(s, &is, 0, &id), "box lo");
+    is = i0, is.hi.z = HUGE_VAL;
+    REFUSED_WITH(s, ray_scene_add_implicit(s, &is, 0, &id), "box lo");
+    is = i0, is.lo.y = is.hi.y + 1;
+    REFUSED_WITH(s, ray_scene_add_implicit(s, &is, 0, &id), "lo > hi");
+    is = i0, is.lo.z = is.hi.z + 1;
+    REFUSED_WITH(s, ray_scene_add_implicit(s, &is, 0, &id), "lo > hi");
+    is = i0, is.tolerance = -1;
+    REFUSED_WITH(s, ray_scene_add_implicit(s, &is, 0, &id), "tolerance -1");
+    ps.bounds = bad_bounds;
+    ps.ud = &how;
+    for (how = 0; how < 3; how++)
+        REFUSED_WITH(s, ray_scene_add_parametric(s, &ps, 0, &id),
+                     "the bounds callback gave");
+    ck_assert_uint_eq(id, 77);
+    /* Nothing was added: the first good one is geometry 0. */
+    ck_assert_int_eq(ray_scene_add_torus(s, &t0, 0, &id), RAY_OK);
+    ck_assert_uint_eq(id, 0);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* The wave's bounds, broken (as bad_bounds breaks them, by ud) on every
+** rectangle smaller than the whole domain [0, 3]^2. */
+static void bad_sub_bounds(void *ud, double u0, double u1, double v0,
+                           double v1, ray_vec3 *lo, ray_vec3 *hi)
+{
+    if (u1 - u0 < 3 || v1 - v0 < 3)
+        bad_bounds(ud, u0, u1, v0, v1, lo, hi);
+    else
+        wave_bounds(NULL, u0, u1, v0, v1, lo, hi);
+}
+
+/*
+** Issue 38: ray_parametric answers -RAY_EINVAL, *hit untouched, for "a
+** box with lo > hi from the callbacks" or one not finite (its page), also
+** when only the boxes of the subdivision are broken, past the whole
+** domain's (a NaN corner, lo > hi in y, in z), where the wave itself is
+** hit (t = 5 - 0.2 sin(1.5) cos(1.5) from z = 5, within 1e-9), and for a
+** domain whose width overflows (-DBL_MAX to DBL_MAX, in u or v).
+** ray_implicit_blobs refuses (RAY_EINVAL, *out untouched) an infinite
+** threshold, a blob of infinite radius or of NaN strength, blobs whose box
+** overflows (centre and radius 1e308) and a Lipschitz bound that does
+** (strength 1e308 over radius 1e-300).
+*/
+START_TEST(broken_callbacks_and_blobs_should_be_refused)
+{
+    ray_parametric_surface ps = wave_surface();
+    ray_blob blob = {{0, 0, 0}, 1, 1};
+    ray_blobs_params bp;
+    ray_implicit_surface out, keep;
+    ray_ray r;
+    ray_hit h, hkeep;
+    int how;
+
+    r.org = vec(1.5, 1.5, 5);
+    r.dir = vec(0, 0, -1);
+    r.tmin = 0;
+    r.tmax = HUGE_VAL;
+    ck_assert_int_eq(ray_parametric(&r, &ps, &h), 1);
+    ck_assert_double_eq_tol(h.t, 5 - 0.2 * sin(1.5) * cos(1.5), 1e-9);
+    memset(&hkeep, 0x5a, sizeof hkeep);
+    ps.bounds = bad_sub_bounds;
+    ps.ud = &how;
+    for (how = 0; how < 3; how++) {
+        h = hkeep;
+        ck_assert_int_eq(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+        ck_assert(memcmp(&h, &hkeep, sizeof h) == 0);
+    }
+    /* A domain whose width overflows, in u, then in v: not finite. */
+    ps = wave_surface();
+    ps.u0 = -DBL_MAX, ps.u1 = DBL_MAX;
+    ck_assert_int_eq(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+    ps = wave_surface();
+    ps.v0 = -DBL_MAX, ps.v1 = DBL_MAX;
+    ck_assert_int_eq(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+    ck_assert(memcmp(&h, &hkeep, sizeof h) == 0);
+    bp.blobs = &blob;
+    bp.count = 1;
+    bp.threshold = 0.5;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_OK);
+    memset(&keep, 0x5a, sizeof keep);
+    out = keep;
+    bp.threshold = HUGE_VAL;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_EINVAL);
+    bp.threshold = 0.5;
+    blob.radius = HUGE_VAL;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_EINVAL);
+    blob.radius = 1, blob.strength = (double)NAN;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_EINVAL);
+    blob.strength = 1, blob.center = vec(1e308, 0, 0), blob.radius = 1e308;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_EINVAL);
+    blob.center = vec(0, 0, 0), blob.radius = 1e-300, blob.strength = 1e308;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_EINVAL);
+    ck_assert(memcmp(&out, &keep, sizeof out) == 0);
+}
+END_TEST
+
 /*
 ** A scene of a torus, metaballs, a wave and many Bezier domes (enough
 ** for the BVH to have inner nodes) answers every random ray exactly as
@@ -239,6 +387,8 @@ Suite *surfaces_suite(void)
 
     tcase_set_timeout(core, 60);
     tcase_add_test(core, scene_should_reject_bad_surfaces_and_add_nothing);
+    tcase_add_test(core, scene_should_name_what_is_wrong_with_a_surface);
+    tcase_add_test(core, broken_callbacks_and_blobs_should_be_refused);
     tcase_add_test(core, scene_should_find_what_the_bare_functions_find);
     tcase_add_test(core, scene_should_count_root_failures_as_misses);
     suite_add_tcase(s, core);

@@ -545,6 +545,49 @@ START_TEST(render_options_should_default_sensibly)
 }
 END_TEST
 
+/*
+** Issue 38: a built-in material made from a NULL parameter block (its
+** constructor borrows the pointer as ud, NULL too) is inert: a ray that
+** hits a sphere of it comes back black, exactly, though the background
+** it would reflect or refract is grey (0.5) and a material with
+** parameters would show it.  Phong without parameters declares no
+** mirror term, so no scatter callback (and the checker none without
+** materials to pick from).
+*/
+START_TEST(materials_without_parameters_should_do_nothing)
+{
+    ray_material m[4];
+    int i;
+
+    m[0] = ray_material_phong(NULL);
+    m[1] = ray_material_mirror(NULL);
+    m[2] = ray_material_glass(NULL);
+    m[3] = ray_material_checker(NULL);
+    ck_assert(m[0].scatter == NULL);
+    ck_assert(m[3].scatter == NULL);
+    for (i = 0; i < 4; i++) {
+        ray_ray r = ray_from(vec(0.1, 0.2, -5), vec(0, 0, 1));
+        ray_rgb c = rgb(7, 7, 7);
+        ray_scene *s;
+        ray_ctx *ctx;
+        unsigned mat;
+
+        ck_assert_ptr_null(m[i].ud);
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_material(s, &m[i], &mat), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_set_background(s, rgb(0.5, 0.5, 0.5), NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+        ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+        ck_assert_msg(c.r == 0 && c.g == 0 && c.b == 0, "material %d: %g %g %g",
+                      i, c.r, c.g, c.b);
+        ray_ctx_free(ctx);
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
 Suite *trace_suite(void)
 {
     Suite *s = suite_create("trace");
@@ -565,6 +608,7 @@ Suite *trace_suite(void)
     tcase_add_test(opt, ctx_random_should_be_uniform_and_reproducible);
     tcase_add_test(opt, lights_should_sample_as_documented);
     tcase_add_test(opt, render_options_should_default_sensibly);
+    tcase_add_test(opt, materials_without_parameters_should_do_nothing);
     suite_add_tcase(s, lim);
     suite_add_tcase(s, opt);
     return s;
