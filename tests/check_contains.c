@@ -318,6 +318,57 @@ START_TEST(cube_at_offsets)
 }
 END_TEST
 
+/*
+** A closed mesh whose box is wider than DBL_MAX along x (an octahedron
+** with tips at +-1e308: hi - lo overflows to Inf): the containment grid
+** would get Inf-sized cells and NaN counts (a NaN converted to an
+** unsigned, undefined behaviour that clang's UBSan reports; make fuzz
+** found it, fuzz/crashes/fuzz_contains/grid-extent-overflows), so the
+** scene gets none and the walk answers alone.  The octahedron |x| / 1e308
+** + |y| + |z| <= 1: its centre and a point at a fifth of each tip are
+** inside, points past a face outside; the exact answer, no tolerance
+** (every point is at least 0.2 of the unit from a face).
+*/
+START_TEST(contains_box_wider_than_dbl_max)
+{
+    static const double verts[6][3] = {
+        {1e308, 0, 0}, {-1e308, 0, 0}, {0, 1, 0},
+        {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const unsigned idx[24] = {
+        0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4,
+        2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+    static const double pts[6][3] = {
+        {0, 0, 0}, {2e307, 0.2, 0.2}, {-2e307, -0.2, 0.2},
+        {0, 0.7, 0.7}, {5e307, 0.4, 0.4}, {0, 0, -1.5}};
+    static const int want[6] = {1, 1, 1, 0, 0, 0};
+    ray_vec3 v[6], p[6];
+    ray_inside out[6];
+    ray_mesh m;
+    ray_scene *s;
+    int i;
+
+    for (i = 0; i < 6; i++) {
+        v[i] = v3(verts[i][0], verts[i][1], verts[i][2]);
+        p[i] = v3(pts[i][0], pts[i][1], pts[i][2]);
+    }
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 6;
+    m.indices = idx;
+    m.triangle_count = 8;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_contains(s, p, 6, NULL, out), 3);
+    for (i = 0; i < 6; i++) {
+        ck_assert_msg(out[i].inside == want[i], "point %d: inside %d", i,
+                      out[i].inside);
+        ck_assert_int_eq(out[i].on_surface, 0);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(icosphere_at_offsets)
 {
     static const double off[3] = {0, 1e5, 1e6};
@@ -1442,6 +1493,7 @@ Suite *contains_suite(void)
     tcase_add_test(tc, predicates);
     tcase_add_test(tc, cube_at_offsets);
     tcase_add_test(tc, icosphere_at_offsets);
+    tcase_add_test(tc, contains_box_wider_than_dbl_max);
     tcase_add_test(tc, nested_and_apart);
     tcase_add_test(tc, hole_crack_flip);
     tcase_add_test(tc, fast_winding_damaged);

@@ -39,6 +39,7 @@
 ** Where a query asks for a subset of the closed meshes (a mask that
 ** leaves one out), the labels do not apply: the ray goes all the way.
 */
+#include <float.h>
 #include <math.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -588,6 +589,14 @@ int ray__cgrid_build(ray_scene *s)
     for (a = 0; a < 3; a++)
         ext[a] = hi[a] - lo[a];
     emax = fmax(ext[0], fmax(ext[1], ext[2]));
+    /* A box wider than DBL_MAX on some axis (hi - lo overflowed: corners
+    ** near +-DBL_MAX) gets no grid: its cells' size would be Inf and
+    ** their counts NaN (Inf / Inf), and the walls lo + Inf * 0.  The
+    ** queries then take the walk without it, as for a scene with no
+    ** closed mesh.  Found by make fuzz (fuzz_contains,
+    ** fuzz/crashes/fuzz_contains/grid-extent-overflows). */
+    if (!(emax <= DBL_MAX))
+        return RAY_OK;
     /* Cubic cells, CELLS_PER_TRI a triangle (CELLS_MAX at most), a flat
     ** axis counted as a 64th of the longest so that the others keep
     ** their cells. */
@@ -599,7 +608,8 @@ int ray__cgrid_build(ray_scene *s)
     cells = 1;
     for (a = 0; a < 3; a++) {
         double c = h > 0 ? ceil(ext[a] / h) : 1;
-        g.n[a] = c < 1 ? 1u : c > AXIS_MAX ? AXIS_MAX : (unsigned)c;
+        /* !(c >= 1): a NaN count too is one cell, never a conversion. */
+        g.n[a] = !(c >= 1) ? 1u : c > AXIS_MAX ? AXIS_MAX : (unsigned)c;
         cells *= g.n[a];
     }
     /* Walls, then labels: one block. */
