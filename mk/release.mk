@@ -95,8 +95,8 @@ amalgamation-test-long: amalgamation $(BUILD)/examples/whitted | deps-embed
 # scripts/check-cmake.sh: tests/cmake-consumer through add_subdirectory
 # and FetchContent; the sources and flags against the Makefile's; the
 # picture against the Makefile's.
-# Both builds of the library (CMAKE_PART=all; the script's CMAKE_PART
-# picks one): make check-long runs it, which CI runs after make check, not
+# Both builds of the library (CMAKE_PART=add_subdirectory or
+# FetchContent, given by hand, picks one): make check-long runs it, which CI runs after make check, not
 # make check itself, whose two minutes it took 30 CPU seconds of (issue
 # 38).
 CMAKE_TEST = CC="$(CC)" CFLAGS="$(CFLAGS)" LDFLAGS="$(LDFLAGS)" \
