@@ -417,6 +417,249 @@ START_TEST(photons_should_survive_targets_too_small_or_too_large)
 }
 END_TEST
 
+/* A user scatter: the mirror direction, with the weight *ud (a bad one
+** where the test asks). */
+static int weighted_mirror(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                           ray_vec3 *dir, ray_rgb *w)
+{
+    ray_vec3 d = a->ray->dir, n = a->normal;
+    double k = 2 * vdot(d, n);
+
+    (void)ctx;
+    *dir = vsub(d, vscale(n, k));
+    *w = *(const ray_rgb *)ud;
+    return 1;
+}
+
+static void no_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                     ray_rgb *out)
+{
+    (void)ud; (void)ctx; (void)a;
+    *out = rgb(0, 0, 0);
+}
+
+/*
+** Weights a scatter callback may not hand the photon pass: a negative,
+** a NaN and an infinite channel end the photon (none stored), as does a
+** weight of 0 and, with pruning (the default limits: min_weight 0.01 of
+** the start), one of 1e-3; weight 1 carries it to the floor (some
+** stored), and the same 1e-3 with pruning off (no_pruning) does too.  A
+** material-less polygon between the light and the mirror stops every
+** photon before any bounce: none stored.  Counts: exact.
+*/
+START_TEST(photons_should_stop_at_bad_weights_and_bare_geometry)
+{
+    static const double bad[] = {-0.5, (double)NAN, HUGE_VAL, 0, 1e-3};
+    ray_rgb w;
+    ray_material m = {no_shade, &w, RAY_EFFECT_SCATTER, weighted_mirror};
+    ray_limits lim;
+    ray_stats st;
+    size_t k;
+    int ch;
+
+    for (k = 0; k <= sizeof bad / sizeof *bad; k++)
+        for (ch = 0; ch < 3; ch++) {
+            ray_scene *s;
+            unsigned pm, mm, um;
+            double x = k < sizeof bad / sizeof *bad ? bad[k] : 1.0;
+
+            if (k >= 3 && ch > 0)
+                continue;        /* 0, 1e-3 and 1: grey, once */
+            w = rgb(k >= 3 ? x : 1, k >= 3 ? x : 1, k >= 3 ? x : 1);
+            if (ch == 0) w.r = x;
+            if (ch == 1) w.g = x;
+            if (ch == 2) w.b = x;
+            s = photon_scene(rgb(1, 1, 1), &pm, &mm);
+            ck_assert_int_eq(ray_scene_add_material(s, &m, &um), RAY_OK);
+            add_mirror(s, 2, 1, um, NULL);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+            ck_assert_int_eq(photon_build(s, 500, &st, NULL), RAY_OK);
+            ck_assert_uint_eq(st.photons_emitted, 500);
+            if (k < sizeof bad / sizeof *bad)
+                ck_assert_msg(st.photons_stored == 0, "weight (%g %g %g): "
+                              "%llu stored", w.r, w.g, w.b,
+                              st.photons_stored);
+            else
+                ck_assert_uint_gt(st.photons_stored, 0);
+            if (k == 4) {        /* 1e-3 without pruning: carried on */
+                ray_limits_init(&lim);
+                lim.no_pruning = 1;
+                ck_assert_int_eq(ray_scene_set_limits(s, &lim), RAY_OK);
+                ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+                ck_assert_int_eq(photon_build(s, 500, &st, NULL), RAY_OK);
+                ck_assert_uint_gt(st.photons_stored, 0);
+            }
+            if (k == 5) {        /* a bare polygon shields the mirror */
+                add_mirror(s, 1.5, 2, RAY_NO_MATERIAL, NULL);
+                ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+                ck_assert_int_eq(photon_build(s, 500, &st, NULL), RAY_OK);
+                ck_assert_uint_eq(st.photons_emitted, 500);
+                ck_assert_uint_eq(st.photons_stored, 0);
+            }
+            ray_scene_free(s);
+        }
+}
+END_TEST
+
+/* ----------------------------------------------------- implicit surfaces */
+
+/* The sphere of radius 1 at the origin as a signed distance (1-Lipschitz);
+** ud, when set, counts the calls. */
+static double unit_sdf(void *ud, ray_vec3 p)
+{
+    if (ud != NULL)
+        ++*(int *)ud;
+    return sqrt(p.x * p.x + p.y * p.y + p.z * p.z) - 1;
+}
+
+/* The same, NaN wherever x < -0.9: the ray from -x meets NaN first. */
+static double nan_outside(void *ud, ray_vec3 p)
+{
+    (void)ud;
+    return p.x < -0.9 ? (double)NAN : unit_sdf(NULL, p);
+}
+
+static ray_vec3 unit_grad(void *ud, ray_vec3 p)
+{
+    double l = sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+
+    (void)ud;
+    return vec(p.x / l, p.y / l, p.z / l);
+}
+
+static void nan_u(void *ud, ray_vec3 p, ray_vec3 n, double *u, double *v)
+{
+    (void)ud; (void)p; (void)n;
+    *u = (double)NAN;
+    *v = 0.5;
+}
+
+static void nan_v(void *ud, ray_vec3 p, ray_vec3 n, double *u, double *v)
+{
+    (void)ud; (void)p; (void)n;
+    *u = 0.5;
+    *v = -HUGE_VAL;
+}
+
+static ray_implicit_surface unit_implicit(void)
+{
+    ray_implicit_surface s;
+
+    memset(&s, 0, sizeof s);
+    s.f = unit_sdf;
+    s.lo = vec(-1, -1, -1);
+    s.hi = vec(1, 1, 1);
+    s.lipschitz = 1;
+    return s;
+}
+
+/*
+** Rays and surfaces that ray_implicit must turn away without a hit: an
+** origin that is not finite (a miss, 0), a point box at the origin with
+** the default tolerance (0 there: nothing to find, 0), texture
+** coordinates that are not finite and a field that is NaN where the ray
+** enters (misuse, -RAY_EINVAL); the hit is left untouched every time.
+*/
+START_TEST(implicit_should_refuse_what_it_cannot_answer)
+{
+    ray_implicit_surface s = unit_implicit();
+    ray_ray r = ray_from(vec(-3, 0, 0), vec(1, 0, 0));
+    ray_hit h;
+
+    hit_poison(&h);
+    r.org.y = (double)NAN;
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), 0);
+    r.org.y = HUGE_VAL;
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), 0);
+    r = ray_from(vec(-3, 0, 0), vec(1, 0, 0));
+    s.lo = s.hi = vec(0, 0, 0);
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), 0);
+    s = unit_implicit();
+    s.uv = nan_u;
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), -RAY_EINVAL);
+    s.uv = nan_v;
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), -RAY_EINVAL);
+    s = unit_implicit();
+    s.f = nan_outside;
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), -RAY_EINVAL);
+    s.lipschitz = 0;                     /* the fixed-step march too */
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), -RAY_EINVAL);
+    ck_assert(hit_is_poisoned(&h));
+}
+END_TEST
+
+/*
+** Every budget of evaluations from 1 to 40, both marches (sphere
+** tracing with the bound, fixed steps without), on a ray that meets the
+** unit sphere at t = 2 and on one that grazes it (y = 1 - 1e-6): each
+** answer is either -RAY_ELIMIT with the hit untouched, or a hit whose t
+** lies within the tolerance (the default, 1e-9 of the box's diagonal
+** plus rounding: 1e-8 is above it) of the exact entry, and f called
+** no more often than the budget (the gradient is given, so no central
+** differences add calls); the default budget finds it.
+*/
+START_TEST(implicit_should_keep_to_any_budget)
+{
+    static const double ys[2] = {0, 1 - 1e-6};
+    int yi, lip, n;
+
+    for (yi = 0; yi < 2; yi++)
+        for (lip = 0; lip < 2; lip++) {
+            double y = ys[yi], want = 3 - sqrt(1 - y * y);
+            for (n = 1; n <= 41; n++) {     /* 41: the default budget */
+                ray_implicit_surface s = unit_implicit();
+                ray_ray r = ray_from(vec(-3, y, 0), vec(1, 0, 0));
+                int calls = 0, rc;
+                ray_hit h;
+
+                s.ud = &calls;
+                s.lipschitz = lip;
+                s.step = lip ? 0 : 0.125;
+                s.max_iterations = n <= 40 ? (unsigned)n : 0;
+                s.gradient = unit_grad;  /* f's calls: the budget's only */
+                hit_poison(&h);
+                rc = ray_implicit(&r, &s, &h);
+                ck_assert(n > 40 || calls <= n);
+                if (rc == -RAY_ELIMIT && n <= 40) {
+                    ck_assert(hit_is_poisoned(&h));
+                    continue;
+                }
+                ck_assert_msg(rc == 1, "y %g lip %d budget %d: %d", y, lip,
+                              n, rc);
+                ck_assert_msg(fabs(h.t - want) <= 1e-8,
+                              "y %g lip %d budget %d: t %.17g want %.17g",
+                              y, lip, n, h.t, want);
+            }
+        }
+}
+END_TEST
+
+/*
+** A tolerance far below the spacing of the doubles near the root (1e-300
+** at t = 2, where an ulp is 4.4e-16): the bracket is halved until no
+** double lies strictly inside it, and the hit is at one of its ends,
+** within an ulp or two of the exact t = 2 (1e-15).
+*/
+START_TEST(implicit_should_stop_refining_at_adjacent_doubles)
+{
+    ray_implicit_surface s = unit_implicit();
+    ray_ray r = ray_from(vec(-3, 0, 0), vec(1, 0, 0));
+    ray_hit h;
+    int lip;
+
+    for (lip = 0; lip < 2; lip++) {
+        s.tolerance = 1e-300;
+        s.lipschitz = lip;
+        s.step = 0.1;
+        s.max_iterations = 100000;
+        hit_poison(&h);
+        ck_assert_int_eq(ray_implicit(&r, &s, &h), 1);
+        ck_assert_msg(fabs(h.t - 2) <= 1e-15, "lip %d: t %.17g", lip, h.t);
+        ck_assert_msg(fabs(h.n.x + 1) <= 1e-12, "n.x %.17g", h.n.x);
+    }
+}
+END_TEST
+
 Suite *edges_suite(void)
 {
     Suite *s = suite_create("edges");
@@ -427,6 +670,10 @@ Suite *edges_suite(void)
     tcase_add_test(tc, photons_should_aim_only_at_live_scattering_geometry);
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
+    tcase_add_test(tc, photons_should_stop_at_bad_weights_and_bare_geometry);
+    tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
+    tcase_add_test(tc, implicit_should_keep_to_any_budget);
+    tcase_add_test(tc, implicit_should_stop_refining_at_adjacent_doubles);
     suite_add_tcase(s, tc);
     return s;
 }
