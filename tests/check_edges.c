@@ -501,6 +501,179 @@ START_TEST(photons_should_stop_at_bad_weights_and_bare_geometry)
 }
 END_TEST
 
+/* ------------------------------------------------------------ materials */
+
+/* Shading arguments at the origin of the plane z = 0, hit by a ray coming
+** down at 45 degrees in x (direction (1, 0, -1)), texture coordinates
+** (u, v). */
+typedef struct flat_args {
+    ray_ray r;
+    ray_hit h;
+    ray_shade_args a;
+} flat_args;
+
+static void flat_args_at(flat_args *f, double u, double v)
+{
+    memset(f, 0, sizeof *f);
+    f->r = ray_from(vec(-1, 0, 1), vec(1, 0, -1));
+    f->h.t = 1;
+    f->h.p = vec(0, 0, 0);
+    f->h.n = vec(0, 0, 1);
+    f->h.u = u;
+    f->h.v = v;
+    f->a.ray = &f->r;
+    f->a.hit = &f->h;
+    f->a.normal = vec(0, 0, 1);
+    f->a.shading_normal = f->a.normal;
+    f->a.entering = 1;
+    f->a.u = u;
+    f->a.v = v;
+    f->a.weight = 1;
+    f->a.prune = 1;
+}
+
+/* A shade that writes a colour, to tell whether a checker called it. */
+static void paint(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                  ray_rgb *out)
+{
+    (void)ctx; (void)a;
+    *out = *(const ray_rgb *)ud;
+}
+
+/*
+** The built-in materials' scatter callbacks, called as the photon pass
+** calls them.  A mirror of reflectance k sends the photon on along the
+** mirror direction (1, 0, 1) with weight k exactly; a black mirror and
+** any of them with NULL parameters (mirror, Phong, glass, checker: the
+** material made from NULL) end it (0).  A checker scatters as the
+** square's material does: the odd square (floor(u) + floor(v) odd) a
+** mirror, the even one a Phong without reflection (no scatter), a
+** material that declares RAY_EFFECT_SCATTER without a function, and one
+** whose scatter refuses; and shades as the square does, or leaves *out
+** alone for a square without a shade function.
+*/
+START_TEST(material_scatter_should_follow_its_parameters)
+{
+    static const ray_rgb k = {0.25, 0.5, 0.75}, black = {0, 0, 0};
+    ray_phong_params pp;
+    ray_glass_params gp = {1.5, {0, 0, 0}};
+    ray_checker_params cp;
+    ray_material mirror = ray_material_mirror(&k), dark, phong, glass,
+                 checker, with_reflect;
+    ray_rgb w = {-1, -1, -1}, out;
+    ray_vec3 dir = {0, 0, 0};
+    flat_args f;
+
+    flat_args_at(&f, 0.5, 0.5);
+    ck_assert_int_eq(mirror.scatter(mirror.ud, NULL, &f.a, &dir, &w), 1);
+    ck_assert(dir.x == 1 && dir.y == 0 && dir.z == 1); /* exact: +-1, 0 */
+    ck_assert(w.r == k.r && w.g == k.g && w.b == k.b);
+    dark = ray_material_mirror(&black);
+    ck_assert_int_eq(dark.scatter(dark.ud, NULL, &f.a, &dir, &w), 0);
+    ck_assert_int_eq(mirror.scatter(NULL, NULL, &f.a, &dir, &w), 0);
+    ray_phong_params_init(&pp);
+    pp.reflect = k;
+    with_reflect = ray_material_phong(&pp);
+    ck_assert_ptr_nonnull((void *)with_reflect.scatter);
+    ck_assert_int_eq(with_reflect.scatter(NULL, NULL, &f.a, &dir, &w), 0);
+    glass = ray_material_glass(&gp);
+    ck_assert_int_eq(glass.scatter(NULL, NULL, &f.a, &dir, &w), 0);
+
+    ray_phong_params_init(&pp);
+    phong = ray_material_phong(&pp);               /* no reflection */
+    ck_assert_ptr_null((void *)phong.scatter);
+    memset(&cp, 0, sizeof cp);
+    cp.odd = mirror;
+    cp.even = phong;
+    checker = ray_material_checker(&cp);
+    ck_assert_ptr_nonnull((void *)checker.scatter);
+    ck_assert_int_eq(checker.scatter(NULL, NULL, &f.a, &dir, &w), 0);
+    flat_args_at(&f, 1.5, 0.5);                    /* odd: the mirror */
+    w = rgb(-1, -1, -1);
+    ck_assert_int_eq(checker.scatter(checker.ud, NULL, &f.a, &dir, &w), 1);
+    ck_assert(w.r == k.r && w.g == k.g && w.b == k.b);
+    flat_args_at(&f, 0.5, 0.5);                    /* even: Phong */
+    ck_assert_int_eq(checker.scatter(checker.ud, NULL, &f.a, &dir, &w), 0);
+    cp.even.effects |= RAY_EFFECT_SCATTER;         /* declared, no function */
+    ck_assert_int_eq(checker.scatter(checker.ud, NULL, &f.a, &dir, &w), 0);
+    cp.even = dark;                                /* a scatter that says 0 */
+    ck_assert_int_eq(checker.scatter(checker.ud, NULL, &f.a, &dir, &w), 0);
+
+    /* Shading: the even square paints, the odd one has no shade. */
+    cp.even.shade = paint;
+    cp.even.ud = (void *)&k;
+    cp.odd.shade = NULL;
+    out = rgb(9, 9, 9);
+    checker.shade(checker.ud, NULL, &f.a, &out);
+    ck_assert(out.r == k.r && out.g == k.g && out.b == k.b);
+    flat_args_at(&f, 1.5, 0.5);
+    out = rgb(9, 9, 9);
+    checker.shade(checker.ud, NULL, &f.a, &out);
+    ck_assert(out.r == 9 && out.g == 9 && out.b == 9);
+    checker.shade(NULL, NULL, &f.a, &out);
+    ck_assert(out.r == 9 && out.g == 9 && out.b == 9);
+}
+END_TEST
+
+/* ------------------------------------------------------------- render */
+
+/*
+** Adaptive sampling through a lens (aperture > 0): the corners' samples
+** go through the lens too.  A sphere shaded a constant colour c in front
+** of a background b: every pixel is a mean of samples that are each c or
+** b, so each channel lies between them (exactly: a mean of copies of one
+** float is that float, and of two values it lies between them; 1e-6
+** covers the float rounding of a mixed mean); the corner pixel sees
+** only the background and the centre only the sphere, exactly.
+*/
+START_TEST(adaptive_render_through_a_lens_should_mix_only_what_it_sees)
+{
+    enum { RW = 9, RH = 9 };
+    static const ray_rgb c = {0.25, 0.5, 0.75}, b = {1, 0.125, 0};
+    ray_material m = {paint, (void *)&c, 0, NULL};
+    float img[3 * RW * RH];
+    ray_render_options o;
+    ray_camera cam;
+    ray_scene *s;
+    int i;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, b, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&cam, 0, sizeof cam);
+    cam.position = vec(0, 0, 4);
+    cam.up = vec(0, 1, 0);
+    cam.vfov = 40;
+    cam.aperture = 0.05;
+    o = (ray_render_options){.width = RW, .height = RH};
+    o.adaptive_threshold = 0.05;
+    o.adaptive_depth = 2;
+    o.threads = 1;
+    ck_assert_int_eq(ray_render(s, &cam, &o, img, NULL), RAY_OK);
+    for (i = 0; i < RW * RH; i++) {
+        const double lo[3] = {c.r < b.r ? c.r : b.r, c.g < b.g ? c.g : b.g,
+                              c.b < b.b ? c.b : b.b};
+        const double hi[3] = {c.r > b.r ? c.r : b.r, c.g > b.g ? c.g : b.g,
+                              c.b > b.b ? c.b : b.b};
+        int k;
+        for (k = 0; k < 3; k++)
+            ck_assert_msg(img[3 * i + k] >= lo[k] - 1e-6 &&
+                          img[3 * i + k] <= hi[k] + 1e-6,
+                          "pixel %d channel %d: %g", i, k,
+                          (double)img[3 * i + k]);
+    }
+    ck_assert(img[0] == (float)b.r && img[1] == (float)b.g &&
+              img[2] == (float)b.b);
+    i = 3 * (RH / 2 * RW + RW / 2);
+    ck_assert(img[i] == (float)c.r && img[i + 1] == (float)c.g &&
+              img[i + 2] == (float)c.b);
+    ray_scene_free(s);
+}
+END_TEST
+
 /* ----------------------------------------------------- implicit surfaces */
 
 /* The sphere of radius 1 at the origin as a signed distance (1-Lipschitz);
@@ -671,6 +844,8 @@ Suite *edges_suite(void)
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
     tcase_add_test(tc, photons_should_stop_at_bad_weights_and_bare_geometry);
+    tcase_add_test(tc, material_scatter_should_follow_its_parameters);
+    tcase_add_test(tc, adaptive_render_through_a_lens_should_mix_only_what_it_sees);
     tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
     tcase_add_test(tc, implicit_should_keep_to_any_budget);
     tcase_add_test(tc, implicit_should_stop_refining_at_adjacent_doubles);
