@@ -12,6 +12,8 @@
 #include "tests.h"
 #include "caustics_kit.h"
 #include "hardcases.h"
+#include "prim/prim.h"       /* the primitives' internal entry points */
+#include "prim/sweep.h"      /* ray__polygon_plane_mapped */
 #include "trace/trace.h"     /* ray__photon_map_counts */
 
 /* ------------------------------------- geometry removed or disabled */
@@ -501,6 +503,146 @@ START_TEST(photons_should_stop_at_bad_weights_and_bare_geometry)
 }
 END_TEST
 
+/* ---------------------------------------------------------- primitives */
+
+/*
+** The textbook sphere formula (ray__sphere_naive, the reference of the
+** numerics bench): a ray from inside takes the far root, t = 2 exactly
+** for the sphere of radius 2 at the origin from its centre (the roots
+** are -+sqrt(4) / 1, exact); both roots behind, or beyond tmax, miss;
+** and so do a radius 0, infinite or NaN and a zero direction, with the
+** hit untouched.
+*/
+START_TEST(naive_sphere_should_take_the_far_root_and_refuse_the_rest)
+{
+    ray_ray r = ray_from(vec(0, 0, 0), vec(1, 0, 0));
+    ray_hit h;
+
+    hit_poison(&h);
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), 2, &h), 1);
+    ck_assert(h.t == 2 && h.p.x == 2 && h.p.y == 0 && h.p.z == 0);
+    hit_poison(&h);
+    r.tmax = 1.5;
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), 2, &h), 0);
+    r = ray_from(vec(5, 0, 0), vec(1, 0, 0));       /* sphere behind */
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), 2, &h), 0);
+    r = ray_from(vec(-5, 0, 0), vec(1, 0, 0));
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), 0, &h), 0);
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), HUGE_VAL, &h), 0);
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), (double)NAN, &h),
+                     0);
+    r.dir = vec(0, 0, 0);
+    ck_assert_int_eq(ray__sphere_naive(&r, vec(0, 0, 0), 2, &h), 0);
+    ck_assert(hit_is_poisoned(&h));
+}
+END_TEST
+
+/*
+** The single-precision triangle test (the float filter's reference): a
+** hit at t = 1 exactly (every input a small binary fraction: the float
+** products and the one division are exact); a miss past tmax, beside
+** each edge (gamma > 1, beta < 0, beta + gamma > 1), and for a
+** degenerate (collinear) triangle, with *t untouched.
+*/
+START_TEST(float_triangle_should_classify_each_side)
+{
+    const ray_vec3 a = {0, 0, 0}, b = {1, 0, 0}, c = {0, 1, 0};
+    ray_ray r = ray_from(vec(0.25, 0.25, 1), vec(0, 0, -1));
+    double t = -1;
+
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, c, &t), 1);
+    ck_assert(t == 1);
+    t = -1;
+    r.tmax = 0.5;
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, c, &t), 0);
+    r = ray_from(vec(0.25, 1.5, 1), vec(0, 0, -1));   /* past c: gamma */
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, c, &t), 0);
+    r = ray_from(vec(-0.25, 0.5, 1), vec(0, 0, -1));  /* beyond ac: beta */
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, c, &t), 0);
+    r = ray_from(vec(0.75, 0.75, 1), vec(0, 0, -1));  /* beyond bc */
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, c, &t), 0);
+    r = ray_from(vec(0.25, -0.5, 1), vec(0, 0, -1));  /* below ab */
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, c, &t), 0);
+    r = ray_from(vec(0.25, 0.25, 1), vec(0, 0, -1));
+    ck_assert_int_eq(ray__triangle_float(&r, a, b, vec(2, 0, 0), &t), 0);
+    ck_assert(t == -1);
+}
+END_TEST
+
+/*
+** Degenerate descriptors and rays the analytic primitives refuse with a
+** miss (0, the hit untouched): a box with an infinite or zero half
+** extent on each axis in turn, a plane of zero normal, a torus hit by a
+** ray whose |dir| overflows (DBL_MAX on every axis: its length is
+** 3.1e308); and blobs with a NULL array but a count, refused
+** (RAY_EINVAL, the output untouched).
+*/
+START_TEST(primitives_should_miss_on_degenerate_descriptors)
+{
+    static const ray_blob one = {{0, 0, 0}, 1, 1};
+    ray_ray r = ray_from(vec(-5, 0.1, 0.2), vec(1, 0, 0));
+    ray_box_params b;
+    ray_torus_params t = {{0, 0, 0}, {0, 0, 1}, 2, 0.5};
+    ray_blobs_params bp = {NULL, 1, 0.5};
+    ray_implicit_surface out, before;
+    ray_hit h;
+    int axis, bad;
+
+    hit_poison(&h);
+    for (axis = 0; axis < 3; axis++)
+        for (bad = 0; bad < 3; bad++) {
+            double x = bad == 0 ? HUGE_VAL : bad == 1 ? 0 : (double)NAN;
+            memset(&b, 0, sizeof b);
+            b.center = vec(0, 0, 0);
+            b.half_extents = vec(1, 1, 1);
+            b.axis_x = vec(1, 0, 0);
+            b.axis_y = vec(0, 1, 0);
+            ck_assert_int_eq(ray_box(&r, &b, &h), 1);   /* the good box */
+            hit_poison(&h);
+            if (axis == 0) b.half_extents.x = x;
+            if (axis == 1) b.half_extents.y = x;
+            if (axis == 2) b.half_extents.z = x;
+            ck_assert_int_eq(ray_box(&r, &b, &h), 0);
+            ck_assert(hit_is_poisoned(&h));
+        }
+    ck_assert_int_eq(ray_plane(&r, vec(0, 0, 0), vec(0, 0, 0), &h), 0);
+    r.dir = vec(DBL_MAX, DBL_MAX, DBL_MAX);
+    r.org = vec(-5, -5, 0.1);
+    ck_assert_int_eq(ray_torus(&r, &t, &h), 0);
+    ck_assert(hit_is_poisoned(&h));
+    memset(&out, 0x5a, sizeof out);
+    before = out;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_EINVAL);
+    ck_assert(memcmp(&out, &before, sizeof out) == 0);
+    bp.blobs = &one;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &out), RAY_OK);
+}
+END_TEST
+
+/*
+** The polygon helpers of the closest-point and sweep queries refuse a
+** NULL array and fewer than 3 vertices (0, outputs untouched); the unit
+** square's plane is its centroid and the unit normal of its winding.
+*/
+START_TEST(polygon_helpers_should_refuse_too_few_vertices)
+{
+    static const ray_vec3 sq[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},
+                                   {0, 1, 0}};
+    ray_vec3 c = {7, 7, 7}, n = {7, 7, 7}, p = {7, 7, 7};
+
+    ck_assert_int_eq(ray__polygon_plane_mapped(NULL, 4, NULL, &c, &n), 0);
+    ck_assert_int_eq(ray__polygon_plane_mapped(sq, 2, NULL, &c, &n), 0);
+    ck_assert_int_eq(ray__polygon_closest_mapped(NULL, 4, NULL, vec(0, 0, 1),
+                                                 &p, &n), 0);
+    ck_assert_int_eq(ray__polygon_closest_mapped(sq, 2, NULL, vec(0, 0, 1),
+                                                 &p, &n), 0);
+    ck_assert(p.x == 7 && p.y == 7 && p.z == 7);
+    ck_assert_int_eq(ray__polygon_plane_mapped(sq, 4, NULL, &c, &n), 1);
+    ck_assert(c.x == 0.5 && c.y == 0.5 && c.z == 0);     /* exact */
+    ck_assert(n.x == 0 && n.y == 0 && n.z == 1);
+}
+END_TEST
+
 /* ------------------------------------------------------------ materials */
 
 /* Shading arguments at the origin of the plane z = 0, hit by a ray coming
@@ -844,6 +986,10 @@ Suite *edges_suite(void)
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
     tcase_add_test(tc, photons_should_stop_at_bad_weights_and_bare_geometry);
+    tcase_add_test(tc, naive_sphere_should_take_the_far_root_and_refuse_the_rest);
+    tcase_add_test(tc, float_triangle_should_classify_each_side);
+    tcase_add_test(tc, primitives_should_miss_on_degenerate_descriptors);
+    tcase_add_test(tc, polygon_helpers_should_refuse_too_few_vertices);
     tcase_add_test(tc, material_scatter_should_follow_its_parameters);
     tcase_add_test(tc, adaptive_render_through_a_lens_should_mix_only_what_it_sees);
     tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
