@@ -225,6 +225,95 @@ START_TEST(hidden_geometry_should_not_be_touched)
 }
 END_TEST
 
+/* ------------------------------------------------------------- overlap */
+
+/* The overlaps of a capsule shape from a to b, radius r, with s: how many
+** (at most 4), the first in *f. */
+static size_t capsule_overlaps(const ray_scene *s, ray_vec3 a, ray_vec3 b,
+                               double r, ray_overlap *f)
+{
+    ray_overlap found[4];
+    ray_shape sh;
+    size_t count = 99;
+
+    memset(&sh, 0, sizeof sh);
+    sh.a = a;
+    sh.b = b;
+    sh.radius = r;
+    ck_assert_int_eq(ray_overlap_shape_all(s, &sh, NULL, found, 4, &count),
+                     count > 0);
+    if (count > 0)
+        *f = found[0];
+    return count;
+}
+
+/*
+** Capsule shapes against round primitives seen through an instance that
+** scales x by 2 (not a similarity: the sphere is an ellipsoid of
+** semi-axes 2, 1, 1 around (10, 0, 0), the capsule a swept ellipsoid
+** from y = 5 to 7).  A segment through the ellipsoid overlaps it (even
+** with a radius of 0.01: inside); one along x = 13 lies 1 from it
+** (the nearest point (12, 0, 0)), so radius 0.5 misses and 1.5 meets.
+** The stretched capsule is answered by its box against a capsule shape
+** (ray.h): one in the box's corner, 0.7 from the capsule's end in its
+** own space, is reported with RAY_CONTACT_BOUNDS.  A torus is answered by its box too: a small
+** sphere in its hole.
+*/
+START_TEST(overlaps_should_see_stretched_spheres_and_boxes_of_the_rest)
+{
+    ray_scene *child, *s, *ts;
+    ray_capsule_params cap = {{0, 5, 0}, {0, 7, 0}, 0.5};
+    ray_torus_params tor = {{0, 0, 0}, {0, 0, 1}, 2, 0.5};
+    ray_transform x;
+    ray_overlap f;
+    unsigned inst, sphere_id, cap_id;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1,
+                                          RAY_NO_MATERIAL, &sphere_id),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_capsule(child, &cap, RAY_NO_MATERIAL,
+                                           &cap_id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ray_transform_identity(&x);
+    x.m[0][0] = 2;
+    x.m[0][3] = 10;
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &x, &inst), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+
+    ck_assert_uint_eq(capsule_overlaps(s, vec(10, -3, 0), vec(10, 3, 0), 0.01,
+                                       &f), 1);
+    ck_assert_uint_eq(f.geom_id, sphere_id);
+    ck_assert_uint_eq(f.inst_id, inst);
+    ck_assert_uint_eq(f.flags & RAY_CONTACT_BOUNDS, 0);
+    ck_assert_uint_eq(capsule_overlaps(s, vec(13, -3, 0), vec(13, 3, 0), 0.5,
+                                       &f), 0);
+    ck_assert_uint_eq(capsule_overlaps(s, vec(13, -3, 0), vec(13, 3, 0), 1.5,
+                                       &f), 1);
+    ck_assert_uint_eq(f.geom_id, sphere_id);
+    ck_assert_uint_eq(capsule_overlaps(s, vec(10.9, 7.4, 0.4),
+                                       vec(10.9, 7.45, 0.4), 0.02, &f), 1);
+    ck_assert_uint_eq(f.geom_id, cap_id);
+    ck_assert_uint_eq(f.flags & RAY_CONTACT_BOUNDS, RAY_CONTACT_BOUNDS);
+    ck_assert_uint_eq(capsule_overlaps(s, vec(10, 20, 0), vec(10, 21, 0), 0.5,
+                                       &f), 0);
+
+    ck_assert_int_eq(ray_scene_new(&ts, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_torus(ts, &tor, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(ts), RAY_OK);
+    ck_assert_uint_eq(capsule_overlaps(ts, vec(0, 0, 0), vec(0, 0, 0), 0.1,
+                                       &f), 1);
+    ck_assert_uint_eq(f.flags & RAY_CONTACT_BOUNDS, RAY_CONTACT_BOUNDS);
+    ck_assert_uint_eq(capsule_overlaps(ts, vec(0, 0, 5), vec(0, 0, 6), 0.1,
+                                       &f), 0);
+    ray_scene_free(ts);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
 /* ------------------------------------------------------------ photons */
 
 /*
@@ -982,6 +1071,7 @@ Suite *edges_suite(void)
 
     tcase_add_test(tc, hidden_geometry_should_not_contain_or_attract);
     tcase_add_test(tc, hidden_geometry_should_not_be_touched);
+    tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
     tcase_add_test(tc, photons_should_aim_only_at_live_scattering_geometry);
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
