@@ -298,6 +298,28 @@ START_TEST(overlaps_should_see_stretched_spheres_and_boxes_of_the_rest)
     ck_assert_uint_eq(f.flags & RAY_CONTACT_BOUNDS, RAY_CONTACT_BOUNDS);
     ck_assert_uint_eq(capsule_overlaps(s, vec(10, 20, 0), vec(10, 21, 0), 0.5,
                                        &f), 0);
+    /* Swept down z at x = 10 onto each: the stretched capsule's (and
+    ** sphere's) section there has half-height 0.5 (1) in z, so a
+    ** sphere of radius 0.25 from z = 5 touches at t = 4.25 (3.75);
+    ** 1e-9: the ellipsoid's sweep is solved iteratively to ~1e-12. */
+    {
+        static const double ys[2] = {6, 0}, want[2] = {4.25, 3.75};
+        int k;
+        for (k = 0; k < 2; k++) {
+            ray_sweep sw;
+            ray_contact c;
+            memset(&sw, 0, sizeof sw);
+            sw.shape.a = sw.shape.b = vec(10, ys[k], 5);
+            sw.shape.radius = 0.25;
+            sw.dir = vec(0, 0, -1);
+            sw.tmax = 10;
+            ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+            ck_assert_uint_eq(c.geom_id, k == 0 ? cap_id : sphere_id);
+            ck_assert_uint_eq(c.inst_id, inst);
+            ck_assert_msg(fabs(c.t - want[k]) <= 1e-9, "%d: t %.17g", k,
+                          c.t);
+        }
+    }
 
     ck_assert_int_eq(ray_scene_new(&ts, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_torus(ts, &tor, RAY_NO_MATERIAL, NULL),
@@ -311,6 +333,100 @@ START_TEST(overlaps_should_see_stretched_spheres_and_boxes_of_the_rest)
     ray_scene_free(ts);
     ray_scene_free(s);
     ray_scene_free(child);
+}
+END_TEST
+
+/* ------------------------------------------------------------- sweeps */
+
+/* A filter that keeps every candidate, checking that the ray it is
+** handed holds the candidate's t strictly inside (ud: calls). */
+static int keep_inside(void *ud, const ray_ray *r, const ray_hit *h,
+                       void *query_ud)
+{
+    (void)query_ud;
+    ++*(int *)ud;
+    ck_assert_msg(r->tmin < h->t && h->t < r->tmax, "t %.17g not in "
+                  "(%.17g, %.17g)", h->t, r->tmin, r->tmax);
+    return 1;
+}
+
+/*
+** A sphere of radius 1 swept down from (0, 5, 0) between two instances
+** of the unit sphere at x = -1.5 and x = +1.5 touches both at once, at
+** the same t (the scene is symmetric in x, and the arithmetic of -x is
+** that of x): the lower instance id wins, whichever side it is on (the
+** contact point's x has its sign), at t = 5 - sqrt(4 - 2.25) within
+** 1e-12 (a root of a quadratic of size 25, a few ulps).
+*/
+START_TEST(sweep_ties_should_go_to_the_lower_instance)
+{
+    int order;
+
+    for (order = 0; order < 2; order++) {
+        ray_scene *child, *s;
+        ray_transform x;
+        ray_sweep sw;
+        ray_contact c;
+        double first = order == 0 ? -1.5 : 1.5;
+
+        ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1,
+                                              RAY_NO_MATERIAL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ray_transform_identity(&x);
+        x.m[0][3] = first;
+        ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+        x.m[0][3] = -first;
+        ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        memset(&sw, 0, sizeof sw);
+        sw.shape.a = sw.shape.b = vec(0, 5, 0);
+        sw.shape.radius = 1;
+        sw.dir = vec(0, -1, 0);
+        sw.tmax = 10;
+        ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+        ck_assert_uint_eq(c.inst_id, 0);
+        ck_assert_msg(fabs(c.t - (5 - sqrt(1.75))) <= 1e-12, "t %.17g", c.t);
+        ck_assert_msg(c.p.x * first > 0, "order %d: contact x %g", order,
+                      c.p.x);
+        ray_scene_free(s);
+        ray_scene_free(child);
+    }
+}
+END_TEST
+
+/*
+** A sweep that starts overlapping a filtered sphere: the contact is at
+** tmin (t = 0, depth > 0), and the filter is handed a ray whose open
+** interval still holds that t (tmin stepped below it), and keeps it.
+*/
+START_TEST(sweep_filter_should_see_a_contact_at_tmin)
+{
+    ray_scene *s;
+    ray_sweep sw;
+    ray_contact c;
+    unsigned id;
+    int calls = 0;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1,
+                                          RAY_NO_MATERIAL, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_filter(s, id, keep_inside, &calls,
+                                          RAY_FILTER_INTERSECT), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&sw, 0, sizeof sw);
+    sw.shape.a = vec(0, 1.25, 0);
+    sw.shape.b = vec(0, 2, 0);
+    sw.shape.radius = 0.5;                 /* 0.25 deep at the start */
+    sw.dir = vec(1, 0, 0);
+    sw.tmax = 1;
+    ck_assert_int_eq(ray_intersect_sweep(s, &sw, NULL, &c), 1);
+    ck_assert(c.t == 0);
+    ck_assert_uint_eq(c.flags & RAY_CONTACT_OVERLAP, RAY_CONTACT_OVERLAP);
+    ck_assert_msg(fabs(c.depth - 0.25) <= 1e-12, "depth %.17g", c.depth);
+    ck_assert_int_ge(calls, 1);
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -1072,6 +1188,8 @@ Suite *edges_suite(void)
     tcase_add_test(tc, hidden_geometry_should_not_contain_or_attract);
     tcase_add_test(tc, hidden_geometry_should_not_be_touched);
     tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
+    tcase_add_test(tc, sweep_ties_should_go_to_the_lower_instance);
+    tcase_add_test(tc, sweep_filter_should_see_a_contact_at_tmin);
     tcase_add_test(tc, photons_should_aim_only_at_live_scattering_geometry);
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
