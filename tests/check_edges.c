@@ -430,6 +430,172 @@ START_TEST(sweep_filter_should_see_a_contact_at_tmin)
 }
 END_TEST
 
+/* ------------------------------------------------------ dynamic scenes */
+
+/* A unit quad [0, 1]^2 at height z, two triangles. */
+static void quad_at(ray_vec3 v[4], double z)
+{
+    v[0] = vec(0, 0, z);
+    v[1] = vec(1, 0, z);
+    v[2] = vec(1, 1, z);
+    v[3] = vec(0, 1, z);
+}
+
+static double down_t(const ray_scene *s)
+{
+    ray_ray r = ray_from(vec(0.25, 0.5, 5), vec(0, 0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+    return h.t;
+}
+
+/*
+** Updates of a disabled mesh: written over its arrays (the positions
+** alone) and copied afresh (normals added), neither touching what a
+** disabled mesh has no part in; once enabled and committed, rays meet
+** the updated quad (t = 5 - z, exact).
+*/
+START_TEST(a_disabled_mesh_should_take_updates)
+{
+    static const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    ray_vec3 v[4], n[4];
+    ray_mesh m;
+    ray_scene *s;
+    unsigned id;
+    int k;
+
+    quad_at(v, 0);
+    for (k = 0; k < 4; k++)
+        n[k] = vec(0, 0, 1);
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 4;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(down_t(s) == 5);
+    ck_assert_int_eq(ray_scene_set_enabled(s, id, 0), RAY_OK);
+    quad_at(v, 1);                                  /* rewritten */
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_enabled(s, id, 1), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(down_t(s) == 4);
+    ck_assert_int_eq(ray_scene_set_enabled(s, id, 0), RAY_OK);
+    quad_at(v, 2);
+    m.normals = n;                                  /* copied afresh */
+    ck_assert_int_eq(ray_scene_update_mesh(s, id, &m), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    {
+        ray_ray r = ray_from(vec(0.25, 0.5, 5), vec(0, 0, -1));
+        ray_hit h;
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    }
+    ck_assert_int_eq(ray_scene_set_enabled(s, id, 1), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert(down_t(s) == 3);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* A shade that records the shading normal (ud: where). */
+static void record_normal(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                          ray_rgb *out)
+{
+    (void)ctx;
+    *(ray_vec3 *)ud = a->shading_normal;
+    *out = rgb(1, 1, 1);
+}
+
+/*
+** A mesh with vertex normals seen through an instance that turns it 90
+** degrees about x (local z to world -y): the interpolated normal is
+** turned with it, (0.6, 0, 0.8) to (0.6, -0.8, 0), to within 1e-12 (the
+** transform's entries are exact; a normalisation's rounding), and faces
+** the ray coming up +y as the geometric normal (0, -1, 0) does.
+*/
+START_TEST(instanced_vertex_normals_should_turn_with_the_instance)
+{
+    static const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
+    ray_vec3 v[4], n[4], got = {0, 0, 0};
+    ray_material mat = {record_normal, &got, 0, NULL};
+    ray_scene *child, *s;
+    ray_transform x;
+    ray_mesh m;
+    ray_ctx *ctx;
+    ray_ray r;
+    ray_rgb c;
+    unsigned mid;
+    int k;
+
+    quad_at(v, 0);
+    for (k = 0; k < 4; k++)
+        n[k] = vec(0.6, 0, 0.8);
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 4;
+    m.indices = idx;
+    m.triangle_count = 2;
+    m.normals = n;
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(child, &mat, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(child, &m, mid, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    memset(&x, 0, sizeof x);
+    x.m[0][0] = 1;
+    x.m[1][2] = -1;
+    x.m[2][1] = 1;
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    r = ray_from(vec(0.25, -5, 0.5), vec(0, 1, 0));
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert(c.r == 1);
+    ck_assert_vec_eq_tol(got, vec(0.6, -0.8, 0), 1e-12);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
+/*
+** Changes the parent's commit must refuse: a child that gained a plane
+** after it was instanced (an instance cannot hold unbounded geometry:
+** RAY_EINVAL, its message naming the instance); and a filter asked for
+** no query (queries 0 with a function: RAY_EINVAL).
+*/
+START_TEST(a_parent_commit_should_refuse_a_child_grown_unbounded)
+{
+    ray_scene *child, *s;
+    ray_transform x;
+    unsigned id;
+
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, 0), 1,
+                                          RAY_NO_MATERIAL, &id), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_filter(child, id, keep_inside, NULL, 0),
+                     RAY_EINVAL);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ray_transform_identity(&x);
+    ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(child, vec(0, -2, 0), vec(0, 1, 0),
+                                         RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(5, 0, 0), 1, RAY_NO_MATERIAL,
+                                          NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_EINVAL);
+    ck_assert_str_eq(ray_scene_errmsg(s), "ray_scene_commit: instance 0: "
+                     "its scene now has planes or instances");
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
 /* ------------------------------------------------------------ photons */
 
 /*
@@ -1190,6 +1356,9 @@ Suite *edges_suite(void)
     tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
     tcase_add_test(tc, sweep_ties_should_go_to_the_lower_instance);
     tcase_add_test(tc, sweep_filter_should_see_a_contact_at_tmin);
+    tcase_add_test(tc, a_disabled_mesh_should_take_updates);
+    tcase_add_test(tc, instanced_vertex_normals_should_turn_with_the_instance);
+    tcase_add_test(tc, a_parent_commit_should_refuse_a_child_grown_unbounded);
     tcase_add_test(tc, photons_should_aim_only_at_live_scattering_geometry);
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
