@@ -596,6 +596,111 @@ START_TEST(a_parent_commit_should_refuse_a_child_grown_unbounded)
 }
 END_TEST
 
+/* A progress callback that records its last call and answers *cancel. */
+typedef struct progress_log {
+    unsigned calls, done, total;
+    int cancel;
+} progress_log;
+
+static int log_progress(void *ud, unsigned done, unsigned total)
+{
+    progress_log *p = ud;
+
+    p->calls++;
+    p->done = done;
+    p->total = total;
+    return p->cancel;
+}
+
+/*
+** A commit that places nothing in a tree (a plane alone: unbounded, in
+** no BVH) still tells its callback the end, once: 0 of 0.  A callback
+** that cancels then makes the commit fail (RAY_ECANCELED), the scene left
+** uncommitted, and the next commit, not cancelled, succeeds.
+*/
+START_TEST(a_commit_of_nothing_to_place_should_report_0_of_0)
+{
+    progress_log log = {0, 99, 99, 1};
+    ray_scene *s;
+    ray_ray r = ray_from(vec(0, 5, 0), vec(0, -1, 0));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0),
+                                         RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_progress(s, log_progress, &log), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_ECANCELED);
+    ck_assert_uint_eq(log.calls, 1);
+    ck_assert_uint_eq(log.done, 0);
+    ck_assert_uint_eq(log.total, 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), -RAY_ESTATE);
+    log.cancel = 0;
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_uint_eq(log.calls, 2);
+    ck_assert_uint_eq(log.total, 0);
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+    ck_assert(h.t == 5);
+    ray_scene_free(s);
+}
+END_TEST
+
+/* A shade that asks for light 0 and 1's samples: both must be refused
+** with *out untouched (ud: how many were). */
+static void probe_refused_lights(void *ud, ray_ctx *ctx,
+                                 const ray_shade_args *a, ray_rgb *out)
+{
+    ray_light_sample ls, before;
+    int k;
+
+    memset(&ls, 0x5a, sizeof ls);
+    before = ls;
+    for (k = 0; k < 2; k++)
+        if (ray_light_sample_at(ctx, a, (unsigned)k, 0, &ls) == RAY_EINVAL &&
+            memcmp(&ls, &before, sizeof ls) == 0)
+            ++*(int *)ud;
+    ck_assert_int_eq(ray_light_sample_at(ctx, a, 2, 0, &ls), RAY_OK);
+    *out = rgb(0, 0, 0);
+}
+
+/*
+** Lights a shading point cannot take a sample of: a point light exactly
+** at the hit (distance 0: no direction) and one 1e-3 above it with an
+** intensity of 1e303 (its radiance, 1e303 / 1e-6, overflows); both
+** refused (RAY_EINVAL, *out untouched), while a third light answers.
+** The hit is (0.5, 0.5, 0) exactly: the plane z = 0 met at t = 5.
+*/
+START_TEST(light_samples_should_refuse_zero_distance_and_overflow)
+{
+    int refused = 0;
+    ray_material m = {probe_refused_lights, &refused, 0, NULL};
+    ray_light l;
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_ray r = ray_from(vec(0.5, 0.5, 5), vec(0, 0, -1));
+    ray_rgb c;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), 0,
+                                         NULL), RAY_OK);
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.position = vec(0.5, 0.5, 0);
+    l.intensity = rgb(1, 1, 1);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.position = vec(0.5, 0.5, 1e-3);
+    l.intensity = rgb(1e303, 1, 1);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.position = vec(0.5, 0.5, 2);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_int_eq(refused, 2);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
+
 /* ------------------------------------------------------------ photons */
 
 /*
@@ -1359,6 +1464,8 @@ Suite *edges_suite(void)
     tcase_add_test(tc, a_disabled_mesh_should_take_updates);
     tcase_add_test(tc, instanced_vertex_normals_should_turn_with_the_instance);
     tcase_add_test(tc, a_parent_commit_should_refuse_a_child_grown_unbounded);
+    tcase_add_test(tc, a_commit_of_nothing_to_place_should_report_0_of_0);
+    tcase_add_test(tc, light_samples_should_refuse_zero_distance_and_overflow);
     tcase_add_test(tc, photons_should_aim_only_at_live_scattering_geometry);
     tcase_add_test(tc, photons_should_handle_dark_and_overflowing_lights);
     tcase_add_test(tc, photons_should_survive_targets_too_small_or_too_large);
