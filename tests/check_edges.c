@@ -1119,6 +1119,74 @@ START_TEST(polygon_helpers_should_refuse_too_few_vertices)
 }
 END_TEST
 
+/*
+** The polynomial root finder's edges: a degree outside 1 .. 4 has no
+** roots; a linear root outside [lo, hi] is left out on either side; a
+** root at lo itself is found (x^2 - x on [0, 2]: 0 and 1, exactly: every
+** value involved is an integer); and (x - 0.7)^2, whose coefficients
+** 0.49, -1.4 are rounded so that its minimum at 0.7 is 5.6e-17 above
+** zero, within the evaluation's rounding bound, gives its double root
+** once, within 1e-9 of 0.7 (the minimum's abscissa, -c1 / 2 c2, is
+** found to a few ulps).
+*/
+START_TEST(poly_roots_should_handle_the_ends_and_touching_minima)
+{
+    static const double lin[2] = {-3, 1};          /* x - 3 */
+    static const double sq[3] = {0, -1, 1};        /* x^2 - x */
+    static const double dbl[3] = {0.49, -1.4, 1};  /* (x - 0.7)^2 */
+    double roots[RAY__POLY_MAX_DEGREE + 1];
+    int n;
+
+    ck_assert_int_eq(ray__poly_roots(lin, 0, 0, 10, roots), 0);
+    ck_assert_int_eq(ray__poly_roots(lin, RAY__POLY_MAX_DEGREE + 1, 0, 10,
+                                     roots), 0);
+    ck_assert_int_eq(ray__poly_roots(lin, 1, 0, 10, roots), 1);
+    ck_assert(roots[0] == 3);
+    ck_assert_int_eq(ray__poly_roots(lin, 1, 4, 10, roots), 0);
+    ck_assert_int_eq(ray__poly_roots(lin, 1, 0, 2, roots), 0);
+    n = ray__poly_roots(sq, 2, 0, 2, roots);
+    ck_assert_int_eq(n, 2);
+    ck_assert(roots[0] == 0 && roots[1] == 1);
+    n = ray__poly_roots(dbl, 2, -1, 1, roots);
+    ck_assert_int_eq(n, 1);
+    ck_assert_msg(fabs(roots[0] - 0.7) <= 1e-9, "root %.17g", roots[0]);
+}
+END_TEST
+
+/*
+** The textbook barycentric normalisation (ray__barycentric_naive, kept
+** for the stability bench) refuses a degenerate triangle and one whose
+** N.N overflows; ray_barycentric says a point beyond each edge is
+** outside, with the coordinates (exact for these small integers and
+** halves) summing to 1.
+*/
+START_TEST(barycentrics_should_refuse_degenerate_and_place_each_side)
+{
+    static const ray_vec3 a = {0, 0, 0}, b = {1, 0, 0}, c = {0, 1, 0};
+    static const ray_vec3 outside[3] = {{1, 1, 0}, {-0.5, 0.5, 0},
+                                        {0.5, -0.5, 0}};
+    double abg[3] = {7, 7, 7};
+    int inside, k;
+
+    ck_assert_int_eq(ray__barycentric_naive(vec(0.25, 0.25, 0), a, b,
+                                            vec(2, 0, 0), abg),
+                     RAY_EDEGENERATE);
+    ck_assert_int_eq(ray__barycentric_naive(vec(0, 0, 0), a,
+                                            vec(1e200, 0, 0),
+                                            vec(0, 1e200, 0), abg),
+                     RAY_EDEGENERATE);
+    ck_assert(abg[0] == 7 && abg[1] == 7 && abg[2] == 7);
+    for (k = 0; k < 3; k++) {
+        inside = -1;
+        ck_assert_int_eq(ray_barycentric(outside[k], a, b, c, abg, &inside),
+                         RAY_OK);
+        ck_assert_int_eq(inside, 0);
+        ck_assert(abg[0] + abg[1] + abg[2] == 1);
+        ck_assert(abg[k] < 0);
+    }
+}
+END_TEST
+
 /* ------------------------------------------------------------ materials */
 
 /* Shading arguments at the origin of the plane z = 0, hit by a ray coming
@@ -1474,6 +1542,8 @@ Suite *edges_suite(void)
     tcase_add_test(tc, float_triangle_should_classify_each_side);
     tcase_add_test(tc, primitives_should_miss_on_degenerate_descriptors);
     tcase_add_test(tc, polygon_helpers_should_refuse_too_few_vertices);
+    tcase_add_test(tc, poly_roots_should_handle_the_ends_and_touching_minima);
+    tcase_add_test(tc, barycentrics_should_refuse_degenerate_and_place_each_side);
     tcase_add_test(tc, material_scatter_should_follow_its_parameters);
     tcase_add_test(tc, adaptive_render_through_a_lens_should_mix_only_what_it_sees);
     tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
