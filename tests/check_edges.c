@@ -336,6 +336,79 @@ START_TEST(overlaps_should_see_stretched_spheres_and_boxes_of_the_rest)
 }
 END_TEST
 
+/* ray_intersect_all's order: t, then geom_id, prim_id, inst_id. */
+static int hit_cmp(const void *pa, const void *pb)
+{
+    const ray_hit *a = pa, *b = pb;
+
+    if (a->t != b->t)
+        return a->t < b->t ? -1 : 1;
+    if (a->geom_id != b->geom_id)
+        return a->geom_id < b->geom_id ? -1 : 1;
+    if (a->prim_id != b->prim_id)
+        return a->prim_id < b->prim_id ? -1 : 1;
+    return a->inst_id < b->inst_id ? -1 : a->inst_id > b->inst_id;
+}
+
+/*
+** Six hits at one t (the plane z = 0 at t = 5, exact): two coincident
+** triangles (geom 0 and 1), a mesh of two coincident triangles (geom 2,
+** prims 0 and 1) and two instances (geom 3 and 4) of a scene holding
+** the same triangle (its geom 0).  With room for k < 6 of them,
+** ray_intersect_all keeps the k first in its order (ties by geom_id,
+** then prim_id, then inst_id), nearest first, and counts all six.
+*/
+START_TEST(intersect_all_should_break_ties_by_ids_when_full)
+{
+    static const unsigned idx[6] = {0, 1, 2, 0, 1, 2};
+    const ray_vec3 v[3] = {{-1, -1, 0}, {2, -1, 0}, {-1, 2, 0}};
+    ray_hit all[8], some[8];
+    ray_scene *child, *s;
+    ray_transform x;
+    ray_mesh m;
+    ray_ray r = ray_from(vec(0.25, 0.25, 5), vec(0, 0, -1));
+    size_t count, cap, i;
+
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 3;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&child, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(child, v[0], v[1], v[2],
+                                            RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    for (i = 0; i < 2; i++)
+        ck_assert_int_eq(ray_scene_add_triangle(s, v[0], v[1], v[2],
+                                                RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ray_transform_identity(&x);
+    for (i = 0; i < 2; i++)
+        ck_assert_int_eq(ray_scene_add_instance(s, child, &x, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_intersect_all(s, &r, NULL, all, 8, &count), 6);
+    ck_assert_uint_eq(count, 6);
+    qsort(all, 6, sizeof *all, hit_cmp);
+    for (i = 0; i < 6; i++)
+        ck_assert(all[i].t == 5);
+    for (cap = 1; cap < 6; cap++) {
+        ck_assert_int_eq(ray_intersect_all(s, &r, NULL, some, cap, &count),
+                         6);
+        ck_assert_uint_eq(count, 6);
+        for (i = 0; i < cap; i++)
+            ck_assert_msg(hit_cmp(&some[i], &all[i]) == 0, "cap %u hit %u: "
+                          "geom %u prim %u inst %u, want %u %u %u",
+                          (unsigned)cap, (unsigned)i, some[i].geom_id,
+                          some[i].prim_id, some[i].inst_id, all[i].geom_id,
+                          all[i].prim_id, all[i].inst_id);
+    }
+    ray_scene_free(s);
+    ray_scene_free(child);
+}
+END_TEST
+
 /* ------------------------------------------------------------- sweeps */
 
 /* A filter that keeps every candidate, checking that the ray it is
@@ -1527,6 +1600,7 @@ Suite *edges_suite(void)
     tcase_add_test(tc, hidden_geometry_should_not_contain_or_attract);
     tcase_add_test(tc, hidden_geometry_should_not_be_touched);
     tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
+    tcase_add_test(tc, intersect_all_should_break_ties_by_ids_when_full);
     tcase_add_test(tc, sweep_ties_should_go_to_the_lower_instance);
     tcase_add_test(tc, sweep_filter_should_see_a_contact_at_tmin);
     tcase_add_test(tc, a_disabled_mesh_should_take_updates);
