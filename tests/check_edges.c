@@ -15,6 +15,7 @@
 #include "prim/prim.h"       /* the primitives' internal entry points */
 #include "prim/sweep.h"      /* ray__polygon_plane_mapped */
 #include "trace/trace.h"     /* ray__photon_map_counts */
+#include "scene/scene.h"     /* ray__scene_set_tri_mode */
 
 /* ------------------------------------- geometry removed or disabled */
 
@@ -406,6 +407,49 @@ START_TEST(intersect_all_should_break_ties_by_ids_when_full)
     }
     ray_scene_free(s);
     ray_scene_free(child);
+}
+END_TEST
+
+/*
+** The benches' float tracer (RAY__TRI_FLOAT: filter.h's tri_float_hit,
+** taken as final) on the rays it must still answer: from below (z = 0,
+** up) and from above (z = 10, down: the edge functions all of the other
+** sign) through the triangle at z = 5 it hits at t = 5 exactly (small
+** integers and halves: every float step exact); beside each edge, past
+** tmax (4) and along the triangle's plane (no area seen: det 0) it
+** misses.
+*/
+START_TEST(float_mode_should_miss_beside_beyond_and_along)
+{
+    static const ray_vec3 beside[3] = {{-0.5, 1, 0}, {1, -0.5, 0},
+                                       {3, 3, 0}};
+    ray_scene *s;
+    ray_ray r;
+    ray_hit h;
+    int k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_triangle(s, vec(0, 0, 5), vec(4, 0, 5),
+                                            vec(0, 4, 5), RAY_NO_MATERIAL,
+                                            NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ray__scene_set_tri_mode(s, RAY__TRI_FLOAT);
+    r = ray_from(vec(1, 1, 0), vec(0, 0, 1));
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+    ck_assert(h.t == 5);
+    r = ray_from(vec(1, 1, 10), vec(0, 0, -1));
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+    ck_assert(h.t == 5);
+    for (k = 0; k < 3; k++) {
+        r = ray_from(beside[k], vec(0, 0, 1));
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    }
+    r = ray_from(vec(1, 1, 0), vec(0, 0, 1));
+    r.tmax = 4;
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    r = ray_from(vec(-1, 1, 5), vec(1, 0, 0));
+    ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 0);
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -1601,6 +1645,7 @@ Suite *edges_suite(void)
     tcase_add_test(tc, hidden_geometry_should_not_be_touched);
     tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
     tcase_add_test(tc, intersect_all_should_break_ties_by_ids_when_full);
+    tcase_add_test(tc, float_mode_should_miss_beside_beyond_and_along);
     tcase_add_test(tc, sweep_ties_should_go_to_the_lower_instance);
     tcase_add_test(tc, sweep_filter_should_see_a_contact_at_tmin);
     tcase_add_test(tc, a_disabled_mesh_should_take_updates);
