@@ -9,8 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifndef RAY_TEST_PNG
+#define RAY_TEST_PNG 1
+#endif
+
 #include "tests.h"
 #include "caustics_kit.h"
+#include "tempfiles.h"
 #include "hardcases.h"
 #include "prim/prim.h"       /* the primitives' internal entry points */
 #include "prim/sweep.h"      /* ray__polygon_plane_mapped */
@@ -1636,6 +1641,55 @@ START_TEST(implicit_should_stop_refining_at_adjacent_doubles)
 }
 END_TEST
 
+/* ----------------------------------------------------------------- files */
+
+#if RAY_TEST_PNG && !defined(_WIN32)
+/*
+** ray_write_png writes a temporary file beside the target and renames it
+** over: "<path>.<pid>-<attempt>.tmp", created exclusively.  One left
+** where the first attempt would go (another writer's, or a crash's) is
+** not touched: the next name is taken, the PNG written (read back: 2 x 2
+** pixels of 0.25, 0.5, 1 within 8-bit sRGB's quantisation, 1/255 at most
+** after the curve, so 0.01) and the stale file keeps its bytes.
+*/
+START_TEST(png_write_should_step_past_a_stale_temporary_file)
+{
+    static const float px[12] = {0.25f, 0.5f, 1, 0.25f, 0.5f, 1,
+                                 0.25f, 0.5f, 1, 0.25f, 0.5f, 1};
+    char dir[256], path[300], stale[340], got[8] = {0};
+    ray_image *img = NULL;
+    ray_rgb c;
+    unsigned w, h;
+    FILE *f;
+
+    ck_assert(test_make_dir(dir, sizeof dir, "edges"));
+    snprintf(path, sizeof path, "%s/out.png", dir);
+    snprintf(stale, sizeof stale, "%s.%ld-0.tmp", path, (long)getpid());
+    f = fopen(stale, "wb");
+    ck_assert_ptr_nonnull(f);
+    fputs("keep", f);
+    fclose(f);
+    ck_assert_int_eq(ray_write_png(path, px, 2, 2, 8), RAY_OK);
+    f = fopen(stale, "rb");
+    ck_assert_ptr_nonnull(f);
+    ck_assert_uint_eq(fread(got, 1, sizeof got, f), 4);
+    fclose(f);
+    ck_assert_str_eq(got, "keep");
+    ck_assert_int_eq(ray_image_load_png(path, NULL, &img), RAY_OK);
+    ray_image_size(img, &w, &h);
+    ck_assert_uint_eq(w, 2);
+    ck_assert_uint_eq(h, 2);
+    ck_assert_int_eq(ray_image_sample(img, 0.5, 0.5, 0, &c), RAY_OK);
+    ck_assert_msg(fabs(c.r - 0.25) <= 0.01 && fabs(c.g - 0.5) <= 0.01 &&
+                  fabs(c.b - 1) <= 0.01, "(%g, %g, %g)", c.r, c.g, c.b);
+    ray_image_free(img);
+    ck_assert_int_eq(remove(stale), 0);
+    ck_assert_int_eq(remove(path), 0);
+    ck_assert_int_eq(rmdir(dir), 0);
+}
+END_TEST
+#endif
+
 Suite *edges_suite(void)
 {
     Suite *s = suite_create("edges");
@@ -1668,6 +1722,9 @@ Suite *edges_suite(void)
     tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
     tcase_add_test(tc, implicit_should_keep_to_any_budget);
     tcase_add_test(tc, implicit_should_stop_refining_at_adjacent_doubles);
+#if RAY_TEST_PNG && !defined(_WIN32)
+    tcase_add_test(tc, png_write_should_step_past_a_stale_temporary_file);
+#endif
     suite_add_tcase(s, tc);
     return s;
 }
