@@ -1309,6 +1309,98 @@ START_TEST(barycentrics_should_refuse_degenerate_and_place_each_side)
 }
 END_TEST
 
+/* ------------------------------------------------ parametric surfaces */
+
+static void flat_eval(void *ud, double u, double v, ray_vec3 *p,
+                      ray_vec3 *pu, ray_vec3 *pv)
+{
+    (void)ud;
+    *p = vec(u, v, 0);
+    *pu = vec(1, 0, 0);
+    *pv = vec(0, 1, 0);
+}
+
+static void flat_bounds(void *ud, double u0, double u1, double v0, double v1,
+                        ray_vec3 *lo, ray_vec3 *hi)
+{
+    (void)ud;
+    *lo = vec(u0, v0, 0);
+    *hi = vec(u1, v1, 0);
+}
+
+/* The Bezier patch's own eval, called through another function: the
+** same surface, not recognised as ray_bezier_surface's. */
+static ray_surface_fn bezier_eval_of_patch;
+
+static void bezier_again(void *ud, double u, double v, ray_vec3 *p,
+                         ray_vec3 *pu, ray_vec3 *pv)
+{
+    bezier_eval_of_patch(ud, u, v, p, pu, pv);
+}
+
+/*
+** Domains: all four bounds 0 is the unit square (the default), but a
+** domain with only u0 = u1 = 0 set is empty (refused, -RAY_EINVAL).  The
+** flat Bezier patch of control points (i mod 4, i div 4, 0) is the
+** square [0, 3]^2 with x = 3u, y = 3v; restricted to a part of its
+** domain (each bound moved in turn) it is searched as a general surface
+** and hit only over that part; with its eval wrapped it is not taken for
+** a Bezier patch, and still hit.  Every hit straight down from z = 5 at
+** t = 5 within 1e-9 (the surface's default tolerance on a box 3 wide:
+** about 3e-9 / 3, and the plane is exact), every miss beside the part.
+*/
+START_TEST(parametric_domains_should_bound_the_search)
+{
+    static const double dom[4][4] = {{0.5, 1, 0, 1}, {0, 0.5, 0, 1},
+                                     {0, 1, 0.5, 1}, {0, 1, 0, 0.5}};
+    ray_parametric_surface ps, bz, wrapped;
+    ray_vec3 cp[16];
+    ray_hit h;
+    ray_ray r;
+    int i, k;
+
+    memset(&ps, 0, sizeof ps);
+    ps.eval = flat_eval;
+    ps.bounds = flat_bounds;
+    r = ray_from(vec(0.5, 0.5, 5), vec(0, 0, -1));
+    ck_assert_int_eq(ray_parametric(&r, &ps, &h), 1);
+    ps.v1 = 1;                              /* u0 = u1 = v0 = 0: empty */
+    ck_assert_int_eq(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+    ps.v0 = 0.25;
+    ck_assert_int_eq(ray_parametric(&r, &ps, &h), -RAY_EINVAL);
+
+    for (i = 0; i < 16; i++)
+        cp[i] = vec(i % 4, i / 4, 0);
+    ck_assert_int_eq(ray_bezier_surface(cp, &bz), RAY_OK);
+    for (k = 0; k < 4; k++) {
+        double u_in = 0.5 * (dom[k][0] + dom[k][1]);
+        double v_in = 0.5 * (dom[k][2] + dom[k][3]);
+        double u_out = dom[k][0] > 0 ? 0.25 : dom[k][1] < 1 ? 0.75 : u_in;
+        double v_out = dom[k][2] > 0 ? 0.25 : dom[k][3] < 1 ? 0.75 : v_in;
+        ps = bz;
+        ps.u0 = dom[k][0];
+        ps.u1 = dom[k][1];
+        ps.v0 = dom[k][2];
+        ps.v1 = dom[k][3];
+        r = ray_from(vec(3 * u_in, 3 * v_in, 5), vec(0, 0, -1));
+        hit_poison(&h);
+        ck_assert_int_eq(ray_parametric(&r, &ps, &h), 1);
+        ck_assert_msg(fabs(h.t - 5) <= 1e-9, "domain %d: t %.17g", k, h.t);
+        r = ray_from(vec(3 * u_out, 3 * v_out, 5), vec(0, 0, -1));
+        ck_assert_int_eq(ray_parametric(&r, &ps, &h), 0);
+    }
+    bezier_eval_of_patch = bz.eval;
+    wrapped = bz;
+    wrapped.eval = bezier_again;
+    r = ray_from(vec(1.5, 1.5, 5), vec(0, 0, -1));
+    hit_poison(&h);
+    ck_assert_int_eq(ray_parametric(&r, &wrapped, &h), 1);
+    ck_assert_msg(fabs(h.t - 5) <= 1e-9, "wrapped: t %.17g", h.t);
+    ck_assert_msg(fabs(h.p.x - 1.5) <= 1e-9 && fabs(h.p.y - 1.5) <= 1e-9,
+                  "wrapped: p (%g, %g)", h.p.x, h.p.y);
+}
+END_TEST
+
 /* ------------------------------------------------------------ materials */
 
 /* Shading arguments at the origin of the plane z = 0, hit by a ray coming
@@ -1717,6 +1809,7 @@ Suite *edges_suite(void)
     tcase_add_test(tc, polygon_helpers_should_refuse_too_few_vertices);
     tcase_add_test(tc, poly_roots_should_handle_the_ends_and_touching_minima);
     tcase_add_test(tc, barycentrics_should_refuse_degenerate_and_place_each_side);
+    tcase_add_test(tc, parametric_domains_should_bound_the_search);
     tcase_add_test(tc, material_scatter_should_follow_its_parameters);
     tcase_add_test(tc, adaptive_render_through_a_lens_should_mix_only_what_it_sees);
     tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
