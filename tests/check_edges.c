@@ -14,7 +14,6 @@
 #endif
 
 #include "tests.h"
-#include "caustics_kit.h"
 #include "tempfiles.h"
 #include "hardcases.h"
 #include "prim/prim.h"       /* the primitives' internal entry points */
@@ -766,8 +765,8 @@ START_TEST(a_commit_of_nothing_to_place_should_report_0_of_0)
 }
 END_TEST
 
-/* A shade that asks for light 0 and 1's samples: both must be refused
-** with *out untouched (ud: how many were). */
+/* A shade that asks for lights 0, 1 and 2's samples: each must be
+** refused with *out untouched (ud: how many were); light 3 answers. */
 static void probe_refused_lights(void *ud, ray_ctx *ctx,
                                  const ray_shade_args *a, ray_rgb *out)
 {
@@ -776,19 +775,21 @@ static void probe_refused_lights(void *ud, ray_ctx *ctx,
 
     memset(&ls, 0x5a, sizeof ls);
     before = ls;
-    for (k = 0; k < 2; k++)
+    for (k = 0; k < 3; k++)
         if (ray_light_sample_at(ctx, a, (unsigned)k, 0, &ls) == RAY_EINVAL &&
             memcmp(&ls, &before, sizeof ls) == 0)
             ++*(int *)ud;
-    ck_assert_int_eq(ray_light_sample_at(ctx, a, 2, 0, &ls), RAY_OK);
+    ck_assert_int_eq(ray_light_sample_at(ctx, a, 3, 0, &ls), RAY_OK);
     *out = rgb(0, 0, 0);
 }
 
 /*
 ** Lights a shading point cannot take a sample of: a point light exactly
-** at the hit (distance 0: no direction) and one 1e-3 above it with an
-** intensity of 1e303 (its radiance, 1e303 / 1e-6, overflows); both
-** refused (RAY_EINVAL, *out untouched), while a third light answers.
+** at the hit (distance 0: no direction), one 1e-3 above it with an
+** intensity of 1e303 (its radiance, 1e303 / 1e-6, overflows), and a
+** sphere light centred on the hit (no direction to turn its disk to: the
+** sample is the centre, distance 0); each refused (RAY_EINVAL, *out
+** untouched), while a fourth light answers.
 ** The hit is (0.5, 0.5, 0) exactly: the plane z = 0 met at t = 5.
 */
 START_TEST(light_samples_should_refuse_zero_distance_and_overflow)
@@ -812,18 +813,40 @@ START_TEST(light_samples_should_refuse_zero_distance_and_overflow)
     l.position = vec(0.5, 0.5, 1e-3);
     l.intensity = rgb(1e303, 1, 1);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ray_light_init(&l, RAY_LIGHT_SPHERE);     /* centred on the hit */
+    l.position = vec(0.5, 0.5, 0);
+    l.radius = 0.25;
+    l.intensity = rgb(1, 1, 1);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ray_light_init(&l, RAY_LIGHT_POINT);
     l.position = vec(0.5, 0.5, 2);
+    l.intensity = rgb(1, 1, 1);
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
-    ck_assert_int_eq(refused, 2);
+    ck_assert_int_eq(refused, 3);
     ray_ctx_free(ctx);
     ray_scene_free(s);
 }
 END_TEST
 
 /* ------------------------------------------------------------ photons */
+
+/* The photon tests' floor: a material that declares RAY_EFFECT_CAUSTICS
+** (photons are stored on it), as caustics_kit.h's probe. */
+static void caustics_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                           ray_rgb *out)
+{
+    (void)ud;
+    ck_assert_int_eq(ray_caustics_at(ctx, a, out), RAY_OK);
+}
+
+static ray_material probe_material(void)
+{
+    ray_material m = {caustics_shade, NULL, RAY_EFFECT_CAUSTICS, NULL};
+    return m;
+}
 
 /*
 ** The mirror scene of check_caustics.c, smaller: a point light of
@@ -1309,6 +1332,7 @@ START_TEST(barycentrics_should_refuse_degenerate_and_place_each_side)
 }
 END_TEST
 
+
 /* ------------------------------------------------ parametric surfaces */
 
 static void flat_eval(void *ud, double u, double v, ray_vec3 *p,
@@ -1474,19 +1498,19 @@ START_TEST(material_scatter_should_follow_its_parameters)
     ray_phong_params_init(&pp);
     pp.reflect = k;
     with_reflect = ray_material_phong(&pp);
-    ck_assert_ptr_nonnull((void *)with_reflect.scatter);
+    ck_assert(with_reflect.scatter != NULL);
     ck_assert_int_eq(with_reflect.scatter(NULL, NULL, &f.a, &dir, &w), 0);
     glass = ray_material_glass(&gp);
     ck_assert_int_eq(glass.scatter(NULL, NULL, &f.a, &dir, &w), 0);
 
     ray_phong_params_init(&pp);
     phong = ray_material_phong(&pp);               /* no reflection */
-    ck_assert_ptr_null((void *)phong.scatter);
+    ck_assert(phong.scatter == NULL);
     memset(&cp, 0, sizeof cp);
     cp.odd = mirror;
     cp.even = phong;
     checker = ray_material_checker(&cp);
-    ck_assert_ptr_nonnull((void *)checker.scatter);
+    ck_assert(checker.scatter != NULL);
     ck_assert_int_eq(checker.scatter(NULL, NULL, &f.a, &dir, &w), 0);
     flat_args_at(&f, 1.5, 0.5);                    /* odd: the mirror */
     w = rgb(-1, -1, -1);
@@ -1501,7 +1525,7 @@ START_TEST(material_scatter_should_follow_its_parameters)
 
     /* Shading: the even square paints, the odd one has no shade. */
     cp.even.shade = paint;
-    cp.even.ud = (void *)&k;
+    cp.even.ud = ray__test_unconst(&k);
     cp.odd.shade = NULL;
     out = rgb(9, 9, 9);
     checker.shade(checker.ud, NULL, &f.a, &out);
@@ -1530,13 +1554,14 @@ START_TEST(adaptive_render_through_a_lens_should_mix_only_what_it_sees)
 {
     enum { RW = 9, RH = 9 };
     static const ray_rgb c = {0.25, 0.5, 0.75}, b = {1, 0.125, 0};
-    ray_material m = {paint, (void *)&c, 0, NULL};
+    ray_material m = {paint, NULL, 0, NULL};
     float img[3 * RW * RH];
     ray_render_options o;
     ray_camera cam;
     ray_scene *s;
     int i;
 
+    m.ud = ray__test_unconst(&c);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0, NULL),
@@ -1560,8 +1585,8 @@ START_TEST(adaptive_render_through_a_lens_should_mix_only_what_it_sees)
                               c.b > b.b ? c.b : b.b};
         int k;
         for (k = 0; k < 3; k++)
-            ck_assert_msg(img[3 * i + k] >= lo[k] - 1e-6 &&
-                          img[3 * i + k] <= hi[k] + 1e-6,
+            ck_assert_msg((double)img[3 * i + k] >= lo[k] - 1e-6 &&
+                          (double)img[3 * i + k] <= hi[k] + 1e-6,
                           "pixel %d channel %d: %g", i, k,
                           (double)img[3 * i + k]);
     }
@@ -1733,6 +1758,76 @@ START_TEST(implicit_should_stop_refining_at_adjacent_doubles)
 }
 END_TEST
 
+static ray_vec3 zero_grad(void *ud, ray_vec3 p)
+{
+    (void)ud; (void)p;
+    return vec(0, 0, 0);
+}
+
+/* The unit sphere's distance, NaN off the plane y = 1 - 1e-6 where the
+** grazing ray of the test below runs (its points have that y exactly). */
+static double nan_off_the_ray(void *ud, ray_vec3 p)
+{
+    (void)ud;
+    return p.y == 1 - 1e-6 ? unit_sdf(NULL, p) : (double)NAN;
+}
+
+/* The plane y = 1 as a field, and its gradient. */
+static double plane_y1(void *ud, ray_vec3 p)
+{
+    (void)ud;
+    return p.y - 1;
+}
+
+static ray_vec3 plane_y1_grad(void *ud, ray_vec3 p)
+{
+    (void)ud; (void)p;
+    return vec(0, 1, 0);
+}
+
+/*
+** The tangency test of the bounded march (a ray grazing the surface:
+** where the step falls to the tolerance, the gradient step toward the
+** surface is probed).  A gradient callback that answers 0 gives no
+** probe and no normal at the hit: -RAY_EINVAL (ray.h: a zero gradient at
+** the hit).  A field that is NaN at the probed point (off the ray) is
+** misuse too: -RAY_EINVAL.  Both leave the hit untouched.  A ray parallel
+** to the plane y = 1, 1e-9 below it, inside a tolerance of 1e-6: the
+** probe lands on the plane (f = 0 there, exactly: 1 - 1e-9 + 1e-9 rounds
+** to 1), no crossing lies ahead (the slope along the ray is 0), and the
+** touch is the hit: t within the box's span, the point within the
+** tolerance of the plane.
+*/
+START_TEST(implicit_tangency_probe_should_refuse_bad_callbacks)
+{
+    ray_implicit_surface s = unit_implicit();
+    ray_ray r = ray_from(vec(-3, 1 - 1e-6, 0), vec(1, 0, 0));
+    ray_hit h;
+
+    s.gradient = zero_grad;
+    hit_poison(&h);
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), -RAY_EINVAL);
+    s = unit_implicit();
+    s.f = nan_off_the_ray;
+    s.gradient = unit_grad;
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), -RAY_EINVAL);
+    ck_assert(hit_is_poisoned(&h));
+
+    memset(&s, 0, sizeof s);
+    s.f = plane_y1;
+    s.gradient = plane_y1_grad;
+    s.lo = vec(-1, 0, -1);
+    s.hi = vec(1, 2, 1);
+    s.lipschitz = 1;
+    s.tolerance = 1e-6;
+    r = ray_from(vec(-3, 1 - 1e-9, 0), vec(1, 0, 0));
+    ck_assert_int_eq(ray_implicit(&r, &s, &h), 1);
+    ck_assert_msg(h.t >= 2 - 1e-6 && h.t <= 4 + 1e-6, "t %.17g", h.t);
+    ck_assert_msg(fabs(h.p.y - 1) <= 1e-6, "p.y %.17g", h.p.y);
+    ck_assert(h.n.x == 0 && h.n.y == 1 && h.n.z == 0);   /* exact */
+}
+END_TEST
+
 /* ----------------------------------------------------------------- files */
 
 #if RAY_TEST_PNG && !defined(_WIN32)
@@ -1809,6 +1904,7 @@ Suite *edges_suite(void)
     tcase_add_test(tc, polygon_helpers_should_refuse_too_few_vertices);
     tcase_add_test(tc, poly_roots_should_handle_the_ends_and_touching_minima);
     tcase_add_test(tc, barycentrics_should_refuse_degenerate_and_place_each_side);
+    tcase_add_test(tc, implicit_tangency_probe_should_refuse_bad_callbacks);
     tcase_add_test(tc, parametric_domains_should_bound_the_search);
     tcase_add_test(tc, material_scatter_should_follow_its_parameters);
     tcase_add_test(tc, adaptive_render_through_a_lens_should_mix_only_what_it_sees);
