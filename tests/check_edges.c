@@ -16,6 +16,7 @@
 #include "tests.h"
 #include "tempfiles.h"
 #include "hardcases.h"
+#include "scheduler_kit.h"
 #include "prim/prim.h"       /* the primitives' internal entry points */
 #include "prim/sweep.h"      /* ray__polygon_plane_mapped */
 #include "trace/trace.h"     /* ray__photon_map_counts */
@@ -227,6 +228,38 @@ START_TEST(hidden_geometry_should_not_be_touched)
     ck_assert_msg(fabs(h.t - 19) <= 1e-12, "t %.17g", h.t);
     ck_assert_uint_eq(h.geom_id, 0);
     ghost_free(&g);
+}
+END_TEST
+
+/*
+** ray_contains on a box turned 90 degrees about z (local x along world
+** y): inside where every local coordinate is within its half extent
+** (2, 1, 0.5), the faces included, and outside past any one of them --
+** local x, y and z in turn.  The frame's entries are 0 and +-1 and the
+** points small binary fractions: the tests are exact.
+*/
+START_TEST(a_box_should_contain_within_each_half_extent)
+{
+    static const ray_vec3 q[] = {
+        {0, 0, 0}, {-0.75, 1.5, 0.25}, {1, 2, 0.5},      /* in, on */
+        {0, 2.5, 0}, {1.25, 0, 0}, {0, 0, 0.75}};        /* past x, y, z */
+    ray_inside in[sizeof q / sizeof *q];
+    ray_box_params b;
+    ray_scene *s;
+    size_t i;
+
+    memset(&b, 0, sizeof b);
+    b.half_extents = vec(2, 1, 0.5);
+    b.axis_x = vec(0, 1, 0);
+    b.axis_y = vec(-1, 0, 0);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_box(s, &b, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_contains(s, q, sizeof q / sizeof *q, NULL, in), 3);
+    for (i = 0; i < sizeof q / sizeof *q; i++)
+        ck_assert_msg(in[i].inside == (i < 3), "point %u: %d", (unsigned)i,
+                      in[i].inside);
+    ray_scene_free(s);
 }
 END_TEST
 
@@ -1333,6 +1366,60 @@ START_TEST(barycentrics_should_refuse_degenerate_and_place_each_side)
 END_TEST
 
 
+/*
+** A polygon whose vertices are collinear has no area in any coordinate
+** plane (the vector area is exactly 0: small integers): its plane is
+** refused (0, the normal set to zero) and rays miss it, the hit left
+** untouched; one vertex moved off the line gives it a plane again.
+*/
+START_TEST(a_collinear_polygon_should_have_no_plane)
+{
+    ray_vec3 v[4] = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}};
+    ray_vec3 c, n = {7, 7, 7};
+    ray_ray r = ray_from(vec(1, 1, 5), vec(0, 0, -1));
+    ray_hit h;
+
+    ck_assert_int_eq(ray__polygon_plane(v, 4, &c, &n), 0);
+    ck_assert(n.x == 0 && n.y == 0 && n.z == 0);
+    hit_poison(&h);
+    ck_assert_int_eq(ray_polygon(&r, v, 4, &h), 0);
+    ck_assert(hit_is_poisoned(&h));
+    v[3] = vec(3, 0, 3);
+    ck_assert_int_eq(ray__polygon_plane(v, 4, &c, &n), 1);
+    ck_assert(n.x != 0 || n.y != 0 || n.z != 0);
+}
+END_TEST
+
+/*
+** Metaballs whose strengths are all negative have no surface (the field
+** stays above the threshold): built (RAY_OK) with the box of them all,
+** and a ray through them misses.  With a positive blob among them the
+** box is the positive blobs' alone (the surface lies in their spheres):
+** the negative one's, far off, is left out -- exactly, the box being
+** centre -+ radius.
+*/
+START_TEST(blobs_should_box_only_their_positive_spheres)
+{
+    ray_blob b[2] = {{{0, 0, 0}, 1, -1}, {{10, 0, 0}, 2, -0.5}};
+    ray_blobs_params bp = {b, 2, 0.5};
+    ray_implicit_surface is;
+    ray_ray r = ray_from(vec(-5, 0, 0), vec(1, 0, 0));
+    ray_hit h;
+
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &is), RAY_OK);
+    ck_assert(is.lo.x == -1 && is.hi.x == 12);
+    hit_poison(&h);
+    ck_assert_int_eq(ray_implicit(&r, &is, &h), 0);
+    ck_assert(hit_is_poisoned(&h));
+    b[0].strength = 1;
+    ck_assert_int_eq(ray_implicit_blobs(&bp, &is), RAY_OK);
+    ck_assert(is.lo.x == -1 && is.lo.y == -1 && is.lo.z == -1);
+    ck_assert(is.hi.x == 1 && is.hi.y == 1 && is.hi.z == 1);
+    ck_assert_int_eq(ray_implicit(&r, &is, &h), 1);
+    ck_assert(h.t > 4 && h.t < 5);         /* inside the unit sphere */
+}
+END_TEST
+
 /* ------------------------------------------------ parametric surfaces */
 
 static void flat_eval(void *ud, double u, double v, ray_vec3 *p,
@@ -1595,6 +1682,51 @@ START_TEST(adaptive_render_through_a_lens_should_mix_only_what_it_sees)
     i = 3 * (RH / 2 * RW + RW / 2);
     ck_assert(img[i] == (float)c.r && img[i + 1] == (float)c.g &&
               img[i + 2] == (float)c.b);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** A scheduler that does not say how many tasks it runs at once (threads
+** 0), with the options' threads 0 too: the render is cut into tasks for
+** the CPUs online, handed to the scheduler (its log counts the run), and
+** the image is the same bytes as the one-thread render's (ray_render:
+** the same at any thread count and task order).
+*/
+START_TEST(a_scheduler_of_unsaid_width_should_render_the_same_bytes)
+{
+    enum { RW = 8, RH = 6 };
+    static const ray_rgb c = {0.25, 0.5, 0.75}, b = {1, 0.125, 0};
+    ray_material m = {paint, NULL, 0, NULL};
+    float one[3 * RW * RH], many[3 * RW * RH];
+    ray_render_options o;
+    ray_scheduler sched;
+    sched_log log;
+    ray_camera cam;
+    ray_scene *s;
+
+    m.ud = ray__test_unconst(&c);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, 0, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_set_background(s, b, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    memset(&cam, 0, sizeof cam);
+    cam.position = vec(0, 0, 4);
+    cam.up = vec(0, 1, 0);
+    cam.vfov = 40;
+    o = (ray_render_options){.width = RW, .height = RH};
+    o.samples = 4;
+    o.threads = 1;
+    ck_assert_int_eq(ray_render(s, &cam, &o, one, NULL), RAY_OK);
+    sched = test_scheduler(reverse_run, &log);
+    ck_assert_uint_eq(sched.threads, 0);
+    o.threads = 0;
+    o.scheduler = &sched;
+    ck_assert_int_eq(ray_render(s, &cam, &o, many, NULL), RAY_OK);
+    ck_assert_uint_ge(log.runs, 1);
+    ck_assert(memcmp(one, many, sizeof one) == 0);
     ray_scene_free(s);
 }
 END_TEST
@@ -1884,6 +2016,7 @@ Suite *edges_suite(void)
 
     tcase_add_test(tc, hidden_geometry_should_not_contain_or_attract);
     tcase_add_test(tc, hidden_geometry_should_not_be_touched);
+    tcase_add_test(tc, a_box_should_contain_within_each_half_extent);
     tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
     tcase_add_test(tc, intersect_all_should_break_ties_by_ids_when_full);
     tcase_add_test(tc, float_mode_should_miss_beside_beyond_and_along);
@@ -1905,9 +2038,12 @@ Suite *edges_suite(void)
     tcase_add_test(tc, poly_roots_should_handle_the_ends_and_touching_minima);
     tcase_add_test(tc, barycentrics_should_refuse_degenerate_and_place_each_side);
     tcase_add_test(tc, implicit_tangency_probe_should_refuse_bad_callbacks);
+    tcase_add_test(tc, a_collinear_polygon_should_have_no_plane);
+    tcase_add_test(tc, blobs_should_box_only_their_positive_spheres);
     tcase_add_test(tc, parametric_domains_should_bound_the_search);
     tcase_add_test(tc, material_scatter_should_follow_its_parameters);
     tcase_add_test(tc, adaptive_render_through_a_lens_should_mix_only_what_it_sees);
+    tcase_add_test(tc, a_scheduler_of_unsaid_width_should_render_the_same_bytes);
     tcase_add_test(tc, implicit_should_refuse_what_it_cannot_answer);
     tcase_add_test(tc, implicit_should_keep_to_any_budget);
     tcase_add_test(tc, implicit_should_stop_refining_at_adjacent_doubles);
