@@ -263,6 +263,56 @@ START_TEST(a_box_should_contain_within_each_half_extent)
 }
 END_TEST
 
+/*
+** A closed mesh with no volume: the two faces (a, b, c) and (c, b, a) of
+** a triangle whose corners lie exactly on one line through the origin,
+** a, 2a and 1024a with a = (1, 3, x), x = 0.1 with its last two bits
+** cleared.  Every edge has its twin, so the mesh is closed; and its
+** rounded normal is not zero (c - a rounds in z alone: 1023 x needs 61
+** bits), so the triangle keeps its corners rather than being read as a
+** point (scene.h).  Exactly, it has no area in any coordinate plane:
+** ray_contains's parity walk takes it as its segments.  A point exactly
+** on one of them (1.5a, between a and 2a; 4a, between 2a and 1024a: both
+** exact, x having the bits to spare) lies on the surface (inside,
+** on_surface); points on the line beyond the ends (-a, 0.5a) and one off
+** it are outside.  The predicates are exact: no tolerance.
+*/
+START_TEST(a_closed_mesh_without_volume_should_hold_only_its_segments)
+{
+    const double x = ldexp(floor(ldexp(0.1, 53) / 4) * 4, -53);
+    const ray_vec3 a = {1, 3, x};
+    const ray_vec3 v[3] = {{a.x, a.y, a.z}, {2 * a.x, 2 * a.y, 2 * a.z},
+                           {1024 * a.x, 1024 * a.y, 1024 * a.z}};
+    static const unsigned idx[6] = {0, 1, 2, 2, 1, 0};
+    const ray_vec3 q[5] = {{1.5 * a.x, 1.5 * a.y, 1.5 * a.z},
+                           {4 * a.x, 4 * a.y, 4 * a.z},
+                           {-a.x, -a.y, -a.z},
+                           {0.5 * a.x, 0.5 * a.y, 0.5 * a.z},
+                           {1.5 * a.x, 1.5 * a.y, 1.5 * a.z + 1}};
+    ray_inside in[5];
+    ray_mesh m;
+    ray_scene *s;
+    int i;
+
+    ck_assert(1.5 * x - x == 0.5 * x);          /* 1.5a is exact */
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 3;
+    m.indices = idx;
+    m.triangle_count = 2;
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_contains(s, q, 5, NULL, in), 2);
+    for (i = 0; i < 5; i++) {
+        ck_assert_msg(in[i].inside == (i < 2), "point %d: inside %d", i,
+                      in[i].inside);
+        ck_assert_int_eq(in[i].on_surface, i < 2);
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
 /* ------------------------------------------------------------- overlap */
 
 /* The overlaps of a capsule shape from a to b, radius r, with s: how many
@@ -2017,6 +2067,7 @@ Suite *edges_suite(void)
     tcase_add_test(tc, hidden_geometry_should_not_contain_or_attract);
     tcase_add_test(tc, hidden_geometry_should_not_be_touched);
     tcase_add_test(tc, a_box_should_contain_within_each_half_extent);
+    tcase_add_test(tc, a_closed_mesh_without_volume_should_hold_only_its_segments);
     tcase_add_test(tc, overlaps_should_see_stretched_spheres_and_boxes_of_the_rest);
     tcase_add_test(tc, intersect_all_should_break_ties_by_ids_when_full);
     tcase_add_test(tc, float_mode_should_miss_beside_beyond_and_along);
