@@ -33,12 +33,12 @@
 set -u
 
 # The floor, in percent: the figures measured when it was set (lines
-# 97.9 %, branches 88.5 %, 2026-12-06, doc/TESTING.md: BUILD and BASE
+# 98.4 %, branches 90.3 %, 2026-12-06, doc/TESTING.md: BUILD and BASE
 # merged, as make coverage runs them), rounded down to a whole percent,
 # as the threaded code's runs (the renderer, the BVH build) need not take
 # the same branches every time.
-LINES_MIN=${COVERAGE_LINES_MIN:-97}
-BRANCHES_MIN=${COVERAGE_BRANCHES_MIN:-88}
+LINES_MIN=${COVERAGE_LINES_MIN:-98}
+BRANCHES_MIN=${COVERAGE_BRANCHES_MIN:-90}
 
 build=${1:?usage: scripts/coverage.sh BUILD [BASE]}
 base=${2:-}

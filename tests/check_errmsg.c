@@ -744,6 +744,180 @@ static int limits_too_deep(ray_scene *s)
     return ray_scene_set_limits(s, &lim);
 }
 
+/*
+** The other operands of each validation's "||" and "&&" (issue 38's
+** branch coverage): the refusals above take one operand of most tests
+** (a NaN centre, an inverted y); a check that dropped or swapped another
+** operand (the axis's finiteness, hi as well as lo, the z extent, an
+** infinite where a negative was tried) would let these through.
+*/
+static int torus_nan_axis(ray_scene *s)
+{
+    ray_torus_params t = torus_ok();
+    t.axis = vec(0, (double)NAN, 1);
+    return ray_scene_add_torus(s, &t, 0, NULL);
+}
+
+static int torus_infinite_major(ray_scene *s)
+{
+    ray_torus_params t = torus_ok();
+    t.major = HUGE_VAL;
+    return ray_scene_add_torus(s, &t, 0, NULL);
+}
+
+static int torus_zero_minor(ray_scene *s)
+{
+    ray_torus_params t = torus_ok();
+    t.minor = 0;
+    return ray_scene_add_torus(s, &t, 0, NULL);
+}
+
+static int implicit_nan_lo(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.lo.x = (double)NAN;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+static int implicit_infinite_hi(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.hi.z = HUGE_VAL;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+static int implicit_inverted_x(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.lo.x = 3;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+static int implicit_inverted_z(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.hi.z = -2;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+static int implicit_infinite_lipschitz(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.lipschitz = HUGE_VAL;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+static int implicit_negative_step(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.step = -0.25;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+static int implicit_negative_tolerance(ray_scene *s)
+{
+    ray_implicit_surface is = implicit_ok();
+    is.tolerance = -1e-3;
+    return ray_scene_add_implicit(s, &is, 0, NULL);
+}
+
+/* Bounds callbacks that lie in each other way: an infinite hi, and lo >
+** hi on x, y and z in turn (ud: the axis, 0 .. 2; 3: the infinite hi). */
+static void lying_bounds(void *ud, double u0, double u1, double v0,
+                         double v1, ray_vec3 *lo, ray_vec3 *hi)
+{
+    int how = *(const int *)ud;
+
+    *lo = vec(u0, v0, 0);
+    *hi = vec(u1, v1, 0);
+    if (how == 0)
+        lo->x = u1 + 1;
+    else if (how == 1)
+        lo->y = v1 + 1;
+    else if (how == 2)
+        lo->z = 1;
+    else
+        hi->y = HUGE_VAL;
+}
+
+static int parametric_lying(ray_scene *s, int how)
+{
+    ray_parametric_surface ps = parametric_ok();
+    ps.bounds = lying_bounds;
+    ps.ud = &how;
+    return ray_scene_add_parametric(s, &ps, 0, NULL);
+}
+
+static int parametric_bounds_x_inverted(ray_scene *s)
+{
+    return parametric_lying(s, 0);
+}
+
+static int parametric_bounds_y_inverted(ray_scene *s)
+{
+    return parametric_lying(s, 1);
+}
+
+static int parametric_bounds_z_inverted(ray_scene *s)
+{
+    return parametric_lying(s, 2);
+}
+
+static int parametric_bounds_infinite_hi(ray_scene *s)
+{
+    return parametric_lying(s, 3);
+}
+
+static int parametric_infinite_tolerance(ray_scene *s)
+{
+    ray_parametric_surface ps = parametric_ok();
+    ps.tolerance = HUGE_VAL;
+    return ray_scene_add_parametric(s, &ps, 0, NULL);
+}
+
+static int parametric_nan_domain(ray_scene *s)
+{
+    ray_parametric_surface ps = parametric_ok();
+    ps.u1 = 1;
+    ps.v1 = (double)NAN;
+    return ray_scene_add_parametric(s, &ps, 0, NULL);
+}
+
+static int light_directional_infinite(ray_scene *s)
+{
+    ray_light l = light_ok(RAY_LIGHT_DIRECTIONAL);
+    l.direction = vec(0, -HUGE_VAL, 0);
+    return ray_scene_add_light(s, &l, NULL);
+}
+
+static int light_sphere_infinite_radius(ray_scene *s)
+{
+    ray_light l = light_ok(RAY_LIGHT_SPHERE);
+    l.radius = HUGE_VAL;
+    return ray_scene_add_light(s, &l, NULL);
+}
+
+static int light_sphere_nan_radius(ray_scene *s)
+{
+    ray_light l = light_ok(RAY_LIGHT_SPHERE);
+    l.radius = (double)NAN;
+    return ray_scene_add_light(s, &l, NULL);
+}
+
+static int light_rect_nan_edge1(ray_scene *s)
+{
+    ray_light l = light_ok(RAY_LIGHT_RECT);
+    l.edge1 = vec((double)NAN, 0, 0);
+    return ray_scene_add_light(s, &l, NULL);
+}
+
+static int light_rect_infinite_edge2(ray_scene *s)
+{
+    ray_light l = light_ok(RAY_LIGHT_RECT);
+    l.edge2 = vec(0, 0, HUGE_VAL);
+    return ray_scene_add_light(s, &l, NULL);
+}
+
 typedef struct errcase {
     failing_call call;
     int status;
@@ -910,6 +1084,55 @@ static const errcase cases[] = {
      "ray_scene_set_limits: min_weight 2 is not in [0, 1]"},
     {limits_too_deep, RAY_EINVAL,
      "ray_scene_set_limits: max_depth 65 is more than RAY_MAX_DEPTH (64)"},
+    {torus_nan_axis, RAY_EINVAL,
+     "ray_scene_add_torus: axis (0, nan, 1) is zero or not finite"},
+    {torus_infinite_major, RAY_EINVAL,
+     "ray_scene_add_torus: major radius inf is not positive and finite"},
+    {torus_zero_minor, RAY_EINVAL, "ray_scene_add_torus: minor radius 0 is "
+     "not in (0, major radius 2): only ring tori"},
+    {implicit_nan_lo, RAY_EINVAL, "ray_scene_add_implicit: box lo "
+     "(nan, -1, -1) hi (1, 1, 1) is not finite or has lo > hi"},
+    {implicit_infinite_hi, RAY_EINVAL, "ray_scene_add_implicit: box lo "
+     "(-1, -1, -1) hi (1, 1, inf) is not finite or has lo > hi"},
+    {implicit_inverted_x, RAY_EINVAL, "ray_scene_add_implicit: box lo "
+     "(3, -1, -1) hi (1, 1, 1) is not finite or has lo > hi"},
+    {implicit_inverted_z, RAY_EINVAL, "ray_scene_add_implicit: box lo "
+     "(-1, -1, -1) hi (1, 1, -2) is not finite or has lo > hi"},
+    {implicit_infinite_lipschitz, RAY_EINVAL,
+     "ray_scene_add_implicit: lipschitz inf is negative or not finite"},
+    {implicit_negative_step, RAY_EINVAL,
+     "ray_scene_add_implicit: step -0.25 is negative or not finite"},
+    {implicit_negative_tolerance, RAY_EINVAL,
+     "ray_scene_add_implicit: tolerance -0.001 is negative or not finite"},
+    {parametric_bounds_x_inverted, RAY_EINVAL, "ray_scene_add_parametric: "
+     "the bounds callback gave lo (2, 0, 0) hi (1, 1, 0): not finite, or "
+     "lo > hi"},
+    {parametric_bounds_y_inverted, RAY_EINVAL, "ray_scene_add_parametric: "
+     "the bounds callback gave lo (0, 2, 0) hi (1, 1, 0): not finite, or "
+     "lo > hi"},
+    {parametric_bounds_z_inverted, RAY_EINVAL, "ray_scene_add_parametric: "
+     "the bounds callback gave lo (0, 0, 1) hi (1, 1, 0): not finite, or "
+     "lo > hi"},
+    {parametric_bounds_infinite_hi, RAY_EINVAL, "ray_scene_add_parametric: "
+     "the bounds callback gave lo (0, 0, 0) hi (1, inf, 0): not finite, or "
+     "lo > hi"},
+    {parametric_infinite_tolerance, RAY_EINVAL,
+     "ray_scene_add_parametric: tolerance inf is negative or not finite"},
+    {parametric_nan_domain, RAY_EINVAL, "ray_scene_add_parametric: domain "
+     "[0, 1] x [0, nan] is empty or not finite"},
+    {light_directional_infinite, RAY_EINVAL,
+     "ray_scene_add_light: direction (0, -inf, 0) is not finite, or too "
+     "short to normalise"},
+    {light_sphere_infinite_radius, RAY_EINVAL,
+     "ray_scene_add_light: sphere light radius inf is not positive and "
+     "finite"},
+    {light_sphere_nan_radius, RAY_EINVAL,
+     "ray_scene_add_light: sphere light radius nan is not positive and "
+     "finite"},
+    {light_rect_nan_edge1, RAY_EINVAL, "ray_scene_add_light: edges "
+     "(nan, 0, 0) and (0, 0, 1) are parallel, too short or not finite"},
+    {light_rect_infinite_edge2, RAY_EINVAL, "ray_scene_add_light: edges "
+     "(1, 0, 0) and (0, 0, inf) are parallel, too short or not finite"},
 };
 
 #define N_CASES ((int)(sizeof cases / sizeof cases[0]))

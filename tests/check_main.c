@@ -55,7 +55,8 @@
     X(direct) X(capsule) X(games) X(instance) X(dynamic) X(user)        \
     X(closest) X(batch) X(lazy) X(cones) X(caustics)                    \
     X(cones_caustics_hard) X(filter) X(scheduler) X(platform) X(exact)  \
-    X(sweep) X(overlap) X(contains) X(slips) X(why) X(progress)
+    X(sweep) X(overlap) X(contains) X(slips) X(why) X(progress)      \
+    X(edges)
 
 typedef struct named_suite {
     const char *name;

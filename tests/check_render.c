@@ -331,6 +331,15 @@ static const refusal refusals[] = {
     {"aperture -1", RAY_EINVAL},      /* 13 */
     {"not committed", RAY_ESTATE},    /* 14: changed since the commit */
     {"camera is NULL", RAY_EINVAL},   /* 15 */
+    /* Each other operand of the camera's tests (issue 38). */
+    {"position, look_at or up", RAY_EINVAL},  /* 16: position NaN */
+    {"position, look_at or up", RAY_EINVAL},  /* 17: look_at infinite */
+    {"position, look_at or up", RAY_EINVAL},  /* 18: up NaN */
+    {"aperture inf", RAY_EINVAL},     /* 19 */
+    {"aperture nan", RAY_EINVAL},     /* 20 */
+    {"focus_distance -1", RAY_EINVAL},   /* 21 */
+    {"focus_distance inf", RAY_EINVAL},  /* 22 */
+    {"focus_distance nan", RAY_EINVAL},  /* 23 */
 };
 #define N_REFUSALS (sizeof refusals / sizeof refusals[0])
 
@@ -354,6 +363,14 @@ static void break_one(int k, ray_render_options *o, ray_camera *c,
              c->up = vec(0, 0, -1); break;
     case 13: c->aperture = -1; break;
     case 14: ck_assert_int_eq(ray_scene_set_limits(s, NULL), RAY_OK); break;
+    case 16: c->position.y = (double)NAN; break;
+    case 17: c->look_at.z = -HUGE_VAL; break;
+    case 18: c->up.x = (double)NAN; break;
+    case 19: c->aperture = HUGE_VAL; break;
+    case 20: c->aperture = (double)NAN; break;
+    case 21: c->focus_distance = -1; break;
+    case 22: c->focus_distance = HUGE_VAL; break;
+    case 23: c->focus_distance = (double)NAN; break;
     default: break;
     }
 }

@@ -210,6 +210,17 @@ static const refusal cases[] = {
     {RAY_EINVAL, {"ray_distance_grid: ", "unknown bits 0x100"}},
     {RAY_ESTATE, {"ray_distance_grid: ", ESTATE_WORDS}},
     {RAY_EDEGENERATE, {"ray_distance_grid: ", "RAY_CONTAINS_WINDING"}},
+    /* (83) The other operands of the grid's and the sweep's tests. */
+    {RAY_EINVAL, {"ray_distance_grid: ", "a count is 0", "nz 0"}},
+    {RAY_EINVAL, {"ray_distance_grid: ", "a count is 0", "nx 0"}},
+    {RAY_EINVAL, {"ray_distance_grid: ", "options->band is nan"}},
+    {RAY_EINVAL, {"ray_distance_grid: ", "options->band is inf"}},
+    {RAY_EINVAL, {"ray_distance_grid: ", "lo (-inf, -1, -1)",
+                  "not finite"}},
+    {-RAY_EINVAL, {"ray_intersect_sweep: ", "sweep->tmin is inf",
+                   "not finite"}},
+    {-RAY_EINVAL, {"ray_intersect_sweep: ", "sweep->tmin is nan",
+                   "not finite"}},
 };
 #define N_CASES ((int)(sizeof cases / sizeof *cases))
 
@@ -369,6 +380,16 @@ static int run_case(int i, fixture *f, ray_query *q, ray_batch *b,
              return ray_distance_grid(f->ok, lo, hi, 2, 2, 2, &go, grid);
     case 81: return ray_distance_grid(f->raw, lo, hi, 2, 2, 2, &go, grid);
     case 82: return ray_distance_grid(f->flat, lo, hi, 2, 2, 2, &go, grid);
+    case 83: return ray_distance_grid(f->ok, lo, hi, 2, 2, 0, &go, grid);
+    case 84: return ray_distance_grid(f->ok, lo, hi, 0, 2, 2, &go, grid);
+    case 85: go.band = (double)NAN;
+             return ray_distance_grid(f->ok, lo, hi, 2, 2, 2, &go, grid);
+    case 86: go.band = HUGE_VAL;
+             return ray_distance_grid(f->ok, lo, hi, 2, 2, 2, &go, grid);
+    case 87: lo.x = -HUGE_VAL;
+             return ray_distance_grid(f->ok, lo, hi, 2, 2, 2, &go, grid);
+    case 88: sw.tmin = HUGE_VAL; break;
+    case 89: sw.tmin = (double)NAN; break;
     default: ck_abort_msg("no case %d", i);
     }
     /* The sweep cases that broke one field of sw. */
@@ -381,6 +402,8 @@ static const char *reason_of(int i, const ray_query *q, const ray_batch *b,
 {
     if (i >= 15 && i < 24)
         return b->why;
+    if (i >= 88)            /* the sweep's, after the grid's */
+        return q->why;
     if (i >= 57)
         return co->why;
     return q->why;

@@ -43,6 +43,7 @@ Suite *defaults_suite(void);
 Suite *errmsg_suite(void);
 Suite *why_suite(void);
 Suite *progress_suite(void);
+Suite *edges_suite(void);
 Suite *box_suite(void);
 Suite *direct_suite(void);
 Suite *capsule_suite(void);
