@@ -376,7 +376,8 @@ int main(int argc, char **argv)
     const char *dir = argc > 1 ? argv[1] : "data";
     static const char *const names[3] = {"bunny.obj", "bunny-2.obj",
                                          "bunny-4.obj"};
-    int quick = getenv("BENCH_QUICK") != NULL;
+    int level = bench_level(), quick = level != BENCH_FULL;
+    int smoke = level == BENCH_SMOKE;
     size_t k;
     char path[1024];
 
@@ -384,7 +385,7 @@ int main(int argc, char **argv)
         return profile(argv[2], argv[3], 20,
                        argc == 5 ? (unsigned)strtoul(argv[4], NULL, 10) : 1);
     if (quick)
-        reps = 3;
+        reps = smoke ? 1 : 3;
     printf("## What exactness costs: the float filter\n\n");
     printf("One thread, the same rays through the same tree in three modes: "
            "the exact double test alone, the float filter in front of it "
@@ -401,9 +402,9 @@ int main(int argc, char **argv)
     printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (k = 0; k < (quick ? 2u : 3u); k++) {
         snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        bench_bunny(path, quick ? 256 : 512);
+        bench_bunny(path, smoke ? 8 : quick ? 256 : 512);
     }
-    bench_leaks(quick ? 5 : 6);
+    bench_leaks(smoke ? 1 : quick ? 5 : 6);
     printf("\n");
     return 0;
 }
