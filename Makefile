@@ -56,9 +56,15 @@ WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
+# $(call memo,NAME,COMMAND), as NAME's value: COMMAND's output, run once a
+# make, where NAME is first used, and kept (as MLINKS below).  The probes
+# below ran again at every use: 166 pkg-config and 45 cc -print-multiarch
+# processes a make check (issue 38).  On first use, not when the
+# Makefile is read: after deps-build has installed what they ask about.
+memo = $(eval $(1) := $$(shell $(2)))$($(1))
 ifeq ($(PNG),1)
-PNG_CFLAGS  = $(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null)
-PNG_LIBS    = $(shell $(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
+PNG_CFLAGS  = $(call memo,PNG_CFLAGS,$(PKG_CONFIG) --cflags libpng 2>/dev/null)
+PNG_LIBS    = $(call memo,PNG_LIBS,$(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
 PNG_SRC_UNUSED = src/image/png_none.c
 else
 PNG_CFLAGS  =
@@ -70,8 +76,8 @@ endif
 # long double (-Wdouble-promotion) and use GNU's ", ## __VA_ARGS__"
 # (clang's -Wgnu-zero-variadic-macro-arguments), warnings about Check's
 # code, not ours.  In /usr/include it is a system header already.
-CHECK_CFLAGS = $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags check 2>/dev/null))
-CHECK_LIBS   = $(shell $(PKG_CONFIG) --libs check 2>/dev/null)
+CHECK_CFLAGS = $(patsubst -I%,-isystem %,$(call memo,CHECK_CFLAGS_PC,$(PKG_CONFIG) --cflags check 2>/dev/null))
+CHECK_LIBS   = $(call memo,CHECK_LIBS,$(PKG_CONFIG) --libs check 2>/dev/null)
 LIBS = $(PNG_LIBS) -lm -lpthread
 
 SRCS = $(filter-out $(PNG_SRC_UNUSED),$(wildcard src/*/*.c))
@@ -148,7 +154,7 @@ deps-bench: deps-build
 # src/scene/refit_avx2.c, the refit's leaf, likewise (triangles.c).
 AVX2_SRCS = src/query/intersect_avx2.c src/scene/refit_avx2.c
 AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
-                $(shell $(CC) -dumpmachine 2>/dev/null)),-mavx2)
+                $(call memo,CC_MACHINE,$(CC) -dumpmachine 2>/dev/null)),-mavx2)
 
 # The package probes run before any compile (order-only), so a parallel
 # make on a fresh machine does not compile against headers still being
@@ -267,14 +273,14 @@ $(BENCH_CONFIG): FORCE
 $(BUILD)/bench/shapes $(BUILD)/bench/raycost $(BUILD)/bench/contains: $(BENCH_CONFIG)
 # Embree is optional: used by the mesh, game and packets benchmarks when
 # its header is there.
-EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
+EMBREE_FLAGS = $(call memo,EMBREE_FLAGS,test -f /usr/include/embree3/rtcore.h && \
                  echo "-DHAVE_EMBREE")
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 EMBREE_BENCHES = bench/mesh.c bench/game.c bench/packets.c bench/raycost.c
 # Bullet is optional too: bench/shapes.c compares the sweeps with its
 # convexSweepTest and rayTest where Debian's libbullet-dev is installed.
 # Bullet is C++: bench/bullet.cpp is built with $(CXX), only then.
-BULLET_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(shell test -f /usr/include/bullet/btBulletCollisionCommon.h && \
+BULLET_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(call memo,HAVE_BULLET,test -f /usr/include/bullet/btBulletCollisionCommon.h && \
                  echo "-DHAVE_BULLET"))
 BULLET_OBJ = $(if $(BULLET_FLAGS),$(BUILD)/bench/bullet.o)
 BULLET_LIBS = $(if $(BULLET_FLAGS),-lBulletCollision -lLinearMath -lstdc++)
@@ -287,7 +293,7 @@ $(BUILD)/bench/shapes: $(BULLET_OBJ)
 # beside Embree by bench/raycost.c, when the header is there: C++, built
 # with $(CXX) and AVX2 + FMA as its README asks, never part of the library.
 TINYBVH_DIR ?= ../shared/ext
-TINYBVH_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(shell test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH"))
+TINYBVH_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(call memo,HAVE_TINYBVH,test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH"))
 TINYBVH_OBJ = $(if $(TINYBVH_FLAGS),$(BUILD)/bench/tinybvh.o)
 TINYBVH_LIBS = $(if $(TINYBVH_FLAGS),-lstdc++)
 $(BUILD)/bench/tinybvh.o: bench/tinybvh.cpp bench/tinybvh.h
@@ -302,14 +308,14 @@ $(BUILD)/bench/raycost: $(TINYBVH_OBJ)
 # is there.  bench/cgal_vdb.cpp is C++17, built with $(CXX) only then, and
 # with -frounding-math, which CGAL's interval filters need under GCC
 # (CGAL manual, "Using CGAL on GCC": its kernel checks it at start-up).
-CGAL_FLAGS = $(shell test -f /usr/include/CGAL/Side_of_triangle_mesh.h && \
+CGAL_FLAGS = $(call memo,CGAL_FLAGS,test -f /usr/include/CGAL/Side_of_triangle_mesh.h && \
                echo "-DHAVE_CGAL")
-OPENVDB_FLAGS = $(shell test -f /usr/include/openvdb/tools/MeshToVolume.h && \
+OPENVDB_FLAGS = $(call memo,OPENVDB_FLAGS,test -f /usr/include/openvdb/tools/MeshToVolume.h && \
                   echo "-DHAVE_OPENVDB")
 CGAL_VDB_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(strip $(CGAL_FLAGS) $(OPENVDB_FLAGS)))
 CGAL_VDB_OBJ = $(if $(CGAL_VDB_FLAGS),$(BUILD)/bench/cgal_vdb.o)
 CGAL_VDB_LIBS = $(if $(CGAL_VDB_OBJ),$(if $(CGAL_FLAGS),-lmpfr -lgmp) \
-                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(shell $(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) -lstdc++)
+                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(call memo,IMATH_LIBS,$(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) -lstdc++)
 $(BUILD)/bench/cgal_vdb.o: bench/cgal_vdb.cpp bench/cgal_vdb.h
 	@mkdir -p $(@D)
 	$(say) CXX $<
@@ -457,7 +463,7 @@ layers-selftest: $(OBJS)
 # among CHECK_JOBS processes itself (tests/check_main.c), the CPUs online
 # by default.  check's own recipe only prints the summary: the time taken,
 # the -j hint, and last, alone on its line, "checks: N passed, N failed".
-CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CHECK_JOBS ?= $(call memo,CHECK_JOBS,nproc 2>/dev/null || echo 2)
 # Plain make check (the README's command) runs its steps side by side by
 # itself, CHECK_JOBS at once: one step at a time took 4 min 56 s of two
 # otherwise idle cores, make -j2 check well under half of that (issue 38).
@@ -886,7 +892,7 @@ rel_to_prefix = $(if $(filter $(PREFIX)/%,$(1)),$(2)/$(patsubst $(PREFIX)/%,%,$(
 space := $() $()
 CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%,%,$(CMAKEDIR)))))
 # The pointer size the library was built for, which a CMake project must share.
-SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
+SIZEOF_VOID_P = $(call memo,SIZEOF_VOID_P,echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
 CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
 
 # A program linked with `pkg-config --libs libray` must find libray.so.1
@@ -898,7 +904,7 @@ CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}
 # program runs without LD_LIBRARY_PATH (a moved install through
 # pkg-config --define-prefix too: ${libdir} follows ${prefix}).
 # PC_RPATH=0 leaves it out (a distribution package), PC_RPATH=1 forces it.
-MULTIARCH = $(shell $(CC) -print-multiarch 2>/dev/null)
+MULTIARCH = $(call memo,MULTIARCH,$(CC) -print-multiarch 2>/dev/null)
 LOADER_DIRS = /lib /usr/lib /lib64 /usr/lib64 \
     $(if $(MULTIARCH),/lib/$(MULTIARCH) /usr/lib/$(MULTIARCH))
 PC_RPATH ?= $(if $(filter $(patsubst %/,%,$(LIBDIR)),$(LOADER_DIRS)),0,1)
@@ -919,7 +925,7 @@ RUN_LDCONFIG = if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && \
 # it), where the linker takes -Bstatic: GNU ld, gold and lld do, Apple's
 # ld does not (PC_BSTATIC=0 there: --static then links libray.so, as
 # pkg-config has no other way to choose the archive).
-PC_BSTATIC ?= $(if $(findstring darwin,$(shell $(CC) -dumpmachine 2>/dev/null)),0,1)
+PC_BSTATIC ?= $(if $(findstring darwin,$(call memo,CC_MACHINE,$(CC) -dumpmachine 2>/dev/null)),0,1)
 
 libray.pc:
 	@mkdir -p $(BUILD)
