@@ -983,9 +983,10 @@ uninstall:
 	    $(DESTDIR)$(INCLUDEDIR)/ray.h $(DESTDIR)$(PKGCONFIGDIR)/libray.pc \
 	    $(DESTDIR)$(CMAKEDIR)/librayConfig.cmake \
 	    $(DESTDIR)$(CMAKEDIR)/librayConfigVersion.cmake
-	for f in $(notdir $(wildcard man/man3/*.3)); do rm -f $(DESTDIR)$(MANDIR)/man3/$$f; done
-	for l in $(MLINKS); do rm -f $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
-	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
+	@echo "rm -f the man pages and their links in $(DESTDIR)$(MANDIR)/man3 and man7 (one rm)"
+	@rm -f $(addprefix $(DESTDIR)$(MANDIR)/man3/,$(notdir $(wildcard man/man3/*.3)) \
+	    $(addsuffix .3,$(foreach l,$(MLINKS),$(lastword $(subst :, ,$(l)))))) \
+	    $(addprefix $(DESTDIR)$(MANDIR)/man7/,$(notdir $(wildcard man/man7/*.7)))
 	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
 	@scripts/install-dirs.sh remove "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
 	    $(DOCDIR) $(CMAKEDIR)
