@@ -641,10 +641,17 @@ FUZZ_TIMEOUT ?= 25
 # more than this (issue 14, defect 4).
 FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
 
-$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h tests/winding_ref.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
+# fuzz/replay.c (the driver, the same for every target) compiled once,
+# not once a target (ten compiles a make check).
+FUZZ_REPLAY_OBJ = $(BUILD)/fuzz-replay/obj/replay.o
+$(FUZZ_REPLAY_OBJ): fuzz/replay.c fuzz/fuzz.h include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(say) CC $<
-	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests -c $< -o $@
+$(BUILD)/fuzz-replay/%: fuzz/%.c $(FUZZ_REPLAY_OBJ) fuzz/fuzz.h tests/winding_ref.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
+	@mkdir -p $(@D)
+	$(say) CC $<
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests $(LDFLAGS) -o $@ $< $(FUZZ_REPLAY_OBJ) $(STATIC) $(LIBS)
 
 fuzz-replay: $(FUZZ_REPLAYS)
 	@for t in $(FUZZ_TARGETS); do \
