@@ -217,10 +217,21 @@ $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(
 	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
-$(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
+# Each example an object first (EXAMPLE_OBJ), then linked: make check's
+# amalgamation-test links the same objects with the one-file library
+# (scripts/check-amalgamation.sh) instead of compiling seven examples
+# again, with the same flags, into the same code (issue 38).
+EXAMPLE_OBJ = $(BUILD)/examples/obj
+$(EXAMPLE_OBJ)/%.o: examples/%.c $(wildcard examples/*.h) include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(say) CC $<
-	$(Q)$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+	$(Q)$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(BUILD)/examples/%: $(EXAMPLE_OBJ)/%.o $(STATIC)
+	$(say) LD $@
+	$(Q)$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+# Kept, not removed as intermediate files: amalgamation-test links them.
+EXAMPLE_OBJS = $(EXAMPLES:$(BUILD)/examples/%=$(EXAMPLE_OBJ)/%.o)
+.SECONDARY: $(EXAMPLE_OBJS)
 
 examples: $(EXAMPLES)
 
@@ -503,7 +514,7 @@ CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test lice
 # example, benchmark and fuzz replay build and most of the other steps:
 # make -j2 check started the suite 2 minutes after linking it.
 ifneq ($(filter check test,$(MAKECMDGOALS)),)
-$(CHECK_AFTER_SUITE) $(FAULTSIM) $(EXAMPLES) $(BENCHES) $(FUZZ_REPLAYS): | $(TEST_BIN)
+$(CHECK_AFTER_SUITE) $(FAULTSIM) $(EXAMPLES) $(EXAMPLE_OBJS) $(BENCHES) $(FUZZ_REPLAYS) $(FUZZ_REPLAY_OBJ): | $(TEST_BIN)
 endif
 # After the suite, the longest steps first (make -j starts them in this
 # order), each with what it builds: amalgamation-test compiles the
