@@ -118,7 +118,7 @@ MLINKS_CMD = awk 'FNR == 1 {p = FILENAME; sub(/.*\//, "", p); sub(/\.3$$/, "", p
 
 .PHONY: all lib check test demo bench-counts caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
-        deps-bench profile numerics links-test mpi-check mpi-demo deps-mpi \
+        deps-bench profile numerics links-test mpi-check mpi-render mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
         check-examples-run check-long check-long-suite bench-smoke bench-smoke-test \
         png-free-test install-test libray.pc cmake-config FORCE \
@@ -250,11 +250,18 @@ $(MPI_RENDER): examples/mpi_render.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	OMPI_CC="$(CC)" $(MPICC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
 
-mpi-check: lib $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh $(BUILD)/examples/teapot
+# mpi-render builds mpi_render where the MPI tests run (MPI_CHECK=1,
+# mpicc and mpirun there), for mpi-check and make check's
+# bench-smoke-test (bench/mpi.sh), which wait for the program, not for
+# each other.
+MPI_HERE = [ "$(MPI_CHECK)" = 1 ] && command -v $(MPICC) >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1
+mpi-render: lib
+	@if $(MPI_HERE); then $(MAKE) --no-print-directory $(MPI_RENDER); fi
+mpi-check: lib mpi-render $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh $(BUILD)/examples/teapot
 	@if [ "$(MPI_CHECK)" != 1 ]; then \
 	    echo "check: MPI tests skipped (MPI_CHECK=$(MPI_CHECK))"; \
-	elif command -v $(MPICC) >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; then \
-	    $(MAKE) --no-print-directory $(MPI_RENDER) && scripts/check-mpi.sh $(BUILD); \
+	elif $(MPI_HERE); then \
+	    scripts/check-mpi.sh $(BUILD); \
 	else \
 	    echo "check: no mpicc/mpirun: MPI tests skipped (apt-get install libopenmpi-dev openmpi-bin, or make mpi-demo as root)"; \
 	fi
@@ -506,7 +513,7 @@ CHECK_RUNS = check-suite check-faultsim fuzz-replay check-examples-run $(if $(fi
 CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test license-test \
     links-test snippets-test pages-test bench-docs-test install-test png-free-test \
     version-test abi-test exports-test amalgamation-test check-faultsim fuzz-replay \
-    check-examples-run mpi-check bench-smoke bench-smoke-test
+    check-examples-run mpi-check mpi-render bench-smoke bench-smoke-test
 # The programs the other steps build wait too: make starts a ready
 # target only when its pass over check's prerequisites reaches it, and a
 # pass blocks on each free slot, so a suite skipped early in the pass
@@ -520,12 +527,14 @@ endif
 # order), each with what it builds: amalgamation-test compiles the
 # library again, and mpi-check and install-test wait on
 # mpirun and cmake more than they compute, so they go while the rest
-# still has work for the CPUs, not last, alone.
+# still has work for the CPUs, not last, alone; so does bench-smoke-test,
+# whose POV-Ray sleeps 5 of its 8 seconds (it waited for mpi-check
+# once, and ran last: 8 seconds more of make check's wall).
 check: deps-check lib check-suite amalgamation-test $(filter mpi-check,$(CHECK_RUNS)) install-test abi-test \
-       layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+       bench-smoke-test layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        snippets-test pages-test bench-docs-test \
        $(if $(filter 0,$(PNG)),png-free-test) \
-       version-test exports-test $(filter-out check-suite mpi-check,$(CHECK_RUNS))
+       version-test exports-test $(filter-out check-suite mpi-check bench-smoke-test,$(CHECK_RUNS))
 	@t=$$(( $$(date +%s) - $(CHECK_T0) )); \
 	echo "check: all passed in $$((t / 60))m$$((t % 60))s on $$(nproc 2>/dev/null || echo ?) CPUs$(if $(filter -j%,$(MAKEFLAGS)),, (make -j$(CHECK_JOBS) check runs its steps side by side))"; \
 	cat $(CHECK_SUMMARY)
@@ -616,8 +625,8 @@ bench-smoke: deps-bench lib $(BENCHES)
 # $(BUILD)/bench/RESULTS-smoke.md and its -smoke plots.  About 3 CPU
 # seconds (POV-Ray, where installed, sleeps a few more).  It installs
 # nothing: gnuplot and POV-Ray are used where they are.  Under make
-# check it waits for mpi-check, which builds mpi_render where mpicc is,
-# so that bench/mpi.sh's rows run too.
+# check it waits for mpi-render, which builds mpi_render where the MPI
+# tests run, so that bench/mpi.sh's rows run too.
 bench-smoke-test: lib $(BENCHES)
 	@echo "bench-smoke-test: BENCH_QUICK=smoke bench/run.sh $(BUILD) (log: $(BUILD)/bench-smoke-test.log)"
 	@BENCH_QUICK=smoke bench/run.sh $(BUILD) > $(BUILD)/bench-smoke-test.log 2>&1 || { \
@@ -625,7 +634,7 @@ bench-smoke-test: lib $(BENCHES)
 	    echo "bench-smoke-test: BENCH_QUICK=smoke bench/run.sh failed (log: $(BUILD)/bench-smoke-test.log)"; exit 1; }
 	@echo "bench-smoke-test: every benchmark and mode ran at the smallest sizes ($(BUILD)/bench/RESULTS-smoke.md)"
 ifneq ($(filter check test,$(MAKECMDGOALS)),)
-bench-smoke-test: | $(filter mpi-check,$(CHECK_RUNS))
+bench-smoke-test: | $(if $(filter mpi-check,$(CHECK_RUNS)),mpi-render)
 endif
 
 test: check
