@@ -280,11 +280,12 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # and OpenVDB, where their headers are installed): those are other
 # projects' code, compiled only to be timed beside ours, and cost make
 # check 53 of its 535 CPU seconds where they are there (issue 38).  make
-# bench and make bench-smoke build them; BENCH_COMPARE=1 or 0 chooses.
+# bench and make bench-smoke build them (make bench-smoke-test, make
+# check's smoke, does not, run alone or not); BENCH_COMPARE=1 or 0 chooses.
 # The benchmarks that take them (and Embree: BENCH_EMBREE below) depend
 # on BENCH_CONFIG, rewritten when either choice changes, so make bench
 # after make check links them again.
-BENCH_COMPARE ?= $(if $(filter check test,$(MAKECMDGOALS)),0,1)
+BENCH_COMPARE ?= $(if $(filter check test bench-smoke-test,$(MAKECMDGOALS)),0,1)
 BENCH_CONFIG = $(BUILD)/bench/compare.config
 $(BENCH_CONFIG): FORCE
 	@mkdir -p $(@D)
