@@ -140,12 +140,13 @@ static ray_ray *rays_of(ray_scene *s, ray_vec3 c, double diag,
 }
 
 /* The mesh at path in a scene of its own (nop_scene_new, counting its
-** bytes into *bytes per triangle), with the centre and the diagonal of
-** its box; 0 where it cannot be read (a row says why). */
-static int load(const char *path, obj_mesh *obj, ray_scene **s, ray_vec3 *c,
-                double *diag, double *bytes)
+** bytes into *cnt, which must outlive the scene: its allocator writes
+** there until ray_scene_free, and into *bytes per triangle), with the
+** centre and the diagonal of its box; 0 where it cannot be read (a row
+** says why). */
+static int load(const char *path, obj_mesh *obj, ray_scene **s,
+                counting *cnt, ray_vec3 *c, double *diag, double *bytes)
 {
-    counting cnt = {0, 0};
     ray_mesh mesh;
     ray_vec3 lo, hi;
     char err[1200];
@@ -156,13 +157,14 @@ static int load(const char *path, obj_mesh *obj, ray_scene **s, ray_vec3 *c,
         return 0;
     }
     mesh = obj_as_ray_mesh(obj);
-    if (nop_scene_new(s, counting_alloc, &cnt) != RAY_OK ||
+    cnt->now = cnt->peak = 0;
+    if (nop_scene_new(s, counting_alloc, cnt) != RAY_OK ||
         ray_scene_add_mesh(*s, &mesh, 0, NULL) != RAY_OK ||
         ray_scene_commit(*s) != RAY_OK) {
         printf("| %s | (scene failed) |\n", path);
         exit(1);
     }
-    *bytes = (double)cnt.now / (double)obj->triangle_count;
+    *bytes = (double)cnt->now / (double)obj->triangle_count;
     lo = hi = obj->vertices[0];
     for (i = 1; i < obj->vertex_count; i++) {
         ray_vec3 v = obj->vertices[i];
@@ -183,12 +185,13 @@ static void bench_bunny(const char *path, unsigned res)
 {
     obj_mesh obj;
     ray_scene *s;
+    counting cnt;
     ray_ray *r;
     ray_vec3 c;
     size_t np, na;
     double diag, bytes;
 
-    if (!load(path, &obj, &s, &c, &diag, &bytes))
+    if (!load(path, &obj, &s, &cnt, &c, &diag, &bytes))
         return;
     r = rays_of(s, c, diag, res, &np, &na);
     if (r == NULL)
@@ -269,6 +272,7 @@ static int profile(const char *path, const char *kind, int times,
 {
     obj_mesh obj;
     ray_scene *s;
+    counting cnt;
     ray_ray *r;
     ray_hit *h;
     ray_vec3 c;
@@ -280,7 +284,7 @@ static int profile(const char *path, const char *kind, int times,
 
     if (!incoherent && !refit && !build && strcmp(kind, "primary") != 0)
         return 2;
-    if (!load(path, &obj, &s, &c, &diag, &bytes))
+    if (!load(path, &obj, &s, &cnt, &c, &diag, &bytes))
         return 1;
     if (build) {
         ray_scene_free(s);
