@@ -56,9 +56,15 @@ WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
 ALL_CFLAGS = $(WARN) -Iinclude $(CFLAGS) $(STD_CFLAGS)
 
 PKG_CONFIG ?= pkg-config
+# $(call memo,NAME,COMMAND), as NAME's value: COMMAND's output, run once a
+# make, where NAME is first used, and kept (as MLINKS below).  The probes
+# below ran again at every use: 166 pkg-config and 45 cc -print-multiarch
+# processes a make check (issue 38).  On first use, not when the
+# Makefile is read: after deps-build has installed what they ask about.
+memo = $(eval $(1) := $$(shell $(2)))$($(1))
 ifeq ($(PNG),1)
-PNG_CFLAGS  = $(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null)
-PNG_LIBS    = $(shell $(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
+PNG_CFLAGS  = $(call memo,PNG_CFLAGS,$(PKG_CONFIG) --cflags libpng 2>/dev/null)
+PNG_LIBS    = $(call memo,PNG_LIBS,$(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng)
 PNG_SRC_UNUSED = src/image/png_none.c
 else
 PNG_CFLAGS  =
@@ -70,8 +76,8 @@ endif
 # long double (-Wdouble-promotion) and use GNU's ", ## __VA_ARGS__"
 # (clang's -Wgnu-zero-variadic-macro-arguments), warnings about Check's
 # code, not ours.  In /usr/include it is a system header already.
-CHECK_CFLAGS = $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags check 2>/dev/null))
-CHECK_LIBS   = $(shell $(PKG_CONFIG) --libs check 2>/dev/null)
+CHECK_CFLAGS = $(patsubst -I%,-isystem %,$(call memo,CHECK_CFLAGS_PC,$(PKG_CONFIG) --cflags check 2>/dev/null))
+CHECK_LIBS   = $(call memo,CHECK_LIBS,$(PKG_CONFIG) --libs check 2>/dev/null)
 LIBS = $(PNG_LIBS) -lm -lpthread
 
 SRCS = $(filter-out $(PNG_SRC_UNUSED),$(wildcard src/*/*.c))
@@ -112,9 +118,9 @@ MLINKS_CMD = awk 'FNR == 1 {p = FILENAME; sub(/.*\//, "", p); sub(/\.3$$/, "", p
 
 .PHONY: all lib check test demo bench-counts caustics-png sanitize tsan examples header-test symbols-test layers-test \
         man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
-        deps-bench profile numerics links-test mpi-check mpi-demo deps-mpi \
+        deps-bench profile numerics links-test mpi-check mpi-render mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
-        check-examples-run check-long check-long-suite bench-smoke \
+        check-examples-run check-long check-long-suite bench-smoke bench-smoke-test \
         png-free-test install-test libray.pc cmake-config FORCE \
         amalgamation amalgamation-test amalgamation-test-long cmake-test abi-test abi-selftest layers-selftest abi-baseline exports-test \
         version-test dist distcheck print-srcs print-version deps-embed \
@@ -148,7 +154,7 @@ deps-bench: deps-build
 # src/scene/refit_avx2.c, the refit's leaf, likewise (triangles.c).
 AVX2_SRCS = src/query/intersect_avx2.c src/scene/refit_avx2.c
 AVX2_CFLAGS = $(if $(filter x86_64-% i386-% i486-% i586-% i686-% amd64-%,\
-                $(shell $(CC) -dumpmachine 2>/dev/null)),-mavx2)
+                $(call memo,CC_MACHINE,$(CC) -dumpmachine 2>/dev/null)),-mavx2)
 
 # The package probes run before any compile (order-only), so a parallel
 # make on a fresh machine does not compile against headers still being
@@ -211,10 +217,21 @@ $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(
 	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc $(PNG_CFLAGS) -DRAY_TEST_PNG=$(PNG) $(LDFLAGS) -o $@ tests/faultsim.c \
 	    $(STATIC) $(LIBS) $(patsubst %,-Wl$(comma)--wrap=%,$(FAULT_WRAPS))
 
-$(BUILD)/examples/%: examples/%.c $(wildcard examples/*.h) $(STATIC)
+# Each example an object first (EXAMPLE_OBJ), then linked: make check's
+# amalgamation-test links the same objects with the one-file library
+# (scripts/check-amalgamation.sh) instead of compiling seven examples
+# again, with the same flags, into the same code (issue 38).
+EXAMPLE_OBJ = $(BUILD)/examples/obj
+$(EXAMPLE_OBJ)/%.o: examples/%.c $(wildcard examples/*.h) include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(say) CC $<
-	$(Q)$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+	$(Q)$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(BUILD)/examples/%: $(EXAMPLE_OBJ)/%.o $(STATIC)
+	$(say) LD $@
+	$(Q)$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
+# Kept, not removed as intermediate files: amalgamation-test links them.
+EXAMPLE_OBJS = $(EXAMPLES:$(BUILD)/examples/%=$(EXAMPLE_OBJ)/%.o)
+.SECONDARY: $(EXAMPLE_OBJS)
 
 examples: $(EXAMPLES)
 
@@ -233,11 +250,18 @@ $(MPI_RENDER): examples/mpi_render.c $(wildcard examples/*.h) $(STATIC)
 	@mkdir -p $(@D)
 	OMPI_CC="$(CC)" $(MPICC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS)
 
-mpi-check: lib $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh $(BUILD)/examples/teapot
+# mpi-render builds mpi_render where the MPI tests run (MPI_CHECK=1,
+# mpicc and mpirun there), for mpi-check and make check's
+# bench-smoke-test (bench/mpi.sh), which wait for the program, not for
+# each other.
+MPI_HERE = [ "$(MPI_CHECK)" = 1 ] && command -v $(MPICC) >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1
+mpi-render: lib
+	@if $(MPI_HERE); then $(MAKE) --no-print-directory $(MPI_RENDER); fi
+mpi-check: lib mpi-render $(BUILD)/examples/whitted $(BUILD)/examples/cornell $(BUILD)/examples/mesh $(BUILD)/examples/teapot
 	@if [ "$(MPI_CHECK)" != 1 ]; then \
 	    echo "check: MPI tests skipped (MPI_CHECK=$(MPI_CHECK))"; \
-	elif command -v $(MPICC) >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1; then \
-	    $(MAKE) --no-print-directory $(MPI_RENDER) && scripts/check-mpi.sh $(BUILD); \
+	elif $(MPI_HERE); then \
+	    scripts/check-mpi.sh $(BUILD); \
 	else \
 	    echo "check: no mpicc/mpirun: MPI tests skipped (apt-get install libopenmpi-dev openmpi-bin, or make mpi-demo as root)"; \
 	fi
@@ -256,25 +280,32 @@ BENCHES = $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # and OpenVDB, where their headers are installed): those are other
 # projects' code, compiled only to be timed beside ours, and cost make
 # check 53 of its 535 CPU seconds where they are there (issue 38).  make
-# bench and make bench-smoke build them; BENCH_COMPARE=1 or 0 chooses.
-# The benchmarks that take them depend on BENCH_CONFIG, rewritten when
-# the choice changes, so make bench after make check links them again.
-BENCH_COMPARE ?= $(if $(filter check test,$(MAKECMDGOALS)),0,1)
+# bench and make bench-smoke build them (make bench-smoke-test, make
+# check's smoke, does not, run alone or not); BENCH_COMPARE=1 or 0 chooses.
+# The benchmarks that take them (and Embree: BENCH_EMBREE below) depend
+# on BENCH_CONFIG, rewritten when either choice changes, so make bench
+# after make check links them again.
+BENCH_COMPARE ?= $(if $(filter check test bench-smoke-test,$(MAKECMDGOALS)),0,1)
 BENCH_CONFIG = $(BUILD)/bench/compare.config
 $(BENCH_CONFIG): FORCE
 	@mkdir -p $(@D)
-	@echo "BENCH_COMPARE=$(BENCH_COMPARE)" | cmp -s - $@ || echo "BENCH_COMPARE=$(BENCH_COMPARE)" > $@
-$(BUILD)/bench/shapes $(BUILD)/bench/raycost $(BUILD)/bench/contains: $(BENCH_CONFIG)
+	@echo "BENCH_COMPARE=$(BENCH_COMPARE) BENCH_EMBREE=$(BENCH_EMBREE)" | cmp -s - $@ || \
+	    echo "BENCH_COMPARE=$(BENCH_COMPARE) BENCH_EMBREE=$(BENCH_EMBREE)" > $@
+$(BUILD)/bench/shapes $(BUILD)/bench/raycost $(BUILD)/bench/contains \
+    $(BUILD)/bench/mesh $(BUILD)/bench/game $(BUILD)/bench/packets: $(BENCH_CONFIG)
 # Embree is optional: used by the mesh, game and packets benchmarks when
-# its header is there.
-EMBREE_FLAGS = $(shell test -f /usr/include/embree3/rtcore.h && \
-                 echo "-DHAVE_EMBREE")
+# its header is there.  BENCH_EMBREE=0 builds them without it: make tsan
+# does, where Embree's threads, not built for ThreadSanitizer, report
+# races inside Embree that would fail make check's bench-smoke-test.
+BENCH_EMBREE ?= 1
+EMBREE_FLAGS = $(if $(filter 1,$(BENCH_EMBREE)),$(call memo,EMBREE_FLAGS,test -f /usr/include/embree3/rtcore.h && \
+                 echo "-DHAVE_EMBREE"))
 EMBREE_LIBS = $(if $(EMBREE_FLAGS),-lembree3)
 EMBREE_BENCHES = bench/mesh.c bench/game.c bench/packets.c bench/raycost.c
 # Bullet is optional too: bench/shapes.c compares the sweeps with its
 # convexSweepTest and rayTest where Debian's libbullet-dev is installed.
 # Bullet is C++: bench/bullet.cpp is built with $(CXX), only then.
-BULLET_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(shell test -f /usr/include/bullet/btBulletCollisionCommon.h && \
+BULLET_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(call memo,HAVE_BULLET,test -f /usr/include/bullet/btBulletCollisionCommon.h && \
                  echo "-DHAVE_BULLET"))
 BULLET_OBJ = $(if $(BULLET_FLAGS),$(BUILD)/bench/bullet.o)
 BULLET_LIBS = $(if $(BULLET_FLAGS),-lBulletCollision -lLinearMath -lstdc++)
@@ -287,7 +318,7 @@ $(BUILD)/bench/shapes: $(BULLET_OBJ)
 # beside Embree by bench/raycost.c, when the header is there: C++, built
 # with $(CXX) and AVX2 + FMA as its README asks, never part of the library.
 TINYBVH_DIR ?= ../shared/ext
-TINYBVH_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(shell test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH"))
+TINYBVH_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(call memo,HAVE_TINYBVH,test -f $(TINYBVH_DIR)/tiny_bvh.h && echo "-DHAVE_TINYBVH"))
 TINYBVH_OBJ = $(if $(TINYBVH_FLAGS),$(BUILD)/bench/tinybvh.o)
 TINYBVH_LIBS = $(if $(TINYBVH_FLAGS),-lstdc++)
 $(BUILD)/bench/tinybvh.o: bench/tinybvh.cpp bench/tinybvh.h
@@ -302,14 +333,14 @@ $(BUILD)/bench/raycost: $(TINYBVH_OBJ)
 # is there.  bench/cgal_vdb.cpp is C++17, built with $(CXX) only then, and
 # with -frounding-math, which CGAL's interval filters need under GCC
 # (CGAL manual, "Using CGAL on GCC": its kernel checks it at start-up).
-CGAL_FLAGS = $(shell test -f /usr/include/CGAL/Side_of_triangle_mesh.h && \
+CGAL_FLAGS = $(call memo,CGAL_FLAGS,test -f /usr/include/CGAL/Side_of_triangle_mesh.h && \
                echo "-DHAVE_CGAL")
-OPENVDB_FLAGS = $(shell test -f /usr/include/openvdb/tools/MeshToVolume.h && \
+OPENVDB_FLAGS = $(call memo,OPENVDB_FLAGS,test -f /usr/include/openvdb/tools/MeshToVolume.h && \
                   echo "-DHAVE_OPENVDB")
 CGAL_VDB_FLAGS = $(if $(filter 1,$(BENCH_COMPARE)),$(strip $(CGAL_FLAGS) $(OPENVDB_FLAGS)))
 CGAL_VDB_OBJ = $(if $(CGAL_VDB_FLAGS),$(BUILD)/bench/cgal_vdb.o)
 CGAL_VDB_LIBS = $(if $(CGAL_VDB_OBJ),$(if $(CGAL_FLAGS),-lmpfr -lgmp) \
-                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(shell $(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) -lstdc++)
+                $(if $(OPENVDB_FLAGS),-lopenvdb -ltbb $(call memo,IMATH_LIBS,$(PKG_CONFIG) --libs Imath 2>/dev/null || echo -lImath)) -lstdc++)
 $(BUILD)/bench/cgal_vdb.o: bench/cgal_vdb.cpp bench/cgal_vdb.h
 	@mkdir -p $(@D)
 	$(say) CXX $<
@@ -457,7 +488,7 @@ layers-selftest: $(OBJS)
 # among CHECK_JOBS processes itself (tests/check_main.c), the CPUs online
 # by default.  check's own recipe only prints the summary: the time taken,
 # the -j hint, and last, alone on its line, "checks: N passed, N failed".
-CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CHECK_JOBS ?= $(call memo,CHECK_JOBS,nproc 2>/dev/null || echo 2)
 # Plain make check (the README's command) runs its steps side by side by
 # itself, CHECK_JOBS at once: one step at a time took 4 min 56 s of two
 # otherwise idle cores, make -j2 check well under half of that (issue 38).
@@ -479,7 +510,7 @@ endif
 CHECK_T0 := $(shell date +%s)
 CHECK_SUMMARY = $(BUILD)/tests/summary
 CHECK_RUNS = check-suite check-faultsim fuzz-replay check-examples-run $(if $(filter 1,$(PNG)),mpi-check) \
-    $(if $(filter 1,$(BENCH_SMOKE)),bench-smoke)
+    bench-smoke-test $(if $(filter 1,$(BENCH_SMOKE)),bench-smoke)
 
 # The suite is the longest step, so it must not start last: make -j hands
 # a free slot to the next ready prerequisite in the order it meets them,
@@ -489,7 +520,7 @@ CHECK_RUNS = check-suite check-faultsim fuzz-replay check-examples-run $(if $(fi
 CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test license-test \
     links-test snippets-test pages-test bench-docs-test install-test png-free-test \
     version-test abi-test exports-test amalgamation-test check-faultsim fuzz-replay \
-    check-examples-run mpi-check bench-smoke
+    check-examples-run mpi-check mpi-render bench-smoke bench-smoke-test
 # The programs the other steps build wait too: make starts a ready
 # target only when its pass over check's prerequisites reaches it, and a
 # pass blocks on each free slot, so a suite skipped early in the pass
@@ -497,18 +528,20 @@ CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test lice
 # example, benchmark and fuzz replay build and most of the other steps:
 # make -j2 check started the suite 2 minutes after linking it.
 ifneq ($(filter check test,$(MAKECMDGOALS)),)
-$(CHECK_AFTER_SUITE) $(FAULTSIM) $(EXAMPLES) $(BENCHES) $(FUZZ_REPLAYS): | $(TEST_BIN)
+$(CHECK_AFTER_SUITE) $(FAULTSIM) $(EXAMPLES) $(EXAMPLE_OBJS) $(BENCHES) $(FUZZ_REPLAYS) $(FUZZ_REPLAY_OBJ): | $(TEST_BIN)
 endif
 # After the suite, the longest steps first (make -j starts them in this
 # order), each with what it builds: amalgamation-test compiles the
 # library again, and mpi-check and install-test wait on
 # mpirun and cmake more than they compute, so they go while the rest
-# still has work for the CPUs, not last, alone.
+# still has work for the CPUs, not last, alone; so does bench-smoke-test,
+# whose POV-Ray sleeps 5 of its 8 seconds (it waited for mpi-check
+# once, and ran last: 8 seconds more of make check's wall).
 check: deps-check lib check-suite amalgamation-test $(filter mpi-check,$(CHECK_RUNS)) install-test abi-test \
-       layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+       bench-smoke-test layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
        snippets-test pages-test bench-docs-test \
        $(if $(filter 0,$(PNG)),png-free-test) \
-       version-test exports-test $(filter-out check-suite mpi-check,$(CHECK_RUNS))
+       version-test exports-test $(filter-out check-suite mpi-check bench-smoke-test,$(CHECK_RUNS))
 	@t=$$(( $$(date +%s) - $(CHECK_T0) )); \
 	echo "check: all passed in $$((t / 60))m$$((t % 60))s on $$(nproc 2>/dev/null || echo ?) CPUs$(if $(filter -j%,$(MAKEFLAGS)),, (make -j$(CHECK_JOBS) check runs its steps side by side))"; \
 	cat $(CHECK_SUMMARY)
@@ -582,7 +615,7 @@ check-long-suite: deps-check lib $(TEST_BIN)
 # writing only bench/RESULTS-quick.md and the -quick plots, which git
 # ignores (bench/run.sh), never bench/RESULTS.md or doc/.  About a minute
 # of two cores: CI runs it as a step of its own; make check runs it too
-# with BENCH_SMOKE=1.
+# with BENCH_SMOKE=1.  make check runs bench-smoke-test, below, always.
 BENCH_SMOKE ?= 0
 bench-smoke: deps-bench lib $(BENCHES)
 	@echo "bench-smoke: BENCH_QUICK=1 bench/run.sh $(BUILD) (log: $(BUILD)/bench-smoke.log)"
@@ -590,6 +623,26 @@ bench-smoke: deps-bench lib $(BENCHES)
 	    tail -n 40 $(BUILD)/bench-smoke.log; \
 	    echo "bench-smoke: BENCH_QUICK=1 bench/run.sh failed (log: $(BUILD)/bench-smoke.log)"; exit 1; }
 	@echo "bench-smoke: every benchmark ran (bench/RESULTS-quick.md)"
+
+# make check's smoke of the benchmarks (issue 38): bench/run.sh with
+# BENCH_QUICK=smoke runs every program and every mode of the quick run
+# once at the smallest sizes (a few rays, pixels and photons, one
+# repetition; a small sphere for the bunny's files, so the same with or
+# without data/), fails on any program's failure, and writes only
+# $(BUILD)/bench/RESULTS-smoke.md and its -smoke plots.  About 3 CPU
+# seconds (POV-Ray, where installed, sleeps a few more).  It installs
+# nothing: gnuplot and POV-Ray are used where they are.  Under make
+# check it waits for mpi-render, which builds mpi_render where the MPI
+# tests run, so that bench/mpi.sh's rows run too.
+bench-smoke-test: lib $(BENCHES)
+	@echo "bench-smoke-test: BENCH_QUICK=smoke bench/run.sh $(BUILD) (log: $(BUILD)/bench-smoke-test.log)"
+	@BENCH_QUICK=smoke bench/run.sh $(BUILD) > $(BUILD)/bench-smoke-test.log 2>&1 || { \
+	    tail -n 40 $(BUILD)/bench-smoke-test.log; \
+	    echo "bench-smoke-test: BENCH_QUICK=smoke bench/run.sh failed (log: $(BUILD)/bench-smoke-test.log)"; exit 1; }
+	@echo "bench-smoke-test: every benchmark and mode ran at the smallest sizes ($(BUILD)/bench/RESULTS-smoke.md)"
+ifneq ($(filter check test,$(MAKECMDGOALS)),)
+bench-smoke-test: | $(if $(filter mpi-check,$(CHECK_RUNS)),mpi-render)
+endif
 
 test: check
 
@@ -615,10 +668,17 @@ FUZZ_TIMEOUT ?= 25
 # more than this (issue 14, defect 4).
 FUZZ_FLAGS_fuzz_png ?= -rss_limit_mb=2048 -malloc_limit_mb=512
 
-$(BUILD)/fuzz-replay/%: fuzz/%.c fuzz/replay.c fuzz/fuzz.h tests/winding_ref.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
+# fuzz/replay.c (the driver, the same for every target) compiled once,
+# not once a target (ten compiles a make check).
+FUZZ_REPLAY_OBJ = $(BUILD)/fuzz-replay/obj/replay.o
+$(FUZZ_REPLAY_OBJ): fuzz/replay.c fuzz/fuzz.h include/ray.h | deps-build
 	@mkdir -p $(@D)
 	$(say) CC $<
-	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests $(LDFLAGS) -o $@ $< fuzz/replay.c $(STATIC) $(LIBS)
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests -c $< -o $@
+$(BUILD)/fuzz-replay/%: fuzz/%.c $(FUZZ_REPLAY_OBJ) fuzz/fuzz.h tests/winding_ref.h $(wildcard examples/*.h) $(PRIVATE_HEADERS) $(STATIC)
+	@mkdir -p $(@D)
+	$(say) CC $<
+	$(Q)$(CC) $(ALL_CFLAGS) -Iexamples -Isrc -Itests $(LDFLAGS) -o $@ $< $(FUZZ_REPLAY_OBJ) $(STATIC) $(LIBS)
 
 fuzz-replay: $(FUZZ_REPLAYS)
 	@for t in $(FUZZ_TARGETS); do \
@@ -705,7 +765,8 @@ check-o1:
 TSAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=thread
 tsan:
 	CK_TIMEOUT_MULTIPLIER=$(SAN_TIMEOUT_MULTIPLIER) RAY_FILTER_RAYS=$(SAN_FILTER_RAYS) RAY_CHECK_LONG=1 \
-	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0 EMBED_CHECK=0
+	    $(MAKE) check BUILD=$(BUILD)/tsan CFLAGS="$(TSAN_FLAGS)" LDFLAGS="$(TSAN_FLAGS)" MPI_CHECK=0 EMBED_CHECK=0 \
+	    BENCH_EMBREE=0
 
 # ----------------------------------------------------- coverage, mutants
 # Line and branch coverage of src/ by what make check runs that exercises
@@ -878,7 +939,7 @@ rel_to_prefix = $(if $(filter $(PREFIX)/%,$(1)),$(2)/$(patsubst $(PREFIX)/%,%,$(
 space := $() $()
 CMAKE_UP = $(subst $(space),/,$(patsubst %,..,$(subst /, ,$(patsubst $(PREFIX)/%,%,$(CMAKEDIR)))))
 # The pointer size the library was built for, which a CMake project must share.
-SIZEOF_VOID_P = $(shell echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
+SIZEOF_VOID_P = $(call memo,SIZEOF_VOID_P,echo __SIZEOF_POINTER__ | $(CC) -E -P - 2>/dev/null | tail -n 1)
 CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}/$(CMAKE_UP),$(PREFIX))
 
 # A program linked with `pkg-config --libs libray` must find libray.so.1
@@ -890,7 +951,7 @@ CMAKE_PREFIX = $(if $(filter $(PREFIX)/%,$(CMAKEDIR)),$${CMAKE_CURRENT_LIST_DIR}
 # program runs without LD_LIBRARY_PATH (a moved install through
 # pkg-config --define-prefix too: ${libdir} follows ${prefix}).
 # PC_RPATH=0 leaves it out (a distribution package), PC_RPATH=1 forces it.
-MULTIARCH = $(shell $(CC) -print-multiarch 2>/dev/null)
+MULTIARCH = $(call memo,MULTIARCH,$(CC) -print-multiarch 2>/dev/null)
 LOADER_DIRS = /lib /usr/lib /lib64 /usr/lib64 \
     $(if $(MULTIARCH),/lib/$(MULTIARCH) /usr/lib/$(MULTIARCH))
 PC_RPATH ?= $(if $(filter $(patsubst %/,%,$(LIBDIR)),$(LOADER_DIRS)),0,1)
@@ -911,7 +972,7 @@ RUN_LDCONFIG = if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ] && \
 # it), where the linker takes -Bstatic: GNU ld, gold and lld do, Apple's
 # ld does not (PC_BSTATIC=0 there: --static then links libray.so, as
 # pkg-config has no other way to choose the archive).
-PC_BSTATIC ?= $(if $(findstring darwin,$(shell $(CC) -dumpmachine 2>/dev/null)),0,1)
+PC_BSTATIC ?= $(if $(findstring darwin,$(call memo,CC_MACHINE,$(CC) -dumpmachine 2>/dev/null)),0,1)
 
 libray.pc:
 	@mkdir -p $(BUILD)
@@ -969,9 +1030,10 @@ uninstall:
 	    $(DESTDIR)$(INCLUDEDIR)/ray.h $(DESTDIR)$(PKGCONFIGDIR)/libray.pc \
 	    $(DESTDIR)$(CMAKEDIR)/librayConfig.cmake \
 	    $(DESTDIR)$(CMAKEDIR)/librayConfigVersion.cmake
-	for f in $(notdir $(wildcard man/man3/*.3)); do rm -f $(DESTDIR)$(MANDIR)/man3/$$f; done
-	for l in $(MLINKS); do rm -f $(DESTDIR)$(MANDIR)/man3/$${l##*:}.3; done
-	for f in $(notdir $(wildcard man/man7/*.7)); do rm -f $(DESTDIR)$(MANDIR)/man7/$$f; done
+	@echo "rm -f the man pages and their links in $(DESTDIR)$(MANDIR)/man3 and man7 (one rm)"
+	@rm -f $(addprefix $(DESTDIR)$(MANDIR)/man3/,$(notdir $(wildcard man/man3/*.3)) \
+	    $(addsuffix .3,$(foreach l,$(MLINKS),$(lastword $(subst :, ,$(l)))))) \
+	    $(addprefix $(DESTDIR)$(MANDIR)/man7/,$(notdir $(wildcard man/man7/*.7)))
 	rm -f $(DESTDIR)$(DOCDIR)/LICENSE
 	@scripts/install-dirs.sh remove "$(DESTDIR)" "$(PREFIX)" "$(DIRS_LIST)" \
 	    $(DOCDIR) $(CMAKEDIR)

@@ -25,7 +25,7 @@
 #include "prim/watertight.h"
 
 static int reps = 5;
-static int quick;
+static int quick, smoke;
 
 /* The q-quantile (0..1) of v[0..n-1], sorting v. */
 static double quantile(double *v, size_t n, double q)
@@ -348,8 +348,8 @@ static void primitive_row(int v, const work *w, const char *failures,
 
 static void primitives(void)
 {
-    size_t n = quick ? 20000 : 200000;
-    long hard = quick ? 5000 : 50000;
+    size_t n = smoke ? 200 : quick ? 20000 : 200000;
+    long hard = smoke ? 50 : quick ? 5000 : 50000;
     work sw = sphere_work(n), tw = triangle_work(n), pw = plane_work(n);
     char f[4][160];
     double base;
@@ -393,7 +393,7 @@ static void primitives(void)
     {
         double t0, nb, nn;
         rng g = {4};
-        size_t i, m = quick ? 20000 : 200000;
+        size_t i, m = smoke ? 200 : quick ? 20000 : 200000;
         ray_vec3 *pts = malloc(4 * m * sizeof *pts);
         double abg[3], sink = 0;
         for (i = 0; i < 4 * m; i++)
@@ -424,7 +424,7 @@ static void primitives(void)
         /* Polygons: one variant (the ray-frame crossing test); its cost
         ** per test on quads, and the shared-edge partition. */
         rng g = {6};
-        size_t i, m = quick ? 20000 : 200000, both = 0, none = 0;
+        size_t i, m = smoke ? 200 : quick ? 20000 : 200000, both = 0, none = 0;
         double t0, ns;
         ray_vec3 q[4] = {{0.1, 0.2, 0}, {3.7, 0.3, 0}, {2.9, 4.1, 0},
                          {0.2, 3.3, 0}}, left[3], right[3];
@@ -614,11 +614,11 @@ static size_t prim_mismatches(int p, int v, const work *w, char *note,
 
 static void primitives_vs_reference(void)
 {
-    size_t n = quick ? 20000 : 200000;
+    size_t n = smoke ? 200 : quick ? 20000 : 200000;
     work sw = sphere_work(n), tw = triangle_work(n), pw = plane_work(n);
     const work *wp[P_COUNT];
     char note[1024] = "";
-    int p, preps = quick ? 7 : 15;   /* a pass is 2 to 20 ms */
+    int p, preps = smoke ? 1 : quick ? 7 : 15;   /* a pass is 2 to 20 ms */
 
     wp[P_SPHERE] = &sw;
     wp[P_PLANE] = &pw;
@@ -796,7 +796,7 @@ static void sliver_row(const char *name, tri_test_fn fn, double X, size_t n)
 static void slivers(void)
 {
     static const double X[] = {0, 1e5, 1e6};
-    size_t n = quick ? 20000 : 100000;
+    size_t n = smoke ? 200 : quick ? 20000 : 100000;
     int k;
 
     printf("### Needle and cap triangles\n\n"
@@ -861,7 +861,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
     unsigned k, d;
 
     o = (ray_render_options){.width = w, .height = h};
-    o.samples = quick ? 64 : 256;
+    o.samples = smoke ? 4 : quick ? 64 : 256;
     o.seed = 0x5eed;         /* independent of the measured renders' noise */
     render_timed(s, cam, &o, ref, &st);
     printf("#### %s (%ux%u, reference %u samples per pixel)\n\n", name, w, h,
@@ -901,7 +901,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
         o = (ray_render_options){.width = w, .height = h};
-        o.samples = quick ? 4 : 16;
+        o.samples = smoke ? 1 : quick ? 4 : 16;
         t = render_timed(s2, &c2, &o, img, &st);
         e = rmse(img, ref, n);
         printf("| maximum depth (%u spp) | %u | %.3f | %llu | %.4f | %.1f |\n",
@@ -916,7 +916,7 @@ static void image_curves(const char *name, const char *tag, ray_scene *s,
         ray_scene *s2 = rebuild(&lim, &c2, arg);
         double t, e;
         o = (ray_render_options){.width = w, .height = h};
-        o.samples = quick ? 4 : 16;
+        o.samples = smoke ? 1 : quick ? 4 : 16;
         t = render_timed(s2, &c2, &o, img, &st);
         e = rmse(img, ref, n);
         printf("| minimum weight (%u spp) | %g | %.3f | %llu | %.4f | %.1f |\n",
@@ -1033,7 +1033,7 @@ static void offsets(void)
 {
     static const double dist[] = {0, 1e5, 1e6};
     static const char *names[] = {"no offset", "fixed 1e-4", "ray_spawn"};
-    unsigned w = quick ? 96 : 256, h = w;
+    unsigned w = smoke ? 8 : quick ? 96 : 256, h = w;
     float *img = malloc(3 * (size_t)w * h * sizeof *img);
     int k, m, floor;
 
@@ -1084,10 +1084,11 @@ int main(int argc, char **argv)
     ray_camera cam;
     ray_scene *s;
 
-    quick = getenv("BENCH_QUICK") != NULL;
-    reps = quick ? 3 : 5;
-    w = quick ? 64 : 160;
-    h = quick ? 48 : 120;
+    quick = bench_level() != BENCH_FULL;
+    smoke = bench_level() == BENCH_SMOKE;
+    reps = smoke ? 1 : quick ? 3 : 5;
+    w = smoke ? 16 : quick ? 64 : 160;
+    h = smoke ? 12 : quick ? 48 : 120;
     snprintf(bunny, sizeof bunny, "%s/bunny.obj", dir);
     printf("## What accuracy costs\n\n");
     if (getenv("BENCH_SLIVERS_ONLY") != NULL) {   /* the table alone */

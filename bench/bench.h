@@ -15,6 +15,22 @@
 #include "ray.h"
 #include "testkit.h"
 
+/* The sizes a benchmark runs at, from BENCH_QUICK: unset or empty, the
+** full run of make bench (BENCH_FULL); "smoke", make check's smoke test
+** (BENCH_SMOKE: bench/run.sh runs every program and every mode once, at
+** the smallest sizes, a few rays or pixels, one repetition, so that none
+** breaks unseen; its figures mean nothing); any other value, the quick
+** run of make bench-smoke (BENCH_QUICK_RUN, under a minute). */
+enum { BENCH_FULL, BENCH_QUICK_RUN, BENCH_SMOKE };
+static inline int bench_level(void)
+{
+    const char *q = getenv("BENCH_QUICK");
+
+    if (q == NULL || *q == '\0')
+        return BENCH_FULL;
+    return strcmp(q, "smoke") == 0 ? BENCH_SMOKE : BENCH_QUICK_RUN;
+}
+
 /* The ray through pixel (x, y) of a res x res image from a camera on +z
 ** at dist diagonals from "centre", looking down -z, 45 degrees: the mesh
 ** benchmarks' primary rays. */

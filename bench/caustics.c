@@ -72,10 +72,11 @@ int main(int argc, char **argv)
     static const unsigned long long counts[] = {10000, 30000, 100000,
                                                 300000, 1000000};
     const char *plots = argc > 1 ? argv[1] : ".";
-    int quick = getenv("BENCH_QUICK") != NULL;
-    int reps = quick ? 1 : REPS, n_counts = quick ? 4 : 5, i, k;
-    unsigned long long ref_n = quick ? 1000000 : 4000000;
-    size_t n = 3 * (size_t)WIDTH * HEIGHT;
+    int level = bench_level(), smoke = level == BENCH_SMOKE;
+    int reps = level ? 1 : REPS, n_counts = smoke ? 2 : level ? 4 : 5, i, k;
+    unsigned long long ref_n = smoke ? 20000 : level ? 1000000 : 4000000;
+    unsigned width = smoke ? 16 : WIDTH, height = smoke ? 12 : HEIGHT;
+    size_t n = 3 * (size_t)width * height;
     float *ref = malloc(n * sizeof *ref), *img = malloc(n * sizeof *img);
     float *base = malloc(n * sizeof *base), *c = malloc(n * sizeof *c);
     double ref_rms, t_ref;
@@ -96,7 +97,7 @@ int main(int argc, char **argv)
         perror(path);
         return 1;
     }
-    o = (ray_render_options){.width = WIDTH, .height = HEIGHT};
+    o = (ray_render_options){.width = width, .height = height};
     o.threads = THREADS;
     /* The reference: its own seed, its render without photons subtracted. */
     o.seed = 4242;
@@ -122,7 +123,7 @@ int main(int argc, char **argv)
            "caustic's RMS (%.4g). Times: medians of %d interleaved\n"
            "rounds; pass = `ray_photon_map_build`, gather = the render "
            "with photons minus the\npass and the render without.\n\n",
-           WIDTH, HEIGHT, THREADS, ref_n, t_ref, st.photons_stored, ref_rms,
+           width, height, THREADS, ref_n, t_ref, st.photons_stored, ref_rms,
            reps);
     printf("| photons | stored | pass (s) | gather (s) | render (s) | "
            "without (s) | RMSE | relative |\n");

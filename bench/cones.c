@@ -110,9 +110,9 @@ static ray_scene *floor_scene(ray_phong_params *p, ray_texture tex,
 int main(void)
 {
     static const unsigned spp[] = {1, 4, 16};
-    int quick = getenv("BENCH_QUICK") != NULL;
-    int reps = quick ? 1 : 9, k, i;
-    unsigned w = quick ? 160 : 640, h = quick ? 90 : 360;
+    int level = bench_level(), smoke = level == BENCH_SMOKE;
+    int reps = level ? 1 : 9, k, i;
+    unsigned w = smoke ? 16 : level ? 160 : 640, h = smoke ? 9 : level ? 90 : 360;
     size_t n = (size_t)w * h;
     ray_image *img = checker_image(256);
     ray_phong_params p, pw;
@@ -137,7 +137,7 @@ int main(void)
     sw = floor_scene(&pw, wt, &cam);
     o = (ray_render_options){.width = w, .height = h};
     o.threads = 2;
-    o.samples = 256;
+    o.samples = smoke ? 16 : 256;
     o.no_cones = 1;
     t_ref = render(s, &cam, &o, ref);
     printf("## Ray cones: a textured floor to the horizon\n\n");

@@ -369,18 +369,20 @@ static size_t sign_errors(const float *f, const signed char *ref, size_t n,
 
 int main(int argc, char **argv)
 {
-    const int quick = getenv("BENCH_QUICK") != NULL;
-    const int reps = quick ? 3 : 7;
+    const int level = bench_level(), quick = level != BENCH_FULL;
+    const int smoke = level == BENCH_SMOKE;
+    const int reps = smoke ? 1 : quick ? 3 : 7;
     /* The full field's bakes take tens of seconds at 128^3: one. */
     const int grid_reps[2] = {1, quick ? 1 : 3};
-    const size_t n_uniform = quick ? 100000 : 1000000;
-    const unsigned gn = quick ? 32 : 128, sub = quick ? 8 : 16;
+    const size_t n_uniform = smoke ? 100 : quick ? 100000 : 1000000;
+    const unsigned gn = smoke ? 8 : quick ? 32 : 128,
+                   sub = smoke ? 4 : quick ? 8 : 16;
     const unsigned holes = 8;
     /* The exact winding number costs a pass over 59k triangles a point
     ** (milliseconds): a few thousand points. */
-    const size_t n_wind = quick ? 200 : 2000;
+    const size_t n_wind = smoke ? 10 : quick ? 200 : 2000;
     /* Closest points over the whole scene: tens of microseconds each. */
-    const size_t n_close = quick ? 2000 : 20000;
+    const size_t n_close = smoke ? 10 : quick ? 2000 : 20000;
     const int wreps = quick ? 1 : 3;
     const char *band_env = getenv("CONTAINS_BAND");
     const int band_only = band_env != NULL && strcmp(band_env, "1") == 0;

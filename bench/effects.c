@@ -144,12 +144,12 @@ static void antialiasing_rows(const char *name, scene_fn make,
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "data";
-    int quick = getenv("BENCH_QUICK") != NULL;
-    unsigned w = quick ? 160 : 320, h = quick ? 120 : 240;
-    unsigned aw = quick ? 80 : 160, ah = quick ? 60 : 120;
+    int level = bench_level(), smoke = level == BENCH_SMOKE;
+    unsigned w = smoke ? 16 : level ? 160 : 320, h = smoke ? 12 : level ? 120 : 240;
+    unsigned aw = smoke ? 8 : level ? 80 : 160, ah = smoke ? 6 : level ? 60 : 120;
     char bunny[512];
 
-    reps = quick ? 1 : 3;
+    reps = level ? 1 : 3;
     snprintf(bunny, sizeof bunny, "%s/bunny.obj", dir);
     printf("## Simulating only what the scene needs\n\n");
     printf("Pruned (effect analysis, weight cut-off 1/256, no rays for zero "

@@ -140,12 +140,13 @@ static ray_ray *rays_of(ray_scene *s, ray_vec3 c, double diag,
 }
 
 /* The mesh at path in a scene of its own (nop_scene_new, counting its
-** bytes into *bytes per triangle), with the centre and the diagonal of
-** its box; 0 where it cannot be read (a row says why). */
-static int load(const char *path, obj_mesh *obj, ray_scene **s, ray_vec3 *c,
-                double *diag, double *bytes)
+** bytes into *cnt, which must outlive the scene: its allocator writes
+** there until ray_scene_free, and into *bytes per triangle), with the
+** centre and the diagonal of its box; 0 where it cannot be read (a row
+** says why). */
+static int load(const char *path, obj_mesh *obj, ray_scene **s,
+                counting *cnt, ray_vec3 *c, double *diag, double *bytes)
 {
-    counting cnt = {0, 0};
     ray_mesh mesh;
     ray_vec3 lo, hi;
     char err[1200];
@@ -156,13 +157,14 @@ static int load(const char *path, obj_mesh *obj, ray_scene **s, ray_vec3 *c,
         return 0;
     }
     mesh = obj_as_ray_mesh(obj);
-    if (nop_scene_new(s, counting_alloc, &cnt) != RAY_OK ||
+    cnt->now = cnt->peak = 0;
+    if (nop_scene_new(s, counting_alloc, cnt) != RAY_OK ||
         ray_scene_add_mesh(*s, &mesh, 0, NULL) != RAY_OK ||
         ray_scene_commit(*s) != RAY_OK) {
         printf("| %s | (scene failed) |\n", path);
         exit(1);
     }
-    *bytes = (double)cnt.now / (double)obj->triangle_count;
+    *bytes = (double)cnt->now / (double)obj->triangle_count;
     lo = hi = obj->vertices[0];
     for (i = 1; i < obj->vertex_count; i++) {
         ray_vec3 v = obj->vertices[i];
@@ -183,12 +185,13 @@ static void bench_bunny(const char *path, unsigned res)
 {
     obj_mesh obj;
     ray_scene *s;
+    counting cnt;
     ray_ray *r;
     ray_vec3 c;
     size_t np, na;
     double diag, bytes;
 
-    if (!load(path, &obj, &s, &c, &diag, &bytes))
+    if (!load(path, &obj, &s, &cnt, &c, &diag, &bytes))
         return;
     r = rays_of(s, c, diag, res, &np, &na);
     if (r == NULL)
@@ -269,6 +272,7 @@ static int profile(const char *path, const char *kind, int times,
 {
     obj_mesh obj;
     ray_scene *s;
+    counting cnt;
     ray_ray *r;
     ray_hit *h;
     ray_vec3 c;
@@ -280,7 +284,7 @@ static int profile(const char *path, const char *kind, int times,
 
     if (!incoherent && !refit && !build && strcmp(kind, "primary") != 0)
         return 2;
-    if (!load(path, &obj, &s, &c, &diag, &bytes))
+    if (!load(path, &obj, &s, &cnt, &c, &diag, &bytes))
         return 1;
     if (build) {
         ray_scene_free(s);
@@ -376,7 +380,8 @@ int main(int argc, char **argv)
     const char *dir = argc > 1 ? argv[1] : "data";
     static const char *const names[3] = {"bunny.obj", "bunny-2.obj",
                                          "bunny-4.obj"};
-    int quick = getenv("BENCH_QUICK") != NULL;
+    int level = bench_level(), quick = level != BENCH_FULL;
+    int smoke = level == BENCH_SMOKE;
     size_t k;
     char path[1024];
 
@@ -384,7 +389,7 @@ int main(int argc, char **argv)
         return profile(argv[2], argv[3], 20,
                        argc == 5 ? (unsigned)strtoul(argv[4], NULL, 10) : 1);
     if (quick)
-        reps = 3;
+        reps = smoke ? 1 : 3;
     printf("## What exactness costs: the float filter\n\n");
     printf("One thread, the same rays through the same tree in three modes: "
            "the exact double test alone, the float filter in front of it "
@@ -401,9 +406,9 @@ int main(int argc, char **argv)
     printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (k = 0; k < (quick ? 2u : 3u); k++) {
         snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        bench_bunny(path, quick ? 256 : 512);
+        bench_bunny(path, smoke ? 8 : quick ? 256 : 512);
     }
-    bench_leaks(quick ? 5 : 6);
+    bench_leaks(smoke ? 1 : quick ? 5 : 6);
     printf("\n");
     return 0;
 }

@@ -996,7 +996,7 @@ static void frame_row(int quick)
         "Embree (commits on its pool)"};
     size_t nv = (size_t)FRAME_AROUND * (FRAME_ALONG + 1),
            nt = 2 * (size_t)FRAME_AROUND * FRAME_ALONG,
-           nr = quick ? 10000 : 100000, i, hits[FRAME_WORLDS], same = 0, d;
+           nr = bench_level() == BENCH_SMOKE ? 100 : quick ? 10000 : 100000, i, hits[FRAME_WORLDS], same = 0, d;
     unsigned *cidx = tube_indices(FRAME_AROUND, FRAME_ALONG),
              *pidx = tube_indices(12, 4), *inst[FRAME_WORLDS];
     float *cv[FRAME_CHARS], pv[3 * 12 * 5 + 1];
@@ -1163,10 +1163,11 @@ static void frame_row(int quick)
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "data";
-    int quick = getenv("BENCH_QUICK") != NULL;
+    int level = bench_level(), quick = level != BENCH_FULL;
+    unsigned res = level == BENCH_SMOKE ? 8u : quick ? 256u : 512u;
     obj_mesh mid;
 
-    reps = quick ? 3 : REPS;
+    reps = level == BENCH_SMOKE ? 1 : quick ? 3 : REPS;
     /* game DATA_DIR frame: the frame's table alone (perf record);
     ** game DATA_DIR instances: the instances' row alone (callgrind). */
     if (argc > 2 && strcmp(argv[2], "frame") == 0) {
@@ -1175,7 +1176,7 @@ int main(int argc, char **argv)
     }
     mid = load(dir, "bunny-2.obj");
     if (argc > 2 && strcmp(argv[2], "instances") == 0) {
-        instances_row(&mid, quick ? 256u : 512u);
+        instances_row(&mid, res);
         obj_free(&mid);
         return 0;
     }
@@ -1213,10 +1214,10 @@ int main(int argc, char **argv)
     }
     printf("\n### Instances\n\n| what | ours | Embree | ours / Embree |\n"
            "|---|---|---|---|\n");
-    instances_row(&mid, quick ? 256u : 512u);
+    instances_row(&mid, res);
     printf("### Gates on the query path (bunny-2, %ux%u camera rays)\n\n",
-           quick ? 256u : 512u, quick ? 256u : 512u);
-    gates_rows(&mid, quick ? 256u : 512u);
+           res, res);
+    gates_rows(&mid, res);
     obj_free(&mid);
     frame_row(quick);
     return 0;

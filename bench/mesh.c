@@ -763,7 +763,7 @@ static void bench_closest(const char *path)
 ** (tests/check_bvh.c), which ray.h quotes: deterministic, timed not. */
 static void bench_grid_memory(void)
 {
-    enum { N = 724 };
+    const unsigned N = bench_level() == BENCH_SMOKE ? 8 : 724;
     counting cnt = {0, 0};
     ray_vec3 *v;
     unsigned *idx;
@@ -908,13 +908,13 @@ static void print_isa(void)
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "data";
-    int quick = getenv("BENCH_QUICK") != NULL;
-    unsigned res = quick ? 256 : 1024;
+    int level = bench_level(), quick = level != BENCH_FULL;
+    unsigned res = level == BENCH_SMOKE ? 8 : quick ? 256 : 1024;
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     unsigned cpus = n > 0 ? (n > 256 ? 256 : (unsigned)n) : 1;
     char path[512];
 
-    reps = quick ? 3 : 5;
+    reps = level == BENCH_SMOKE ? 1 : quick ? 3 : 5;
     printf("## Meshes: the Stanford bunny, BVH vs %s\n\n",
 #ifdef HAVE_EMBREE
            "Embree " RTC_VERSION_STRING " (rtcIntersect1 / rtcOccluded1, "

@@ -6,28 +6,30 @@
 */
 #include <stdio.h>
 
+#include "bench.h"
 #include "hardcases.h"
 
 int main(void)
 {
     static const double radii[] = {1e-2, 1.0}, dists[] = {1e4, 1e6};
     ray_vec3 centres[3];
-    int quick = getenv("BENCH_QUICK") != NULL, i, j, k;
-    long rays = quick ? 20000 : 125000;
+    int level = bench_level(), i, j, k;
+    long rays = level == BENCH_SMOKE ? 200 : level ? 20000 : 125000;
+    int grid = level == BENCH_SMOKE ? 21 : 201;
 
     centres[0] = v3(0, 0, 0);
     centres[1] = v3(1e5, 1e5, 1e5);
     centres[2] = v3(148376, 1234, -223423);
     printf("## Hard cases: naive against robust\n\n");
-    printf("Sphere far from the ray origin: 201x201 orthographic rays over "
+    printf("Sphere far from the ray origin: %dx%d orthographic rays over "
            "the silhouette; wrong hit/miss, and the largest error of t in "
-           "ulps, against long double.\n\n");
+           "ulps, against long double.\n\n", grid, grid);
     printf("| radius | distance | naive wrong | naive max ulps | robust wrong "
            "| robust max ulps |\n|---|---|---|---|---|---|\n");
     for (i = 0; i < 2; i++)
         for (j = 0; j < 2; j++) {
-            hc_sphere_result n = hc_sphere_far(radii[i], dists[j], 201, 1);
-            hc_sphere_result r = hc_sphere_far(radii[i], dists[j], 201, 0);
+            hc_sphere_result n = hc_sphere_far(radii[i], dists[j], grid, 1);
+            hc_sphere_result r = hc_sphere_far(radii[i], dists[j], grid, 0);
             printf("| %g | %g | %ld of %ld | %.3g | %ld | %.3g |\n", radii[i],
                    dists[j], n.wrong, n.rays, n.max_ulps, r.wrong, r.max_ulps);
         }

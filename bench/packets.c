@@ -382,12 +382,12 @@ static void bench_mesh(const char *path, unsigned res, void *device)
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "data";
-    int quick = getenv("BENCH_QUICK") != NULL;
-    unsigned res = quick ? 256 : 1024;
+    int level = bench_level(), quick = level != BENCH_FULL;
+    unsigned res = level == BENCH_SMOKE ? 8 : quick ? 256 : 1024;
     char path[512];
     void *device = NULL;
 
-    reps = quick ? 3 : 5;
+    reps = level == BENCH_SMOKE ? 1 : quick ? 3 : 5;
     printf("## Packets: ray_intersect_batch / ray_occluded_batch against "
            "one ray at a time%s\n\n",
 #ifdef HAVE_EMBREE

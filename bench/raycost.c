@@ -468,10 +468,10 @@ static void camera_sets(const tools *t, ray_vec3 lo, ray_vec3 hi,
 
 int main(int argc, char **argv)
 {
-    const int quick = getenv("BENCH_QUICK") != NULL;
-    const int reps = quick ? 3 : 7;
-    const size_t n = quick ? 100000 : 1000000;
-    const unsigned res = quick ? 400 : 1024;
+    const int level = bench_level(), smoke = level == BENCH_SMOKE;
+    const int reps = smoke ? 1 : level ? 3 : 7;
+    const size_t n = smoke ? 100 : level ? 100000 : 1000000;
+    const unsigned res = smoke ? 8 : level ? 400 : 1024;
     char path[1024], err[2048];
     obj_mesh om;
     ray_mesh m, gm;

@@ -16,6 +16,17 @@
 # of the documentation: it writes bench/RESULTS-quick.md and
 # bench/accuracy-quick.png (both ignored by git) and copies nothing into
 # doc/, so the last full run's figures stay where they are.
+#
+# BENCH_QUICK=smoke: make check's smoke test (make bench-smoke-mini):
+# every program and every mode of the quick run, once, at the smallest
+# sizes (a few rays, pixels and photons, one repetition: bench/bench.h's
+# BENCH_SMOKE), a few CPU seconds in all, so that none breaks unseen.
+# The meshes are a small closed sphere written here in place of the
+# bunny's three files (nothing fetched, the same run with or without
+# data/); the figures mean nothing, and go to BUILD_DIR/bench/
+# RESULTS-smoke.md and its -smoke plots only, never bench/ or doc/.
+#
+# A benchmark that fails (exit status not 0) fails the run, named.
 set -eu
 mode=run
 case ${1:-} in
@@ -25,7 +36,16 @@ esac
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-if [ -n "${BENCH_QUICK:-}" ] && [ "$mode" = run ]; then
+smoke=0 kind=1
+if [ "${BENCH_QUICK:-}" = smoke ] && [ "$mode" = run ]; then
+    smoke=1 kind=smoke
+fi
+data=data
+if [ "$smoke" = 1 ]; then
+    out=$build/bench/RESULTS-smoke.md
+    plot=$build/bench/accuracy-smoke.png
+    cplot=$build/bench/caustics-smoke.png
+elif [ -n "${BENCH_QUICK:-}" ] && [ "$mode" = run ]; then
     out=bench/RESULTS-quick.md
     plot=bench/accuracy-quick.png
     cplot=bench/caustics-quick.png
@@ -37,44 +57,89 @@ fi
 plots=$(mktemp -d)
 trap 'rm -rf "$plots"' EXIT
 
+# sphere_obj SEGMENTS RINGS: a closed UV sphere, outward-facing, of
+# 2 x SEGMENTS x (RINGS - 1) triangles, as Wavefront OBJ: the smoke
+# run's stand-in for the bunny.
+sphere_obj() {
+    awk -v s="$1" -v r="$2" 'BEGIN {
+        pi = atan2(0, -1)
+        print "# bench/run.sh smoke mesh: a UV sphere"
+        print "v 0 0 1"
+        for (i = 1; i < r; i++)
+            for (j = 0; j < s; j++)
+                printf "v %.6f %.6f %.6f\n", sin(pi * i / r) * cos(2 * pi * j / s),
+                    sin(pi * i / r) * sin(2 * pi * j / s), cos(pi * i / r)
+        print "v 0 0 -1"
+        for (j = 0; j < s; j++)
+            print "f", 1, 2 + j, 2 + (j + 1) % s
+        for (i = 1; i < r - 1; i++)
+            for (j = 0; j < s; j++) {
+                a = 2 + (i - 1) * s + j; b = 2 + (i - 1) * s + (j + 1) % s
+                print "f", a, a + s, b + s
+                print "f", a, b + s, b
+            }
+        for (j = 0; j < s; j++)
+            print "f", 2 + (r - 2) * s + j, 2 + (r - 1) * s, 2 + (r - 2) * s + (j + 1) % s
+    }'
+}
+
+# b PROGRAM ARGS: one benchmark; its failure stops the run, named (the
+# list runs in a pipeline into tee, whose status alone sh would see).
+b() {
+    "$@" || { rc=$?; echo "bench: $* failed (exit status $rc)" >&2; exit 1; }
+}
+
 if [ "$mode" = run ]; then
-    scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or curl needed): mesh rows skipped" >&2
+    if [ "$smoke" = 1 ]; then
+        data=$plots/data
+        mkdir -p "$data" "$build/bench"
+        sphere_obj 16 8 > "$data/bunny.obj"
+        cp "$data/bunny.obj" "$data/bunny-2.obj"
+        cp "$data/bunny.obj" "$data/bunny-4.obj"
+    else
+        scripts/fetch-bunny.sh data >/dev/null 2>&1 || echo "bench: no bunny (npm or curl needed): mesh rows skipped" >&2
+    fi
     {
         echo "<!-- SPDX-License-Identifier: MIT -->"   # scripts/check-spdx.sh
         echo "# libray benchmark results"
         echo
-        echo "Command: \`${BENCH_QUICK:+BENCH_QUICK=1 }make bench\`; machine: $(uname -m),"
+        echo "Command: \`${BENCH_QUICK:+BENCH_QUICK=$kind }make bench\`; machine: $(uname -m),"
         echo "$(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //' || echo unknown)),"
         echo "$(${CC:-cc} --version | head -1); $(date -u +%Y-%m-%d)."
         echo
-        "$build/bench/accuracy" data "$plots"
-        "$build/bench/numerics"
-        "$build/bench/selfhit"
-        "$build/bench/effects" data
-        "$build/bench/threads"
-        "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
-        "$build/bench/surfaces"
-        "$build/bench/mesh" data
-        "$build/bench/raycost" data
+        b "$build/bench/accuracy" "$data" "$plots"
+        b "$build/bench/numerics"
+        b "$build/bench/selfhit"
+        b "$build/bench/effects" "$data"
+        b "$build/bench/threads"
+        b "$build/bench/cones"      # after threads: the effects splice ends at its "## Whitted scene"
+        b "$build/bench/surfaces"
+        b "$build/bench/mesh" "$data"
+        b "$build/bench/raycost" "$data"
         # The same rays' work per ray, from the counted build (make
         # bench-counts), where it was built.
         if [ -x "$build/counts/bench/raycost" ]; then
-            RAYCOST_TOOLS=0 "$build/counts/bench/raycost" data
+            b env RAYCOST_TOOLS=0 "$build/counts/bench/raycost" "$data"
         fi
-        "$build/bench/contains" data
-        "$build/bench/filter" data
-        "$build/bench/packets" data
-        "$build/bench/game" data
-        "$build/bench/shapes" data
-        "$build/bench/whitted" bench/whitted.pov
-        "$build/bench/caustics" "$plots"
+        b "$build/bench/contains" "$data"
+        b "$build/bench/filter" "$data"
+        b "$build/bench/packets" "$data"
+        b "$build/bench/game" "$data"
+        b "$build/bench/shapes" "$data"
+        b "$build/bench/whitted" bench/whitted.pov
+        b "$build/bench/caustics" "$plots"
         # MPI (issue 20): only where OpenMPI is installed and mpi_render built.
         if command -v mpirun >/dev/null 2>&1 && [ -x "$build/mpi/mpi_render" ]; then
-            bench/mpi.sh "$build"
+            b bench/mpi.sh "$build"
         else
             echo "bench: no mpirun or $build/mpi/mpi_render: MPI rows skipped" >&2
         fi
+        echo ok > "$plots/ran"
     } | tee "$out.tmp"
+    [ -f "$plots/ran" ] || {
+        rm -f "$out.tmp"
+        echo "bench: a benchmark failed: $out not written" >&2
+        exit 1; }
     mv "$out.tmp" "$out"
 fi
 
@@ -174,7 +239,7 @@ if [ -z "${BENCH_QUICK:-}" ] || [ "$mode" != run ]; then
     echo "bench: copied the tables into doc/BENCHMARKS.md and doc/NUMERICS.md" >&2
     [ "$mode" = run ] || exit 0
 else
-    echo "bench: quick run: doc/*.md and bench/RESULTS.md left as they were" >&2
+    echo "bench: BENCH_QUICK=$kind run: doc/*.md and bench/RESULTS.md left as they were" >&2
 fi
 
 if command -v gnuplot >/dev/null 2>&1; then

@@ -12,6 +12,7 @@
 */
 #include <stdio.h>
 
+#include "bench.h"
 #include "selfhit.h"
 
 static int slow_kind(sh_kind k)
@@ -21,8 +22,7 @@ static int slow_kind(sh_kind k)
 
 int main(void)
 {
-    const char *q = getenv("BENCH_QUICK");
-    int quick = q != NULL && *q && *q != '0';
+    int level = bench_level();
     int k, path;
 
     printf("### Self-hits per primitive kind\n\n"
@@ -37,8 +37,9 @@ int main(void)
            "|---|---|---|---|---|---|---|---|\n");
     for (k = 0; k < SH_KINDS; k++)
         for (path = 0; path < 2; path++) {
-            int n = slow_kind((sh_kind)k) ? (quick ? 100 : 400)
-                                          : (quick ? 1000 : 10000);
+            int n = level == BENCH_SMOKE ? 4
+                    : slow_kind((sh_kind)k) ? (level ? 100 : 400)
+                                            : (level ? 1000 : 10000);
             sh_counts sum = {0, 0, 0, 0};
             double worst_off = 0, t0 = now_seconds(), t;
             long worst = -1;

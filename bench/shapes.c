@@ -418,9 +418,9 @@ static void self_hits(const ray_scene *s, const obj_mesh *m, size_t every)
 
 int main(int argc, char **argv)
 {
-    const char *q = getenv("BENCH_QUICK");
-    int quick = q != NULL && *q && *q != '0';
-    size_t n = quick ? 2000 : 20000, nb = quick ? 20 : 100, i;
+    int level = bench_level(), quick = level != BENCH_FULL;
+    int smoke = level == BENCH_SMOKE;
+    size_t n = smoke ? 20 : quick ? 2000 : 20000, nb = smoke ? 4 : quick ? 20 : 100, i;
     char path[512], err[600];
     obj_mesh m;
     ray_scene *bunny, *game, *crate;
@@ -620,7 +620,7 @@ int main(int argc, char **argv)
     printf("(Bullet not installed: apt-get install libbullet-dev for the "
            "comparison rows)\n\n");
 #endif
-    self_hits(bunny, &m, quick ? 8 : 1);
+    self_hits(bunny, &m, smoke ? 16 : quick ? 8 : 1);
     ray_scene_free(game);
     ray_scene_free(crate);
     ray_scene_free(bunny);

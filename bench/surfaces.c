@@ -179,8 +179,9 @@ int main(void)
         {"flat square", "bicubic patch, ray_parametric", m_flat, d_flat, 0,
          1.2},
         {"dome", "bicubic patch, ray_parametric", m_dome, NULL, 0, 1.2}};
-    int quick = getenv("BENCH_QUICK") != NULL;
-    int n = quick ? 20000 : 100000, rounds = quick ? 3 : 5, k, i, rd;
+    int level = bench_level();
+    int n = level == BENCH_SMOKE ? 50 : level ? 20000 : 100000,
+        rounds = level == BENCH_SMOKE ? 1 : level ? 3 : 5, k, i, rd;
     double base_ns = 0;
     object *o = malloc(sizeof *o);
     ray_ray *rays = malloc((size_t)n * sizeof *rays);

@@ -27,16 +27,20 @@ int main(int argc, char **argv)
     const char *env = getenv("BENCH_THREADS");
     unsigned n = argc > 1 ? (unsigned)atoi(argv[1])
                           : env != NULL ? (unsigned)atoi(env) : 2;
-    unsigned width = 640, height = 480;
-    int quick = getenv("BENCH_QUICK") != NULL, reps = quick ? 3 : REPS, i;
+    int level = bench_level(), reps = level ? 3 : REPS, i;
+    unsigned width = level == BENCH_SMOKE ? 16 : 640,
+             height = level == BENCH_SMOKE ? 12 : 480;
     double t1[REPS], tn[REPS], m1, mn;
     unsigned long long rays;
     ray_render_options opt;
     ray_camera cam;
     ray_scene *scene = whitted_scene(&cam, 1, NULL);
     ray_stats st;
-    float *img = malloc(sizeof(float) * 3 * width * height);
+    float *img;
 
+    if (level == BENCH_SMOKE)
+        reps = 1;
+    img = malloc(sizeof(float) * 3 * width * height);
     if (img == NULL || n == 0)
         return 1;
     opt = (ray_render_options){.width = width, .height = height};

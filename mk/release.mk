@@ -85,8 +85,8 @@ ifeq ($(EMBED_CHECK),1)
 AMALG_PART ?= $(if $(filter check test,$(MAKECMDGOALS)),check,all)
 AMALG_TEST = CC="$(CC)" CFLAGS="$(CFLAGS)" LDFLAGS="$(LDFLAGS)" WARN="$(WARN)" \
     ALL_CFLAGS="$(ALL_CFLAGS)" PNG_CFLAGS="$(PNG_CFLAGS)" LIBS="$(LIBS)" \
-    scripts/check-amalgamation.sh $(AMALG_DIR) $(BUILD) $(PNG)
-amalgamation-test: amalgamation $(EXAMPLES) | deps-embed
+    EXAMPLE_OBJ="$(EXAMPLE_OBJ)" scripts/check-amalgamation.sh $(AMALG_DIR) $(BUILD) $(PNG)
+amalgamation-test: amalgamation $(EXAMPLES) $(EXAMPLE_OBJS) | deps-embed
 	@AMALG_PART=$(AMALG_PART) $(AMALG_TEST)
 amalgamation-test-long: amalgamation $(BUILD)/examples/whitted | deps-embed
 	@AMALG_PART=long $(AMALG_TEST)
