@@ -402,6 +402,149 @@ END_TEST
 ** (planes, bounded kinds, the deferred record): the same answers, bit for
 ** bit, in both copies and both triangle modes, on hostile soups.
 */
+/*
+** The AVX copy ends a query whose ray surely misses the scene's box
+** before the walk (src/query/slab.h, box_may_enter); the plain copy has
+** no such test.  Both must give the same answers, bit for bit, where
+** that test is closest to wrong: a cube of 12 triangles on its own box's
+** faces, from -1 to 1 and again at 1e6 (where the float origin's bracket
+** is wide), hit by rays aimed at its corners, edge midpoints and face
+** centres from near and far (tmax exactly at the aim point and one ulp
+** either side, so the hit lies on the box's face at the interval's end),
+** rays that pass one ulp outside those points, rays along the faces'
+** planes with zero direction components (a face through the origin:
+** 0 * Inf), rays starting on the box going out (tmin 0, and -2: the box
+** behind counts), and rays with a component 1e-300 beside 1 (a slab the
+** float test ignores); nearest and any hit, in the scene and through a
+** turned and moved instance of it.  With box_may_enter's interval not
+** moved out by its slack (no with_slack on its far end), rays aimed at
+** the corners with tmax at the corner lose their hits here.
+*/
+static void cube_at(ray_vec3 v[8], unsigned idx[36], double c)
+{
+    static const unsigned faces[36] = {
+        0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+        2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+    int k;
+
+    for (k = 0; k < 8; k++)
+        v[k] = vec(c + (k & 1 ? 1 : -1), c + (k & 2 ? 1 : -1),
+                   c + (k & 4 ? 1 : -1));
+    memcpy(idx, faces, sizeof faces);
+}
+
+/* One ray through both copies of scene s, nearest and any hit, gated
+** (through the general query, as an instance needs) or not. */
+static void box_ray_same(const ray_scene *s, const ray_ray *r, int gated,
+                         size_t j)
+{
+    ray_hit a, b;
+    int ha, hb;
+
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    if (gated) {
+        ha = ray__intersect_gated_base(s, r, NULL, 1, &a, NULL);
+        hb = ray__intersect_gated_avx2(s, r, NULL, 1, &b, NULL);
+        ck_assert_int_eq(ray__occluded_gated_base(s, r, NULL, NULL),
+                         ray__occluded_gated_avx2(s, r, NULL, NULL));
+    } else {
+        ha = ray__intersect_tris_base(s, r, &a);
+        hb = ray__intersect_tris_avx2(s, r, &b);
+        ck_assert_int_eq(ray__occluded_tris_base(s, r),
+                         ray__occluded_tris_avx2(s, r));
+    }
+    ck_assert_msg(ha == hb && (!ha || hit_same(&a, &b)), "ray %zu: %d %d",
+                  j, ha, hb);
+}
+
+START_TEST(box_early_out_should_keep_every_hit)
+{
+#if RAY__AVX2_COPY
+    rng g = {77};
+    size_t j = 0;
+    int at, gated;
+
+    if (!ray__cpu_has_avx2())
+        return;
+    for (at = 0; at < 2; at++) {
+        double c = at ? 1e6 : 0;
+        ray_vec3 v[8];
+        unsigned idx[36], mat, cid;
+        ray_scene *cube = new_scene(&mat), *top = new_scene(&mat);
+        ray_transform x;
+        ray_mesh m;
+        memset(&m, 0, sizeof m);
+        cube_at(v, idx, c);
+        m.vertices = v;
+        m.vertex_count = 8;
+        m.indices = idx;
+        m.triangle_count = 12;
+        ck_assert_int_eq(ray_scene_add_mesh(cube, &m, mat, &cid), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(cube), RAY_OK);
+        /* the instance: a quarter turn about z, moved by (3, -2, 0.5) */
+        memset(&x, 0, sizeof x);
+        x.m[0][1] = -1;
+        x.m[1][0] = 1;
+        x.m[2][2] = 1;
+        x.m[0][3] = 3;
+        x.m[1][3] = -2;
+        x.m[2][3] = 0.5;
+        ck_assert_int_eq(ray_scene_add_instance(top, cube, &x, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+        for (gated = 0; gated < 2; gated++) {
+            const ray_scene *s = gated ? top : cube;
+            int p, k;
+            for (p = 0; p < 27; p++) {
+                /* corners, edge midpoints, face centres, centre */
+                ray_vec3 q = vec(c + p % 3 - 1, c + p / 3 % 3 - 1,
+                                 c + p / 9 - 1);
+                if (gated)
+                    q = vec(3 - (q.y), -2 + q.x, 0.5 + q.z);
+                for (k = 0; k < 24; k++, j++) {
+                    ray_vec3 u = rng_dir(&g);
+                    double far = k < 8 ? 3 : k < 16 ? 1e3 : 1e9;
+                    ray_ray r = ray_from(v3_add(q, v3_scale(u, far)),
+                                         v3_scale(u, -1));
+                    int e;
+                    box_ray_same(s, &r, gated, j);
+                    for (e = -1; e <= 1; e++) {     /* tmax at q */
+                        r.tmax = far;
+                        if (e)
+                            r.tmax = nextafter(far, e * HUGE_VAL);
+                        box_ray_same(s, &r, gated, j);
+                    }
+                    r.tmax = HUGE_VAL;
+                    /* one ulp outside q, on every axis */
+                    r.org = v3_add(q, v3_scale(u, far));
+                    r.dir = v3_sub(vec(nextafter(q.x, q.x * 2 + 1),
+                                       nextafter(q.y, q.y * 2 - 1),
+                                       nextafter(q.z, q.z * 2 + 1)),
+                                   r.org);
+                    box_ray_same(s, &r, gated, j);
+                    /* along the planes through q, axis by axis: one
+                    ** component zero, then 1e-300 */
+                    r.org = v3_add(q, vec(-5, 0, 0));
+                    r.dir = vec(1, 0, k & 1 ? 1e-300 : 0);
+                    box_ray_same(s, &r, gated, j);
+                    r.org = v3_add(q, vec(0, -5, 0));
+                    r.dir = vec(k & 2 ? -0.0 : 1e-300, 1, 0);
+                    box_ray_same(s, &r, gated, j);
+                    /* from q going out, tmin 0 and -2 */
+                    r = ray_from(q, u);
+                    box_ray_same(s, &r, gated, j);
+                    r.tmin = -2;
+                    box_ray_same(s, &r, gated, j);
+                }
+            }
+        }
+        ray_scene_free(top);
+        ray_scene_free(cube);
+    }
+#endif
+}
+END_TEST
+
 START_TEST(plain_queries_should_answer_as_the_general_ones)
 {
     rng g = {35};
@@ -1697,6 +1840,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, traversal_setup_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, plain_queries_should_answer_as_the_general_ones);
+    tcase_add_test(eq, box_early_out_should_keep_every_hit);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);

@@ -472,8 +472,8 @@ static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
     counts_light(&qc, 0);
     rr = *r;
     tri_best_start(&tb);
-    trav_init(&tr, &rr);
-    if (!traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc))
+    if (!trav_setup(&tr, &rr, &s->lo, &s->hi) ||
+        !traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc))
         return 0;
     if (!tri_record(s, &tb, rr.tmax, &h))
         return 0;
@@ -491,8 +491,8 @@ static int query_any_tris(const ray_scene *s, const ray_ray *r)
         return 0;
     counts_light(&qc, 1);
     rr = *r;
-    trav_init(&tr, &rr);
-    return traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1, &qc);
+    return trav_setup(&tr, &rr, &s->lo, &s->hi) &&
+           traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1, &qc);
 }
 
 static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
@@ -579,9 +579,9 @@ static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
             return any_core(child, r, qc);
         return nearest_core(child, r, hit, qc);
     }
-    if (child->tri_bvh.n_wide == 0)
+    if (child->tri_bvh.n_wide == 0 ||
+        !trav_setup(&tr, r, &child->lo, &child->hi))
         return 0;
-    trav_init(&tr, r);
     if (qc->any)
         return traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, NULL,
                         1, qc);
