@@ -420,6 +420,7 @@ END_TEST
 ** moved out by its slack (no with_slack on its far end), rays aimed at
 ** the corners with tmax at the corner lose their hits here.
 */
+#if RAY__AVX2_COPY
 static void cube_at(ray_vec3 v[8], unsigned idx[36], double c)
 {
     static const unsigned faces[36] = {
@@ -457,6 +458,8 @@ static void box_ray_same(const ray_scene *s, const ray_ray *r, int gated,
     ck_assert_msg(ha == hb && (!ha || hit_same(&a, &b)), "ray %zu: %d %d",
                   j, ha, hb);
 }
+
+#endif
 
 START_TEST(box_early_out_should_keep_every_hit)
 {
