@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** build.c -- ray__bvh_build: the binary tree of a BVH built depth first
-** from its root by sah.c's splits, its lower subtrees on threads, then
+** build.c -- ray__bvh_build: the binary tree of a BVH built from its root
+** by sah.c's splits, its top a level at a time and its lower subtrees
+** depth first, on threads, then
 ** collapsed into wide nodes (wide.c); and ray__bvh_free.
 */
 #include <limits.h>
@@ -11,9 +12,9 @@
 #include "core/tasks.h"
 
 /*
-** The threaded build.  The top of the tree is split on the calling thread,
-** depth first as ever, until every node left has at most top_limit(n)
-** items; those nodes become subtree tasks, numbered in the order the top
+** The threaded build.  The top of the tree is split a level at a time
+** (build_top) until every node left has at most top_limit(n) items;
+** those nodes become subtree tasks, numbered in the order the top
 ** phase reaches them, and task j builds into its own run of the node
 ** array, from region[j] on (2 m - 2 nodes at most below its root for m
 ** items, so the runs fit in the 2 n - 1 a binary tree needs: the top's
@@ -26,8 +27,9 @@
 ** runs are then closed up in task order (their links moved with them),
 ** so the node array shrinks to what the tree uses before the collapse
 ** allocates the wide nodes, as in the plain build.
-** The splits are those of the plain depth-first build (the same code on
-** the same items), so the wide tree is too.
+** The splits are those of a plain depth-first build (a node's division
+** depends on its items alone, not on when it is made), so the wide tree
+** is too, but for the order of the top's nodes.
 */
 
 /* Subtrees of at most n / TOP_SHARE items (and at least TOP_MIN): enough
@@ -182,18 +184,133 @@ static size_t close_up(ray__node *nodes, const subtree *tasks,
     return at;
 }
 
+/*
+** The top of the tree, a level at a time: each node of the level with
+** more than "limit" items is divided (ray__bvh_divide), the others become
+** subtree tasks, in the level's order; then the divided nodes are linked
+** to their children, numbered in that order, which make the next level.
+** A level's nodes share nothing (each its own items and node), so where
+** a level has at least as many to divide as there are threads, each is
+** divided on a thread of its own; fewer (the root, the first levels on
+** many threads), one after another, each binned on all threads
+** (sah.c's bin_node).  Either way the same divisions, numbered in the
+** same order: the same tree at any thread count.  Depth first, the top
+** was divided on the calling thread alone, its binning alone shared:
+** a fifth of a 940k build's time on two threads, the other thread
+** waiting (perf, issue 36).
+*/
+typedef struct cut {
+    task t;
+    size_t mid;
+    bounds left, right;
+    int children;
+} cut;
+
+typedef struct top_job {
+    const builder *bd;
+    cut *cuts;
+} top_job;
+
+/* Divide level node k on this thread alone (bd's nodes and items). */
+static void top_task(void *ud, unsigned k)
+{
+    const top_job *job = ud;
+    builder bd = *job->bd;
+    cut *c = &job->cuts[k];
+
+    bd.alloc = NULL;
+    bd.sched = NULL;
+    bd.threads = 1;
+    c->children = ray__bvh_divide(&bd, &c->t, &c->mid, &c->left, &c->right);
+}
+
+/* Add subtree task t (grown as needed): RAY_OK or RAY_ENOMEM. */
+static int add_subtree(const ray__allocator *a, const task *t,
+                       subtree **tasks, size_t *n_tasks, size_t *cap_tasks)
+{
+    if (*n_tasks == *cap_tasks) {
+        size_t more = *cap_tasks ? 2 * *cap_tasks : 2 * TOP_SHARE;
+        subtree *grown = ray__reallocate(a, *tasks,
+                                         *cap_tasks * sizeof **tasks,
+                                         more * sizeof **tasks);
+        if (grown == NULL)
+            return RAY_ENOMEM;
+        *tasks = grown;
+        *cap_tasks = more;
+    }
+    (*tasks)[(*n_tasks)++].root = *t;
+    return RAY_OK;
+}
+
+static int build_top(builder *bd, const task *root, size_t limit,
+                     ray__progress *prog, size_t *pending, subtree **tasks,
+                     size_t *n_tasks, size_t *cap_tasks)
+{
+    /* A level's nodes to divide each hold more than limit of the n items:
+    ** fewer than n / limit of them, their children twice that. */
+    size_t n = root->end - root->begin, most = n / limit + 1, count = 1, i;
+    size_t bytes = most * sizeof(cut) + 2 * most * sizeof(task);
+    unsigned char *raw = ray__allocate(bd->alloc, bytes);
+    cut *cuts = (cut *)(void *)raw;
+    task *level = (task *)(void *)(raw + most * sizeof(cut));
+    top_job job;
+    int rc = RAY_OK;
+
+    if (raw == NULL)
+        return RAY_ENOMEM;
+    level[0] = *root;
+    job.bd = bd;
+    job.cuts = cuts;
+    while (count > 0 && rc == RAY_OK) {
+        size_t big = 0, next = 0;
+        for (i = 0; i < count && rc == RAY_OK; i++) {
+            if (level[i].end - level[i].begin > limit)
+                cuts[big++].t = level[i];
+            else
+                rc = add_subtree(bd->alloc, &level[i], tasks, n_tasks,
+                                 cap_tasks);
+        }
+        if (rc != RAY_OK)
+            break;
+        if (big >= bd->threads && big > 1)
+            ray__tasks_run(bd->sched, bd->alloc, bd->threads, 0,
+                           (unsigned)big, top_task, &job);
+        else
+            for (i = 0; i < big; i++)
+                cuts[i].children = ray__bvh_divide(
+                    bd, &cuts[i].t, &cuts[i].mid, &cuts[i].left,
+                    &cuts[i].right);
+        for (i = 0; i < big; i++) {
+            const cut *c = &cuts[i];
+            if (c->children == 0) {
+                /* A node the SAH leaves whole (items that cannot be
+                ** told apart) is a leaf of the top. */
+                if (leaf_done(prog, pending, c->t.end - c->t.begin))
+                    rc = RAY_ECANCELED;
+                continue;
+            }
+            ray__bvh_link(bd, &c->t, c->mid, &c->left, &c->right,
+                          level + next);
+            next += 2;
+        }
+        count = next;
+    }
+    ray__release(bd->alloc, raw, bytes);
+    return rc;
+}
+
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
                    void *scratch, ray__progress *prog, ray__bvh *out)
 {
     builder bd;
-    task stack[2 * MAX_DEPTH + 4];
-    size_t cap, i, limit, region, n_tasks = 0, cap_tasks = 0, pending = 0;
+    task root;
+    size_t cap, i, region, n_tasks = 0, cap_tasks = 0, pending = 0;
     subtree *tasks = NULL;
     size_t *order = NULL;
     unsigned *items;
-    int sp = 0, rc = RAY_OK;
+    int rc = RAY_OK;
 
     memset(out, 0, sizeof *out);
     if (n == 0)
@@ -219,43 +336,15 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
         goto done;
     }
     {
-        bounds root;
-        ray__bvh_refs(&bd, box_of, ud, n, &root);
+        bounds b;
+        ray__bvh_refs(&bd, box_of, ud, n, &b);
         bd.n_nodes = 1;
-        child_task(&stack[0], 0, 0, n, 0, &root);
+        child_task(&root, 0, 0, n, 0, &b);
     }
-    sp = 1;
-    /* The top, depth first: the stack never holds more than two tasks per
-    ** level.  A node small enough becomes a subtree task. */
-    limit = top_limit(n);
-    while (sp > 0) {
-        task t = stack[--sp];
-        if (t.end - t.begin > limit) {
-            int children = ray__bvh_split(&bd, &t, stack + sp);
-            sp += children;
-            /* A node the SAH leaves whole (items that cannot be told
-            ** apart) is a leaf of the top. */
-            if (children == 0 &&
-                leaf_done(prog, &pending, t.end - t.begin)) {
-                rc = RAY_ECANCELED;
-                goto done;
-            }
-            continue;
-        }
-        if (n_tasks == cap_tasks) {
-            size_t more = cap_tasks ? 2 * cap_tasks : 2 * TOP_SHARE;
-            subtree *grown = ray__reallocate(a, tasks,
-                                             cap_tasks * sizeof *tasks,
-                                             more * sizeof *tasks);
-            if (grown == NULL) {
-                rc = RAY_ENOMEM;
-                goto done;
-            }
-            tasks = grown;
-            cap_tasks = more;
-        }
-        tasks[n_tasks++].root = t;
-    }
+    rc = build_top(&bd, &root, top_limit(n), prog, &pending, &tasks,
+                   &n_tasks, &cap_tasks);
+    if (rc != RAY_OK)
+        goto done;
     if (pending > 0 && ray__progress_add(prog, pending)) {
         rc = RAY_ECANCELED;
         goto done;

@@ -114,7 +114,13 @@ static inline void child_task(task *t, size_t node, size_t begin, size_t end,
 ** all: the builder's first pass.
 ** ray__bvh_split -- split node t.node (items refs[t.begin, t.end), bounds
 ** t.b) by the binned SAH, or leave it a leaf; the children's tasks go to
-** stack[0] and stack[1].  Returns how many (0 or 2).
+** stack[0] and stack[1].  Returns how many (0 or 2).  In two steps:
+** ray__bvh_divide -- node t.node's box set and its items divided (refs
+** t.begin .. *mid - 1 and *mid .. t.end - 1, their bounds *left and
+** *right): 2; or it stays a leaf: 0.  It writes only that node and
+** those items, so nodes of one level may be divided on threads;
+** ray__bvh_link -- the node linked to its two children, numbered next
+** (bd->n_nodes), their tasks into stack[0] and stack[1].
 ** ray__bvh_collapse -- the binary nodes of bvh collapsed into
 ** RAY__WIDTH-wide nodes (bvh->wide), the binary ones freed: RAY_OK, or
 ** RAY_ENOMEM with bvh as it was.
@@ -122,6 +128,10 @@ static inline void child_task(task *t, size_t node, size_t begin, size_t end,
 void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
                    size_t n, bounds *root);
 int ray__bvh_split(builder *bd, const task *t, task *stack);
+int ray__bvh_divide(builder *bd, const task *t, size_t *mid, bounds *left,
+                    bounds *right);
+void ray__bvh_link(builder *bd, const task *t, size_t mid,
+                   const bounds *left, const bounds *right, task *stack);
 int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh);
 
 #endif /* RAY_BUILDER_H */

@@ -651,11 +651,11 @@ static void node_set_box(ray__node *n, const box *b)
     memcpy(n->hi, b->hi, sizeof n->hi);
 }
 
-int ray__bvh_split(builder *bd, const task *t, task *stack)
+int ray__bvh_divide(builder *bd, const task *t, size_t *mid, bounds *left,
+                    bounds *right)
 {
     ray__node *n = &bd->nodes[t->node];
-    size_t count = t->end - t->begin, mid;
-    bounds left, right;
+    size_t count = t->end - t->begin;
     split sp;
 
     node_set_box(n, &t->b.items);
@@ -670,18 +670,36 @@ int ray__bvh_split(builder *bd, const task *t, task *stack)
         ** the run if it is too long for a leaf, else keep the leaf. */
         if (count <= MAX_LEAF)
             return 0;
-        mid = t->begin + count / 2;
-        bounds_of(bd, t->begin, mid, &left);
-        bounds_of(bd, mid, t->end, &right);
-    } else {
-        if (count <= MAX_LEAF && sp.cost >= (float)count)
-            return 0;
-        mid = partition(bd, t->begin, t->end, &sp, &left, &right);
+        *mid = t->begin + count / 2;
+        bounds_of(bd, t->begin, *mid, left);
+        bounds_of(bd, *mid, t->end, right);
+        return 2;
     }
+    if (count <= MAX_LEAF && sp.cost >= (float)count)
+        return 0;
+    *mid = partition(bd, t->begin, t->end, &sp, left, right);
+    return 2;
+}
+
+void ray__bvh_link(builder *bd, const task *t, size_t mid,
+                   const bounds *left, const bounds *right, task *stack)
+{
+    ray__node *n = &bd->nodes[t->node];
+
     n->first = (unsigned)bd->n_nodes;
     n->count = 0;
-    child_task(&stack[0], bd->n_nodes, t->begin, mid, t->depth + 1, &left);
-    child_task(&stack[1], bd->n_nodes + 1, mid, t->end, t->depth + 1, &right);
+    child_task(&stack[0], bd->n_nodes, t->begin, mid, t->depth + 1, left);
+    child_task(&stack[1], bd->n_nodes + 1, mid, t->end, t->depth + 1, right);
     bd->n_nodes += 2;
+}
+
+int ray__bvh_split(builder *bd, const task *t, task *stack)
+{
+    size_t mid;
+    bounds left, right;
+
+    if (!ray__bvh_divide(bd, t, &mid, &left, &right))
+        return 0;
+    ray__bvh_link(bd, t, mid, &left, &right, stack);
     return 2;
 }

@@ -171,7 +171,8 @@ static void slot_task(void *ud, unsigned k, size_t begin, size_t end)
     job->fn(job->s, begin, end, job->out);
 }
 
-static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
+/* fn over 0 .. n - 1 in runs of "run" (slots_run's threads). */
+static void runs_of(ray_scene *s, size_t n, size_t run, slot_fn fn, void *out)
 {
     /* 0: one a CPU, as the build's own threads (build.c). */
     unsigned threads = s->build_threads != 0 ? s->build_threads
@@ -181,9 +182,14 @@ static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
     job.s = s;
     job.fn = fn;
     job.out = out;
-    if (!ray__tasks_runs(&s->scheduler, &s->alloc, threads, 0, n, SLOT_RUN,
+    if (!ray__tasks_runs(&s->scheduler, &s->alloc, threads, 0, n, run,
                          slot_task, &job))
         fn(s, 0, n, out);
+}
+
+static void slots_run(ray_scene *s, size_t n, slot_fn fn, void *out)
+{
+    runs_of(s, n, SLOT_RUN, fn, out);
 }
 
 /* Slots begin .. end - 1's rows, by slot, into out (leaves_make). */
@@ -245,37 +251,17 @@ static int corners_are_floats(const ray_scene *s)
     return 1;
 }
 
-/*
-** The leaves of a BVH over slots, each leaf's (first slot, count), in
-** node order: fn(ud, first, n) for each.
-*/
-typedef void (*leaf_fn)(void *ud, unsigned first, unsigned n);
-
-static void each_leaf(const ray__bvh *bvh, leaf_fn fn, void *ud)
-{
-    size_t w;
-    int k;
-
-    for (w = 0; w < bvh->n_wide; w++)
-        for (k = 0; k < RAY__WIDTH; k++) {
-            const ray__wnode *q = &bvh->wide[w];
-            unsigned n = q->count[k] & ~RAY__LEAF;
-            if (q->count[k] != 0 && n > 0)
-                fn(ud, q->child[k], n);
-        }
-}
-
 /* Leaf layout from rows in slot order (before the slots are permuted):
 ** a leaf's slot j is slot items[first + j] then. */
 typedef struct leaf_gather {
     float *out;
     const float *by_slot;        /* RAY__LEAF_ROWS floats per old slot */
     const unsigned *items;
+    const ray__bvh *bvh;         /* whose leaves */
 } leaf_gather;
 
-static void gather_leaf(void *ud, unsigned first, unsigned n)
+static void gather_leaf(const leaf_gather *g, unsigned first, unsigned n)
 {
-    const leaf_gather *g = ud;
     float *rows = g->out + (size_t)RAY__LEAF_ROWS * first;
     unsigned j;
     int r;
@@ -286,6 +272,32 @@ static void gather_leaf(void *ud, unsigned first, unsigned n)
         for (r = 0; r < RAY__LEAF_ROWS; r++)
             rows[(size_t)r * n + j] = src[r];
     }
+}
+
+/*
+** The leaves of wide nodes begin .. end - 1 gathered (ud: the
+** leaf_gather): each leaf writes only its own rows, so runs of nodes go
+** to the build's threads (runs_of) and the bytes are the same at any
+** thread count.  The gather's random reads were, on the calling thread
+** alone, a ninth of a 940k build's time on two threads (perf, issue 36).
+*/
+#define WIDE_RUN 1024
+
+static void gather_wide(const ray_scene *s, size_t begin, size_t end,
+                        void *ud)
+{
+    const leaf_gather *g = ud;
+    size_t w;
+    int k;
+
+    (void)s;
+    for (w = begin; w < end; w++)
+        for (k = 0; k < RAY__WIDTH; k++) {
+            const ray__wnode *q = &g->bvh->wide[w];
+            unsigned n = q->count[k] & ~RAY__LEAF;
+            if (q->count[k] != 0 && n > 0)
+                gather_leaf(g, q->child[k], n);
+        }
 }
 
 /*
@@ -309,12 +321,29 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
     g.out = out;
     g.by_slot = by_slot;
     g.items = fresh->items;
-    each_leaf(fresh, gather_leaf, &g);
+    g.bvh = fresh;
+    runs_of(s, fresh->n_wide, WIDE_RUN, gather_wide, &g);
     memset(out + RAY__LEAF_ROWS * n, 0, RAY__LEAF_PAD * sizeof *out);
     s->leaf_f = out;
     s->cap_leaf_f = floats;
     s->float_exact = corners_are_floats(s);
     return RAY_OK;
+}
+
+typedef struct ids_gather {
+    ray__tri_id *id;
+    const unsigned *items;
+} ids_gather;
+
+/* Leaf positions begin .. end - 1's ids (a run of gather_ids's). */
+static void ids_by_position(const ray_scene *s, size_t begin, size_t end,
+                            void *ud)
+{
+    const ids_gather *g = ud;
+    size_t i;
+
+    for (i = begin; i < end; i++)
+        g->id[i] = s->tri_ids[g->items[i]];
 }
 
 /*
@@ -330,10 +359,12 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
 static int gather_ids(ray_scene *s, const unsigned *items, size_t n,
                       ray__tri_id *id, size_t bytes)
 {
-    size_t i, all = s->n_tris;
+    size_t all = s->n_tris;
+    ids_gather g;
 
-    for (i = 0; i < n; i++)
-        id[i] = s->tri_ids[items[i]];
+    g.id = id;
+    g.items = items;
+    slots_run(s, n, ids_by_position, &g);
     if (all > bytes / sizeof *id) {
         memcpy(s->tri_ids, id, n * sizeof *id);
         return 0;
