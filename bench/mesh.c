@@ -915,6 +915,27 @@ int main(int argc, char **argv)
     char path[512];
 
     reps = level == BENCH_SMOKE ? 1 : quick ? 3 : 5;
+    /* mesh DATA_DIR build: the build and cold-build rows alone, of both
+    ** bunnies (A/B runs of a build change). */
+    if (argc > 2 && strcmp(argv[2], "build") == 0) {
+        static const char *const name[2] = {"bunny-2.obj", "bunny-4.obj"};
+        int i;
+        for (i = 0; i < 2; i++) {
+            obj_mesh obj;
+            char err[600];
+            snprintf(path, sizeof path, "%s/%s", dir, name[i]);
+            if (obj_load(path, &obj, err, sizeof err) != 0) {
+                printf("(skipped: %s)\n\n", err);
+                continue;
+            }
+            printf("### %s: %zu triangles\n\n", path, obj.triangle_count);
+            bench_build(&obj, cpus);
+            bench_cold(&obj);
+            printf("\n");
+            obj_free(&obj);
+        }
+        return 0;
+    }
     printf("## Meshes: the Stanford bunny, BVH vs %s\n\n",
 #ifdef HAVE_EMBREE
            "Embree " RTC_VERSION_STRING " (rtcIntersect1 / rtcOccluded1, "
