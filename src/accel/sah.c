@@ -148,40 +148,60 @@ static void bins_merge(bins4 *out, const bins4 *more, int nb)
         }
 }
 
+/* One item, refs[i], dropped into its three bins of *bn (bin_items). */
+static inline void bin_one(bins4 *bn, const ref *r, __m128 cmin, __m128 sc,
+                           __m128 top)
+{
+    __m128 lo = ref_lanes(r, offsetof(ref, lo));
+    __m128 hi = ref_lanes(r, offsetof(ref, hi));
+    __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
+    __m128i k;
+    int k0, k1, k2;
+
+    x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), top);
+    /* The bins, below BINS, from the low halves of the three lanes:
+    ** no store and reload of the four indices. */
+    k = _mm_cvttps_epi32(x);
+    k0 = _mm_cvtsi128_si32(k);
+    k1 = _mm_extract_epi16(k, 2);
+    k2 = _mm_extract_epi16(k, 4);
+    bn->lo[0][k0] = _mm_min_ps(bn->lo[0][k0], lo);
+    bn->hi[0][k0] = _mm_max_ps(bn->hi[0][k0], hi);
+    bn->count[0][k0]++;
+    bn->lo[1][k1] = _mm_min_ps(bn->lo[1][k1], lo);
+    bn->hi[1][k1] = _mm_max_ps(bn->hi[1][k1], hi);
+    bn->count[1][k1]++;
+    bn->lo[2][k2] = _mm_min_ps(bn->lo[2][k2], lo);
+    bn->hi[2][k2] = _mm_max_ps(bn->hi[2][k2], hi);
+    bn->count[2][k2]++;
+}
+
 static void bin_items(const builder *bd, size_t begin, size_t end,
                       const box *cb, const float scale[3], int nb,
                       bins4 *out)
 {
     bins4 two;
-    size_t i;
+    size_t i = begin;
     const __m128 cmin = _mm_set_ps(0, cb->lo[2], cb->lo[1], cb->lo[0]);
     const __m128 sc = _mm_set_ps(0, scale[2], scale[1], scale[0]);
-    const __m128 top = _mm_set1_ps((float)(nb - 1)), zero = _mm_setzero_ps();
-    int pairs = end - begin >= PAIRS_MIN;
+    const __m128 top = _mm_set1_ps((float)(nb - 1));
 
     bins4_empty(out, nb);
-    if (pairs)
+    if (end - begin >= PAIRS_MIN) {
+        /* Items at even offsets from begin into *out, odd ones into two:
+        ** a pair a turn, without choosing the set item by item. */
         bins4_empty(&two, nb);
-    for (i = begin; i < end; i++) {
-        bins4 *bn = pairs && ((i - begin) & 1) ? &two : out;
-        __m128 lo = ref_lanes(&bd->refs[i], offsetof(ref, lo));
-        __m128 hi = ref_lanes(&bd->refs[i], offsetof(ref, hi));
-        __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(lo, hi), cmin), sc);
-        int k[4];
-        x = _mm_min_ps(_mm_max_ps(x, zero), top);
-        _mm_storeu_si128((__m128i *)(void *)k, _mm_cvttps_epi32(x));
-        bn->lo[0][k[0]] = _mm_min_ps(bn->lo[0][k[0]], lo);
-        bn->hi[0][k[0]] = _mm_max_ps(bn->hi[0][k[0]], hi);
-        bn->count[0][k[0]]++;
-        bn->lo[1][k[1]] = _mm_min_ps(bn->lo[1][k[1]], lo);
-        bn->hi[1][k[1]] = _mm_max_ps(bn->hi[1][k[1]], hi);
-        bn->count[1][k[1]]++;
-        bn->lo[2][k[2]] = _mm_min_ps(bn->lo[2][k[2]], lo);
-        bn->hi[2][k[2]] = _mm_max_ps(bn->hi[2][k[2]], hi);
-        bn->count[2][k[2]]++;
-    }
-    if (pairs)
+        for (; i + 1 < end; i += 2) {
+            bin_one(out, &bd->refs[i], cmin, sc, top);
+            bin_one(&two, &bd->refs[i + 1], cmin, sc, top);
+        }
+        if (i < end)
+            bin_one(out, &bd->refs[i], cmin, sc, top);
         bins_merge(out, &two, nb);
+        return;
+    }
+    for (; i < end; i++)
+        bin_one(out, &bd->refs[i], cmin, sc, top);
 }
 
 /*
