@@ -318,6 +318,8 @@ static inline int trav_setup(trav *tr, const ray_ray *r,
     e = ray__exponent_of(m);
     tr->t_scale = ray__pow2(e);          /* t' = t 2^e for d' = d 2^-e */
     down = ray__pow2(-e);
+    tr->tmin = ray__float_down(r->tmin * tr->t_scale);
+    tr->framed = 0;
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
     {
         __m256d d = _mm256_loadu_pd(&r->dir.x);          /* x y z tmin */
@@ -343,8 +345,6 @@ static inline int trav_setup(trav *tr, const ray_ray *r,
         _mm_storeu_ps(tr->o_near, o_near4);
         _mm_storeu_ps(tr->o_far, o_far4);
         trav_octant(tr, _mm256_movemask_pd(d));
-        tr->tmin = ray__float_down(r->tmin * tr->t_scale);
-        tr->framed = 0;
         return box_lo == NULL ||
                box_may_enter(box_lo, box_hi, sign, o_near4, o_far4, inv4,
                              inv_far4, tr, r->tmax);
@@ -357,10 +357,8 @@ static inline int trav_setup(trav *tr, const ray_ray *r,
                         (signbit(r->dir.z) != 0) << 2);
     (void)box_lo;
     (void)box_hi;
-#endif
-    tr->tmin = ray__float_down(r->tmin * tr->t_scale);
-    tr->framed = 0;
     return 1;
+#endif
 }
 
 /* The traversal data of r, whole (no box test). */
