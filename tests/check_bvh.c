@@ -1633,6 +1633,60 @@ START_TEST(refit_leaves_should_be_the_same_with_and_without_avx2)
 END_TEST
 
 /*
+** The build's boxes (scene/boxes.c, ray__tri_boxes: a run of slots at a
+** time, in SSE2 registers where the CPU has them) are the floats the
+** refit fits (ray__refit_leaf and its AVX2 copy) from the same corners:
+** a scene built on refit_case_mesh's hard corners (zeros of both signs,
+** coordinates beyond the float rows and beyond float, collinear
+** triangles read as their first corner) beside 40 single triangles, then
+** refitted to the very same corners, keeps every box bit for bit.  With
+** the build's rounding a step short (a box not rounded out, or rounded
+** the wrong way) a leaf's box would move by a float.
+*/
+START_TEST(build_boxes_should_be_the_refits)
+{
+    ray_vec3 *v = malloc(3 * AVX2_TRIS * sizeof *v);
+    unsigned *idx = malloc(3 * AVX2_TRIS * sizeof *idx);
+    ray_scene *s = NULL;
+    ray__wnode *built;
+    ray_mesh mesh;
+    size_t i, n_wide;
+
+    ck_assert(v != NULL && idx != NULL);
+    for (i = 0; i < 3 * AVX2_TRIS; i++)
+        idx[i] = (unsigned)i;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v;
+    mesh.vertex_count = 3 * AVX2_TRIS;
+    mesh.indices = idx;
+    mesh.triangle_count = AVX2_TRIS;
+    refit_case_mesh(v, 0, 5);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    for (i = 0; i < 40; i++)
+        ck_assert_int_eq(ray_scene_add_triangle(s, v3((double)i, -0.0, 0),
+                                                v3((double)i, 1, 0.1),
+                                                v3((double)i, 0, 1),
+                                                RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    n_wide = s->tri_bvh.n_wide;
+    built = malloc(n_wide * sizeof *built);
+    ck_assert(built != NULL);
+    memcpy(built, s->tri_bvh.wide, n_wide * sizeof *built);
+    ck_assert_int_eq(ray_scene_update_mesh(s, 0, &mesh), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);      /* the refit */
+    ck_assert_uint_eq(s->tri_bvh.n_wide, n_wide);
+    ck_assert(same_bytes(built, s->tri_bvh.wide, n_wide * sizeof *built));
+    free(built);
+    ray_scene_free(s);
+    free(v);
+    free(idx);
+}
+END_TEST
+
+/*
 ** The build on the program's scheduler (ray_scene_set_scheduler): the
 ** same tree as the one-thread build, its subtrees run last first, in a
 ** random order, and on a pool of 3 threads of the test's own; the
@@ -1856,6 +1910,7 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_at_every_thread_count);
     tcase_add_test(mesh, threaded_refit_should_fit_the_same_boxes_at_every_thread_count);
     tcase_add_test(mesh, refit_leaves_should_be_the_same_with_and_without_avx2);
+    tcase_add_test(mesh, build_boxes_should_be_the_refits);
     tcase_add_test(mesh, threaded_build_should_fail_cleanly_and_stage_its_setting);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_on_a_scheduler);
     tcase_add_test(mesh, threaded_build_should_not_need_aligned_blocks);

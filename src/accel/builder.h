@@ -22,12 +22,7 @@
 ** The centroid is not stored: lo + hi (twice the centre) serves, since
 ** binning only needs an affine image of it.
 */
-typedef struct ref {
-    float lo[3];
-    unsigned id;             /* lo and id, hi and pad: one SSE load each */
-    float hi[3];
-    unsigned pad;
-} ref;
+typedef ray__box_rec ref;
 
 /* RAY__BVH_SCRATCH (bvh.h) counts a record's bytes. */
 typedef char ray__ref_size_check[sizeof(ref) == RAY__BVH_SCRATCH(1) ? 1 : -1];

@@ -69,12 +69,29 @@ typedef struct ray__bvh {
 */
 typedef void (*ray__box_fn)(const void *ud, size_t i, float lo[3],
                             float hi[3]);
+/*
+** The build's record of an item: its box and id (the builder permutes
+** them; builder.h), 32 bytes.  A costs->boxes callback fills the boxes of
+** items begin .. end - 1 into out[0 .. end - begin - 1] at once (lo and
+** hi only, rounded outward), in place of box one item at a time (which
+** may then be NULL): a mesh's lookups made once a run, not once an
+** item.
+*/
+typedef struct ray__box_rec {
+    float lo[3];
+    unsigned id;             /* lo and id, hi and pad: one SSE load each */
+    float hi[3];
+    unsigned pad;
+} ray__box_rec;
+typedef void (*ray__boxes_fn)(const void *ud, size_t begin, size_t end,
+                              ray__box_rec *out);
 typedef struct ray__bvh_costs {
     float traversal;         /* a split's cost, in item tests */
     unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
     int box_threads;         /* box may run on the build's threads at once
                                 (reads only what no thread writes); 0:
                                 on the calling thread only */
+    ray__boxes_fn boxes;     /* NULL, or box for runs of items */
 } ray__bvh_costs;
 /*
 ** scratch: NULL, or a block of at least RAY__BVH_SCRATCH(n) bytes, which

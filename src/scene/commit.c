@@ -19,7 +19,7 @@
 ** calling thread: a user kind's comes from the caller's bounds callback,
 ** which may not be thread-safe.
 */
-static const ray__bvh_costs prim_costs = {1.0f, 1, 0};
+static const ray__bvh_costs prim_costs = {1.0f, 1, 0, NULL};
 
 /* The bounded primitives' ids, for the box callback. */
 typedef struct prim_list {

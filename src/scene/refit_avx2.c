@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** refit_avx2.c -- the refit's leaf (triangles.c, refit_leaf) once more,
+** refit_avx2.c -- the refit's leaf (boxes.c, ray__refit_leaf) once more,
 ** built with -mavx2 where the compiler targets x86 (the Makefile's and
 ** CMake's AVX2 flag, as for query/intersect_avx2.c): a corner's x, y and
 ** z in one register, so that its box, its normal test, its nine floats

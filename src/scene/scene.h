@@ -440,7 +440,7 @@ static inline int ray__corners_usable(ray_vec3 a, ray_vec3 b, ray_vec3 c)
 */
 /* A mesh triangle's corners (ray__tri_by_id's for a mesh), into *t: a
 ** small function that inlines where the refit reads every triangle,
-** always (RAY__HOT_INLINE): with triangles.c's refit_corners calling it
+** always (RAY__HOT_INLINE): with slots.h's refit_corners calling it
 ** too, gcc's choice changed the SSE2 refit_leaf's code, 0.4% more
 ** instructions in bench/filter --profile refit (callgrind, issue 36). */
 RAY__HOT_INLINE void ray__mesh_tri(const ray__mesh *m, unsigned prim_id,

@@ -2,8 +2,9 @@
 /*
 ** slots.h -- reading the triangle slots' corners in slot order, for the
 ** passes that visit every slot once (triangles.c: the leaf rows, the
-** corner copies, the refit; refit_avx2.c: the refit's AVX2 leaf),
-** fetching ahead where the slots are in the tree's order, and rounding a
+** corner copies; boxes.c: the build's boxes and the refit's leaf;
+** refit_avx2.c: the refit's AVX2 leaf), fetching ahead where the slots
+** are in the tree's order, a triangle's float rows, and rounding a
 ** leaf's box out to float.
 */
 #ifndef RAY_SCENE_SLOTS_H
@@ -45,6 +46,77 @@ RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
     p[1] = &(*m)->pos[k[1]];
     p[2] = &(*m)->pos[k[2]];
     return 1;
+}
+
+/* The corners of live slot "slot" into *t, as ray__tri_of reads them:
+** found by ray__slot_corners_at (*m and *m_geom its cache), a mesh's read
+** through ray__mesh_tri, which applies the rule for a triangle without
+** a normal (the pointers into its positions go unused). */
+RAY__HOT_INLINE void refit_corners(const ray_scene *s, size_t slot,
+                                    const ray__mesh **m, unsigned *m_geom,
+                                    ray__tri *t)
+{
+    const ray_vec3 *p[3];
+
+    if (ray__slot_corners_at(s, slot, m, m_geom, t, p))
+        ray__mesh_tri(*m, s->tri_ids[slot].prim_id, t);
+}
+
+/* Does x lie where the leaf rows keep floats (RAY__LEAF_FLOAT_MAX)? */
+static inline int row_fits(double x)
+{
+    return fabs(x) <= RAY__LEAF_FLOAT_MAX;
+}
+
+/*
+** The nine floats of triangle t, corner by corner (a, b, c), axis by
+** axis, at rows[0], rows[stride], ... rows[8 stride], each the nearest
+** float.  A triangle with a coordinate beyond RAY__LEAF_FLOAT_MAX (where
+** the filter's arithmetic could overflow, and where a conversion to
+** float could be out of range) gets NaN in all nine, which the filter
+** never rejects: the exact test decides it (fits: whether every
+** coordinate is within it).
+*/
+static inline void rows_nan(float *rows, size_t stride)
+{
+    int k;
+
+    for (k = 0; k < RAY__LEAF_ROWS; k++)
+        rows[(size_t)k * stride] = (float)NAN;
+}
+
+static inline void leaf_rows_fitting(const ray__tri *t, float *rows,
+                                     size_t stride, int fits)
+{
+    /* Written out, not looped over an array of nine: a refit writes every
+    ** triangle's rows, and the loops were two fifths of its instructions
+    ** (callgrind, bench/game's 59k refit, issue 36). */
+    float *r = rows;
+
+    if (fits) {
+        r[0] = (float)t->a.x, r += stride;
+        r[0] = (float)t->a.y, r += stride;
+        r[0] = (float)t->a.z, r += stride;
+        r[0] = (float)t->b.x, r += stride;
+        r[0] = (float)t->b.y, r += stride;
+        r[0] = (float)t->b.z, r += stride;
+        r[0] = (float)t->c.x, r += stride;
+        r[0] = (float)t->c.y, r += stride;
+        r[0] = (float)t->c.z;
+    } else
+        rows_nan(rows, stride);
+}
+
+/* leaf_rows_fitting with the test of every coordinate (fits: each is
+** within RAY__LEAF_FLOAT_MAX). */
+static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
+{
+    leaf_rows_fitting(t, rows, stride,
+                      row_fits(t->a.x) & row_fits(t->a.y) &
+                      row_fits(t->a.z) & row_fits(t->b.x) &
+                      row_fits(t->b.y) & row_fits(t->b.z) &
+                      row_fits(t->c.x) & row_fits(t->c.y) &
+                      row_fits(t->c.z));
 }
 
 /*
@@ -101,6 +173,14 @@ static inline void ray__box_out_float(ray_vec3 lo, ray_vec3 hi, float flo[3],
     fhi[1] = ray__float_up(hi.y);
     fhi[2] = ray__float_up(hi.z);
 }
+
+/* The build's boxes of slots begin .. end - 1 (boxes.c; the triangle
+** BVH's costs->boxes, accel/bvh.h), and the refit's leaf (boxes.c:
+** ray__bvh_refit's range_box, ud the scene). */
+void ray__tri_boxes(const void *ud, size_t begin, size_t end,
+                    ray__box_rec *out);
+void ray__refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
+                     float hi[3]);
 
 /* The refit's leaf built for AVX2 (refit_avx2.c), which triangles.c
 ** runs on a CPU with AVX2; NULL where that file was built without it. */
