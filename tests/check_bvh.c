@@ -1564,20 +1564,24 @@ static void refit_case_mesh(ray_vec3 *v, double shift, unsigned seed)
     }
 }
 
-static ray_scene *refit_case_scene(ray_vec3 *v, unsigned *idx, int avx2)
+/* A scene of the hard mesh (refit_case_mesh, seed 5, into v and idx:
+** its mesh in *mesh) and 40 single triangles, committed. */
+static ray_scene *refit_case_built(ray_vec3 *v, unsigned *idx,
+                                   ray_mesh *mesh)
 {
     ray_scene *s = NULL;
-    ray_mesh mesh;
     size_t i;
 
-    memset(&mesh, 0, sizeof mesh);
-    mesh.vertices = v;
-    mesh.vertex_count = 3 * AVX2_TRIS;
-    mesh.indices = idx;
-    mesh.triangle_count = AVX2_TRIS;
+    for (i = 0; i < 3 * AVX2_TRIS; i++)
+        idx[i] = (unsigned)i;
+    memset(mesh, 0, sizeof *mesh);
+    mesh->vertices = v;
+    mesh->vertex_count = 3 * AVX2_TRIS;
+    mesh->indices = idx;
+    mesh->triangle_count = AVX2_TRIS;
     refit_case_mesh(v, 0, 5);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
+    ck_assert_int_eq(ray_scene_add_mesh(s, mesh, RAY_NO_MATERIAL, NULL),
                      RAY_OK);
     for (i = 0; i < 40; i++)
         ck_assert_int_eq(ray_scene_add_triangle(s, v3((double)i, 0, 0),
@@ -1586,6 +1590,14 @@ static ray_scene *refit_case_scene(ray_vec3 *v, unsigned *idx, int avx2)
                                                 RAY_NO_MATERIAL, NULL),
                          RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+static ray_scene *refit_case_scene(ray_vec3 *v, unsigned *idx, int avx2)
+{
+    ray_mesh mesh;
+    ray_scene *s = refit_case_built(v, idx, &mesh);
+
     refit_case_mesh(v, 0.25, 6);
     ck_assert_int_eq(ray_scene_update_mesh(s, 0, &mesh), RAY_OK);
     s->avx2 = avx2;
@@ -1606,8 +1618,6 @@ START_TEST(refit_leaves_should_be_the_same_with_and_without_avx2)
         return;                 /* one leaf here: nothing to compare */
     }
     ck_assert(v != NULL && idx != NULL);
-    for (i = 0; i < 3 * AVX2_TRIS; i++)
-        idx[i] = (unsigned)i;
     with = refit_case_scene(v, idx, 1);
     without = refit_case_scene(v, idx, 0);
     assert_same_trees(with, without);
@@ -1638,8 +1648,9 @@ END_TEST
 ** refit fits (ray__refit_leaf and its AVX2 copy) from the same corners:
 ** a scene built on refit_case_mesh's hard corners (zeros of both signs,
 ** coordinates beyond the float rows and beyond float, collinear
-** triangles read as their first corner) beside 40 single triangles, then
-** refitted to the very same corners, keeps every box bit for bit.  With
+** triangles read as their first corner) beside 40 single triangles
+** (refit_case_built), then refitted to the very same corners, keeps
+** every box bit for bit.  With
 ** the build's rounding a step short (a box not rounded out, or rounded
 ** the wrong way) a leaf's box would move by a float.
 */
@@ -1647,30 +1658,13 @@ START_TEST(build_boxes_should_be_the_refits)
 {
     ray_vec3 *v = malloc(3 * AVX2_TRIS * sizeof *v);
     unsigned *idx = malloc(3 * AVX2_TRIS * sizeof *idx);
-    ray_scene *s = NULL;
+    ray_scene *s;
     ray__wnode *built;
     ray_mesh mesh;
-    size_t i, n_wide;
+    size_t n_wide;
 
     ck_assert(v != NULL && idx != NULL);
-    for (i = 0; i < 3 * AVX2_TRIS; i++)
-        idx[i] = (unsigned)i;
-    memset(&mesh, 0, sizeof mesh);
-    mesh.vertices = v;
-    mesh.vertex_count = 3 * AVX2_TRIS;
-    mesh.indices = idx;
-    mesh.triangle_count = AVX2_TRIS;
-    refit_case_mesh(v, 0, 5);
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_mesh(s, &mesh, RAY_NO_MATERIAL, NULL),
-                     RAY_OK);
-    for (i = 0; i < 40; i++)
-        ck_assert_int_eq(ray_scene_add_triangle(s, v3((double)i, -0.0, 0),
-                                                v3((double)i, 1, 0.1),
-                                                v3((double)i, 0, 1),
-                                                RAY_NO_MATERIAL, NULL),
-                         RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    s = refit_case_built(v, idx, &mesh);
     n_wide = s->tri_bvh.n_wide;
     built = malloc(n_wide * sizeof *built);
     ck_assert(built != NULL);

@@ -119,6 +119,24 @@ static inline int corners_usable_sse2(const corners2 *k)
     return pos != 0 && fin;
 }
 
+/* The corners at pa, pb, pc in registers; with "check", a triangle
+** without a normal read as its first corner, as ray__mesh_tri reads a
+** mesh's. */
+static inline void corners_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
+                                const ray_vec3 *pc, int check, corners2 *k)
+{
+    k->a = _mm_loadu_pd(&pa->x);
+    k->az = _mm_load_sd(&pa->z);
+    k->b = _mm_loadu_pd(&pb->x);
+    k->bz = _mm_load_sd(&pb->z);
+    k->c = _mm_loadu_pd(&pc->x);
+    k->cz = _mm_load_sd(&pc->z);
+    if (check && !corners_usable_sse2(k)) {
+        k->b = k->c = k->a;
+        k->bz = k->cz = k->az;
+    }
+}
+
 /* The nine floats of a triangle in its rows (leaf_rows_fitting's). */
 static inline void rows_sse2(float *r, size_t stride, const corners2 *k)
 {
@@ -150,16 +168,7 @@ static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
     __m128d lo, loz, hi, hiz;
     corners2 k;
 
-    k.a = _mm_loadu_pd(&pa->x);
-    k.az = _mm_load_sd(&pa->z);
-    k.b = _mm_loadu_pd(&pb->x);
-    k.bz = _mm_load_sd(&pb->z);
-    k.c = _mm_loadu_pd(&pc->x);
-    k.cz = _mm_load_sd(&pc->z);
-    if (check && !corners_usable_sse2(&k)) {
-        k.b = k.c = k.a;
-        k.bz = k.cz = k.az;
-    }
+    corners_sse2(pa, pb, pc, check, &k);
     lo = _mm_min_pd(_mm_min_pd(k.a, k.b), k.c);
     loz = _mm_min_sd(_mm_min_sd(k.az, k.bz), k.cz);
     hi = _mm_max_pd(_mm_max_pd(k.a, k.b), k.c);
@@ -278,18 +287,8 @@ void ray__tri_boxes(const void *ud, size_t begin, size_t end,
         int mesh = ray__slot_corners_at(s, i, &m, &m_geom, &t, p);
         __m128d lo, loz, hi, hiz;
         corners2 k;
-        k.a = _mm_loadu_pd(&p[0]->x);
-        k.az = _mm_load_sd(&p[0]->z);
-        k.b = _mm_loadu_pd(&p[1]->x);
-        k.bz = _mm_load_sd(&p[1]->z);
-        k.c = _mm_loadu_pd(&p[2]->x);
-        k.cz = _mm_load_sd(&p[2]->z);
-        /* A mesh's triangle without a normal is its first corner
-        ** (ray__mesh_tri); a single triangle always has one. */
-        if (mesh && !corners_usable_sse2(&k)) {
-            k.b = k.c = k.a;
-            k.bz = k.cz = k.az;
-        }
+        /* a single triangle always has a normal: checked for a mesh's */
+        corners_sse2(p[0], p[1], p[2], mesh, &k);
         /* corners_grow's from a box of corner a: min2(a, min3(a, b, c)) */
         lo = _mm_min_pd(k.a, _mm_min_pd(_mm_min_pd(k.a, k.b), k.c));
         loz = _mm_min_sd(k.az, _mm_min_sd(_mm_min_sd(k.az, k.bz), k.cz));
