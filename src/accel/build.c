@@ -266,13 +266,15 @@ static int build_top(builder *bd, const task *root, size_t limit,
     size_t n = root->end - root->begin, most = n / limit + 1, count = 1, i;
     size_t bytes = most * sizeof(cut) + 2 * most * sizeof(task);
     unsigned char *raw = ray__allocate(bd->alloc, bytes);
-    cut *cuts = (cut *)(void *)raw;
-    task *level = (task *)(void *)(raw + most * sizeof(cut));
+    cut *cuts;
+    task *level;
     top_job job;
     int rc = RAY_OK;
 
-    if (raw == NULL)
+    if (raw == NULL)             /* before any arithmetic on it (UBSan) */
         return RAY_ENOMEM;
+    cuts = (cut *)(void *)raw;
+    level = (task *)(void *)(raw + most * sizeof(cut));
     level[0] = *root;
     job.bd = bd;
     job.cuts = cuts;
