@@ -1681,6 +1681,61 @@ START_TEST(build_boxes_should_be_the_refits)
 END_TEST
 
 /*
+** The threaded build on the refit tests' hard corners (zeros of both
+** signs, coordinates beyond the float rows and beyond float, collinear
+** triangles), 40,000 triangles: more than two runs of the records
+** (sah.c's BIN_RUN), whose bounds the threads make run by run and the
+** build merges in run order, and the top split a level at a time: the
+** same tree, bit for bit, as on one thread, whose records' bounds are
+** one pass in item order.  (Which zero the root's bounds keep reaches
+** no node: they give the root's area and the bins' scale only.)
+*/
+#define HARD_TRIS 40000
+
+static ray_scene *hard_scene(const ray_mesh *mesh, unsigned threads)
+{
+    ray_scene *s = NULL;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_set_build_threads(s, threads), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_mesh(s, mesh, RAY_NO_MATERIAL, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+START_TEST(threaded_build_should_keep_the_hard_boxes)
+{
+    ray_vec3 *v = malloc(3 * HARD_TRIS * sizeof *v);
+    unsigned *idx = malloc(3 * HARD_TRIS * sizeof *idx);
+    ray_scene *one, *two;
+    ray_mesh mesh;
+    rng g = {17};
+    size_t t;
+    int k;
+
+    ck_assert(v != NULL && idx != NULL);
+    for (t = 0; t < HARD_TRIS; t++)
+        for (k = 0; k < 3; k++) {
+            v[3 * t + (size_t)k] = refit_case_corner(&g, t, k, 0);
+            idx[3 * t + (size_t)k] = (unsigned)(3 * t + (size_t)k);
+        }
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v;
+    mesh.vertex_count = 3 * HARD_TRIS;
+    mesh.indices = idx;
+    mesh.triangle_count = HARD_TRIS;
+    one = hard_scene(&mesh, 1);
+    two = hard_scene(&mesh, 2);
+    assert_same_trees(one, two);
+    ray_scene_free(one);
+    ray_scene_free(two);
+    free(v);
+    free(idx);
+}
+END_TEST
+
+/*
 ** The build on the program's scheduler (ray_scene_set_scheduler): the
 ** same tree as the one-thread build, its subtrees run last first, in a
 ** random order, and on a pool of 3 threads of the test's own; the
@@ -1905,6 +1960,7 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, threaded_refit_should_fit_the_same_boxes_at_every_thread_count);
     tcase_add_test(mesh, refit_leaves_should_be_the_same_with_and_without_avx2);
     tcase_add_test(mesh, build_boxes_should_be_the_refits);
+    tcase_add_test(mesh, threaded_build_should_keep_the_hard_boxes);
     tcase_add_test(mesh, threaded_build_should_fail_cleanly_and_stage_its_setting);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_on_a_scheduler);
     tcase_add_test(mesh, threaded_build_should_not_need_aligned_blocks);

@@ -281,6 +281,21 @@ static int tri_live(const ray_scene *s, size_t i)
     return p->enabled && !p->removed;
 }
 
+/* Is every geometry of s enabled and none removed (the usual scene)?
+** Then the rebuild's two passes over the slots (removed ones dropped,
+** disabled ones moved behind) would keep every slot in place: they are
+** skipped, a serial read of every slot's geometry, 940k of them for the
+** big bunny, while the build's threads wait (issue 36). */
+static int every_geometry_live(const ray_scene *s)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++)
+        if (!s->prims[i].enabled || s->prims[i].removed)
+            return 0;
+    return 1;
+}
+
 /* Swap triangle slots i and j; nothing to do for i == j, the usual case
 ** (every triangle kept, in place). */
 static void tri_swap(ray_scene *s, size_t i, size_t j)
@@ -351,14 +366,18 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
     ray__bvh fresh;
     int rc;
 
-    for (i = 0; i < s->n_tris; i++)
-        if (!s->prims[s->tri_ids[i].geom_id].removed)
-            tri_swap(s, n++, i);
-    s->n_tris = n;
-    n = 0;
-    for (i = 0; i < s->n_tris; i++)
-        if (tri_live(s, i))
-            tri_swap(s, n++, i);
+    if (every_geometry_live(s))
+        n = s->n_tris;                 /* every slot stays where it is */
+    else {
+        for (i = 0; i < s->n_tris; i++)
+            if (!s->prims[s->tri_ids[i].geom_id].removed)
+                tri_swap(s, n++, i);
+        s->n_tris = n;
+        n = 0;
+        for (i = 0; i < s->n_tris; i++)
+            if (tri_live(s, i))
+                tri_swap(s, n++, i);
+    }
     leaves_free(s);
     /* One scratch block for the build's records, then the corners in
     ** slot order, then the ids in leaf order, which it becomes (trimmed
