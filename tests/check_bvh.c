@@ -1548,13 +1548,14 @@ static ray_vec3 refit_case_corner(rng *g, size_t t, int k, double shift)
     return v;
 }
 
-static void refit_case_mesh(ray_vec3 *v, double shift, unsigned seed)
+static void refit_case_mesh(ray_vec3 *v, size_t n, double shift,
+                            unsigned seed)
 {
     rng g = {seed};
     size_t t;
     int k;
 
-    for (t = 0; t < AVX2_TRIS; t++) {
+    for (t = 0; t < n; t++) {
         for (k = 0; k < 3; k++)
             v[3 * t + (size_t)k] = refit_case_corner(&g, t, k, shift);
         if (t % 7 == 1)                         /* collinear: c = 2b - a */
@@ -1564,7 +1565,24 @@ static void refit_case_mesh(ray_vec3 *v, double shift, unsigned seed)
     }
 }
 
-/* A scene of the hard mesh (refit_case_mesh, seed 5, into v and idx:
+/* The hard mesh of n triangles (refit_case_mesh, seed "seed"), its
+** corners in v and its indices (each corner its own) in idx: *mesh. */
+static void refit_case_ray_mesh(ray_vec3 *v, unsigned *idx, size_t n,
+                                unsigned seed, ray_mesh *mesh)
+{
+    size_t i;
+
+    for (i = 0; i < 3 * n; i++)
+        idx[i] = (unsigned)i;
+    memset(mesh, 0, sizeof *mesh);
+    mesh->vertices = v;
+    mesh->vertex_count = 3 * n;
+    mesh->indices = idx;
+    mesh->triangle_count = n;
+    refit_case_mesh(v, n, 0, seed);
+}
+
+/* A scene of the hard mesh (refit_case_ray_mesh, seed 5, into v and idx:
 ** its mesh in *mesh) and 40 single triangles, committed. */
 static ray_scene *refit_case_built(ray_vec3 *v, unsigned *idx,
                                    ray_mesh *mesh)
@@ -1572,14 +1590,7 @@ static ray_scene *refit_case_built(ray_vec3 *v, unsigned *idx,
     ray_scene *s = NULL;
     size_t i;
 
-    for (i = 0; i < 3 * AVX2_TRIS; i++)
-        idx[i] = (unsigned)i;
-    memset(mesh, 0, sizeof *mesh);
-    mesh->vertices = v;
-    mesh->vertex_count = 3 * AVX2_TRIS;
-    mesh->indices = idx;
-    mesh->triangle_count = AVX2_TRIS;
-    refit_case_mesh(v, 0, 5);
+    refit_case_ray_mesh(v, idx, AVX2_TRIS, 5, mesh);
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_mesh(s, mesh, RAY_NO_MATERIAL, NULL),
                      RAY_OK);
@@ -1598,7 +1609,7 @@ static ray_scene *refit_case_scene(ray_vec3 *v, unsigned *idx, int avx2)
     ray_mesh mesh;
     ray_scene *s = refit_case_built(v, idx, &mesh);
 
-    refit_case_mesh(v, 0.25, 6);
+    refit_case_mesh(v, AVX2_TRIS, 0.25, 6);
     ck_assert_int_eq(ray_scene_update_mesh(s, 0, &mesh), RAY_OK);
     s->avx2 = avx2;
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
@@ -1710,21 +1721,9 @@ START_TEST(threaded_build_should_keep_the_hard_boxes)
     unsigned *idx = malloc(3 * HARD_TRIS * sizeof *idx);
     ray_scene *one, *two;
     ray_mesh mesh;
-    rng g = {17};
-    size_t t;
-    int k;
 
     ck_assert(v != NULL && idx != NULL);
-    for (t = 0; t < HARD_TRIS; t++)
-        for (k = 0; k < 3; k++) {
-            v[3 * t + (size_t)k] = refit_case_corner(&g, t, k, 0);
-            idx[3 * t + (size_t)k] = (unsigned)(3 * t + (size_t)k);
-        }
-    memset(&mesh, 0, sizeof mesh);
-    mesh.vertices = v;
-    mesh.vertex_count = 3 * HARD_TRIS;
-    mesh.indices = idx;
-    mesh.triangle_count = HARD_TRIS;
+    refit_case_ray_mesh(v, idx, HARD_TRIS, 17, &mesh);
     one = hard_scene(&mesh, 1);
     two = hard_scene(&mesh, 2);
     assert_same_trees(one, two);

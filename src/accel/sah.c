@@ -577,6 +577,19 @@ static void bounds4_store(const bounds4 *b, bounds *out)
 #endif
 
 
+/* Bounds by a pass over the items (halved runs; a run of records). */
+static void bounds_of(const builder *bd, size_t begin, size_t end,
+                      bounds *out)
+{
+    size_t i;
+    bounds4 b;
+
+    bounds4_empty(&b);
+    for (i = begin; i < end; i++)
+        bounds4_grow(&b, &bd->refs[i]);
+    bounds4_store(&b, out);
+}
+
 /*
 ** The records of items begin .. end - 1: their boxes (box_of) and ids.
 ** On the build's threads when box_of allows (costs->box_threads: a
@@ -609,14 +622,9 @@ static void refs_fill(builder *bd, ray__box_fn box_of, const void *ud,
 static void refs_task(void *ud, unsigned k, size_t begin, size_t end)
 {
     const refs_job *job = ud;
-    bounds4 b;
-    size_t i;
 
     refs_fill(job->bd, job->box_of, job->ud, begin, end);
-    bounds4_empty(&b);
-    for (i = begin; i < end; i++)
-        bounds4_grow(&b, &job->bd->refs[i]);
-    bounds4_store(&b, &job->runs[k]);
+    bounds_of(job->bd, begin, end, &job->runs[k]);
 }
 
 /* Records made a run at a time on one thread: 32 KB of them, in L1. */
@@ -696,19 +704,6 @@ static size_t partition(builder *bd, size_t begin, size_t end,
     bounds4_store(&l, left);
     bounds4_store(&r, right);
     return i;
-}
-
-/* Bounds by a pass over the items (halved runs). */
-static void bounds_of(const builder *bd, size_t begin, size_t end,
-                      bounds *out)
-{
-    size_t i;
-    bounds4 b;
-
-    bounds4_empty(&b);
-    for (i = begin; i < end; i++)
-        bounds4_grow(&b, &bd->refs[i]);
-    bounds4_store(&b, out);
 }
 
 static void node_set_box(ray__node *n, const box *b)
