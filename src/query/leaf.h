@@ -210,10 +210,14 @@ static inline int prim_candidate(const ray_scene *s, unsigned idx,
 
 /* The nearest hit of a geometry other than a triangle so far: its record
 ** h, or (deferred != RAY_INVALID_ID) geometry "deferred"'s hit at h.t,
-** whose record prim_fill_best fills. */
+** whose record prim_fill_best fills: a kind's own (ray__prim_fill), or,
+** where "child" is set, instance "deferred"'s, from triangle "tri" of
+** its child of triangles alone (instance_nearest, traverse.h). */
 typedef struct prim_best {
     ray_hit h;
     unsigned deferred;
+    const ray_scene *child;
+    tri_best tri;
 } prim_best;
 
 /* Record candidate h of geometry idx (prim_candidate's answer k) as the
@@ -221,6 +225,7 @@ typedef struct prim_best {
 static inline void prim_keep(prim_best *b, unsigned idx, int k,
                              const ray_hit *h)
 {
+    b->child = NULL;
     if (k == RAY__HIT_T) {
         b->h.t = h->t;
         b->deferred = idx;
@@ -232,13 +237,24 @@ static inline void prim_keep(prim_best *b, unsigned idx, int k,
 
 /* Fill the deferred record of *b, if any: the same formulas on the same t
 ** as the candidate test would have filled it with (prim_candidate made
-** sure it fills).  0 if it failed (cannot happen). */
+** sure it fills; an instance's child triangle was hit, so it has a
+** normal), in s's space.  0 if it failed (cannot happen). */
 static inline int prim_fill_best(const ray_scene *s, const ray_ray *r,
                                  prim_best *b, const ray__counts *qc)
 {
+    const ray__instance *in;
+    ray_hit h;
+
     if (b->deferred == RAY_INVALID_ID)
         return 1;
-    return ray__prim_fill(s, b->deferred, r, b->h.t, qc->uv, &b->h);
+    if (b->child == NULL)
+        return ray__prim_fill(s, b->deferred, r, b->h.t, qc->uv, &b->h);
+    in = &s->instances[s->prims[b->deferred].surface];
+    if (!tri_record(b->child, &b->tri, b->h.t, &h))
+        return 0;
+    ray__instance_to_world(in, &h, &b->h);
+    b->h.inst_id = b->deferred;
+    return 1;
 }
 
 /*

@@ -56,6 +56,13 @@ static void add_counts(ray_stats *st, const ray__counts *qc)
 
 #include "query/leaf.h"
 
+/* A scene of triangles alone (no planes, no bounded kinds, so no
+** instances): query_nearest_tris says what its queries skip. */
+static inline int tris_only(const ray_scene *s)
+{
+    return s->n_planes == 0 && s->prim_bvh.n_wide == 0;
+}
+
 /* An instance's child inside a parent's query: nearest or any as the
 ** parent's query is, with its counts and gate (below, with the queries
 ** it recurses into). */
@@ -114,6 +121,46 @@ static int instance_hit(const ray_scene *s, unsigned idx, const ray_ray *r,
     return RAY__HIT_FULL;
 }
 
+/* The nearest hit of a child of triangles alone, its record not yet
+** made (below, after the traversal it runs). */
+static int child_tris_nearest(const ray_scene *child, ray_ray *r,
+                              tri_best *tb, ray__counts *qc);
+
+/*
+** Instance idx of s against world ray r for an ungated nearest-hit query,
+** where its child is of triangles alone (the usual instance): as
+** instance_hit, but the hit's record is left to prim_fill_best, which
+** makes it -- the child's record (tri_record) brought to world space --
+** once per ray, for the nearest, where instance_hit made it at every
+** instance hit.  A ray through a crowd of instances hits several before
+** the nearest: in a game's frame (bench/game.c), two a ray that hits.
+** The same functions on the same numbers, so the same record.  1 with
+** r->tmax shrunk and *best holding it; 0 on a miss (qc->stale set if
+** the child changed since s was committed).
+*/
+static int instance_nearest(const ray_scene *s, unsigned idx, ray_ray *r,
+                            prim_best *best, ray__counts *qc)
+{
+    const ray__instance *in = &s->instances[s->prims[idx].surface];
+    ray_ray ro;
+    tri_best tb;
+
+    ray__count_tests(qc, RAY_PRIM_INSTANCE, 1);
+    if (ray__instance_stale(in)) {
+        qc->stale = 1;
+        return 0;
+    }
+    ray__instance_ray_to_object(in, r, &ro);
+    if (!trav_usable(&ro) || !child_tris_nearest(in->child, &ro, &tb, qc))
+        return 0;
+    r->tmax = ro.tmax;
+    best->h.t = ro.tmax;
+    best->deferred = idx;
+    best->child = in->child;
+    best->tri = tb;
+    return 1;
+}
+
 /*
 ** Item "item" of the BVH over the bounded kinds against r, the interval
 ** shrunk to a hit and the nearest kept in *best (NULL for any hit): an
@@ -132,6 +179,9 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
         k = prim_candidate(s, idx, r, &h, qc);
     else if (qc->gate != NULL && (p->mask & qc->gate->mask) == 0)
         k = 0;
+    else if (best != NULL && qc->gate == NULL &&
+             tris_only(s->instances[p->surface].child))
+        return instance_nearest(s, idx, r, best, qc);
     else
         k = instance_hit(s, idx, r, &h, qc);
     if (!k)
@@ -270,6 +320,23 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
         child = stack[sp].child;
         count = stack[sp].count;
     }
+}
+
+/*
+** The nearest hit of child "child", a scene of triangles alone, along its
+** ray r (usable), r->tmax shrunk to it and its triangle in *tb (no
+** record yet): as query_nearest_tris walks it.
+*/
+static int child_tris_nearest(const ray_scene *child, ray_ray *r,
+                              tri_best *tb, ray__counts *qc)
+{
+    trav tr;
+
+    tri_best_start(tb);
+    return child->tri_bvh.n_wide != 0 &&
+           trav_setup(&tr, r, &child->lo, &child->hi) &&
+           traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, tb, 0,
+                    qc);
 }
 
 /* The bounded primitives of s along r, by traversal (the traversal data
@@ -453,11 +520,6 @@ static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
 ** functions in the same order (tests/check_bvh.c compares every scene
 ** kind both ways).
 */
-static inline int tris_only(const ray_scene *s)
-{
-    return s->n_planes == 0 && s->prim_bvh.n_wide == 0;
-}
-
 static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
                               ray_hit *hit)
 {
@@ -579,16 +641,13 @@ static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
             return any_core(child, r, qc);
         return nearest_core(child, r, hit, qc);
     }
-    if (child->tri_bvh.n_wide == 0 ||
-        !trav_setup(&tr, r, &child->lo, &child->hi))
-        return 0;
-    if (qc->any)
-        return traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, NULL,
-                        1, qc);
-    tri_best_start(&tb);
-    return traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, &tb, 0,
-                    qc) &&
-           tri_record(child, &tb, r->tmax, hit);
+    if (!qc->any)
+        return child_tris_nearest(child, r, &tb, qc) &&
+               tri_record(child, &tb, r->tmax, hit);
+    return child->tri_bvh.n_wide != 0 &&
+           trav_setup(&tr, r, &child->lo, &child->hi) &&
+           traverse(child, &child->tri_bvh, &tr, r, LEAF_TRIANGLES, NULL, 1,
+                    qc);
 }
 
 #endif
