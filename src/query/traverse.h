@@ -84,23 +84,36 @@ static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
 ** traversal kernels; the scene keeps the instance's record, transforms
 ** and box (scene/instance.c).
 */
+/* Instance idx of s met by world ray r: counted, and r in its child's
+** space in *ro; NULL (qc->stale set) where the child changed since s was
+** committed. */
+static const ray__instance *instance_enter(const ray_scene *s, unsigned idx,
+                                           const ray_ray *r, ray_ray *ro,
+                                           ray__counts *qc)
+{
+    const ray__instance *in = &s->instances[s->prims[idx].surface];
+
+    ray__count_tests(qc, RAY_PRIM_INSTANCE, 1);
+    if (ray__instance_stale(in)) {
+        qc->stale = 1;
+        return NULL;
+    }
+    ray__instance_ray_to_object(in, r, ro);
+    return in;
+}
+
 static int instance_hit(const ray_scene *s, unsigned idx, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc)
 {
-    const ray__instance *in = &s->instances[s->prims[idx].surface];
-    const ray__instance *outer_inst = qc->inst;
+    const ray__instance *outer_inst = qc->inst, *in;
     const ray_ray *outer_ray = qc->world_ray;
     unsigned outer_id = qc->inst_id;
     ray_ray ro;
     ray_hit h;
     int found;
 
-    ray__count_tests(qc, RAY_PRIM_INSTANCE, 1);
-    if (ray__instance_stale(in)) {
-        qc->stale = 1;
+    if ((in = instance_enter(s, idx, r, &ro, qc)) == NULL)
         return 0;
-    }
-    ray__instance_ray_to_object(in, r, &ro);
     qc->inst = in;
     qc->inst_id = idx;
     qc->world_ray = r;
@@ -141,17 +154,12 @@ static int child_tris_nearest(const ray_scene *child, ray_ray *r,
 static int instance_nearest(const ray_scene *s, unsigned idx, ray_ray *r,
                             prim_best *best, ray__counts *qc)
 {
-    const ray__instance *in = &s->instances[s->prims[idx].surface];
+    const ray__instance *in;
     ray_ray ro;
     tri_best tb;
 
-    ray__count_tests(qc, RAY_PRIM_INSTANCE, 1);
-    if (ray__instance_stale(in)) {
-        qc->stale = 1;
-        return 0;
-    }
-    ray__instance_ray_to_object(in, r, &ro);
-    if (!trav_usable(&ro) || !child_tris_nearest(in->child, &ro, &tb, qc))
+    if ((in = instance_enter(s, idx, r, &ro, qc)) == NULL ||
+        !trav_usable(&ro) || !child_tris_nearest(in->child, &ro, &tb, qc))
         return 0;
     r->tmax = ro.tmax;
     best->h.t = ro.tmax;
