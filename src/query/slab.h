@@ -216,29 +216,91 @@ static inline __m128 floats_step(__m256d x, int up)
 }
 #endif
 
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+/*
+** A ray in two registers, its two halves: org.x .. dir.x and dir.y ..
+** tmax, each read by one 32-byte load -- and the direction and tmin
+** (x y z tmin) from them.  Halves that do not overlap, so that a ray
+** written just before as two such stores (an instance's ray in its
+** child's space, ray_halves_store) is forwarded from them: a load is
+** forwarded from a store only when one store holds it all, else it waits
+** until the stores reach the cache, which was the largest stall of an
+** instance's child query in a game's frame (perf annotate, bench/game
+** frame, issue 36).
+*/
+typedef struct ray_halves {
+    __m256d a;                          /* org.x org.y org.z dir.x */
+    __m256d b;                          /* dir.y dir.z tmin tmax */
+} ray_halves;
+
+static inline ray_halves ray_halves_load(const ray_ray *r)
+{
+    ray_halves h;
+
+    h.a = _mm256_loadu_pd(&r->org.x);
+    h.b = _mm256_loadu_pd(&r->dir.y);
+    return h;
+}
+
+/* The direction and tmin: (a3, b0) and (b1, b2) of (a2 a3 b0 b1), b. */
+static inline __m256d ray_halves_dir(const ray_halves *h)
+{
+    return _mm256_shuffle_pd(_mm256_permute2f128_pd(h->a, h->b, 0x21), h->b,
+                             5);
+}
+
+/* Ray r written as its two halves. */
+static inline void ray_halves_store(ray_ray *r, __m256d a, __m256d b)
+{
+    _mm256_storeu_pd(&r->org.x, a);
+    _mm256_storeu_pd(&r->dir.y, b);
+}
+#endif
+
+/* *dst = *src, a query's own copy of its ray, which its set-up then reads:
+** in the AVX copy as the two halves (ray_halves), where the compiler's
+** copy wrote sixteen bytes at a time and the set-up's loads waited for
+** them: a ray that misses the mesh's box took 1.7 times as long
+** (bench/raycost, RAYCOST_AB, issue 34). */
+static inline void ray_copy(ray_ray *dst, const ray_ray *src)
+{
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+    ray_halves h = ray_halves_load(src);
+
+    ray_halves_store(dst, h.a, h.b);
+#else
+    *dst = *src;
+#endif
+}
+
 /*
 ** ray__ray_usable (prim/prim.h) for this copy's queries: in the AVX copy
-** in two registers -- the origin and the direction's x, then the
-** direction and tmin -- where the plain form's six subtractions, sums
-** and three compares were a tenth of a query that misses the scene's
-** box (callgrind, issue 34).  The same answer: x - x == 0 exactly when x
-** is finite (the plain form sums the six differences, 0 only if each is
-** 0); a non-zero direction component; tmin < tmax (NaN: not).
+** in two registers (ray_halves) -- the origin and the direction's x,
+** then the rest of the direction, tmin and tmax -- where the plain
+** form's six subtractions, sums and three compares were a tenth of a
+** query that misses the scene's box (callgrind, issue 34).  The same
+** answer: x - x == 0 exactly when x is finite (the plain form sums the
+** six differences, 0 only if each is 0); a non-zero direction component;
+** tmin < tmax (NaN: not).
 */
 static inline int trav_usable(const ray_ray *r)
 {
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
-    __m256d a = _mm256_loadu_pd(&r->org.x);          /* org, dir.x */
-    __m256d d = _mm256_loadu_pd(&r->dir.x);          /* dir, tmin */
+    ray_halves h = ray_halves_load(r);
     __m256d zero = _mm256_setzero_pd();
-    /* bits 0-2: the origin's and the direction's x, y, z finite */
-    int finite = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(a, a), zero,
-                                                  _CMP_EQ_OQ)) &
-                 _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(d, d), zero,
-                                                  _CMP_EQ_OQ));
-    int nonzero = _mm256_movemask_pd(_mm256_cmp_pd(d, zero, _CMP_NEQ_UQ)) & 7;
+    /* a: the origin's x, y, z and the direction's x finite (bits 0-3);
+    ** b: the direction's y and z (bits 0-1) */
+    int finite_a = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(h.a, h.a),
+                                                    zero, _CMP_EQ_OQ));
+    int finite_b = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(h.b, h.b),
+                                                    zero, _CMP_EQ_OQ));
+    int nonzero = (_mm256_movemask_pd(_mm256_cmp_pd(h.a, zero, _CMP_NEQ_UQ)) &
+                   8) |
+                  (_mm256_movemask_pd(_mm256_cmp_pd(h.b, zero, _CMP_NEQ_UQ)) &
+                   3);
 
-    return ((finite & 7) == 7) & (nonzero != 0) & (r->tmin < r->tmax);
+    return (finite_a == 15) & ((finite_b & 3) == 3) & (nonzero != 0) &
+           (r->tmin < r->tmax);
 #else
     return ray__ray_usable(r);
 #endif
@@ -322,8 +384,9 @@ static inline int trav_setup(trav *tr, const ray_ray *r,
     tr->framed = 0;
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
     {
-        __m256d d = _mm256_loadu_pd(&r->dir.x);          /* x y z tmin */
-        __m256d o = _mm256_loadu_pd(&r->org.x);          /* x y z dir.x */
+        ray_halves h = ray_halves_load(r);
+        __m256d d = ray_halves_dir(&h);                  /* x y z tmin */
+        __m256d o = h.a;                                 /* x y z dir.x */
         __m256d ds = _mm256_mul_pd(d, _mm256_set1_pd(down));
         __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), ds);
         __m256d abs_ds = _mm256_andnot_pd(_mm256_set1_pd(-0.0), ds);

@@ -84,6 +84,24 @@ static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
 ** traversal kernels; the scene keeps the instance's record, transforms
 ** and box (scene/instance.c).
 */
+/* World ray r in instance in's child space into *ro (ray__instance_ray_
+** to_object), written in the AVX copy as the two halves the child's
+** set-up reads (slab.h's ray_halves), so that its loads are forwarded
+** from these stores. */
+static inline void child_ray(const ray__instance *in, const ray_ray *r,
+                             ray_ray *ro)
+{
+#if defined(__AVX__) && !defined(RAY_NO_SIMD)
+    ray_ray t;
+
+    ray__instance_ray_to_object(in, r, &t);
+    ray_halves_store(ro, _mm256_set_pd(t.dir.x, t.org.z, t.org.y, t.org.x),
+                     _mm256_set_pd(t.tmax, t.tmin, t.dir.z, t.dir.y));
+#else
+    ray__instance_ray_to_object(in, r, ro);
+#endif
+}
+
 /* Instance idx of s met by world ray r: counted, and r in its child's
 ** space in *ro; NULL (qc->stale set) where the child changed since s was
 ** committed. */
@@ -98,7 +116,7 @@ static const ray__instance *instance_enter(const ray_scene *s, unsigned idx,
         qc->stale = 1;
         return NULL;
     }
-    ray__instance_ray_to_object(in, r, ro);
+    child_ray(in, r, ro);
     return in;
 }
 
@@ -545,7 +563,7 @@ static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
     if (!trav_usable(r) || s->tri_bvh.n_wide == 0)
         return 0;
     counts_light(&qc, 0);
-    rr = *r;
+    ray_copy(&rr, r);
     tri_best_start(&tb);
     if (!trav_setup(&tr, &rr, &s->lo, &s->hi) ||
         !traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, &tb, 0, &qc))
@@ -565,7 +583,7 @@ static int query_any_tris(const ray_scene *s, const ray_ray *r)
     if (!trav_usable(r) || s->tri_bvh.n_wide == 0)
         return 0;
     counts_light(&qc, 1);
-    rr = *r;
+    ray_copy(&rr, r);
     return trav_setup(&tr, &rr, &s->lo, &s->hi) &&
            traverse(s, &s->tri_bvh, &tr, &rr, LEAF_TRIANGLES, NULL, 1, &qc);
 }
@@ -583,7 +601,7 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
         return query_nearest_tris(s, r, hit);
     if (!trav_usable(r))
         return 0;
-    rr = *r;
+    ray_copy(&rr, r);
     counts_start(&qc, g, 0);
     qc.uv = uv;
     found = nearest_core(s, &rr, &best, &qc);
@@ -606,7 +624,7 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
         return query_any_tris(s, r);
     if (!trav_usable(r))
         return 0;
-    rr = *r;
+    ray_copy(&rr, r);
     counts_start(&qc, g, 1);
     hit = any_core(s, &rr, &qc);
     add_counts(st, &qc);
