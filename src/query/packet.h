@@ -54,9 +54,13 @@ static inline void packet_shrink(packet *p, int lane)
     p->tpop[lane] = with_slack(p->tmax[lane]);
 }
 
-/* Rays[0 .. n - 1] (n <= PACKET) into *p; lanes past n, and rays that
-** fail ray__ray_usable (a single ray misses them), are not live. */
-static void packet_init(packet *p, const ray_ray *rays, int n)
+/* Rays[0 .. n - 1] (n <= PACKET) of scene s into *p; lanes past n, rays
+** that fail ray__ray_usable and rays that surely miss the scene's box
+** (trav_setup's test: a single ray stops there too, having met nothing)
+** are not live.  Each lane's ray copied as its set-up reads it
+** (ray_copy). */
+static void packet_init(packet *p, const ray_scene *s, const ray_ray *rays,
+                        int n)
 {
     int l;
 
@@ -65,8 +69,9 @@ static void packet_init(packet *p, const ray_ray *rays, int n)
         p->tmax[l] = p->tpop[l] = 0;
         if (l >= n || !ray__ray_usable(&rays[l]))
             continue;
-        p->r[l] = rays[l];
-        trav_init(&p->tr[l], &p->r[l]);
+        ray_copy(&p->r[l], &rays[l]);
+        if (!trav_setup(&p->tr[l], &p->r[l], &s->lo, &s->hi))
+            continue;
         lanes_init(&p->box[l], &p->tr[l]);
         tri_best_start(&p->best[l]);
         packet_shrink(p, l);
@@ -211,7 +216,7 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
         int m = n - i < PACKET ? (int)(n - i) : PACKET;
         ray__counts qc;
         counts_start(&qc, NULL, any);
-        packet_init(&p, rays + i, m);
+        packet_init(&p, s, rays + i, m);
         packet_traverse(s, &p, any, &qc);
         add_counts(st, &qc);
         for (l = 0; l < m; l++) {
