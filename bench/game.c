@@ -148,11 +148,8 @@ static void refit_row(const char *name, const obj_mesh *m)
     embree_refit_new(&ep, NULL, v, m);
     embree_refit_new(&e1, "threads=1", v, m);
 #endif
-    /* The refits in a row, as a game makes them (one a frame), each side's
-    ** after the other's: a refit right after a rebuild of its scene also
-    ** makes its list of leaves (accel/refit.c, once a tree), which a game
-    ** pays once, not every frame -- as Embree's refits here come before
-    ** its rebuilds, below. */
+    /* The refits in a row, then the rebuilds (the comment above says
+    ** why). */
     for (k = 0; k < reps; k++) {
         wave(m, v, k + 1, size);
         t = now_seconds();

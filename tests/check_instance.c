@@ -136,7 +136,8 @@ END_TEST
 ** (traverse.h's query_child, issue 36), and an ungated nearest query
 ** makes the record of its nearest instance hit alone, once, at the end
 ** (instance_nearest); one with other kinds too through the general
-** query, which makes every instance hit's record as it meets it.  Two such children, the same icosphere (the second
+** query, which makes every instance hit's record as it meets it.  Two
+** such children, the same icosphere (the second
 ** with a tiny sphere far off that no ray reaches, geometry 1), each
 ** placed by the same six overlapping turned instances (one of them
 ** hidden by its mask for the gated query): every query answers the same

@@ -69,21 +69,6 @@ static inline int tris_only(const ray_scene *s)
 static int query_child(const ray_scene *child, ray_ray *r, ray_hit *hit,
                        ray__counts *qc);
 
-/*
-** Geometry idx of s, an instance, against world ray r: RAY__HIT_FULL
-** with *hit filled -- the child's hit brought back to world space, its
-** error bound grown by the rounding of both transforms
-** (ray__instance_to_world), geom_id and prim_id the child's, inst_id idx;
-** for an any-hit query only t, which is all it reads -- or 0 on a miss.
-** A child changed since s was committed is a miss with qc->stale set (the
-** query then answers -RAY_ESTATE).  Counted as one test of its kind
-** (RAY_PRIM_INSTANCE, its column in RAY__PRIM_KINDS), as every bounded
-** primitive's test is.  Inside, qc names the instance, so that the gate
-** offers the child's candidates in world space.  Here, beside the
-** queries it recurses into, as Embree's instance intersector sits in its
-** traversal kernels; the scene keeps the instance's record, transforms
-** and box (scene/instance.c).
-*/
 /* World ray r in instance in's child space into *ro (ray__instance_ray_
 ** to_object), written in the AVX copy as the two halves the child's
 ** set-up reads (slab.h's ray_halves), so that its loads are forwarded
@@ -120,6 +105,21 @@ static const ray__instance *instance_enter(const ray_scene *s, unsigned idx,
     return in;
 }
 
+/*
+** Geometry idx of s, an instance, against world ray r: RAY__HIT_FULL
+** with *hit filled -- the child's hit brought back to world space, its
+** error bound grown by the rounding of both transforms
+** (ray__instance_to_world), geom_id and prim_id the child's, inst_id idx;
+** for an any-hit query only t, which is all it reads -- or 0 on a miss.
+** A child changed since s was committed is a miss with qc->stale set (the
+** query then answers -RAY_ESTATE).  Counted as one test of its kind
+** (RAY_PRIM_INSTANCE, its column in RAY__PRIM_KINDS), as every bounded
+** primitive's test is.  Inside, qc names the instance, so that the gate
+** offers the child's candidates in world space.  Here, beside the
+** queries it recurses into, as Embree's instance intersector sits in its
+** traversal kernels; the scene keeps the instance's record, transforms
+** and box (scene/instance.c).
+*/
 static int instance_hit(const ray_scene *s, unsigned idx, const ray_ray *r,
                         ray_hit *hit, ray__counts *qc)
 {
