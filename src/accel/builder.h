@@ -118,7 +118,9 @@ static inline void child_task(task *t, size_t node, size_t begin, size_t end,
 ** (bd->n_nodes), their tasks into stack[0] and stack[1].
 ** ray__bvh_collapse -- the binary nodes of bvh collapsed into
 ** RAY__WIDTH-wide nodes (bvh->wide), the binary ones freed: RAY_OK, or
-** RAY_ENOMEM with bvh as it was.
+** RAY_ENOMEM with bvh as it was.  leaves: the leaf count below each
+** binary node, or NULL (memory was short: the collapse then opens nodes
+** by their area alone).
 */
 void ray__bvh_refs(builder *bd, ray__box_fn box_of, const void *ud,
                    size_t n, bounds *root);
@@ -127,6 +129,7 @@ int ray__bvh_divide(builder *bd, const task *t, size_t *mid, bounds *left,
                     bounds *right);
 void ray__bvh_link(builder *bd, const task *t, size_t mid,
                    const bounds *left, const bounds *right, task *stack);
-int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh);
+int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh,
+                      const unsigned *leaves);
 
 #endif /* RAY_BUILDER_H */

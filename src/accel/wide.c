@@ -73,23 +73,6 @@ static int gather_children(const ray__node *nodes, const unsigned *leaves,
     return k;
 }
 
-/* The leaves below each binary node, or NULL when memory is short: a
-** node's children come after it in the array, so one pass from the end
-** sees them first. */
-static unsigned *leaf_counts(const ray__allocator *a, const ray__bvh *bvh)
-{
-    unsigned *leaves = ray__allocate(a, bvh->n_nodes * sizeof *leaves);
-    size_t i = bvh->n_nodes;
-
-    if (leaves == NULL)
-        return NULL;
-    while (i-- > 0) {
-        const ray__node *n = &bvh->nodes[i];
-        leaves[i] = opens(n) ? leaves[n->first] + leaves[n->first + 1] : 1;
-    }
-    return leaves;
-}
-
 static void slot_set(ray__wnode *q, int k, const ray__node *c)
 {
     int a;
@@ -137,18 +120,17 @@ static int wide_room(const ray__allocator *a, ray__wnode **w, size_t *cap,
 ** half when full and is trimmed to its size at the end: one walk of the
 ** tree, where counting first took two.
 */
-int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh)
+int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh,
+                      const unsigned *leaves)
 {
     size_t cap = bvh->n_nodes / 6 + RAY__WIDTH, used = 1;
     /* (binary node, wide node): RAY__WIDTH - 1 per level, 64 levels */
     unsigned stack[RAY__WIDTH * 64][2];
     ray__wnode *w = ray__allocate(a, cap * sizeof *w), *trimmed;
-    unsigned *leaves;
     int sp = 0;
 
     if (w == NULL)
         return RAY_ENOMEM;
-    leaves = leaf_counts(a, bvh);
     if (!opens(&bvh->nodes[0])) {         /* the root is a leaf */
         int k;
         for (k = 1; k < RAY__WIDTH; k++)
@@ -167,7 +149,6 @@ int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh)
         ray__wnode *q;
         if (wide_room(a, &w, &cap, used) != RAY_OK) {
             ray__release(a, w, cap * sizeof *w);
-            ray__release(a, leaves, bvh->n_nodes * sizeof *leaves);
             return RAY_ENOMEM;
         }
         q = &w[qi];
@@ -190,7 +171,6 @@ int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh)
             }
         }
     }
-    ray__release(a, leaves, bvh->n_nodes * sizeof *leaves);
     trimmed = ray__reallocate(a, w, cap * sizeof *w, used * sizeof *w);
     if (trimmed != NULL) {               /* else keep the larger block */
         w = trimmed;
