@@ -437,11 +437,13 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     bd.nodes = NULL;
     items = NULL;
     /* The collapse's leaf counts in the caller's scratch, if any: the
-    ** item records are done with, and its pages were touched.  In a
-    ** block of their own (under RAY__HUGE_BLOCK: 4 KiB pages), each first
-    ** touch of a page was a page fault: 4.8 ms of a 940k build's 180 on
-    ** two threads, serial; 1.0 to 2.5 ms here (issue 36).  At 4 bytes a
-    ** node, 2 n - 1 nodes at most, they fit its 32 bytes an item
+    ** item records are done with, and its pages were touched.  A block
+    ** of their own (under RAY__HUGE_BLOCK: 4 KiB pages) was, where libc
+    ** mapped it afresh, a page fault a page: 20 cold builds of the 940k
+    ** bunny took 175,768 minor faults, 165,544 with this (perf stat -e
+    ** minor-faults build/bench/filter --profile data/bunny-4.obj build
+    ** 1), the faults of a serial step of the build (issue 36).  At 4
+    ** bytes a node, 2 n - 1 nodes at most, they fit its 32 bytes an item
     ** (RAY__BVH_SCRATCH).  NULL, memory short: the collapse by area
     ** alone. */
     leaves_bytes = scratch != NULL ? 0 : bd.n_nodes * sizeof *leaves;
