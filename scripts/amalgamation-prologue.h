@@ -67,6 +67,9 @@
 #if defined(__APPLE__) && !defined(_DARWIN_C_SOURCE)
 #define _DARWIN_C_SOURCE 1
 #endif
+#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
+#define _DEFAULT_SOURCE 1         /* madvise, MAP_ANONYMOUS, MADV_HUGEPAGE */
+#endif
 #ifndef RAY_BUILD
 #define RAY_BUILD 1
 #endif

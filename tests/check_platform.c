@@ -9,6 +9,7 @@
 #include <string.h>
 #include <dirent.h>
 #include <fenv.h>
+#include <stdint.h>
 #include <stdlib.h>
 
 #include "core/platform.h"
@@ -274,6 +275,85 @@ static int entries(const char *dir)
     return n;
 }
 
+/* Bytes 0 .. n - 1 of p: byte i holds i * 131 + seed (mod 256), so a
+** block moved or resized is seen to keep its contents exactly. */
+static void fill_bytes(unsigned char *p, size_t n, unsigned seed)
+{
+    size_t i;
+
+    for (i = 0; i < n; i++)
+        p[i] = (unsigned char)(i * 131u + seed);
+}
+
+static int bytes_kept(const unsigned char *p, size_t n, unsigned seed)
+{
+    size_t i;
+
+    for (i = 0; i < n; i++)
+        if (p[i] != (unsigned char)(i * 131u + seed))
+            return 0;
+    return 1;
+}
+
+/*
+** The default allocator (ray__system_alloc): blocks of every size class
+** -- libc's below RAY__HUGE_BLOCK, mapped whole at or above it on Linux
+** -- allocated, written to their last byte, grown and shrunk across the
+** boundary and within each side, each time with their contents kept,
+** and freed (ASan and the leak check see libc's; the sizes are the ones
+** each block was given, as ray_alloc_fn promises).  On Linux a mapped
+** block starts at a 2 MiB boundary (its huge pages); elsewhere only
+** the contents are checked.  A size beyond any mapping fails (NULL) and
+** leaves the block as it was.
+*/
+START_TEST(system_alloc_should_keep_contents_across_sizes)
+{
+    const size_t small = 1000, big = RAY__HUGE_BLOCK,
+                 bigger = 3 * RAY__HUGE_BLOCK + 12345;
+    unsigned char *p = ray__system_alloc(NULL, 0, small), *q;
+
+    ck_assert_ptr_nonnull(p);
+    fill_bytes(p, small, 1);
+    p = ray__system_alloc(p, small, big);          /* libc's -> mapped */
+    ck_assert_ptr_nonnull(p);
+    ck_assert(bytes_kept(p, small, 1));
+#if RAY__MAPPED_BLOCKS
+    ck_assert_uint_eq((uintptr_t)p % ((uintptr_t)1 << 21), 0);
+#endif
+    fill_bytes(p, big, 2);
+    p = ray__system_alloc(p, big, bigger);         /* mapped, grown */
+    ck_assert_ptr_nonnull(p);
+    ck_assert(bytes_kept(p, big, 2));
+    fill_bytes(p, bigger, 3);
+    p[bigger - 1] = 7;                             /* the last byte */
+    /* Too large to map (libc's malloc, which AddressSanitizer stops
+    ** at such a size, is not asked). */
+    q = RAY__MAPPED_BLOCKS ? ray__system_alloc(p, bigger, (size_t)-1 - 100)
+                           : NULL;
+    ck_assert_ptr_null(q);
+    ck_assert_uint_eq(p[bigger - 1], 7);
+    p[bigger - 1] = (unsigned char)((bigger - 1) * 131u + 3);
+    ck_assert(bytes_kept(p, bigger, 3));
+    p = ray__system_alloc(p, bigger, big + 1);     /* mapped, shrunk */
+    ck_assert_ptr_nonnull(p);
+    ck_assert(bytes_kept(p, big + 1, 3));
+    p = ray__system_alloc(p, big + 1, small);      /* mapped -> libc's */
+    ck_assert_ptr_nonnull(p);
+    ck_assert(bytes_kept(p, small, 3));
+    p = ray__system_alloc(p, small, 2 * small);    /* libc's, grown */
+    ck_assert_ptr_nonnull(p);
+    ck_assert(bytes_kept(p, small, 3));
+    ck_assert_ptr_null(ray__system_alloc(p, 2 * small, 0));
+    p = ray__system_alloc(NULL, 0, bigger);        /* mapped from new */
+    ck_assert_ptr_nonnull(p);
+    fill_bytes(p, bigger, 4);
+    ck_assert(bytes_kept(p, bigger, 4));
+    ck_assert_ptr_null(ray__system_alloc(p, bigger, 0));
+    if (RAY__MAPPED_BLOCKS)
+        ck_assert_ptr_null(ray__system_alloc(NULL, 0, (size_t)-1));
+}
+END_TEST
+
 /*
 ** A new file, then the same path replaced by a longer and a shorter
 ** one (binary bytes: a CR LF and a ^Z, which a text-mode write would
@@ -391,6 +471,7 @@ Suite *platform_suite(void)
     tcase_add_test(tc, built_in_threads_should_run_every_task_once);
     tcase_add_test(tc, tasks_should_go_to_the_scheduler);
     tcase_add_test(tc, tasks_should_run_in_the_callers_floating_point_environment);
+    tcase_add_test(tc, system_alloc_should_keep_contents_across_sizes);
     tcase_add_test(tc, file_write_should_replace_and_leave_no_temporary);
     tcase_add_test(tc, file_write_should_refuse_directories_and_missing_paths);
     tcase_add_test(tc, file_calls_should_take_utf8_names);

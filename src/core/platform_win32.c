@@ -50,6 +50,16 @@ void ray__memory_hint(void *p, size_t size)
     (void)size;
 }
 
+void *ray__system_alloc(void *ptr, size_t osize, size_t nsize)
+{
+    (void)osize;                  /* libc's alone (platform.h) */
+    if (nsize == 0) {
+        free(ptr);
+        return NULL;
+    }
+    return realloc(ptr, nsize);
+}
+
 static unsigned __stdcall thread_main(void *arg)
 {
     ray__thread *t = arg;

@@ -11,15 +11,12 @@
 #include "core/platform.h"
 #include "scene/scene.h"
 
+/* The allocator of a scene made without one: libc's, large blocks mapped
+** whole where the platform can (platform.h). */
 static void *libc_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 {
     (void)ud;
-    (void)osize;
-    if (nsize == 0) {
-        free(ptr);
-        return NULL;
-    }
-    return realloc(ptr, nsize);
+    return ray__system_alloc(ptr, osize, nsize);
 }
 
 void *ray__alloc(const ray_scene *s, size_t size)
