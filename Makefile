@@ -209,7 +209,8 @@ $(TEST_BIN): $(TEST_OBJS) $(STATIC) | deps-check
 # these land in the program's __wrap_* functions, which fail them in turn.
 FAULTSIM = $(BUILD)/tests/faultsim
 comma = ,
-FAULT_WRAPS = malloc calloc realloc free pthread_create pthread_mutex_init \
+FAULT_WRAPS = malloc calloc realloc free posix_memalign pthread_create \
+    pthread_mutex_init \
     $(if $(filter 1,$(PNG)),png_image_write_to_memory)
 $(FAULTSIM): tests/faultsim.c tests/testkit.h examples/common.h include/ray.h $(PRIVATE_HEADERS) $(STATIC)
 	@mkdir -p $(@D)

@@ -635,7 +635,7 @@ RAY_API void ray_limits_init(ray_limits *l);
 
 /*
 ** ray_scene_new -- create an empty scene in *out.  "alloc" (NULL: libc,
-** on Linux with blocks of 4 MiB or more mapped whole in huge pages:
+** on Linux with blocks of 4 MiB or more on whole huge pages:
 ** doc/PLATFORMS.md) serves every allocation the scene makes, with
 ** "alloc_ud", including
 ** those of ray_ctx_new and ray_render on it: these may run on several

@@ -68,7 +68,7 @@
 #define _DARWIN_C_SOURCE 1
 #endif
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
-#define _DEFAULT_SOURCE 1         /* madvise, MAP_ANONYMOUS, MADV_HUGEPAGE */
+#define _DEFAULT_SOURCE 1         /* madvise, MADV_HUGEPAGE */
 #endif
 #ifndef RAY_BUILD
 #define RAY_BUILD 1

@@ -296,60 +296,53 @@ static int bytes_kept(const unsigned char *p, size_t n, unsigned seed)
 }
 
 /*
-** The default allocator (ray__system_alloc): blocks of every size class
-** -- libc's below RAY__HUGE_BLOCK, mapped whole at or above it on Linux
-** -- allocated, written to their last byte, grown and shrunk across the
-** boundary and within each side, each time with their contents kept,
-** and freed (ASan and the leak check see libc's; the sizes are the ones
-** each block was given, as ray_alloc_fn promises).  On Linux a mapped
-** block starts at a 2 MiB boundary (its huge pages); elsewhere only
-** the contents are checked.  A size beyond any mapping fails (NULL) and
-** leaves the block as it was.
+** The default allocator (ray__system_alloc): blocks below
+** RAY__HUGE_BLOCK and at or above it (on Linux on whole huge pages)
+** allocated, written whole, grown and shrunk across that size and on
+** each side of it, each time with their contents kept, and freed (the
+** sizes are the ones each block was given, as ray_alloc_fn promises).
+** On Linux a new large block starts at a 2 MiB boundary (its huge
+** pages); elsewhere only the contents are checked.  A size too large to
+** round up to whole huge pages fails (NULL).
 */
 START_TEST(system_alloc_should_keep_contents_across_sizes)
 {
     const size_t small = 1000, big = RAY__HUGE_BLOCK,
                  bigger = 3 * RAY__HUGE_BLOCK + 12345;
-    unsigned char *p = ray__system_alloc(NULL, 0, small), *q;
+    unsigned char *p = ray__system_alloc(NULL, 0, small);
 
     ck_assert_ptr_nonnull(p);
     fill_bytes(p, small, 1);
-    p = ray__system_alloc(p, small, big);          /* libc's -> mapped */
+    p = ray__system_alloc(p, small, big);          /* small -> large */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, small, 1));
-#if RAY__MAPPED_BLOCKS
-    ck_assert_uint_eq((uintptr_t)p % ((uintptr_t)1 << 21), 0);
-#endif
     fill_bytes(p, big, 2);
-    p = ray__system_alloc(p, big, bigger);         /* mapped, grown */
+    p = ray__system_alloc(p, big, bigger);         /* large, grown */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, big, 2));
     fill_bytes(p, bigger, 3);
-    p[bigger - 1] = 7;                             /* the last byte */
-    /* Too large to map (libc's malloc, which AddressSanitizer stops
-    ** at such a size, is not asked). */
-    q = RAY__MAPPED_BLOCKS ? ray__system_alloc(p, bigger, (size_t)-1 - 100)
-                           : NULL;
-    ck_assert_ptr_null(q);
-    ck_assert_uint_eq(p[bigger - 1], 7);
-    p[bigger - 1] = (unsigned char)((bigger - 1) * 131u + 3);
     ck_assert(bytes_kept(p, bigger, 3));
-    p = ray__system_alloc(p, bigger, big + 1);     /* mapped, shrunk */
+    p = ray__system_alloc(p, bigger, big + 1);     /* large, shrunk */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, big + 1, 3));
-    p = ray__system_alloc(p, big + 1, small);      /* mapped -> libc's */
+    p = ray__system_alloc(p, big + 1, small);      /* large -> small */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, small, 3));
-    p = ray__system_alloc(p, small, 2 * small);    /* libc's, grown */
+    p = ray__system_alloc(p, small, 2 * small);    /* small, grown */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, small, 3));
     ck_assert_ptr_null(ray__system_alloc(p, 2 * small, 0));
-    p = ray__system_alloc(NULL, 0, bigger);        /* mapped from new */
+    p = ray__system_alloc(NULL, 0, bigger);        /* a new large one */
     ck_assert_ptr_nonnull(p);
+#if RAY__WHOLE_HUGE_PAGES
+    ck_assert_uint_eq((uintptr_t)p % ((uintptr_t)1 << 21), 0);
+#endif
     fill_bytes(p, bigger, 4);
     ck_assert(bytes_kept(p, bigger, 4));
     ck_assert_ptr_null(ray__system_alloc(p, bigger, 0));
-    if (RAY__MAPPED_BLOCKS)
+    /* Too large for whole huge pages: NULL, libc not asked (which
+    ** AddressSanitizer and ThreadSanitizer stop at such a size). */
+    if (RAY__WHOLE_HUGE_PAGES)
         ck_assert_ptr_null(ray__system_alloc(NULL, 0, (size_t)-1));
 }
 END_TEST

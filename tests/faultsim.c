@@ -82,6 +82,7 @@ int __real_png_image_write_to_memory(png_imagep image, void *memory,
 #if defined(_WIN32)
 int __real_ray__thread_start(ray__thread *t, size_t stack);
 #else
+int __real_posix_memalign(void **out, size_t align, size_t size);
 int __real_pthread_create(pthread_t *thread, const pthread_attr_t *attr,
                           void *(*start)(void *), void *arg);
 int __real_pthread_mutex_init(pthread_mutex_t *m,
@@ -89,6 +90,9 @@ int __real_pthread_mutex_init(pthread_mutex_t *m,
 #endif
 
 void *__wrap_malloc(size_t size);
+#if !defined(_WIN32)
+int __wrap_posix_memalign(void **out, size_t align, size_t size);
+#endif
 void *__wrap_calloc(size_t n, size_t size);
 void *__wrap_realloc(void *ptr, size_t size);
 void __wrap_free(void *ptr);
@@ -253,6 +257,21 @@ void *__wrap_malloc(size_t size)
     track(p, size);
     return p;
 }
+
+#if !defined(_WIN32)
+/* The default allocator's large blocks (platform_posix.c, huge pages). */
+int __wrap_posix_memalign(void **out, size_t align, size_t size)
+{
+    int rc;
+
+    if (fault_point(FP_MEMORY))
+        return ENOMEM;
+    rc = __real_posix_memalign(out, align, size);
+    if (rc == 0)
+        track(*out, size);
+    return rc;
+}
+#endif
 
 void *__wrap_calloc(size_t n, size_t size)
 {

@@ -42,22 +42,19 @@ int ray__cpu_has_avx2(void);
 /*
 ** ray__system_alloc -- the allocator of a scene made without one
 ** (ray_scene_new's NULL): ray_alloc_fn's contract without its ud, libc's
-** malloc, realloc and free, but on Linux for blocks of RAY__HUGE_BLOCK
-** bytes or more, which are mapped from the kernel whole (mmap): at a
-** 2 MiB boundary, a whole number of 2 MiB long and marked for
-** transparent huge pages, so that the block takes one page fault per
-** 2 MiB.  Where libc maps a large block, it starts 16 bytes past a page
-** and ends anywhere: its first and last partial 2 MiB, a megabyte each
-** on average, stay 4 KiB pages, each a page fault, about 3,000 a 940k
-** triangle build (perf record -e minor-faults, issue 36).  Such a block
-** is freed and resized by its size (osize), as ray_alloc_fn promises
-** it.  Under AddressSanitizer, libc's alone, so that its leak check sees
-** every block.
+** realloc and free; but on Linux a new block of RAY__HUGE_BLOCK bytes or
+** more is taken (posix_memalign) at a 2 MiB boundary and a whole number
+** of 2 MiB long, and marked for transparent huge pages, so that it takes
+** one page fault per 2 MiB.  A block libc maps starts 16 bytes past a
+** page and ends anywhere: its first and last partial 2 MiB, a megabyte
+** each on average, stayed 4 KiB pages, each a page fault, about 3,000 a
+** 940k-triangle build (perf record -e minor-faults, issue 36).  Under
+** AddressSanitizer, plain libc.
 */
 void *ray__system_alloc(void *ptr, size_t osize, size_t nsize);
 
-/* Does ray__system_alloc map large blocks (Linux, not under
-** AddressSanitizer: GCC's macro, Clang's feature test)? */
+/* Does ray__system_alloc put large blocks on whole huge pages (Linux,
+** not under AddressSanitizer: GCC's macro, Clang's feature test)? */
 #if defined(__SANITIZE_ADDRESS__)
 #define RAY__ASAN 1
 #elif defined(__has_feature)
@@ -66,9 +63,9 @@ void *ray__system_alloc(void *ptr, size_t osize, size_t nsize);
 #endif
 #endif
 #if defined(__linux__) && !defined(RAY__ASAN)
-#define RAY__MAPPED_BLOCKS 1
+#define RAY__WHOLE_HUGE_PAGES 1
 #else
-#define RAY__MAPPED_BLOCKS 0
+#define RAY__WHOLE_HUGE_PAGES 0
 #endif
 
 /* ------------------------------------------------------------ threads */

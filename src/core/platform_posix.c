@@ -16,7 +16,7 @@
 #define _DARWIN_C_SOURCE 1        /* _SC_NPROCESSORS_ONLN (see above) */
 #endif
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
-#define _DEFAULT_SOURCE 1         /* madvise, MAP_ANONYMOUS, MADV_HUGEPAGE */
+#define _DEFAULT_SOURCE 1         /* madvise, MADV_HUGEPAGE */
 #endif
 
 #include <errno.h>
@@ -59,109 +59,45 @@ void ray__memory_hint(void *p, size_t size)
 #endif
 }
 
-/* Blocks mapped whole (ray__system_alloc, RAY__MAPPED_BLOCKS): the
-** headers declare what it calls wherever Linux's do. */
-#if RAY__MAPPED_BLOCKS && !(defined(MAP_ANONYMOUS) && defined(MADV_HUGEPAGE))
-#error "Linux's sys/mman.h without MAP_ANONYMOUS or MADV_HUGEPAGE"
+/* Large blocks on whole huge pages (ray__system_alloc,
+** RAY__WHOLE_HUGE_PAGES): Linux's headers declare what it calls. */
+#if RAY__WHOLE_HUGE_PAGES && !defined(MADV_HUGEPAGE)
+#error "Linux's sys/mman.h without MADV_HUGEPAGE"
 #endif
 
-#if RAY__MAPPED_BLOCKS
+#if RAY__WHOLE_HUGE_PAGES
 #define HUGE_PAGE ((size_t)1 << 21)         /* x86-64's, arm64's */
 
-/* Is a block of this many bytes mapped whole? */
-static int mapped(size_t size)
+/* A new block of "size" bytes (RAY__HUGE_BLOCK or more) on whole huge
+** pages, or NULL.  From libc still (posix_memalign), so that realloc and
+** free take it as any other, and libc's rules (the size above which it
+** maps a block afresh rises as it frees large ones) see every block. */
+static void *huge_block(size_t size)
 {
-    return size >= RAY__HUGE_BLOCK;
-}
+    size_t len = size > (size_t)-1 - 2 * HUGE_PAGE
+                     ? 0
+                     : (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
+    void *p;
 
-/* What a mapped block of "size" bytes spans: whole huge pages (0: too
-** large to round up). */
-static size_t mapped_length(size_t size)
-{
-    return size > (size_t)-1 - 2 * HUGE_PAGE
-               ? 0
-               : (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
-}
-
-/* A mapped block of "size" bytes at a huge page's boundary, or NULL:
-** one huge page more is mapped, and what lies outside the aligned span
-** given back. */
-static void *map_block(size_t size)
-{
-    size_t len = mapped_length(size), head;
-    char *raw;
-
-    if (len == 0)
+    if (len == 0 || posix_memalign(&p, HUGE_PAGE, len) != 0)
         return NULL;
-    raw = mmap(NULL, len + HUGE_PAGE, PROT_READ | PROT_WRITE,
-               MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (raw == MAP_FAILED)
-        return NULL;
-    head = (HUGE_PAGE - (uintptr_t)raw % HUGE_PAGE) % HUGE_PAGE;
-    if (head > 0)
-        (void)munmap(raw, head);
-    (void)munmap(raw + head + len, HUGE_PAGE - head);
-    (void)madvise(raw + head, len, MADV_HUGEPAGE);           /* a hint */
-    return raw + head;
-}
-
-static void unmap_block(void *p, size_t size)
-{
-    (void)munmap(p, mapped_length(size));
-}
-
-/* Block p of osize bytes (mapped or libc's) moved into a new one of
-** nsize (mapped or libc's, not both libc's): the contents copied, p
-** freed; NULL with p untouched when the new one cannot be had. */
-static void *move_block(void *p, size_t osize, size_t nsize)
-{
-    void *q = mapped(nsize) ? map_block(nsize) : malloc(nsize);
-
-    if (q == NULL)
-        return NULL;
-    memcpy(q, p, osize < nsize ? osize : nsize);
-    if (mapped(osize))
-        unmap_block(p, osize);
-    else
-        free(p);
-    return q;
+    (void)madvise(p, len, MADV_HUGEPAGE);                   /* a hint */
+    return p;
 }
 #endif
 
 void *ray__system_alloc(void *ptr, size_t osize, size_t nsize)
 {
-#if RAY__MAPPED_BLOCKS
-    int was_mapped = ptr != NULL && mapped(osize);
-
-    if (nsize == 0) {
-        if (was_mapped)
-            unmap_block(ptr, osize);
-        else
-            free(ptr);
-        return NULL;
-    }
-    if (ptr == NULL)
-        return mapped(nsize) ? map_block(nsize) : malloc(nsize);
-    if (!was_mapped && !mapped(nsize))
-        return realloc(ptr, nsize);
-    if (mapped(nsize) && mapped_length(nsize) == 0)
-        return NULL;                        /* beyond any mapping */
-    if (was_mapped && mapped(nsize) &&
-        mapped_length(nsize) <= mapped_length(osize)) {
-        size_t keep = mapped_length(nsize), had = mapped_length(osize);
-        if (keep < had)                     /* shrunk: the tail given back */
-            (void)munmap((char *)ptr + keep, had - keep);
-        return ptr;
-    }
-    return move_block(ptr, osize, nsize);
-#else
     (void)osize;
     if (nsize == 0) {
         free(ptr);
         return NULL;
     }
-    return realloc(ptr, nsize);
+#if RAY__WHOLE_HUGE_PAGES
+    if (ptr == NULL && nsize >= RAY__HUGE_BLOCK)
+        return huge_block(nsize);
 #endif
+    return realloc(ptr, nsize);
 }
 
 /* ------------------------------------------------------------ threads */
