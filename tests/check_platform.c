@@ -14,6 +14,7 @@
 
 #include "core/platform.h"
 #include "core/tasks.h"
+#include "scene/scene.h"
 #include "scheduler_kit.h"
 #include "tempfiles.h"
 #include "tests.h"
@@ -296,8 +297,8 @@ static int bytes_kept(const unsigned char *p, size_t n, unsigned seed)
 }
 
 /*
-** The default allocator (ray__system_alloc): blocks below
-** RAY__HUGE_BLOCK and at or above it (on Linux on whole huge pages)
+** The allocator of a scene made without one (store.c, on the platform's
+** ray__huge_block): blocks below RAY__HUGE_BLOCK and at or above it
 ** allocated, written whole, grown and shrunk across that size and on
 ** each side of it, each time with their contents kept, and freed (the
 ** sizes are the ones each block was given, as ray_alloc_fn promises).
@@ -309,41 +310,47 @@ START_TEST(system_alloc_should_keep_contents_across_sizes)
 {
     const size_t small = 1000, big = RAY__HUGE_BLOCK,
                  bigger = 3 * RAY__HUGE_BLOCK + 12345;
-    unsigned char *p = ray__system_alloc(NULL, 0, small);
+    ray_scene *s = NULL;
+    ray_alloc_fn fn;
+    unsigned char *p;
 
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    fn = s->alloc.fn;
+    p = fn(s->alloc.ud, NULL, 0, small);
     ck_assert_ptr_nonnull(p);
     fill_bytes(p, small, 1);
-    p = ray__system_alloc(p, small, big);          /* small -> large */
+    p = fn(s->alloc.ud, p, small, big);            /* small -> large */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, small, 1));
     fill_bytes(p, big, 2);
-    p = ray__system_alloc(p, big, bigger);         /* large, grown */
+    p = fn(s->alloc.ud, p, big, bigger);           /* large, grown */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, big, 2));
     fill_bytes(p, bigger, 3);
     ck_assert(bytes_kept(p, bigger, 3));
-    p = ray__system_alloc(p, bigger, big + 1);     /* large, shrunk */
+    p = fn(s->alloc.ud, p, bigger, big + 1);       /* large, shrunk */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, big + 1, 3));
-    p = ray__system_alloc(p, big + 1, small);      /* large -> small */
+    p = fn(s->alloc.ud, p, big + 1, small);        /* large -> small */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, small, 3));
-    p = ray__system_alloc(p, small, 2 * small);    /* small, grown */
+    p = fn(s->alloc.ud, p, small, 2 * small);      /* small, grown */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, small, 3));
-    ck_assert_ptr_null(ray__system_alloc(p, 2 * small, 0));
-    p = ray__system_alloc(NULL, 0, bigger);        /* a new large one */
+    ck_assert_ptr_null(fn(s->alloc.ud, p, 2 * small, 0));
+    p = fn(s->alloc.ud, NULL, 0, bigger);          /* a new large one */
     ck_assert_ptr_nonnull(p);
 #if RAY__WHOLE_HUGE_PAGES
     ck_assert_uint_eq((uintptr_t)p % ((uintptr_t)1 << 21), 0);
 #endif
     fill_bytes(p, bigger, 4);
     ck_assert(bytes_kept(p, bigger, 4));
-    ck_assert_ptr_null(ray__system_alloc(p, bigger, 0));
+    ck_assert_ptr_null(fn(s->alloc.ud, p, bigger, 0));
     /* Too large for whole huge pages: NULL, libc not asked (which
     ** AddressSanitizer and ThreadSanitizer stop at such a size). */
     if (RAY__WHOLE_HUGE_PAGES)
-        ck_assert_ptr_null(ray__system_alloc(NULL, 0, (size_t)-1));
+        ck_assert_ptr_null(fn(s->alloc.ud, NULL, 0, (size_t)-1));
+    ray_scene_free(s);
 }
 END_TEST
 

@@ -336,7 +336,6 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     builder bd;
     task root;
     size_t cap, i, region, n_tasks = 0, cap_tasks = 0, pending = 0;
-    size_t leaves_bytes;
     subtree *tasks = NULL;
     size_t *order = NULL;
     unsigned *items, *leaves;
@@ -446,8 +445,8 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     ** bytes a node, 2 n - 1 nodes at most, they fit its 32 bytes an item
     ** (RAY__BVH_SCRATCH).  NULL, memory short: the collapse by area
     ** alone. */
-    leaves_bytes = scratch != NULL ? 0 : bd.n_nodes * sizeof *leaves;
-    leaves = scratch != NULL ? scratch : ray__allocate(a, leaves_bytes);
+    leaves = scratch != NULL ? scratch
+                             : ray__allocate(a, bd.n_nodes * sizeof *leaves);
     if (leaves != NULL)
         count_leaves(out->nodes, bd.n_nodes, leaves);
     if (ray__bvh_collapse(a, out, leaves) != RAY_OK) {
@@ -455,7 +454,7 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
         rc = RAY_ENOMEM;
     }
     if (scratch == NULL)
-        ray__release(a, leaves, leaves_bytes);
+        ray__release(a, leaves, bd.n_nodes * sizeof *leaves);
 done:
     ray__release(a, order, n_tasks * sizeof *order);
     ray__release(a, tasks, cap_tasks * sizeof *tasks);

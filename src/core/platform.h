@@ -40,20 +40,21 @@ int ray__cpu_has_avx2(void);
 /* ------------------------------------------------------------- memory */
 
 /*
-** ray__system_alloc -- the allocator of a scene made without one
-** (ray_scene_new's NULL): ray_alloc_fn's contract without its ud, libc's
-** realloc and free; but on Linux a new block of RAY__HUGE_BLOCK bytes or
-** more is taken (posix_memalign) at a 2 MiB boundary and a whole number
-** of 2 MiB long, and marked for transparent huge pages, so that it takes
-** one page fault per 2 MiB.  A block libc maps starts 16 bytes past a
-** page and ends anywhere: its first and last partial 2 MiB, a megabyte
-** each on average, stayed 4 KiB pages, each a page fault, about 3,000 a
-** 940k-triangle build (perf record -e minor-faults, issue 36).  Under
-** AddressSanitizer, plain libc.
+** ray__huge_block -- a new block of "size" bytes, RAY__HUGE_BLOCK or
+** more, for the allocator of a scene made without one (store.c, which
+** frees and resizes it with libc's free and realloc), or NULL.  On Linux
+** (RAY__WHOLE_HUGE_PAGES) it is taken at a 2 MiB boundary and a whole
+** number of 2 MiB long (posix_memalign) and marked for transparent huge
+** pages, so that it takes one page fault per 2 MiB.  A block libc maps
+** starts 16 bytes past a page and ends anywhere: its first and last
+** partial 2 MiB, a megabyte each on average, stayed 4 KiB pages, each a
+** page fault, about 3,000 a 940k-triangle build (perf record -e
+** minor-faults, issue 36).  Elsewhere, and under AddressSanitizer,
+** libc's malloc.
 */
-void *ray__system_alloc(void *ptr, size_t osize, size_t nsize);
+void *ray__huge_block(size_t size);
 
-/* Does ray__system_alloc put large blocks on whole huge pages (Linux,
+/* Does ray__huge_block put large blocks on whole huge pages (Linux,
 ** not under AddressSanitizer: GCC's macro, Clang's feature test)? */
 #if defined(__SANITIZE_ADDRESS__)
 #define RAY__ASAN 1

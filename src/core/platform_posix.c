@@ -59,45 +59,31 @@ void ray__memory_hint(void *p, size_t size)
 #endif
 }
 
-/* Large blocks on whole huge pages (ray__system_alloc,
+/* Large blocks on whole huge pages (ray__huge_block,
 ** RAY__WHOLE_HUGE_PAGES): Linux's headers declare what it calls. */
 #if RAY__WHOLE_HUGE_PAGES && !defined(MADV_HUGEPAGE)
 #error "Linux's sys/mman.h without MADV_HUGEPAGE"
 #endif
 
-#if RAY__WHOLE_HUGE_PAGES
-#define HUGE_PAGE ((size_t)1 << 21)         /* x86-64's, arm64's */
-
-/* A new block of "size" bytes (RAY__HUGE_BLOCK or more) on whole huge
-** pages, or NULL.  From libc still (posix_memalign), so that realloc and
-** free take it as any other, and libc's rules (the size above which it
-** maps a block afresh rises as it frees large ones) see every block. */
-static void *huge_block(size_t size)
+/* From libc still (posix_memalign), so that realloc and free take it as
+** any other, and libc's rules (the size above which it maps a block
+** afresh rises as it frees large ones) see every block. */
+void *ray__huge_block(size_t size)
 {
-    size_t len = size > (size_t)-1 - 2 * HUGE_PAGE
+#if RAY__WHOLE_HUGE_PAGES
+    const size_t huge = (size_t)1 << 21;           /* x86-64's, arm64's */
+    size_t len = size > (size_t)-1 - 2 * huge
                      ? 0
-                     : (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
+                     : (size + huge - 1) & ~(huge - 1);
     void *p;
 
-    if (len == 0 || posix_memalign(&p, HUGE_PAGE, len) != 0)
+    if (len == 0 || posix_memalign(&p, huge, len) != 0)
         return NULL;
     (void)madvise(p, len, MADV_HUGEPAGE);                   /* a hint */
     return p;
-}
+#else
+    return malloc(size);
 #endif
-
-void *ray__system_alloc(void *ptr, size_t osize, size_t nsize)
-{
-    (void)osize;
-    if (nsize == 0) {
-        free(ptr);
-        return NULL;
-    }
-#if RAY__WHOLE_HUGE_PAGES
-    if (ptr == NULL && nsize >= RAY__HUGE_BLOCK)
-        return huge_block(nsize);
-#endif
-    return realloc(ptr, nsize);
 }
 
 /* ------------------------------------------------------------ threads */

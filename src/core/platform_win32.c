@@ -50,14 +50,9 @@ void ray__memory_hint(void *p, size_t size)
     (void)size;
 }
 
-void *ray__system_alloc(void *ptr, size_t osize, size_t nsize)
+void *ray__huge_block(size_t size)
 {
-    (void)osize;                  /* libc's alone (platform.h) */
-    if (nsize == 0) {
-        free(ptr);
-        return NULL;
-    }
-    return realloc(ptr, nsize);
+    return malloc(size);          /* libc's alone (platform.h) */
 }
 
 static unsigned __stdcall thread_main(void *arg)

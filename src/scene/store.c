@@ -11,12 +11,19 @@
 #include "core/platform.h"
 #include "scene/scene.h"
 
-/* The allocator of a scene made without one: libc's, large blocks mapped
-** whole where the platform can (platform.h). */
+/* The allocator of a scene made without one: libc's, a new large block
+** on whole huge pages where the platform can (platform.h). */
 static void *libc_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 {
     (void)ud;
-    return ray__system_alloc(ptr, osize, nsize);
+    (void)osize;
+    if (nsize == 0) {
+        free(ptr);
+        return NULL;
+    }
+    if (ptr == NULL && nsize >= RAY__HUGE_BLOCK)
+        return ray__huge_block(nsize);
+    return realloc(ptr, nsize);
 }
 
 void *ray__alloc(const ray_scene *s, size_t size)
