@@ -9,6 +9,23 @@
 
 #include "scene/scene.h"
 
+/* RAY__INLINE: inlined wherever called (the walk, traverse.h, into each
+** caller, its "leaf" and "any" constant there, so that each copy keeps
+** only its own branches; a query's set-up, slab.h, into the function
+** that tests the scene's box before any frame of its own).
+** RAY__NOINLINE: a function kept apart, its frame paid only by the calls
+** that reach it. */
+#if defined(__GNUC__)
+#define RAY__INLINE inline __attribute__((always_inline))
+#define RAY__NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define RAY__INLINE __forceinline
+#define RAY__NOINLINE __declspec(noinline)
+#else
+#define RAY__INLINE inline
+#define RAY__NOINLINE
+#endif
+
 /*
 ** A gated query's rules (ray_query, filters, ray_intersect_all): the
 ** ray's mask, the filters' query_ud, which filters apply

@@ -316,8 +316,9 @@ static inline int trav_usable(const ray_ray *r)
 ** (bench/raycost under callgrind), off its critical path: in time, 1.29
 ** to 1.36 times as fast on the first and no measurable change on the
 ** others, the instances' rays 1.02 (issue 34).  The root node's test
-** (boxes_hit) on that one box, from the ray's data as trav_setup made
-** it (o_near, o_far, inv, inv_far, lanes x, y, z): the same float
+** (boxes_hit) on that one box, from the ray's data as trav_setup makes
+** it (o_near, o_far, inv, inv_far, tmin, t_scale; in registers, before
+** it is stored): the same float
 ** operations on a box that holds each of the root's, and each is
 ** monotonic (a face farther out gives a near distance no larger and a
 ** far one no smaller, a NaN distance leaves its slab out in both), so a
@@ -329,23 +330,24 @@ static inline int trav_usable(const ray_ray *r)
 static inline int box_may_enter(const ray_vec3 *box_lo,
                                 const ray_vec3 *box_hi, __m128 sign,
                                 __m128 o_near, __m128 o_far, __m128 inv,
-                                __m128 inv_far, const trav *tr, double tmax)
+                                __m128 inv_far, float tmin, double t_scale,
+                                double tmax)
 {
     const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);
     __m128 lo = _mm256_cvtpd_ps(_mm256_maskload_pd(&box_lo->x, xyz));
     __m128 hi = _mm256_cvtpd_ps(_mm256_maskload_pd(&box_hi->x, xyz));
     /* inv >= 0 (sign clear): near face lo, far face hi */
-    int grown = trav_grown(tr);
+    int grown = !(tmin < 0);
     __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_blendv_ps(lo, hi, sign), o_near),
                            inv);
     /* the far distances by inv_far only where they carry the slack (as
     ** lanes_axis: a negative one would grow the wrong way) */
     __m128 tf = _mm_mul_ps(_mm_sub_ps(_mm_blendv_ps(hi, lo, sign), o_far),
                            grown ? inv_far : inv);
-    float t_max = trav_tmax(tr, tmax);
+    float t_max = ray__float_up(tmax * t_scale);
     /* lane by lane as boxes_hit (a NaN distance gives the interval's
     ** end), then the largest near and the smallest far of x, y, z */
-    __m128 t0 = _mm_max_ps(tn, _mm_set1_ps(tr->tmin));
+    __m128 t0 = _mm_max_ps(tn, _mm_set1_ps(tmin));
     __m128 t1 = _mm_min_ps(tf, _mm_set1_ps(grown ? with_slack(t_max)
                                                  : t_max));
     float near, far;
@@ -366,22 +368,25 @@ static inline int box_may_enter(const ray_vec3 *box_lo,
 ** incoherent rays): the choices are made by indexing, and the axes are
 ** written out (a loop's exit is mispredicted once a ray).  box_lo and
 ** box_hi: NULL, or a box that holds every triangle of the BVH about to
-** be walked: 0 when the ray surely misses it (box_may_enter), the data
-** then unfinished; else 1.  Only the AVX copy tests the box.
+** be walked: 0 when the ray surely misses it (box_may_enter), *tr then
+** untouched; else 1.  Only the AVX copy tests the box, and before it
+** writes *tr: a ray that misses stores nothing (1.14 times as fast on
+** such rays, bench/raycost, RAYCOST_AB, issue 34).
 */
-static inline int trav_setup(trav *tr, const ray_ray *r,
-                             const ray_vec3 *box_lo, const ray_vec3 *box_hi)
+static RAY__INLINE int trav_setup(trav *tr, const ray_ray *r,
+                                  const ray_vec3 *box_lo,
+                                  const ray_vec3 *box_hi)
 {
     ray_vec3 ad = v3_abs(r->dir);
-    double m = ad.x > ad.y ? ad.x : ad.y, down;
+    double m = ad.x > ad.y ? ad.x : ad.y, down, t_scale;
+    float tmin;
     int e;
 
     m = m > ad.z ? m : ad.z;
     e = ray__exponent_of(m);
-    tr->t_scale = ray__pow2(e);          /* t' = t 2^e for d' = d 2^-e */
+    t_scale = ray__pow2(e);              /* t' = t 2^e for d' = d 2^-e */
     down = ray__pow2(-e);
-    tr->tmin = ray__float_down(r->tmin * tr->t_scale);
-    tr->framed = 0;
+    tmin = ray__float_down(r->tmin * t_scale);
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
     {
         ray_halves h = ray_halves_load(r);
@@ -403,16 +408,24 @@ static inline int trav_setup(trav *tr, const ray_ray *r,
         /* inv >= 0 (sign clear): near from o_hi, far from o_lo. */
         o_near4 = _mm_blendv_ps(hi, lo, sign);
         o_far4 = _mm_blendv_ps(lo, hi, sign);
+        if (box_lo != NULL &&
+            !box_may_enter(box_lo, box_hi, sign, o_near4, o_far4, inv4,
+                           inv_far4, tmin, t_scale, r->tmax))
+            return 0;
+        tr->t_scale = t_scale;
+        tr->tmin = tmin;
+        tr->framed = 0;
         _mm_storeu_ps(tr->inv, inv4);
         _mm_storeu_ps(tr->inv_far, inv_far4);
         _mm_storeu_ps(tr->o_near, o_near4);
         _mm_storeu_ps(tr->o_far, o_far4);
         trav_octant(tr, _mm256_movemask_pd(d));
-        return box_lo == NULL ||
-               box_may_enter(box_lo, box_hi, sign, o_near4, o_far4, inv4,
-                             inv_far4, tr, r->tmax);
+        return 1;
     }
 #else
+    tr->t_scale = t_scale;
+    tr->tmin = tmin;
+    tr->framed = 0;
     trav_axis(tr, 0, r->org.x, r->dir.x, r->dir.x * down);
     trav_axis(tr, 1, r->org.y, r->dir.y, r->dir.y * down);
     trav_axis(tr, 2, r->org.z, r->dir.z, r->dir.z * down);
