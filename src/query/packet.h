@@ -153,7 +153,7 @@ static void packet_traverse(const ray_scene *s, packet *p, int any,
                 unsigned b;
                 l = lowest_bit(m);
                 b = boxes_hit(q, &p->box[l], p->tmax[l], p->tpop[l],
-                              entry[l]);
+                              p->box[l].grown, entry[l]);
                 todo |= b;
                 for (; b != 0; b &= b - 1) {
                     k = lowest_bit(b);

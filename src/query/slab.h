@@ -546,7 +546,7 @@ static inline void lanes_axis(lanes *l, const trav *tr, int a)
     l->far_at[a] = tr->far_at[a];
 }
 
-static void lanes_init(lanes *l, const trav *tr)
+static RAY__INLINE void lanes_init(lanes *l, const trav *tr)
 {
     l->grown = trav_grown(tr);
     lanes_axis(l, tr, 0);           /* written out: no loop to exit */
@@ -574,18 +574,19 @@ static inline void slab8(const ray__wnode *q, const lanes *l, int a,
     *t1 = _mm256_min_ps(tf, *t1);                    /* NaN tf: ignored */
 }
 
-/* tmax: the interval's end (trav_tmax); tpop: with its slack. */
+/* tmax: the interval's end (trav_tmax); tpop: with its slack; grown:
+** l->grown (BOXES_GROWN). */
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float tpop,
+                                 float tmax, float tpop, int grown,
                                  float entry[RAY__WIDTH])
 {
     __m256 t0 = l->tmin;
-    __m256 t1 = _mm256_set1_ps(l->grown ? tpop : tmax);
+    __m256 t1 = _mm256_set1_ps(grown ? tpop : tmax);
 
     slab8(q, l, 0, &t0, &t1);
     slab8(q, l, 1, &t0, &t1);
     slab8(q, l, 2, &t0, &t1);
-    if (!l->grown)                  /* the slack after the min: FAR_GROW */
+    if (!grown)                     /* the slack after the min: FAR_GROW */
         t1 = _mm256_add_ps(t1, _mm256_mul_ps(
                                    _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t1),
                                    l->slack));
@@ -614,7 +615,8 @@ static inline void slab4(const ray__wnode *q, const lanes *l, int a,
 }
 
 static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
-                                  __m128 vmax, int lane, float *entry)
+                                  __m128 vmax, int grown, int lane,
+                                  float *entry)
 {
     __m128 t0 = l->tmin, t1 = vmax;
 
@@ -624,40 +626,43 @@ static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
     /* Clipped to tmax, then the slack (where the far distances do not
     ** carry it: FAR_GROW): t1 is never NaN; -Inf (a box wholly outside a
     ** slab of a zero direction component) gives NaN, a miss. */
-    if (!l->grown)
+    if (!grown)
         t1 = _mm_add_ps(t1, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), t1),
                                        l->slack));
     _mm_storeu_ps(entry + lane, t0);
     return (unsigned)_mm_movemask_ps(_mm_cmple_ps(t0, t1)) << lane;
 }
 
-/* tmax: the interval's end (trav_tmax); tpop: with its slack. */
+/* tmax: the interval's end (trav_tmax); tpop: with its slack; grown:
+** l->grown (BOXES_GROWN). */
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float tpop,
+                                 float tmax, float tpop, int grown,
                                  float entry[RAY__WIDTH])
 {
-    __m128 vmax = _mm_set1_ps(l->grown ? tpop : tmax);
+    __m128 vmax = _mm_set1_ps(grown ? tpop : tmax);
 
     /* Written out for the two halves (-O2 does not unroll a loop). */
-    return boxes_hit4(q, l, vmax, 0, entry) | boxes_hit4(q, l, vmax, 4, entry);
+    return boxes_hit4(q, l, vmax, grown, 0, entry) |
+           boxes_hit4(q, l, vmax, grown, 4, entry);
 }
 #else
 /* Plain C reads the ray's quantities from the traversal data itself. */
 typedef struct lanes {
     const trav *tr;
+    int grown;                  /* as trav_grown(tr) */
 } lanes;
 
-static void lanes_init(lanes *l, const trav *tr)
+static RAY__INLINE void lanes_init(lanes *l, const trav *tr)
 {
     l->tr = tr;
+    l->grown = trav_grown(tr);
 }
 
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float tpop,
+                                 float tmax, float tpop, int grown,
                                  float entry[RAY__WIDTH])
 {
     const trav *tr = l->tr;
-    int grown = trav_grown(tr);
     float t0[RAY__WIDTH], t1[RAY__WIDTH];
     unsigned mask = 0;
     int a, k;
