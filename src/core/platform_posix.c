@@ -44,10 +44,13 @@ unsigned ray__online_cpus(void)
 
 /* ------------------------------------------------------------- memory */
 
+/* A transparent huge page: x86-64's, arm64's. */
+#define HUGE_PAGE ((size_t)1 << 21)
+
 void ray__memory_hint(void *p, size_t size)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    const uintptr_t huge = (uintptr_t)1 << 21;     /* x86-64's, arm64's */
+    const uintptr_t huge = HUGE_PAGE;
     uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1);
     uintptr_t hi = ((uintptr_t)p + size) & ~(huge - 1);
 
@@ -71,7 +74,7 @@ void ray__memory_hint(void *p, size_t size)
 void *ray__huge_block(size_t size)
 {
 #if RAY__WHOLE_HUGE_PAGES
-    const size_t huge = (size_t)1 << 21;           /* x86-64's, arm64's */
+    const size_t huge = HUGE_PAGE;
     size_t len = size > (size_t)-1 - 2 * huge
                      ? 0
                      : (size + huge - 1) & ~(huge - 1);

@@ -575,7 +575,7 @@ static inline void slab8(const ray__wnode *q, const lanes *l, int a,
 }
 
 /* tmax: the interval's end (trav_tmax); tpop: with its slack; grown:
-** l->grown (BOXES_GROWN). */
+** l->grown, or that value fixed by the caller (traverse.h, GROWN_ASK). */
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
                                  float tmax, float tpop, int grown,
                                  float entry[RAY__WIDTH])
@@ -634,7 +634,7 @@ static inline unsigned boxes_hit4(const ray__wnode *q, const lanes *l,
 }
 
 /* tmax: the interval's end (trav_tmax); tpop: with its slack; grown:
-** l->grown (BOXES_GROWN). */
+** l->grown, or that value fixed by the caller (traverse.h, GROWN_ASK). */
 static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
                                  float tmax, float tpop, int grown,
                                  float entry[RAY__WIDTH])

@@ -236,9 +236,9 @@ typedef struct pending {
 
 
 /* walk's "grown" when the caller does not fix it (traverse): read from
-** the ray's lanes.  The two walks of triangles alone fix it at 1 where
-** it is (tmin >= 0, nearly every ray), so the node test's two choices on
-** it fold away: camera rays that enter the box and miss 1.05-1.07 times
+** the ray's lanes.  The walks of triangles alone fix it (walk_tris): at
+** 1 (tmin >= 0, nearly every ray) the node test's two choices on it fold
+** away: camera rays that enter the box and miss 1.05-1.07 times
 ** as fast, the other rows the same (bench/raycost, RAYCOST_AB both ways
 ** round, issue 34). */
 #define GROWN_ASK (-1)
@@ -361,11 +361,21 @@ static RAY__INLINE int traverse(const ray_scene *s, const ray__bvh *bvh,
     return walk(s, bvh, tr, r, leaf, best, any, GROWN_ASK, qc);
 }
 
+/* The triangle BVH of s walked with grown fixed (GROWN_ASK says why):
+** two copies of the walk, each without the node test's choices on it. */
+static RAY__INLINE int walk_tris(const ray_scene *s, trav *tr, ray_ray *r,
+                                 void *best, int any, ray__counts *qc)
+{
+    return trav_grown(tr)
+               ? walk(s, &s->tri_bvh, tr, r, LEAF_TRIANGLES, best, any, 1, qc)
+               : walk(s, &s->tri_bvh, tr, r, LEAF_TRIANGLES, best, any, 0,
+                      qc);
+}
+
 /*
 ** The nearest hit of child "child", a scene of triangles alone, along its
 ** ray r (usable), r->tmax shrunk to it and its triangle in *tb (no
-** record yet): as query_nearest_tris walks it, "grown" fixed where it
-** holds as there (GROWN_ASK): rays onto 1,000 instances 1,750 -> 1,727
+** record yet): as query_nearest_tris walks it (walk_tris): rays onto 1,000 instances 1,750 -> 1,727
 ** instructions a ray (callgrind, bench/game DATA instances), ours /
 ** Embree in time 1.68, 1.78, 1.84 -> 1.63, 1.70, 1.64 (bench/game, three
 ** interleaved runs; issue 36).
@@ -379,10 +389,7 @@ static int child_tris_nearest(const ray_scene *child, ray_ray *r,
     if (child->tri_bvh.n_wide == 0 ||
         !trav_setup(&tr, r, &child->lo, &child->hi))
         return 0;
-    return trav_grown(&tr) ? walk(child, &child->tri_bvh, &tr, r,
-                                  LEAF_TRIANGLES, tb, 0, 1, qc)
-                           : traverse(child, &child->tri_bvh, &tr, r,
-                                      LEAF_TRIANGLES, tb, 0, qc);
+    return walk_tris(child, &tr, r, tb, 0, qc);
 }
 
 /* The bounded primitives of s along r, by traversal (the traversal data
@@ -581,10 +588,7 @@ static RAY__NOINLINE int nearest_tris_walk(const ray_scene *s, trav *tr,
     counts_light(&qc, 0);
     ray_copy(&rr, r);
     tri_best_start(&tb);
-    if (!(trav_grown(tr)
-              ? walk(s, &s->tri_bvh, tr, &rr, LEAF_TRIANGLES, &tb, 0, 1, &qc)
-              : traverse(s, &s->tri_bvh, tr, &rr, LEAF_TRIANGLES, &tb, 0,
-                         &qc)))
+    if (!walk_tris(s, tr, &rr, &tb, 0, &qc))
         return 0;
     if (!tri_record(s, &tb, rr.tmax, &h))
         return 0;
@@ -617,10 +621,7 @@ static RAY__NOINLINE int any_tris_walk(const ray_scene *s, trav *tr,
 
     counts_light(&qc, 1);
     ray_copy(&rr, r);
-    return trav_grown(tr)
-               ? walk(s, &s->tri_bvh, tr, &rr, LEAF_TRIANGLES, NULL, 1, 1, &qc)
-               : traverse(s, &s->tri_bvh, tr, &rr, LEAF_TRIANGLES, NULL, 1,
-                          &qc);
+    return walk_tris(s, tr, &rr, NULL, 1, &qc);
 }
 
 static int query_any_tris(const ray_scene *s, const ray_ray *r)
