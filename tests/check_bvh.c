@@ -1098,13 +1098,18 @@ END_TEST
 ** triangle in leaf order instead of chasing its ids, indices and
 ** positions (scene.h, ray__leaf_tri; issue 34: four dependent reads that
 ** missed the cache, a third of the ground query's time): 150.5
-** measured, bound 152.  During commit the builder's records, the
-** leaves' corners in slot order and the ids in leaf order share one
-** scratch block (issue 36), with the binary nodes and the permutation
-** beside it: 136.1 measured at the peak, bound 140.  The double copy is
-** made last, once that scratch is given back: the double grid's peak is
-** then what it keeps, 150.5, bound 152.  (bench/mesh prints both
-** figures for this grid.)
+** measured, bound 152.  During commit two blocks are each touched once
+** and serve twice (issue 36: every first touch of a page of a fresh
+** block is a page fault): the builder's records, then the leaves'
+** floats; and the binary nodes, then the corners in slot order and the
+** ids in leaf order, and where the corners are doubles, the double copy,
+** whose size (72 bytes a triangle, where the nodes need 64 at most) that
+** block is given from the start, its last 8 untouched until the copy.
+** The peak comes as the collapse allocates the wide nodes beside the
+** permutation: 158.4 measured for the double grid, bound 160.  With
+** float positions the peak is the build's, its nodes' block at their
+** worst case: 136.1, bound 140.  (bench/mesh prints both figures for
+** this grid.)
 */
 static void grid_in_bounded_memory(int floats, double kept_bound,
                                    double peak_bound)
@@ -1159,7 +1164,7 @@ static void grid_in_bounded_memory(int floats, double kept_bound,
 
 START_TEST(mesh_should_build_a_million_triangles_in_bounded_memory)
 {
-    grid_in_bounded_memory(0, 152.0, 152.0);
+    grid_in_bounded_memory(0, 152.0, 160.0);
 }
 END_TEST
 

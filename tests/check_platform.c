@@ -298,7 +298,7 @@ static int bytes_kept(const unsigned char *p, size_t n, unsigned seed)
 
 /*
 ** The allocator of a scene made without one (store.c, on the platform's
-** ray__huge_block): blocks below RAY__HUGE_BLOCK and at or above it
+** ray__huge_realloc): blocks below RAY__HUGE_BLOCK and at or above it
 ** allocated, written whole, grown and shrunk across that size and on
 ** each side of it, each time with their contents kept, and freed (the
 ** sizes are the ones each block was given, as ray_alloc_fn promises).

@@ -331,8 +331,11 @@ static int build_top(builder *bd, const task *root, size_t limit,
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
-                   void *scratch, ray__progress *prog, ray__bvh *out)
+                   ray__bvh_share *share, ray__progress *prog,
+                   ray__bvh *out)
 {
+    void *scratch = share != NULL ? share->records : NULL;
+    size_t keep = share != NULL ? share->keep : 0, node_bytes, shrunk;
     builder bd;
     task root;
     size_t cap, i, region, n_tasks = 0, cap_tasks = 0, pending = 0;
@@ -342,11 +345,18 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     int rc = RAY_OK;
 
     memset(out, 0, sizeof *out);
+    if (share != NULL) {
+        share->kept = NULL;
+        share->kept_bytes = 0;
+    }
     if (n == 0)
         return RAY_OK;
     if (n > 0x7fffffffu)
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
+    node_bytes = cap * sizeof *bd.nodes;
+    if (keep > node_bytes)
+        node_bytes = keep;
     if (threads == 0)
         threads = ray__online_cpus();
     if (threads > MAX_BUILD_THREADS)
@@ -358,7 +368,7 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     bd.refs = scratch;
     if (scratch == NULL)
         bd.refs = ray__allocate(a, n * sizeof *bd.refs);
-    bd.nodes = ray__allocate(a, cap * sizeof *bd.nodes);
+    bd.nodes = ray__allocate(a, node_bytes);
     items = ray__allocate(a, n * sizeof *items);
     if (bd.refs == NULL || bd.nodes == NULL || items == NULL) {
         rc = RAY_ENOMEM;
@@ -423,17 +433,23 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     order = NULL;
     tasks = NULL;
     bd.refs = NULL;
-    out->nodes = ray__reallocate(a, bd.nodes, cap * sizeof *bd.nodes,
-                                 bd.n_nodes * sizeof *bd.nodes);
-    out->cap_nodes = bd.n_nodes;
-    if (out->nodes == NULL) {            /* shrinking failed: keep it all */
-        out->nodes = bd.nodes;
-        out->cap_nodes = cap;
+    /* Shrunk to the nodes, or to what the caller keeps if more: the
+    ** tail's pages, which subtrees reserved and did not use, go back now,
+    ** before the collapse allocates (a failed shrink keeps it all). */
+    shrunk = bd.n_nodes * sizeof *bd.nodes;
+    if (keep > shrunk)
+        shrunk = keep;
+    if (shrunk < node_bytes) {
+        ray__node *fit = ray__reallocate(a, bd.nodes, node_bytes, shrunk);
+        if (fit != NULL) {
+            bd.nodes = fit;
+            node_bytes = shrunk;
+        }
     }
+    out->nodes = bd.nodes;
     out->n_nodes = bd.n_nodes;
     out->items = items;
     out->n_items = n;
-    bd.nodes = NULL;
     items = NULL;
     /* The collapse's leaf counts in the caller's scratch, if any: the
     ** item records are done with, and its pages were touched.  A block
@@ -449,9 +465,14 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
                              : ray__allocate(a, bd.n_nodes * sizeof *leaves);
     if (leaves != NULL)
         count_leaves(out->nodes, bd.n_nodes, leaves);
-    if (ray__bvh_collapse(a, out, leaves) != RAY_OK) {
+    rc = ray__bvh_collapse(a, out, leaves);
+    out->nodes = NULL;                        /* bd.nodes: freed below */
+    if (rc != RAY_OK)
         ray__bvh_free(a, out);
-        rc = RAY_ENOMEM;
+    else if (keep > 0) {
+        share->kept = bd.nodes;                /* the caller's now */
+        share->kept_bytes = node_bytes;
+        bd.nodes = NULL;
     }
     if (scratch == NULL)
         ray__release(a, leaves, bd.n_nodes * sizeof *leaves);
@@ -460,7 +481,7 @@ done:
     ray__release(a, tasks, cap_tasks * sizeof *tasks);
     if (scratch == NULL)
         ray__release(a, bd.refs, n * sizeof *bd.refs);
-    ray__release(a, bd.nodes, cap * sizeof *bd.nodes);
+    ray__release(a, bd.nodes, node_bytes);
     ray__release(a, items, n * sizeof *items);
     return rc;
 }
@@ -468,7 +489,6 @@ done:
 
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh)
 {
-    ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
     ray__release(a, bvh->wide, bvh->cap_wide * sizeof *bvh->wide);
     ray__release(a, bvh->items, bvh->n_items * sizeof *bvh->items);
     ray__release(a, bvh->leaves, bvh->n_leaves * sizeof *bvh->leaves);

@@ -117,8 +117,9 @@ static inline void child_task(task *t, size_t node, size_t begin, size_t end,
 ** ray__bvh_link -- the node linked to its two children, numbered next
 ** (bd->n_nodes), their tasks into stack[0] and stack[1].
 ** ray__bvh_collapse -- the binary nodes of bvh collapsed into
-** RAY__WIDTH-wide nodes (bvh->wide), the binary ones freed: RAY_OK, or
-** RAY_ENOMEM with bvh as it was.  leaves: the leaf count below each
+** RAY__WIDTH-wide nodes (bvh->wide), the binary ones left where they are
+** (ray__bvh_build frees them, or keeps their block for its caller):
+** RAY_OK, or RAY_ENOMEM with bvh as it was.  leaves: the leaf count below each
 ** binary node, or NULL (memory was short: the collapse then opens nodes
 ** by their area alone).
 */

@@ -41,8 +41,8 @@ typedef struct ray__wnode {
 } ray__wnode;
 
 typedef struct ray__bvh {
-    ray__node *nodes;    /* binary BVH: built first, freed after collapse */
-    size_t n_nodes, cap_nodes;
+    ray__node *nodes;    /* binary BVH: the build's, during the collapse */
+    size_t n_nodes;
     ray__wnode *wide;    /* what traversal uses */
     size_t n_wide, cap_wide;
     unsigned *items;     /* leaf order -> item index */
@@ -94,14 +94,27 @@ typedef struct ray__bvh_costs {
     ray__boxes_fn boxes;     /* NULL, or box for runs of items */
 } ray__bvh_costs;
 /*
-** scratch: NULL, or a block of at least RAY__BVH_SCRATCH(n) bytes, which
-** the build then uses for its item records instead of allocating them
-** (and leaves to the caller, its contents undefined): a caller with
-** temporaries of its own after the build keeps one block for both, and
-** its pages are touched once (a block that large is mapped afresh at
-** each allocation, and every first touch of a page is a page fault:
-** issue 36).
+** The blocks a build shares with its caller (NULL: none), so that a
+** caller with temporaries of its own after the build, and blocks to fill,
+** touches fewer pages for the first time (a block that large is mapped
+** afresh at each allocation, and every first touch of a page is a page
+** fault: issue 36):
+** - records: NULL, or a block of at least RAY__BVH_SCRATCH(n) bytes that
+**   the build uses for its item records instead of allocating them (and
+**   leaves to the caller, its contents undefined);
+** - keep: 0, or a size in bytes: the block of the binary nodes, which the
+**   build reserves for the worst case of each subtree and so touches
+**   across most of its length, is not freed after the collapse but left
+**   in *kept, kept_bytes long (at least keep), its contents undefined,
+**   for the caller to use and to free or resize through the allocator
+**   (NULL when the build fails).
 */
+typedef struct ray__bvh_share {
+    void *records;
+    size_t keep;
+    void *kept;
+    size_t kept_bytes;
+} ray__bvh_share;
 #define RAY__BVH_SCRATCH(n) ((n) * (size_t)32)
 
 /*
@@ -132,7 +145,8 @@ int ray__progress_add(ray__progress *p, size_t items);
 int ray__bvh_build(const ray__allocator *a, ray__box_fn box,
                    const void *ud, size_t n, const ray__bvh_costs *costs,
                    const ray_scheduler *sched, unsigned threads,
-                   void *scratch, ray__progress *prog, ray__bvh *out);
+                   ray__bvh_share *share, ray__progress *prog,
+                   ray__bvh *out);
 void ray__bvh_free(const ray__allocator *a, ray__bvh *bvh);
 
 /*

@@ -179,8 +179,5 @@ int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh,
     bvh->wide = w;
     bvh->n_wide = used;
     bvh->cap_wide = cap;
-    ray__release(a, bvh->nodes, bvh->cap_nodes * sizeof *bvh->nodes);
-    bvh->nodes = NULL;
-    bvh->n_nodes = bvh->cap_nodes = 0;
     return RAY_OK;
 }

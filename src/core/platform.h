@@ -40,21 +40,25 @@ int ray__cpu_has_avx2(void);
 /* ------------------------------------------------------------- memory */
 
 /*
-** ray__huge_block -- a new block of "size" bytes, RAY__HUGE_BLOCK or
-** more, for the allocator of a scene made without one (store.c, which
-** frees and resizes it with libc's free and realloc), or NULL.  On Linux
-** (RAY__WHOLE_HUGE_PAGES) it is taken at a 2 MiB boundary and a whole
-** number of 2 MiB long (posix_memalign) and marked for transparent huge
-** pages, so that it takes one page fault per 2 MiB.  A block libc maps
-** starts 16 bytes past a page and ends anywhere: its first and last
-** partial 2 MiB, a megabyte each on average, stayed 4 KiB pages, each a
-** page fault, about 3,000 a 940k-triangle build (perf record -e
-** minor-faults, issue 36).  Elsewhere, and under AddressSanitizer,
-** libc's malloc.
+** ray__huge_realloc -- for the allocator of a scene made without one
+** (store.c, libc's otherwise), on Linux (RAY__WHOLE_HUGE_PAGES) only: a
+** block that is, or becomes, RAY__HUGE_BLOCK bytes or more, as a
+** ray_alloc_fn would give it (NULL ptr: a new one; nsize 0: freed).
+** Such a block is mapped by itself (mmap) at a 2 MiB boundary, a whole
+** number of 2 MiB long, and marked for transparent huge pages, so that
+** it takes one page fault per 2 MiB: a block libc maps starts 16 bytes
+** past a page and ends anywhere, its first and last partial 2 MiB small
+** pages, about 3,000 faults a 940k-triangle build; and libc's aligned
+** block (posix_memalign, the earlier way) wrote its headers on two pages
+** of their own, two more faults a block.  It is known by its size
+** (osize, which ray_alloc_fn promises): grown by moving its pages
+** (mremap), not copying them, shrunk by giving back its tail, freed with
+** munmap.  Elsewhere, and under AddressSanitizer, not defined: libc's
+** alone.
 */
-void *ray__huge_block(size_t size);
+void *ray__huge_realloc(void *ptr, size_t osize, size_t nsize);
 
-/* Does ray__huge_block put large blocks on whole huge pages (Linux,
+/* Does ray__huge_realloc put large blocks on whole huge pages (Linux,
 ** not under AddressSanitizer: GCC's macro, Clang's feature test)? */
 #if defined(__SANITIZE_ADDRESS__)
 #define RAY__ASAN 1

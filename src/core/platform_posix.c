@@ -15,8 +15,8 @@
 #if defined(__APPLE__) && !defined(_DARWIN_C_SOURCE)
 #define _DARWIN_C_SOURCE 1        /* _SC_NPROCESSORS_ONLN (see above) */
 #endif
-#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
-#define _DEFAULT_SOURCE 1         /* madvise, MADV_HUGEPAGE */
+#if defined(__linux__) && !defined(_GNU_SOURCE)
+#define _GNU_SOURCE 1             /* madvise, MADV_HUGEPAGE, mremap */
 #endif
 
 #include <errno.h>
@@ -62,32 +62,100 @@ void ray__memory_hint(void *p, size_t size)
 #endif
 }
 
-/* Large blocks on whole huge pages (ray__huge_block,
+/* Large blocks on whole huge pages (ray__huge_realloc,
 ** RAY__WHOLE_HUGE_PAGES): Linux's headers declare what it calls. */
 #if RAY__WHOLE_HUGE_PAGES && !defined(MADV_HUGEPAGE)
 #error "Linux's sys/mman.h without MADV_HUGEPAGE"
 #endif
 
-/* From libc still (posix_memalign), so that realloc and free take it as
-** any other, and libc's rules (the size above which it maps a block
-** afresh rises as it frees large ones) see every block. */
-void *ray__huge_block(size_t size)
-{
 #if RAY__WHOLE_HUGE_PAGES
-    const size_t huge = HUGE_PAGE;
-    size_t len = size > (size_t)-1 - 2 * huge
-                     ? 0
-                     : (size + huge - 1) & ~(huge - 1);
-    void *p;
-
-    if (len == 0 || posix_memalign(&p, huge, len) != 0)
-        return NULL;
-    (void)madvise(p, len, MADV_HUGEPAGE);                   /* a hint */
-    return p;
-#else
-    return malloc(size);
-#endif
+/* A large block's length: "size" rounded up to whole huge pages; 0 where
+** that, or the huge page more that huge_map asks for, overflows. */
+static size_t huge_len(size_t size)
+{
+    return size > (size_t)-1 - 2 * HUGE_PAGE
+               ? 0
+               : (size + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
 }
+
+/* A fresh mapping of "len" bytes (whole huge pages) at a huge page's
+** boundary: a huge page more is mapped and the ends beyond the boundary
+** given back. */
+static void *huge_map(size_t len)
+{
+    char *raw = mmap(NULL, len + HUGE_PAGE, PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    uintptr_t at;
+    size_t head;
+
+    if (raw == MAP_FAILED)
+        return NULL;
+    at = ((uintptr_t)raw + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
+    head = (size_t)(at - (uintptr_t)raw);
+    if (head > 0)
+        (void)munmap(raw, head);
+    (void)munmap((char *)at + len, HUGE_PAGE - head);
+    (void)madvise((void *)at, len, MADV_HUGEPAGE);          /* a hint */
+    return (void *)at;
+}
+
+/*
+** A large block of "olen" bytes (whole huge pages) made "nlen" long: its
+** tail given back, or grown where it lies if the addresses after it are
+** free, or its pages moved (not copied: mremap) to the start of a fresh
+** mapping on a huge page's boundary, so that what was touched stays
+** touched and what is new is whole huge pages.
+*/
+static void *huge_resize(void *p, size_t olen, size_t nlen)
+{
+    void *q;
+
+    if (nlen <= olen) {
+        if (nlen < olen)
+            (void)munmap((char *)p + nlen, olen - nlen);
+        return p;
+    }
+    if (mremap(p, olen, nlen, 0) != MAP_FAILED) {
+        (void)madvise(p, nlen, MADV_HUGEPAGE);               /* a hint */
+        return p;
+    }
+    if ((q = huge_map(nlen)) == NULL)
+        return NULL;
+    if (mremap(p, olen, olen, MREMAP_MAYMOVE | MREMAP_FIXED, q) ==
+        MAP_FAILED) {
+        memcpy(q, p, olen);
+        (void)munmap(p, olen);
+    }
+    return q;
+}
+
+void *ray__huge_realloc(void *ptr, size_t osize, size_t nsize)
+{
+    const int was_large = ptr != NULL && osize >= RAY__HUGE_BLOCK;
+    const int large = nsize >= RAY__HUGE_BLOCK;
+    void *q;
+
+    if (nsize == 0) {
+        (void)munmap(ptr, huge_len(osize));
+        return NULL;
+    }
+    if (large && huge_len(nsize) == 0)
+        return NULL;                 /* too large for whole huge pages */
+    if (was_large && large)
+        return huge_resize(ptr, huge_len(osize), huge_len(nsize));
+    /* Across RAY__HUGE_BLOCK: a block of the other kind, the contents
+    ** copied (under 4 MiB of them). */
+    q = large ? huge_map(huge_len(nsize)) : malloc(nsize);
+    if (q == NULL || ptr == NULL)
+        return q;
+    memcpy(q, ptr, osize < nsize ? osize : nsize);
+    if (was_large)
+        (void)munmap(ptr, huge_len(osize));
+    else
+        free(ptr);
+    return q;
+}
+#endif
 
 /* ------------------------------------------------------------ threads */
 

@@ -50,11 +50,6 @@ void ray__memory_hint(void *p, size_t size)
     (void)size;
 }
 
-void *ray__huge_block(size_t size)
-{
-    return malloc(size);          /* libc's alone (platform.h) */
-}
-
 static unsigned __stdcall thread_main(void *arg)
 {
     ray__thread *t = arg;

@@ -11,19 +11,22 @@
 #include "core/platform.h"
 #include "scene/scene.h"
 
-/* The allocator of a scene made without one: libc's, a new large block
-** on whole huge pages where the platform can (platform.h). */
+/* The allocator of a scene made without one: libc's, a large block on
+** whole huge pages where the platform can (platform.h). */
 static void *libc_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 {
     (void)ud;
+#if RAY__WHOLE_HUGE_PAGES
+    if (nsize >= RAY__HUGE_BLOCK ||
+        (ptr != NULL && osize >= RAY__HUGE_BLOCK))
+        return ray__huge_realloc(ptr, osize, nsize);
+#else
     (void)osize;
-    if (nsize == 0) {
-        free(ptr);
-        return NULL;
-    }
-    if (ptr == NULL && nsize >= RAY__HUGE_BLOCK)
-        return ray__huge_block(nsize);
-    return realloc(ptr, nsize);
+#endif
+    if (nsize > 0)
+        return realloc(ptr, nsize);
+    free(ptr);
+    return NULL;
 }
 
 void *ray__alloc(const ray_scene *s, size_t size)

@@ -184,21 +184,17 @@ static void gather_wide(const ray_scene *s, size_t begin, size_t end,
 
 /*
 ** The float corners of the n live slots in the leaves of the fresh BVH
-** (its items: the old slot of each leaf position), into a new leaf_f:
-** first in slot order into by_slot (the rebuild's scratch, of
-** RAY__LEAF_ROWS n floats at least), reading the geometry as it lies (a
-** mesh's indices in order), then gathered into leaf order, one random
-** read a slot.  RAY_OK or RAY_ENOMEM (nothing changed).
+** (its items: the old slot of each leaf position), into leaf_f, the
+** block "out" of "bytes" (the rebuild's scratch): first in slot order
+** into by_slot (RAY__LEAF_ROWS n floats, in the build's node block),
+** reading the geometry as it lies (a mesh's indices in order), then
+** gathered into leaf order, one random read a slot.
 */
-static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
-                       float *by_slot)
+static void leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
+                        float *by_slot, float *out, size_t bytes)
 {
-    size_t floats = RAY__LEAF_ROWS * n + RAY__LEAF_PAD;
-    float *out = ray__alloc(s, floats * sizeof *out);
     leaf_gather g;
 
-    if (out == NULL)
-        return RAY_ENOMEM;
     slots_run(s, n, rows_by_slot, by_slot);
     g.out = out;
     g.by_slot = by_slot;
@@ -207,9 +203,8 @@ static int leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
     runs_of(s, fresh->n_wide, WIDE_RUN, gather_wide, &g);
     memset(out + RAY__LEAF_ROWS * n, 0, RAY__LEAF_PAD * sizeof *out);
     s->leaf_f = out;
-    s->cap_leaf_f = floats;
+    s->cap_leaf_f = bytes / sizeof *out;
     s->float_exact = corners_are_floats(s);
-    return RAY_OK;
 }
 
 typedef struct ids_gather {
@@ -229,33 +224,22 @@ static void ids_by_position(const ray_scene *s, size_t begin, size_t end,
 }
 
 /*
-** Put the ids of the n live slots in leaf order: gathered into "id" (the
-** rebuild's scratch, of "bytes"), each read random but none depending on
+** Put the ids of the n live slots in leaf order: gathered into "id" (in
+** the build's node block), each read random but none depending on
 ** another, where walking the permutation's cycles in place chases one
 ** random read after the other (at 940k triangles the walk took about a
-** sixth of the commit, perf on bench/mesh's bunny-4).  The scratch then
-** becomes tri_ids (the waiting slots after n copied behind), so nothing
-** is copied back: returns 1; or, when the waiting slots do not fit in
-** it, the ids are copied back into tri_ids: returns 0.
+** sixth of the commit, perf on bench/mesh's bunny-4), then copied back
+** (the waiting slots after n stay where they are).
 */
-static int gather_ids(ray_scene *s, const unsigned *items, size_t n,
-                      ray__tri_id *id, size_t bytes)
+static void gather_ids(ray_scene *s, const unsigned *items, size_t n,
+                       ray__tri_id *id)
 {
-    size_t all = s->n_tris;
     ids_gather g;
 
     g.id = id;
     g.items = items;
     slots_run(s, n, ids_by_position, &g);
-    if (all > bytes / sizeof *id) {
-        memcpy(s->tri_ids, id, n * sizeof *id);
-        return 0;
-    }
-    memcpy(id + n, s->tri_ids + n, (all - n) * sizeof *id);  /* waiting */
-    ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
-    s->tri_ids = id;
-    s->cap_tri_ids = bytes / sizeof *id;
-    return 1;
+    memcpy(s->tri_ids, id, n * sizeof *id);
 }
 
 /* Give back the spare capacity that doubling left in tri_ids (a failed
@@ -325,16 +309,23 @@ static void leaves_free(ray_scene *s)
 ** The double corners of the n live slots, in leaf order (the slots are
 ** in it already), for the exact test (ray__leaf_tri): only where they
 ** are not all floats, as the leaves' floats are those corners otherwise.
-** 72 bytes a triangle; out of memory, none: the queries then read the
-** corners through the geometry, the same bits, slower.
+** 72 bytes a triangle, in the build's node block ("spare", "bytes"
+** long: its pages touched already), resized; out of memory, none: the
+** queries then read the corners through the geometry, the same bits,
+** slower.  The spare block is the scene's or freed.
 */
-static void leaf_tris_make(ray_scene *s, size_t n)
+static void leaf_tris_make(ray_scene *s, size_t n, void *spare, size_t bytes)
 {
-    if (s->float_exact)
+    size_t need = n * sizeof *s->leaf_tri;
+    ray__tri *copy = spare;
+
+    if (!s->float_exact && bytes != need)
+        copy = ray__realloc(s, spare, bytes, need);
+    if (s->float_exact || copy == NULL) {
+        ray__free(s, spare, bytes);
         return;
-    s->leaf_tri = ray__alloc(s, n * sizeof *s->leaf_tri);
-    if (s->leaf_tri == NULL)
-        return;
+    }
+    s->leaf_tri = copy;
     slots_run(s, n, copies_by_slot, s->leaf_tri);
 }
 
@@ -361,8 +352,9 @@ size_t ray__triangles_live(const ray_scene *s)
 */
 int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
 {
-    size_t n = 0, i, scratch_bytes;
+    size_t n = 0, i, scratch_bytes, spare_at;
     void *scratch = NULL;
+    ray__bvh_share share;
     ray__bvh fresh;
     int rc;
 
@@ -379,35 +371,43 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
                 tri_swap(s, n++, i);
     }
     leaves_free(s);
-    /* One scratch block for the build's records, then the corners in
-    ** slot order, then the ids in leaf order, which it becomes (trimmed
-    ** below): its pages are touched once, where three blocks of their
-    ** own were each mapped afresh (at 940k triangles, 30, 34 and 8 MB:
-    ** issue 36). */
-    scratch_bytes = RAY__BVH_SCRATCH(n);
-    if (scratch_bytes < RAY__LEAF_ROWS * n * sizeof(float))
-        scratch_bytes = RAY__LEAF_ROWS * n * sizeof(float);
-    /* Whole ids, so that as tri_ids it is given back at its size. */
-    scratch_bytes += (sizeof(ray__tri_id) - scratch_bytes %
-                      sizeof(ray__tri_id)) % sizeof(ray__tri_id);
-    if (n > 0 && (n > (size_t)-1 / 64 ||
+    /*
+    ** Two blocks for the build and what follows it, so that their pages
+    ** are touched once (issue 36: each block that large is mapped afresh,
+    ** and every first touch of a page is a page fault):
+    ** - the scratch: the build's records, then leaf_f (RAY__LEAF_ROWS
+    **   floats a slot and the padding), whose size it is;
+    ** - the build's binary nodes, kept (ray__bvh_share): the leaves'
+    **   corners in slot order and the ids in leaf order, then the double
+    **   copy (leaf_tris_make), or freed.
+    ** Three cold builds of the 940k bunny in a row: 375 -> 213 minor
+    ** faults with the system allocator's blocks (platform.h), Embree's 132
+    ** (build/bench/mesh DATA build).
+    */
+    scratch_bytes = (RAY__LEAF_ROWS * n + RAY__LEAF_PAD) * sizeof(float);
+    if (scratch_bytes < RAY__BVH_SCRATCH(n))
+        scratch_bytes = RAY__BVH_SCRATCH(n);
+    spare_at = RAY__LEAF_ROWS * n * sizeof(float);
+    if (n > 0 && (n > (size_t)-1 / 128 ||
                   (scratch = ray__alloc(s, scratch_bytes)) == NULL))
         return RAY_ENOMEM;
+    share.records = scratch;
+    share.keep = spare_at + n * sizeof(ray__tri_id);
+    if (!corners_are_floats(s))
+        share.keep = n * sizeof *s->leaf_tri;     /* more: the copy's */
     rc = ray__bvh_build(&s->alloc, NULL, s, n, &tri_costs,
-                        &s->scheduler, s->build_threads, scratch, prog,
+                        &s->scheduler, s->build_threads, &share, prog,
                         &fresh);
     if (rc != RAY_OK) {
         ray__free(s, scratch, scratch_bytes);
         return rc;
     }
     if (n > 0) {
-        if (leaves_make(s, &fresh, n, scratch) != RAY_OK) {
-            ray__free(s, scratch, scratch_bytes);
-            ray__bvh_free(&s->alloc, &fresh);
-            return RAY_ENOMEM;
-        }
-        if (!gather_ids(s, fresh.items, n, scratch, scratch_bytes))
-            ray__free(s, scratch, scratch_bytes);
+        char *spare = share.kept;
+        leaves_make(s, &fresh, n, (float *)(void *)spare, scratch,
+                    scratch_bytes);
+        gather_ids(s, fresh.items, n,
+                   (ray__tri_id *)(void *)(spare + spare_at));
         /* Leaves now index slots directly: the permutation is not kept. */
         ray__free(s, fresh.items, fresh.n_items * sizeof(unsigned));
         fresh.items = NULL;
@@ -416,10 +416,10 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
     s->tri_bvh = fresh;
     s->n_live_tris = n;
     trim_ids(s);
-    /* Last, once the build's scratch is given back: the peak stays the
+    /* Last, once the permutation is given back: the peak stays the
     ** build's where it can. */
     if (n > 0)
-        leaf_tris_make(s, n);
+        leaf_tris_make(s, n, share.kept, share.kept_bytes);
     return RAY_OK;
 }
 
