@@ -302,8 +302,8 @@ static int bytes_kept(const unsigned char *p, size_t n, unsigned seed)
 ** allocated, written whole, grown and shrunk across that size and on
 ** each side of it, each time with their contents kept, and freed (the
 ** sizes are the ones each block was given, as ray_alloc_fn promises).
-** On Linux a new large block starts at a 2 MiB boundary (its huge
-** pages); elsewhere only the contents are checked.  A size too large to
+** On Linux a new or grown large block starts at a 2 MiB boundary (its
+** huge pages); elsewhere only the contents are checked.  A size too large to
 ** round up to whole huge pages fails (NULL).
 */
 START_TEST(system_alloc_should_keep_contents_across_sizes)
@@ -326,6 +326,10 @@ START_TEST(system_alloc_should_keep_contents_across_sizes)
     p = fn(s->alloc.ud, p, big, bigger);           /* large, grown */
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, big, 2));
+#if RAY__WHOLE_HUGE_PAGES
+    /* Grown in place or its pages moved to a fresh huge page boundary. */
+    ck_assert_uint_eq((uintptr_t)p % ((uintptr_t)1 << 21), 0);
+#endif
     fill_bytes(p, bigger, 3);
     ck_assert(bytes_kept(p, bigger, 3));
     p = fn(s->alloc.ud, p, bigger, big + 1);       /* large, shrunk */
