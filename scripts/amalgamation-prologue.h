@@ -67,8 +67,8 @@
 #if defined(__APPLE__) && !defined(_DARWIN_C_SOURCE)
 #define _DARWIN_C_SOURCE 1
 #endif
-#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
-#define _DEFAULT_SOURCE 1         /* madvise, MADV_HUGEPAGE */
+#if defined(__linux__) && !defined(_GNU_SOURCE)
+#define _GNU_SOURCE 1             /* madvise, MADV_HUGEPAGE, mremap */
 #endif
 #ifndef RAY_BUILD
 #define RAY_BUILD 1
