@@ -151,6 +151,72 @@ START_TEST(built_in_threads_should_run_every_task_once)
 }
 END_TEST
 
+/* A task that asks for a pass of its own, on the same scheduler: four
+** tasks counted in its own quarter of "inner". */
+typedef struct nesting {
+    const ray_scheduler *sched;
+    const ray__allocator *a;
+    unsigned *outer, *inner;
+} nesting;
+
+static void nesting_task(void *ud, unsigned i)
+{
+    const nesting *n = ud;
+
+    n->outer[i]++;
+    ray__tasks_run(n->sched, n->a, 2, 0, 4, count_task, n->inner + 4 * i);
+}
+
+/*
+** A crew (tasks.h) runs every task of every pass once, at every thread
+** count: passes one after another on the same threads, an empty pass, a
+** pass asked for from inside a task (run on the asking thread), and with
+** no memory for its threads or lock (all on the calling thread).  A crew
+** that is given no pass starts no thread.
+*/
+START_TEST(crew_should_run_every_task_of_every_pass_once)
+{
+    static const unsigned threads[] = {1, 2, 3, 8}, passes[] = {5, 100, 0,
+                                                                1000, 7};
+    static unsigned runs[MAX_TASKS], outer[16], inner[64];
+    ray__allocator a = {libc_alloc, NULL}, none = {no_alloc, NULL};
+    size_t k, p, m;
+
+    for (m = 0; m < 2; m++)
+        for (k = 0; k < sizeof threads / sizeof *threads; k++) {
+            ray__crew crew;
+            ray_scheduler sched;
+            nesting n;
+            ray__crew_begin(&crew, m == 0 ? &a : &none, threads[k], 0);
+            sched = ray__crew_scheduler(&crew);
+            ck_assert_uint_eq(sched.threads, threads[k]);
+            for (p = 0; p < sizeof passes / sizeof *passes; p++) {
+                memset(runs, 0, sizeof runs);
+                ray__tasks_run(&sched, &a, threads[k], 0, passes[p],
+                               count_task, runs);
+                assert_each_once(runs, passes[p]);
+            }
+            memset(outer, 0, sizeof outer);
+            memset(inner, 0, sizeof inner);
+            n.sched = &sched;
+            n.a = &a;
+            n.outer = outer;
+            n.inner = inner;
+            ray__tasks_run(&sched, &a, threads[k], 0, 16, nesting_task, &n);
+            assert_each_once(outer, 16);
+            assert_each_once(inner, 64);
+            ray__crew_end(&crew);
+        }
+    {
+        ray__crew idle;
+        ray__crew_begin(&idle, &a, 4, 0);
+        ray__crew_end(&idle);
+        ck_assert_int_eq(idle.state, 0);
+        ck_assert_ptr_null(idle.t);
+    }
+}
+END_TEST
+
 /* A scheduler whose run counts, then runs the tasks itself. */
 static void counting_run(void *ud, unsigned count, ray_task_fn task,
                          void *task_ud)
@@ -474,6 +540,7 @@ Suite *platform_suite(void)
     tcase_add_test(tc, threads_should_run_and_share_a_mutex);
     tcase_add_test(tc, built_in_threads_should_run_every_task_once);
     tcase_add_test(tc, tasks_should_go_to_the_scheduler);
+    tcase_add_test(tc, crew_should_run_every_task_of_every_pass_once);
     tcase_add_test(tc, tasks_should_run_in_the_callers_floating_point_environment);
     tcase_add_test(tc, system_alloc_should_keep_contents_across_sizes);
     tcase_add_test(tc, file_write_should_replace_and_leave_no_temporary);

@@ -117,6 +117,20 @@ void ray__mutex_free(const ray__allocator *a, ray__mutex *m);
 void ray__mutex_lock(ray__mutex *m);
 void ray__mutex_unlock(ray__mutex *m);
 
+/*
+** A condition variable, allocated as a mutex is (pthread_cond_t,
+** CONDITION_VARIABLE): ray__cond_wait releases m (which the caller
+** holds), sleeps until a broadcast (or spuriously: callers wait in a loop
+** on their own condition) and takes m again.  ray__cond_new returns
+** RAY_OK or RAY_ENOMEM; ray__cond_free takes NULL.
+*/
+typedef struct ray__cond ray__cond;
+
+int ray__cond_new(const ray__allocator *a, ray__cond **out);
+void ray__cond_free(const ray__allocator *a, ray__cond *c);
+void ray__cond_wait(ray__cond *c, ray__mutex *m);
+void ray__cond_broadcast(ray__cond *c);
+
 /* -------------------------------------------------------------- files */
 
 /*

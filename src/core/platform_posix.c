@@ -239,6 +239,42 @@ void ray__mutex_unlock(ray__mutex *m)
     pthread_mutex_unlock(&m->m);
 }
 
+struct ray__cond {
+    pthread_cond_t c;
+};
+
+int ray__cond_new(const ray__allocator *a, ray__cond **out)
+{
+    ray__cond *c = ray__allocate(a, sizeof *c);
+
+    if (c == NULL)
+        return RAY_ENOMEM;
+    if (pthread_cond_init(&c->c, NULL) != 0) {
+        ray__release(a, c, sizeof *c);
+        return RAY_ENOMEM;        /* EAGAIN or ENOMEM: out of resources */
+    }
+    *out = c;
+    return RAY_OK;
+}
+
+void ray__cond_free(const ray__allocator *a, ray__cond *c)
+{
+    if (c == NULL)
+        return;
+    pthread_cond_destroy(&c->c);
+    ray__release(a, c, sizeof *c);
+}
+
+void ray__cond_wait(ray__cond *c, ray__mutex *m)
+{
+    pthread_cond_wait(&c->c, &m->m);
+}
+
+void ray__cond_broadcast(ray__cond *c)
+{
+    pthread_cond_broadcast(&c->c);
+}
+
 /* -------------------------------------------------------------- files */
 
 FILE *ray__file_open_read(const char *path)

@@ -119,6 +119,38 @@ void ray__mutex_unlock(ray__mutex *m)
     ReleaseSRWLockExclusive(&m->lock);
 }
 
+/* Vista's condition variable, on the SRW lock taken exclusively: it too
+** needs no destruction and cannot fail to initialise. */
+struct ray__cond {
+    CONDITION_VARIABLE c;
+};
+
+int ray__cond_new(const ray__allocator *a, ray__cond **out)
+{
+    ray__cond *c = ray__allocate(a, sizeof *c);
+
+    if (c == NULL)
+        return RAY_ENOMEM;
+    InitializeConditionVariable(&c->c);
+    *out = c;
+    return RAY_OK;
+}
+
+void ray__cond_free(const ray__allocator *a, ray__cond *c)
+{
+    ray__release(a, c, sizeof *c);
+}
+
+void ray__cond_wait(ray__cond *c, ray__mutex *m)
+{
+    (void)SleepConditionVariableSRW(&c->c, &m->lock, INFINITE, 0);
+}
+
+void ray__cond_broadcast(ray__cond *c)
+{
+    WakeAllConditionVariable(&c->c);
+}
+
 /* -------------------------------------------------------------- files */
 
 /* GetLastError's codes as errno's, for the callers of ray_write_png

@@ -184,3 +184,151 @@ int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
     ray__tasks_run(scheduler, a, threads, 0, (unsigned)runs, run_task, &job);
     return 1;
 }
+
+/* ---------------------------------------------------------------- crew */
+
+/* Take the pass's tasks until none is left; c->lock held on entry and
+** on return, released while a task runs.  The last to finish wakes the
+** pass's caller. */
+static void crew_take(ray__crew *c)
+{
+    while (c->next < c->count) {
+        unsigned i = c->next++;
+        c->busy++;
+        ray__mutex_unlock(c->lock);
+        c->task(c->ud, i);
+        ray__mutex_lock(c->lock);
+        if (--c->busy == 0 && c->next >= c->count)
+            ray__cond_broadcast(c->idle);
+    }
+}
+
+/* A crew thread: each new pass's tasks, until told to stop. */
+static void crew_main(void *arg)
+{
+    ray__crew *c = arg;
+    unsigned seen = 0;
+
+    ray__mutex_lock(c->lock);
+    for (;;) {
+        while (!c->quit && c->pass == seen)
+            ray__cond_wait(c->wake, c->lock);
+        if (c->quit)
+            break;
+        seen = c->pass;
+        crew_take(c);
+    }
+    ray__mutex_unlock(c->lock);
+}
+
+/* The threads started (at the first pass): 1 if any runs, else 0 with
+** what was made freed (the caller then runs every pass itself). */
+static int crew_start(ray__crew *c)
+{
+    size_t n = (size_t)c->threads - 1;
+    unsigned i, any = 0;
+
+    if (c->state != 0)
+        return c->state > 0;
+    c->state = -1;
+    if (n == 0 || n > (size_t)-1 / sizeof *c->t)
+        return 0;
+    c->t = ray__allocate(c->a, n * sizeof *c->t);
+    c->up = ray__allocate(c->a, n * sizeof *c->up);
+    if (c->t == NULL || c->up == NULL ||
+        ray__mutex_new(c->a, &c->lock) != RAY_OK ||
+        ray__cond_new(c->a, &c->wake) != RAY_OK ||
+        ray__cond_new(c->a, &c->idle) != RAY_OK) {
+        ray__crew_end(c);
+        return 0;
+    }
+    for (i = 0; i < n; i++) {
+        c->t[i].fn = crew_main;
+        c->t[i].arg = c;
+        c->up[i] = ray__thread_start(&c->t[i], c->stack) == 0;
+        any |= (unsigned)c->up[i];
+    }
+    if (!any) {
+        ray__crew_end(c);
+        return 0;
+    }
+    c->state = 1;
+    return 1;
+}
+
+/* The crew's ray_scheduler run: the pass's tasks on its threads and the
+** caller, returning when all have returned. */
+static void crew_run(void *ud, unsigned count, ray_task_fn task,
+                     void *task_ud)
+{
+    ray__crew *c = ud;
+    unsigned i;
+
+    if (crew_start(c)) {
+        ray__mutex_lock(c->lock);
+        if (!c->active) {
+            c->active = 1;
+            c->task = task;
+            c->ud = task_ud;
+            c->next = 0;
+            c->count = count;
+            c->pass++;
+            ray__cond_broadcast(c->wake);
+            crew_take(c);
+            while (c->busy > 0)
+                ray__cond_wait(c->idle, c->lock);
+            c->active = 0;
+            ray__mutex_unlock(c->lock);
+            return;
+        }
+        ray__mutex_unlock(c->lock);  /* a pass inside a pass: here */
+    }
+    for (i = 0; i < count; i++)
+        task(task_ud, i);
+}
+
+void ray__crew_begin(ray__crew *c, const ray__allocator *a,
+                     unsigned threads, size_t stack)
+{
+    memset(c, 0, sizeof *c);
+    c->a = a;
+    c->threads = threads == 0 ? ray__online_cpus() : threads;
+    c->stack = stack;
+}
+
+ray_scheduler ray__crew_scheduler(ray__crew *c)
+{
+    ray_scheduler sched;
+
+    sched.run = crew_run;
+    sched.ud = c;
+    sched.threads = c->threads;
+    return sched;
+}
+
+void ray__crew_end(ray__crew *c)
+{
+    size_t n = (size_t)c->threads - 1, i;
+
+    if (c->state > 0) {
+        ray__mutex_lock(c->lock);
+        c->quit = 1;
+        ray__cond_broadcast(c->wake);
+        ray__mutex_unlock(c->lock);
+        for (i = 0; i < n; i++)
+            if (c->up[i])
+                ray__thread_join(&c->t[i]);
+    }
+    ray__cond_free(c->a, c->idle);
+    ray__cond_free(c->a, c->wake);
+    ray__mutex_free(c->a, c->lock);
+    if (c->t != NULL)
+        ray__release(c->a, c->t, n * sizeof *c->t);
+    if (c->up != NULL)
+        ray__release(c->a, c->up, n * sizeof *c->up);
+    c->t = NULL;
+    c->up = NULL;
+    c->lock = NULL;
+    c->wake = c->idle = NULL;
+    c->state = c->state > 0 ? 0 : c->state;
+}

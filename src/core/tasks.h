@@ -42,6 +42,43 @@ int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
                     unsigned threads, size_t begin, size_t end, size_t run,
                     ray__run_fn fn, void *ud);
 
+/*
+** A crew: the built-in threads kept waiting between the parallel passes
+** of one piece of work (a commit's build levels, subtrees, leaves and
+** refits), where each ray__tasks_run would start and join threads of its
+** own: about 60 us a time on this machine (create and join), eleven
+** times in a 59k-triangle build on two threads, a tenth of it.
+** ray__crew_begin starts nothing; ray__crew_scheduler gives the
+** ray_scheduler that hands a pass's tasks to the crew, whose threads
+** (threads - 1 of them: the caller is one) start at its first pass, so
+** work that runs no pass starts none.  A pass asked for from inside a
+** pass (a task's own parallel work) runs on the thread that asks.  Where
+** the threads or their lock cannot be made, the caller runs every task:
+** the same answers, as always.  ray__crew_end stops and joins them and
+** frees what they used.  The allocator is called on the calling thread
+** only.
+*/
+typedef struct ray__crew {
+    const ray__allocator *a;
+    unsigned threads;
+    size_t stack;
+    int state;                   /* 0 not started, 1 running, -1 caller only */
+    struct ray__thread *t;       /* threads - 1 */
+    int *up;                     /* which of them started */
+    struct ray__mutex *lock;
+    struct ray__cond *wake, *idle;
+    /* The pass, under lock: */
+    unsigned pass, next, count, busy;
+    int active, quit;
+    ray_task_fn task;
+    void *ud;
+} ray__crew;
+
+void ray__crew_begin(ray__crew *c, const ray__allocator *a,
+                     unsigned threads, size_t stack);
+ray_scheduler ray__crew_scheduler(ray__crew *c);
+void ray__crew_end(ray__crew *c);
+
 /* How many tasks a render or photon pass makes: "threads" (its options')
 ** if not 0, else the scheduler's threads if it says, else one per online
 ** CPU. */

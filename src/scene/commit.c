@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/platform.h"
+#include "core/tasks.h"
 #include "scene/scene.h"
 
 /*
@@ -287,6 +288,35 @@ static int build_changed(ray_scene *s, ray__progress *prog)
 }
 
 /*
+** build_changed on a crew (core/tasks.h) where the scene builds on the
+** built-in threads: the commit's passes (the build's levels and
+** subtrees, its leaves and ids, its refits) share threads started once,
+** where each started and joined its own.  The scene's scheduler is the
+** crew's for the while: the passes hand it their tasks as they would a
+** program's.  At most CREW_MAX threads, as the build takes (build.c).
+*/
+#define CREW_MAX 64
+
+static int build_on_crew(ray_scene *s, ray__progress *prog)
+{
+    ray_scheduler own = s->scheduler;
+    unsigned threads = s->build_threads != 0 ? s->build_threads
+                                             : ray__online_cpus();
+    ray__crew crew;
+    int rc;
+
+    if (own.run != NULL || threads <= 1)
+        return build_changed(s, prog);
+    ray__crew_begin(&crew, &s->alloc, threads < CREW_MAX ? threads : CREW_MAX,
+                    0);
+    s->scheduler = ray__crew_scheduler(&crew);
+    rc = build_changed(s, prog);
+    s->scheduler = own;
+    ray__crew_end(&crew);
+    return rc;
+}
+
+/*
 ** The commit's progress record, when the scene has a callback and the
 ** commit rebuilds a BVH: the total is every primitive the rebuilds place
 ** (ray_scene_set_progress).  Returns RAY_OK with *out NULL (nothing to
@@ -353,7 +383,7 @@ int ray_scene_commit(ray_scene *s)
         return RAY_OK;
     if ((rc = progress_start(s, &record, &prog)) != RAY_OK)
         return rc;
-    rc = progress_end(s, prog, build_changed(s, prog));
+    rc = progress_end(s, prog, build_on_crew(s, prog));
     if (rc != RAY_OK)
         return rc;
     /* ray_contains' labels follow the triangles (parity.c), but are built
