@@ -393,7 +393,7 @@ START_TEST(system_alloc_should_keep_contents_across_sizes)
     ck_assert_ptr_nonnull(p);
     ck_assert(bytes_kept(p, big, 2));
 #if RAY__WHOLE_HUGE_PAGES
-    /* Grown in place or its pages moved to a fresh huge page boundary. */
+    /* Grown in place, or copied to a fresh block on a huge page. */
     ck_assert_uint_eq((uintptr_t)p % ((uintptr_t)1 << 21), 0);
 #endif
     fill_bytes(p, bigger, 3);

@@ -51,9 +51,9 @@ int ray__cpu_has_avx2(void);
 ** pages, about 3,000 faults a 940k-triangle build; and libc's aligned
 ** block (posix_memalign, the earlier way) wrote its headers on two pages
 ** of their own, two more faults a block.  It is known by its size
-** (osize, which ray_alloc_fn promises): grown by moving its pages
-** (mremap), not copying them, shrunk by giving back its tail, freed with
-** munmap.  Elsewhere, and under AddressSanitizer, not defined: libc's
+** (osize, which ray_alloc_fn promises): grown where it lies (mremap)
+** when the addresses after it are free, else copied to a fresh one;
+** shrunk by giving back its tail; freed with munmap.  Elsewhere, and under AddressSanitizer, not defined: libc's
 ** alone.
 */
 void *ray__huge_realloc(void *ptr, size_t osize, size_t nsize);

@@ -102,9 +102,13 @@ static void *huge_map(size_t len)
 /*
 ** A large block of "olen" bytes (whole huge pages) made "nlen" long: its
 ** tail given back, or grown where it lies if the addresses after it are
-** free, or its pages moved (not copied: mremap) to the start of a fresh
-** mapping on a huge page's boundary, so that what was touched stays
-** touched and what is new is whole huge pages.
+** free (mremap without MREMAP_MAYMOVE, which fails changing nothing), so
+** that what was touched stays touched; else copied to a fresh block.  Not
+** moved with MREMAP_FIXED onto a fresh mapping: kernels before 6.12
+** unmap the target before they check the move, which can then fail
+** (a block grown so is two mappings, and they refuse to move two),
+** leaving a hole that another thread's mapping may fill (review, issue
+** 36).
 */
 static void *huge_resize(void *p, size_t olen, size_t nlen)
 {
@@ -121,11 +125,8 @@ static void *huge_resize(void *p, size_t olen, size_t nlen)
     }
     if ((q = huge_map(nlen)) == NULL)
         return NULL;
-    if (mremap(p, olen, olen, MREMAP_MAYMOVE | MREMAP_FIXED, q) ==
-        MAP_FAILED) {
-        memcpy(q, p, olen);
-        (void)munmap(p, olen);
-    }
+    memcpy(q, p, olen);
+    (void)munmap(p, olen);
     return q;
 }
 

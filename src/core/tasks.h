@@ -54,7 +54,9 @@ int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
 ** work that runs no pass starts none.  A pass asked for from inside a
 ** pass (a task's own parallel work) runs on the thread that asks.  Where
 ** the threads or their lock cannot be made, the caller runs every task:
-** the same answers, as always.  ray__crew_end stops and joins them and
+** the same answers, as always.  Its threads have the stack given to
+** ray__crew_begin (a pass's own "stack" is not asked: the commit's passes
+** ask for none).  ray__crew_end stops and joins them and
 ** frees what they used.  The allocator is called on the calling thread
 ** only.
 */
