@@ -380,7 +380,7 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
     ** - the build's binary nodes, kept (ray__bvh_share): the leaves'
     **   corners in slot order and the ids in leaf order, then the double
     **   copy (leaf_tris_make), or freed.
-    ** Three cold builds of the 940k bunny in a row: 375 -> 213 minor
+    ** Three cold builds of the 940k bunny in a row: 375 -> 219 minor
     ** faults with the system allocator's blocks (platform.h), Embree's 132
     ** (build/bench/mesh DATA build).
     */
