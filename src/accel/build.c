@@ -351,7 +351,9 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
     }
     if (n == 0)
         return RAY_OK;
-    if (n > 0x7fffffffu)
+    /* Node numbers fit an unsigned, and the nodes' and records' bytes a
+    ** size_t (where it is 32 bits, more than 2^26 items would wrap). */
+    if (n > 0x7fffffffu || n > (size_t)-1 / 2 / sizeof(ray__box_rec))
         return RAY_ENOMEM;
     cap = 2 * n - 1;                         /* a binary tree's bound */
     node_bytes = cap * sizeof *bd.nodes;
