@@ -168,8 +168,6 @@ static void order_by_size(const subtree *tasks, size_t n, size_t *order)
     }
 }
 
-/* The most threads a build starts (ray_scene_set_build_threads). */
-#define MAX_BUILD_THREADS 64
 
 /* leaves[k], the leaves below binary node k of the n (a node's children
 ** come after it, so one pass from the end sees them first). */
@@ -361,8 +359,8 @@ int ray__bvh_build(const ray__allocator *a, ray__box_fn box_of,
         node_bytes = keep;
     if (threads == 0)
         threads = ray__online_cpus();
-    if (threads > MAX_BUILD_THREADS)
-        threads = MAX_BUILD_THREADS;
+    if (threads > RAY__MAX_BUILD_THREADS)
+        threads = RAY__MAX_BUILD_THREADS;
     bd.costs = costs;
     bd.alloc = a;
     bd.sched = sched;

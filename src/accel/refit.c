@@ -133,7 +133,6 @@ static void refit_task(void *arg, unsigned k, size_t begin, size_t end)
 */
 #define REFIT_PARALLEL_LEAVES 2048
 #define REFIT_RUNS_PER_THREAD 4
-#define REFIT_MAX_THREADS 64
 
 /* The leaf slots refitted in the order of their items. */
 static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
@@ -145,8 +144,8 @@ static int refit_leaves_in_order(const ray__allocator *a, ray__bvh *bvh,
         return 0;
     if (threads == 0)
         threads = ray__online_cpus();
-    if (threads > REFIT_MAX_THREADS)
-        threads = REFIT_MAX_THREADS;
+    if (threads > RAY__MAX_BUILD_THREADS)
+        threads = RAY__MAX_BUILD_THREADS;
     if ((threads > 1 || (sched != NULL && sched->run != NULL)) &&
         bvh->n_leaves >= REFIT_PARALLEL_LEAVES) {
         size_t tasks = (size_t)threads * REFIT_RUNS_PER_THREAD;

@@ -42,6 +42,11 @@ int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
                     unsigned threads, size_t begin, size_t end, size_t run,
                     ray__run_fn fn, void *ud);
 
+/* The most threads a commit's work starts (ray_scene_set_build_threads,
+** 0: one per online CPU): its builds (accel/build.c), refits
+** (accel/refit.c) and crew (scene/commit.c). */
+#define RAY__MAX_BUILD_THREADS 64
+
 /*
 ** A crew: the built-in threads kept waiting between the parallel passes
 ** of one piece of work (a commit's build levels, subtrees, leaves and

@@ -293,10 +293,9 @@ static int build_changed(ray_scene *s, ray__progress *prog)
 ** subtrees, its leaves and ids, its refits) share threads started once,
 ** where each started and joined its own.  The scene's scheduler is the
 ** crew's for the while: the passes hand it their tasks as they would a
-** program's.  At most CREW_MAX threads, as the build takes (build.c).
+** program's.  At most RAY__MAX_BUILD_THREADS threads, as the build
+** takes.
 */
-#define CREW_MAX 64
-
 static int build_on_crew(ray_scene *s, ray__progress *prog)
 {
     ray_scheduler own = s->scheduler;
@@ -307,8 +306,9 @@ static int build_on_crew(ray_scene *s, ray__progress *prog)
 
     if (own.run != NULL || threads <= 1)
         return build_changed(s, prog);
-    ray__crew_begin(&crew, &s->alloc, threads < CREW_MAX ? threads : CREW_MAX,
-                    0);
+    if (threads > RAY__MAX_BUILD_THREADS)
+        threads = RAY__MAX_BUILD_THREADS;
+    ray__crew_begin(&crew, &s->alloc, threads, 0);
     s->scheduler = ray__crew_scheduler(&crew);
     rc = build_changed(s, prog);
     s->scheduler = own;

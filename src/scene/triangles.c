@@ -188,7 +188,8 @@ static void gather_wide(const ray_scene *s, size_t begin, size_t end,
 ** block "out" of "bytes" (the rebuild's scratch): first in slot order
 ** into by_slot (RAY__LEAF_ROWS n floats, in the build's node block),
 ** reading the geometry as it lies (a mesh's indices in order), then
-** gathered into leaf order, one random read a slot.
+** gathered into leaf order, one random read a slot.  (The rebuild sets
+** float_exact, which it asks before the build.)
 */
 static void leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
                         float *by_slot, float *out, size_t bytes)
@@ -204,7 +205,6 @@ static void leaves_make(ray_scene *s, const ray__bvh *fresh, size_t n,
     memset(out + RAY__LEAF_ROWS * n, 0, RAY__LEAF_PAD * sizeof *out);
     s->leaf_f = out;
     s->cap_leaf_f = bytes / sizeof *out;
-    s->float_exact = corners_are_floats(s);
 }
 
 typedef struct ids_gather {
@@ -353,6 +353,7 @@ size_t ray__triangles_live(const ray_scene *s)
 int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
 {
     size_t n = 0, i, scratch_bytes, spare_at;
+    int floats;
     void *scratch = NULL;
     ray__bvh_share share;
     ray__bvh fresh;
@@ -393,7 +394,8 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
         return RAY_ENOMEM;
     share.records = scratch;
     share.keep = spare_at + n * sizeof(ray__tri_id);
-    if (!corners_are_floats(s))
+    floats = corners_are_floats(s);
+    if (!floats)
         share.keep = n * sizeof *s->leaf_tri;     /* more: the copy's */
     rc = ray__bvh_build(&s->alloc, NULL, s, n, &tri_costs,
                         &s->scheduler, s->build_threads, &share, prog,
@@ -406,6 +408,7 @@ int ray__triangles_rebuild(ray_scene *s, ray__progress *prog)
         char *spare = share.kept;
         leaves_make(s, &fresh, n, (float *)(void *)spare, scratch,
                     scratch_bytes);
+        s->float_exact = floats;
         gather_ids(s, fresh.items, n,
                    (ray__tri_id *)(void *)(spare + spare_at));
         /* Leaves now index slots directly: the permutation is not kept. */
