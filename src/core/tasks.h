@@ -51,8 +51,9 @@ int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
 ** A crew: the built-in threads kept waiting between the parallel passes
 ** of one piece of work (a commit's build levels, subtrees, leaves and
 ** refits), where each ray__tasks_run would start and join threads of its
-** own: about 60 us a time on this machine (create and join), eleven
-** times in a 59k-triangle build on two threads, a tenth of it.
+** own, eleven times in a 59k-triangle build on two threads: two
+** threads' build of it, ours / Embree, 1.29, 1.08 -> 0.90, 1.05
+** (build/bench/mesh DATA build, two interleaved runs; issue 36).
 ** ray__crew_begin starts nothing; ray__crew_scheduler gives the
 ** ray_scheduler that hands a pass's tasks to the crew, whose threads
 ** (threads - 1 of them: the caller is one) start at its first pass, so
