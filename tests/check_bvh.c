@@ -808,6 +808,159 @@ START_TEST(gated_and_instanced_queries_should_be_the_same_with_and_without_avx2)
 }
 END_TEST
 
+/* A committed scene of a flat 10 x 10 square of 2 n^2 triangles at z = 0,
+** centred on the origin (not hostile: its box is that square). */
+static ray_scene *square_scene(unsigned n, unsigned *mat)
+{
+    ray_scene *s = new_scene(mat);
+    ray_vec3 *v = malloc((n + 1) * (n + 1) * sizeof *v);
+    unsigned *idx = malloc(6 * n * n * sizeof *idx), i, j, k = 0;
+    ray_mesh m;
+
+    ck_assert(v != NULL && idx != NULL);
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n; i++)
+            v[j * (n + 1) + i] = vec(10.0 * i / n - 5, 10.0 * j / n - 5, 0);
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) {
+            unsigned c = j * (n + 1) + i;
+            idx[k++] = c;
+            idx[k++] = c + 1;
+            idx[k++] = c + n + 2;
+            idx[k++] = c;
+            idx[k++] = c + n + 2;
+            idx[k++] = c + n + 1;
+        }
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = (n + 1) * (n + 1);
+    m.indices = idx;
+    m.triangle_count = 2 * n * n;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, *mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    free(v);
+    free(idx);
+    return s;
+}
+
+/*
+** A scene of instances alone, each of a child of triangles alone, and
+** nothing gated (a crowd of placed meshes): its plain queries take the
+** instances' walk (traverse.h, query_nearest_instances), which must
+** answer as the general query does (forced here by asking for counts),
+** bit for bit, in both copies, nearest and any hit: four instances of a
+** hostile soup (identity, turned and scaled, sheared, one far off and
+** disabled) and one of a flat square placed apart, with rays through
+** both.  Then the square's scene is changed and committed again: a ray
+** that meets its instance answers -RAY_ESTATE both ways, one that meets
+** only the soup's answers as before.
+*/
+START_TEST(instances_of_triangles_should_answer_as_the_general_query)
+{
+    rng g = {79};
+    ray_vec3 *v;
+    unsigned *idx, mat, mat2, id, off;
+    ray_scene *child, *square, *top;
+    ray_transform x[5];
+    size_t j;
+    int k, hits = 0, on_square = 0, stale = 0, fresh = 0;
+
+    child = soup_scene(&g, 1500, &v, &idx, &mat, &id);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    square = square_scene(8, &mat2);
+    for (k = 0; k < 5; k++)
+        ray_transform_identity(&x[k]);
+    x[1].m[0][0] = x[1].m[1][1] = 0.6;   /* a quarter turn about z, scaled */
+    x[1].m[0][1] = -0.8;
+    x[1].m[1][0] = 0.8;
+    x[1].m[0][3] = 3;
+    x[2].m[0][0] = 1.7;                  /* sheared and scaled, moved */
+    x[2].m[0][2] = 0.3;
+    x[2].m[1][1] = 0.45;
+    x[2].m[2][0] = -0.2;
+    x[2].m[2][2] = 2.1;
+    x[2].m[1][3] = -4.25;
+    x[2].m[2][3] = 1.5;
+    x[3].m[0][3] = 1e5;                  /* far off, and disabled */
+    x[4].m[0][3] = 4e4;                  /* the square, past the soup's
+                                            huge triangles (1e4) */
+    ck_assert_int_eq(ray_scene_new(&top, NULL, NULL), RAY_OK);
+    for (k = 0; k < 5; k++) {
+        ck_assert_int_eq(ray_scene_add_instance(top, k == 4 ? square : child,
+                                                &x[k], &off), RAY_OK);
+        if (k == 3)
+            ck_assert_int_eq(ray_scene_set_enabled(top, off, 0), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    ck_assert(top->instances_of_tris);  /* the walk's scene, by commit.c */
+    for (j = 0; j < 6000; j++) {
+        ray_ray r = random_ray(&g);
+        ray_stats st;
+        ray_hit a, b;
+        int ha, hb, any;
+        if (j % 3 == 0)     /* down onto the square */
+            r = ray_from(vec(4e4 + rng_range(&g, -6, 6), rng_range(&g, -6, 6),
+                             30), vec(0.01, -0.02, -1));
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        memset(&st, 0, sizeof st);
+        if (j == 3000) {
+            /* The square changed and committed again: its instance is
+            ** stale until top's next commit. */
+            ck_assert_int_eq(ray_scene_add_triangle(square, vec(0, 0, 1),
+                                                    vec(1, 0, 1),
+                                                    vec(0, 1, 1), mat2, NULL),
+                             RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(square), RAY_OK);
+        }
+        ha = ray_intersect(top, &r, &a, NULL);
+        hb = ray__intersect_gated_base(top, &r, NULL, 1, &b, &st);
+        ck_assert_int_eq(ha, hb);
+        ck_assert_msg(ha != 1 || hit_same(&a, &b), "ray %zu", j);
+        any = ray_occluded(top, &r, NULL);
+        ck_assert_int_eq(any, ray__occluded_gated_base(top, &r, NULL, &st));
+        ck_assert_int_eq(ray__intersect_instances_base(top, &r, &b), ha);
+        ck_assert_msg(ha != 1 || hit_same(&a, &b), "ray %zu", j);
+        ck_assert_int_eq(ray__occluded_instances_base(top, &r), any);
+#if RAY__AVX2_COPY
+        if (ray__cpu_has_avx2()) {
+            memset(&b, 0, sizeof b);
+            ck_assert_int_eq(ray__intersect_gated_avx2(top, &r, NULL, 1, &b,
+                                                       &st), ha);
+            ck_assert_msg(ha != 1 || hit_same(&a, &b), "ray %zu", j);
+            memset(&b, 0, sizeof b);
+            ck_assert_int_eq(ray__intersect_instances_avx2(top, &r, &b), ha);
+            ck_assert_msg(ha != 1 || hit_same(&a, &b), "ray %zu", j);
+            ck_assert_int_eq(ray__occluded_instances_avx2(top, &r), any);
+            ck_assert_int_eq(ray__occluded_gated_avx2(top, &r, NULL, &st),
+                             any);
+        }
+#endif
+        if (j < 3000) {
+            ck_assert_int_ge(ha, 0);
+            ck_assert_int_eq(any, ha);
+            hits += ha;
+            on_square += ha == 1 && a.inst_id == 4;
+        } else if (ha < 0) {
+            ck_assert_uint_eq(j % 3, 0);    /* only the square's rays */
+            stale++;
+        } else {
+            fresh += ha;
+            ck_assert_uint_ne(a.inst_id, 4u);
+        }
+    }
+    ck_assert_int_gt(hits, 1000);
+    ck_assert_int_gt(on_square, 500);
+    ck_assert_int_gt(stale, 500);
+    ck_assert_int_gt(fresh, 500);
+    ray_scene_free(top);
+    ray_scene_free(square);
+    ray_scene_free(child);
+    free(v);
+    free(idx);
+}
+END_TEST
+
 /* Brute force and both scene queries agree on ray r and triangle abc;
 ** returns the bare test's answer. */
 static int agrees_with_bare(ray_vec3 a, ray_vec3 b, ray_vec3 c,
@@ -1968,6 +2121,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, plain_queries_should_answer_as_the_general_ones);
     tcase_add_test(eq, box_early_out_should_keep_every_hit);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
+    tcase_add_test(eq, instances_of_triangles_should_answer_as_the_general_query);
     tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);
     tcase_add_test(mesh, mesh_should_reject_bad_input);

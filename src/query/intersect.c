@@ -48,6 +48,17 @@ int ray__occluded_tris_base(const ray_scene *s, const ray_ray *r)
     return query_any_tris(s, r);
 }
 
+int ray__intersect_instances_base(const ray_scene *s, const ray_ray *r,
+                                  ray_hit *hit)
+{
+    return query_nearest_instances(s, r, hit);
+}
+
+int ray__occluded_instances_base(const ray_scene *s, const ray_ray *r)
+{
+    return query_any_instances(s, r);
+}
+
 /* The AVX2 copy where the CPU has it (see above). */
 #define HAS_AVX2(s) ((s)->avx2)
 
@@ -150,14 +161,48 @@ static int occluded_opt(const ray_scene *s, const ray_ray *r,
 ** filters (nothing can gate it): straight to the copy's triangle walk
 ** (traverse.h's query_nearest_tris), past the options, the gate and the
 ** general query's set-up, which are nothing for it: a game's or a tool's
-** most common query, at the fixed cost it needs (issue 34).  Taken when q
-** is NULL: a query's options may hide geometry whatever the scene's masks
-** (an ignore_mask of every bit hides all of it).
+** most common query, at the fixed cost it needs (issue 34).  A scene of
+** instances alone, each of a child of triangles alone (a crowd of placed
+** meshes), goes as straight to the instances' walk
+** (query_nearest_instances; issue 36).  Taken when q is NULL: a query's
+** options may hide geometry whatever the scene's masks (an ignore_mask
+** of every bit hides all of it).
 */
-static int plain_tris(const ray_scene *s, const ray_ray *r)
+static int plain(const ray_scene *s, const ray_ray *r)
 {
-    return s != NULL && r != NULL && s->committed && !s->gated &&
-           tris_only(s);
+    return s != NULL && r != NULL && s->committed && !s->gated;
+}
+
+static int plain_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit)
+{
+    if (tris_only(s)) {
+#if RAY__AVX2_COPY
+        if (HAS_AVX2(s))
+            return ray__intersect_tris_avx2(s, r, hit);
+#endif
+        return query_nearest_tris(s, r, hit);
+    }
+#if RAY__AVX2_COPY
+    if (HAS_AVX2(s))
+        return ray__intersect_instances_avx2(s, r, hit);
+#endif
+    return query_nearest_instances(s, r, hit);
+}
+
+static int plain_any(const ray_scene *s, const ray_ray *r)
+{
+    if (tris_only(s)) {
+#if RAY__AVX2_COPY
+        if (HAS_AVX2(s))
+            return ray__occluded_tris_avx2(s, r);
+#endif
+        return query_any_tris(s, r);
+    }
+#if RAY__AVX2_COPY
+    if (HAS_AVX2(s))
+        return ray__occluded_instances_avx2(s, r);
+#endif
+    return query_any_instances(s, r);
 }
 
 /*
@@ -189,13 +234,9 @@ int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 {
     int rc;
 
-    if (q == NULL && hit != NULL && plain_tris(s, r)) {
-#if RAY__AVX2_COPY
-        if (HAS_AVX2(s))
-            return ray__intersect_tris_avx2(s, r, hit);
-#endif
-        return query_nearest_tris(s, r, hit);
-    }
+    if (q == NULL && hit != NULL && plain(s, r) &&
+        (tris_only(s) || s->instances_of_tris))
+        return plain_nearest(s, r, hit);
     rc = intersect_opt(s, r, hit, q);
     return rc >= 0 ? rc
                    : ray_refused(q, "ray_intersect", rc, s, r, "hit is NULL");
@@ -205,13 +246,8 @@ int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
 {
     int rc;
 
-    if (q == NULL && plain_tris(s, r)) {
-#if RAY__AVX2_COPY
-        if (HAS_AVX2(s))
-            return ray__occluded_tris_avx2(s, r);
-#endif
-        return query_any_tris(s, r);
-    }
+    if (q == NULL && plain(s, r) && (tris_only(s) || s->instances_of_tris))
+        return plain_any(s, r);
     rc = occluded_opt(s, r, q);
     return rc >= 0 ? rc : ray_refused(q, "ray_occluded", rc, s, r, "");
 }

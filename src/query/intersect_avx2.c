@@ -40,6 +40,17 @@ int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r)
     return query_any_tris(s, r);
 }
 
+int ray__intersect_instances_avx2(const ray_scene *s, const ray_ray *r,
+                                  ray_hit *hit)
+{
+    return query_nearest_instances(s, r, hit);
+}
+
+int ray__occluded_instances_avx2(const ray_scene *s, const ray_ray *r)
+{
+    return query_any_instances(s, r);
+}
+
 void ray__packets_avx2(const ray_scene *s, const ray_ray *rays, size_t n,
                        ray_hit *hits, int *results, int any, ray_stats *st)
 {

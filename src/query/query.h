@@ -167,6 +167,16 @@ int ray__intersect_tris_avx2(const ray_scene *s, const ray_ray *r,
                              ray_hit *hit);
 int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r);
 
+/* The same for a scene of instances alone, each of a child of triangles
+** alone, ungated (ray_scene's instances_of_tris: traverse.h's
+** query_nearest_instances). */
+int ray__intersect_instances_base(const ray_scene *s, const ray_ray *r,
+                                  ray_hit *hit);
+int ray__occluded_instances_base(const ray_scene *s, const ray_ray *r);
+int ray__intersect_instances_avx2(const ray_scene *s, const ray_ray *r,
+                                  ray_hit *hit);
+int ray__occluded_instances_avx2(const ray_scene *s, const ray_ray *r);
+
 /*
 ** A ray's traversal data (slab.h's trav_init) as each copy computes it,
 ** for the tests (the AVX set-up against the baseline's, bit for bit):

@@ -12,7 +12,9 @@
 **   leaf.h       a leaf's triangles (tested inline) and other kinds
 **                (through the kinds' dispatch, scene/kinds.c);
 **   traverse.h   an instance met (the query descends into its child),
-**                the ordered traversal and the queries themselves.
+**                the ordered traversal and the queries themselves;
+**   plain.h      the short paths of the plain queries of a scene of
+**                triangles alone and of one of instances of such scenes.
 */
 #ifndef RAY_TRAVERSE_H
 #define RAY_TRAVERSE_H
@@ -20,7 +22,7 @@
 #include "query/slab.h"
 #include "scene/candidate.h"
 
-enum { LEAF_TRIANGLES, LEAF_PRIMS };
+enum { LEAF_TRIANGLES, LEAF_PRIMS, LEAF_INSTANCES };
 
 /* Add a query's counts to *st (if any): the kinds it counted
 ** (qc->kinds, and the triangles where it tested any), not all
@@ -213,6 +215,25 @@ static int prim_test(const ray_scene *s, unsigned item, ray_ray *r,
     return 1;
 }
 
+/*
+** Item "item" of the BVH of a scene of instances alone, each of a child
+** of triangles alone, ungated (s->instances_of_tris, commit.c): what
+** prim_test does for such an item, without asking its kind and gate.
+*/
+static inline int instance_test(const ray_scene *s, unsigned item,
+                                ray_ray *r, void *best, ray__counts *qc)
+{
+    unsigned idx = s->prim_bvh.items[item];
+    ray_hit h;
+
+    if (best != NULL)
+        return instance_nearest(s, idx, r, best, qc);
+    if (!instance_hit(s, idx, r, &h, qc))
+        return 0;
+    r->tmax = h.t;
+    return 1;
+}
+
 /* A slot pushed on the traversal stack: what it will read first (an
 ** inner node's boxes, a triangle leaf's float rows) asked of the cache
 ** now, as it is popped after the nearer slot's work. */
@@ -330,6 +351,17 @@ static RAY__INLINE int walk(const ray_scene *s, const ray__bvh *bvh,
                 tmax = trav_tmax(tr, r->tmax);
                 tpop = with_slack(tmax);
             }
+        } else if (leaf == LEAF_INSTANCES) {
+            unsigned i, end = child + (count & ~RAY__LEAF);
+            for (i = child; i < end; i++) {
+                if (instance_test(s, i, r, best, qc)) {
+                    found = 1;
+                    if (any)
+                        return found;
+                    tmax = trav_tmax(tr, r->tmax);
+                    tpop = with_slack(tmax);
+                }
+            }
         } else {
             unsigned i, end = child + (count & ~RAY__LEAF);
             for (i = child; i < end; i++) {
@@ -369,6 +401,19 @@ static RAY__INLINE int walk_tris(const ray_scene *s, trav *tr, ray_ray *r,
     return trav_grown(tr)
                ? walk(s, &s->tri_bvh, tr, r, LEAF_TRIANGLES, best, any, 1, qc)
                : walk(s, &s->tri_bvh, tr, r, LEAF_TRIANGLES, best, any, 0,
+                      qc);
+}
+
+/* The BVH of a scene of instances alone (s->instances_of_tris) walked
+** with grown fixed, as walk_tris walks the triangles. */
+static RAY__INLINE int walk_instances(const ray_scene *s, trav *tr,
+                                      ray_ray *r, void *best, int any,
+                                      ray__counts *qc)
+{
+    return trav_grown(tr)
+               ? walk(s, &s->prim_bvh, tr, r, LEAF_INSTANCES, best, any, 1,
+                      qc)
+               : walk(s, &s->prim_bvh, tr, r, LEAF_INSTANCES, best, any, 0,
                       qc);
 }
 
@@ -559,80 +604,7 @@ static int any_core(const ray_scene *s, ray_ray *rr, ray__counts *qc)
            tris_along(s, &tr, &ready, rr, NULL, 1, qc);
 }
 
-/*
-** The common case whole: a scene of triangles alone (no planes, no
-** bounded kinds, so no instances) asked without a gate or counts.  What
-** nearest_core and any_core do for such a scene, step for step -- the
-** traversal data, the ordered walk of the triangle BVH, the record of
-** the nearest -- without what only other scenes need (the planes' loop,
-** the bounded kinds' walk, the deferred record, a query's counts zeroed
-** and added up): that set-up was a fifth of the instructions of a ray
-** that misses the mesh's box (bench/raycost under callgrind, issue 34).
-** Only the triangle count the leaves add to is read (never: no counts are
-** asked), so it alone is set.  The same answers, bit for bit: the same
-** functions in the same order (tests/check_bvh.c compares every scene
-** kind both ways).
-*/
-/* The walk and record of query_nearest_tris, for a ray whose traversal
-** data *tr is set up: a function of its own, not inlined, so that a ray
-** that misses the scene's box never pays for its frame (the traversal
-** stack, six registers saved, the stack aligned for the lanes). */
-static RAY__NOINLINE int nearest_tris_walk(const ray_scene *s, trav *tr,
-                                           const ray_ray *r, ray_hit *hit)
-{
-    ray__counts qc;
-    tri_best tb;
-    ray_ray rr;
-    ray_hit h;
-
-    counts_light(&qc, 0);
-    ray_copy(&rr, r);
-    tri_best_start(&tb);
-    if (!walk_tris(s, tr, &rr, &tb, 0, &qc))
-        return 0;
-    if (!tri_record(s, &tb, rr.tmax, &h))
-        return 0;
-    ray__hit_store(hit, &h);
-    return 1;
-}
-
-/* Only the set-up and the test of the scene's box come before the call
-** (trav_setup is inlined here), so a ray that misses the box costs no
-** more than they do: 278 instructions, 202 now, and 1.3 times as fast
-** (bench/raycost's first row under callgrind, and RAYCOST_AB both ways
-** round, issue 34); the other rows the same. */
-static int query_nearest_tris(const ray_scene *s, const ray_ray *r,
-                              ray_hit *hit)
-{
-    trav tr;
-
-    if (!trav_usable(r) || s->tri_bvh.n_wide == 0 ||
-        !trav_setup(&tr, r, &s->lo, &s->hi))
-        return 0;
-    return nearest_tris_walk(s, &tr, r, hit);
-}
-
-/* query_any_tris's walk, apart as nearest_tris_walk is. */
-static RAY__NOINLINE int any_tris_walk(const ray_scene *s, trav *tr,
-                                       const ray_ray *r)
-{
-    ray__counts qc;
-    ray_ray rr;
-
-    counts_light(&qc, 1);
-    ray_copy(&rr, r);
-    return walk_tris(s, tr, &rr, NULL, 1, &qc);
-}
-
-static int query_any_tris(const ray_scene *s, const ray_ray *r)
-{
-    trav tr;
-
-    if (!trav_usable(r) || s->tri_bvh.n_wide == 0 ||
-        !trav_setup(&tr, r, &s->lo, &s->hi))
-        return 0;
-    return any_tris_walk(s, &tr, r);
-}
+#include "query/plain.h"
 
 static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
                                const ray__gate *g, int uv, ray_hit *hit,
@@ -645,6 +617,8 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
 
     if (g == NULL && st == NULL && tris_only(s))
         return query_nearest_tris(s, r, hit);
+    if (g == NULL && st == NULL && s->instances_of_tris)
+        return query_nearest_instances(s, r, hit);
     if (!trav_usable(r))
         return 0;
     ray_copy(&rr, r);
@@ -668,6 +642,8 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
 
     if (g == NULL && st == NULL && tris_only(s))
         return query_any_tris(s, r);
+    if (g == NULL && st == NULL && s->instances_of_tris)
+        return query_any_instances(s, r);
     if (!trav_usable(r))
         return 0;
     ray_copy(&rr, r);

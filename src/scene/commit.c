@@ -172,6 +172,35 @@ static int few_spheres(const ray_scene *s)
     return 1;
 }
 
+/*
+** A scene of instances alone, each of a child of triangles alone, and
+** ungated (a game's crowd of placed meshes, bench/game): its plain
+** queries walk the BVH of the instances straight into each child's
+** triangle walk (query/traverse.h, query_nearest_instances), past the
+** general query's set-up, the planes' loop and each item's kind and
+** gate, which are nothing for it.  A child committed again since (its
+** instances stale) may hold other kinds by then: the walk asks whether
+** it is stale before it reads anything else of it, as the general query
+** does.  Decided here, once, as few_spheres is.
+*/
+static int instances_of_tris(const ray_scene *s)
+{
+    size_t i, n = s->prim_bvh.n_items;
+
+    if (n == 0 || s->n_planes != 0 || s->tri_bvh.n_wide != 0 || s->gated)
+        return 0;
+    for (i = 0; i < n; i++) {
+        const ray__prim *p = &s->prims[s->prim_bvh.items[i]];
+        const ray_scene *c;
+        if (p->kind != RAY__KIND_INSTANCE)
+            return 0;
+        c = s->instances[p->surface].child;
+        if (c->n_planes != 0 || c->prim_bvh.n_wide != 0)
+            return 0;
+    }
+    return 1;
+}
+
 /* The box of everything queries may hit but planes: the union of the
 ** roots of both BVHs (float, rounded outward from the geometry). */
 static void scene_box(ray_scene *s)
@@ -421,6 +450,7 @@ int ray_scene_commit(ray_scene *s)
     scene_summary(s);
     scene_box(s);
     s->few_spheres = few_spheres(s);
+    s->instances_of_tris = instances_of_tris(s);
     s->generation++;
     s->avx2 = ray__cpu_has_avx2();
     s->committed = 1;

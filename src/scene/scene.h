@@ -317,6 +317,12 @@ struct ray_scene {
     int few_spheres;         /* prim_bvh holds a few spheres alone, which
                                 queries test one after another
                                 (commit.c, query/traverse.h) */
+    int instances_of_tris;   /* the scene holds instances alone (no
+                                planes, no triangles, no other kind),
+                                each of a child of triangles alone, and
+                                nothing gates them: its plain queries
+                                take the instances' walk (commit.c,
+                                query/traverse.h) */
     ray_vec3 lo, hi;
     /* ray_scene_errmsg: the building call now running (a function name,
     ** static) and the message of its failure, "" while none.  A fixed
