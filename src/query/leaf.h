@@ -105,12 +105,10 @@ static inline __m256d corner_lanes(const ray_vec3 *v)
 
 static inline void vec_from_lanes(ray_vec3 *v, __m256d x)
 {
-    double l[4];
-
-    _mm256_storeu_pd(l, x);
-    v->x = l[0];
-    v->y = l[1];
-    v->z = l[2];
+    /* x and y, then z: straight from the register, not through a copy
+    ** of the four lanes on the stack. */
+    _mm_storeu_pd(&v->x, _mm256_castpd256_pd128(x));
+    _mm_store_sd(&v->z, _mm256_extractf128_pd(x, 1));
 }
 
 static inline int tri_fill(const ray__tri *c, double t, double beta,

@@ -238,15 +238,14 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
         add_counts(st, &qc);
         for (l = 0; l < m; l++) {
             const tri_best *b = &p.best[l];
-            ray_hit h;
             /* Any hit: a lane that started and stopped found one. */
             results[i + (size_t)l] = any && (p.started & ~p.live) >> l & 1;
             if (any || !(p.started >> l & 1) || b->index == TRI_NONE)
                 continue;
-            if (!tri_record(s, b, p.r[l].tmax, &h))
-                continue;
-            ray__hit_store(&hits[i + (size_t)l], &h);
-            results[i + (size_t)l] = 1;
+            /* Straight into the output: tri_record writes nothing unless
+            ** it fills the record. */
+            if (tri_record(s, b, p.r[l].tmax, &hits[i + (size_t)l]))
+                results[i + (size_t)l] = 1;
         }
     }
 }

@@ -35,17 +35,14 @@ static RAY__NOINLINE int nearest_tris_walk(const ray_scene *s, trav *tr,
     ray__counts qc;
     tri_best tb;
     ray_ray rr;
-    ray_hit h;
 
     counts_light(&qc, 0);
     ray_copy(&rr, r);
     tri_best_start(&tb);
-    if (!walk_tris(s, tr, &rr, &tb, 0, &qc))
-        return 0;
-    if (!tri_record(s, &tb, rr.tmax, &h))
-        return 0;
-    ray__hit_store(hit, &h);
-    return 1;
+    /* The record straight into *hit: tri_record writes nothing unless it
+    ** fills it (tri_fill checks first), so a miss leaves it untouched. */
+    return walk_tris(s, tr, &rr, &tb, 0, &qc) &&
+           tri_record(s, &tb, rr.tmax, hit);
 }
 
 /* Only the set-up and the test of the scene's box come before the call
