@@ -51,8 +51,8 @@ int ray__tasks_runs(const ray_scheduler *scheduler, const ray__allocator *a,
 ** A crew: the built-in threads kept waiting between the parallel passes
 ** of one piece of work (a commit's build levels, subtrees, leaves and
 ** ids: scene/commit.c says which commits), where each ray__tasks_run
-** would start and join threads of its
-** own, eleven times in a 59k-triangle build on two threads: two
+** would start and join threads of its own, eleven times in a
+** 59k-triangle build on two threads: two
 ** threads' build of it, ours / Embree, 1.29, 1.08 -> 0.90, 1.05
 ** (build/bench/mesh DATA build, two interleaved runs; issue 36).
 ** ray__crew_begin starts nothing; ray__crew_scheduler gives the
