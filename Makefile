@@ -117,7 +117,7 @@ MLINKS_CMD = awk 'FNR == 1 {p = FILENAME; sub(/.*\//, "", p); sub(/\.3$$/, "", p
         if (n != "" && n != p) print p ":" n}' man/man3/*.3
 
 .PHONY: all lib check test demo bench-counts caustics-png sanitize tsan examples header-test symbols-test layers-test \
-        man-lint docs-test license-test install uninstall clean deps-build deps-check bench \
+        man-lint docs-test license-test mutants-list-test install uninstall clean deps-build deps-check bench \
         deps-bench profile numerics links-test mpi-check mpi-render mpi-demo deps-mpi \
         fuzz fuzz-probe fuzz-build fuzz-run fuzz-replay check-suite check-faultsim \
         check-examples-run check-long check-long-suite bench-smoke bench-smoke-test \
@@ -432,6 +432,12 @@ symbols-test: $(SHARED)
 license-test:
 	@scripts/check-spdx.sh
 
+# The mutants' list against the tree (a second): every snippet of
+# tests/mutants.txt still occurs once in its file, so that code that moved
+# on cannot leave a mutant behind that make mutants would refuse.
+mutants-list-test:
+	@MUTANTS_CHECK_ONLY=1 tests/mutants.sh
+
 man-lint:
 	@test -n "$(MANPAGES)" || { echo "man-lint: no man pages found"; exit 1; }
 	@if command -v mandoc >/dev/null 2>&1; then \
@@ -519,7 +525,7 @@ CHECK_RUNS = check-suite check-faultsim fuzz-replay check-examples-run $(if $(fi
 # linked.  Under make check the other steps wait for that program
 # (order-only), so the suite starts as soon as it is built.
 CHECK_AFTER_SUITE = layers-test header-test symbols-test man-lint docs-test license-test \
-    links-test snippets-test pages-test bench-docs-test install-test png-free-test \
+    mutants-list-test links-test snippets-test pages-test bench-docs-test install-test png-free-test \
     version-test abi-test exports-test amalgamation-test check-faultsim fuzz-replay \
     check-examples-run mpi-check mpi-render bench-smoke bench-smoke-test
 # The programs the other steps build wait too: make starts a ready
@@ -539,7 +545,7 @@ endif
 # whose POV-Ray sleeps 5 of its 8 seconds (it waited for mpi-check
 # once, and ran last: 8 seconds more of make check's wall).
 check: deps-check lib check-suite amalgamation-test $(filter mpi-check,$(CHECK_RUNS)) install-test abi-test \
-       bench-smoke-test layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test links-test \
+       bench-smoke-test layers-test $(TEST_BIN) $(FAULTSIM) examples $(BENCHES) $(FUZZ_REPLAYS) header-test symbols-test man-lint docs-test license-test mutants-list-test links-test \
        snippets-test pages-test bench-docs-test \
        $(if $(filter 0,$(PNG)),png-free-test) \
        version-test exports-test $(filter-out check-suite mpi-check bench-smoke-test,$(CHECK_RUNS))
