@@ -848,7 +848,8 @@ static ray_scene *square_scene(unsigned n, unsigned *mat)
 ** nothing gated (a crowd of placed meshes): its plain queries take the
 ** instances' walk (traverse.h, query_nearest_instances), which must
 ** answer as the general query does (forced here by asking for counts),
-** bit for bit, in both copies, nearest and any hit: four instances of a
+** bit for bit, in both copies, nearest and any hit, the caller's record
+** untouched where it answers no hit: four instances of a
 ** hostile soup (identity, turned and scaled, sheared, one far off and
 ** disabled) and one of a flat square placed apart, with rays through
 ** both.  Then the square's scene is changed and committed again: a ray
@@ -901,7 +902,10 @@ START_TEST(instances_of_triangles_should_answer_as_the_general_query)
         if (j % 3 == 0)     /* down onto the square */
             r = ray_from(vec(4e4 + rng_range(&g, -6, 6), rng_range(&g, -6, 6),
                              30), vec(0.01, -0.02, -1));
-        memset(&a, 0, sizeof a);
+        else if (j % 7 == 1)  /* behind the origin too: the far distances
+                              ** without their own slack (slab.h) */
+            r.tmin = -rng_range(&g, 0, 20);
+        memset(&a, 0xab, sizeof a);
         memset(&b, 0, sizeof b);
         memset(&st, 0, sizeof st);
         if (j == 3000) {
@@ -914,11 +918,17 @@ START_TEST(instances_of_triangles_should_answer_as_the_general_query)
             ck_assert_int_eq(ray_scene_commit(square), RAY_OK);
         }
         ha = ray_intersect(top, &r, &a, NULL);
+        if (ha != 1) {      /* a miss or a stale instance: untouched */
+            ray_hit fill;
+            memset(&fill, 0xab, sizeof fill);
+            ck_assert(memcmp(&a, &fill, sizeof fill) == 0);
+        }
         hb = ray__intersect_gated_base(top, &r, NULL, 1, &b, &st);
         ck_assert_int_eq(ha, hb);
         ck_assert_msg(ha != 1 || hit_same(&a, &b), "ray %zu", j);
         any = ray_occluded(top, &r, NULL);
         ck_assert_int_eq(any, ray__occluded_gated_base(top, &r, NULL, &st));
+        memset(&b, 0, sizeof b);
         ck_assert_int_eq(ray__intersect_instances_base(top, &r, &b), ha);
         ck_assert_msg(ha != 1 || hit_same(&a, &b), "ray %zu", j);
         ck_assert_int_eq(ray__occluded_instances_base(top, &r), any);

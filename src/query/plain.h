@@ -94,7 +94,7 @@ static int query_any_tris(const ray_scene *s, const ray_ray *r)
 ** box is tested first, as query_nearest_tris tests its own, so that a ray
 ** that misses it stores nothing.  The same functions on the same
 ** numbers, so the same answers, -RAY_ESTATE included where an instance
-** met is stale (tests/check_instance.c compares both ways, in both
+** met is stale (tests/check_bvh.c compares both ways, in both
 ** copies).  Apart from the set-up, not inlined, as nearest_tris_walk is.
 */
 static RAY__NOINLINE int nearest_instances_walk(const ray_scene *s, trav *tr,

@@ -176,12 +176,13 @@ static int few_spheres(const ray_scene *s)
 ** A scene of instances alone, each of a child of triangles alone, and
 ** ungated (a game's crowd of placed meshes, bench/game): its plain
 ** queries walk the BVH of the instances straight into each child's
-** triangle walk (query/traverse.h, query_nearest_instances), past the
+** triangle walk (query/plain.h, query_nearest_instances), past the
 ** general query's set-up, the planes' loop and each item's kind and
 ** gate, which are nothing for it.  A child committed again since (its
 ** instances stale) may hold other kinds by then: the walk asks whether
-** it is stale before it reads anything else of it, as the general query
-** does.  Decided here, once, as few_spheres is.
+** it is stale before it walks it, and answers -RAY_ESTATE as the general
+** query does.  Any change to this scene uncommits it, so the answer holds
+** until the next commit.  Decided here, once, as few_spheres is.
 */
 static int instances_of_tris(const ray_scene *s)
 {
