@@ -14,6 +14,7 @@
 
 #include "query/query.h"
 #include "query/filter.h"
+#include "core/floats_avx.h"
 
 /*
 ** The slab test, eight boxes at a time in float, kept conservative: it
@@ -171,8 +172,6 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
 }
 #endif
 
-#if defined(__AVX__) && !defined(RAY_NO_SIMD)
-#include <immintrin.h>
 /*
 ** AVX: the three axes of trav_axis at once, x, y, z in the lanes of one
 ** register (the fourth, tmin's, is computed and not used): the same
@@ -184,37 +183,9 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
 ** indexing.  The near / far ends of the origin are picked by the sign
 ** bit of d (blendv reads the sign bit: -0 has it, as signbit says).
 ** What a query's set-up costs was a fifth of a ray that misses (bench/
-** raycost's "miss the box" under callgrind, issue 34).
+** raycost's "miss the box" under callgrind, issue 34).  The rounding
+** outward: floats_step, core/floats_avx.h.
 */
-/* The four 64-bit lanes of a comparison's mask (all ones or zero) as
-** four 32-bit lanes: the low half of each. */
-static inline __m128i mask_narrow(__m256d m)
-{
-    __m256 f = _mm256_castpd_ps(m);
-
-    return _mm_castps_si128(_mm_shuffle_ps(_mm256_castps256_ps128(f),
-                                           _mm256_extractf128_ps(f, 1),
-                                           _MM_SHUFFLE(2, 0, 2, 0)));
-}
-
-static inline __m128 floats_step(__m256d x, int up)
-{
-    __m128 f = _mm256_cvtpd_ps(x);
-    __m256d back = _mm256_cvtps_pd(f);
-    /* need: the float lies on the wrong side of x (all ones, or 0) */
-    __m128i need = mask_narrow(up ? _mm256_cmp_pd(back, x, _CMP_LT_OQ)
-                                  : _mm256_cmp_pd(back, x, _CMP_GT_OQ));
-    __m128i u = _mm_castps_si128(f);
-    __m128i neg = _mm_srai_epi32(u, 31);       /* -1 where f's sign is set */
-    /* up: f >= +0: +1; f < 0: -1.  down: f > 0: -1; f < 0 or -0: +1.
-    ** As a step s = +-1 (2 neg + 1 for up, -(2 neg + 1) for down), added
-    ** where needed: u + (need & s). */
-    __m128i step = _mm_add_epi32(_mm_add_epi32(neg, neg), _mm_set1_epi32(1));
-    if (!up)
-        step = _mm_sub_epi32(_mm_setzero_si128(), step);
-    return _mm_castsi128_ps(_mm_add_epi32(u, _mm_and_si128(need, step)));
-}
-#endif
 
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
 /*
