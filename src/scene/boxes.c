@@ -198,17 +198,31 @@ static inline void refit_tri_sse2(const ray_vec3 *pa, const ray_vec3 *pb,
     }
 }
 
-/* The point whose x and y are in xy's lanes and z in z's low lane. */
-static inline ray_vec3 vec3_sse2(__m128d xy, __m128d z)
+/* ray__box_out_float's rounding of x, y (xy) and z (z's low lane) in the
+** lanes of one register: down (up = 0) or up, the float next to the
+** nearest on the far side where the nearest lies on the wrong one, on
+** its bits (core/floats_avx.h's floats_step, with SSE2 alone); into
+** out[0..2]. */
+static inline void box_out_sse2(__m128d xy, __m128d z, int up, float out[3])
 {
-    double out[2];
-    ray_vec3 v;
+    __m128 f = _mm_movelh_ps(_mm_cvtpd_ps(xy), _mm_cvtpd_ps(z));
+    __m128d bxy = _mm_cvtps_pd(f), bz = _mm_cvtps_pd(_mm_movehl_ps(f, f));
+    __m128d nxy = up ? _mm_cmplt_pd(bxy, xy) : _mm_cmpgt_pd(bxy, xy);
+    __m128d nz = up ? _mm_cmplt_sd(bz, z) : _mm_cmpgt_sd(bz, z);
+    /* the low halves of the 64-bit masks: x, y, z's */
+    __m128i need = _mm_castps_si128(_mm_shuffle_ps(
+        _mm_castpd_ps(nxy), _mm_castpd_ps(nz), _MM_SHUFFLE(2, 0, 2, 0)));
+    __m128i u = _mm_castps_si128(f), sign = _mm_srai_epi32(u, 31);
+    /* up: +1 where f >= +0, -1 where f < 0; down: the opposite. */
+    __m128i step = _mm_add_epi32(_mm_add_epi32(sign, sign),
+                                 _mm_set1_epi32(1));
+    float v[4];
 
-    _mm_storeu_pd(out, xy);
-    v.x = out[0];
-    v.y = out[1];
-    _mm_store_sd(&v.z, z);
-    return v;
+    if (!up)
+        step = _mm_sub_epi32(_mm_setzero_si128(), step);
+    _mm_storeu_ps(v, _mm_castsi128_ps(_mm_add_epi32(u, _mm_and_si128(need,
+                                                                     step))));
+    memcpy(out, v, 3 * sizeof *out);
 }
 
 void ray__refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
@@ -232,32 +246,10 @@ void ray__refit_leaf(const void *ud, size_t first, size_t n, float lo[3],
         refit_tri_sse2(p[0], p[1], p[2], mesh, j == 0, &x, rows + j, n,
                        copy != NULL ? copy + j : NULL);
     }
-    ray__box_out_float(vec3_sse2(x.lo_xy, x.lo_z), vec3_sse2(x.hi_xy, x.hi_z), lo, hi);
-}
-/* ray__box_out_float's rounding of x, y (xy) and z (z's low lane) in the
-** lanes of one register: down (up = 0) or up, the float next to the
-** nearest on the far side where the nearest lies on the wrong one, on
-** its bits (slab.h's floats_step, with SSE2 alone); into out[0..2]. */
-static inline void box_out_sse2(__m128d xy, __m128d z, int up, float out[3])
-{
-    __m128 f = _mm_movelh_ps(_mm_cvtpd_ps(xy), _mm_cvtpd_ps(z));
-    __m128d bxy = _mm_cvtps_pd(f), bz = _mm_cvtps_pd(_mm_movehl_ps(f, f));
-    __m128d nxy = up ? _mm_cmplt_pd(bxy, xy) : _mm_cmpgt_pd(bxy, xy);
-    __m128d nz = up ? _mm_cmplt_sd(bz, z) : _mm_cmpgt_sd(bz, z);
-    /* the low halves of the 64-bit masks: x, y, z's */
-    __m128i need = _mm_castps_si128(_mm_shuffle_ps(
-        _mm_castpd_ps(nxy), _mm_castpd_ps(nz), _MM_SHUFFLE(2, 0, 2, 0)));
-    __m128i u = _mm_castps_si128(f), sign = _mm_srai_epi32(u, 31);
-    /* up: +1 where f >= +0, -1 where f < 0; down: the opposite. */
-    __m128i step = _mm_add_epi32(_mm_add_epi32(sign, sign),
-                                 _mm_set1_epi32(1));
-    float v[4];
-
-    if (!up)
-        step = _mm_sub_epi32(_mm_setzero_si128(), step);
-    _mm_storeu_ps(v, _mm_castsi128_ps(_mm_add_epi32(u, _mm_and_si128(need,
-                                                                     step))));
-    memcpy(out, v, 3 * sizeof *out);
+    /* rounded out in the registers, as the AVX2 leaf does (refit_avx2.c
+    ** says what the scalar rounding cost there) */
+    box_out_sse2(x.lo_xy, x.lo_z, 0, lo);
+    box_out_sse2(x.hi_xy, x.hi_z, 1, hi);
 }
 
 /*
