@@ -291,6 +291,22 @@ void ray__tri_boxes(const void *ud, size_t begin, size_t end,
     }
 }
 #else
+/* The double box lo, hi rounded outward into float (once per box:
+** rounding outward is monotonic, so the union of rounded boxes is the
+** rounded union, bit for bit), a coordinate at a time: what the SSE2
+** and AVX2 code do in the lanes of a register (box_out_sse2,
+** core/floats_avx.h). */
+static void ray__box_out_float(ray_vec3 lo, ray_vec3 hi, float flo[3],
+                               float fhi[3])
+{
+    flo[0] = ray__float_down(lo.x);
+    flo[1] = ray__float_down(lo.y);
+    flo[2] = ray__float_down(lo.z);
+    fhi[0] = ray__float_up(hi.x);
+    fhi[1] = ray__float_up(hi.y);
+    fhi[2] = ray__float_up(hi.z);
+}
+
 /* tri_boxes without SSE2: the same floats, a coordinate at a time. */
 void ray__tri_boxes(const void *ud, size_t begin, size_t end,
                     ray__box_rec *out)

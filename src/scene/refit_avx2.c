@@ -72,7 +72,7 @@ static inline int fits(__m256d lo, __m256d hi)
                                             _mm256_cmp_pd(hi, big, _CMP_LE_OQ))) == 15;
 }
 
-/* ray__box_out_float (slots.h) on the lanes x, y, z of lo and hi at
+/* ray__box_out_float (boxes.c) on the lanes x, y, z of lo and hi at
 ** once (floats_step: the same bits), where the six scalar roundings were
 ** a tenth of the leaf's time (perf annotate, a 940k refit, issue 36). */
 static void leaf_box_out(__m256d lo, __m256d hi, float flo[3], float fhi[3])

@@ -160,20 +160,6 @@ RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
     }
 }
 
-/* The double box lo, hi rounded outward into float (once per box:
-** rounding outward is monotonic, so the union of rounded boxes is the
-** rounded union, bit for bit). */
-static inline void ray__box_out_float(ray_vec3 lo, ray_vec3 hi, float flo[3],
-                                      float fhi[3])
-{
-    flo[0] = ray__float_down(lo.x);
-    flo[1] = ray__float_down(lo.y);
-    flo[2] = ray__float_down(lo.z);
-    fhi[0] = ray__float_up(hi.x);
-    fhi[1] = ray__float_up(hi.y);
-    fhi[2] = ray__float_up(hi.z);
-}
-
 /* The build's boxes of slots begin .. end - 1 (boxes.c; the triangle
 ** BVH's costs->boxes, accel/bvh.h), and the refit's leaf (boxes.c:
 ** ray__bvh_refit's range_box, ud the scene). */
