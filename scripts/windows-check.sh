@@ -100,22 +100,44 @@ tail -n 1 "$win/faultsim.log" | tr -d '\r'
 step "the allocation-failure sweep passed"
 
 # --------------------------------------------------- 4. the examples
+# ok WHAT COMMAND...: run it, its output kept in $log; a failure names
+# the example and how it ended, with the end of its output, and stops
+# the check (where set -e alone stopped it without a word).
+ok() {
+    what=$1
+    shift
+    if "$@" > "$log" 2>&1; then
+        return 0
+    else
+        rc=$?
+    fi
+    echo "windows-check: $what failed (exit status $rc):"
+    tail -n 20 "$log" | tr -d '\r'
+    exit 1
+}
+
 # run DIR EXE SUFFIX: make check's renders by one build, images into DIR.
 renders() {
     out=$1 run=$2 ex=$3 x=$4
+    log=$out.log
+    kind=${run:-native}
     mkdir -p "$out"
     rm -f "$out"/*.png
-    (cd "$out" && $run "$root/$ex/hello$x" >/dev/null && $run "$root/$ex/material$x" >/dev/null)
-    $run "$ex/picking$x" >/dev/null
-    RAY_GAME_FRAMES=10 $run "$ex/game$x" >/dev/null
-    $run "$ex/primitives$x" "$out/primitives.png" >/dev/null
-    $run "$ex/whitted$x" "$out/whitted.png" 64 48 1 2 >/dev/null 2>&1
-    $run "$ex/cornell$x" "$out/cornell.png" 32 32 1 2 >/dev/null 2>&1
-    $run "$ex/implicit$x" "$out/implicit.png" 48 30 1 2 >/dev/null 2>&1
-    $run "$ex/textures$x" doc/cornell.png "$out/textures.png" 48 30 1 2 >/dev/null 2>&1
-    RAY_PHOTONS=50000 $run "$ex/caustics$x" "$out/caustics.png" 48 36 1 2 >/dev/null 2>&1
+    ok "hello ($kind)" sh -c "cd '$out' && $run '$root/$ex/hello$x'"
+    ok "material ($kind)" sh -c "cd '$out' && $run '$root/$ex/material$x'"
+    ok "picking ($kind)" $run "$ex/picking$x"
+    ok "game ($kind)" env RAY_GAME_FRAMES=10 $run "$ex/game$x"
+    ok "primitives ($kind)" $run "$ex/primitives$x" "$out/primitives.png"
+    ok "whitted ($kind)" $run "$ex/whitted$x" "$out/whitted.png" 64 48 1 2
+    ok "cornell ($kind)" $run "$ex/cornell$x" "$out/cornell.png" 32 32 1 2
+    ok "implicit ($kind)" $run "$ex/implicit$x" "$out/implicit.png" 48 30 1 2
+    ok "textures ($kind)" $run "$ex/textures$x" doc/cornell.png \
+        "$out/textures.png" 48 30 1 2
+    ok "caustics ($kind)" env RAY_PHOTONS=50000 $run "$ex/caustics$x" \
+        "$out/caustics.png" 48 36 1 2
     if [ -f data/teapot.bpt ]; then
-        $run "$ex/teapot$x" data/teapot.bpt "$out/teapot.png" 48 36 1 2 >/dev/null 2>&1
+        ok "teapot ($kind)" $run "$ex/teapot$x" data/teapot.bpt \
+            "$out/teapot.png" 48 36 1 2
     fi
 }
 renders "$win/images-native" "" "$native/examples" ""
@@ -131,9 +153,13 @@ for f in "$win/images-native"/*.png; do
     same=$((same + 1))
 done
 # Other thread counts: not a byte may change (the native 2-thread image).
+log=$win/images-threads.log
 for t in 1 3 4; do
-    wine "$win/examples/cornell.exe" "$win/images/cornell-$t.png" 32 32 1 $t >/dev/null 2>&1
-    RAY_PHOTONS=50000 wine "$win/examples/caustics.exe" "$win/images/caustics-$t.png" 48 36 1 $t >/dev/null 2>&1
+    ok "cornell at $t threads (wine)" wine "$win/examples/cornell.exe" \
+        "$win/images/cornell-$t.png" 32 32 1 $t
+    ok "caustics at $t threads (wine)" env RAY_PHOTONS=50000 \
+        wine "$win/examples/caustics.exe" "$win/images/caustics-$t.png" \
+        48 36 1 $t
     for name in cornell caustics; do
         if ! cmp -s "$win/images-native/$name.png" "$win/images/$name-$t.png"; then
             "$native/tools/imgdiff" "$win/images-native/$name.png" "$win/images/$name-$t.png" || true
