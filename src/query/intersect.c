@@ -170,7 +170,8 @@ static int occluded_opt(const ray_scene *s, const ray_ray *r,
 */
 static int plain(const ray_scene *s, const ray_ray *r)
 {
-    return s != NULL && r != NULL && s->committed && !s->gated;
+    return s != NULL && r != NULL && s->committed && !s->gated &&
+           (tris_only(s) || s->instances_of_tris);
 }
 
 static int plain_nearest(const ray_scene *s, const ray_ray *r, ray_hit *hit)
@@ -234,8 +235,7 @@ int ray_intersect(const ray_scene *s, const ray_ray *r, ray_hit *hit,
 {
     int rc;
 
-    if (q == NULL && hit != NULL && plain(s, r) &&
-        (tris_only(s) || s->instances_of_tris))
+    if (q == NULL && hit != NULL && plain(s, r))
         return plain_nearest(s, r, hit);
     rc = intersect_opt(s, r, hit, q);
     return rc >= 0 ? rc
@@ -246,7 +246,7 @@ int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
 {
     int rc;
 
-    if (q == NULL && plain(s, r) && (tris_only(s) || s->instances_of_tris))
+    if (q == NULL && plain(s, r))
         return plain_any(s, r);
     rc = occluded_opt(s, r, q);
     return rc >= 0 ? rc : ray_refused(q, "ray_occluded", rc, s, r, "");

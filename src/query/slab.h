@@ -172,21 +172,6 @@ static inline void trav_axis(trav *tr, int k, double o, double d, double ds)
 }
 #endif
 
-/*
-** AVX: the three axes of trav_axis at once, x, y, z in the lanes of one
-** register (the fourth, tmin's, is computed and not used): the same
-** operations lane for lane -- the product by the power of two, the
-** division (vdivpd rounds as divsd does), the conversions to float
-** (vcvtpd2ps rounds to nearest as cvtsd2ss does) and ray__float_down /
-** up's step to the neighbouring float on the integer bits -- so the same
-** bits; one division instruction instead of three, and no choice by
-** indexing.  The near / far ends of the origin are picked by the sign
-** bit of d (blendv reads the sign bit: -0 has it, as signbit says).
-** What a query's set-up costs was a fifth of a ray that misses (bench/
-** raycost's "miss the box" under callgrind, issue 34).  The rounding
-** outward: floats_step, core/floats_avx.h.
-*/
-
 #if defined(__AVX__) && !defined(RAY_NO_SIMD)
 /*
 ** A ray in two registers, its two halves: org.x .. dir.x and dir.y ..
@@ -343,6 +328,19 @@ static inline int box_may_enter(const ray_vec3 *box_lo,
 ** untouched; else 1.  Only the AVX copy tests the box, and before it
 ** writes *tr: a ray that misses stores nothing (1.14 times as fast on
 ** such rays, bench/raycost, RAYCOST_AB, issue 34).
+**
+** AVX: the three axes of trav_axis at once, x, y, z in the lanes of one
+** register (the fourth, tmin's, is computed and not used): the same
+** operations lane for lane -- the product by the power of two, the
+** division (vdivpd rounds as divsd does), the conversions to float
+** (vcvtpd2ps rounds to nearest as cvtsd2ss does) and ray__float_down /
+** up's step to the neighbouring float on the integer bits -- so the same
+** bits; one division instruction instead of three, and no choice by
+** indexing.  The near / far ends of the origin are picked by the sign
+** bit of d (blendv reads the sign bit: -0 has it, as signbit says).
+** What a query's set-up costs was a fifth of a ray that misses (bench/
+** raycost's "miss the box" under callgrind, issue 34).  The rounding
+** outward: floats_step, core/floats_avx.h.
 */
 static RAY__INLINE int trav_setup(trav *tr, const ray_ray *r,
                                   const ray_vec3 *box_lo,
