@@ -1287,7 +1287,13 @@ typedef struct ray_render_options {
     ** it serves).  A textured hit then filters its texture over the
     ** cone's footprint (ray_texture_image).  no_cones non-zero: rays are
     ** lines, footprint 0, textures sampled bilinearly (ray_image_sample's
-    ** width 0).  The cone models the pixel, not a lens's defocus.  (libray 0.1 called it
+    ** width 0).  The cone models the pixel, not a lens's defocus.  Only
+    ** where a material can read it: a scene whose materials are the
+    ** built-in mirror, glass, Phong without a texture function and
+    ** checkers of these (a checker reads (u, v), not the cone) renders
+    ** as with no_cones, the same image for less work; a user's material,
+    ** or a texture function, anywhere in the scene (an instance's child
+    ** too) gets the cone.  (libray 0.1 called it
     ** "cones", on when non-zero, so that {0} turned it off.) */
     int no_cones;
     /* Caustics (ray_caustics_at): photons emitted from the lights before

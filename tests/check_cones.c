@@ -11,6 +11,7 @@
 
 #include "tests.h"
 #include "image/image.h"
+#include "trace/trace.h"
 
 /*
 ** A level texel is a sum of at most 16 weighted texels in double (each
@@ -856,6 +857,134 @@ START_TEST(render_should_give_camera_rays_the_pixel_cone)
 }
 END_TEST
 
+/* A texture function that records the cone it was shaded with. */
+static void record_texture(void *ud, const ray_shade_args *a, ray_rgb *out)
+{
+    cone_seen *s = ud;
+
+    s->width = a->cone_width;
+    s->footprint = a->footprint;
+    s->t = a->hit->t;
+    s->dir = a->ray->dir;
+    s->calls++;
+    *out = ray_rgb_make(1, 1, 1);
+}
+
+/*
+** Which materials can read a ray's cone (ray__material_reads_cone, which
+** ray_render asks before it gives camera rays one, issue 35): the
+** built-in mirror, glass and plain Phong never; a Phong with a texture
+** function (a user's, which gets the args), a checker as its squares, a
+** user's callback always; a checker that holds itself, past the nesting
+** bound, "may read".
+*/
+START_TEST(materials_should_say_whether_they_can_read_the_cone)
+{
+    static const ray_rgb chrome = {0.9, 0.9, 0.9};
+    static const ray_glass_params glass = {.ior = 1.5};
+    static ray_phong_params plain = {.diffuse = {0.5, 0.5, 0.5}};
+    static ray_phong_params textured = {.diffuse = {0.5, 0.5, 0.5}};
+    static ray_checker_params both_plain, one_textured, itself;
+    static cone_seen seen;
+    ray_material m, user = recorder(&seen, 0);
+
+    textured.texture.fn = record_texture;
+    textured.texture.ud = &seen;
+    both_plain.even = ray_material_phong(&plain);
+    both_plain.odd = ray_material_mirror(&chrome);
+    one_textured.even = ray_material_glass(&glass);
+    one_textured.odd = ray_material_phong(&textured);
+    m = ray_material_mirror(&chrome);
+    ck_assert_int_eq(ray__material_reads_cone(&m), 0);
+    m = ray_material_glass(&glass);
+    ck_assert_int_eq(ray__material_reads_cone(&m), 0);
+    m = ray_material_phong(&plain);
+    ck_assert_int_eq(ray__material_reads_cone(&m), 0);
+    m = ray_material_phong(&textured);
+    ck_assert_int_eq(ray__material_reads_cone(&m), 1);
+    m = ray_material_checker(&both_plain);
+    ck_assert_int_eq(ray__material_reads_cone(&m), 0);
+    m = ray_material_checker(&one_textured);
+    ck_assert_int_eq(ray__material_reads_cone(&m), 1);
+    ck_assert_int_eq(ray__material_reads_cone(&user), 1);
+    /* A checker whose squares are itself: bounded, and "may read". */
+    itself.even = ray_material_checker(&itself);
+    itself.odd = itself.even;
+    ck_assert_int_eq(ray__material_reads_cone(&itself.even), 1);
+    ck_assert_int_eq(ray__material_reads_cone(NULL), 0);
+}
+END_TEST
+
+/* Render one pixel at the centre of an h-tall frame, one thread. */
+static void render_centre(const ray_scene *s, unsigned h)
+{
+    ray_render_options o = {.width = 1, .height = 0};
+    ray_camera cam = {.look_at = {0, 0, -1}};
+    float rgb[3];
+
+    cam.vfov = 30;
+    o.height = h;
+    o.threads = 1;
+    o.y0 = h / 2;
+    o.y1 = h / 2 + 1;
+    ck_assert_int_eq(ray_render(s, &cam, &o, rgb, NULL), RAY_OK);
+}
+
+/*
+** ray_render gives camera rays a cone only where some material can read
+** it, and then it reaches them wherever they are: a texture function of
+** a Phong square of a checker, a user's material in an instance's child.
+** The width is the pixel's angle times the distance, as
+** render_should_give_camera_rays_the_pixel_cone checks (same tolerance).
+*/
+START_TEST(render_should_carry_the_cone_to_whatever_can_read_it)
+{
+    static ray_phong_params textured = {.diffuse = {0.5, 0.5, 0.5}};
+    static ray_checker_params squares;
+    static cone_seen seen;
+    ray_scene *s = new_scene(), *child = new_scene(), *top = new_scene();
+    ray_material m;
+    cone_seen in_child;
+    ray_transform id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
+    unsigned mid, h = 50;
+    double pixel = atan(2 * tan(15 * 3.14159265358979323846 / 180) / h);
+
+    memset(&seen, 0, sizeof seen);
+    textured.texture.fn = record_texture;
+    textured.texture.ud = &seen;
+    squares.even = ray_material_phong(&textured);
+    squares.odd = squares.even;
+    m = ray_material_checker(&squares);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -5), vec(0, 0, 1), mid,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    render_centre(s, h);
+    ck_assert_int_eq(seen.calls, 1);
+    ck_assert_double_gt(seen.width, 0);
+    ck_assert_double_eq_tol(seen.width,
+                            pixel * seen.t * sqrt(vdot(seen.dir, seen.dir)),
+                            4 * CONE_REL * seen.width);
+    /* The user's material one level down, behind an instance. */
+    m = recorder(&in_child, RAY_EFFECT_TEXTURE);
+    ck_assert_int_eq(ray_scene_add_material(child, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, -5), 1, mid, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(child), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, child, &id, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(top), RAY_OK);
+    render_centre(top, h);
+    ck_assert_int_eq(in_child.calls, 1);
+    ck_assert_double_eq_tol(in_child.width,
+                            pixel * in_child.t *
+                                sqrt(vdot(in_child.dir, in_child.dir)),
+                            4 * CONE_REL * in_child.width);
+    ray_scene_free(top);
+    ray_scene_free(child);
+    ray_scene_free(s);
+}
+END_TEST
+
 /* A checkerboard image, 64 x 64 texels of 8 x 8 squares. */
 static ray_image *checker_image(void)
 {
@@ -991,6 +1120,8 @@ Suite *cones_suite(void)
     tcase_add_test(trace, footprint_should_shrink_through_a_scaling_instance);
     tcase_add_test(trace, cone_should_be_zero_without_texture_effect_or_cone);
     tcase_add_test(trace, render_should_give_camera_rays_the_pixel_cone);
+    tcase_add_test(trace, materials_should_say_whether_they_can_read_the_cone);
+    tcase_add_test(trace, render_should_carry_the_cone_to_whatever_can_read_it);
     tcase_add_test(trace,
         render_with_cones_should_be_the_same_at_any_thread_count);
     tcase_add_test(trace,

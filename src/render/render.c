@@ -603,6 +603,39 @@ static double pixel_spread(const render_job *job)
     return pixel / sqrt((double)o->samples);
 }
 
+/*
+** Can a material of s's enabled geometry (an instance's child's too) read
+** a ray's cone?  Only then does a render's camera ray carry one: the
+** cone's width and spread, carried through every hit and bend of the
+** ray tree (trace.c, cone_at_hit, secondary_cone: lengths, a curvature,
+** a square root and divisions at each hit), are work only a material
+** that reads them needs.  Whitted's scene declares RAY_EFFECT_TEXTURE
+** for its checkerboard, which reads (u, v) alone: its cones were 6% of
+** the render's instructions (693.6M -> 650.3M, callgrind of
+** examples/whitted at 512 x 384, one sample, one thread; issue 35), for
+** the same image, byte for byte.  "depth" guards the recursion: a
+** child has no instances of its own (instance.c refuses them), else
+** the answer is "may read".
+*/
+static int scene_reads_cone(const ray_scene *s, int depth)
+{
+    size_t i;
+
+    for (i = 0; i < s->n_prims; i++) {
+        const ray__prim *p = &s->prims[i];
+        if (!p->enabled || p->removed)
+            continue;
+        if (p->kind == RAY__KIND_INSTANCE) {
+            if (depth > 0 ||
+                scene_reads_cone(s->instances[p->surface].child, depth + 1))
+                return 1;
+        } else if (p->material != RAY_NO_MATERIAL &&
+                   ray__material_reads_cone(&s->materials[p->material]))
+            return 1;
+    }
+    return 0;
+}
+
 int ray_render(const ray_scene *scene, const ray_camera *camera_in,
                const ray_render_options *opt_in, float *rgb, ray_stats *stats)
 {
@@ -652,7 +685,12 @@ int ray_render(const ray_scene *scene, const ray_camera *camera_in,
         return RAY_ENOMEM;
     memset(workers, 0, n * WORKER_STRIDE);
     job.workers = workers;
-    spread = !opt->no_cones ? pixel_spread(&job) : 0.0;
+    /* No cone where nothing reads it: the tracer carries one only for
+    ** a scene that declared RAY_EFFECT_TEXTURE (trace.c). */
+    spread = !opt->no_cones && (scene->effects & RAY_EFFECT_TEXTURE) &&
+                     scene_reads_cone(scene, 0)
+                 ? pixel_spread(&job)
+                 : 0.0;
     for (i = 0; i < n; i++) {
         worker_at(workers, i)->ctx.scene = scene;
         worker_at(workers, i)->ctx.cone_spread = spread;

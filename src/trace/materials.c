@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** materials.c -- the built-in materials.  Written against the public API
-** only (ray.h), so they double as examples of material callbacks.
+** only (ray.h), so they double as examples of material callbacks; the
+** one internal function, at the end, answers which of them can read a
+** ray's cone (ray__material_reads_cone, trace.h).
 */
 #include <math.h>
 
-#include "ray.h"
+#include "trace/trace.h"
 
 /* ray.h's helpers, under the short names this file uses. */
 #define rgb ray_rgb_make
@@ -380,4 +382,47 @@ ray_material ray_material_checker(const ray_checker_params *p)
                 (p != NULL ? p->even.effects | p->odd.effects : 0);
     m.scatter = (m.effects & RAY_EFFECT_SCATTER) ? checker_scatter : NULL;
     return m;
+}
+
+/* --------------------------------------------------- who reads the cone */
+
+/*
+** Checkers nest (a square's material may be a checker itself, even the
+** same one): past this depth the answer is "may read", which is always
+** safe.
+*/
+#define CONE_NESTING_MAX 8
+
+static int reads_cone(const ray_material *m, int depth)
+{
+    if (m->shade == mirror_shade || m->shade == glass_shade)
+        return 0;
+    if (m->shade == phong_shade) {
+        const ray_phong_params *p = m->ud;
+        return p != NULL && p->texture.fn != NULL;
+    }
+    if (m->shade == checker_shade) {
+        const ray_checker_params *p = m->ud;
+        if (p == NULL)
+            return 0;
+        if (depth >= CONE_NESTING_MAX)
+            return 1;
+        return (p->even.shade != NULL && reads_cone(&p->even, depth + 1)) ||
+               (p->odd.shade != NULL && reads_cone(&p->odd, depth + 1));
+    }
+    return 1;       /* a user's callback may read cone_width and footprint */
+}
+
+/*
+** Can material m read the cone a ray carries (ray_shade_args.cone_width
+** and footprint)?  The built-in mirror and glass never do; a Phong
+** material only through its texture function, a user's, which gets the
+** args; a checker as its squares' materials do; any other material (a
+** user's callback) may.  Asked of the params as they are now: they are
+** borrowed and read at every shade, as the answer is asked at every
+** render (render.c).
+*/
+int ray__material_reads_cone(const ray_material *m)
+{
+    return m != NULL && m->shade != NULL && reads_cone(m, 0);
 }

@@ -87,6 +87,9 @@ void ray__shade_args(const ray_scene *s, const ray_ray *r,
                      const ray_hit *hit, unsigned depth, double weight,
                      ray_shade_args *args);
 
+/* Can material m read a ray's cone (materials.c says which can)? */
+int ray__material_reads_cone(const ray_material *m);
+
 /*
 ** The photon pass (photons.c): ray_photon_map_build's work, options
 ** already checked: o->photons photons, as o->threads tasks (0: the
