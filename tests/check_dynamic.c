@@ -116,6 +116,112 @@ START_TEST(refit_should_answer_as_a_rebuild)
 }
 END_TEST
 
+/* Do s and fresh answer ray r alike, bit for bit?  1 if it hit. */
+static int same_answer(const ray_scene *s, const ray_scene *fresh,
+                       const ray_ray *r)
+{
+    ray_hit a, b;
+    int ha = ray_intersect(s, r, &a, NULL), hb = ray_intersect(fresh, r, &b, NULL);
+
+    ck_assert_int_eq(ha, hb);
+    ck_assert_int_eq(ray_occluded(s, r, NULL), ray_occluded(fresh, r, NULL));
+    if (ha == 1)
+        ck_assert(hit_same(&a, &b));
+    return ha == 1;
+}
+
+/* The triangles of "idx" in the opposite order, into "out". */
+static void reversed_triangles(const unsigned *idx, size_t nt, unsigned *out)
+{
+    size_t i;
+
+    for (i = 0; i < nt; i++)
+        memcpy(out + 3 * (nt - 1 - i), idx + 3 * i, 3 * sizeof *out);
+}
+
+/*
+** A refit reads each slot's vertex indices from a copy in the tree's
+** order, made by the first refit (triangles.c, slot_vertices): an update
+** that brings other indices -- the triangles of a copied mesh in another
+** order, a borrowed mesh's changed in place -- must drop it, or the
+** refit would fit each slot to the triangle it had before and the leaves
+** would hold the wrong corners.  Each scene, after a refit with its old
+** indices and then one with the new, answers as one built afresh from
+** the new: the same prim_id, t and record, bit for bit.  A single mesh
+** (the copy's fast path: every slot of one mesh) and two (the slots'
+** ids read) each.
+*/
+START_TEST(refit_should_follow_new_indices)
+{
+    hc_mesh ball = hc_icosphere(vec(0, 0, 0), 3), cube = hc_cube(vec(4, 0, 0));
+    unsigned *rev = malloc(3 * ball.nt * sizeof *rev), *borrowed;
+    ray_vec3 *v = malloc(ball.nv * sizeof *v);
+    rng g = {31};
+    int meshes, k;
+
+    reversed_triangles(ball.idx, ball.nt, rev);
+    for (meshes = 1; meshes <= 2; meshes++) {
+        int borrow;
+        for (borrow = 0; borrow <= 1; borrow++) {
+            ray_mesh m = hc_ray_mesh(&ball), mc = hc_ray_mesh(&cube), f;
+            ray_scene *s, *fresh;
+            unsigned id;
+            int hits = 0;
+            borrowed = malloc(3 * ball.nt * sizeof *borrowed);
+            memcpy(borrowed, ball.idx, 3 * ball.nt * sizeof *borrowed);
+            memcpy(v, ball.v, ball.nv * sizeof *v);
+            m.vertices = v;
+            m.indices = borrowed;
+            m.flags = borrow ? RAY_MESH_BORROW : 0;
+            ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id),
+                             RAY_OK);
+            if (meshes == 2)
+                ck_assert_int_eq(ray_scene_add_mesh(s, &mc, RAY_NO_MATERIAL,
+                                                    NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+            /* A refit with the indices as they were: the copy made. */
+            wobble(v, ball.nv, &g, 0.05);
+            ck_assert_int_eq(ray_scene_update_mesh(s, id, borrow ? NULL : &m),
+                             RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+            /* The same triangles in the opposite order, moved again. */
+            wobble(v, ball.nv, &g, 0.05);
+            if (borrow)
+                memcpy(borrowed, rev, 3 * ball.nt * sizeof *borrowed);
+            else
+                m.indices = rev;
+            ck_assert_int_eq(ray_scene_update_mesh(s, id, borrow ? NULL : &m),
+                             RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+            f = hc_ray_mesh(&ball);
+            f.vertices = v;
+            f.indices = rev;
+            ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_mesh(fresh, &f, RAY_NO_MATERIAL,
+                                                NULL), RAY_OK);
+            if (meshes == 2)
+                ck_assert_int_eq(ray_scene_add_mesh(fresh, &mc,
+                                                    RAY_NO_MATERIAL, NULL),
+                                 RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(fresh), RAY_OK);
+            for (k = 0; k < 2000; k++) {
+                ray_ray r = random_ray(&g);
+                hits += same_answer(s, fresh, &r);
+            }
+            ck_assert_int_gt(hits, 300);
+            ray_scene_free(fresh);
+            ray_scene_free(s);
+            free(borrowed);
+        }
+    }
+    hc_mesh_free(&ball);
+    hc_mesh_free(&cube);
+    free(rev);
+    free(v);
+}
+END_TEST
+
 /* A game's vertex: position and normal as floats, 24 bytes. */
 typedef struct game_vertex {
     float pos[3];
@@ -797,6 +903,7 @@ Suite *dynamic_suite(void)
     TCase *tc = tcase_create("core");
 
     tcase_add_test(tc, refit_should_answer_as_a_rebuild);
+    tcase_add_test(tc, refit_should_follow_new_indices);
     tcase_add_test(tc, borrowed_mesh_should_be_read_again_in_place);
     tcase_add_test(tc, geometry_should_come_and_go_after_commit);
     tcase_add_test(tc, updates_should_refuse_bad_input);

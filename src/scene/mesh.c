@@ -9,7 +9,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "scene/scene.h"
+#include "scene/slots.h"
 
 /* The bytes of one position of positions: 3 values of position_type. */
 static size_t position_size(const ray_mesh *m)
@@ -640,6 +640,8 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
     kept = indices_kept(&s->meshes[p->mesh], m);
     if ((rc = mesh_check(s, m, kept)) != RAY_OK)
         return rc;
+    if (!kept)                /* other indices: the slots' copy is stale */
+        ray__slot_vertices_drop(s);
     if (mesh_rewritable(&s->meshes[p->mesh], m)) {
         mesh_rewrite(&s->meshes[p->mesh], m, kept);
         ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);

@@ -248,6 +248,9 @@ struct ray_scene {
     ray__tri *leaf_tri;      /* the double corners of the live slots, in
                                 leaf order, where they are not all floats
                                 (NULL otherwise: ray__leaf_tri) */
+    unsigned *slot_vertices; /* NULL, or a refit's copy of the live
+                                slots' vertex indices (slots.h) */
+    unsigned slot_geom;      /* the mesh of every live slot, if one */
     int tri_mode;            /* RAY__TRI_*: the filter on (default), off,
                                 or its verdict final (bench only) */
     double filter_scale;     /* the filter's bound times this (1; tests) */
@@ -339,7 +342,6 @@ struct ray_scene {
 #define RAY__DIRTY_PRIMS  4u
 #define RAY__DIRTY_ALL    (RAY__DIRTY_TRIS | RAY__DIRTY_PRIMS)
 
-
 /*
 ** What changed since the commit (dirty.c).
 ** ray__touch -- mark what a successful building call changed (and that
@@ -410,7 +412,6 @@ int ray__add_mesh_prim(ray_scene *s, unsigned material, size_t first,
 ** the error recorded (dynamic.c): what every call on an added geometry
 ** checks first. */
 ray__prim *ray__live_prim(ray_scene *s, unsigned geom_id);
-
 
 /* Free a mesh's shading data (its arrays NULL after). */
 void ray__mesh_release(const ray_scene *s, ray__mesh *m);
@@ -776,7 +777,6 @@ static inline void ray__instance_ray_to_object(const ray__instance *in,
     out->tmin = r->tmin;
     out->tmax = r->tmax;
 }
-
 
 /* The instance of s a hit came through, or NULL; and the scene that owns
 ** the geometry it names (s itself, or the instance's child).  Inline:

@@ -13,22 +13,52 @@
 #include "scene/scene.h"
 
 /*
+** s->slot_vertices: 3 a live slot, a mesh slot's vertex indices in slot
+** order (other slots' 0), made by the first refit after a build
+** (triangles.c) and kept while the meshes' indices are; s->slot_geom,
+** beside it: the mesh every live slot is of, else RAY_INVALID_ID.
+** Dropped where the slots or a mesh's indices change; the next refit
+** makes them again.
+*/
+static inline void ray__slot_vertices_drop(ray_scene *s)
+{
+    ray__free(s, s->slot_vertices,
+              3 * s->n_live_tris * sizeof *s->slot_vertices);
+    s->slot_vertices = NULL;
+}
+
+/*
 ** Where the corners of live slot "slot" lie, as ray__tri_of reads them
 
 ** a mesh's triangle through its indices, p[0..2] into its positions (1:
 ** whether it has a normal is the caller's to test, ray__corners_usable),
 ** a single triangle's copied into *t (0: usable, as its add refused any
 ** other).  *m caches the mesh of geometry *m_geom, so that a run of one
-** mesh's triangles (the usual case) looks its mesh up once.
+** mesh's triangles (the usual case) looks its mesh up once.  A mesh
+** triangle's vertex indices come from s->slot_vertices where a refit
+** made them (in slot order, so read as they lie), else from its mesh's
+** indices (in the mesh's order: a cache miss a slot in a large mesh).
 */
 RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
                                          const ray__mesh **m,
                                          unsigned *m_geom, ray__tri *t,
                                          const ray_vec3 *p[3])
 {
-    const ray__tri_id *id = &s->tri_ids[slot];
+    const ray__tri_id *id;
     const unsigned *k;
 
+    if (s->slot_vertices != NULL && s->slot_geom != RAY_INVALID_ID) {
+        if (*m_geom != s->slot_geom) {
+            *m = &s->meshes[s->prims[s->slot_geom].mesh];
+            *m_geom = s->slot_geom;
+        }
+        k = s->slot_vertices + 3 * slot;
+        p[0] = &(*m)->pos[k[0]];
+        p[1] = &(*m)->pos[k[1]];
+        p[2] = &(*m)->pos[k[2]];
+        return 1;
+    }
+    id = &s->tri_ids[slot];
     if (id->geom_id != *m_geom) {
         const ray__prim *prim = &s->prims[id->geom_id];
         if (prim->kind != RAY__KIND_MESH) {
@@ -41,7 +71,8 @@ RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
         *m = &s->meshes[prim->mesh];
         *m_geom = id->geom_id;
     }
-    k = (*m)->indices + 3 * (size_t)id->prim_id;
+    k = s->slot_vertices != NULL ? s->slot_vertices + 3 * slot
+                                 : (*m)->indices + 3 * (size_t)id->prim_id;
     p[0] = &(*m)->pos[k[0]];
     p[1] = &(*m)->pos[k[1]];
     p[2] = &(*m)->pos[k[2]];
@@ -133,17 +164,35 @@ static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
 ** mesh at hand, *m of geometry m_geom (the usual case): another's would
 ** cost a lookup.  The distances were measured (bench/filter --profile
 ** refit on the 940k bunny: 8 and 4 gained little, 32 and 16 most).
-** Always inlined: GCC found a function of prefetches alone free of
+** Where the slots' vertex indices lie in slot order (slot_vertices, a
+** refit's), only the corners are fetched, their indices read as they
+** lie.  Always inlined: GCC found a function of prefetches alone free of
 ** effects and dropped its calls.
 */
 #define PREFETCH_INDICES 32
 #define PREFETCH_CORNERS 16
+/* With the indices in slot order (no index miss to wait for first), the
+** corners this many slots ahead: 8 left most of the gain, 24 to 48 were
+** alike (a 940k refit, issue 36). */
+#define PREFETCH_AHEAD 32
 
 RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
                                          const ray__mesh *m, unsigned m_geom)
 {
     const ray__tri_id *id;
 
+    if (s->slot_vertices != NULL) {
+        if (slot + PREFETCH_AHEAD < s->n_live_tris &&
+            (s->slot_geom == m_geom ||
+             s->tri_ids[slot + PREFETCH_AHEAD].geom_id == m_geom)) {
+            const unsigned *k =
+                s->slot_vertices + 3 * (slot + PREFETCH_AHEAD);
+            RAY__PREFETCH(&m->pos[k[0]]);
+            RAY__PREFETCH(&m->pos[k[1]]);
+            RAY__PREFETCH(&m->pos[k[2]]);
+        }
+        return;
+    }
     if (slot + PREFETCH_INDICES < s->n_live_tris) {
         id = &s->tri_ids[slot + PREFETCH_INDICES];
         if (id->geom_id == m_geom)

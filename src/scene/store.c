@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "core/platform.h"
-#include "scene/scene.h"
+#include "scene/slots.h"
 
 /* The allocator of a scene made without one: libc's, a large block on
 ** whole huge pages where the platform can (platform.h). */
@@ -132,6 +132,7 @@ void ray_scene_free(ray_scene *s)
     ray__free(s, s->tri_ids, s->cap_tri_ids * sizeof *s->tri_ids);
     ray__free(s, s->leaf_f, s->cap_leaf_f * sizeof *s->leaf_f);
     ray__free(s, s->leaf_tri, s->n_live_tris * sizeof *s->leaf_tri);
+    ray__slot_vertices_drop(s);
     ray__bvh_free(&s->alloc, &s->tri_bvh);
     ray__bvh_free(&s->alloc, &s->prim_bvh);
     /* ray_contains' grid (parity.c, which calls this file's allocator:
