@@ -1277,7 +1277,7 @@ typedef struct ray_render_options {
     double adaptive_threshold;
     unsigned adaptive_depth;
     /* Ray cones (ray_ctx_set_cone): unless no_cones is set (0, the
-    ** default: cones on), every camera ray carries a cone of width 0 at
+    ** default: cones on), camera rays carry a cone of width 0 at
     ** the eye and spread atan(2 tan(vfov/2) / height)
     ** (one pixel's angle), divided by sqrt(samples) with several samples
     ** per pixel (each sample stands for its stratum, 1/sqrt(samples) of
@@ -1288,12 +1288,14 @@ typedef struct ray_render_options {
     ** cone's footprint (ray_texture_image).  no_cones non-zero: rays are
     ** lines, footprint 0, textures sampled bilinearly (ray_image_sample's
     ** width 0).  The cone models the pixel, not a lens's defocus.  Only
-    ** where a material can read it: a scene whose materials are the
-    ** built-in mirror, glass, Phong without a texture function and
-    ** checkers of these (a checker reads (u, v), not the cone) renders
-    ** as with no_cones, the same image for less work; a user's material,
-    ** or a texture function, anywhere in the scene (an instance's child
-    ** too) gets the cone.  (libray 0.1 called it
+    ** where the scene's effects include RAY_EFFECT_TEXTURE (as
+    ** ray_trace's cones) and some material can read the cone: a scene
+    ** whose materials (an instanced child's included) are the built-in
+    ** mirror, glass, Phong without a texture function and checkers of
+    ** these (a checker reads (u, v), not the cone) renders as with
+    ** no_cones, the same image for less work; with a user's material or
+    ** a texture function among them, camera rays get the cone.  (libray
+    ** 0.1 called it
     ** "cones", on when non-zero, so that {0} turned it off.) */
     int no_cones;
     /* Caustics (ray_caustics_at): photons emitted from the lights before

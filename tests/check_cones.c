@@ -942,7 +942,9 @@ START_TEST(render_should_carry_the_cone_to_whatever_can_read_it)
     static ray_phong_params textured = {.diffuse = {0.5, 0.5, 0.5}};
     static ray_checker_params squares;
     static cone_seen seen;
+    static const ray_rgb chrome = {0.9, 0.9, 0.9};
     ray_scene *s = new_scene(), *child = new_scene(), *top = new_scene();
+    ray_scene *mirrors = new_scene();
     ray_material m;
     cone_seen in_child;
     ray_transform id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
@@ -965,7 +967,16 @@ START_TEST(render_should_carry_the_cone_to_whatever_can_read_it)
     ck_assert_double_eq_tol(seen.width,
                             pixel * seen.t * sqrt(vdot(seen.dir, seen.dir)),
                             4 * CONE_REL * seen.width);
-    /* The user's material one level down, behind an instance. */
+    /* The user's material one level down, behind an instance, after
+    ** two instances of a child that cannot read the cone (a mirror off
+    ** to the side), which must not end the search. */
+    m = ray_material_mirror(&chrome);
+    ck_assert_int_eq(ray_scene_add_material(mirrors, &m, &mid), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(mirrors, vec(50, 0, -5), 1, mid,
+                                          NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(mirrors), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, mirrors, &id, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_instance(top, mirrors, &id, NULL), RAY_OK);
     m = recorder(&in_child, RAY_EFFECT_TEXTURE);
     ck_assert_int_eq(ray_scene_add_material(child, &m, &mid), RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(child, vec(0, 0, -5), 1, mid, NULL),
@@ -980,6 +991,7 @@ START_TEST(render_should_carry_the_cone_to_whatever_can_read_it)
                                 sqrt(vdot(in_child.dir, in_child.dir)),
                             4 * CONE_REL * in_child.width);
     ray_scene_free(top);
+    ray_scene_free(mirrors);
     ray_scene_free(child);
     ray_scene_free(s);
 }

@@ -603,35 +603,47 @@ static double pixel_spread(const render_job *job)
     return pixel / sqrt((double)o->samples);
 }
 
-/*
-** Can a material of s's enabled geometry (an instance's child's too) read
-** a ray's cone?  Only then does a render's camera ray carry one: the
-** cone's width and spread, carried through every hit and bend of the
-** ray tree (trace.c, cone_at_hit, secondary_cone: lengths, a curvature,
-** a square root and divisions at each hit), are work only a material
-** that reads them needs.  Whitted's scene declares RAY_EFFECT_TEXTURE
-** for its checkerboard, which reads (u, v) alone: its cones were 6% of
-** the render's instructions (693.6M -> 650.3M, callgrind of
-** examples/whitted at 512 x 384, one sample, one thread; issue 35), for
-** the same image, byte for byte.  "depth" guards the recursion: a
-** child has no instances of its own (instance.c refuses them), else
-** the answer is "may read".
-*/
-static int scene_reads_cone(const ray_scene *s, int depth)
+/* Can a material of s read a ray's cone (ray__material_reads_cone)? */
+static int materials_read_cone(const ray_scene *s)
 {
     size_t i;
 
-    for (i = 0; i < s->n_prims; i++) {
-        const ray__prim *p = &s->prims[i];
-        if (!p->enabled || p->removed)
-            continue;
-        if (p->kind == RAY__KIND_INSTANCE) {
-            if (depth > 0 ||
-                scene_reads_cone(s->instances[p->surface].child, depth + 1))
-                return 1;
-        } else if (p->material != RAY_NO_MATERIAL &&
-                   ray__material_reads_cone(&s->materials[p->material]))
+    for (i = 0; i < s->n_materials; i++)
+        if (ray__material_reads_cone(&s->materials[i]))
             return 1;
+    return 0;
+}
+
+/*
+** Can a material of s, or of a scene it instances, read a ray's cone?
+** Only then does a render's camera ray carry one: the cone's width and
+** spread, carried through every hit and bend of the ray tree (trace.c,
+** cone_at_hit, secondary_cone: lengths, a curvature, a square root and
+** divisions at each hit), are work only a material that reads them
+** needs.  Whitted's scene declares RAY_EFFECT_TEXTURE for its
+** checkerboard, which reads (u, v) alone: its cones were 6% of the
+** render's instructions (693.6M -> 650.3M, callgrind of examples/whitted
+** at 512 x 384, one sample, one thread; issue 35), for the same image,
+** byte for byte.  The materials are asked, not the geometry (a material
+** no geometry uses counts too), and a child once for a run of its
+** instances: the cost is the materials' and instances' count, not the
+** geometry's, at every call (a banded render calls often).  A child with
+** instances of its own (instance.c refuses them) counts as "may read".
+*/
+static int scene_reads_cone(const ray_scene *s)
+{
+    const ray_scene *seen = NULL;
+    size_t i;
+
+    if (materials_read_cone(s))
+        return 1;
+    for (i = 0; i < s->n_instances; i++) {
+        const ray__instance *in = &s->instances[i];
+        if (in->removed || in->child == seen)
+            continue;              /* a removed one's child may be gone */
+        if (in->child->n_instances > 0 || materials_read_cone(in->child))
+            return 1;
+        seen = in->child;
     }
     return 0;
 }
@@ -688,7 +700,7 @@ int ray_render(const ray_scene *scene, const ray_camera *camera_in,
     /* No cone where nothing reads it: the tracer carries one only for
     ** a scene that declared RAY_EFFECT_TEXTURE (trace.c). */
     spread = !opt->no_cones && (scene->effects & RAY_EFFECT_TEXTURE) &&
-                     scene_reads_cone(scene, 0)
+                     scene_reads_cone(scene)
                  ? pixel_spread(&job)
                  : 0.0;
     for (i = 0; i < n; i++) {
