@@ -753,7 +753,8 @@ RAY_API int ray_scene_add_polygon(ray_scene *scene, const ray_vec3 *v,
 ** Plus the per-vertex attributes when normals or texture
 ** coordinates are given (the caller's own when borrowed,
 ** RAY_MESH_BORROW); after its first refit (ray_scene_update_mesh) the
-** triangle BVH keeps 4 bytes a leaf more, under 1 a triangle.
+** scene keeps 4 bytes a leaf and 12 a triangle more (every live
+** triangle's vertex indices in the tree's order, which each refit reads).
 ** ray_scene_commit briefly needs about 133 bytes per triangle.
 */
 /* Element types of ray_mesh's positions (RAY_FLOAT*) and index_data

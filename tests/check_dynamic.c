@@ -141,83 +141,104 @@ static void reversed_triangles(const unsigned *idx, size_t nt, unsigned *out)
 
 /*
 ** A refit reads each slot's vertex indices from a copy in the tree's
-** order, made by the first refit (triangles.c, slot_vertices): an update
-** that brings other indices -- the triangles of a copied mesh in another
-** order, a borrowed mesh's changed in place -- must drop it, or the
-** refit would fit each slot to the triangle it had before and the leaves
-** would hold the wrong corners.  Each scene, after a refit with its old
-** indices and then one with the new, answers as one built afresh from
-** the new: the same prim_id, t and record, bit for bit.  A single mesh
-** (the copy's fast path: every slot of one mesh) and two (the slots'
-** ids read) each.
+** order, made by the first refit (triangles.c, slot_vertices), for the
+** meshes that keep their own indices: an update that brings other
+** indices -- the triangles of a mesh in another order, through an
+** unsigned array or 16-bit index_data, copied or borrowed (a borrowed
+** unsigned array changed in place is read there, never through the
+** copy) -- must drop it, or the refit would fit each slot to the
+** triangle it had before and the leaves would hold the wrong corners.
+** Each scene, after a refit with its old indices and then one with the
+** new, answers as one built afresh from the new: the same prim_id, t and
+** record, bit for bit.  The mesh alone (the copy's fast path: every slot
+** of one mesh), and beside another mesh and a single triangle (the
+** slots' ids read).
 */
 START_TEST(refit_should_follow_new_indices)
 {
     hc_mesh ball = hc_icosphere(vec(0, 0, 0), 3), cube = hc_cube(vec(4, 0, 0));
-    unsigned *rev = malloc(3 * ball.nt * sizeof *rev), *borrowed;
+    size_t n = 3 * ball.nt, i;
+    unsigned *rev = malloc(n * sizeof *rev), *idx = malloc(n * sizeof *idx);
+    uint16_t *idx16 = malloc(n * sizeof *idx16);
     ray_vec3 *v = malloc(ball.nv * sizeof *v);
     rng g = {31};
-    int meshes, k;
+    int variant, k;
 
     reversed_triangles(ball.idx, ball.nt, rev);
-    for (meshes = 1; meshes <= 2; meshes++) {
-        int borrow;
-        for (borrow = 0; borrow <= 1; borrow++) {
-            ray_mesh m = hc_ray_mesh(&ball), mc = hc_ray_mesh(&cube), f;
-            ray_scene *s, *fresh;
-            unsigned id;
-            int hits = 0;
-            borrowed = malloc(3 * ball.nt * sizeof *borrowed);
-            memcpy(borrowed, ball.idx, 3 * ball.nt * sizeof *borrowed);
-            memcpy(v, ball.v, ball.nv * sizeof *v);
-            m.vertices = v;
-            m.indices = borrowed;
-            m.flags = borrow ? RAY_MESH_BORROW : 0;
-            ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-            ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id),
-                             RAY_OK);
-            if (meshes == 2)
-                ck_assert_int_eq(ray_scene_add_mesh(s, &mc, RAY_NO_MATERIAL,
-                                                    NULL), RAY_OK);
-            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-            /* A refit with the indices as they were: the copy made. */
-            wobble(v, ball.nv, &g, 0.05);
-            ck_assert_int_eq(ray_scene_update_mesh(s, id, borrow ? NULL : &m),
-                             RAY_OK);
-            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-            /* The same triangles in the opposite order, moved again. */
-            wobble(v, ball.nv, &g, 0.05);
-            if (borrow)
-                memcpy(borrowed, rev, 3 * ball.nt * sizeof *borrowed);
-            else
-                m.indices = rev;
-            ck_assert_int_eq(ray_scene_update_mesh(s, id, borrow ? NULL : &m),
-                             RAY_OK);
-            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-            f = hc_ray_mesh(&ball);
-            f.vertices = v;
-            f.indices = rev;
-            ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
-            ck_assert_int_eq(ray_scene_add_mesh(fresh, &f, RAY_NO_MATERIAL,
+    for (variant = 0; variant < 8; variant++) {
+        int others = variant & 1, borrow = variant >> 1 & 1,
+            narrow = variant >> 2 & 1;
+        ray_mesh m = hc_ray_mesh(&ball), mc = hc_ray_mesh(&cube), f;
+        ray_scene *s, *fresh;
+        unsigned id;
+        int hits = 0;
+        memcpy(idx, ball.idx, n * sizeof *idx);
+        for (i = 0; i < n; i++)
+            idx16[i] = (uint16_t)ball.idx[i];
+        memcpy(v, ball.v, ball.nv * sizeof *v);
+        m.vertices = v;
+        m.indices = narrow ? NULL : idx;
+        m.index_data = narrow ? idx16 : NULL;
+        m.index_type = RAY_UINT16;
+        m.flags = borrow ? RAY_MESH_BORROW : 0;
+        ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id),
+                         RAY_OK);
+        if (others) {
+            ck_assert_int_eq(ray_scene_add_mesh(s, &mc, RAY_NO_MATERIAL,
                                                 NULL), RAY_OK);
-            if (meshes == 2)
-                ck_assert_int_eq(ray_scene_add_mesh(fresh, &mc,
+            ck_assert_int_eq(ray_scene_add_triangle(s, vec(-4, -1, 0),
+                                                    vec(-2, -1, 0),
+                                                    vec(-3, 1, 0),
                                                     RAY_NO_MATERIAL, NULL),
-                                 RAY_OK);
-            ck_assert_int_eq(ray_scene_commit(fresh), RAY_OK);
-            for (k = 0; k < 2000; k++) {
-                ray_ray r = random_ray(&g);
-                hits += same_answer(s, fresh, &r);
-            }
-            ck_assert_int_gt(hits, 300);
-            ray_scene_free(fresh);
-            ray_scene_free(s);
-            free(borrowed);
+                             RAY_OK);
         }
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        /* Refits with the indices as they were: the copy made, kept. */
+        for (k = 0; k < 2; k++) {
+            wobble(v, ball.nv, &g, 0.05);
+            ck_assert_int_eq(ray_scene_update_mesh(s, id, borrow ? NULL : &m),
+                             RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        }
+        /* The same triangles in the opposite order, moved again: in
+        ** place where borrowed, in the update's arrays where copied. */
+        wobble(v, ball.nv, &g, 0.05);
+        memcpy(idx, rev, n * sizeof *idx);
+        for (i = 0; i < n; i++)
+            idx16[i] = (uint16_t)rev[i];
+        ck_assert_int_eq(ray_scene_update_mesh(s, id, borrow ? NULL : &m),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        f = hc_ray_mesh(&ball);
+        f.vertices = v;
+        f.indices = rev;
+        ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(fresh, &f, RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+        if (others) {
+            ck_assert_int_eq(ray_scene_add_mesh(fresh, &mc, RAY_NO_MATERIAL,
+                                                NULL), RAY_OK);
+            ck_assert_int_eq(ray_scene_add_triangle(fresh, vec(-4, -1, 0),
+                                                    vec(-2, -1, 0),
+                                                    vec(-3, 1, 0),
+                                                    RAY_NO_MATERIAL, NULL),
+                             RAY_OK);
+        }
+        ck_assert_int_eq(ray_scene_commit(fresh), RAY_OK);
+        for (k = 0; k < 2000; k++) {
+            ray_ray r = random_ray(&g);
+            hits += same_answer(s, fresh, &r);
+        }
+        ck_assert_int_gt(hits, 300);
+        ray_scene_free(fresh);
+        ray_scene_free(s);
     }
     hc_mesh_free(&ball);
     hc_mesh_free(&cube);
     free(rev);
+    free(idx);
+    free(idx16);
     free(v);
 }
 END_TEST

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "tests.h"
+#include "hardcases.h"
 
 START_TEST(scene_should_assign_ids_in_order)
 {
@@ -262,6 +263,71 @@ START_TEST(scene_should_survive_every_allocation_failure)
 }
 END_TEST
 
+/*
+** A refit whose allocations fail, each in turn (the list of leaves and
+** the slots' vertex indices it makes once a tree, accel/refit.c and
+** scene/triangles.c): the commit still succeeds, reading through the
+** meshes instead, and the scene answers as one built afresh from the
+** moved vertices, bit for bit; nothing leaks.  Two refits after each
+** failure, so that the second makes what the first could not.
+*/
+START_TEST(refit_should_survive_every_allocation_failure)
+{
+    hc_mesh ball = hc_icosphere(vec(0, 0, 0), 3);
+    ray_vec3 *v = malloc(ball.nv * sizeof *v);
+    long n;
+    int done = 0;
+
+    for (n = 1; n < 100 && !done; n++) {
+        tracked t = {0, 0, 0};
+        ray_mesh m = hc_ray_mesh(&ball);
+        ray_scene *s = NULL, *fresh = NULL;
+        rng g = {41};
+        unsigned id;
+        int round, k;
+
+        memcpy(v, ball.v, ball.nv * sizeof *v);
+        m.vertices = v;
+        ck_assert_int_eq(ray_scene_new(&s, tracked_alloc, &t), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(s, &m, RAY_NO_MATERIAL, &id),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        t.fail_at = t.calls + n;
+        for (round = 0; round < 2; round++) {
+            size_t i;
+            for (i = 0; i < ball.nv; i++)
+                v[i] = vadd(v[i], vscale(rng_dir(&g), 0.02));
+            ck_assert_int_eq(ray_scene_update_mesh(s, id, &m), RAY_OK);
+            ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        }
+        done = t.calls < t.fail_at;      /* no allocation failed: the end */
+        ck_assert_int_eq(ray_scene_new(&fresh, NULL, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_mesh(fresh, &m, RAY_NO_MATERIAL, NULL),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(fresh), RAY_OK);
+        for (k = 0; k < 300; k++) {
+            ray_vec3 to = vscale(rng_dir(&g), 0.5);
+            ray_ray r = ray_from(vscale(rng_dir(&g), 5), vec(0, 0, 0));
+            ray_hit a, b;
+            int ha, hb;
+            r.dir = vsub(to, r.org);
+            ha = ray_intersect(s, &r, &a, NULL);
+            hb = ray_intersect(fresh, &r, &b, NULL);
+            ck_assert_int_eq(ha, hb);
+            if (ha == 1)
+                ck_assert_msg(hit_same(&a, &b), "fail_at %ld, ray %d", n, k);
+        }
+        ray_scene_free(fresh);
+        ray_scene_free(s);
+        ck_assert_msg(t.outstanding == 0, "fail_at %ld: %lld bytes leaked",
+                      n, t.outstanding);
+    }
+    ck_assert(done);
+    hc_mesh_free(&ball);
+    free(v);
+}
+END_TEST
+
 START_TEST(intersect_should_find_nearest_and_any)
 {
     ray_scene *s;
@@ -428,6 +494,7 @@ Suite *scene_suite(void)
     tcase_add_test(tc, scene_should_reject_bad_geometry_atomically);
     tcase_add_test(tc, scene_changes_after_commit_should_wait_for_the_next_commit);
     tcase_add_test(tc, scene_should_survive_every_allocation_failure);
+    tcase_add_test(tc, refit_should_survive_every_allocation_failure);
     tcase_add_test(q, intersect_should_find_nearest_and_any);
     tcase_add_test(q, queries_from_several_threads_should_agree_with_one);
     suite_add_tcase(s, tc);

@@ -470,16 +470,27 @@ static int mesh_uv_scale(const ray_scene *s, const ray_mesh *m,
 ** of the positions alone hands the same indices every frame, and their
 ** check was 40% of ray_scene_update_mesh's instructions where a memcmp
 ** costs about 2% of it (callgrind, bench/game's frame, issue 36).
-** Borrowed indices (the caller's, which it may have changed in place)
-** are always checked.
+** 16- and 32-bit index_data (a game's own format) compared as their
+** values, which the mesh keeps as unsigned.  Borrowed unsigned indices
+** (the caller's array itself, which it may have changed in place) are
+** always checked.
 */
 static int indices_kept(const ray__mesh *cur, const ray_mesh *m)
 {
-    return cur->own_indices && m->indices != NULL &&
-           m->vertex_count == cur->n_vertices &&
-           m->triangle_count == cur->n_tris &&
-           memcmp(cur->indices, m->indices,
-                  3 * m->triangle_count * sizeof *m->indices) == 0;
+    size_t i, n = 3 * m->triangle_count;
+
+    if (!cur->own_indices || m->vertex_count != cur->n_vertices ||
+        m->triangle_count != cur->n_tris)
+        return 0;
+    if (m->indices != NULL)
+        return memcmp(cur->indices, m->indices, n * sizeof *m->indices) == 0;
+    if (m->index_data == NULL ||
+        (m->index_type != RAY_UINT16 && m->index_type != RAY_UINT32))
+        return 0;                   /* refused by the checks after */
+    for (i = 0; i < n; i++)
+        if (mesh_index(m, i) != cur->indices[i])
+            return 0;
+    return 1;
 }
 
 /*
@@ -617,7 +628,7 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
     ray__mesh shading;
     ray_mesh again;
     ray__prim *p;
-    int kept, rc = ray__begin(s, "ray_scene_update_mesh");
+    int kept, owned, rc = ray__begin(s, "ray_scene_update_mesh");
 
     if (rc != RAY_OK)
         return rc;
@@ -638,21 +649,25 @@ int ray_scene_update_mesh(ray_scene *s, unsigned geom_id, const ray_mesh *m)
                          "%zu (an update keeps the count: remove it and add "
                          "another)", m->triangle_count, p->count);
     kept = indices_kept(&s->meshes[p->mesh], m);
+    owned = s->meshes[p->mesh].own_indices;
     if ((rc = mesh_check(s, m, kept)) != RAY_OK)
         return rc;
-    if (!kept)                /* other indices: the slots' copy is stale */
-        ray__slot_vertices_drop(s);
-    if (mesh_rewritable(&s->meshes[p->mesh], m)) {
+    if (mesh_rewritable(&s->meshes[p->mesh], m))
         mesh_rewrite(&s->meshes[p->mesh], m, kept);
-        ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
-        return RAY_OK;
-    }
-    if (mesh_keep(s, m, &shading) != RAY_OK)
+    else if (mesh_keep(s, m, &shading) != RAY_OK)
         return ray__fail(s, RAY_ENOMEM, "out of memory (copying the "
                          "positions, indices, normals or texture "
                          "coordinates of %zu vertices)", m->vertex_count);
-    ray__mesh_release(s, &s->meshes[p->mesh]);
-    s->meshes[p->mesh] = shading;
+    else {
+        ray__mesh_release(s, &s->meshes[p->mesh]);
+        s->meshes[p->mesh] = shading;
+    }
+    /* Other indices than those kept, in a mesh that keeps its own (or
+    ** kept them before): the refit's copy of them is stale.  A mesh that
+    ** reads the caller's array itself is never read through the copy
+    ** (slots.h), so its updates leave the copy alone. */
+    if (!kept && (owned || s->meshes[p->mesh].own_indices))
+        ray__slot_vertices_drop(s);
     ray__touch(s, p->enabled ? RAY__DIRTY_REFIT : 0u);
     return RAY_OK;
 }

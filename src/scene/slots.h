@@ -15,10 +15,11 @@
 /*
 ** s->slot_vertices: 3 a live slot, a mesh slot's vertex indices in slot
 ** order (other slots' 0), made by the first refit after a build
-** (triangles.c) and kept while the meshes' indices are; s->slot_geom,
-** beside it: the mesh every live slot is of, else RAY_INVALID_ID.
-** Dropped where the slots or a mesh's indices change; the next refit
-** makes them again.
+** (triangles.c) and kept while the meshes' indices are, read only for
+** meshes that keep their own indices; s->slot_geom, beside it: the mesh
+** every live slot is of, where it keeps its own, else RAY_INVALID_ID.
+** Dropped where the slots or such a mesh's indices change; the next
+** refit makes them again.
 */
 static inline void ray__slot_vertices_drop(ray_scene *s)
 {
@@ -36,8 +37,10 @@ static inline void ray__slot_vertices_drop(ray_scene *s)
 ** other).  *m caches the mesh of geometry *m_geom, so that a run of one
 ** mesh's triangles (the usual case) looks its mesh up once.  A mesh
 ** triangle's vertex indices come from s->slot_vertices where a refit
-** made them (in slot order, so read as they lie), else from its mesh's
-** indices (in the mesh's order: a cache miss a slot in a large mesh).
+** made them (in slot order, so read as they lie) where the mesh keeps
+** its own indices, else from its mesh's indices (in the mesh's order: a
+** cache miss a slot in a large mesh; a borrowed array of the caller's
+** may change at every update, so it is always read there).
 */
 RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
                                          const ray__mesh **m,
@@ -71,8 +74,9 @@ RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
         *m = &s->meshes[prim->mesh];
         *m_geom = id->geom_id;
     }
-    k = s->slot_vertices != NULL ? s->slot_vertices + 3 * slot
-                                 : (*m)->indices + 3 * (size_t)id->prim_id;
+    k = s->slot_vertices != NULL && (*m)->own_indices
+            ? s->slot_vertices + 3 * slot
+            : (*m)->indices + 3 * (size_t)id->prim_id;
     p[0] = &(*m)->pos[k[0]];
     p[1] = &(*m)->pos[k[1]];
     p[2] = &(*m)->pos[k[2]];
@@ -181,7 +185,7 @@ RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
 {
     const ray__tri_id *id;
 
-    if (s->slot_vertices != NULL) {
+    if (s->slot_vertices != NULL && m->own_indices) {
         if (slot + PREFETCH_AHEAD < s->n_live_tris &&
             (s->slot_geom == m_geom ||
              s->tri_ids[slot + PREFETCH_AHEAD].geom_id == m_geom)) {

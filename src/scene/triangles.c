@@ -457,8 +457,10 @@ static void slot_vertices_make(ray_scene *s)
         const ray__tri_id *id = &s->tri_ids[i];
         if (id->geom_id != m_geom) {
             const ray__prim *p = &s->prims[id->geom_id];
-            single = i == 0 && p->kind == RAY__KIND_MESH ? id->geom_id
-                                                           : RAY_INVALID_ID;
+            single = i == 0 && p->kind == RAY__KIND_MESH &&
+                             s->meshes[p->mesh].own_indices
+                         ? id->geom_id
+                         : RAY_INVALID_ID;
             if (p->kind != RAY__KIND_MESH) {
                 v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = 0;   /* unread */
                 continue;
