@@ -247,6 +247,73 @@ START_TEST(glass_should_absorb_along_the_path)
 END_TEST
 
 /*
+** A ray may have any finite, non-zero direction, and the built-in
+** materials must shade it as they shade the unit one: a direction of
+** 1e160 or 1e-160 has |d|^2 past DBL_MAX or below DBL_MIN, which made
+** glass's distance t |d| and Phong's view direction Inf or NaN (a fuzzer
+** found the NaN colour).  Glass absorbs along the path through a unit
+** sphere (exp(-2), exp(-1), 1 as above); Phong, lit by a point light
+** beside the eye, must give the unit ray's colour.  Tolerance 1e-12
+** relative: the hit point is t d, rounded differently for each scale,
+** and every colour term is a smooth function of it.
+*/
+static ray_rgb phong_lit_sphere(ray_ray r)
+{
+    ray_phong_params pp = {{0.6, 0.5, 0.4}, {0.3, 0.3, 0.3}, 20, 0,
+                           {0.1, 0.1, 0.1}, {NULL, NULL}};
+    ray_material m = ray_material_phong(&pp);
+    ray_light l = {0};
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_rgb c;
+    unsigned mat;
+
+    l.position = vec(0.5, 0.5, 5);
+    l.intensity = rgb(20, 20, 20);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), 1, mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+    return c;
+}
+
+START_TEST(materials_should_shade_any_finite_direction)
+{
+    static const double scales[] = {1e-300, 1e-170, 1e-160, 1e160, 1e170,
+                                    1e300};
+    ray_glass_params gp = {1.0, {1.0, 0.5, 0.0}};
+    ray_limits lim = {.max_depth = RAY_DEFAULT_MAX_DEPTH, .min_weight = RAY_DEFAULT_MIN_WEIGHT,
+                      .max_fanout = 2};
+    ray_vec3 d = vec(0.02, 0.04, -1);  /* hits at about (0.08, 0.16, 0.98) */
+    ray_rgb unit_c = phong_lit_sphere(ray_from(vec(0, 0, 5), d)), c;
+    size_t i;
+
+    /* Hit and lit (the background and ambient are black): 0.73 diffuse,
+    ** 0.16 highlight, which a NaN or zero view direction loses. */
+    ck_assert(unit_c.r > 0.5);
+    for (i = 0; i < sizeof scales / sizeof scales[0]; i++) {
+        double k = scales[i];
+        ray_vec3 dk = vec(d.x * k, d.y * k, d.z * k);
+
+        trace_unit_sphere(ray_material_glass(&gp), &lim,
+                          ray_from(vec(0, 0, 5), vec(0, 0, -k)), &c);
+        ck_assert_double_eq_tol(c.r, exp(-2.0), 1e-12);
+        ck_assert_double_eq_tol(c.g, exp(-1.0), 1e-12);
+        ck_assert_double_eq_tol(c.b, 1.0, 1e-12);
+        c = phong_lit_sphere(ray_from(vec(0, 0, 5), dk));
+        ck_assert_double_eq_tol(c.r, unit_c.r, 1e-12 * unit_c.r);
+        ck_assert_double_eq_tol(c.g, unit_c.g, 1e-12 * unit_c.g);
+        ck_assert_double_eq_tol(c.b, unit_c.b, 1e-12 * unit_c.b);
+    }
+}
+END_TEST
+
+/*
 ** The furnace-like scene of robustness.md section 8: the camera inside a
 ** diffuse sphere (Kd = 0.5) with a point light of intensity 1 at its
 ** centre.  Every point sees the light at distance 1 along its normal, so
@@ -602,6 +669,7 @@ Suite *trace_suite(void)
     tcase_add_test(opt, glass_should_reflect_totally_inside);
     tcase_add_test(opt, glass_should_refract_from_inside);
     tcase_add_test(opt, glass_should_absorb_along_the_path);
+    tcase_add_test(opt, materials_should_shade_any_finite_direction);
     tcase_add_test(opt, shadow_rays_should_not_hit_their_own_surface);
     tcase_add_test(opt, undeclared_shadows_should_cast_no_rays);
     tcase_add_test(opt, background_should_come_from_colour_or_callback);

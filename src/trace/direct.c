@@ -4,6 +4,8 @@
 ** would otherwise repeat (sample each light, weigh it by the material's
 ** BRDF, ask for a shadow ray only when the sample can contribute).
 */
+#include <float.h>
+
 #include "trace/trace.h"
 
 /* Any channel strictly positive: a factor that can add light.  NaN
@@ -18,9 +20,15 @@ static int rgb_any_positive(ray_rgb c)
 ** moving a material onto ray_shade_direct keeps its bits. */
 static ray_vec3 toward_eye(ray_vec3 d)
 {
-    double len = sqrt(v3_dot(d, d));
+    double len2 = v3_dot(d, d), len;
     ray_vec3 e;
 
+    /* |d|^2 overflows past |d| ~ 1.3e154 and underflows below ~1.5e-154,
+    ** though a ray may have any finite, non-zero direction: there (only
+    ** there, so ordinary bits stay) the overflow-safe v3_normalize. */
+    if (!(len2 < HUGE_VAL && len2 >= DBL_MIN) && v3_normalize(d, &e))
+        return v3_scale(e, -1.0);
+    len = sqrt(len2);
     e.x = -(d.x / len);
     e.y = -(d.y / len);
     e.z = -(d.z / len);

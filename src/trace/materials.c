@@ -5,6 +5,7 @@
 ** one internal function, at the end, answers which of them can read a
 ** ray's cone (ray__material_reads_cone, trace.h).
 */
+#include <float.h>
 #include <math.h>
 
 #include "trace/trace.h"
@@ -13,14 +14,45 @@
 #define rgb ray_rgb_make
 #define dot ray_vec3_dot
 
+/*
+** |a|^2 overflows for |a| past about 1.3e154 and underflows to 0 or a
+** denormal below about 1.5e-154, though ray_trace takes any finite,
+** non-zero direction.  There (and only there: an ordinary direction
+** keeps its bits) a is first divided by its largest |component|, which
+** brings |a| into [1, sqrt 3]: v3_normalize's trick (src/core/vec.h).
+** Returns that divisor, 1 for an ordinary a, and a divided by it in *b.
+*/
+static double scaled(ray_vec3 a, ray_vec3 *b)
+{
+    double len2 = dot(a, a), m;
+
+    *b = a;
+    if (len2 < HUGE_VAL && len2 >= DBL_MIN)
+        return 1.0;
+    m = fabs(a.x) > fabs(a.y) ? fabs(a.x) : fabs(a.y);
+    m = m > fabs(a.z) ? m : fabs(a.z);
+    *b = ray_vec3_make(a.x / m, a.y / m, a.z / m);
+    return m;
+}
+
 static ray_vec3 unit(ray_vec3 a)
 {
-    double len = sqrt(dot(a, a));
-    ray_vec3 u;
-    u.x = a.x / len;
-    u.y = a.y / len;
-    u.z = a.z / len;
-    return u;
+    ray_vec3 b;
+    double len;
+
+    scaled(a, &b);
+    len = sqrt(dot(b, b));
+    return ray_vec3_make(b.x / len, b.y / len, b.z / len);
+}
+
+/* t |dir|, the distance a ray went to its hit at t, without forming
+** |dir|^2 where it overflows or underflows (scaled). */
+static double travelled(double t, ray_vec3 dir)
+{
+    ray_vec3 b;
+    double m = scaled(dir, &b);
+
+    return t * m * sqrt(dot(b, b));
 }
 
 /* The parameter blocks are only read, but ray_material.ud is a plain
@@ -266,7 +298,7 @@ static void glass_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
         ray_trace(ctx, &r, RAY_KIND_REFRACTION, 1 - F, &c) == RAY_OK)
         add_product(out, rgb(1 - F, 1 - F, 1 - F), c);
     if (!a->entering) {
-        double dist = a->hit->t * sqrt(dot(a->ray->dir, a->ray->dir));
+        double dist = travelled(a->hit->t, a->ray->dir);
         out->r *= exp(-p->absorption.r * dist);
         out->g *= exp(-p->absorption.g * dist);
         out->b *= exp(-p->absorption.b * dist);
@@ -299,7 +331,7 @@ static int glass_scatter(void *ud, ray_ctx *ctx, const ray_shade_args *a,
         *dir = t;
     *weight = rgb(1, 1, 1);
     if (!a->entering) {
-        double dist = a->hit->t * sqrt(dot(a->ray->dir, a->ray->dir));
+        double dist = travelled(a->hit->t, a->ray->dir);
         *weight = rgb(exp(-p->absorption.r * dist),
                       exp(-p->absorption.g * dist),
                       exp(-p->absorption.b * dist));
