@@ -598,6 +598,136 @@ START_TEST(plain_queries_should_answer_as_the_general_ones)
 }
 END_TEST
 
+/* A ray aimed at a random point near (or on) the spheres and plane of
+** few_prims_scene, from outside, inside, or on one of them. */
+static ray_ray few_prims_ray(rng *g, int j)
+{
+    ray_vec3 to = rng_point(g, -3, 3);
+    ray_ray r = ray_from(rng_point(g, -12, 12), vec(0, 0, 0));
+
+    if (j % 5 == 1)
+        r.org = vec(rng_range(g, -0.5, 0.5), 1, rng_range(g, -0.5, 0.5));
+    else if (j % 5 == 2)
+        r.org = vec(rng_range(g, -5, 5), 0, rng_range(g, -5, 5));
+    r.dir = vsub(to, r.org);
+    if (j % 7 == 3)
+        r.tmin = -rng_range(g, 0, 2);
+    else if (j % 7 == 4)
+        r.tmax = rng_range(g, 0.2, 1.5);
+    return r;
+}
+
+/* Planes and spheres, and (far) a triangle no ray here reaches, which
+** makes it a scene the lean path does not take. */
+static ray_scene *few_prims_scene(int far_triangle)
+{
+    unsigned mat;
+    ray_scene *s = new_scene(&mat);
+
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat,
+                                         NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -4), vec(0.1, 0, 1),
+                                         mat, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 1, mat, NULL),
+                     RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0.8, 0.6), 0.8, mat,
+                                          NULL), RAY_OK);
+    /* Touching the first: rays through the point they share tie. */
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 3, 0), 1, mat, NULL),
+                     RAY_OK);
+    if (far_triangle)
+        ck_assert_int_eq(ray_scene_add_triangle(s, vec(1e6, 0, 0),
+                                                vec(1e6 + 1, 0, 0),
+                                                vec(1e6, 1, 0), mat, NULL),
+                         RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    return s;
+}
+
+/*
+** A scene of planes and a few spheres alone takes a lean query path
+** (traverse.h, query_nearest_few and query_any_few, with counts or
+** without); the same scene with a far triangle takes the general one.
+** Both answer the same, bit for bit, nearest and any hit, with (u, v) or
+** without (the tracer's uv 0), and count the same tests of each kind --
+** in both copies.
+*/
+START_TEST(few_prims_should_answer_as_the_general_query)
+{
+    rng g = {53};
+    ray_scene *lean = few_prims_scene(0), *general = few_prims_scene(1);
+    int j, uv, hits = 0;
+
+    for (j = 0; j < 6000; j++) {
+        ray_ray r = few_prims_ray(&g, j);
+        for (uv = 0; uv <= 1; uv++) {
+            int copy;
+            for (copy = 0; copy < 2; copy++) {
+                ray_stats sa, sb;
+                ray_hit a, b;
+                int ha, hb, oa, ob, k;
+                memset(&a, 0xab, sizeof a);
+                memset(&b, 0xab, sizeof b);
+                memset(&sa, 0, sizeof sa);
+                memset(&sb, 0, sizeof sb);
+                if (copy == 0) {
+                    ha = ray__intersect_gated_base(lean, &r, NULL, uv, &a, &sa);
+                    /* A nearest hit tests every plane and sphere: two and
+                    ** three. */
+                    ck_assert(sa.tests_by_kind[RAY_PRIM_PLANE] == 2 &&
+                              sa.tests_by_kind[RAY_PRIM_SPHERE] == 3 &&
+                              sa.tests == 5);
+                    hb = ray__intersect_gated_base(general, &r, NULL, uv, &b,
+                                                   &sb);
+                    oa = ray__occluded_gated_base(lean, &r, NULL, &sa);
+                    ob = ray__occluded_gated_base(general, &r, NULL, &sb);
+                } else {
+#if RAY__AVX2_COPY
+                    if (!ray__cpu_has_avx2())
+                        continue;
+                    ha = ray__intersect_gated_avx2(lean, &r, NULL, uv, &a, &sa);
+                    hb = ray__intersect_gated_avx2(general, &r, NULL, uv, &b,
+                                                   &sb);
+                    oa = ray__occluded_gated_avx2(lean, &r, NULL, &sa);
+                    ob = ray__occluded_gated_avx2(general, &r, NULL, &sb);
+#else
+                    continue;
+#endif
+                }
+                ck_assert_int_eq(ha, hb);
+                ck_assert_int_eq(oa, ob);
+                /* A hit the same, field for field; a miss writes nothing
+                ** (both still the fill). */
+                ck_assert_msg(ha == 1 ? hit_same(&a, &b)
+                                      : memcmp(&a, &b, sizeof a) == 0,
+                              "ray %d", j);
+                ck_assert(sb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0);
+                for (k = 0; k < RAY_PRIM_KINDS; k++)
+                    ck_assert_msg(sa.tests_by_kind[k] == sb.tests_by_kind[k],
+                                  "ray %d kind %d", j, k);
+                ck_assert(sa.tests == sb.tests);
+                hits += ha;
+            }
+        }
+        /* Without counts (ray_intersect, ray_occluded) too. */
+        {
+            ray_hit a, b;
+            memset(&a, 0xab, sizeof a);
+            memset(&b, 0xab, sizeof b);
+            int ha = ray_intersect(lean, &r, &a, NULL);
+            ck_assert_int_eq(ha, ray_intersect(general, &r, &b, NULL));
+            ck_assert(ha == 1 ? hit_same(&a, &b)
+                              : memcmp(&a, &b, sizeof a) == 0);
+            ck_assert_int_eq(ray_occluded(lean, &r, NULL),
+                             ray_occluded(general, &r, NULL));
+        }
+    }
+    ck_assert_int_gt(hits, 6000);
+    ray_scene_free(lean);
+    ray_scene_free(general);
+}
+END_TEST
+
 /*
 ** Which rays a query takes: the AVX copy tests a ray's usability in two
 ** registers (slab.h's trav_usable), the baseline by ray__ray_usable.
@@ -2132,6 +2262,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, box_early_out_should_keep_every_hit);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, instances_of_triangles_should_answer_as_the_general_query);
+    tcase_add_test(eq, few_prims_should_answer_as_the_general_query);
     tcase_add_test(eq, bvh_should_keep_the_hard_cases_of_review);
     tcase_add_test(eq, floats_should_bracket_doubles);
     tcase_add_test(mesh, mesh_should_reject_bad_input);

@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** plain.h -- part of the query template (traverse.h): the plain queries
-** (no options, nothing gated, no counts) of the two kinds of scene that
-** skip the general query's set-up: a scene of triangles alone, and a
-** scene of instances alone, each of a child of triangles alone.  Each is
-** its set-up and the scene's box test, then a walk apart (not inlined).
-** ray_intersect and ray_occluded take them first (intersect.c), and the
-** general query hands such scenes to them (traverse.h).
+** plain.h -- part of the query template (traverse.h): the short paths
+** that skip the general query's set-up.  The plain queries (no options,
+** nothing gated, no counts) of a scene of triangles alone and of a scene
+** of instances alone, each of a child of triangles alone: each is its
+** set-up and the scene's box test, then a walk apart (not inlined).  And
+** the ungated queries, counted or not, of a scene of planes and a few
+** spheres alone.  ray_intersect and ray_occluded take the plain ones
+** first (intersect.c), and the general query hands such scenes to them
+** (traverse.h).
 */
 #ifndef RAY_PLAIN_H
 #define RAY_PLAIN_H
@@ -149,6 +151,91 @@ static int query_any_instances(const ray_scene *s, const ray_ray *r)
     if (!trav_usable(r) || !trav_setup(&tr, r, &s->lo, &s->hi))
         return 0;
     return any_instances_walk(s, &tr, r);
+}
+
+/*
+** A scene of planes and a few spheres alone (no triangles, no other
+** kind, so no instances: Whitted's), asked without a gate, counts or
+** not: what nearest_core and any_core do for such a scene, step for step
+** -- the planes one after another, then the spheres (few_spheres_along),
+** the record of the nearest made once -- without what only other scenes
+** need: a query's counts zeroed, gathered and added up kind by kind
+** (add_counts), the triangles' and the gate's checks, and the record
+** copied twice on its way out.  The tests are counted straight into *st,
+** the same sums.  The same functions on the same numbers, so the same
+** answers and counts (tests/check_bvh.c compares them with the general
+** query's).
+*/
+static int few_prims_only(const ray_scene *s)
+{
+    return s->few_spheres && s->tri_bvh.n_wide == 0;
+}
+
+static void few_counts(ray_stats *st, unsigned long long planes,
+                       unsigned long long spheres)
+{
+    if (st == NULL)
+        return;
+    st->tests_by_kind[RAY_PRIM_PLANE] += planes;
+    st->tests_by_kind[RAY_PRIM_SPHERE] += spheres;
+    st->tests += planes + spheres;
+}
+
+static int query_nearest_few(const ray_scene *s, const ray_ray *r, int uv,
+                             ray_hit *hit, ray_stats *st)
+{
+    prim_best best;
+    ray_ray rr;
+    unsigned tested;
+    size_t i;
+    int found = 0;
+
+    if (!trav_usable(r))
+        return 0;
+    ray_copy(&rr, r);
+    best.deferred = RAY_INVALID_ID;
+    for (i = 0; i < s->n_planes; i++) {
+        ray_hit h;
+        int k = ray__plane_candidate(s, s->planes[i], &rr, &h);
+        if (k) {
+            rr.tmax = h.t;
+            prim_keep(&best, s->planes[i], k, &h);
+            found = 1;
+        }
+    }
+    if (few_spheres_along(s, &rr, &best, 0, uv, &tested))
+        found = 1;
+    few_counts(st, s->n_planes, tested);
+    /* prim_fill_best's fill: no instance here, so no child. */
+    if (found && best.deferred != RAY_INVALID_ID &&
+        !ray__prim_fill(s, best.deferred, &rr, best.h.t, uv, &best.h))
+        found = 0;
+    if (found)
+        ray__hit_store(hit, &best.h);
+    return found;
+}
+
+static int query_any_few(const ray_scene *s, const ray_ray *r,
+                         ray_stats *st)
+{
+    ray_ray rr;
+    unsigned tested;
+    size_t i;
+    int hit;
+
+    if (!trav_usable(r))
+        return 0;
+    ray_copy(&rr, r);
+    for (i = 0; i < s->n_planes; i++) {
+        ray_hit h;
+        if (ray__plane_candidate(s, s->planes[i], &rr, &h)) {
+            few_counts(st, i + 1, 0);
+            return 1;
+        }
+    }
+    hit = few_spheres_along(s, &rr, NULL, 1, 1, &tested);
+    few_counts(st, s->n_planes, tested);
+    return hit;
 }
 
 #endif /* RAY_PLAIN_H */

@@ -437,20 +437,60 @@ static int child_tris_nearest(const ray_scene *child, ray_ray *r,
     return walk_tris(child, &tr, r, tb, 0, qc);
 }
 
+/*
+** The few spheres of s (s->few_spheres, set at commit, where commit.c
+** says why and what it means for ties) along r, ungated: the ray's part
+** of the test taken once (ray__sphere_ray_init), then each sphere's
+** candidate test without the kinds' dispatch -- the same functions on
+** the same numbers as the dispatch's, so the same answers, at about half
+** the instructions a sphere (callgrind, the Whitted render, issue 35).
+** 1 if one is hit: r->tmax shrunk to it and the nearest kept in *best
+** (NULL: any hit, the first).  *tested: the spheres tested, counted once
+** here rather than one by one (which was 15M instructions of the Whitted
+** render): all of them, or at an any hit the i + 1 so far.
+*/
+static RAY__INLINE int few_spheres_along(const ray_scene *s, ray_ray *r,
+                                         void *best, int any, int uv,
+                                         unsigned *tested)
+{
+    ray__sphere_ray sr;
+    unsigned i;
+    int found = 0;
+
+    *tested = 0;
+    if (s->prim_bvh.n_items == 0 || !ray__sphere_ray_init(r, &sr))
+        return 0;                  /* cannot happen: r is usable */
+    for (i = 0; i < s->prim_bvh.n_items; i++) {
+        unsigned idx = s->prim_bvh.items[i];
+        const ray__prim *p = &s->prims[idx];
+        ray_hit h;
+        int k;
+        if (ray__sphere_surely_missed(v3_sub(r->org, p->a), sr.d, sr.a,
+                                      p->radius))
+            continue;              /* as the test would, which then skips it */
+        k = ray__sphere_candidate(s, idx, &sr, r, &h, uv);
+        if (!k)
+            continue;
+        r->tmax = h.t;
+        if (any) {
+            *tested = i + 1;
+            return 1;
+        }
+        prim_keep(best, idx, k, &h);
+        found = 1;
+    }
+    *tested = i;                   /* all of them */
+    return found;
+}
+
 /* The bounded primitives of s along r, by traversal (the traversal data
-** set up first if *ready is 0) or one after another (s->few_spheres, set
-** at commit, where commit.c says why and what it means for ties).
-** Ungated, the spheres' test takes the ray's part once
-** (ray__sphere_ray_init) and goes to each sphere's candidate test without
-** the kinds' dispatch: the same functions on the same numbers, so the
-** same answers, at about half the instructions a sphere (callgrind, the
-** Whitted render, issue 35). */
+** set up first if *ready is 0) or one after another (few_spheres_along,
+** ungated). */
 static RAY__INLINE int prims_along(const ray_scene *s, trav *tr, int *ready,
                               ray_ray *r, void *best, int any,
                               ray__counts *qc)
 {
-    ray__sphere_ray sr;
-    unsigned i;
+    unsigned i, tested;
     int found = 0;
 
     if (!s->few_spheres) {
@@ -468,32 +508,9 @@ static RAY__INLINE int prims_along(const ray_scene *s, trav *tr, int *ready,
             }
         return found;
     }
-    if (s->prim_bvh.n_items == 0 || !ray__sphere_ray_init(r, &sr))
-        return 0;                  /* cannot happen: r is usable */
-    /* The spheres tested are counted once, after the loop (or at an any
-    ** hit, the i + 1 tested so far): the same count as one a sphere,
-    ** which was 15M instructions of the Whitted render (issue 35); the
-    ** loop reads no count. */
-    for (i = 0; i < s->prim_bvh.n_items; i++) {
-        unsigned idx = s->prim_bvh.items[i];
-        const ray__prim *p = &s->prims[idx];
-        ray_hit h;
-        int k;
-        if (ray__sphere_surely_missed(v3_sub(r->org, p->a), sr.d, sr.a,
-                                      p->radius))
-            continue;              /* as the test would, which then skips it */
-        k = ray__sphere_candidate(s, idx, &sr, r, &h, qc->uv);
-        if (!k)
-            continue;
-        r->tmax = h.t;
-        if (any) {
-            ray__count_tests(qc, RAY_PRIM_SPHERE, i + 1);
-            return 1;
-        }
-        prim_keep(best, idx, k, &h);
-        found = 1;
-    }
-    ray__count_tests(qc, RAY_PRIM_SPHERE, s->prim_bvh.n_items);
+    found = few_spheres_along(s, r, best, any, qc->uv, &tested);
+    if (tested > 0)
+        ray__count_tests(qc, RAY_PRIM_SPHERE, tested);
     return found;
 }
 
@@ -619,6 +636,8 @@ static int query_nearest_gated(const ray_scene *s, const ray_ray *r,
         return query_nearest_tris(s, r, hit);
     if (g == NULL && st == NULL && s->instances_of_tris)
         return query_nearest_instances(s, r, hit);
+    if (g == NULL && few_prims_only(s))
+        return query_nearest_few(s, r, uv, hit, st);
     if (!trav_usable(r))
         return 0;
     ray_copy(&rr, r);
@@ -644,6 +663,8 @@ static int query_any_gated(const ray_scene *s, const ray_ray *r,
         return query_any_tris(s, r);
     if (g == NULL && st == NULL && s->instances_of_tris)
         return query_any_instances(s, r);
+    if (g == NULL && few_prims_only(s))
+        return query_any_few(s, r, st);
     if (!trav_usable(r))
         return 0;
     ray_copy(&rr, r);
