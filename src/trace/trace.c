@@ -362,9 +362,15 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     unsigned saved_depth = ctx->depth, effects = ctx->effects;
     unsigned fanout = ctx->fanout;
     double saved_weight = ctx->weight;
-    ray__hit_cone saved_cone = ctx->hit_cone;
+    /* The outer hit's cone, kept only where there is one: without, off
+    ** is all there is to restore (a cone's other fields are read only
+    ** where it is on), and its 88 bytes go uncopied twice a hit. */
+    int had_cone = ctx->hit_cone.on;
+    ray__hit_cone saved_cone;
     ray_shade_args args;
 
+    if (had_cone)
+        saved_cone = ctx->hit_cone;
     ray__shade_args(s, r, hit, depth, weight, &args);
     ctx->hit_cone.on = 0;
     if (c != NULL)
@@ -385,7 +391,10 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
         ctx->weight = saved_weight;
         ctx->fanout = fanout;
     }
-    ctx->hit_cone = saved_cone;
+    if (had_cone)
+        ctx->hit_cone = saved_cone;
+    else
+        ctx->hit_cone.on = 0;
 }
 
 static int trace_ray(ray_ctx *ctx, const ray_ray *r, unsigned kind,
