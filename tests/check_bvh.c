@@ -614,20 +614,42 @@ static ray_ray few_prims_ray(rng *g, int j)
         r.tmin = -rng_range(g, 0, 2);
     else if (j % 7 == 4)
         r.tmax = rng_range(g, 0.2, 1.5);
+    switch (j % 97) {           /* unusable rays: no test at all */
+    case 5:
+        r.dir = vec(0, 0, 0);
+        break;
+    case 6:
+        r.dir.y = (double)NAN;
+        break;
+    case 7:
+        r.tmin = (double)NAN;
+        break;
+    case 8:
+        r.tmin = r.tmax = 2;
+        break;
+    case 9:
+        r.org.x = HUGE_VAL;
+        break;
+    default:
+        break;
+    }
     return r;
 }
 
 /* Planes and spheres, and (far) a triangle no ray here reaches, which
 ** makes it a scene the lean path does not take. */
-static ray_scene *few_prims_scene(int far_triangle)
+static ray_scene *few_prims_scene(int far_triangle, int planes)
 {
     unsigned mat;
     ray_scene *s = new_scene(&mat);
 
-    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat,
-                                         NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -4), vec(0.1, 0, 1),
-                                         mat, NULL), RAY_OK);
+    if (planes) {
+        ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0),
+                                             mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -4),
+                                             vec(0.1, 0, 1), mat, NULL),
+                         RAY_OK);
+    }
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 1, mat, NULL),
                      RAY_OK);
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0.8, 0.6), 0.8, mat,
@@ -644,87 +666,106 @@ static ray_scene *few_prims_scene(int far_triangle)
     return s;
 }
 
+/* Nearest and any hit of r in "lean" and "general" through copy 0
+** (base) or 1 (AVX2), with counts: the same answers and counts, and the
+** counts they must be (np planes, three spheres).  1 if it hit. */
+static int few_prims_compare(const ray_scene *lean, const ray_scene *general,
+                             const ray_ray *r, int uv, int copy, unsigned np)
+{
+    typedef int nearest_fn(const ray_scene *, const ray_ray *,
+                           const ray__gate *, int, ray_hit *, ray_stats *);
+    typedef int any_fn(const ray_scene *, const ray_ray *, const ray__gate *,
+                       ray_stats *);
+    nearest_fn *nearest = ray__intersect_gated_base;
+    any_fn *any = ray__occluded_gated_base;
+    unsigned usable = ray__ray_usable(r) ? 1u : 0u;
+    ray_stats sa, sb, xa, xb;
+    ray_hit a, b;
+    int ha, oa, k;
+
+#if RAY__AVX2_COPY
+    if (copy == 1) {
+        nearest = ray__intersect_gated_avx2;
+        any = ray__occluded_gated_avx2;
+    }
+#endif
+    memset(&a, 0xab, sizeof a);
+    memset(&b, 0xab, sizeof b);
+    memset(&sa, 0, sizeof sa);
+    memset(&sb, 0, sizeof sb);
+    memset(&xa, 0, sizeof xa);
+    memset(&xb, 0, sizeof xb);
+    ha = nearest(lean, r, NULL, uv, &a, &sa);
+    ck_assert_int_eq(ha, nearest(general, r, NULL, uv, &b, &sb));
+    oa = any(lean, r, NULL, &xa);
+    ck_assert_int_eq(oa, any(general, r, NULL, &xb));
+    /* A hit the same, field for field; a miss writes nothing (both still
+    ** the fill). */
+    ck_assert(ha == 1 ? hit_same(&a, &b) : memcmp(&a, &b, sizeof a) == 0);
+    ck_assert(sb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0 &&
+              xb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0);
+    for (k = 0; k < RAY_PRIM_KINDS; k++)
+        ck_assert(sa.tests_by_kind[k] == sb.tests_by_kind[k] &&
+                  xa.tests_by_kind[k] == xb.tests_by_kind[k]);
+    ck_assert(sa.tests == sb.tests && xa.tests == xb.tests);
+    /* A nearest hit tests every plane and sphere of a usable ray, an
+    ** unusable one none.  An any hit stops at the first: spheres only
+    ** after every plane; a miss tests everything; without planes, a hit
+    ** counts the spheres up to it (at least one). */
+    ck_assert(sa.tests_by_kind[RAY_PRIM_PLANE] == np * usable &&
+              sa.tests_by_kind[RAY_PRIM_SPHERE] == 3u * usable &&
+              sa.tests == (np + 3u) * usable);
+    if (!usable)
+        ck_assert(xa.tests == 0 && oa == 0);
+    else if (oa == 0)
+        ck_assert(xa.tests_by_kind[RAY_PRIM_PLANE] == np &&
+                  xa.tests_by_kind[RAY_PRIM_SPHERE] == 3);
+    else if (xa.tests_by_kind[RAY_PRIM_SPHERE] > 0 || np == 0)
+        ck_assert(xa.tests_by_kind[RAY_PRIM_PLANE] == np &&
+                  xa.tests_by_kind[RAY_PRIM_SPHERE] >= 1);
+    return ha == 1;
+}
+
 /*
 ** A scene of planes and a few spheres alone takes a lean query path
-** (traverse.h, query_nearest_few and query_any_few, with counts or
+** (plain.h, query_nearest_few and query_any_few, with counts or
 ** without); the same scene with a far triangle takes the general one.
 ** Both answer the same, bit for bit, nearest and any hit, with (u, v) or
-** without (the tracer's uv 0), and count the same tests of each kind --
-** in both copies.
+** without (the tracer's uv 0), unusable rays included, and count the
+** same tests of each kind -- the counts they must be -- in both copies;
+** with planes and without.
 */
 START_TEST(few_prims_should_answer_as_the_general_query)
 {
     rng g = {53};
-    ray_scene *lean = few_prims_scene(0), *general = few_prims_scene(1);
-    int j, uv, hits = 0;
+    int j, uv, copy, hits = 0, planes;
 
-    for (j = 0; j < 6000; j++) {
-        ray_ray r = few_prims_ray(&g, j);
-        for (uv = 0; uv <= 1; uv++) {
-            int copy;
-            for (copy = 0; copy < 2; copy++) {
-                ray_stats sa, sb;
-                ray_hit a, b;
-                int ha, hb, oa, ob, k;
-                memset(&a, 0xab, sizeof a);
-                memset(&b, 0xab, sizeof b);
-                memset(&sa, 0, sizeof sa);
-                memset(&sb, 0, sizeof sb);
-                if (copy == 0) {
-                    ha = ray__intersect_gated_base(lean, &r, NULL, uv, &a, &sa);
-                    /* A nearest hit tests every plane and sphere: two and
-                    ** three. */
-                    ck_assert(sa.tests_by_kind[RAY_PRIM_PLANE] == 2 &&
-                              sa.tests_by_kind[RAY_PRIM_SPHERE] == 3 &&
-                              sa.tests == 5);
-                    hb = ray__intersect_gated_base(general, &r, NULL, uv, &b,
-                                                   &sb);
-                    oa = ray__occluded_gated_base(lean, &r, NULL, &sa);
-                    ob = ray__occluded_gated_base(general, &r, NULL, &sb);
-                } else {
-#if RAY__AVX2_COPY
-                    if (!ray__cpu_has_avx2())
-                        continue;
-                    ha = ray__intersect_gated_avx2(lean, &r, NULL, uv, &a, &sa);
-                    hb = ray__intersect_gated_avx2(general, &r, NULL, uv, &b,
-                                                   &sb);
-                    oa = ray__occluded_gated_avx2(lean, &r, NULL, &sa);
-                    ob = ray__occluded_gated_avx2(general, &r, NULL, &sb);
-#else
-                    continue;
-#endif
-                }
-                ck_assert_int_eq(ha, hb);
-                ck_assert_int_eq(oa, ob);
-                /* A hit the same, field for field; a miss writes nothing
-                ** (both still the fill). */
-                ck_assert_msg(ha == 1 ? hit_same(&a, &b)
-                                      : memcmp(&a, &b, sizeof a) == 0,
-                              "ray %d", j);
-                ck_assert(sb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0);
-                for (k = 0; k < RAY_PRIM_KINDS; k++)
-                    ck_assert_msg(sa.tests_by_kind[k] == sb.tests_by_kind[k],
-                                  "ray %d kind %d", j, k);
-                ck_assert(sa.tests == sb.tests);
-                hits += ha;
-            }
-        }
-        /* Without counts (ray_intersect, ray_occluded) too. */
-        {
+    for (planes = 0; planes <= 1; planes++) {
+        ray_scene *lean = few_prims_scene(0, planes),
+                  *general = few_prims_scene(1, planes);
+        for (j = 0; j < 3000; j++) {
+            ray_ray r = few_prims_ray(&g, j);
             ray_hit a, b;
+            int ha;
+            for (uv = 0; uv <= 1; uv++)
+                for (copy = 0; copy < 2; copy++)
+                    if (copy == 0 || ray__cpu_has_avx2())
+                        hits += few_prims_compare(lean, general, &r, uv, copy,
+                                                  2u * (unsigned)planes);
+            /* Without counts (ray_intersect, ray_occluded) too. */
             memset(&a, 0xab, sizeof a);
             memset(&b, 0xab, sizeof b);
-            int ha = ray_intersect(lean, &r, &a, NULL);
+            ha = ray_intersect(lean, &r, &a, NULL);
             ck_assert_int_eq(ha, ray_intersect(general, &r, &b, NULL));
             ck_assert(ha == 1 ? hit_same(&a, &b)
                               : memcmp(&a, &b, sizeof a) == 0);
             ck_assert_int_eq(ray_occluded(lean, &r, NULL),
                              ray_occluded(general, &r, NULL));
         }
+        ray_scene_free(lean);
+        ray_scene_free(general);
     }
     ck_assert_int_gt(hits, 6000);
-    ray_scene_free(lean);
-    ray_scene_free(general);
 }
 END_TEST
 

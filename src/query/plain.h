@@ -190,7 +190,7 @@ static int query_nearest_few(const ray_scene *s, const ray_ray *r, int uv,
     size_t i;
     int found = 0;
 
-    if (!trav_usable(r))
+    if (!trav_usable(r))           /* nothing tested, nothing counted */
         return 0;
     ray_copy(&rr, r);
     best.deferred = RAY_INVALID_ID;

@@ -364,7 +364,7 @@ static void shade(ray_ctx *ctx, const ray_ray *r, const ray_hit *hit,
     double saved_weight = ctx->weight;
     /* The outer hit's cone, kept only where there is one: without, off
     ** is all there is to restore (a cone's other fields are read only
-    ** where it is on), and its 88 bytes go uncopied twice a hit. */
+    ** where it is on), and its 80 bytes go uncopied twice a hit. */
     int had_cone = ctx->hit_cone.on;
     ray__hit_cone saved_cone;
     ray_shade_args args;
