@@ -688,6 +688,8 @@ static int few_prims_compare(const ray_scene *lean, const ray_scene *general,
         nearest = ray__intersect_gated_avx2;
         any = ray__occluded_gated_avx2;
     }
+#else
+    (void)copy;                 /* one copy: the base's, twice */
 #endif
     memset(&a, 0xab, sizeof a);
     memset(&b, 0xab, sizeof b);
