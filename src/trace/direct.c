@@ -15,6 +15,17 @@ static int rgb_any_positive(ray_rgb c)
     return c.r > 0 || c.g > 0 || c.b > 0;
 }
 
+/* -d / |d| where |d|^2 overflows (|d| past ~1.3e154) or underflows
+** (below ~1.5e-154), though a ray may have any finite, non-zero
+** direction: the overflow-safe v3_normalize, out of line. */
+static RAY__NOINLINE ray_vec3 toward_eye_scaled(ray_vec3 d)
+{
+    ray_vec3 e = d;
+
+    (void)v3_normalize(d, &e);     /* d is finite and non-zero */
+    return v3_scale(e, -1.0);
+}
+
 /* -d / |d|, the unit direction back toward the eye, computed as the
 ** built-in Phong did before it used this file (divide, then negate), so
 ** moving a material onto ray_shade_direct keeps its bits. */
@@ -23,11 +34,8 @@ static ray_vec3 toward_eye(ray_vec3 d)
     double len2 = v3_dot(d, d), len;
     ray_vec3 e;
 
-    /* |d|^2 overflows past |d| ~ 1.3e154 and underflows below ~1.5e-154,
-    ** though a ray may have any finite, non-zero direction: there (only
-    ** there, so ordinary bits stay) the overflow-safe v3_normalize. */
-    if (!(len2 < HUGE_VAL && len2 >= DBL_MIN) && v3_normalize(d, &e))
-        return v3_scale(e, -1.0);
+    if (!(len2 < HUGE_VAL && len2 >= DBL_MIN))
+        return toward_eye_scaled(d);
     len = sqrt(len2);
     e.x = -(d.x / len);
     e.y = -(d.y / len);

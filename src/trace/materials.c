@@ -20,39 +20,49 @@
 ** non-zero direction.  There (and only there: an ordinary direction
 ** keeps its bits) a is first divided by its largest |component|, which
 ** brings |a| into [1, sqrt 3]: v3_normalize's trick (src/core/vec.h).
-** Returns that divisor, 1 for an ordinary a, and a divided by it in *b.
+** Out of line, so that the ordinary case's two compares stay inline.
 */
-static double scaled(ray_vec3 a, ray_vec3 *b)
+static int ordinary(double len2)
 {
-    double len2 = dot(a, a), m;
-
-    *b = a;
-    if (len2 < HUGE_VAL && len2 >= DBL_MIN)
-        return 1.0;
-    m = fabs(a.x) > fabs(a.y) ? fabs(a.x) : fabs(a.y);
-    m = m > fabs(a.z) ? m : fabs(a.z);
-    *b = ray_vec3_make(a.x / m, a.y / m, a.z / m);
-    return m;
+    return len2 < HUGE_VAL && len2 >= DBL_MIN;
 }
 
-static ray_vec3 unit(ray_vec3 a)
+static double largest(ray_vec3 a)
 {
-    ray_vec3 b;
-    double len;
+    double m = fabs(a.x) > fabs(a.y) ? fabs(a.x) : fabs(a.y);
+    return m > fabs(a.z) ? m : fabs(a.z);
+}
 
-    scaled(a, &b);
-    len = sqrt(dot(b, b));
-    return ray_vec3_make(b.x / len, b.y / len, b.z / len);
+static RAY__NOINLINE ray_vec3 unit_scaled(ray_vec3 a)
+{
+    double m = largest(a), len;
+
+    a = ray_vec3_make(a.x / m, a.y / m, a.z / m);
+    len = sqrt(dot(a, a));
+    return ray_vec3_make(a.x / len, a.y / len, a.z / len);
+}
+
+static RAY__INLINE ray_vec3 unit(ray_vec3 a)
+{
+    double len2 = dot(a, a), len;
+
+    if (!ordinary(len2))
+        return unit_scaled(a);
+    len = sqrt(len2);
+    return ray_vec3_make(a.x / len, a.y / len, a.z / len);
 }
 
 /* t |dir|, the distance a ray went to its hit at t, without forming
-** |dir|^2 where it overflows or underflows (scaled). */
+** |dir|^2 where it overflows or underflows (as unit). */
 static double travelled(double t, ray_vec3 dir)
 {
-    ray_vec3 b;
-    double m = scaled(dir, &b);
+    double len2 = dot(dir, dir), m;
 
-    return t * m * sqrt(dot(b, b));
+    if (ordinary(len2))
+        return t * sqrt(len2);
+    m = largest(dir);
+    dir = ray_vec3_make(dir.x / m, dir.y / m, dir.z / m);
+    return t * m * sqrt(dot(dir, dir));
 }
 
 /* The parameter blocks are only read, but ray_material.ud is a plain
