@@ -772,6 +772,65 @@ START_TEST(few_prims_should_answer_as_the_general_query)
 END_TEST
 
 /*
+** A scene's few spheres (few_spheres_along) make the ray's part of the
+** sphere test only once a sphere passes the miss test, which reads the
+** direction as given where d.d lies in [1/4, 4] and the scaled one
+** elsewhere.  At every scale of the direction -- tiny (d.d underflows to
+** 0 or a denormal), huge (it overflows, or |f x d|^2 would: 1e152), and
+** either side of 1/4 and 4 -- a scene of
+** three spheres answers as ray_sphere on each of them, t for t: the
+** nearest hit's t is the least of theirs, and it hits one of them there
+** (two touch: rays through their point tie), and an any hit is a hit of
+** one of them.  Exact: the same tests on the same numbers.
+*/
+START_TEST(few_spheres_should_answer_as_ray_sphere_at_any_scale)
+{
+    static const double scales[] = {1e-200, 1e-160, 1e-100, 0.49, 0.51, 1,
+                                    1.99, 2.01, 1e100, 1e152, 3e152, 1e200};
+    static const ray_vec3 centre[3] = {{0, 1, 0}, {1.5, 0.8, 0.6},
+                                       {0, 3, 0}};
+    static const double radius[3] = {1, 0.8, 1};
+    ray_scene *s = few_prims_scene(0, 0);
+    rng g = {59};
+    int j, hits = 0;
+    size_t k;
+
+    for (j = 0; j < 400; j++) {
+        ray_ray base = few_prims_ray(&g, j);
+        if (!ray__ray_usable(&base))
+            continue;
+        for (k = 0; k < sizeof scales / sizeof scales[0]; k++) {
+            ray_ray r = base;
+            ray_hit h, one;
+            double best = HUGE_VAL;
+            int i, any = 0, got;
+            r.dir = vscale(base.dir, scales[k]);
+            r.tmin = base.tmin / scales[k];
+            r.tmax = base.tmax / scales[k];
+            for (i = 0; i < 3; i++)
+                if (ray_sphere(&r, centre[i], radius[i], &one) == 1) {
+                    any = 1;
+                    best = one.t < best ? one.t : best;
+                }
+            got = ray_intersect(s, &r, &h, NULL);
+            ck_assert_int_eq(got, any);
+            ck_assert_int_eq(ray_occluded(s, &r, NULL), any);
+            if (!got)
+                continue;
+            hits++;
+            ck_assert(h.t == best);
+            ck_assert(h.geom_id < 3);
+            ck_assert_int_eq(ray_sphere(&r, centre[h.geom_id],
+                                        radius[h.geom_id], &one), 1);
+            ck_assert(one.t == h.t);
+        }
+    }
+    ck_assert_int_gt(hits, 1000);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
 ** Which rays a query takes: the AVX copy tests a ray's usability in two
 ** registers (slab.h's trav_usable), the baseline by ray__ray_usable.
 ** Every field of a ray that hits (origin, direction, tmin, tmax) set in
@@ -2302,6 +2361,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, traversal_setup_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, plain_queries_should_answer_as_the_general_ones);
+    tcase_add_test(eq, few_spheres_should_answer_as_ray_sphere_at_any_scale);
     tcase_add_test(eq, box_early_out_should_keep_every_hit);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, instances_of_triangles_should_answer_as_the_general_query);
