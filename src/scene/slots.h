@@ -56,27 +56,24 @@ RAY__HOT_INLINE int ray__slot_corners_at(const ray_scene *s, size_t slot,
             *m_geom = s->slot_geom;
         }
         k = s->slot_vertices + 3 * slot;
-        p[0] = &(*m)->pos[k[0]];
-        p[1] = &(*m)->pos[k[1]];
-        p[2] = &(*m)->pos[k[2]];
-        return 1;
-    }
-    id = &s->tri_ids[slot];
-    if (id->geom_id != *m_geom) {
-        const ray__prim *prim = &s->prims[id->geom_id];
-        if (prim->kind != RAY__KIND_MESH) {
-            *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
-            p[0] = &t->a;
-            p[1] = &t->b;
-            p[2] = &t->c;
-            return 0;
+    } else {
+        id = &s->tri_ids[slot];
+        if (id->geom_id != *m_geom) {
+            const ray__prim *prim = &s->prims[id->geom_id];
+            if (prim->kind != RAY__KIND_MESH) {
+                *t = ray__tri_by_id(s, id->geom_id, id->prim_id);
+                p[0] = &t->a;
+                p[1] = &t->b;
+                p[2] = &t->c;
+                return 0;
+            }
+            *m = &s->meshes[prim->mesh];
+            *m_geom = id->geom_id;
         }
-        *m = &s->meshes[prim->mesh];
-        *m_geom = id->geom_id;
+        k = s->slot_vertices != NULL && (*m)->own_indices
+                ? s->slot_vertices + 3 * slot
+                : (*m)->indices + 3 * (size_t)id->prim_id;
     }
-    k = s->slot_vertices != NULL && (*m)->own_indices
-            ? s->slot_vertices + 3 * slot
-            : (*m)->indices + 3 * (size_t)id->prim_id;
     p[0] = &(*m)->pos[k[0]];
     p[1] = &(*m)->pos[k[1]];
     p[2] = &(*m)->pos[k[2]];
@@ -180,6 +177,14 @@ static inline void leaf_rows(const ray__tri *t, float *rows, size_t stride)
 ** alike (a 940k refit, issue 36). */
 #define PREFETCH_AHEAD 32
 
+/* The corners of the triangle whose index triple is at k. */
+RAY__HOT_INLINE void prefetch_corners(const ray__mesh *m, const unsigned *k)
+{
+    RAY__PREFETCH(&m->pos[k[0]]);
+    RAY__PREFETCH(&m->pos[k[1]]);
+    RAY__PREFETCH(&m->pos[k[2]]);
+}
+
 RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
                                          const ray__mesh *m, unsigned m_geom)
 {
@@ -188,13 +193,9 @@ RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
     if (s->slot_vertices != NULL && m->own_indices) {
         if (slot + PREFETCH_AHEAD < s->n_live_tris &&
             (s->slot_geom == m_geom ||
-             s->tri_ids[slot + PREFETCH_AHEAD].geom_id == m_geom)) {
-            const unsigned *k =
-                s->slot_vertices + 3 * (slot + PREFETCH_AHEAD);
-            RAY__PREFETCH(&m->pos[k[0]]);
-            RAY__PREFETCH(&m->pos[k[1]]);
-            RAY__PREFETCH(&m->pos[k[2]]);
-        }
+             s->tri_ids[slot + PREFETCH_AHEAD].geom_id == m_geom))
+            prefetch_corners(m,
+                             s->slot_vertices + 3 * (slot + PREFETCH_AHEAD));
         return;
     }
     if (slot + PREFETCH_INDICES < s->n_live_tris) {
@@ -204,12 +205,8 @@ RAY__HOT_INLINE void ray__prefetch_slots(const ray_scene *s, size_t slot,
     }
     if (slot + PREFETCH_CORNERS < s->n_live_tris) {
         id = &s->tri_ids[slot + PREFETCH_CORNERS];
-        if (id->geom_id == m_geom) {
-            const unsigned *k = m->indices + 3 * (size_t)id->prim_id;
-            RAY__PREFETCH(&m->pos[k[0]]);
-            RAY__PREFETCH(&m->pos[k[1]]);
-            RAY__PREFETCH(&m->pos[k[2]]);
-        }
+        if (id->geom_id == m_geom)
+            prefetch_corners(m, m->indices + 3 * (size_t)id->prim_id);
     }
 }
 
