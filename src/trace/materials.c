@@ -178,6 +178,21 @@ static ray_rgb phong_brdf(void *ud, const ray_brdf_args *b)
                h->diffuse.b * ndotl + h->p->specular.b * spec);
 }
 
+/* phong_brdf where the specular colour is all +-0 (a Lambertian surface:
+** the Cornell box's walls), without the lobe, whose pow was 5% of that
+** render's instructions: 0 for the lobe gives the same sum (+-0 times a
+** finite lobe is the same +-0), but where the lobe was Inf (a shininess
+** near DBL_MAX at a cosine an ulp above 1), whose product was NaN. */
+static ray_rgb lambert_brdf(void *ud, const ray_brdf_args *b)
+{
+    const phong_hit *h = ud;
+    double ndotl = b->cos_light;
+
+    return rgb(h->diffuse.r * ndotl + h->p->specular.r * 0.0,
+               h->diffuse.g * ndotl + h->p->specular.g * 0.0,
+               h->diffuse.b * ndotl + h->p->specular.b * 0.0);
+}
+
 /*
 ** A photon's mirror bounce, shared by the mirror and Phong's reflect
 ** term: the direction ray_reflect gives and the reflectance as the
@@ -205,7 +220,12 @@ static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     h.p = ud;
     h.diffuse = diffuse_at(h.p, a);
     add_product(out, a->ambient, h.diffuse);
-    (void)ray_shade_direct(ctx, a, phong_brdf, &h, out);  /* cannot fail here */
+    (void)ray_shade_direct(ctx, a,                       /* cannot fail */
+                           fabs(h.p->specular.r) + fabs(h.p->specular.g) +
+                                       fabs(h.p->specular.b) == 0
+                               ? lambert_brdf
+                               : phong_brdf,
+                           &h, out);
     /* Caustics: E is the photons' irradiance, in the units of the direct
     ** term's intensity * n.l / r^2 (ray_caustics_at), so diffuse * E is
     ** as bright as the direct light the caustic focuses.  Zero without a
