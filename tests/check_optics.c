@@ -147,6 +147,53 @@ START_TEST(spawn_to_should_end_before_the_target)
 END_TEST
 
 /*
+** ray_spawn and ray_spawn_to refuse a hit or a direction (a target) with
+** any of its numbers NaN, +Inf or -Inf -- each of the hit's point,
+** normal and error bound and the direction, component by component --
+** and write nothing; the same input, finite, spawns a ray.
+*/
+static double *spawn_input(ray_hit *h, ray_vec3 *d, int which)
+{
+    ray_vec3 *v[4];
+
+    v[0] = &h->p;
+    v[1] = &h->n;
+    v[2] = &h->p_err;
+    v[3] = d;
+    return which % 3 == 0   ? &v[which / 3]->x
+           : which % 3 == 1 ? &v[which / 3]->y
+                            : &v[which / 3]->z;
+}
+
+START_TEST(spawn_should_refuse_every_non_finite_number)
+{
+    static const double bad[] = {(double)NAN, HUGE_VAL, -HUGE_VAL};
+    ray_ray prim = ray_from(vec(0, 5, 0), vec(0.1, -1, 0.2)), s;
+    ray_hit base;
+    unsigned char untouched[sizeof s];
+    int which, k;
+
+    ck_assert_int_eq(ray_plane(&prim, vec(0, 0, 0), vec(0, 1, 0), &base), 1);
+    memset(untouched, 0x5a, sizeof untouched);
+    for (which = 0; which < 12; which++)
+        for (k = 0; k < 3; k++) {
+            ray_hit h = base;
+            ray_vec3 d = vec(0.3, 1, -0.2);
+            *spawn_input(&h, &d, which) = bad[k];
+            memset(&s, 0x5a, sizeof s);
+            ck_assert_int_eq(ray_spawn(&h, d, &s), RAY_EINVAL);
+            /* the target is not finite where d is not */
+            ck_assert_int_eq(ray_spawn_to(&h, vadd(base.p, d), &s),
+                             RAY_EINVAL);
+            ck_assert(memcmp(&s, untouched, sizeof s) == 0);
+        }
+    ck_assert_int_eq(ray_spawn_to(&base, vadd(base.p, vec(0.3, 1, -0.2)), &s),
+                     RAY_OK);
+    ck_assert_int_eq(ray_spawn(&base, vec(0.3, 1, -0.2), &s), RAY_OK);
+}
+END_TEST
+
+/*
 ** The other side of the trade-off: the offset must not skip thin
 ** geometry.  Two parallel planes 1e-3 apart, 1e3 from the origin: a
 ** shadow ray from a hit on the lower one toward a light above is blocked
@@ -433,6 +480,7 @@ Suite *optics_suite(void)
     tcase_add_test(tc, optics_should_refuse_what_is_not_finite);
     tcase_add_test(sp, spawn_should_not_rehit_the_surface);
     tcase_add_test(sp, spawn_to_should_end_before_the_target);
+    tcase_add_test(sp, spawn_should_refuse_every_non_finite_number);
     tcase_add_test(sp, spawn_offset_should_follow_the_documented_rule);
     tcase_add_test(sp, hit_error_bounds_should_be_their_documented_values);
     tcase_add_test(sp, spawn_should_not_skip_thin_gaps);
