@@ -193,6 +193,63 @@ START_TEST(polygon_should_not_leak_from_closed_cube)
 }
 END_TEST
 
+/*
+** A scene's polygons (beside a sphere, so that the query is the general
+** one, which tests them without the kinds' dispatch) each name
+** themselves: geom_id, prim_id 0, no instance, and the record
+** ray_polygon gives, bit for bit; rays toward each in turn, and
+** ray_occluded agrees.  The faces of a cube seen from inside, one
+** polygon each, and the sphere far away.
+*/
+START_TEST(polygons_in_a_scene_should_name_themselves)
+{
+    static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    ray_vec3 corner[8], quads[6][4];
+    ray_scene *s;
+    rng g = {41};
+    unsigned id[6];
+    int f, k, c;
+
+    for (k = 0; k < 8; k++)
+        corner[k] = vec(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(50, 50, 50), 1,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    for (f = 0; f < 6; f++) {
+        for (k = 0; k < 4; k++)
+            quads[f][k] = corner[faces[f][k]];
+        ck_assert_int_eq(ray_scene_add_polygon(s, quads[f], 4,
+                                               RAY_NO_MATERIAL, &id[f]),
+                         RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (k = 0; k < 600; k++) {
+        ray_vec3 org = rng_point(&g, -0.5, 0.5);
+        ray_vec3 to = vec(0, 0, 0);
+        ray_hit h, want;
+        f = k % 6;              /* a point well inside face f, beyond it */
+        for (c = 0; c < 4; c++)
+            to = vadd(to, vscale(quads[f][c], 0.25));
+        to = vadd(vscale(to, 1.5), rng_point(&g, -0.2, 0.2));
+        {
+            ray_ray r = ray_from(org, vsub(to, org));
+            memset(&h, 0xab, sizeof h);
+            ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+            ck_assert_int_eq(ray_polygon(&r, quads[f], 4, &want), 1);
+            ck_assert_uint_eq(h.geom_id, id[f]);
+            ck_assert_uint_eq(h.prim_id, 0);
+            ck_assert_uint_eq(h.inst_id, RAY_INVALID_ID);
+            ck_assert(h.t == want.t);
+            ck_assert(memcmp(&h.p, &want.p, sizeof h.p) == 0);
+            ck_assert(memcmp(&h.n, &want.n, sizeof h.n) == 0);
+            ck_assert_int_eq(ray_occluded(s, &r, NULL), 1);
+        }
+    }
+    ray_scene_free(s);
+}
+END_TEST
+
 START_TEST(polygon_should_miss_degenerate_polygons)
 {
     static const double line[4][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}};
@@ -264,6 +321,7 @@ Suite *polygon_suite(void)
     tcase_add_loop_test(hard, polygon_should_partition_points_near_shared_edge, 0, N_OFFSETS);
     tcase_add_loop_test(hard, polygon_should_not_leak_from_closed_cube, 0, N_OFFSETS);
     tcase_add_test(hard, polygon_should_miss_degenerate_polygons);
+    tcase_add_test(hard, polygons_in_a_scene_should_name_themselves);
     tcase_add_test(hard, polygon_should_miss_on_bad_input);
     suite_add_tcase(s, core);
     suite_add_tcase(s, hard);

@@ -320,6 +320,10 @@ static inline int prim_candidate(const ray_scene *s, unsigned idx,
 {
     if (qc->gate != NULL)
         return prim_gated(s, idx, r, h, qc);
+    if (s->prims[idx].kind == RAY__KIND_POLYGON) {
+        ray__count_tests(qc, RAY_PRIM_POLYGON, 1);
+        return ray__polygon_candidate(s, idx, r, h);
+    }
     return ray__prim_candidate(s, idx, r, h, qc);
 }
 

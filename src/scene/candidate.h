@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** candidate.h -- a scene's plane tested inline as a query's candidate
-** (ray__plane_candidate: ray__prim_candidate's answer for a plane,
-** uncounted and without the kinds' dispatch), with the plane's record
-** and the full record's ids that kinds.c fills the same way.
+** candidate.h -- a scene's plane and polygon tested inline as a query's
+** candidate (ray__plane_candidate, ray__polygon_candidate:
+** ray__prim_candidate's answer for them, uncounted and without the
+** kinds' dispatch), with the plane's record and the full record's ids
+** that kinds.c fills the same way.
 */
 #ifndef RAY_SCENE_CANDIDATE_H
 #define RAY_SCENE_CANDIDATE_H
@@ -47,6 +48,24 @@ static inline int ray__plane_candidate(const ray_scene *s, unsigned i,
     }
     hit->t = t;
     return RAY__HIT_T;
+}
+
+/* Polygon i against r, ungated and uncounted: ray__prim_candidate's
+** answer for a polygon (a full record or a miss), without the kinds'
+** dispatch and its frame, about 35 instructions a test: the Cornell
+** box's shadow rays test its polygons four times each (callgrind,
+** issue 35). */
+static inline int ray__polygon_candidate(const ray_scene *s, unsigned i,
+                                         const ray_ray *r, ray_hit *hit)
+{
+    const ray__prim *p = &s->prims[i];
+
+    /* ray_polygon against the plane made when it was added (p->a the
+    ** centroid, p->b the Newell normal), as kinds.c's hit_POLYGON. */
+    return ray__polygon_at(r, s->verts + p->first, p->count, p->a, p->b,
+                           hit)
+               ? ray__full_record(i, hit)
+               : 0;
 }
 
 #endif
