@@ -15,19 +15,12 @@ static inline double step_away(double x, double dir)
     return x;
 }
 
-/* x - x is +0 for a finite x and NaN for an infinite or NaN one: a sum
-** of them is 0 exactly when all are finite -- one compare for the
-** vector, not a classification of each component (ray__ray_usable's
-** trick: ray_spawn and ray_spawn_to check 12 numbers every bounce). */
-static double off_finite(ray_vec3 a)
-{
-    return ((a.x - a.x) + (a.y - a.y)) + (a.z - a.z);
-}
-
+/* The hit's nine numbers finite (v3_off_finite: one compare). */
 static int hit_valid(const ray_hit *hit)
 {
-    return (off_finite(hit->p) + off_finite(hit->n)) + off_finite(hit->p_err)
-           == 0;
+    double off = v3_off_finite(hit->p) + v3_off_finite(hit->n);
+
+    return off + v3_off_finite(hit->p_err) == 0;
 }
 
 /*
@@ -56,7 +49,7 @@ static int offset_origin(const ray_hit *hit, ray_vec3 dir, ray_vec3 *org)
     o.x = step_away(o.x, off.x);
     o.y = step_away(o.y, off.y);
     o.z = step_away(o.z, off.z);
-    if (off_finite(o) != 0)
+    if (v3_off_finite(o) != 0)
         return 0;
     *org = o;
     return 1;
@@ -67,7 +60,7 @@ int ray_spawn(const ray_hit *hit, ray_vec3 dir, ray_ray *out)
     ray_vec3 org;
 
     if (hit == NULL || out == NULL || !hit_valid(hit) ||
-        off_finite(dir) != 0 || (dir.x == 0 && dir.y == 0 && dir.z == 0) ||
+        v3_off_finite(dir) != 0 || (dir.x == 0 && dir.y == 0 && dir.z == 0) ||
         !offset_origin(hit, dir, &org))
         return RAY_EINVAL;
     out->org = org;
@@ -82,14 +75,14 @@ int ray_spawn_to(const ray_hit *hit, ray_vec3 target, ray_ray *out)
     ray_vec3 org, dir;
 
     if (hit == NULL || out == NULL || !hit_valid(hit) ||
-        off_finite(target) != 0)
+        v3_off_finite(target) != 0)
         return RAY_EINVAL;
     dir = v3_sub(target, hit->p);
     if ((dir.x == 0 && dir.y == 0 && dir.z == 0) ||
         !offset_origin(hit, dir, &org))
         return RAY_EINVAL;
     dir = v3_sub(target, org);
-    if (off_finite(dir) != 0)
+    if (v3_off_finite(dir) != 0)
         return RAY_EINVAL;
     out->org = org;
     out->dir = dir;

@@ -159,6 +159,16 @@ static inline int v3_isfinite(ray_vec3 a)
     return isfinite(a.x) && isfinite(a.y) && isfinite(a.z);
 }
 
+/* ((x - x) + (y - y)) + (z - z): +0 for a finite vector, NaN where a
+** component is infinite or NaN (x - x is then NaN).  A sum of these is
+** 0 exactly when every number in it is finite: one compare for many
+** numbers, not a classification of each (ray_spawn's twelve; a
+** triangle's error bound, triangle.c). */
+static inline double v3_off_finite(ray_vec3 a)
+{
+    return ((a.x - a.x) + (a.y - a.y)) + (a.z - a.z);
+}
+
 /* A borrowed const pointer as the plain void * of a callback's ud: the
 ** library only reads through it.  A union rather than a cast, so the
 ** compiler's -Wcast-qual still guards every other cast. */

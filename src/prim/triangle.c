@@ -32,9 +32,9 @@ int ray__triangle_fill(ray_vec3 va, ray_vec3 vb, ray_vec3 vc, double t,
                  v3(4 * RAY__TINY, 4 * RAY__TINY, 4 * RAY__TINY));
     /* err finite implies p finite: rounding is monotone, so each |p_k|,
     ** summed in the same order, is at most err's sum of magnitudes, and
-    ** a NaN term makes that sum NaN.  x - x is 0 for a finite x, NaN
-    ** otherwise: one compare for the three. */
-    if (!((err.x - err.x) + (err.y - err.y) + (err.z - err.z) == 0))
+    ** a NaN term makes that sum NaN.  One compare for the three
+    ** (v3_off_finite). */
+    if (!(v3_off_finite(err) == 0))
         return 0;
     hit->t = t;
     hit->p = p;

@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** materials.c -- the built-in materials.  Written against the public API
-** only (ray.h), so they double as examples of material callbacks; the
-** one internal function, at the end, answers which of them can read a
-** ray's cone (ray__material_reads_cone, trace.h).
+** (ray.h), so they double as examples of material callbacks, but for
+** v3_normalize and the inlining hints where a direction's length could
+** overflow (unit, below); the one internal function, at the end, answers
+** which of them can read a ray's cone (ray__material_reads_cone,
+** trace.h).
 */
 #include <float.h>
 #include <math.h>
@@ -19,8 +21,11 @@
 ** denormal below about 1.5e-154, though ray_trace takes any finite,
 ** non-zero direction.  There (and only there: an ordinary direction
 ** keeps its bits) a is first divided by its largest |component|, which
-** brings |a| into [1, sqrt 3]: v3_normalize's trick (src/core/vec.h).
-** Out of line, so that the ordinary case's two compares stay inline.
+** brings |a| into [1, sqrt 3]: v3_normalize (src/core/vec.h) for a unit
+** vector; travelled scales t |a| the same way, as (t m) |a / m|, which
+** stays finite where |a| alone would not (ray__distance's m |a / m|
+** overflows for components near DBL_MAX).  The unusual case out of
+** line, so that the ordinary case's two compares stay inline.
 */
 static int ordinary(double len2)
 {
@@ -35,11 +40,10 @@ static double largest(ray_vec3 a)
 
 static RAY__NOINLINE ray_vec3 unit_scaled(ray_vec3 a)
 {
-    double m = largest(a), len;
+    ray_vec3 u = a;
 
-    a = ray_vec3_make(a.x / m, a.y / m, a.z / m);
-    len = sqrt(dot(a, a));
-    return ray_vec3_make(a.x / len, a.y / len, a.z / len);
+    (void)v3_normalize(a, &u);     /* a is finite and non-zero */
+    return u;
 }
 
 static RAY__INLINE ray_vec3 unit(ray_vec3 a)
@@ -193,6 +197,15 @@ static ray_rgb lambert_brdf(void *ud, const ray_brdf_args *b)
                h->diffuse.b * ndotl + h->p->specular.b * 0.0);
 }
 
+/* Phong's BRDF, or Lambert's where the specular colour is all +-0. */
+static ray_brdf_fn brdf_of(const ray_phong_params *p)
+{
+    return fabs(p->specular.r) + fabs(p->specular.g) + fabs(p->specular.b) ==
+                   0
+               ? lambert_brdf
+               : phong_brdf;
+}
+
 /*
 ** A photon's mirror bounce, shared by the mirror and Phong's reflect
 ** term: the direction ray_reflect gives and the reflectance as the
@@ -220,12 +233,7 @@ static void phong_shade(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     h.p = ud;
     h.diffuse = diffuse_at(h.p, a);
     add_product(out, a->ambient, h.diffuse);
-    (void)ray_shade_direct(ctx, a,                       /* cannot fail */
-                           fabs(h.p->specular.r) + fabs(h.p->specular.g) +
-                                       fabs(h.p->specular.b) == 0
-                               ? lambert_brdf
-                               : phong_brdf,
-                           &h, out);
+    (void)ray_shade_direct(ctx, a, brdf_of(h.p), &h, out); /* cannot fail */
     /* Caustics: E is the photons' irradiance, in the units of the direct
     ** term's intensity * n.l / r^2 (ray_caustics_at), so diffuse * E is
     ** as bright as the direct light the caustic focuses.  Zero without a
