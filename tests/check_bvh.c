@@ -830,6 +830,153 @@ START_TEST(few_spheres_should_answer_as_ray_sphere_at_any_scale)
 }
 END_TEST
 
+/* The triangle BVH's leaves in s (unused slots, leaves of no items, not
+** counted), and the items they hold (*items). */
+static unsigned tri_leaves(const ray_scene *s, unsigned *items)
+{
+    unsigned leaves = 0;
+    size_t i, k;
+
+    *items = 0;
+    for (i = 0; i < s->tri_bvh.n_wide; i++)
+        for (k = 0; k < RAY__WIDTH; k++)
+            if (s->tri_bvh.wide[i].count[k] & RAY__LEAF) {
+                unsigned n = s->tri_bvh.wide[i].count[k] & ~RAY__LEAF;
+                leaves += n > 0;         /* not an unused slot */
+                *items += n;
+            }
+    return leaves;
+}
+
+/* Quad a b c d as two triangles, into v and idx from triangle *n on. */
+static void quad_at(ray_vec3 *v, unsigned *idx, unsigned *n, ray_vec3 a,
+                    ray_vec3 b, ray_vec3 c, ray_vec3 d)
+{
+    const ray_vec3 corner[6] = {a, b, c, a, c, d};
+    unsigned k;
+
+    for (k = 0; k < 6; k++) {
+        v[3 * *n + k] = corner[k];
+        idx[3 * *n + k] = 3 * *n + k;
+    }
+    *n += 2;
+}
+
+/* The triangle tests of r's nearest and any hit in s, in copy "copy" (0:
+** the base, 1: AVX2), each asserted the same for both queries; *hit: the
+** nearest's answer, its record in *h. */
+static unsigned long long tri_tests(const ray_scene *s, const ray_ray *r,
+                                    int copy, int *hit, ray_hit *h)
+{
+    ray_stats sn, sa;
+    int any;
+
+    memset(&sn, 0, sizeof sn);
+    memset(&sa, 0, sizeof sa);
+#if RAY__AVX2_COPY
+    if (copy == 1) {
+        *hit = ray__intersect_gated_avx2(s, r, NULL, 1, h, &sn);
+        any = ray__occluded_gated_avx2(s, r, NULL, &sa);
+    } else
+#endif
+    {
+        (void)copy;
+        *hit = ray__intersect_gated_base(s, r, NULL, 1, h, &sn);
+        any = ray__occluded_gated_base(s, r, NULL, &sa);
+    }
+    ck_assert_int_eq(any, *hit);
+    if (!*hit)     /* any stops at its first hit: only a miss's equal */
+        ck_assert(sa.tests_by_kind[RAY_PRIM_TRIANGLE] ==
+                  sn.tests_by_kind[RAY_PRIM_TRIANGLE]);
+    return sn.tests_by_kind[RAY_PRIM_TRIANGLE];
+}
+
+/*
+** A leaf's worth of triangles (eight or fewer) in two groups apart, with
+** less box area together than their node's, is two leaves (sah.c,
+** sparse_split): the Cornell box's red and green walls, four triangles,
+** were one leaf that every ray between them tested (issue 35).  A ray
+** between the walls now tests no triangle; one onto a wall tests that
+** wall's two.  Groups close enough that their boxes have more area
+** together than their node's (a thin double wall), triangles that touch
+** (a strip folded in a V), and groups whose boxes overlap (an L), stay
+** one leaf: their rays test all four, as before.
+*/
+START_TEST(sparse_leaves_should_split_into_groups_apart)
+{
+    ray_vec3 v[12];
+    unsigned idx[12], mat, n, items, want_leaves;
+    int shape, copy;
+
+    for (shape = 0; shape < 4; shape++) {
+        double gap = shape == 1 ? 0.1 : 5;   /* 1: a thin double wall */
+        ray_mesh m = {0};
+        ray_scene *s = new_scene(&mat);
+        ray_ray between = make_ray(v3(0, 1, 0), v3(0.01, 1, -0.05), 0,
+                                   HUGE_VAL),
+                onto = make_ray(v3(0, 1, 0), v3(-1, 0.2, 0.1), 0, HUGE_VAL);
+        n = 0;
+        if (shape < 2) {
+            double x0 = -gap / 2, x1 = gap / 2;
+            quad_at(v, idx, &n, v3(x0, 0, 2.5), v3(x0, 0, -2.5),
+                    v3(x0, 5, -2.5), v3(x0, 5, 2.5));
+            quad_at(v, idx, &n, v3(x1, 0, -2.5), v3(x1, 0, 2.5),
+                    v3(x1, 5, 2.5), v3(x1, 5, -2.5));
+        } else if (shape == 3) {
+            /* An L of two bars, one along x, one along y, meeting at the
+            ** corner; each bar's two triangles at z = 0 and z = 1.  By
+            ** their lengths the items may leave a gap (along z), and
+            ** the split between the bars has little area, but their
+            ** boxes overlap at the corner: one leaf. */
+            const ray_vec3 corner[12] = {
+                {0, 0, 0}, {10, 0, 0}, {10, 1, 0}, {0, 0, 1}, {10, 1, 1},
+                {0, 1, 1}, {0, 0, 0}, {1, 0, 0}, {0, 10, 0}, {1, 0, 1},
+                {1, 10, 1}, {0, 10, 1}};
+            for (n = 0; n < 12; n++) {
+                v[n] = corner[n];
+                idx[n] = n;
+            }
+            n = 4;
+        } else {
+            /* A strip folded into a V open toward +z, its apex at x = 0,
+            ** z = -2; the rays start inside the V, and "between" leaves
+            ** the box through its top. */
+            quad_at(v, idx, &n, v3(-2.5, 0, 0), v3(0, 0, -2),
+                    v3(0, 5, -2), v3(-2.5, 5, 0));
+            quad_at(v, idx, &n, v3(0, 0, -2), v3(2.5, 0, 0),
+                    v3(2.5, 5, 0), v3(0, 5, -2));
+            between.org = onto.org = v3(0, 1, -0.5);
+            between.dir = v3(0.01, 1, 0.02);
+            onto.dir = v3(-1, 0.2, -0.3);
+        }
+        m.vertices = v;
+        m.vertex_count = 12;
+        m.indices = idx;
+        m.triangle_count = 4;
+        ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, NULL), RAY_OK);
+        ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+        want_leaves = shape == 0 ? 2 : 1;
+        ck_assert_uint_eq(tri_leaves(s, &items), want_leaves);
+        ck_assert_uint_eq(items, 4);
+        for (copy = 0; copy < 2 && shape != 3; copy++) {
+            ray_hit h;
+            int hit;
+            unsigned long long t;
+            /* Between: the box of the four is entered, no triangle hit. */
+            t = tri_tests(s, &between, copy, &hit, &h);
+            ck_assert_int_eq(hit, 0);
+            ck_assert_uint_eq(t, shape == 0 ? 0 : 4);
+            /* Onto the left wall (the strip's left half): its two. */
+            t = tri_tests(s, &onto, copy, &hit, &h);
+            ck_assert_int_eq(hit, 1);
+            ck_assert_uint_lt(h.prim_id, 2);
+            ck_assert_uint_eq(t, shape == 0 ? 2 : 4);
+        }
+        ray_scene_free(s);
+    }
+}
+END_TEST
+
 /*
 ** Which rays a query takes: the AVX copy tests a ray's usability in two
 ** registers (slab.h's trav_usable), the baseline by ray__ray_usable.
@@ -2374,6 +2521,7 @@ Suite *bvh_suite(void)
     tcase_add_test(mesh, float_mesh_should_build_a_million_triangles_in_80_bytes_each);
     tcase_add_test(mesh, leaf_corners_should_be_the_geometrys);
     tcase_add_test(mesh, unusable_rays_should_miss_in_every_copy);
+    tcase_add_test(mesh, sparse_leaves_should_split_into_groups_apart);
     tcase_add_test(mesh, threaded_build_should_make_the_same_tree_at_every_thread_count);
     tcase_add_test(mesh, threaded_refit_should_fit_the_same_boxes_at_every_thread_count);
     tcase_add_test(mesh, refit_leaves_should_be_the_same_with_and_without_avx2);

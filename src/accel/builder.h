@@ -2,9 +2,9 @@
 /*
 ** builder.h -- the insides of the BVH builder, private to accel/: the
 ** builder's item records and boxes, a node's bounds, the task of a node
-** to build, and the steps its files share: sah.c splits a node, build.c
-** builds the binary tree (on threads), wide.c collapses it into wide
-** nodes, refit.c fits the boxes again.
+** to build, and the steps its files share: sah.c splits a node (sparse.c
+** a node of few items), build.c builds the binary tree (on threads),
+** wide.c collapses it into wide nodes, refit.c fits the boxes again.
 */
 #ifndef RAY_BUILDER_H
 #define RAY_BUILDER_H
@@ -80,6 +80,28 @@ typedef struct builder {
     unsigned threads;
 } builder;
 
+/* A split of a node's items: those whose bin is at most "bin" go left. */
+typedef struct split {
+    int axis, bin;           /* items with bin index <= bin go left */
+    int bins;                /* how many bins were used */
+    float cost;
+    float cmin, scale;       /* bin of c = (c - cmin) * scale */
+} split;
+
+/* Twice the centroid along "axis". */
+static inline float centroid2(const ref *r, int axis)
+{
+    return r->lo[axis] + r->hi[axis];
+}
+
+/* Does r go to the left of split sp?  edge: (float)(sp->bin + 1). */
+static inline int goes_left(const ref *r, const split *sp, float edge)
+{
+    float x = (centroid2(r, sp->axis) - sp->cmin) * sp->scale;
+
+    return !(x >= edge);
+}
+
 /* The boxes a node needs before it is split: its items' box and the box
 ** of their doubled centroids. */
 typedef struct bounds {
@@ -132,5 +154,15 @@ void ray__bvh_link(builder *bd, const task *t, size_t mid,
                    const bounds *left, const bounds *right, task *stack);
 int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh,
                       const unsigned *leaves);
+/*
+** A node of few items that is sparse (sparse.c): ray__bvh_may_have_gap,
+** might the boxes of refs[begin, end) leave a gap inside their node's box
+** b (if not, they make a leaf); ray__bvh_sides_sparse, are split sp's two
+** sides apart, with less area together than their node's (node_area)?
+*/
+int ray__bvh_may_have_gap(const builder *bd, size_t begin, size_t end,
+                          const box *b);
+int ray__bvh_sides_sparse(const builder *bd, size_t begin, size_t end,
+                          const split *sp, float node_area);
 
 #endif /* RAY_BUILDER_H */

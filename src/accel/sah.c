@@ -7,9 +7,9 @@
 ** each axis, and the split between two bins that minimises
 **     C_trav + (A_left * N_left + A_right * N_right) / A_node
 ** is taken, unless a leaf (cost N, intersection cost 1) is cheaper.
-** C_trav and the size below which a node is always a leaf are the
-** caller's (ray__bvh_costs: triangles and the costlier curved surfaces
-** differ).
+** C_trav and the size below which a node is a leaf are the caller's
+** (ray__bvh_costs: triangles and the costlier curved surfaces differ); a
+** node that small still splits where it is sparse (sparse.c).
 */
 #include <stdint.h>
 
@@ -18,13 +18,6 @@
 
 #define BINS 16
 #define MAX_LEAF 8       /* a node with more items is always split */
-
-typedef struct split {
-    int axis, bin;           /* items with bin index <= bin go left */
-    int bins;                /* how many bins were used */
-    float cost;
-    float cmin, scale;       /* bin of c = (c - cmin) * scale */
-} split;
 
 /* No split found yet among nb bins: any split's cost is lower. */
 static split split_none(int nb)
@@ -38,12 +31,6 @@ static split split_none(int nb)
     none.cmin = 0;
     none.scale = 0;
     return none;
-}
-
-/* Twice the centroid along "axis". */
-static inline float centroid2(const ref *r, int axis)
-{
-    return r->lo[axis] + r->hi[axis];
 }
 
 /* The scale that maps doubled centroids to nb bins along each axis: nb *
@@ -690,8 +677,7 @@ static size_t partition(builder *bd, size_t begin, size_t end,
     bounds4_empty(&l);
     bounds4_empty(&r);
     while (i < j) {
-        float x = (centroid2(&bd->refs[i], sp->axis) - sp->cmin) * sp->scale;
-        if (!(x >= edge)) {
+        if (goes_left(&bd->refs[i], sp, edge)) {
             bounds4_grow(&l, &bd->refs[i]);
             i++;
         } else {
@@ -712,6 +698,19 @@ static void node_set_box(ray__node *n, const box *b)
     memcpy(n->hi, b->hi, sizeof n->hi);
 }
 
+/* Does a node of few items (a leaf by its count: costs->leaf_items)
+** still split, and where (*sp)?  Where it is sparse (sparse.c). */
+static int sparse_split(const builder *bd, const task *t, split *sp)
+{
+    float area = box_area(&t->b.items);
+
+    if (!ray__bvh_may_have_gap(bd, t->begin, t->end, &t->b.items))
+        return 0;
+    *sp = best_split(bd, t->begin, t->end, &t->b.centroids, area);
+    return sp->axis >= 0 &&
+           ray__bvh_sides_sparse(bd, t->begin, t->end, sp, area);
+}
+
 int ray__bvh_divide(builder *bd, const task *t, size_t *mid, bounds *left,
                     bounds *right)
 {
@@ -722,22 +721,28 @@ int ray__bvh_divide(builder *bd, const task *t, size_t *mid, bounds *left,
     node_set_box(n, &t->b.items);
     n->first = (unsigned)t->begin;
     n->count = (unsigned)count;
-    if (count <= bd->costs->leaf_items || t->depth >= MAX_DEPTH)
+    if (t->depth >= MAX_DEPTH || count < 2)
         return 0;
-    sp = best_split(bd, t->begin, t->end, &t->b.centroids,
-                    box_area(&t->b.items));
-    if (sp.axis < 0) {
-        /* All centroids coincide: no binned split separates them.  Halve
-        ** the run if it is too long for a leaf, else keep the leaf. */
-        if (count <= MAX_LEAF)
+    if (count <= bd->costs->leaf_items) {
+        if (!sparse_split(bd, t, &sp))
             return 0;
-        *mid = t->begin + count / 2;
-        bounds_of(bd, t->begin, *mid, left);
-        bounds_of(bd, *mid, t->end, right);
-        return 2;
+    } else {
+        sp = best_split(bd, t->begin, t->end, &t->b.centroids,
+                        box_area(&t->b.items));
+        if (sp.axis < 0) {
+            /* All centroids coincide: no binned split separates them.
+            ** Halve the run if it is too long for a leaf, else keep the
+            ** leaf. */
+            if (count <= MAX_LEAF)
+                return 0;
+            *mid = t->begin + count / 2;
+            bounds_of(bd, t->begin, *mid, left);
+            bounds_of(bd, *mid, t->end, right);
+            return 2;
+        }
+        if (count <= MAX_LEAF && sp.cost >= (float)count)
+            return 0;
     }
-    if (count <= MAX_LEAF && sp.cost >= (float)count)
-        return 0;
     *mid = partition(bd, t->begin, t->end, &sp, left, right);
     return 2;
 }

@@ -14,13 +14,13 @@
 
 /*
 ** The triangle BVH's cost settings (accel/sah.c): a split costs 1.5
-** triangle tests, and eight triangles or fewer always make a leaf.  The
-** float filter (query/filter.h) tests a leaf's triangles eight at a time
-** in one pass, so a leaf of eight costs about what a leaf of one does,
-** and a wide node tests all its boxes at once, whatever their number:
-** bench/mesh measured (issue 27).  A triangle's box (ray__tri_boxes,
-** boxes.c) reads only the scene, so the build may make them on its
-** threads.
+** triangle tests, and eight triangles or fewer make a leaf (unless they
+** fall into groups apart: accel/sparse.c).  The float filter
+** (query/filter.h) tests a leaf's triangles eight at a time in one pass,
+** so a leaf of eight costs about what a leaf of one does, and a wide node
+** tests all its boxes at once, whatever their number: bench/mesh
+** measured (issue 27).  A triangle's box (ray__tri_boxes, boxes.c) reads
+** only the scene, so the build may make them on its threads.
 */
 static const ray__bvh_costs tri_costs = {1.5f, RAY__LEAF_MAX, 1,
                                          ray__tri_boxes};
