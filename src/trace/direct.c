@@ -86,13 +86,17 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
     /* The scene's lights and their strata read here, as
     ** ray_scene_light_count and ray_light_samples read them: the same
     ** counts, without two calls a hit (exported functions, which the
-    ** compiler does not inline). */
+    ** compiler does not inline); the samples as ray_light_sample_at
+    ** makes them, a sphere light's disk once for the point. */
     for (li = 0; li < ctx->scene->n_lights; li++) {
         unsigned side = ctx->scene->lights[li].side, ns = side * side;
+        ray__light_frame f;
+
+        ray__light_frame_at(ctx->scene, li, args->hit->p, &f);
         for (si = 0; si < ns; si++) {
             ray_light_sample ls;
 
-            if (ray_light_sample_at(ctx, args, li, si, &ls) != RAY_OK)
+            if (ray__light_sample(ctx, args, li, si, &f, &ls) != RAY_OK)
                 continue;
             b.sample = &ls;
             b.light = li;

@@ -22,29 +22,49 @@ unsigned ray_light_samples(const ray_scene *s, unsigned light)
 }
 
 /*
+** The disk of sphere light l facing point "from" (its silhouette from
+** there): its tangents.  The same for every sample of a shading point, so
+** ray_shade_direct makes it once a point and light, not once a sample: a
+** normalisation and a tangent frame, about a fifth of a sample's
+** instructions (callgrind, examples/mesh; issue 35).  ok 0: "from" is
+** the light's centre (every sample is the centre).
+*/
+void ray__light_frame_at(const ray_scene *s, unsigned light, ray_vec3 from,
+                         ray__light_frame *f)
+{
+    const ray_light *l = &s->lights[light].desc;
+    ray_vec3 w;
+
+    f->ok = l->kind == RAY_LIGHT_SPHERE &&
+            v3_normalize(v3_sub(from, l->position), &w);
+    if (f->ok)
+        ray__tangent_frame(w, &f->t1, &f->t2);
+}
+
+/*
 ** A jittered position in stratum "index" of a k x k grid over [0,1)^2,
 ** mapped onto the light: the parallelogram for a rect light; for a sphere
-** light, the disk of its radius facing the shading point (its silhouette)
-** by Shirley and Chiu's concentric map ("A Low Distortion Map Between Disk
-** and Square", JGT 2(3), 1997), which keeps the strata compact.
+** light, the disk of its radius facing the shading point (its silhouette,
+** frame f) by Shirley and Chiu's concentric map ("A Low Distortion Map
+** Between Disk and Square", JGT 2(3), 1997), which keeps the strata
+** compact.
 */
-static ray_vec3 area_point(ray_ctx *ctx, const ray_light *l, ray_vec3 from,
-                           unsigned index, unsigned k)
+static ray_vec3 area_point(ray_ctx *ctx, const ray_light *l,
+                           const ray__light_frame *f, unsigned index,
+                           unsigned k)
 {
-    double su = ((double)(index % k) + ray_ctx_random(ctx)) / (double)k;
-    double sv = ((double)(index / k) + ray_ctx_random(ctx)) / (double)k;
-    ray_vec3 w, t1, t2;
+    double su = ((double)(index % k) + ray__ctx_random(ctx)) / (double)k;
+    double sv = ((double)(index / k) + ray__ctx_random(ctx)) / (double)k;
     double dx, dy;
 
     if (l->kind == RAY_LIGHT_RECT)
         return v3_add(l->position, v3_add(v3_scale(l->edge1, su),
                                           v3_scale(l->edge2, sv)));
     ray__concentric_disk(2 * su - 1, 2 * sv - 1, &dx, &dy);
-    if (!v3_normalize(v3_sub(from, l->position), &w))
+    if (!f->ok)
         return l->position;
-    ray__tangent_frame(w, &t1, &t2);
-    return v3_add(l->position, v3_add(v3_scale(t1, l->radius * dx),
-                                      v3_scale(t2, l->radius * dy)));
+    return v3_add(l->position, v3_add(v3_scale(f->t1, l->radius * dx),
+                                      v3_scale(f->t2, l->radius * dy)));
 }
 
 static ray_rgb rgb_scale(ray_rgb c, double s)
@@ -59,16 +79,26 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
                         unsigned light, unsigned index,
                         ray_light_sample *out)
 {
+    ray__light_frame f;
+
+    if (ctx == NULL || args == NULL || args->hit == NULL || out == NULL ||
+        light >= ctx->scene->n_lights ||
+        index >= samples_of(ctx->scene, light))
+        return RAY_EINVAL;
+    ray__light_frame_at(ctx->scene, light, args->hit->p, &f);
+    return ray__light_sample(ctx, args, light, index, &f, out);
+}
+
+int ray__light_sample(ray_ctx *ctx, const ray_shade_args *args,
+                      unsigned light, unsigned index,
+                      const ray__light_frame *f, ray_light_sample *out)
+{
     const ray__light *sl;
     const ray_light *l;
     ray_light_sample ls;
     ray_vec3 p, to;
     double dist, n = 1.0, scale;
 
-    if (ctx == NULL || args == NULL || args->hit == NULL || out == NULL ||
-        light >= ctx->scene->n_lights ||
-        index >= samples_of(ctx->scene, light))
-        return RAY_EINVAL;
     sl = &ctx->scene->lights[light];
     l = &sl->desc;
     p = args->hit->p;
@@ -84,7 +114,7 @@ int ray_light_sample_at(ray_ctx *ctx, const ray_shade_args *args,
         ls.point = l->position;
     else {
         unsigned k = sl->side;
-        ls.point = area_point(ctx, l, p, index, k);
+        ls.point = area_point(ctx, l, f, index, k);
         n = (double)(k * k);
     }
     to = v3_sub(ls.point, p);

@@ -63,12 +63,9 @@ int ray_ctx_set_cone(ray_ctx *ctx, double width, double spread)
 
 double ray_ctx_random(ray_ctx *ctx)
 {
-    unsigned long long z;
-
     if (ctx == NULL)
         return 0.0;
-    z = ray__mix64(ctx->rng += 0x9e3779b97f4a7c15ull);
-    return (double)(z >> 11) * (1.0 / 9007199254740992.0);  /* 53 bits */
+    return ray__ctx_random(ctx);
 }
 
 static const unsigned effect_of_kind[RAY_KIND_COUNT] = {

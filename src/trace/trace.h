@@ -78,6 +78,15 @@ static inline unsigned long long ray__pixel_seed_from(unsigned long long
     return ray__mix64(h + s);
 }
 
+/* ray_ctx_random's next number of ctx (not NULL), inline for the
+** library's own samplers: a light sample draws two. */
+static inline double ray__ctx_random(ray_ctx *ctx)
+{
+    unsigned long long z = ray__mix64(ctx->rng += 0x9e3779b97f4a7c15ull);
+
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);  /* 53 bits */
+}
+
 /* Reset a context's per-sample state. */
 void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
 
@@ -86,6 +95,24 @@ void ray__ctx_start(ray_ctx *ctx, unsigned long long rng);
 void ray__shade_args(const ray_scene *s, const ray_ray *r,
                      const ray_hit *hit, unsigned depth, double weight,
                      ray_shade_args *args);
+
+/*
+** Light samples without ray_light_sample_at's checks (light.c): the disk
+** a sphere light presents to point "from", made once for all of a
+** point's samples (ray__light_frame_at; ok 0 for other kinds), then
+** sample "index" (< ray_light_samples) of light "light" (< the scene's
+** count) for args (hit not NULL) into *out: ray_light_sample_at's answer,
+** bit for bit.
+*/
+typedef struct ray__light_frame {
+    int ok;
+    ray_vec3 t1, t2;
+} ray__light_frame;
+void ray__light_frame_at(const ray_scene *s, unsigned light, ray_vec3 from,
+                         ray__light_frame *f);
+int ray__light_sample(ray_ctx *ctx, const ray_shade_args *args,
+                      unsigned light, unsigned index,
+                      const ray__light_frame *f, ray_light_sample *out);
 
 /* Can material m read a ray's cone (materials.c says which can)? */
 int ray__material_reads_cone(const ray_material *m);
