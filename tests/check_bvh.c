@@ -636,9 +636,9 @@ static ray_ray few_prims_ray(rng *g, int j)
     return r;
 }
 
-/* Planes and spheres, and (far) a triangle no ray here reaches, which
-** makes it a scene the lean path does not take. */
-static ray_scene *few_prims_scene(int far_triangle, int planes)
+/* Planes and spheres, and a triangle: none (triangle 0), far where no
+** ray here reaches it (1), or across the spheres (2). */
+static ray_scene *few_prims_scene(int triangle, int planes)
 {
     unsigned mat;
     ray_scene *s = new_scene(&mat);
@@ -657,21 +657,30 @@ static ray_scene *few_prims_scene(int far_triangle, int planes)
     /* Touching the first: rays through the point they share tie. */
     ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 3, 0), 1, mat, NULL),
                      RAY_OK);
-    if (far_triangle)
+    if (triangle == 1)
         ck_assert_int_eq(ray_scene_add_triangle(s, vec(1e6, 0, 0),
                                                 vec(1e6 + 1, 0, 0),
                                                 vec(1e6, 1, 0), mat, NULL),
+                         RAY_OK);
+    if (triangle == 2)
+        ck_assert_int_eq(ray_scene_add_triangle(s, vec(-2.5, 0.5, 1),
+                                                vec(2.5, 0.5, 1),
+                                                vec(0, 2.5, -1.5), mat, NULL),
                          RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     return s;
 }
 
-/* Nearest and any hit of r in "lean" and "general" through copy 0
-** (base) or 1 (AVX2), with counts: the same answers and counts, and the
-** counts they must be (np planes, three spheres).  1 if it hit. */
-static int few_prims_compare(const ray_scene *lean, const ray_scene *general,
-                             const ray_ray *r, int uv, int copy, unsigned np)
+/* Nearest and any hit of r in scene s through copy 0 (base) or 1
+** (AVX2), with counts, ungated (the lean path) and through a gate that
+** lets everything through (the general query, nearest_core and
+** any_core): the same answers and counts, and the counts they must be
+** (np planes, three spheres, and triangle tests only where the scene has
+** a triangle that rays reach: near).  1 if it hit. */
+static int few_prims_compare(const ray_scene *s, const ray_ray *r, int uv,
+                             int copy, unsigned np, int near)
 {
+    const ray__gate all = {~0u, NULL, 0, NULL};
     typedef int nearest_fn(const ray_scene *, const ray_ray *,
                            const ray__gate *, int, ray_hit *, ray_stats *);
     typedef int any_fn(const ray_scene *, const ray_ray *, const ray__gate *,
@@ -697,15 +706,15 @@ static int few_prims_compare(const ray_scene *lean, const ray_scene *general,
     memset(&sb, 0, sizeof sb);
     memset(&xa, 0, sizeof xa);
     memset(&xb, 0, sizeof xb);
-    ha = nearest(lean, r, NULL, uv, &a, &sa);
-    ck_assert_int_eq(ha, nearest(general, r, NULL, uv, &b, &sb));
-    oa = any(lean, r, NULL, &xa);
-    ck_assert_int_eq(oa, any(general, r, NULL, &xb));
+    ha = nearest(s, r, NULL, uv, &a, &sa);
+    ck_assert_int_eq(ha, nearest(s, r, &all, uv, &b, &sb));
+    oa = any(s, r, NULL, &xa);
+    ck_assert_int_eq(oa, any(s, r, &all, &xb));
     /* A hit the same, field for field; a miss writes nothing (both still
     ** the fill). */
     ck_assert(ha == 1 ? hit_same(&a, &b) : memcmp(&a, &b, sizeof a) == 0);
-    ck_assert(sb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0 &&
-              xb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0);
+    ck_assert(near || (sb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0 &&
+                       xb.tests_by_kind[RAY_PRIM_TRIANGLE] == 0));
     for (k = 0; k < RAY_PRIM_KINDS; k++)
         ck_assert(sa.tests_by_kind[k] == sb.tests_by_kind[k] &&
                   xa.tests_by_kind[k] == xb.tests_by_kind[k]);
@@ -716,12 +725,15 @@ static int few_prims_compare(const ray_scene *lean, const ray_scene *general,
     ** counts the spheres up to it (at least one). */
     ck_assert(sa.tests_by_kind[RAY_PRIM_PLANE] == np * usable &&
               sa.tests_by_kind[RAY_PRIM_SPHERE] == 3u * usable &&
-              sa.tests == (np + 3u) * usable);
+              sa.tests == (np + 3u) * usable +
+                              sa.tests_by_kind[RAY_PRIM_TRIANGLE]);
     if (!usable)
         ck_assert(xa.tests == 0 && oa == 0);
     else if (oa == 0)
         ck_assert(xa.tests_by_kind[RAY_PRIM_PLANE] == np &&
-                  xa.tests_by_kind[RAY_PRIM_SPHERE] == 3);
+                  xa.tests_by_kind[RAY_PRIM_SPHERE] == 3 &&
+                  xa.tests_by_kind[RAY_PRIM_TRIANGLE] ==
+                      sa.tests_by_kind[RAY_PRIM_TRIANGLE]);
     else if (xa.tests_by_kind[RAY_PRIM_SPHERE] > 0 || np == 0)
         ck_assert(xa.tests_by_kind[RAY_PRIM_PLANE] == np &&
                   xa.tests_by_kind[RAY_PRIM_SPHERE] >= 1);
@@ -729,45 +741,49 @@ static int few_prims_compare(const ray_scene *lean, const ray_scene *general,
 }
 
 /*
-** A scene of planes and a few spheres alone takes a lean query path
-** (plain.h, query_nearest_few and query_any_few, with counts or
-** without); the same scene with a far triangle takes the general one.
-** Both answer the same, bit for bit, nearest and any hit, with (u, v) or
+** A scene of planes, a few spheres and triangles alone takes a lean query
+** path (plain.h, query_nearest_few and query_any_few, with counts or
+** without); through a gate, the same scene takes the general one.  Both
+** answer the same, bit for bit, nearest and any hit, with (u, v) or
 ** without (the tracer's uv 0), unusable rays included, and count the
 ** same tests of each kind -- the counts they must be -- in both copies;
-** with planes and without.
+** with planes and without, with no triangle, a far one and one across
+** the spheres.  And a far triangle changes no answer of the public
+** queries (ray_intersect, ray_occluded: no counts).
 */
 START_TEST(few_prims_should_answer_as_the_general_query)
 {
     rng g = {53};
-    int j, uv, copy, hits = 0, planes;
+    int j, uv, copy, hits = 0, planes, tri;
 
     for (planes = 0; planes <= 1; planes++) {
-        ray_scene *lean = few_prims_scene(0, planes),
-                  *general = few_prims_scene(1, planes);
+        ray_scene *s[3];
+        for (tri = 0; tri < 3; tri++)
+            s[tri] = few_prims_scene(tri, planes);
         for (j = 0; j < 3000; j++) {
             ray_ray r = few_prims_ray(&g, j);
             ray_hit a, b;
             int ha;
-            for (uv = 0; uv <= 1; uv++)
-                for (copy = 0; copy < 2; copy++)
-                    if (copy == 0 || ray__cpu_has_avx2())
-                        hits += few_prims_compare(lean, general, &r, uv, copy,
-                                                  2u * (unsigned)planes);
-            /* Without counts (ray_intersect, ray_occluded) too. */
+            for (tri = 0; tri < 3; tri++)
+                for (uv = 0; uv <= 1; uv++)
+                    for (copy = 0; copy < 2; copy++)
+                        if (copy == 0 || ray__cpu_has_avx2())
+                            hits += few_prims_compare(
+                                s[tri], &r, uv, copy,
+                                2u * (unsigned)planes, tri == 2);
             memset(&a, 0xab, sizeof a);
             memset(&b, 0xab, sizeof b);
-            ha = ray_intersect(lean, &r, &a, NULL);
-            ck_assert_int_eq(ha, ray_intersect(general, &r, &b, NULL));
+            ha = ray_intersect(s[0], &r, &a, NULL);
+            ck_assert_int_eq(ha, ray_intersect(s[1], &r, &b, NULL));
             ck_assert(ha == 1 ? hit_same(&a, &b)
                               : memcmp(&a, &b, sizeof a) == 0);
-            ck_assert_int_eq(ray_occluded(lean, &r, NULL),
-                             ray_occluded(general, &r, NULL));
+            ck_assert_int_eq(ray_occluded(s[0], &r, NULL),
+                             ray_occluded(s[1], &r, NULL));
         }
-        ray_scene_free(lean);
-        ray_scene_free(general);
+        for (tri = 0; tri < 3; tri++)
+            ray_scene_free(s[tri]);
     }
-    ck_assert_int_gt(hits, 6000);
+    ck_assert_int_gt(hits, 18000);
 }
 END_TEST
 

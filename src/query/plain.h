@@ -5,8 +5,8 @@
 ** nothing gated, no counts) of a scene of triangles alone and of a scene
 ** of instances alone, each of a child of triangles alone: each is its
 ** set-up and the scene's box test, then a walk apart (not inlined).  And
-** the ungated queries, counted or not, of a scene of planes and a few
-** spheres alone.  ray_intersect and ray_occluded take the plain ones
+** the ungated queries, counted or not, of a scene of planes, a few
+** spheres and triangles alone.  ray_intersect and ray_occluded take the plain ones
 ** first (intersect.c), and the general query hands such scenes to them
 ** (traverse.h).
 */
@@ -154,21 +154,22 @@ static int query_any_instances(const ray_scene *s, const ray_ray *r)
 }
 
 /*
-** A scene of planes and a few spheres alone (no triangles, no other
-** kind, so no instances: Whitted's), asked without a gate, counts or
-** not: what nearest_core and any_core do for such a scene, step for step
-** -- the planes one after another, then the spheres (few_spheres_along),
-** the record of the nearest made once -- without what only other scenes
-** need: a query's counts zeroed, gathered and added up kind by kind
-** (add_counts), the triangles' and the gate's checks, and the record
-** copied twice on its way out.  The tests are counted straight into *st,
-** the same sums.  The same functions on the same numbers, so the same
-** answers and counts (tests/check_bvh.c compares them with the general
-** query's).
+** A scene of planes, a few spheres and triangles alone (no other kind,
+** so no instances: Whitted's, a mesh on a ground plane), asked without a
+** gate, counts or not: what nearest_core and any_core do for such a
+** scene, step for step -- the planes one after another, then the spheres
+** (few_spheres_along), then the triangles (few_tris_along), the record
+** of the nearest made once -- without what only other scenes need: a
+** query's counts zeroed, gathered and added up kind by kind
+** (add_counts), the bounded kinds' walk, the gate's checks, and the
+** record copied twice on its way out.  The tests are counted straight
+** into *st, the same sums.  The same functions on the same numbers, so
+** the same answers and counts (tests/check_bvh.c compares them with the
+** general query's).
 */
 static int few_prims_only(const ray_scene *s)
 {
-    return s->few_spheres && s->tri_bvh.n_wide == 0;
+    return s->few_spheres;
 }
 
 static void few_counts(ray_stats *st, unsigned long long planes,
@@ -181,10 +182,45 @@ static void few_counts(ray_stats *st, unsigned long long planes,
     st->tests += planes + spheres;
 }
 
+/*
+** The triangles of such a scene (a mesh on a ground plane: examples/mesh)
+** along rr, after its planes and spheres: query_nearest_tris's set-up,
+** the scene's box test first, and its walk; tb: where the nearest goes
+** (NULL: any hit).  The triangle tests the walk counted go to *st (if
+** not NULL), as the general query's leaves count them (none where the
+** box is missed, where its root node would have let nothing through).
+** Against the general query's tris_along: no box test before the walk,
+** whose set-up the rays that pass beside the mesh paid (most of a
+** ground's shadow rays), and no counts zeroed and gathered for kinds the
+** scene lacks.  Called only where the scene has triangles
+** (s->tri_bvh.n_wide), and not inlined: the walk's frame would cost the
+** queries of a scene without them (Whitted's render: 21M instructions).
+*/
+static RAY__NOINLINE int few_tris_along(const ray_scene *s, ray_ray *rr,
+                                        tri_best *tb, ray_stats *st)
+{
+    ray__counts qc;
+    trav tr;
+    int found;
+
+    if (!trav_setup(&tr, rr, &s->lo, &s->hi))
+        return 0;
+    if (tb != NULL)
+        tri_best_start(tb);
+    counts_light(&qc, tb == NULL);
+    found = walk_tris(s, &tr, rr, tb, tb == NULL, &qc);
+    if (st != NULL) {
+        st->tests_by_kind[RAY_PRIM_TRIANGLE] += qc.tests[RAY_PRIM_TRIANGLE];
+        st->tests += qc.tests[RAY_PRIM_TRIANGLE];
+    }
+    return found;
+}
+
 static int query_nearest_few(const ray_scene *s, const ray_ray *r, int uv,
                              ray_hit *hit, ray_stats *st)
 {
     prim_best best;
+    tri_best tb;
     ray_ray rr;
     unsigned tested;
     size_t i;
@@ -205,6 +241,11 @@ static int query_nearest_few(const ray_scene *s, const ray_ray *r, int uv,
     }
     if (few_spheres_along(s, &rr, &best, 0, uv, &tested))
         found = 1;
+    if (s->tri_bvh.n_wide != 0 && few_tris_along(s, &rr, &tb, st) &&
+        tri_record(s, &tb, rr.tmax, &best.h)) {
+        best.deferred = RAY_INVALID_ID;
+        found = 1;
+    }
     few_counts(st, s->n_planes, tested);
     /* prim_fill_best's fill: no instance here, so no child. */
     if (found && best.deferred != RAY_INVALID_ID &&
@@ -233,7 +274,8 @@ static int query_any_few(const ray_scene *s, const ray_ray *r,
             return 1;
         }
     }
-    hit = few_spheres_along(s, &rr, NULL, 1, 1, &tested);
+    hit = few_spheres_along(s, &rr, NULL, 1, 1, &tested) ||
+          (s->tri_bvh.n_wide != 0 && few_tris_along(s, &rr, NULL, st));
     few_counts(st, s->n_planes, tested);
     return hit;
 }
