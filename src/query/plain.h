@@ -208,7 +208,10 @@ static RAY__NOINLINE int few_tris_along(const ray_scene *s, ray_ray *rr,
     if (tb != NULL)
         tri_best_start(tb);
     counts_light(&qc, tb == NULL);
-    found = walk_tris(s, &tr, rr, tb, tb == NULL, &qc);
+    /* Two copies of the walk, each with "any" fixed (its choices off the
+    ** node loop), as query_nearest_tris and query_any_tris have. */
+    found = tb == NULL ? walk_tris(s, &tr, rr, NULL, 1, &qc)
+                       : walk_tris(s, &tr, rr, tb, 0, &qc);
     if (st != NULL) {
         st->tests_by_kind[RAY_PRIM_TRIANGLE] += qc.tests[RAY_PRIM_TRIANGLE];
         st->tests += qc.tests[RAY_PRIM_TRIANGLE];

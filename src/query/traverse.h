@@ -375,11 +375,15 @@ static RAY__INLINE int walk(const ray_scene *s, const ray__bvh *bvh,
             }
         }
     pop:
+        /* An entry beyond the interval's end, which a hit shrank, is
+        ** dropped.  An any-hit walk returns at its first hit, so its
+        ** interval never shrinks and nothing it pushed (each within the
+        ** interval then) lies beyond: it never looks. */
         do {
             if (sp == 0)
                 return found;
             sp--;
-        } while (stack[sp].t > tpop);
+        } while (!any && stack[sp].t > tpop);
         child = stack[sp].child;
         count = stack[sp].count;
     }
