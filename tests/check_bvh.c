@@ -636,9 +636,10 @@ static ray_ray few_prims_ray(rng *g, int j)
     return r;
 }
 
-/* Planes and spheres, and a triangle: none (triangle 0), far where no
-** ray here reaches it (1), or across the spheres (2). */
-static ray_scene *few_prims_scene(int triangle, int planes)
+/* Two planes (or none), three spheres (or none), and a triangle: none
+** (triangle 0), far where no ray here reaches it (1), or across the
+** spheres' place (2). */
+static ray_scene *few_prims_scene(int triangle, int planes, int spheres)
 {
     unsigned mat;
     ray_scene *s = new_scene(&mat);
@@ -650,13 +651,15 @@ static ray_scene *few_prims_scene(int triangle, int planes)
                                              vec(0.1, 0, 1), mat, NULL),
                          RAY_OK);
     }
-    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 1, mat, NULL),
-                     RAY_OK);
-    ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0.8, 0.6), 0.8, mat,
-                                          NULL), RAY_OK);
-    /* Touching the first: rays through the point they share tie. */
-    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 3, 0), 1, mat, NULL),
-                     RAY_OK);
+    if (spheres) {
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 1, mat, NULL),
+                         RAY_OK);
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0.8, 0.6), 0.8,
+                                              mat, NULL), RAY_OK);
+        /* Touching the first: rays through the point they share tie. */
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 3, 0), 1, mat, NULL),
+                         RAY_OK);
+    }
     if (triangle == 1)
         ck_assert_int_eq(ray_scene_add_triangle(s, vec(1e6, 0, 0),
                                                 vec(1e6 + 1, 0, 0),
@@ -675,10 +678,10 @@ static ray_scene *few_prims_scene(int triangle, int planes)
 ** (AVX2), with counts, ungated (the lean path) and through a gate that
 ** lets everything through (the general query, nearest_core and
 ** any_core): the same answers and counts, and the counts they must be
-** (np planes, three spheres, and triangle tests only where the scene has
-** a triangle that rays reach: near).  1 if it hit. */
+** (np planes, ns spheres, and triangle tests only where the scene has a
+** triangle that rays reach: near).  1 if it hit. */
 static int few_prims_compare(const ray_scene *s, const ray_ray *r, int uv,
-                             int copy, unsigned np, int near)
+                             int copy, unsigned np, unsigned ns, int near)
 {
     const ray__gate all = {~0u, NULL, 0, NULL};
     typedef int nearest_fn(const ray_scene *, const ray_ray *,
@@ -724,17 +727,18 @@ static int few_prims_compare(const ray_scene *s, const ray_ray *r, int uv,
     ** after every plane; a miss tests everything; without planes, a hit
     ** counts the spheres up to it (at least one). */
     ck_assert(sa.tests_by_kind[RAY_PRIM_PLANE] == np * usable &&
-              sa.tests_by_kind[RAY_PRIM_SPHERE] == 3u * usable &&
-              sa.tests == (np + 3u) * usable +
+              sa.tests_by_kind[RAY_PRIM_SPHERE] == ns * usable &&
+              sa.tests == (np + ns) * usable +
                               sa.tests_by_kind[RAY_PRIM_TRIANGLE]);
     if (!usable)
         ck_assert(xa.tests == 0 && oa == 0);
     else if (oa == 0)
         ck_assert(xa.tests_by_kind[RAY_PRIM_PLANE] == np &&
-                  xa.tests_by_kind[RAY_PRIM_SPHERE] == 3 &&
+                  xa.tests_by_kind[RAY_PRIM_SPHERE] == ns &&
                   xa.tests_by_kind[RAY_PRIM_TRIANGLE] ==
                       sa.tests_by_kind[RAY_PRIM_TRIANGLE]);
-    else if (xa.tests_by_kind[RAY_PRIM_SPHERE] > 0 || np == 0)
+    else if (xa.tests_by_kind[RAY_PRIM_SPHERE] > 0 ||
+             (np == 0 && ns > 0))
         ck_assert(xa.tests_by_kind[RAY_PRIM_PLANE] == np &&
                   xa.tests_by_kind[RAY_PRIM_SPHERE] >= 1);
     return ha == 1;
@@ -747,42 +751,46 @@ static int few_prims_compare(const ray_scene *s, const ray_ray *r, int uv,
 ** answer the same, bit for bit, nearest and any hit, with (u, v) or
 ** without (the tracer's uv 0), unusable rays included, and count the
 ** same tests of each kind -- the counts they must be -- in both copies;
-** with planes and without, with no triangle, a far one and one across
-** the spheres.  And a far triangle changes no answer of the public
-** queries (ray_intersect, ray_occluded: no counts).
+** with planes and without, with spheres and without, with no triangle, a
+** far one and one across the spheres' place (so triangles alone, planes
+** and triangles, and the empty scene too).  And a far triangle changes
+** no answer of the public queries (ray_intersect, ray_occluded: no
+** counts).
 */
 START_TEST(few_prims_should_answer_as_the_general_query)
 {
     rng g = {53};
-    int j, uv, copy, hits = 0, planes, tri;
+    int j, uv, copy, hits = 0, planes, spheres, tri;
 
-    for (planes = 0; planes <= 1; planes++) {
-        ray_scene *s[3];
-        for (tri = 0; tri < 3; tri++)
-            s[tri] = few_prims_scene(tri, planes);
-        for (j = 0; j < 3000; j++) {
-            ray_ray r = few_prims_ray(&g, j);
-            ray_hit a, b;
-            int ha;
+    for (planes = 0; planes <= 1; planes++)
+        for (spheres = 0; spheres <= 1; spheres++) {
+            ray_scene *s[3];
             for (tri = 0; tri < 3; tri++)
-                for (uv = 0; uv <= 1; uv++)
-                    for (copy = 0; copy < 2; copy++)
-                        if (copy == 0 || ray__cpu_has_avx2())
-                            hits += few_prims_compare(
-                                s[tri], &r, uv, copy,
-                                2u * (unsigned)planes, tri == 2);
-            memset(&a, 0xab, sizeof a);
-            memset(&b, 0xab, sizeof b);
-            ha = ray_intersect(s[0], &r, &a, NULL);
-            ck_assert_int_eq(ha, ray_intersect(s[1], &r, &b, NULL));
-            ck_assert(ha == 1 ? hit_same(&a, &b)
-                              : memcmp(&a, &b, sizeof a) == 0);
-            ck_assert_int_eq(ray_occluded(s[0], &r, NULL),
-                             ray_occluded(s[1], &r, NULL));
+                s[tri] = few_prims_scene(tri, planes, spheres);
+            for (j = 0; j < 1500; j++) {
+                ray_ray r = few_prims_ray(&g, j);
+                ray_hit a, b;
+                int ha;
+                for (tri = 0; tri < 3; tri++)
+                    for (uv = 0; uv <= 1; uv++)
+                        for (copy = 0; copy < 2; copy++)
+                            if (copy == 0 || ray__cpu_has_avx2())
+                                hits += few_prims_compare(
+                                    s[tri], &r, uv, copy,
+                                    2u * (unsigned)planes,
+                                    3u * (unsigned)spheres, tri == 2);
+                memset(&a, 0xab, sizeof a);
+                memset(&b, 0xab, sizeof b);
+                ha = ray_intersect(s[0], &r, &a, NULL);
+                ck_assert_int_eq(ha, ray_intersect(s[1], &r, &b, NULL));
+                ck_assert(ha == 1 ? hit_same(&a, &b)
+                                  : memcmp(&a, &b, sizeof a) == 0);
+                ck_assert_int_eq(ray_occluded(s[0], &r, NULL),
+                                 ray_occluded(s[1], &r, NULL));
+            }
+            for (tri = 0; tri < 3; tri++)
+                ray_scene_free(s[tri]);
         }
-        for (tri = 0; tri < 3; tri++)
-            ray_scene_free(s[tri]);
-    }
     ck_assert_int_gt(hits, 18000);
 }
 END_TEST
@@ -806,7 +814,7 @@ START_TEST(few_spheres_should_answer_as_ray_sphere_at_any_scale)
     static const ray_vec3 centre[3] = {{0, 1, 0}, {1.5, 0.8, 0.6},
                                        {0, 3, 0}};
     static const double radius[3] = {1, 0.8, 1};
-    ray_scene *s = few_prims_scene(0, 0);
+    ray_scene *s = few_prims_scene(0, 0, 1);
     rng g = {59};
     int j, hits = 0;
     size_t k;
@@ -915,8 +923,10 @@ static unsigned long long tri_tests(const ray_scene *s, const ray_ray *r,
 ** between the walls now tests no triangle; one onto a wall tests that
 ** wall's two.  Groups close enough that their boxes have more area
 ** together than their node's (a thin double wall), triangles that touch
-** (a strip folded in a V), and groups whose boxes overlap (an L), stay
-** one leaf: their rays test all four, as before.
+** (a strip folded in a V), groups whose boxes overlap (an L), and small
+** triangles as far apart as the walls (a soup's: their boxes' areas add
+** up to less than their node's) stay one leaf: their rays test all four,
+** as before.
 */
 START_TEST(sparse_leaves_should_split_into_groups_apart)
 {
@@ -924,7 +934,7 @@ START_TEST(sparse_leaves_should_split_into_groups_apart)
     unsigned idx[12], mat, n, items, want_leaves;
     int shape, copy;
 
-    for (shape = 0; shape < 4; shape++) {
+    for (shape = 0; shape < 5; shape++) {
         double gap = shape == 1 ? 0.1 : 5;   /* 1: a thin double wall */
         ray_mesh m = {0};
         ray_scene *s = new_scene(&mat);
@@ -938,16 +948,25 @@ START_TEST(sparse_leaves_should_split_into_groups_apart)
                     v3(x0, 5, -2.5), v3(x0, 5, 2.5));
             quad_at(v, idx, &n, v3(x1, 0, -2.5), v3(x1, 0, 2.5),
                     v3(x1, 5, 2.5), v3(x1, 5, -2.5));
+        } else if (shape == 4) {
+            /* Two pairs of small triangles as far apart as the walls:
+            ** items small beside their node (a soup's) stay one leaf. */
+            quad_at(v, idx, &n, v3(-2.5, 0, 0.1), v3(-2.5, 0, -0.1),
+                    v3(-2.5, 0.2, -0.1), v3(-2.5, 0.2, 0.1));
+            quad_at(v, idx, &n, v3(2.5, 0, -0.1), v3(2.5, 0, 0.1),
+                    v3(2.5, 0.2, 0.1), v3(2.5, 0.2, -0.1));
         } else if (shape == 3) {
-            /* An L of two bars, one along x, one along y, meeting at the
-            ** corner; each bar's two triangles at z = 0 and z = 1.  By
-            ** their lengths the items may leave a gap (along z), and
-            ** the split between the bars has little area, but their
-            ** boxes overlap at the corner: one leaf. */
+            /* An L of two bars 4 wide, one along x, one along y,
+            ** meeting at the corner; each bar's two triangles at z = 0
+            ** and z = 1.  By their lengths the items leave a gap (along
+            ** z), they are large (their areas add up to 4/3 of the
+            ** node's), and the split between the bars has less area
+            ** (0.9 of it), but their boxes overlap at the corner: one
+            ** leaf. */
             const ray_vec3 corner[12] = {
-                {0, 0, 0}, {10, 0, 0}, {10, 1, 0}, {0, 0, 1}, {10, 1, 1},
-                {0, 1, 1}, {0, 0, 0}, {1, 0, 0}, {0, 10, 0}, {1, 0, 1},
-                {1, 10, 1}, {0, 10, 1}};
+                {0, 0, 0}, {10, 0, 0}, {10, 4, 0}, {0, 0, 1}, {10, 4, 1},
+                {0, 4, 1}, {0, 0, 0}, {4, 0, 0}, {0, 10, 0}, {4, 0, 1},
+                {4, 10, 1}, {0, 10, 1}};
             for (n = 0; n < 12; n++) {
                 v[n] = corner[n];
                 idx[n] = n;
@@ -974,7 +993,7 @@ START_TEST(sparse_leaves_should_split_into_groups_apart)
         want_leaves = shape == 0 ? 2 : 1;
         ck_assert_uint_eq(tri_leaves(s, &items), want_leaves);
         ck_assert_uint_eq(items, 4);
-        for (copy = 0; copy < 2 && shape != 3; copy++) {
+        for (copy = 0; copy < 2 && shape < 3; copy++) {
             ray_hit h;
             int hit;
             unsigned long long t;

@@ -155,14 +155,15 @@ void ray__bvh_link(builder *bd, const task *t, size_t mid,
 int ray__bvh_collapse(const ray__allocator *a, ray__bvh *bvh,
                       const unsigned *leaves);
 /*
-** A node of few items that is sparse (sparse.c): ray__bvh_may_have_gap,
-** might the boxes of refs[begin, end) leave a gap inside their node's box
-** b (if not, they make a leaf); ray__bvh_sides_sparse, are split sp's two
-** sides apart, with less area together than their node's (node_area)?
+** A node of few items that is sparse (sparse.c): ray__bvh_has_gap, do
+** the boxes of refs[begin, end) surely leave a gap inside their node's
+** box b (if not, they make a leaf); ray__bvh_sides_sparse, are the items
+** large beside their node, and split sp's two sides apart, with less
+** area together than the node's box?
 */
-int ray__bvh_may_have_gap(const builder *bd, size_t begin, size_t end,
-                          const box *b);
+int ray__bvh_has_gap(const builder *bd, size_t begin, size_t end,
+                     const box *b);
 int ray__bvh_sides_sparse(const builder *bd, size_t begin, size_t end,
-                          const split *sp, float node_area);
+                          const split *sp, const box *node);
 
 #endif /* RAY_BUILDER_H */

@@ -87,7 +87,8 @@ typedef void (*ray__boxes_fn)(const void *ud, size_t begin, size_t end,
                               ray__box_rec *out);
 typedef struct ray__bvh_costs {
     float traversal;         /* a split's cost, in item tests */
-    unsigned leaf_items;     /* a node of this many items or fewer: a leaf */
+    unsigned leaf_items;     /* a node of this many items or fewer: a leaf
+                                (unless sparse: sparse.c) */
     int box_threads;         /* box may run on the build's threads at once
                                 (reads only what no thread writes); 0:
                                 on the calling thread only */

@@ -704,11 +704,11 @@ static int sparse_split(const builder *bd, const task *t, split *sp)
 {
     float area = box_area(&t->b.items);
 
-    if (!ray__bvh_may_have_gap(bd, t->begin, t->end, &t->b.items))
+    if (!ray__bvh_has_gap(bd, t->begin, t->end, &t->b.items))
         return 0;
     *sp = best_split(bd, t->begin, t->end, &t->b.centroids, area);
     return sp->axis >= 0 &&
-           ray__bvh_sides_sparse(bd, t->begin, t->end, sp, area);
+           ray__bvh_sides_sparse(bd, t->begin, t->end, sp, &t->b.items);
 }
 
 int ray__bvh_divide(builder *bd, const task *t, size_t *mid, bounds *left,

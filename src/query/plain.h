@@ -6,9 +6,9 @@
 ** of instances alone, each of a child of triangles alone: each is its
 ** set-up and the scene's box test, then a walk apart (not inlined).  And
 ** the ungated queries, counted or not, of a scene of planes, a few
-** spheres and triangles alone.  ray_intersect and ray_occluded take the plain ones
-** first (intersect.c), and the general query hands such scenes to them
-** (traverse.h).
+** spheres and triangles alone.  ray_intersect and ray_occluded take the
+** plain ones first (intersect.c), and the general query hands such
+** scenes to them (traverse.h).
 */
 #ifndef RAY_PLAIN_H
 #define RAY_PLAIN_H
