@@ -161,88 +161,6 @@ static ray_material material_of(ray_shade_fn fn, void *ud, unsigned effects)
     return m;
 }
 
-/* The points of a sphere light's nine samples, taken from the first hit
-** shaded (ud: a disk_points). */
-typedef struct disk_points {
-    ray_vec3 from, point[9];
-    int taken;
-} disk_points;
-
-static void take_disk(void *ud, ray_ctx *ctx, const ray_shade_args *a,
-                      ray_rgb *out)
-{
-    disk_points *d = ud;
-    unsigned si;
-
-    (void)out;
-    if (d->taken)
-        return;
-    ck_assert_uint_eq(ray_light_samples(a->scene, 0), 9);
-    for (si = 0; si < 9; si++) {
-        ray_light_sample ls;
-        ck_assert_int_eq(ray_light_sample_at(ctx, a, 0, si, &ls), RAY_OK);
-        d->point[si] = ls.point;
-    }
-    d->from = a->hit->p;
-    d->taken = 1;
-}
-
-/*
-** A sphere light's samples lie on the disk it presents to the shading
-** point (light.c, ray__light_frame_at: made once a point): within the
-** radius of its centre, across the line to the point, and spread over
-** it by the strata.  Tolerances: 1e-12 of the radius covers a few
-** roundings of coordinates near 4.
-*/
-START_TEST(sphere_light_samples_should_cover_its_facing_disk)
-{
-    const ray_vec3 centre = {1, 4, 0.5};
-    const double radius = 0.5;
-    disk_points d = {{0, 0, 0}, {{0, 0, 0}}, 0};
-    ray_material m = material_of(take_disk, &d, 0);
-    ray_ray r = ray_from(vec(0.3, 2, 0.2), vec(0, -1, 0));
-    ray_light l;
-    ray_scene *s;
-    ray_ctx *ctx;
-    ray_vec3 w;
-    ray_rgb c;
-    double far = 0, len;
-    unsigned mat;
-    int i, j;
-
-    ray_light_init(&l, RAY_LIGHT_SPHERE);
-    l.position = centre;
-    l.radius = radius;
-    l.samples = 9;
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat,
-                                         NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_ctx_new(s, 7, &ctx), RAY_OK);
-    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
-    ck_assert(d.taken);
-    w = vec(d.from.x - centre.x, d.from.y - centre.y, d.from.z - centre.z);
-    len = sqrt(vdot(w, w));
-    for (i = 0; i < 9; i++) {
-        ray_vec3 q = vec(d.point[i].x - centre.x, d.point[i].y - centre.y,
-                         d.point[i].z - centre.z);
-        double rq = sqrt(vdot(q, q));
-        ck_assert(rq <= radius * (1 + 1e-12));
-        ck_assert(fabs(vdot(q, w)) / len <= 1e-12 * radius);
-        far = fmax(far, rq);
-        for (j = 0; j < i; j++)
-            ck_assert(d.point[j].x != d.point[i].x ||
-                      d.point[j].y != d.point[i].y ||
-                      d.point[j].z != d.point[i].z);
-    }
-    ck_assert(far > radius / 2);      /* the outer strata reach out */
-    ray_ctx_free(ctx);
-    ray_scene_free(s);
-}
-END_TEST
-
 /*
 ** The same bits as the hand-written loop, for each kind of light and all
 ** four at once, area lights with 9 and 16 jittered samples: the two draw
@@ -682,7 +600,6 @@ Suite *direct_suite(void)
     Suite *s = suite_create("direct");
     TCase *tc = tcase_create("loop");
 
-    tcase_add_test(tc, sphere_light_samples_should_cover_its_facing_disk);
     tcase_add_loop_test(tc, direct_should_equal_the_hand_written_loop, 0, 5);
     tcase_add_loop_test(tc, phong_should_render_the_bits_of_its_former_loop,
                         0, 4);

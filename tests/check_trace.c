@@ -510,6 +510,8 @@ static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
 {
     light_probe *p = ud;
     ray_light_sample ls;
+    ray_vec3 point[9];
+    double far = 0;
     unsigned i;
 
     (void)out;
@@ -532,6 +534,7 @@ static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     ck_assert_double_eq(ls.radiance.r, 2.0);
     for (i = 0; i < 9; i++) {
         double from_centre;
+        unsigned j;
         ck_assert_int_eq(ray_light_sample_at(ctx, a, 2, i, &ls), RAY_OK);
         /* On the disk of radius 1 around (0,0,10), facing the hit point
         ** (the origin): z = 10, |(x, y)| <= 1; radiance 1/dist^2 split
@@ -541,7 +544,14 @@ static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
         ck_assert(from_centre <= 1.0 + 1e-12);
         ck_assert_double_eq_tol(ls.radiance.g, 1.0 / (9 * ls.dist * ls.dist), 1e-15);
         ck_assert_double_eq_tol(ls.dist, vdist(ls.point, a->hit->p), 1e-12);
+        /* Spread over the disk by the strata (light.c's frame, made once
+        ** a point): no two samples alike, the outer ones reaching out. */
+        for (j = 0; j < i; j++)
+            ck_assert(point[j].x != ls.point.x || point[j].y != ls.point.y);
+        point[i] = ls.point;
+        far = fmax(far, from_centre);
     }
+    ck_assert(far > 0.5);
     p->checked = 1;
 }
 

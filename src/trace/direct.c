@@ -92,9 +92,7 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
         unsigned side = ctx->scene->lights[li].side, ns = side * side;
         ray__light_frame f;
 
-        f.ok = 0;              /* only a sphere light reads its frame */
-        if (ctx->scene->lights[li].desc.kind == RAY_LIGHT_SPHERE)
-            ray__light_frame_at(ctx->scene, li, args->hit->p, &f);
+        ray__light_frame_at(ctx->scene, li, args->hit->p, &f);
         for (si = 0; si < ns; si++) {
             ray_light_sample ls;
 

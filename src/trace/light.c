@@ -29,14 +29,12 @@ unsigned ray_light_samples(const ray_scene *s, unsigned light)
 ** instructions (callgrind, examples/mesh; issue 35).  ok 0: "from" is
 ** the light's centre (every sample is the centre).
 */
-void ray__light_frame_at(const ray_scene *s, unsigned light, ray_vec3 from,
-                         ray__light_frame *f)
+void ray__sphere_light_frame(const ray_light *l, ray_vec3 from,
+                             ray__light_frame *f)
 {
-    const ray_light *l = &s->lights[light].desc;
     ray_vec3 w;
 
-    f->ok = l->kind == RAY_LIGHT_SPHERE &&
-            v3_normalize(v3_sub(from, l->position), &w);
+    f->ok = v3_normalize(v3_sub(from, l->position), &w);
     if (f->ok)
         ray__tangent_frame(w, &f->t1, &f->t2);
 }

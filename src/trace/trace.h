@@ -108,8 +108,20 @@ typedef struct ray__light_frame {
     int ok;
     ray_vec3 t1, t2;
 } ray__light_frame;
-void ray__light_frame_at(const ray_scene *s, unsigned light, ray_vec3 from,
-                         ray__light_frame *f);
+void ray__sphere_light_frame(const ray_light *l, ray_vec3 from,
+                             ray__light_frame *f);
+
+/* Inline, so that the other kinds' lights (Whitted's point lights) pay
+** one compare a point, not a call. */
+static inline void ray__light_frame_at(const ray_scene *s, unsigned light,
+                                       ray_vec3 from, ray__light_frame *f)
+{
+    const ray_light *l = &s->lights[light].desc;
+
+    f->ok = 0;
+    if (l->kind == RAY_LIGHT_SPHERE)
+        ray__sphere_light_frame(l, from, f);
+}
 int ray__light_sample(ray_ctx *ctx, const ray_shade_args *args,
                       unsigned light, unsigned index,
                       const ray__light_frame *f, ray_light_sample *out);
