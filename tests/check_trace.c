@@ -5,6 +5,8 @@
 */
 #include "tests.h"
 
+#include "core/sampling.h"   /* ray__concentric_disk */
+
 /* A scene with two facing mirror planes y = 0 and y = 1 (reflectance
 ** "k") and the given limits; a context traces one vertical ray. */
 static ray_stats bounce_between_mirrors(double k, const ray_limits *lim)
@@ -555,6 +557,67 @@ static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     p->checked = 1;
 }
 
+/* How far x is from the reference ref, in units of ref's last place
+** (0 when both are 0). */
+static double ulps_off(double x, long double ref)
+{
+    double r = (double)ref, ulp = nextafter(fabs(r), HUGE_VAL) - fabs(r);
+
+    return (double)(fabsl((long double)x - ref) / (long double)ulp);
+}
+
+/*
+** The concentric map (sampling.c) against its definition: radius
+** max(|a|, |b|), angle (pi/4) (b/a) about the x axis and
+** pi/2 - (pi/4) (a/b) about the y axis, with libm's long double sine and
+** cosine of that angle (about the y axis, the sine and cosine of
+** (pi/4) (a/b): no cancellation near pi/2 in the reference).  Within
+** 4 ulp a coordinate: the inline sine and cosine are within 1 ulp (0.83
+** and 0.76 the worst of 8M angles), the angle's quotient and product
+** round twice in double (at most about 1.5 ulp of the result once
+** through sin or cos), and the product with the radius once more.  A
+** wrong coefficient, sign or wedge is off by thousands of ulp or more.
+*/
+static void disk_point_should_follow_its_definition(double a, double b)
+{
+    const long double quarter = 0.78539816339744830961566084581987572L;
+    long double rad, phi;
+    double x, y;
+    int ok;
+
+    ray__concentric_disk(a, b, &x, &y);
+    if (a == 0 && b == 0) {
+        ck_assert(x == 0 && y == 0);
+        return;
+    }
+    if (fabs(a) > fabs(b)) {
+        rad = (long double)a;
+        phi = quarter * ((long double)b / (long double)a);
+        ok = ulps_off(x, rad * cosl(phi)) <= 4 && ulps_off(y, rad * sinl(phi)) <= 4;
+    } else {                      /* cos and sin of pi/2 - phi */
+        rad = (long double)b;
+        phi = quarter * ((long double)a / (long double)b);
+        ok = ulps_off(x, rad * sinl(phi)) <= 4 && ulps_off(y, rad * cosl(phi)) <= 4;
+    }
+    ck_assert_msg(ok, "(%a, %a) -> (%.17g, %.17g)", a, b, x, y);
+}
+
+START_TEST(concentric_disk_should_follow_its_definition)
+{
+    int i, j;
+
+    for (i = -400; i <= 400; i++)
+        for (j = -400; j <= 400; j++)
+            disk_point_should_follow_its_definition(i / 400.0, j / 400.0);
+    /* The corners' neighbours, and tiny and denormal radii. */
+    disk_point_should_follow_its_definition(1, nextafter(1, 0));
+    disk_point_should_follow_its_definition(nextafter(-1, 0), -1);
+    disk_point_should_follow_its_definition(0x1p-1060, -0x1p-1070);
+    disk_point_should_follow_its_definition(0x1p-1074, 0x1p-1074);
+    disk_point_should_follow_its_definition(1e-300, 0.7e-300);
+}
+END_TEST
+
 START_TEST(lights_should_sample_as_documented)
 {
     light_probe probe = {0};
@@ -685,6 +748,7 @@ Suite *trace_suite(void)
     tcase_add_test(opt, background_should_come_from_colour_or_callback);
     tcase_add_test(opt, ctx_random_should_be_uniform_and_reproducible);
     tcase_add_test(opt, lights_should_sample_as_documented);
+    tcase_add_test(opt, concentric_disk_should_follow_its_definition);
     tcase_add_test(opt, render_options_should_default_sensibly);
     tcase_add_test(opt, materials_without_parameters_should_do_nothing);
     suite_add_tcase(s, lim);
