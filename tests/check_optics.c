@@ -4,6 +4,8 @@
 */
 #include "tests.h"
 
+#include "core/spawn.h"   /* ray__spawner: one hit, many rays */
+
 /* The Fresnel reference values come from Mitsuba 3's test_fresnel.py
 ** (robustness.md section 8), given to 6 digits there: tolerance 1e-6. */
 START_TEST(fresnel_should_match_reference_values)
@@ -467,6 +469,67 @@ START_TEST(spawn_should_refuse_what_is_not_finite)
 }
 END_TEST
 
+/* One spawner's answer for "target" against ray_spawn_to's, bit for bit
+** (the ray, or the refusal with *out untouched). */
+static void spawner_should_agree(ray__spawner *sp, ray_vec3 target)
+{
+    ray_ray a, b;
+    int ra, rb;
+
+    memset(&a, 0x5a, sizeof a);
+    memset(&b, 0x5a, sizeof b);
+    ra = ray_spawn_to(sp->hit, target, &a);
+    rb = ray__spawn_to(sp, target, &b);
+    ck_assert_int_eq(ra, rb);
+    ck_assert(memcmp(&a, &b, sizeof a) == 0);
+}
+
+/*
+** ray_shade_direct's shadow rays leave one hit from origins made once
+** (spawn.c's spawner, one a side of the surface): the same rays as
+** ray_spawn_to's, in any order of sides -- random hits (tilted, with
+** error bounds of their size) and targets on both sides in turn; a
+** target at the hit or not finite; a hit not finite (every target
+** refused); an offset past DBL_MAX on one side only (that side refused,
+** the other not).
+*/
+START_TEST(spawner_should_make_spawn_to_rays)
+{
+    rng g = {38};
+    ray__spawner sp;
+    ray_hit h, bad;
+    int i, j;
+
+    memset(&h, 0, sizeof h);
+    for (i = 0; i < 2000; i++) {
+        h.p = vec(rng_range(&g, -1e3, 1e3), rng_range(&g, -1, 1), rng_range(&g, -1e-3, 1e-3));
+        h.n = rng_dir(&g);
+        h.p_err = vscale(vec(rng_unit(&g), rng_unit(&g), rng_unit(&g)), 1e-13);
+        ray__spawner_start(&sp, &h);
+        for (j = 0; j < 6; j++) {
+            ray_vec3 d = rng_dir(&g);
+            double side = (j % 3 == 0) == (i % 2 == 0) ? 1 : -1;
+            if (vdot(d, h.n) * side < 0)
+                d = vscale(d, -1);
+            spawner_should_agree(&sp, vadd(h.p, vscale(d, rng_range(&g, 1e-6, 1e6))));
+        }
+        spawner_should_agree(&sp, h.p);
+        spawner_should_agree(&sp, vec(1, (double)NAN, 0));
+        spawner_should_agree(&sp, vec(HUGE_VAL, 0, 0));
+    }
+    bad = h, bad.p_err.y = (double)NAN;
+    ray__spawner_start(&sp, &bad);
+    spawner_should_agree(&sp, vadd(h.p, h.n));
+    spawner_should_agree(&sp, vsub(h.p, h.n));
+    bad = h, bad.p = vec(0, 0, DBL_MAX), bad.n = vec(0, 0, 1),
+    bad.p_err = vec(0, 0, DBL_MAX);
+    ray__spawner_start(&sp, &bad);
+    spawner_should_agree(&sp, vec(0, 0, 1));           /* below: made */
+    spawner_should_agree(&sp, vec(0, 1, DBL_MAX));     /* above: past DBL_MAX */
+    spawner_should_agree(&sp, vec(1, 0, 1));
+}
+END_TEST
+
 Suite *optics_suite(void)
 {
     Suite *s = suite_create("optics");
@@ -485,6 +548,7 @@ Suite *optics_suite(void)
     tcase_add_test(sp, hit_error_bounds_should_be_their_documented_values);
     tcase_add_test(sp, spawn_should_not_skip_thin_gaps);
     tcase_add_test(sp, spawn_should_refuse_what_is_not_finite);
+    tcase_add_test(sp, spawner_should_make_spawn_to_rays);
     suite_add_tcase(s, tc);
     suite_add_tcase(s, sp);
     return s;

@@ -48,11 +48,12 @@ static ray_vec3 toward_eye(ray_vec3 d)
 ** normal, where the BRDF is not called), then its shadow ray.  With
 ** pruning, a sample that cannot add light costs no ray; without, the ray
 ** is cast anyway (the naive mode that pruning is measured against), and
-** the sample still adds nothing.
+** the sample still adds nothing.  sp: the hit's shadow-ray origins, made
+** once (core/spawn.h).
 */
 static void add_sample(ray_ctx *ctx, const ray_shade_args *a,
-                       ray_brdf_fn brdf, void *ud, ray_brdf_args *b,
-                       ray_rgb *out)
+                       ray__spawner *sp, ray_brdf_fn brdf, void *ud,
+                       ray_brdf_args *b, ray_rgb *out)
 {
     const ray_light_sample *ls = b->sample;
     ray_rgb f = {0, 0, 0};
@@ -65,7 +66,7 @@ static void add_sample(ray_ctx *ctx, const ray_shade_args *a,
     contributes = b->cos_light > 0 && rgb_any_positive(f);
     if (!contributes && a->prune)
         return;
-    if (!ray_light_visible(ctx, a, ls) || !contributes)
+    if (!ray__light_visible(ctx, sp, ls) || !contributes)
         return;
     out->r += f.r * ls->radiance.r;
     out->g += f.g * ls->radiance.g;
@@ -76,6 +77,7 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
                      ray_brdf_fn brdf, void *ud, ray_rgb *out)
 {
     ray_brdf_args b;
+    ray__spawner sp;
     unsigned li, si;
 
     if (ctx == NULL || args == NULL || args->ray == NULL ||
@@ -83,6 +85,7 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
         return RAY_EINVAL;
     b.shade = args;
     b.to_eye = toward_eye(args->ray->dir);
+    ray__spawner_start(&sp, args->hit);
     /* The scene's lights and their strata read here, as
     ** ray_scene_light_count and ray_light_samples read them: the same
     ** counts, without two calls a hit (exported functions, which the
@@ -100,7 +103,7 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
                 continue;
             b.sample = &ls;
             b.light = li;
-            add_sample(ctx, args, brdf, ud, &b, out);
+            add_sample(ctx, args, &sp, brdf, ud, &b, out);
         }
     }
     return RAY_OK;

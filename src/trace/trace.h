@@ -7,6 +7,7 @@
 #define RAY_TRACE_H
 
 #include "core/sampling.h"
+#include "core/spawn.h"
 #include "query/query.h"
 
 /*
@@ -125,6 +126,12 @@ static inline void ray__light_frame_at(const ray_scene *s, unsigned light,
 int ray__light_sample(ray_ctx *ctx, const ray_shade_args *args,
                       unsigned light, unsigned index,
                       const ray__light_frame *f, ray_light_sample *out);
+
+/* ray_light_visible(ctx, args, sample) for args->hit == sp->hit, its
+** shadow ray leaving the hit from the origins sp keeps (core/spawn.h):
+** the same answer and counts, bit for bit. */
+int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
+                       const ray_light_sample *sample);
 
 /* Can material m read a ray's cone (materials.c says which can)? */
 int ray__material_reads_cone(const ray_material *m);
