@@ -546,6 +546,12 @@ static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
         ck_assert(from_centre <= 1.0 + 1e-12);
         ck_assert_double_eq_tol(ls.radiance.g, 1.0 / (9 * ls.dist * ls.dist), 1e-15);
         ck_assert_double_eq_tol(ls.dist, vdist(ls.point, a->hit->p), 1e-12);
+        /* The unit direction toward the sample: to / |to| within 2 ulp a
+        ** component and of unit length (light.c's one division, and
+        ** the root and product it rounds). */
+        ck_assert_vec_eq_tol(ls.dir, vscale(vsub(ls.point, a->hit->p), 1 / ls.dist),
+                             4 * DBL_EPSILON);
+        ck_assert(fabs(vdot(ls.dir, ls.dir) - 1) <= 4 * DBL_EPSILON);
         /* Spread over the disk by the strata (light.c's frame, made once
         ** a point): no two samples alike, the outer ones reaching out. */
         for (j = 0; j < i; j++)
@@ -556,6 +562,79 @@ static void probe_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
     ck_assert(far > 0.5);
     p->checked = 1;
 }
+
+/* Lights as near as |to|^2 underflows: a point light 1e-154 away on the
+** diagonal (|to|^2 2e-308, just under DBL_MIN) and 2e-154 (8e-308, just
+** over), and a sphere light of 65536 samples 3e-157 away (1.8e-313,
+** where a subnormal keeps 35 bits: 1/|to| taken from its root would be
+** 1e-11 off).  Each sample's direction is the unit vector toward its
+** point within 2 ulp a component (light.c: one division, or the scaled
+** way below DBL_MIN), and its radiance the inverse square split over
+** the samples. */
+static void probe_near_lights(void *ud, ray_ctx *ctx, const ray_shade_args *a,
+                              ray_rgb *out)
+{
+    light_probe *p = ud;
+    unsigned i;
+
+    (void)out;
+    ck_assert(a->hit->p.x == 0 && a->hit->p.y == 0 && a->hit->p.z == 0);
+    for (i = 0; i < 3; i++) {
+        ray_light_sample ls;
+        long double x, y, z, len;
+
+        ck_assert_int_eq(ray_light_sample_at(ctx, a, i, 0, &ls), RAY_OK);
+        x = (long double)ls.point.x;
+        y = (long double)ls.point.y;
+        z = (long double)ls.point.z;
+        len = sqrtl(x * x + y * y + z * z);
+        ck_assert_vec_eq_tol(ls.dir, vec((double)(x / len), (double)(y / len),
+                                         (double)(z / len)),
+                             4 * DBL_EPSILON);
+        /* dist is the root of |to|^2 as it is (for the sphere light a
+        ** subnormal's 35 bits: 3e-11), and the radiance its inverse
+        ** square. */
+        ck_assert_double_eq_tol(ls.dist / (double)len, 1, 1e-10);
+        ck_assert_double_eq_tol((double)((long double)ls.radiance.r * len * len *
+                                         (i < 2 ? 1 : 65536)), 1, 1e-9);
+    }
+    p->checked = 1;
+}
+
+START_TEST(near_lights_should_give_unit_directions)
+{
+    light_probe probe = {0};
+    ray_material m = {probe_near_lights, &probe, 0, NULL};
+    ray_light l;
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_rgb c;
+    unsigned mat;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
+    ray_light_init(&l, RAY_LIGHT_POINT);
+    l.intensity = rgb(1, 1, 1);
+    l.position = vec(1e-154, 0, 1e-154);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    l.position = vec(2e-154, 0, 2e-154);
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ray_light_init(&l, RAY_LIGHT_SPHERE);
+    l.intensity = rgb(1, 1, 1);
+    l.position = vec(3e-157, 0, 3e-157);
+    l.radius = 1e-180;
+    l.samples = RAY_MAX_LIGHT_SAMPLES;
+    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 3, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_int_eq(probe.checked, 1);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+END_TEST
 
 /* How far x is from the reference ref, in units of ref's last place
 ** (0 when both are 0). */
@@ -749,6 +828,7 @@ Suite *trace_suite(void)
     tcase_add_test(opt, ctx_random_should_be_uniform_and_reproducible);
     tcase_add_test(opt, lights_should_sample_as_documented);
     tcase_add_test(opt, concentric_disk_should_follow_its_definition);
+    tcase_add_test(opt, near_lights_should_give_unit_directions);
     tcase_add_test(opt, render_options_should_default_sensibly);
     tcase_add_test(opt, materials_without_parameters_should_do_nothing);
     suite_add_tcase(s, lim);
