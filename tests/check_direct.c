@@ -16,8 +16,9 @@
 
 /*
 ** Light set "which": 0 point, 1 directional, 2 sphere (9 samples),
-** 3 rect (16 samples, emitting downward), 4 all four.  Every light sits
-** above the floor, to one side, so the ball casts a shadow on it.
+** 3 rect (25 samples, more than direct.c's batch of 16; emitting
+** downward), 4 all four.  Every light sits above the floor, to one side,
+** so the ball casts a shadow on it.
 */
 static void add_lights(ray_scene *s, int which)
 {
@@ -35,7 +36,7 @@ static void add_lights(ray_scene *s, int which)
         l.position = vec(1.5 - k, 4, 0.5 * k);
         l.direction = vec(-0.3, -1, -0.2);
         l.radius = 0.5;
-        l.samples = k == 2 ? 9 : 16;
+        l.samples = k == 2 ? 9 : 25;
         l.intensity = rgb(6, 5, 4);
         ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     }
@@ -163,7 +164,7 @@ static ray_material material_of(ray_shade_fn fn, void *ud, unsigned effects)
 
 /*
 ** The same bits as the hand-written loop, for each kind of light and all
-** four at once, area lights with 9 and 16 jittered samples: the two draw
+** four at once, area lights with 9 and 25 jittered samples: the two draw
 ** the same random numbers in the same order and add in the same order,
 ** so the images must agree exactly, and so must the shadow-ray counts
 ** (no sample behind the surface costs a ray in either).
@@ -183,6 +184,58 @@ START_TEST(direct_should_equal_the_hand_written_loop)
     for (k = 0; k < 3 * W * H; k++)
         sum += (double)a[k];
     ck_assert(sum > 0);                       /* something was lit */
+}
+END_TEST
+
+/* One ray straight down onto the floor's origin under lights "n" of:
+** a sphere light of 9 samples up and aside, then one of 9 samples
+** centred on the hit itself (every sample at distance 0, refused). */
+static ray_rgb shade_under_lights(int n, ray_stats *st)
+{
+    ray_material direct = material_of(direct_shade, NULL, RAY_EFFECT_SHADOW);
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_scene *s;
+    ray_ctx *ctx;
+    ray_light l;
+    ray_rgb c = {0, 0, 0};
+    unsigned mat;
+    int k;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, &direct, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
+    for (k = 0; k < n; k++) {
+        ray_light_init(&l, RAY_LIGHT_SPHERE);
+        l.position = k == 0 ? vec(1, 0, 3) : vec(0, 0, 0);
+        l.radius = 0.5;
+        l.samples = 9;
+        l.intensity = rgb(5, 5, 5);
+        ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
+    }
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ray_ctx_stats(ctx, st);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+    return c;
+}
+
+/*
+** A sample that ray_light_sample_at refuses adds nothing and casts no
+** ray, in direct.c's batches too: a second light whose every sample is
+** refused (at distance 0 from the hit) leaves the first light's colour
+** and shadow rays as they were, bit for bit.
+*/
+START_TEST(direct_should_skip_refused_samples)
+{
+    ray_stats one, both;
+    ray_rgb a = shade_under_lights(1, &one), b = shade_under_lights(2, &both);
+
+    ck_assert(a.r > 0);
+    ck_assert(a.r == b.r && a.g == b.g && a.b == b.b);
+    ck_assert_uint_eq(one.rays[RAY_KIND_SHADOW], 9);
+    ck_assert_uint_eq(both.rays[RAY_KIND_SHADOW], 9);
 }
 END_TEST
 
@@ -607,6 +660,7 @@ Suite *direct_suite(void)
                         0, 5);
     suite_add_tcase(s, tc);
     tc = tcase_create("hit");
+    tcase_add_test(tc, direct_should_skip_refused_samples);
     tcase_add_test(tc, brdf_should_get_unit_directions_and_the_cosine);
     tcase_add_test(tc, undeclared_shadows_should_leave_the_light_unblocked);
     tcase_add_test(tc, brdf_should_not_see_a_light_behind_the_surface);

@@ -210,3 +210,15 @@ int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
         rc = ray_spawn(sp->hit, sample->dir, &shadow);
     return shadow_passes(ctx, rc, &shadow);
 }
+
+void ray__light_samples(ray_ctx *ctx, const ray_shade_args *args,
+                        unsigned light, unsigned first, unsigned count,
+                        const ray__light_frame *f, ray_light_sample *out,
+                        int *ok)
+{
+    unsigned j;
+
+    for (j = 0; j < count; j++)
+        ok[j] = ray__light_sample(ctx, args, light, first + j, f, &out[j]) ==
+                RAY_OK;
+}

@@ -126,6 +126,13 @@ static inline void ray__light_frame_at(const ray_scene *s, unsigned light,
 int ray__light_sample(ray_ctx *ctx, const ray_shade_args *args,
                       unsigned light, unsigned index,
                       const ray__light_frame *f, ray_light_sample *out);
+/* Samples first .. first + count - 1 of the light into out[], ok[j] 1
+** where sample first + j was made (ray__light_sample's RAY_OK), 0 where
+** refused: a batch, whose chains of divisions and roots overlap. */
+void ray__light_samples(ray_ctx *ctx, const ray_shade_args *args,
+                        unsigned light, unsigned first, unsigned count,
+                        const ray__light_frame *f, ray_light_sample *out,
+                        int *ok);
 
 /* ray_light_visible(ctx, args, sample) for args->hit == sp->hit, its
 ** shadow ray leaving the hit from the origins sp keeps (core/spawn.h):
