@@ -2139,7 +2139,10 @@ RAY_API int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
 **     *out += sum over lights and samples of  f * radiance * visible
 **
 ** in the order light 0 sample 0, 0 1, ..., 1 0, ... (the order of a
-** hand-written loop, so a material moved onto it renders the same bits).
+** hand-written loop, so a material moved onto it renders the same bits,
+** as long as brdf draws no random numbers from the context, through ud:
+** an area light's samples are drawn up to 16 at a time, before their
+** brdf calls).
 ** "brdf" is called with "ud" and one ray_brdf_args per sample and returns
 ** f, the factor that multiplies the sample's radiance: the BRDF TIMES the
 ** cosine cos_light (so Lambert is color * cos_light, and models that are

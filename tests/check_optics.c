@@ -491,7 +491,7 @@ static void spawner_should_agree(ray__spawner *sp, ray_vec3 target)
 ** error bounds of their size) and targets on both sides in turn; a
 ** target at the hit or not finite; a hit not finite (every target
 ** refused); an offset past DBL_MAX on one side only (that side refused,
-** the other not).
+** the other not, in either order).
 */
 START_TEST(spawner_should_make_spawn_to_rays)
 {
@@ -521,12 +521,23 @@ START_TEST(spawner_should_make_spawn_to_rays)
     ray__spawner_start(&sp, &bad);
     spawner_should_agree(&sp, vadd(h.p, h.n));
     spawner_should_agree(&sp, vsub(h.p, h.n));
+    /* p at DBL_MAX, an offset of 2e300 along z: below, an origin;
+    ** above, past DBL_MAX (refused), whichever side comes first. */
     bad = h, bad.p = vec(0, 0, DBL_MAX), bad.n = vec(0, 0, 1),
-    bad.p_err = vec(0, 0, DBL_MAX);
-    ray__spawner_start(&sp, &bad);
-    spawner_should_agree(&sp, vec(0, 0, 1));           /* below: made */
-    spawner_should_agree(&sp, vec(0, 1, DBL_MAX));     /* above: past DBL_MAX */
-    spawner_should_agree(&sp, vec(1, 0, 1));
+    bad.p_err = vec(0, 0, 1e300);
+    for (i = 0; i < 2; i++) {
+        ray_vec3 below = vec(0, 0, 1), above = vec(0, 1, DBL_MAX);
+        ray_ray r;
+
+        ray__spawner_start(&sp, &bad);
+        ck_assert_int_eq(ray__spawn_to(&sp, i ? above : below, &r),
+                         i ? RAY_EINVAL : RAY_OK);
+        ck_assert_int_eq(ray__spawn_to(&sp, i ? below : above, &r),
+                         i ? RAY_OK : RAY_EINVAL);
+        spawner_should_agree(&sp, below);
+        spawner_should_agree(&sp, above);
+        spawner_should_agree(&sp, vec(1, 0, 1));
+    }
 }
 END_TEST
 

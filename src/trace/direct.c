@@ -80,7 +80,8 @@ RAY__HOT_INLINE void add_sample(ray_ctx *ctx, const ray_shade_args *a,
 ** between the shadow queries, where a batch's chains overlap (the bunny
 ** scene, examples/mesh: 1.12 times as fast; issue 35).  The same
 ** random numbers in the same order, since nothing between two samples
-** draws one (the BRDF has no context, and a shadow query none to give).
+** draws one (a shadow query none; the BRDF none unless it reaches the
+** context through its ud, which ray_shade_direct(3) warns of).
 */
 #define SAMPLE_BATCH 16
 
@@ -137,7 +138,8 @@ int ray_shade_direct(ray_ctx *ctx, const ray_shade_args *args,
         b.light = li;
         if (ns > 1)
             add_batches(ctx, args, &sp, ns, &f, brdf, ud, &b, out);
-        else if (ray__light_sample(ctx, args, li, 0, &f, &ls) == RAY_OK) {
+        else if (ns == 1 &&
+                 ray__light_sample(ctx, args, li, 0, &f, &ls) == RAY_OK) {
             b.sample = &ls;
             add_sample(ctx, args, &sp, brdf, ud, &b, out);
         }
