@@ -187,31 +187,28 @@ START_TEST(direct_should_equal_the_hand_written_loop)
 }
 END_TEST
 
-/* One ray straight down onto the floor's origin under lights "n" of:
-** a sphere light of 9 samples up and aside, then one of 9 samples
-** centred on the hit itself (every sample at distance 0, refused). */
-static ray_rgb shade_under_lights(int n, ray_stats *st)
+/*
+** One ray from (0, 0, 5) along (0, 0, -2) (not unit) onto the plane
+** z = 0 of material m (the hit: the origin, exactly), under lights[0 ..
+** n - 1] and, if "blocker", a ball at (1.5, 0, 2) of radius 0.5: the
+** ray's colour, and the context's counts in *st.
+*/
+static ray_rgb trace_down(const ray_material *m, const ray_light *lights,
+                          unsigned n, int blocker, ray_stats *st)
 {
-    ray_material direct = material_of(direct_shade, NULL, RAY_EFFECT_SHADOW);
-    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -2));
     ray_scene *s;
     ray_ctx *ctx;
-    ray_light l;
-    ray_rgb c = {0, 0, 0};
-    unsigned mat;
-    int k;
+    ray_rgb c = rgb(-1, -1, -1);
+    unsigned mat, k;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &direct, &mat), RAY_OK);
+    ck_assert_int_eq(ray_scene_add_material(s, m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
-    for (k = 0; k < n; k++) {
-        ray_light_init(&l, RAY_LIGHT_SPHERE);
-        l.position = k == 0 ? vec(1, 0, 3) : vec(0, 0, 0);
-        l.radius = 0.5;
-        l.samples = 9;
-        l.intensity = rgb(5, 5, 5);
-        ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
-    }
+    if (blocker)
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0, 2), 0.5, mat, NULL), RAY_OK);
+    for (k = 0; k < n; k++)
+        ck_assert_int_eq(ray_scene_add_light(s, &lights[k], NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
     ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
@@ -219,6 +216,25 @@ static ray_rgb shade_under_lights(int n, ray_stats *st)
     ray_ctx_free(ctx);
     ray_scene_free(s);
     return c;
+}
+
+/* trace_down with ray_shade_direct under the first "n" of: a sphere
+** light of 9 samples up and aside, then one of 9 samples centred on the
+** hit itself (every sample at distance 0, refused). */
+static ray_rgb shade_under_lights(unsigned n, ray_stats *st)
+{
+    ray_material direct = material_of(direct_shade, NULL, RAY_EFFECT_SHADOW);
+    ray_light l[2];
+    unsigned k;
+
+    for (k = 0; k < 2; k++) {
+        ray_light_init(&l[k], RAY_LIGHT_SPHERE);
+        l[k].position = k == 0 ? vec(1, 0, 3) : vec(0, 0, 0);
+        l[k].radius = 0.5;
+        l[k].samples = 9;
+        l[k].intensity = rgb(5, 5, 5);
+    }
+    return trace_down(&direct, l, n, 0, st);
 }
 
 /*
@@ -461,29 +477,12 @@ static ray_rgb trace_one(probe *p, ray_vec3 light, int blocker,
                          unsigned effects, ray_stats *st)
 {
     ray_material m = material_of(probe_shade, p, effects);
-    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -2));
     ray_light l;
-    ray_scene *s;
-    ray_ctx *ctx;
-    ray_rgb c = rgb(-1, -1, -1);
-    unsigned mat;
 
     ray_light_init(&l, RAY_LIGHT_POINT);
     l.position = light;
     l.intensity = rgb(25, 25, 25);
-    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
-    if (blocker)
-        ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0, 2), 0.5, mat, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_ctx_new(s, 1, &ctx), RAY_OK);
-    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
-    ray_ctx_stats(ctx, st);
-    ray_ctx_free(ctx);
-    ray_scene_free(s);
-    return c;
+    return trace_down(&m, &l, 1, blocker, st);
 }
 
 /*

@@ -507,6 +507,23 @@ typedef struct light_probe {
     int checked;
 } light_probe;
 
+/* Commit scene s (a probe's material on the plane z = 0, its lights
+** added), trace one ray straight down onto it, and free it: the probe
+** must have run. */
+static void trace_light_probe(ray_scene *s, const light_probe *probe)
+{
+    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
+    ray_ctx *ctx;
+    ray_rgb c;
+
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    ck_assert_int_eq(ray_ctx_new(s, 3, &ctx), RAY_OK);
+    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
+    ck_assert_int_eq(probe->checked, 1);
+    ray_ctx_free(ctx);
+    ray_scene_free(s);
+}
+
 /* dir within 4 DBL_EPSILON a component of to / |to|, taken in long
 ** double (callers say why 4). */
 static int unit_toward(ray_vec3 dir, ray_vec3 to)
@@ -619,9 +636,6 @@ START_TEST(near_lights_should_give_unit_directions)
     ray_material m = {probe_near_lights, &probe, 0, NULL};
     ray_light l;
     ray_scene *s;
-    ray_ctx *ctx;
-    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
-    ray_rgb c;
     unsigned mat;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
@@ -639,12 +653,7 @@ START_TEST(near_lights_should_give_unit_directions)
     l.radius = 1e-180;
     l.samples = RAY_MAX_LIGHT_SAMPLES;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_ctx_new(s, 3, &ctx), RAY_OK);
-    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
-    ck_assert_int_eq(probe.checked, 1);
-    ray_ctx_free(ctx);
-    ray_scene_free(s);
+    trace_light_probe(s, &probe);
 }
 END_TEST
 
@@ -716,9 +725,6 @@ START_TEST(lights_should_sample_as_documented)
     ray_material m;
     ray_light l;
     ray_scene *s;
-    ray_ctx *ctx;
-    ray_ray r = ray_from(vec(0, 0, 5), vec(0, 0, -1));
-    ray_rgb c;
     unsigned mat;
 
     m.shade = probe_lights;
@@ -747,12 +753,7 @@ START_TEST(lights_should_sample_as_documented)
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_OK);
     l.samples = RAY_MAX_LIGHT_SAMPLES + 1;
     ck_assert_int_eq(ray_scene_add_light(s, &l, NULL), RAY_EINVAL);
-    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    ck_assert_int_eq(ray_ctx_new(s, 3, &ctx), RAY_OK);
-    ck_assert_int_eq(ray_trace(ctx, &r, RAY_KIND_PRIMARY, 1.0, &c), RAY_OK);
-    ck_assert_int_eq(probe.checked, 1);
-    ray_ctx_free(ctx);
-    ray_scene_free(s);
+    trace_light_probe(s, &probe);
 }
 END_TEST
 
