@@ -154,46 +154,15 @@ int ray__light_sample(ray_ctx *ctx, const ray_shade_args *args,
     return RAY_OK;
 }
 
-/* Shadows undeclared: unshadowed, and no ray cast; counted, so that a
-** forgotten flag shows (ray_stats.shadows_undeclared). */
-static int shadows_undeclared(ray_ctx *ctx)
-{
-    if ((ctx->effects & RAY_EFFECT_SHADOW) != 0)
-        return 0;
-    ctx->stats.shadows_undeclared++;
-    return 1;
-}
-
-/* The answer for shadow ray *shadow, made with code rc (0: no light). */
-static int shadow_passes(ray_ctx *ctx, int rc, const ray_ray *shadow)
-{
-    if (rc != RAY_OK)
-        return 0;
-    ctx->stats.rays[RAY_KIND_SHADOW]++;
-    /* A negative answer (an instance's child changed since the commit)
-    ** is no light: a stale scene must not pass for unoccluded; the
-    ** outermost ray_trace then reports it. */
-    rc = ray__occluded(ctx->scene, shadow, &ctx->stats);
-    if (rc < 0)
-        ctx->stale = 1;
-    return rc == 0;
-}
-
 int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
                       const ray_light_sample *sample)
 {
-    ray_ray shadow;
-    int rc;
+    ray__spawner sp;
 
     if (ctx == NULL || args == NULL || args->hit == NULL || sample == NULL)
         return 0;
-    if (shadows_undeclared(ctx))
-        return 1;
-    if (sample->dist < HUGE_VAL)
-        rc = ray_spawn_to(args->hit, sample->point, &shadow);
-    else
-        rc = ray_spawn(args->hit, sample->dir, &shadow);
-    return shadow_passes(ctx, rc, &shadow);
+    ray__spawner_start(&sp, args->hit);
+    return ray__light_visible(ctx, &sp, sample);
 }
 
 int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
@@ -202,13 +171,26 @@ int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
     ray_ray shadow;
     int rc;
 
-    if (shadows_undeclared(ctx))
+    /* Shadows undeclared: unshadowed, and no ray cast; counted, so that
+    ** a forgotten flag shows (ray_stats.shadows_undeclared). */
+    if ((ctx->effects & RAY_EFFECT_SHADOW) == 0) {
+        ctx->stats.shadows_undeclared++;
         return 1;
+    }
     if (sample->dist < HUGE_VAL)
         rc = ray__spawn_to(sp, sample->point, &shadow);
     else
         rc = ray_spawn(sp->hit, sample->dir, &shadow);
-    return shadow_passes(ctx, rc, &shadow);
+    if (rc != RAY_OK)
+        return 0;
+    ctx->stats.rays[RAY_KIND_SHADOW]++;
+    /* A negative answer (an instance's child changed since the commit)
+    ** is no light: a stale scene must not pass for unoccluded; the
+    ** outermost ray_trace then reports it. */
+    rc = ray__occluded(ctx->scene, &shadow, &ctx->stats);
+    if (rc < 0)
+        ctx->stale = 1;
+    return rc == 0;
 }
 
 void ray__light_samples(ray_ctx *ctx, const ray_shade_args *args,

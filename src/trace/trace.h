@@ -135,8 +135,9 @@ void ray__light_samples(ray_ctx *ctx, const ray_shade_args *args,
                         int *ok);
 
 /* ray_light_visible(ctx, args, sample) for args->hit == sp->hit, its
-** shadow ray leaving the hit from the origins sp keeps (core/spawn.h):
-** the same answer and counts, bit for bit. */
+** shadow ray leaving the hit from the origins sp keeps (core/spawn.h);
+** ray_light_visible is this on a spawner of its own, so both give the
+** same answer and counts, bit for bit. */
 int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
                        const ray_light_sample *sample);
 
