@@ -543,11 +543,11 @@ static inline void slab8(const ray__wnode *q, const lanes *l, int a,
     *t1 = _mm256_min_ps(tf, *t1);                    /* NaN tf: ignored */
 }
 
-/* tmax: the interval's end (trav_tmax); tpop: with its slack; grown:
-** l->grown, or that value fixed by the caller (traverse.h, GROWN_ASK). */
-static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
-                                 float tmax, float tpop, int grown,
-                                 float entry[RAY__WIDTH])
+/* boxes_hit in registers: the entries in *entry, and in *in the boxes
+** entered, all ones in their lanes (packet.h reads both as vectors). */
+static inline unsigned boxes_hit_v(const ray__wnode *q, const lanes *l,
+                                   float tmax, float tpop, int grown,
+                                   __m256 *entry, __m256 *in)
 {
     __m256 t0 = l->tmin;
     __m256 t1 = _mm256_set1_ps(grown ? tpop : tmax);
@@ -559,8 +559,22 @@ static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
         t1 = _mm256_add_ps(t1, _mm256_mul_ps(
                                    _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t1),
                                    l->slack));
+    *entry = t0;
+    *in = _mm256_cmp_ps(t0, t1, _CMP_LE_OQ);
+    return (unsigned)_mm256_movemask_ps(*in);
+}
+
+/* tmax: the interval's end (trav_tmax); tpop: with its slack; grown:
+** l->grown, or that value fixed by the caller (traverse.h, GROWN_ASK). */
+static inline unsigned boxes_hit(const ray__wnode *q, const lanes *l,
+                                 float tmax, float tpop, int grown,
+                                 float entry[RAY__WIDTH])
+{
+    __m256 t0, in;
+    unsigned mask = boxes_hit_v(q, l, tmax, tpop, grown, &t0, &in);
+
     _mm256_storeu_ps(entry, t0);
-    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
+    return mask;
 }
 #elif RAY__SSE2
 /*
