@@ -1993,14 +1993,17 @@ RAY_API int ray_intersect_all(const ray_scene *scene, const ray_ray *r,
 ** for every ray (NULL: the defaults; a zeroed ray_batch asks for none).
 **
 ** Where the CPU has AVX2 and the scene holds triangles alone (no planes,
-** other kinds or instances) without masks or filters that the rays'
-** options can see, each group of eight (rays[0..7], rays[8..15], ...)
+** other kinds or instances; for ray_occluded_batch, planes and up to
+** four spheres beside them too, each ray testing those on its own first)
+** without masks or filters that the rays' options can see, each group
+** of eight (rays[0..7], rays[8..15], ...)
 ** whose directions lie within about 8 degrees of their mean is traced
 ** through the BVH together: faster, as such eight (a 4x2 block of pixels,
 ** shadow rays from nearby points to one light) visit the same nodes; a
 ** group that scatters, and any scene or options the packets do not take,
 ** goes one ray at a time (doc/BENCHMARKS.md measures a batch against a
-** loop of ray_intersect: 0.88 to 1.03 of its time).  A group goes in a packet when every ray of it could,
+** loop of ray_intersect: 0.83 to 1.04 of its time).  A group goes in a
+** packet when every ray of it could,
 ** whatever its options: a mask or query_ud that no geometry of the scene
 ** reads changes nothing.  The batch's counters are added to *stats when
 ** it is not NULL: its intersection tests, and how many rays went through
@@ -2153,8 +2156,13 @@ RAY_API int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
 ** still casts it, to measure what pruning saves).  Visibility is
 ** ray_light_visible's, so the effect analysis still decides: without
 ** RAY_EFFECT_SHADOW declared by the calling material no shadow ray is
-** cast and every sample counts as lit.  Samples ray_light_sample_at refuses (a shading point too close to
-** a light) are skipped.  Called from a material callback with its "ctx"
+** cast and every sample counts as lit.  An area light's shadow rays from
+** one hit are asked together, eight at a time through the BVH where
+** ray_occluded_batch would take them in packets (the same answers; the
+** intersection tests then counted in the packet's order, so ray_stats'
+** tests may differ from a hand-written loop's).  Samples
+** ray_light_sample_at refuses (a shading point too close to a light)
+** are skipped.  Called from a material callback with its "ctx"
 ** and "args"; "brdf" runs on the same thread, before ray_shade_direct
 ** returns, so "ud" may point to the callback's locals.
 **

@@ -48,11 +48,34 @@ static const ray_limits naive_limits = {.max_depth = RAY_DEFAULT_MAX_DEPTH,
                                         .max_fanout = RAY_DEFAULT_MAX_FANOUT,
                                         .no_pruning = 1};
 
-/* A floor and a ball of material "m" under light set "which", seen from
-** above at an angle, rendered at W x H, one sample a pixel, 2 threads. */
-static ray_stats render_scene(const ray_material *m, int which, int prune,
-                              float *img)
+/* An octahedron of "radius" r about c, eight triangles of material mat:
+** a blocker whose shadow rays walk a triangle BVH (the packets'). */
+static void add_octahedron(ray_scene *s, ray_vec3 c, double r, unsigned mat)
 {
+    static const unsigned idx[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4,
+                                     2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+    ray_vec3 v[6];
+    ray_mesh m;
+
+    v[0] = vec(c.x + r, c.y, c.z), v[1] = vec(c.x - r, c.y, c.z);
+    v[2] = vec(c.x, c.y, c.z + r), v[3] = vec(c.x, c.y, c.z - r);
+    v[4] = vec(c.x, c.y + r, c.z), v[5] = vec(c.x, c.y - r, c.z);
+    memset(&m, 0, sizeof m);
+    m.vertices = v;
+    m.vertex_count = 6;
+    m.indices = idx;
+    m.triangle_count = 8;
+    ck_assert_int_eq(ray_scene_add_mesh(s, &m, mat, NULL), RAY_OK);
+}
+
+/* A floor and a ball of material "m" (a sphere; with "mesh" 1 an
+** octahedron of triangles; with 2 the sphere and four more out of sight,
+** too many spheres for the packets) under light set "which", seen from
+** above at an angle, rendered at W x H, one sample a pixel, 2 threads. */
+static ray_stats render_scene_of(const ray_material *m, int which, int prune,
+                                 int mesh, float *img)
+{
+    int k;
     ray_render_options o;
     ray_camera cam;
     ray_scene *s;
@@ -68,7 +91,14 @@ static ray_stats render_scene(const ray_material *m, int which, int prune,
     ck_assert_int_eq(ray_scene_set_limits(s, prune ? NULL : &naive_limits), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 1, 0), mat, NULL), RAY_OK);
-    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 0.7, mat, NULL), RAY_OK);
+    if (mesh == 1)
+        add_octahedron(s, vec(0, 1, 0), 0.8, mat);
+    else
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 1, 0), 0.7, mat, NULL),
+                         RAY_OK);
+    for (k = 0; mesh == 2 && k < 4; k++)    /* five spheres: no packets */
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(-20 - 2 * k, 1, -20), 0.5,
+                                              mat, NULL), RAY_OK);
     add_lights(s, which);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
     o = (ray_render_options){.width = W, .height = H};
@@ -79,16 +109,31 @@ static ray_stats render_scene(const ray_material *m, int which, int prune,
     return st;
 }
 
-/* Two renders gave the same bits and cast the same rays. */
-static void assert_same_render(const float *a, const float *b,
-                               const ray_stats *sa, const ray_stats *sb)
+static ray_stats render_scene(const ray_material *m, int which, int prune,
+                              float *img)
+{
+    return render_scene_of(m, which, prune, 0, img);
+}
+
+/* Two renders gave the same bits and cast the same rays (and, with
+** "tests", made the same intersection tests). */
+static void assert_same_rays(const float *a, const float *b,
+                             const ray_stats *sa, const ray_stats *sb,
+                             int tests)
 {
     int k;
 
     ck_assert(memcmp(a, b, sizeof(float) * 3 * W * H) == 0);
     for (k = 0; k < RAY_KIND_COUNT; k++)
         ck_assert_uint_eq(sa->rays[k], sb->rays[k]);
-    ck_assert_uint_eq(sa->tests, sb->tests);
+    if (tests)
+        ck_assert_uint_eq(sa->tests, sb->tests);
+}
+
+static void assert_same_render(const float *a, const float *b,
+                               const ray_stats *sa, const ray_stats *sb)
+{
+    assert_same_rays(a, b, sa, sb, 1);
 }
 
 /* ------------------------------------------- a BRDF and its hand loop */
@@ -167,19 +212,26 @@ static ray_material material_of(ray_shade_fn fn, void *ud, unsigned effects)
 ** four at once, area lights with 9 and 25 jittered samples: the two draw
 ** the same random numbers in the same order and add in the same order,
 ** so the images must agree exactly, and so must the shadow-ray counts
-** (no sample behind the surface costs a ray in either).
+** (no sample behind the surface costs a ray in either).  Runs 5 to 9:
+** the ball is an octahedron of triangles, whose shadow rays
+** ray_shade_direct asks eight at a time (through the packets, where the
+** CPU has them): the same images and rays, the tests counted in the
+** packets' order (ray_shade_direct(3)), so not compared.  Runs 10 to 14:
+** five spheres, a scene the packets do not take, so each sample's ray
+** is asked at once (direct.c), on every CPU.
 */
 START_TEST(direct_should_equal_the_hand_written_loop)
 {
     ray_material hand = material_of(hand_shade, NULL, RAY_EFFECT_SHADOW);
     ray_material direct = material_of(direct_shade, NULL, RAY_EFFECT_SHADOW);
     static float a[3 * W * H], b[3 * W * H];
-    ray_stats sa = render_scene(&hand, _i, 1, a);
-    ray_stats sb = render_scene(&direct, _i, 1, b);
+    int mesh = _i / 5, which = _i % 5;
+    ray_stats sa = render_scene_of(&hand, which, 1, mesh, a);
+    ray_stats sb = render_scene_of(&direct, which, 1, mesh, b);
     double sum = 0;
     int k;
 
-    assert_same_render(a, b, &sa, &sb);
+    assert_same_rays(a, b, &sa, &sb, mesh != 1);
     ck_assert_uint_gt(sa.rays[RAY_KIND_SHADOW], 0);
     for (k = 0; k < 3 * W * H; k++)
         sum += (double)a[k];
@@ -190,8 +242,9 @@ END_TEST
 /*
 ** One ray from (0, 0, 5) along (0, 0, -2) (not unit) onto the plane
 ** z = 0 of material m (the hit: the origin, exactly), under lights[0 ..
-** n - 1] and, if "blocker", a ball at (1.5, 0, 2) of radius 0.5: the
-** ray's colour, and the context's counts in *st.
+** n - 1] and, if "blocker" is 1, a ball at (1.5, 0, 2) of radius 0.5
+** (if 2, five balls far from the hit and its lights, too many spheres
+** for the packets): the ray's colour, and the context's counts in *st.
 */
 static ray_rgb trace_down(const ray_material *m, const ray_light *lights,
                           unsigned n, int blocker, ray_stats *st)
@@ -205,8 +258,11 @@ static ray_rgb trace_down(const ray_material *m, const ray_light *lights,
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, m, &mat), RAY_OK);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, 0), vec(0, 0, 1), mat, NULL), RAY_OK);
-    if (blocker)
+    if (blocker == 1)
         ck_assert_int_eq(ray_scene_add_sphere(s, vec(1.5, 0, 2), 0.5, mat, NULL), RAY_OK);
+    for (k = 0; blocker == 2 && k < 5; k++)  /* out of the way; no packets */
+        ck_assert_int_eq(ray_scene_add_sphere(s, vec(-20 - 2.0 * k, 0, 20), 0.5,
+                                              mat, NULL), RAY_OK);
     for (k = 0; k < n; k++)
         ck_assert_int_eq(ray_scene_add_light(s, &lights[k], NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
@@ -221,7 +277,7 @@ static ray_rgb trace_down(const ray_material *m, const ray_light *lights,
 /* trace_down with ray_shade_direct under the first "n" of: a sphere
 ** light of 9 samples up and aside, then one of 9 samples centred on the
 ** hit itself (every sample at distance 0, refused). */
-static ray_rgb shade_under_lights(unsigned n, ray_stats *st)
+static ray_rgb shade_under_lights(unsigned n, int spheres, ray_stats *st)
 {
     ray_material direct = material_of(direct_shade, NULL, RAY_EFFECT_SHADOW);
     ray_light l[2];
@@ -234,19 +290,21 @@ static ray_rgb shade_under_lights(unsigned n, ray_stats *st)
         l[k].samples = 9;
         l[k].intensity = rgb(5, 5, 5);
     }
-    return trace_down(&direct, l, n, 0, st);
+    return trace_down(&direct, l, n, spheres ? 2 : 0, st);
 }
 
 /*
 ** A sample that ray_light_sample_at refuses adds nothing and casts no
 ** ray, in direct.c's batches too: a second light whose every sample is
 ** refused (at distance 0 from the hit) leaves the first light's colour
-** and shadow rays as they were, bit for bit.
+** and shadow rays as they were, bit for bit.  Run 1: five spheres out of
+** the way, a scene the packets do not take (direct.c's other loop).
 */
 START_TEST(direct_should_skip_refused_samples)
 {
     ray_stats one, both;
-    ray_rgb a = shade_under_lights(1, &one), b = shade_under_lights(2, &both);
+    ray_rgb a = shade_under_lights(1, _i, &one);
+    ray_rgb b = shade_under_lights(2, _i, &both);
 
     ck_assert(a.r > 0);
     ck_assert(a.r == b.r && a.g == b.g && a.b == b.b);
@@ -360,6 +418,7 @@ typedef struct prune_case {
     double light_y;      /* +5: in front of the surface; -5: behind */
     double k;            /* the BRDF's factor */
     unsigned effects;
+    unsigned samples;    /* 1: a point light; more: a sphere light's */
 } prune_case;
 
 static ray_rgb grey_brdf(void *ud, const ray_brdf_args *b)
@@ -390,8 +449,10 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
     cam.look_at = vec(0, 0, 0);
     cam.up = vec(0, 0, -1);
     cam.vfov = 40;
-    ray_light_init(&l, RAY_LIGHT_POINT);
+    ray_light_init(&l, c->samples > 1 ? RAY_LIGHT_SPHERE : RAY_LIGHT_POINT);
     l.position = vec(0.5, c->light_y, 0.25);
+    l.radius = 0.5;
+    l.samples = c->samples;
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_set_limits(s, prune ? NULL : &naive_limits), RAY_OK);
     ck_assert_int_eq(ray_scene_add_material(s, &m, &mat), RAY_OK);
@@ -418,18 +479,23 @@ static ray_stats render_plane(const prune_case *c, int prune, float *img)
 START_TEST(direct_should_cast_shadow_rays_only_where_they_count)
 {
     static const prune_case cases[] = {
-        /* light_y, k, effects:   pruned, naive shadow rays per pixel */
-        {5, 1, RAY_EFFECT_SHADOW},       /* 1, 1 */
-        {-5, 1, RAY_EFFECT_SHADOW},      /* 0, 1: behind the surface */
-        {5, 0, RAY_EFFECT_SHADOW},       /* 0, 1: zero contribution */
-        {5, 1, 0},                       /* 0, 0: shadows not declared */
-        {-5, 1, 0},                      /* 0, 0: not declared, behind */
+        /* light_y, k, effects, samples:  pruned, naive rays per pixel */
+        {5, 1, RAY_EFFECT_SHADOW, 1},    /* 1, 1 */
+        {-5, 1, RAY_EFFECT_SHADOW, 1},   /* 0, 1: behind the surface */
+        {5, 0, RAY_EFFECT_SHADOW, 1},    /* 0, 1: zero contribution */
+        {5, 1, 0, 1},                    /* 0, 0: shadows not declared */
+        {-5, 1, 0, 1},                   /* 0, 0: not declared, behind */
+        /* A sphere light's 9 samples, asked together (direct.c): a
+        ** negative factor has no positive channel, so it adds nothing
+        ** though the naive mode casts its rays. */
+        {5, -1, RAY_EFFECT_SHADOW, 9},   /* 0, 9 */
+        {5, 1, RAY_EFFECT_SHADOW, 9},    /* 9, 9 */
     };
-    static const unsigned pruned[] = {1, 0, 0, 0, 0},
-                          naive[] = {1, 1, 1, 0, 0};
+    static const unsigned pruned[] = {1, 0, 0, 0, 0, 0, 9},
+                          naive[] = {1, 1, 1, 0, 0, 9, 9};
     /* Requests dropped for want of RAY_EFFECT_SHADOW, per pixel. */
-    static const unsigned dropped_pruned[] = {0, 0, 0, 1, 0},
-                          dropped_naive[] = {0, 0, 0, 1, 1};
+    static const unsigned dropped_pruned[] = {0, 0, 0, 1, 0, 0, 0},
+                          dropped_naive[] = {0, 0, 0, 1, 1, 0, 0};
     static float a[3 * W * H], b[3 * W * H];
     const prune_case *c = &cases[_i];
     ray_stats sa = render_plane(c, 1, a), sb = render_plane(c, 0, b);
@@ -652,14 +718,14 @@ Suite *direct_suite(void)
     Suite *s = suite_create("direct");
     TCase *tc = tcase_create("loop");
 
-    tcase_add_loop_test(tc, direct_should_equal_the_hand_written_loop, 0, 5);
+    tcase_add_loop_test(tc, direct_should_equal_the_hand_written_loop, 0, 15);
     tcase_add_loop_test(tc, phong_should_render_the_bits_of_its_former_loop,
                         0, 4);
     tcase_add_loop_test(tc, direct_should_cast_shadow_rays_only_where_they_count,
-                        0, 5);
+                        0, 7);
     suite_add_tcase(s, tc);
     tc = tcase_create("hit");
-    tcase_add_test(tc, direct_should_skip_refused_samples);
+    tcase_add_loop_test(tc, direct_should_skip_refused_samples, 0, 2);
     tcase_add_test(tc, brdf_should_get_unit_directions_and_the_cosine);
     tcase_add_test(tc, undeclared_shadows_should_leave_the_light_unblocked);
     tcase_add_test(tc, brdf_should_not_see_a_light_behind_the_surface);

@@ -158,43 +158,72 @@ static ray_scene *grid_scene(ray_scene *s, int n, double z0, double fold)
 }
 
 /*
-** A plane beside a mesh: camera blocks aimed past the mesh at the plane
-** and blocks aimed at the mesh (the plane behind it).  Packets take
-** triangles alone, so every group here must go ray by ray, and every ray
-** aimed at the plane must hit it: a packet that skipped the scene's
-** planes misses all of them.
+** Committed scene s: the 2 x 2 grid mesh of grid_scene and geometry 1 (a
+** plane or a sphere) beside it, "at" on it past the mesh.  Camera blocks
+** "span" across aimed at "at", every ray of which must hit geometry 1
+** both ways (nearest and any hit), then blocks aimed at the mesh, each
+** batch against the single rays (batch_vs_single).  Nearest-hit packets
+** take triangles alone, so every nearest group here must go ray by ray;
+** any-hit packets take planes and a few spheres too, each lane testing
+** them before the packet's walk of the triangles: a packet that skipped
+** them misses the first blocks' rays.  Where the CPU has packets (AVX2)
+** the any-hit groups went in packets (else this would not test them):
+** half the rays the stats saw, the other half the nearest groups' single
+** rays.  Frees s.
 */
+static void batches_beside_a_mesh(ray_scene *s, ray_vec3 at, double span,
+                                  const char *what)
+{
+    ray_stats st;
+    ray_ray *r;
+    size_t n = 64, i;
+
+    r = camera_rays(vec(0, 0, 10), at, span, n);
+    memset(&st, 0, sizeof st);
+    ck_assert_uint_eq(batch_vs_single(s, r, n, NULL, NULL, &st, what), n);
+    for (i = 0; i < n; i++) {
+        ray_hit h;
+        ck_assert_int_eq(ray_intersect(s, &r[i], &h, NULL), 1);
+        ck_assert_uint_eq(h.geom_id, 1);
+    }
+    free(r);
+    r = camera_rays(vec(0, 0, 10), vec(0, 0, 0), 1.5, n);
+    ck_assert_uint_eq(batch_vs_single(s, r, n, NULL, NULL, &st, what), n);
+    ck_assert_uint_eq(st.batch_single, 2 * n);     /* the nearest groups */
+    ck_assert(st.batch_packets == 0 || st.batch_packets == 2 * n);
+    free(r);
+    ray_scene_free(s);
+}
+
+/* A sphere beside a mesh: a scene of a few spheres and triangles.
+** Blocks 0.3 across about the sphere's centre: every ray within 0.2 of
+** it at z = 0, inside its radius. */
+START_TEST(batches_should_see_a_sphere_beside_a_mesh)
+{
+    ray_scene *s;
+
+    ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
+    grid_scene(s, 2, 0, 0);
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(3, 0, 0), 0.75,
+                                          RAY_NO_MATERIAL, NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    batches_beside_a_mesh(s, vec(3, 0, 0), 0.3, "sphere beside a mesh");
+}
+END_TEST
+
+/* A plane beside a mesh.  From (0, 0, 10) towards z = -4 at x in [3,
+** 3.5]: 8 / 14 of the way down, at z = 0, x >= 1.7 is past the mesh's
+** |x| <= 1. */
 START_TEST(batches_should_see_a_plane_beside_a_mesh)
 {
     ray_scene *s;
-    ray_stats st;
-    ray_ray *r;
-    size_t n = 64, i, hits;
 
     ck_assert_int_eq(ray_scene_new(&s, NULL, NULL), RAY_OK);
     grid_scene(s, 2, 0, 0);
     ck_assert_int_eq(ray_scene_add_plane(s, vec(0, 0, -4), vec(0, 0.1, 1),
                                          RAY_NO_MATERIAL, NULL), RAY_OK);
     ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
-    /* From (0, 0, 10) towards z = -4 at x in [3, 3.5]: 8 / 14 of the way
-    ** down, at z = 0, x >= 1.7 is past the mesh's |x| <= 1. */
-    r = camera_rays(vec(0, 0, 10), vec(3.25, 0, -4), 0.5, n);
-    memset(&st, 0, sizeof st);
-    hits = batch_vs_single(s, r, n, NULL, NULL, &st, "plane beside a mesh");
-    ck_assert_uint_eq(hits, n);
-    for (i = 0; i < n; i++) {
-        ray_hit h;
-        ck_assert_int_eq(ray_intersect(s, &r[i], &h, NULL), 1);
-        ck_assert_uint_eq(h.geom_id, 1);           /* the plane */
-    }
-    free(r);
-    /* At the mesh: the mesh in front of the plane. */
-    r = camera_rays(vec(0, 0, 10), vec(0, 0, 0), 1.5, n);
-    hits = batch_vs_single(s, r, n, NULL, NULL, &st, "mesh before a plane");
-    ck_assert_uint_eq(hits, n);
-    ck_assert_uint_eq(st.batch_packets, 0);
-    free(r);
-    ray_scene_free(s);
+    batches_beside_a_mesh(s, vec(3.25, 0, -4), 0.5, "plane beside a mesh");
 }
 END_TEST
 
@@ -971,6 +1000,7 @@ Suite *slips_suite(void)
 
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, batches_should_see_a_plane_beside_a_mesh);
+    tcase_add_test(tc, batches_should_see_a_sphere_beside_a_mesh);
     tcase_add_test(tc, batches_should_match_rays_in_mixed_scenes);
     tcase_add_test(tc, batches_should_miss_unusable_rays_in_packets);
     tcase_add_test(tc, batches_should_follow_per_ray_masks);

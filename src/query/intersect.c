@@ -252,11 +252,14 @@ int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
     return rc >= 0 ? rc : ray_refused(q, "ray_occluded", rc, s, r, "");
 }
 
-/* Can ray__packets_avx2 take this scene and gate?  Triangles alone (the
-** packets settle ties between triangles only: packet.h) and no gate. */
-static int packable(const ray_scene *s, const ray__gate *g)
+/* Can ray__packets_avx2 take this scene and gate?  No gate, and
+** triangles alone (the packets settle ties between triangles only:
+** packet.h), or for any hit (no ties) planes and a few spheres beside
+** them (s->few_spheres: no other kind, so no instances). */
+static int packable(const ray_scene *s, const ray__gate *g, int any)
 {
-    return g == NULL && s->n_planes == 0 && s->prim_bvh.n_wide == 0;
+    return g == NULL && ((s->n_planes == 0 && s->prim_bvh.n_wide == 0) ||
+                         (any && s->few_spheres));
 }
 
 /*
@@ -302,7 +305,7 @@ static int packet_ok(const ray_scene *s, const ray_ray *rays, size_t i,
 
     for (k = i; k < i + 8; k++)
         if (!packable(s, gate_of(s, queries != NULL ? &queries[k] : q_all,
-                                 kind, &g)))
+                                 kind, &g), kind == RAY_FILTER_OCCLUDED))
             return 0;
     return coherent(rays + i);
 }
@@ -348,6 +351,27 @@ static void batch_run(const ray_scene *s, const ray_ray *rays, size_t n,
 #if !RAY__AVX2_COPY
     (void)packet_ok;
 #endif
+}
+
+void ray__occluded_group(const ray_scene *s, const ray_ray *rays, size_t n,
+                         int *out, ray_stats *st)
+{
+    ray__gate g;
+    const ray__gate *gp = gate_of(s, NULL, RAY_FILTER_OCCLUDED, &g);
+    int packets = ray__occluded_packs(s);
+    size_t i, end;
+    for (i = 0; i < n; i = end) {
+        end = n - i < 8 ? n : i + 8;
+#if RAY__AVX2_COPY
+        if (packets && end - i == 8 && coherent(rays + i)) {
+            ray__packets_avx2(s, rays + i, 8, NULL, out + i, 1, st);
+            continue;
+        }
+#endif
+        for (; i < end; i++)
+            out[i] = ray__occluded_gated(s, &rays[i], gp, st);
+    }
+    (void)packets;
 }
 
 /* A batch's arguments: RAY_OK, RAY_EINVAL or RAY_ESTATE. */

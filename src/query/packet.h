@@ -25,7 +25,10 @@
 **     then filled by the same ray__triangle_fill.
 ** Only scenes of triangles alone (no planes, no other kinds, no
 ** instances) without masks or filters take this path (intersect.c,
-** packable): the other kinds' ties are settled by order.
+** packable): the other kinds' ties are settled by order.  Any-hit
+** queries, whose answer has no ties, take it in scenes of planes, a few
+** spheres and triangles too: each lane's planes and spheres first, on
+** its own (packet_init).
 */
 #ifndef RAY_PACKET_H
 #define RAY_PACKET_H
@@ -58,10 +61,14 @@ static inline void packet_shrink(packet *p, int lane)
 ** that fail ray__ray_usable and rays that surely miss the scene's box
 ** (trav_setup's test: a single ray stops there too, having met nothing)
 ** are not live.  Each lane's ray copied as its set-up reads it
-** (ray_copy). */
+** (ray_copy).  Any hit in a scene with planes or a few spheres beside
+** its triangles (s->few_spheres): each lane's planes and spheres first,
+** as query_any_few tests them and counted into *st as it counts them; a
+** lane they occlude is done (started, not live). */
 static void packet_init(packet *p, const ray_scene *s, const ray_ray *rays,
-                        int n)
+                        int n, int any, ray_stats *st)
 {
+    unsigned occluded = 0;
     int l;
 
     p->live = 0;
@@ -74,6 +81,10 @@ static void packet_init(packet *p, const ray_scene *s, const ray_ray *rays,
         if (l >= n || !trav_usable(&rays[l]))
             continue;
         ray_copy(&p->r[l], &rays[l]);
+        if (any && !tris_only(s) && few_any_prims(s, &p->r[l], st)) {
+            occluded |= 1u << l;
+            continue;
+        }
         if (!trav_setup(&p->tr[l], &p->r[l], &s->lo, &s->hi))
             continue;
         lanes_init(&p->box[l], &p->tr[l]);
@@ -81,7 +92,7 @@ static void packet_init(packet *p, const ray_scene *s, const ray_ray *rays,
         packet_shrink(p, l);
         p->live |= 1u << l;
     }
-    p->started = p->live;
+    p->started = p->live | occluded;
 }
 
 /* A node's slot waiting on the packet's stack: the lanes that entered it
@@ -261,7 +272,7 @@ static void packet_queries(const ray_scene *s, const ray_ray *rays,
         int m = n - i < PACKET ? (int)(n - i) : PACKET;
         ray__counts qc;
         counts_start(&qc, NULL, any);
-        packet_init(&p, s, rays + i, m);
+        packet_init(&p, s, rays + i, m, any, st);
         packet_traverse(s, &p, any, &qc);
         add_counts(st, &qc);
         for (l = 0; l < m; l++) {

@@ -259,28 +259,39 @@ static int query_nearest_few(const ray_scene *s, const ray_ray *r, int uv,
     return found;
 }
 
-static int query_any_few(const ray_scene *s, const ray_ray *r,
-                         ray_stats *st)
+/* The planes and spheres of such a scene along rr (usable), any hit:
+** 1 if one is hit; counted into *st (if not NULL), the planes up to the
+** one hit, else all of them and the spheres tested.  What query_any_few
+** asks before the triangles, and a packet's lanes too (packet.h). */
+static RAY__INLINE int few_any_prims(const ray_scene *s, ray_ray *rr,
+                                     ray_stats *st)
 {
-    ray_ray rr;
     unsigned tested;
     size_t i;
     int hit;
 
-    if (!trav_usable(r))
-        return 0;
-    ray_copy(&rr, r);
     for (i = 0; i < s->n_planes; i++) {
         ray_hit h;
-        if (ray__plane_candidate(s, s->planes[i], &rr, &h)) {
+        if (ray__plane_candidate(s, s->planes[i], rr, &h)) {
             few_counts(st, i + 1, 0);
             return 1;
         }
     }
-    hit = few_spheres_along(s, &rr, NULL, 1, 1, &tested) ||
-          (s->tri_bvh.n_wide != 0 && few_tris_along(s, &rr, NULL, st));
+    hit = few_spheres_along(s, rr, NULL, 1, 1, &tested);
     few_counts(st, s->n_planes, tested);
     return hit;
+}
+
+static int query_any_few(const ray_scene *s, const ray_ray *r,
+                         ray_stats *st)
+{
+    ray_ray rr;
+
+    if (!trav_usable(r))
+        return 0;
+    ray_copy(&rr, r);
+    return few_any_prims(s, &rr, st) ||
+           (s->tri_bvh.n_wide != 0 && few_tris_along(s, &rr, NULL, st));
 }
 
 #endif /* RAY_PLAIN_H */

@@ -120,6 +120,18 @@ int ray__intersect(const ray_scene *s, const ray_ray *r, int uv,
                    ray_hit *hit, ray_stats *st);
 int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 
+/*
+** ray__occluded for rays[0 .. n - 1] into out[0 .. n - 1]: the same
+** answers, eight at a time through the packets where the scene, the CPU
+** and the rays allow (ray_occluded_batch's choice: intersect.c), as a
+** shading point's shadow rays towards one area light do.  The tests
+** counted into *st are the packets' where they ran: the same rays' tests
+** in another order, so their count may differ from one ray at a time.
+*/
+void ray__occluded_group(const ray_scene *s, const ray_ray *rays, size_t n,
+                         int *out, ray_stats *st);
+
+
 /* The queries come in two copies, for the baseline instruction set and
 ** for AVX2 (x86 with GCC, Clang or MSVC, intersect_avx2.c built with
 ** -mavx2 or /arch:AVX2: RAY__AVX2_COPY), which ray__intersect and
@@ -131,6 +143,22 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 #else
 #define RAY__AVX2_COPY 0
 #endif
+
+/* Can ray__occluded_group take packets in scene s (on this CPU)?  Where
+** it cannot, it is ray__occluded ray by ray.  Its queries ungated (no
+** filter or mask: s->gated), and triangles alone or planes and a few
+** spheres beside them (s->few_spheres, which a scene without bounded
+** kinds has too): ray_occluded_batch's packable (intersect.c).  Inline:
+** ray_shade_direct asks once a light a hit. */
+static inline int ray__occluded_packs(const ray_scene *s)
+{
+#if RAY__AVX2_COPY
+    return s->avx2 && !s->gated && s->few_spheres;
+#else
+    (void)s;
+    return 0;
+#endif
+}
 
 /*
 ** The queries with a gate (masks, filters, all hits: ray__gate; NULL for

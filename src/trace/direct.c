@@ -44,56 +44,139 @@ static ray_vec3 toward_eye(ray_vec3 d)
 }
 
 /*
-** One light sample: its factor f from the BRDF (zero behind the shading
-** normal, where the BRDF is not called), then its shadow ray.  With
-** pruning, a sample that cannot add light costs no ray; without, the ray
-** is cast anyway (the naive mode that pruning is measured against), and
-** the sample still adds nothing.  sp: the hit's shadow-ray origins, made
-** once (core/spawn.h).  Inlined in both its loops: out of line, its call
-** cost the bunny scene 10M instructions (examples/mesh).
+** One light sample's factor f from the BRDF, zero behind the shading
+** normal, where the BRDF is not called.  Sets b->to_light and
+** b->cos_light for the BRDF.
 */
-RAY__HOT_INLINE void add_sample(ray_ctx *ctx, const ray_shade_args *a,
-                                ray__spawner *sp, ray_brdf_fn brdf,
-                                void *ud, ray_brdf_args *b, ray_rgb *out)
+RAY__HOT_INLINE ray_rgb sample_factor(const ray_shade_args *a,
+                                      ray_brdf_fn brdf, void *ud,
+                                      ray_brdf_args *b)
 {
     const ray_light_sample *ls = b->sample;
     ray_rgb f = {0, 0, 0};
-    int contributes;
 
     b->to_light = ls->dir;
     b->cos_light = v3_dot(a->shading_normal, ls->dir);
     if (b->cos_light > 0)
         f = brdf(ud, b);
-    contributes = b->cos_light > 0 && rgb_any_positive(f);
-    if (!contributes && a->prune)
-        return;
-    if (!ray__light_visible(ctx, sp, ls) || !contributes)
-        return;
+    return f;
+}
+
+/* Can factor f of sample_factor's sample b add light? */
+RAY__HOT_INLINE int contributes(const ray_brdf_args *b, ray_rgb f)
+{
+    return b->cos_light > 0 && rgb_any_positive(f);
+}
+
+/* Sample ls's light, weighed by f, added to *out. */
+RAY__HOT_INLINE void add_light(const ray_light_sample *ls, ray_rgb f,
+                               ray_rgb *out)
+{
     out->r += f.r * ls->radiance.r;
     out->g += f.g * ls->radiance.g;
     out->b += f.b * ls->radiance.b;
 }
 
 /*
-** Samples drawn a batch at a time, then weighed and tested: a sample is
-** a chain of divisions and square roots (light.c) that waited on itself
-** between the shadow queries, where a batch's chains overlap (the bunny
-** scene, examples/mesh: 1.12 times as fast; issue 35).  The same
+** One light sample: its factor, then its shadow ray.  With pruning, a
+** sample that cannot add light costs no ray; without, the ray is cast
+** anyway (the naive mode that pruning is measured against), and the
+** sample still adds nothing.  sp: the hit's shadow-ray origins, made
+** once (core/spawn.h).  Inlined: out of line, its call cost the bunny
+** scene 10M instructions (examples/mesh).
+*/
+RAY__HOT_INLINE void add_sample(ray_ctx *ctx, const ray_shade_args *a,
+                                ray__spawner *sp, ray_brdf_fn brdf,
+                                void *ud, ray_brdf_args *b, ray_rgb *out)
+{
+    const ray_light_sample *ls = b->sample;
+    ray_rgb f = sample_factor(a, brdf, ud, b);
+    int adds = contributes(b, f);
+
+    if (!adds && a->prune)
+        return;
+    if (!ray__light_visible(ctx, sp, ls) || !adds)
+        return;
+    add_light(ls, f, out);
+}
+
+/*
+** Samples drawn a batch at a time, then weighed, then their shadow rays
+** asked together: a sample is a chain of divisions and square roots
+** (light.c) that waited on itself between the shadow queries, where a
+** batch's chains overlap (the bunny scene, examples/mesh: 1.12 times as
+** fast; issue 35); and a shading point's rays towards one light go the
+** same way, so eight of them go through the BVH together where the scene
+** allows (ray__occluded_group: the packets, the same answers).  The same
 ** random numbers in the same order, since nothing between two samples
 ** draws one (a shadow query none; the BRDF none unless it reaches the
-** context through its ud, which ray_shade_direct(3) warns of).
+** context through its ud, which ray_shade_direct(3) warns of); the light
+** added in the samples' order, so the same sums.
 */
 #define SAMPLE_BATCH 16
 
+/* Batch ls[0 .. m - 1] (ok[j]: sample j was made) weighed and its
+** shadow rays asked together, its light added to *out in order.  Not
+** inlined: its arrays would weigh on add_batches' frame in scenes
+** without packets (the Cornell box), which never call it. */
+static RAY__NOINLINE void add_batch(ray_ctx *ctx,
+                                    const ray_shade_args *args,
+                                    ray__spawner *sp,
+                                    const ray_light_sample *ls,
+                                    const int *ok, unsigned m,
+                                    ray_brdf_fn brdf, void *ud,
+                                    ray_brdf_args *b, ray_rgb *out)
+{
+    ray_rgb f[SAMPLE_BATCH];
+    ray_ray rays[SAMPLE_BATCH];
+    int lit[SAMPLE_BATCH], answer[SAMPLE_BATCH];
+    unsigned j, ray_of[SAMPLE_BATCH], n = 0;
+
+    for (j = 0; j < m; j++) {
+        int adds;
+        lit[j] = 0;
+        if (!ok[j])
+            continue;
+        b->sample = &ls[j];
+        f[j] = sample_factor(args, brdf, ud, b);
+        adds = contributes(b, f[j]);
+        if (!adds && args->prune)
+            continue;
+        switch (ray__shadow_ray(ctx, sp, &ls[j], &rays[n])) {
+        case RAY__SHADOW_NONE:
+            lit[j] = adds;
+            break;
+        case RAY__SHADOW_CAST:
+            ray_of[j] = n++;
+            lit[j] = adds ? 2 : -1;           /* 2: lit if unoccluded */
+            break;
+        default:
+            break;
+        }
+    }
+    ray__occluded_group(ctx->scene, rays, n, answer, &ctx->stats);
+    for (j = 0; j < m; j++) {
+        if (lit[j] > 1 || lit[j] < 0) {
+            int passes = ray__shadow_passes(ctx, answer[ray_of[j]]);
+            lit[j] = lit[j] > 1 && passes;
+        }
+        if (lit[j])
+            add_light(&ls[j], f[j], out);
+    }
+}
+
 /* The samples of an area light (ns > 1), a batch at a time; not inlined,
 ** so that a point light's one sample keeps the short loop (Whitted's
-** scene paid 1.5% more time for the batch's bookkeeping). */
+** scene paid 1.5% more time for the batch's bookkeeping).  In a scene
+** the packets do not take, each sample's ray is asked at once, without
+** the grouping's bookkeeping (the Cornell box's polygons). */
 static RAY__NOINLINE void add_batches(ray_ctx *ctx, const ray_shade_args *args,
                                       ray__spawner *sp, unsigned ns,
                                       const ray__light_frame *f,
                                       ray_brdf_fn brdf, void *ud,
                                       ray_brdf_args *b, ray_rgb *out)
 {
+    int packs = ray__occluded_packs(ctx->scene);
     unsigned s0, j;
 
     for (s0 = 0; s0 < ns; s0 += SAMPLE_BATCH) {
@@ -102,12 +185,15 @@ static RAY__NOINLINE void add_batches(ray_ctx *ctx, const ray_shade_args *args,
         unsigned m = ns - s0 < SAMPLE_BATCH ? ns - s0 : SAMPLE_BATCH;
 
         ray__light_samples(ctx, args, b->light, s0, m, f, ls, ok);
-        for (j = 0; j < m; j++) {
-            if (!ok[j])
-                continue;
-            b->sample = &ls[j];
-            add_sample(ctx, args, sp, brdf, ud, b, out);
+        if (packs) {
+            add_batch(ctx, args, sp, ls, ok, m, brdf, ud, b, out);
+            continue;
         }
+        for (j = 0; j < m; j++)
+            if (ok[j]) {
+                b->sample = &ls[j];
+                add_sample(ctx, args, sp, brdf, ud, b, out);
+            }
     }
 }
 

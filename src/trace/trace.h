@@ -141,6 +141,18 @@ void ray__light_samples(ray_ctx *ctx, const ray_shade_args *args,
 int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
                        const ray_light_sample *sample);
 
+/* ray__light_visible in two steps, for shadow rays queried together
+** (direct.c).  ray__shadow_ray: RAY__SHADOW_CAST with the sample's
+** shadow ray in *shadow (counted as cast); RAY__SHADOW_NONE where the
+** scene's shadows are undeclared (visible, no ray; counted as such);
+** RAY__SHADOW_REFUSED where no ray can be made (not visible).
+** ray__shadow_passes: visible or not from the ray's occlusion answer
+** (ray__occluded's: negative, a stale scene, marks ctx and is not). */
+enum { RAY__SHADOW_REFUSED, RAY__SHADOW_NONE, RAY__SHADOW_CAST };
+int ray__shadow_ray(ray_ctx *ctx, ray__spawner *sp,
+                    const ray_light_sample *sample, ray_ray *shadow);
+int ray__shadow_passes(ray_ctx *ctx, int occluded);
+
 /* Can material m read a ray's cone (materials.c says which can)? */
 int ray__material_reads_cone(const ray_material *m);
 
