@@ -252,16 +252,6 @@ int ray_occluded(const ray_scene *s, const ray_ray *r, const ray_query *q)
     return rc >= 0 ? rc : ray_refused(q, "ray_occluded", rc, s, r, "");
 }
 
-/* Can ray__packets_avx2 take this scene and gate?  No gate, and
-** triangles alone (the packets settle ties between triangles only:
-** packet.h), or for any hit (no ties) planes and a few spheres beside
-** them (s->few_spheres: no other kind, so no instances). */
-static int packable(const ray_scene *s, const ray__gate *g, int any)
-{
-    return g == NULL && ((s->n_planes == 0 && s->prim_bvh.n_wide == 0) ||
-                         (any && s->few_spheres));
-}
-
 /*
 ** Do eight rays go the same way, so that tracing them together pays?
 ** Each direction lies within acos(0.99) of the first one's (about 8
@@ -297,81 +287,74 @@ static int coherent(const ray_ray *r)
 
 /* Can rays[i .. i + 7], each with its own gate, go in a packet? */
 static int packet_ok(const ray_scene *s, const ray_ray *rays, size_t i,
-                     const ray_query *queries, const ray_query *q_all,
-                     unsigned kind)
+                     const ray_query *queries, unsigned kind)
 {
     ray__gate g;
     size_t k;
 
     for (k = i; k < i + 8; k++)
-        if (!packable(s, gate_of(s, queries != NULL ? &queries[k] : q_all,
-                                 kind, &g), kind == RAY_FILTER_OCCLUDED))
+        if (!ray__packable(s, gate_of(s, &queries[k], kind, &g),
+                           kind == RAY_FILTER_OCCLUDED))
             return 0;
     return coherent(rays + i);
 }
 
 /*
-** A batch, its arguments checked: ray i with options queries[i] (or the
-** one set q_all when queries is NULL), in groups of eight, each group
-** through the BVH together where it is packable and coherent, else ray
-** by ray; answers into results (and hits), counts into *st (may be
-** NULL).
+** Rays in groups of eight, ray i with options queries[i] (or the one set
+** q_all, NULL for none, when queries is NULL), each group through the BVH
+** together where it is packable and coherent, else ray by ray; answers
+** into results (and hits), counts into *st (may be NULL), and the
+** batch's own counts (batch_packets, batch_single) only where batch is
+** set: the batch calls and ray__occluded_group share this one loop.
+** Under one set of options the gate and the rule are the same for every
+** group, so they are asked once.
 */
-static void batch_run(const ray_scene *s, const ray_ray *rays, size_t n,
-                      const ray_query *queries, const ray_query *q_all,
-                      ray_hit *hits, int *results, int any, ray_stats *st)
+static void groups_run(const ray_scene *s, const ray_ray *rays, size_t n,
+                       const ray_query *queries, const ray_query *q_all,
+                       ray_hit *hits, int *results, int any, int batch,
+                       ray_stats *st)
 {
     unsigned kind = any ? RAY_FILTER_OCCLUDED : RAY_FILTER_INTERSECT;
+    ray__gate g_all;
+    const ray__gate *gp_all = gate_of(s, q_all, kind, &g_all);
+    int packs = HAS_AVX2(s) && (queries != NULL ||
+                                ray__packable(s, gp_all, any));
     size_t i, end;
 
     for (i = 0; i < n; i = end) {
         end = n - i < 8 ? n : i + 8;
 #if RAY__AVX2_COPY
-        if (end - i == 8 && HAS_AVX2(s) &&
-            packet_ok(s, rays, i, queries, q_all, kind)) {
+        if (packs && end - i == 8 &&
+            (queries != NULL ? packet_ok(s, rays, i, queries, kind)
+                             : coherent(rays + i))) {
             ray__packets_avx2(s, rays + i, 8, any ? NULL : hits + i,
                               results + i, any, st);
-            if (st != NULL)
+            if (batch && st != NULL)
                 st->batch_packets += 8;
             continue;
         }
 #endif
         for (; i < end; i++) {
             ray__gate g;
-            const ray__gate *gp = gate_of(s, queries != NULL ? &queries[i]
-                                                             : q_all,
-                                          kind, &g);
+            const ray__gate *gp = queries != NULL
+                ? gate_of(s, &queries[i], kind, &g) : gp_all;
             results[i] = any ? ray__occluded_gated(s, &rays[i], gp, st)
                              : ray__intersect_gated(s, &rays[i], gp, 1,
                                                     &hits[i], st);
-            if (st != NULL)
+            if (batch && st != NULL)
                 st->batch_single++;
         }
     }
 #if !RAY__AVX2_COPY
     (void)packet_ok;
+    (void)packs;
 #endif
 }
 
 void ray__occluded_group(const ray_scene *s, const ray_ray *rays, size_t n,
                          int *out, ray_stats *st)
 {
-    ray__gate g;
-    const ray__gate *gp = gate_of(s, NULL, RAY_FILTER_OCCLUDED, &g);
-    int packets = ray__occluded_packs(s);
-    size_t i, end;
-    for (i = 0; i < n; i = end) {
-        end = n - i < 8 ? n : i + 8;
-#if RAY__AVX2_COPY
-        if (packets && end - i == 8 && coherent(rays + i)) {
-            ray__packets_avx2(s, rays + i, 8, NULL, out + i, 1, st);
-            continue;
-        }
-#endif
-        for (; i < end; i++)
-            out[i] = ray__occluded_gated(s, &rays[i], gp, st);
-    }
-    (void)packets;
+    groups_run(s, rays, n, NULL, NULL, NULL, out, 1, 0, st);
 }
 
 /* A batch's arguments: RAY_OK, RAY_EINVAL or RAY_ESTATE. */
@@ -401,7 +384,7 @@ static int batch_refused(const ray_batch *b, const char *op, int rc,
 
 /* ray_intersect_batch and ray_occluded_batch ("any"): each ray its own
 ** options (queries), or one set for all (query), through the same
-** batch_run and so the same packets. */
+** groups_run and so the same packets. */
 static int batch_of(const ray_scene *s, const ray_batch *b, int any,
                     const char *op)
 {
@@ -412,8 +395,8 @@ static int batch_of(const ray_scene *s, const ray_batch *b, int any,
     rc = batch_check(s, b->rays, b->n, b->hits, b->results, any);
     if (rc != RAY_OK)
         return batch_refused(b, op, rc, s);
-    batch_run(s, b->rays, b->n, b->queries, b->query, any ? NULL : b->hits,
-              b->results, any, b->stats);
+    groups_run(s, b->rays, b->n, b->queries, b->query, any ? NULL : b->hits,
+               b->results, any, 1, b->stats);
     return rc;
 }
 

@@ -24,11 +24,11 @@
 **     than the ray's own finds the same triangle, and the hit record is
 **     then filled by the same ray__triangle_fill.
 ** Only scenes of triangles alone (no planes, no other kinds, no
-** instances) without masks or filters take this path (intersect.c,
-** packable): the other kinds' ties are settled by order.  Any-hit
-** queries, whose answer has no ties, take it in scenes of planes, a few
-** spheres and triangles too: each lane's planes and spheres first, on
-** its own (packet_init).
+** instances) without masks or filters take this path (the rule is
+** ray__packable, query.h): the other kinds' ties are settled by order.
+** Any-hit queries, whose answer has no ties, take it in scenes of
+** planes, a few spheres and triangles too: each lane's planes and
+** spheres first, on its own (packet_init).
 */
 #ifndef RAY_PACKET_H
 #define RAY_PACKET_H

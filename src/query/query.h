@@ -131,7 +131,6 @@ int ray__occluded(const ray_scene *s, const ray_ray *r, ray_stats *st);
 void ray__occluded_group(const ray_scene *s, const ray_ray *rays, size_t n,
                          int *out, ray_stats *st);
 
-
 /* The queries come in two copies, for the baseline instruction set and
 ** for AVX2 (x86 with GCC, Clang or MSVC, intersect_avx2.c built with
 ** -mavx2 or /arch:AVX2: RAY__AVX2_COPY), which ray__intersect and
@@ -144,16 +143,26 @@ void ray__occluded_group(const ray_scene *s, const ray_ray *rays, size_t n,
 #define RAY__AVX2_COPY 0
 #endif
 
+/* Can ray__packets_avx2 take scene s with gate g (NULL: none)?  No gate,
+** and triangles alone (the packets settle ties between triangles only:
+** packet.h), or for any hit (no ties) planes and a few spheres beside
+** them (s->few_spheres, which a scene of triangles alone has too; no
+** other kind, so no instances).  The one rule for the batch calls and
+** for ray__occluded_group. */
+static inline int ray__packable(const ray_scene *s, const ray__gate *g,
+                                int any)
+{
+    return g == NULL && ((s->n_planes == 0 && s->prim_bvh.n_wide == 0) ||
+                         (any && s->few_spheres));
+}
+
 /* Can ray__occluded_group take packets in scene s (on this CPU)?  Where
-** it cannot, it is ray__occluded ray by ray.  Its queries ungated (no
-** filter or mask: s->gated), and triangles alone or planes and a few
-** spheres beside them (s->few_spheres, which a scene without bounded
-** kinds has too): ray_occluded_batch's packable (intersect.c).  Inline:
-** ray_shade_direct asks once a light a hit. */
+** it cannot, it is ray__occluded ray by ray.  Inline: ray_shade_direct
+** asks once a light a hit. */
 static inline int ray__occluded_packs(const ray_scene *s)
 {
 #if RAY__AVX2_COPY
-    return s->avx2 && !s->gated && s->few_spheres;
+    return s->avx2 && !s->gated && ray__packable(s, NULL, 1);
 #else
     (void)s;
     return 0;
