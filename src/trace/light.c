@@ -165,60 +165,17 @@ int ray_light_visible(ray_ctx *ctx, const ray_shade_args *args,
     return ray__light_visible(ctx, &sp, sample);
 }
 
-RAY__HOT_INLINE int shadow_ray(ray_ctx *ctx, ray__spawner *sp,
-                                const ray_light_sample *sample,
-                                ray_ray *shadow)
-{
-    int rc;
-
-    /* Shadows undeclared: unshadowed, and no ray cast; counted, so that
-    ** a forgotten flag shows (ray_stats.shadows_undeclared). */
-    if ((ctx->effects & RAY_EFFECT_SHADOW) == 0) {
-        ctx->stats.shadows_undeclared++;
-        return RAY__SHADOW_NONE;
-    }
-    if (sample->dist < HUGE_VAL)
-        rc = ray__spawn_to(sp, sample->point, shadow);
-    else
-        rc = ray_spawn(sp->hit, sample->dir, shadow);
-    if (rc != RAY_OK)
-        return RAY__SHADOW_REFUSED;
-    ctx->stats.rays[RAY_KIND_SHADOW]++;
-    return RAY__SHADOW_CAST;
-}
-
-RAY__HOT_INLINE int shadow_passes(ray_ctx *ctx, int occluded)
-{
-    /* A negative answer (an instance's child changed since the commit)
-    ** is no light: a stale scene must not pass for unoccluded; the
-    ** outermost ray_trace then reports it. */
-    if (occluded < 0)
-        ctx->stale = 1;
-    return occluded == 0;
-}
-
-int ray__shadow_ray(ray_ctx *ctx, ray__spawner *sp,
-                    const ray_light_sample *sample, ray_ray *shadow)
-{
-    return shadow_ray(ctx, sp, sample, shadow);
-}
-
-int ray__shadow_passes(ray_ctx *ctx, int occluded)
-{
-    return shadow_passes(ctx, occluded);
-}
-
 int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
                        const ray_light_sample *sample)
 {
     ray_ray shadow;
 
-    switch (shadow_ray(ctx, sp, sample, &shadow)) {
+    switch (ray__shadow_ray(ctx, sp, sample, &shadow)) {
     case RAY__SHADOW_NONE:
         return 1;
     case RAY__SHADOW_CAST:
-        return shadow_passes(ctx,
-                             ray__occluded(ctx->scene, &shadow, &ctx->stats));
+        return ray__shadow_passes(
+            ctx, ray__occluded(ctx->scene, &shadow, &ctx->stats));
     default:
         return 0;
     }

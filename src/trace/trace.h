@@ -147,11 +147,42 @@ int ray__light_visible(ray_ctx *ctx, ray__spawner *sp,
 ** scene's shadows are undeclared (visible, no ray; counted as such);
 ** RAY__SHADOW_REFUSED where no ray can be made (not visible).
 ** ray__shadow_passes: visible or not from the ray's occlusion answer
-** (ray__occluded's: negative, a stale scene, marks ctx and is not). */
+** (ray__occluded's: negative, a stale scene, marks ctx and is not).
+** Inline, one copy for both: each runs once a shadow ray.
+*/
 enum { RAY__SHADOW_REFUSED, RAY__SHADOW_NONE, RAY__SHADOW_CAST };
-int ray__shadow_ray(ray_ctx *ctx, ray__spawner *sp,
-                    const ray_light_sample *sample, ray_ray *shadow);
-int ray__shadow_passes(ray_ctx *ctx, int occluded);
+
+RAY__HOT_INLINE int ray__shadow_ray(ray_ctx *ctx, ray__spawner *sp,
+                                    const ray_light_sample *sample,
+                                    ray_ray *shadow)
+{
+    int rc;
+
+    /* Shadows undeclared: unshadowed, and no ray cast; counted, so that
+    ** a forgotten flag shows (ray_stats.shadows_undeclared). */
+    if ((ctx->effects & RAY_EFFECT_SHADOW) == 0) {
+        ctx->stats.shadows_undeclared++;
+        return RAY__SHADOW_NONE;
+    }
+    if (sample->dist < HUGE_VAL)
+        rc = ray__spawn_to(sp, sample->point, shadow);
+    else
+        rc = ray_spawn(sp->hit, sample->dir, shadow);
+    if (rc != RAY_OK)
+        return RAY__SHADOW_REFUSED;
+    ctx->stats.rays[RAY_KIND_SHADOW]++;
+    return RAY__SHADOW_CAST;
+}
+
+RAY__HOT_INLINE int ray__shadow_passes(ray_ctx *ctx, int occluded)
+{
+    /* A negative answer (an instance's child changed since the commit)
+    ** is no light: a stale scene must not pass for unoccluded; the
+    ** outermost ray_trace then reports it. */
+    if (occluded < 0)
+        ctx->stale = 1;
+    return occluded == 0;
+}
 
 /* Can material m read a ray's cone (materials.c says which can)? */
 int ray__material_reads_cone(const ray_material *m);
