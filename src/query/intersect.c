@@ -316,7 +316,10 @@ static void groups_run(const ray_scene *s, const ray_ray *rays, size_t n,
 {
     unsigned kind = any ? RAY_FILTER_OCCLUDED : RAY_FILTER_INTERSECT;
     ray__gate g_all;
-    const ray__gate *gp_all = gate_of(s, q_all, kind, &g_all);
+    /* q_all is not read where each ray has its own (queries): it need not
+    ** be set then (ray_batch). */
+    const ray__gate *gp_all = queries == NULL
+        ? gate_of(s, q_all, kind, &g_all) : NULL;
     int packs = HAS_AVX2(s) && (queries != NULL ||
                                 ray__packable(s, gp_all, any));
     size_t i, end;
