@@ -154,7 +154,8 @@ static RAY__NOINLINE void add_batch(ray_ctx *ctx,
             break;
         }
     }
-    ray__occluded_group(ctx->scene, rays, n, answer, &ctx->stats);
+    if (n > 0)
+        ray__occluded_group(ctx->scene, rays, n, answer, &ctx->stats);
     for (j = 0; j < m; j++) {
         if (lit[j] > 1 || lit[j] < 0) {
             int passes = ray__shadow_passes(ctx, answer[ray_of[j]]);
