@@ -798,10 +798,11 @@ END_TEST
 /*
 ** A scene's few spheres (few_spheres_along) make the ray's part of the
 ** sphere test only once a sphere passes the miss test, which reads the
-** direction as given where d.d lies in [1/4, 4] and the scaled one
+** direction as given where d.d lies in [2^-20, 2^20] and the scaled one
 ** elsewhere.  At every scale of the direction -- tiny (d.d underflows to
 ** 0 or a denormal), huge (it overflows, or |f x d|^2 would: 1e152), and
-** either side of 1/4 and 4 -- a scene of
+** either side of 2^-20 and 2^20 (the rays' own d.d lies between about
+** 0.1 and 600) -- a scene of
 ** three spheres answers as ray_sphere on each of them, t for t: the
 ** nearest hit's t is the least of theirs, and it hits one of them there
 ** (two touch: rays through their point tie), and an any hit is a hit of
@@ -809,8 +810,9 @@ END_TEST
 */
 START_TEST(few_spheres_should_answer_as_ray_sphere_at_any_scale)
 {
-    static const double scales[] = {1e-200, 1e-160, 1e-100, 0.49, 0.51, 1,
-                                    1.99, 2.01, 1e100, 1e152, 3e152, 1e200};
+    static const double scales[] = {1e-200, 1e-160, 1e-100, 1e-4, 1e-3,
+                                    0.49, 0.51, 1, 1.99, 2.01, 30, 1000,
+                                    1e100, 1e152, 3e152, 1e200};
     static const ray_vec3 centre[3] = {{0, 1, 0}, {1.5, 0.8, 0.6},
                                        {0, 3, 0}};
     static const double radius[3] = {1, 0.8, 1};
@@ -850,6 +852,41 @@ START_TEST(few_spheres_should_answer_as_ray_sphere_at_any_scale)
         }
     }
     ck_assert_int_gt(hits, 1000);
+    ray_scene_free(s);
+}
+END_TEST
+
+/*
+** The miss test beside a sphere whose radius, 2^100, keeps |f x d|^2 a
+** normal number where d.d underflows: a direction 2^-600 long gives d.d
+** = 0, and read as given the test would find |f x d|^2 > 0 = d.d (R^2 +
+** ...) and call the sphere missed, though the ray passes 0.45 R from its
+** centre.  The scaled direction (d.d below 2^-20) keeps the hit: t as
+** ray_sphere's, for each of these tiny lengths, and for lengths inside
+** the range the direction is read as given (2^-9, 1, 2^9), where the
+** answers are the same.  Exact: the same tests on the same numbers.
+*/
+START_TEST(few_spheres_should_keep_a_big_sphere_at_a_tiny_direction)
+{
+    static const double lengths[] = {0x1p-600, 0x1p-560, 0x1p-540,
+                                     0x1p-530, 0x1p-9, 1, 0x1p9};
+    const double radius = 0x1p100;
+    unsigned mat;
+    ray_scene *s = new_scene(&mat);
+    size_t k;
+
+    ck_assert_int_eq(ray_scene_add_sphere(s, vec(0, 0, 0), radius, mat,
+                                          NULL), RAY_OK);
+    ck_assert_int_eq(ray_scene_commit(s), RAY_OK);
+    for (k = 0; k < sizeof lengths / sizeof lengths[0]; k++) {
+        ray_ray r = ray_from(vec(0, 0, 0x1p101), vec(0, 0, 0));
+        ray_hit h, one;
+        r.dir = vec(0.5 * lengths[k], 0, -lengths[k]);
+        ck_assert_int_eq(ray_sphere(&r, vec(0, 0, 0), radius, &one), 1);
+        ck_assert_int_eq(ray_intersect(s, &r, &h, NULL), 1);
+        ck_assert(h.t == one.t);
+        ck_assert_int_eq(ray_occluded(s, &r, NULL), 1);
+    }
     ray_scene_free(s);
 }
 END_TEST
@@ -2544,6 +2581,7 @@ Suite *bvh_suite(void)
     tcase_add_test(eq, traversal_setup_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, plain_queries_should_answer_as_the_general_ones);
     tcase_add_test(eq, few_spheres_should_answer_as_ray_sphere_at_any_scale);
+    tcase_add_test(eq, few_spheres_should_keep_a_big_sphere_at_a_tiny_direction);
     tcase_add_test(eq, box_early_out_should_keep_every_hit);
     tcase_add_test(eq, gated_and_instanced_queries_should_be_the_same_with_and_without_avx2);
     tcase_add_test(eq, instances_of_triangles_should_answer_as_the_general_query);
