@@ -186,10 +186,36 @@ static inline int ray__sphere_ray_init(const ray_ray *r,
 ** decides alone.  Inline: a scene query asks it of each of its few
 ** spheres before it calls the whole test (query/traverse.h).
 */
+#define RAY__SPHERE_MISS_K 0x1p-44
+
+/* The radius's part of the bound, R^2 (1 + K), or NaN where the radius is
+** outside the test's guards (no comparison with NaN holds: never
+** "missed"); scene/commit.c keeps it for a scene's few spheres. */
+static inline double ray__sphere_miss_rr(double radius)
+{
+    if (!(radius >= 0x1p-400 && radius <= 0x1p500))
+        return (double)NAN;
+    return radius * radius * (1 + RAY__SPHERE_MISS_K);
+}
+
+/*
+** A scene's few spheres (its few_spheres), in prim_bvh's item order, as
+** the four lanes of their miss test (ray__sphere_surely_missed, which
+** the AVX copy of the queries runs on all of them at once: query/
+** traverse.h): centres, and R^2 (1 + K) as the test forms it
+** (ray__sphere_miss_rr); NaN in the lanes past them, so that no lane
+** there is ever missed.  Set at commit.
+*/
+#define RAY__FEW_SPHERES 4
+typedef struct ray__few_spheres {
+    double cx[RAY__FEW_SPHERES], cy[RAY__FEW_SPHERES],
+        cz[RAY__FEW_SPHERES], rr[RAY__FEW_SPHERES];
+} ray__few_spheres;
+
 static inline int ray__sphere_surely_missed(ray_vec3 f, ray_vec3 d,
                                             double a, double radius)
 {
-    const double K = 0x1p-44;
+    const double K = RAY__SPHERE_MISS_K;
     ray_vec3 x = v3_cross(f, d);
     double g = v3_dot(f, f), c = v3_dot(x, x);
 

@@ -158,18 +158,33 @@ static void scene_summary(ray_scene *s)
 ** (ray_intersect(3) leaves ties between kinds other than triangles
 ** unspecified).  Decided here, once, not by every query.
 */
-#define FEW_SPHERES 4
-
 static int few_spheres(const ray_scene *s)
 {
     size_t i, n = s->prim_bvh.n_items;
 
-    if (n > FEW_SPHERES)
+    if (n > RAY__FEW_SPHERES)
         return 0;
     for (i = 0; i < n; i++)
         if (s->prims[s->prim_bvh.items[i]].kind != RAY__KIND_SPHERE)
             return 0;
     return 1;
+}
+
+/* The few spheres' lanes (ray__few_spheres), or every lane NaN where the
+** scene has none such. */
+static void few_spheres_lanes(ray_scene *s)
+{
+    size_t i, n = s->few_spheres ? s->prim_bvh.n_items : 0;
+
+    for (i = 0; i < RAY__FEW_SPHERES; i++) {
+        const ray__prim *p =
+            i < n ? &s->prims[s->prim_bvh.items[i]] : NULL;
+        s->few.cx[i] = p != NULL ? p->a.x : (double)NAN;
+        s->few.cy[i] = p != NULL ? p->a.y : (double)NAN;
+        s->few.cz[i] = p != NULL ? p->a.z : (double)NAN;
+        s->few.rr[i] = p != NULL ? ray__sphere_miss_rr(p->radius)
+                                 : (double)NAN;
+    }
 }
 
 /*
@@ -457,6 +472,7 @@ int ray_scene_commit(ray_scene *s)
     scene_summary(s);
     scene_box(s);
     s->few_spheres = few_spheres(s);
+    few_spheres_lanes(s);
     s->instances_of_tris = instances_of_tris(s);
     s->generation++;
     s->avx2 = ray__cpu_has_avx2();

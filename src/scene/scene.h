@@ -318,8 +318,8 @@ struct ray_scene {
     int gated;
     int has_instances;
     int few_spheres;         /* prim_bvh holds a few spheres alone, which
-                                queries test one after another
-                                (commit.c, query/traverse.h) */
+                                queries test one by one (query/few.h) */
+    ray__few_spheres few;    /* those spheres as lanes, for the miss test */
     int instances_of_tris;   /* the scene holds instances alone (no
                                 planes, no triangles, no other kind),
                                 each of a child of triangles alone, and
