@@ -40,6 +40,18 @@ int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r)
     return query_any_tris(s, r);
 }
 
+int ray__intersect_few_avx2(const ray_scene *s, const ray_ray *r, int uv,
+                            ray_hit *hit, ray_stats *st)
+{
+    return query_nearest_few(s, r, uv, hit, st);
+}
+
+int ray__occluded_few_avx2(const ray_scene *s, const ray_ray *r,
+                           ray_stats *st)
+{
+    return query_any_few(s, r, st);
+}
+
 int ray__intersect_instances_avx2(const ray_scene *s, const ray_ray *r,
                                   ray_hit *hit)
 {

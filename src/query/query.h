@@ -204,6 +204,18 @@ int ray__intersect_tris_avx2(const ray_scene *s, const ray_ray *r,
                              ray_hit *hit);
 int ray__occluded_tris_avx2(const ray_scene *s, const ray_ray *r);
 
+/* The ungated queries, counted or not, of a scene of planes, a few
+** spheres and triangles alone (ray_scene's few_spheres: plain.h's
+** query_nearest_few), in both copies: the tracer's path. */
+int ray__intersect_few_base(const ray_scene *s, const ray_ray *r, int uv,
+                            ray_hit *hit, ray_stats *st);
+int ray__occluded_few_base(const ray_scene *s, const ray_ray *r,
+                           ray_stats *st);
+int ray__intersect_few_avx2(const ray_scene *s, const ray_ray *r, int uv,
+                            ray_hit *hit, ray_stats *st);
+int ray__occluded_few_avx2(const ray_scene *s, const ray_ray *r,
+                           ray_stats *st);
+
 /* The same for a scene of instances alone, each of a child of triangles
 ** alone, ungated (ray_scene's instances_of_tris: traverse.h's
 ** query_nearest_instances). */
