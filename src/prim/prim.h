@@ -161,6 +161,33 @@ typedef struct ray__sphere_ray {
 static inline int ray__sphere_ray_init(const ray_ray *r,
                                        ray__sphere_ray *sr);
 
+#define RAY__SPHERE_MISS_K 0x1p-44
+
+/* ray__sphere_surely_missed's margin (below says why) and the radius's
+** part of its bound, R^2 (1 + K), or NaN where the radius is outside the
+** test's guards (no comparison with NaN holds: never "missed"); the test
+** forms it here, and scene/commit.c keeps it for a scene's few spheres. */
+static inline double ray__sphere_miss_rr(double radius)
+{
+    if (!(radius >= 0x1p-400 && radius <= 0x1p500))
+        return (double)NAN;
+    return radius * radius * (1 + RAY__SPHERE_MISS_K);
+}
+
+/*
+** A scene's few spheres (its few_spheres), in prim_bvh's item order, as
+** the four lanes of their miss test (ray__sphere_surely_missed, which
+** the AVX copy of the queries runs on all of them at once: query/few.h):
+** centres, and R^2 (1 + K) as the test forms it (ray__sphere_miss_rr);
+** NaN in the lanes past them, so that no lane there is ever missed.  Set
+** at commit.
+*/
+#define RAY__FEW_SPHERES 4
+typedef struct ray__few_spheres {
+    double cx[RAY__FEW_SPHERES], cy[RAY__FEW_SPHERES],
+        cz[RAY__FEW_SPHERES], rr[RAY__FEW_SPHERES];
+} ray__few_spheres;
+
 /*
 ** Does the ray's line surely miss the sphere, by more than the rounding of
 ** ray__sphere_t_at could hide?  A cheap early out for the common case
@@ -184,44 +211,18 @@ static inline int ray__sphere_ray_init(const ray_ray *r,
 ** no step can overflow or underflow (2^-400 <= R <= 2^500, |f|^2 <
 ** 2^1000; a NaN or an infinity fails these tests): elsewhere the test
 ** decides alone.  Inline: a scene query asks it of each of its few
-** spheres before it calls the whole test (query/traverse.h).
+** spheres before it calls the whole test (query/few.h, which takes four
+** at once, the same operations lane by lane).
 */
-#define RAY__SPHERE_MISS_K 0x1p-44
-
-/* The radius's part of the bound, R^2 (1 + K), or NaN where the radius is
-** outside the test's guards (no comparison with NaN holds: never
-** "missed"); scene/commit.c keeps it for a scene's few spheres. */
-static inline double ray__sphere_miss_rr(double radius)
-{
-    if (!(radius >= 0x1p-400 && radius <= 0x1p500))
-        return (double)NAN;
-    return radius * radius * (1 + RAY__SPHERE_MISS_K);
-}
-
-/*
-** A scene's few spheres (its few_spheres), in prim_bvh's item order, as
-** the four lanes of their miss test (ray__sphere_surely_missed, which
-** the AVX copy of the queries runs on all of them at once: query/
-** traverse.h): centres, and R^2 (1 + K) as the test forms it
-** (ray__sphere_miss_rr); NaN in the lanes past them, so that no lane
-** there is ever missed.  Set at commit.
-*/
-#define RAY__FEW_SPHERES 4
-typedef struct ray__few_spheres {
-    double cx[RAY__FEW_SPHERES], cy[RAY__FEW_SPHERES],
-        cz[RAY__FEW_SPHERES], rr[RAY__FEW_SPHERES];
-} ray__few_spheres;
-
 static inline int ray__sphere_surely_missed(ray_vec3 f, ray_vec3 d,
                                             double a, double radius)
 {
-    const double K = RAY__SPHERE_MISS_K;
     ray_vec3 x = v3_cross(f, d);
     double g = v3_dot(f, f), c = v3_dot(x, x);
 
-    if (!(g < 0x1p1000 && radius >= 0x1p-400 && radius <= 0x1p500))
+    if (!(g < 0x1p1000))
         return 0;
-    return c > a * (radius * radius * (1 + K) + g * K);
+    return c > a * (ray__sphere_miss_rr(radius) + g * RAY__SPHERE_MISS_K);
 }
 
 int ray__sphere_t_at(const ray__sphere_ray *sr, const ray_ray *r,
