@@ -1,9 +1,10 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 # against.sh REV [PAIRS] -- the tracer's scenes now against commit REV:
-# the Cornell box (examples/cornell, 400x400, 4 samples per pixel) and
-# the bunny scene (examples/mesh data/bunny.obj, 480x360, 4 samples),
-# one thread, each render timed by the example itself (its "N s" line,
+# the Cornell box (examples/cornell, 400x400, 4 samples per pixel), the
+# bunny scene (examples/mesh data/bunny.obj, 480x360, 4 samples) and
+# Whitted's scene (examples/whitted, 1024x768, 1 sample: bench/whitted's
+# render against POV-Ray), one thread, each render timed by the example itself (its "N s" line,
 # ray_render alone).  REV is built in a temporary worktree; the two
 # binaries then run one after the other PAIRS times (default 5), so
 # that the machine's load falls on both alike, and each pair gives a
@@ -57,3 +58,4 @@ compare() {
 [ -f data/bunny.obj ] || { echo "against.sh: no data/bunny.obj" >&2; exit 1; }
 compare cornell "" 400 400 4 1
 compare mesh data/bunny.obj 480 360 4 1
+compare whitted "" 1024 768 1 1
